@@ -1,0 +1,16 @@
+//! tessera: Catmull-Clark subdivision surfaces rendered through real Vulkan tessellation stages.
+//!
+//! Layers, from the bottom up (the lower layers never depend on the upper ones):
+//! - [`mesh`]: control meshes, OBJ input with OpenSubdiv-style tags, validation.
+//! - [`topology`]: edges, ordered one-rings, boundaries and per-face classification.
+//! - [`subdiv`]: Catmull-Clark rules with semi-sharp creases, refinement, limit masks,
+//!   exact limit evaluation and stencil tables.
+//! - [`patch`]: patch schemes (regular B-spline, ...) as CPU construction + reference evaluation.
+//!
+//! No Vulkan type appears in these layers.
+
+pub mod error;
+pub mod mesh;
+
+pub use error::{Error, Result};
+pub use mesh::ControlMesh;
