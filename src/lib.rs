@@ -11,6 +11,9 @@
 
 pub mod error;
 pub mod mesh;
+pub mod patch;
+pub mod subdiv;
+pub mod topology;
 
 pub use error::{Error, Result};
 pub use mesh::ControlMesh;

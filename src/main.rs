@@ -1,5 +1,36 @@
-//! The `tessera` command-line tool.
+//! The `tessera` command-line tool. Each subcommand lives in its own module under `src/cli/`.
 
-fn main() {
-    println!("tessera");
+use clap::{Parser, Subcommand};
+
+mod cli;
+
+/// Catmull-Clark subdivision surfaces through real Vulkan tessellation stages.
+#[derive(Parser)]
+#[command(name = "tessera", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Print counts and classification of a control mesh; non-zero exit on invalid input.
+    Info(cli::info::InfoArgs),
+    /// Evaluate the exact Catmull-Clark limit surface on a grid per face.
+    Limit(cli::limit::LimitArgs),
+}
+
+fn main() -> std::process::ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Info(args) => cli::info::run(args),
+        Command::Limit(args) => cli::limit::run(args),
+    };
+    match result {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            std::process::ExitCode::FAILURE
+        }
+    }
 }

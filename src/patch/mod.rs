@@ -1,0 +1,1 @@
+//! Patch schemes: CPU construction and reference evaluation, one module per scheme.

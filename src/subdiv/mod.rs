@@ -1,0 +1,1 @@
+//! Catmull-Clark subdivision: rules, refinement, limit masks, exact evaluation, stencil tables.

@@ -1,0 +1,1 @@
+//! Mesh topology: edges, ordered one-rings, boundaries, per-face classification.
