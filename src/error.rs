@@ -15,4 +15,7 @@ pub enum Error {
     /// Generic invalid input that does not fit another variant.
     #[error("invalid input: {0}")]
     Invalid(String),
+    /// Vulkan / device failure (see [`crate::gpu::GpuError`]).
+    #[error(transparent)]
+    Gpu(#[from] crate::gpu::GpuError),
 }

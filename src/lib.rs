@@ -10,6 +10,7 @@
 //! No Vulkan type appears in these layers.
 
 pub mod error;
+pub mod gpu;
 pub mod mesh;
 pub mod patch;
 pub mod subdiv;

@@ -1,0 +1,402 @@
+//! Vulkan instance, validation, device selection and the shared context handle.
+
+use std::ffi::{CStr, CString};
+use std::mem::ManuallyDrop;
+use std::sync::{Arc, Mutex, MutexGuard};
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use gpu_allocator::{AllocationSizes, AllocatorDebugSettings};
+
+use super::debug::{self, SharedLog, ValidationLog};
+use super::device::{self, DeviceInfo, Feature};
+use super::error::GpuError;
+use super::pipeline::PipelineCache;
+use crate::Result;
+
+const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+
+/// How to create a [`Context`].
+#[derive(Debug, Clone)]
+pub struct ContextDesc {
+    /// Enable the Khronos validation layer and the messenger. Default: on in debug builds.
+    pub validation: bool,
+    /// Substring of the device name; `None` reads `TESSERA_DEVICE`, then picks the first device
+    /// with every required feature.
+    pub device: Option<String>,
+    /// Features a device must have to be selected (default: tessellationShader only).
+    pub required: Vec<Feature>,
+    /// Timeout for waiting on GPU work, in milliseconds (default 120 s).
+    pub timeout_ms: u64,
+}
+
+impl Default for ContextDesc {
+    fn default() -> Self {
+        ContextDesc {
+            validation: cfg!(debug_assertions),
+            device: None,
+            required: vec![Feature::TessellationShader],
+            timeout_ms: 120_000,
+        }
+    }
+}
+
+/// Everything the context owns; resources keep an `Arc` to it so it is destroyed last.
+pub(crate) struct Shared {
+    _entry: ash::Entry,
+    pub instance: ash::Instance,
+    debug_instance: Option<ash::ext::debug_utils::Instance>,
+    messenger: vk::DebugUtilsMessengerEXT,
+    log: Box<SharedLog>,
+    pub physical: vk::PhysicalDevice,
+    pub device: ash::Device,
+    debug_device: Option<ash::ext::debug_utils::Device>,
+    pub queue: Mutex<vk::Queue>,
+    pub command_pool: Mutex<vk::CommandPool>,
+    pub allocator: ManuallyDrop<Mutex<Allocator>>,
+    pub pipelines: Mutex<PipelineCache>,
+    pub info: DeviceInfo,
+    pub timeout_ms: u64,
+    pub validation: bool,
+}
+
+impl Shared {
+    pub fn allocator(&self) -> MutexGuard<'_, Allocator> {
+        self.allocator.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    pub fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {
+        let Some(du) = &self.debug_device else {
+            return;
+        };
+        let Ok(cname) = CString::new(name.replace('\0', " ")) else {
+            return;
+        };
+        let info = vk::DebugUtilsObjectNameInfoEXT::default()
+            .object_handle(handle)
+            .object_name(&cname);
+        // SAFETY: the handle belongs to this device; naming failures are harmless.
+        let _ = unsafe { du.set_debug_utils_object_name(&info) };
+    }
+}
+
+impl Drop for Shared {
+    fn drop(&mut self) {
+        // SAFETY: every resource holding an Arc<Shared> is gone; destroy in reverse order.
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            self.pipelines
+                .get_mut()
+                .unwrap_or_else(|p| p.into_inner())
+                .destroy(&self.device);
+            self.device.destroy_command_pool(
+                *self
+                    .command_pool
+                    .get_mut()
+                    .unwrap_or_else(|p| p.into_inner()),
+                None,
+            );
+            ManuallyDrop::drop(&mut self.allocator);
+            self.device.destroy_device(None);
+            if let Some(di) = &self.debug_instance {
+                if self.messenger != vk::DebugUtilsMessengerEXT::null() {
+                    di.destroy_debug_utils_messenger(self.messenger, None);
+                }
+            }
+            self.instance.destroy_instance(None);
+        }
+    }
+}
+
+/// The Vulkan context: instance, device, queue, allocator, validation log, pipeline cache.
+/// Cheap to clone (shared handle). Resources created from it keep it alive.
+#[derive(Clone)]
+pub struct Context {
+    pub(crate) shared: Arc<Shared>,
+}
+
+impl std::fmt::Debug for Context {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Context")
+            .field("device", &self.shared.info.name)
+            .field("validation", &self.shared.validation)
+            .finish()
+    }
+}
+
+fn vkerr(call: &'static str) -> impl FnOnce(vk::Result) -> crate::Error {
+    GpuError::vk(call)
+}
+
+impl Context {
+    /// Creates a context as described by `desc`.
+    pub fn new(desc: &ContextDesc) -> Result<Context> {
+        // SAFETY: loading the system Vulkan loader; it stays loaded for the Entry's lifetime.
+        let entry = unsafe { ash::Entry::load() }.map_err(|e| GpuError::Loader(e.to_string()))?;
+        let log: Box<SharedLog> = Box::new(Mutex::new(ValidationLog::default()));
+
+        // SAFETY: plain enumeration calls on a loaded entry.
+        let (layers, exts, inst_version) = unsafe {
+            (
+                entry
+                    .enumerate_instance_layer_properties()
+                    .map_err(vkerr("vkEnumerateInstanceLayerProperties"))?,
+                entry
+                    .enumerate_instance_extension_properties(None)
+                    .map_err(vkerr("vkEnumerateInstanceExtensionProperties"))?,
+                entry
+                    .try_enumerate_instance_version()
+                    .map_err(vkerr("vkEnumerateInstanceVersion"))?
+                    .unwrap_or(vk::API_VERSION_1_0),
+            )
+        };
+        let has_layer = layers
+            .iter()
+            .any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER));
+        if desc.validation && !has_layer {
+            return Err(GpuError::NoValidationLayer.into());
+        }
+        let has_debug_utils = exts
+            .iter()
+            .any(|e| e.extension_name_as_c_str() == Ok(ash::ext::debug_utils::NAME));
+        if inst_version < vk::API_VERSION_1_2 {
+            return Err(GpuError::Invalid(format!(
+                "the Vulkan loader supports only API {}.{}; tessera needs 1.2 or newer",
+                vk::api_version_major(inst_version),
+                vk::api_version_minor(inst_version)
+            ))
+            .into());
+        }
+        let api = inst_version.min(vk::API_VERSION_1_3);
+
+        let app = vk::ApplicationInfo::default()
+            .application_name(c"tessera")
+            .engine_name(c"tessera")
+            .api_version(api);
+        let layer_names: Vec<*const std::ffi::c_char> = if desc.validation {
+            vec![VALIDATION_LAYER.as_ptr()]
+        } else {
+            Vec::new()
+        };
+        let ext_names: Vec<*const std::ffi::c_char> = if has_debug_utils {
+            vec![ash::ext::debug_utils::NAME.as_ptr()]
+        } else {
+            Vec::new()
+        };
+        let mut messenger_info = debug::messenger_info(&log);
+        let mut ici = vk::InstanceCreateInfo::default()
+            .application_info(&app)
+            .enabled_layer_names(&layer_names)
+            .enabled_extension_names(&ext_names);
+        if desc.validation && has_debug_utils {
+            ici = ici.push_next(&mut messenger_info);
+        }
+        // SAFETY: create info is valid; `log` outlives the instance (owned by Shared).
+        let instance =
+            unsafe { entry.create_instance(&ici, None) }.map_err(vkerr("vkCreateInstance"))?;
+
+        let debug_instance =
+            has_debug_utils.then(|| ash::ext::debug_utils::Instance::new(&entry, &instance));
+        let mut messenger = vk::DebugUtilsMessengerEXT::null();
+        if desc.validation {
+            if let Some(di) = &debug_instance {
+                let info = debug::messenger_info(&log);
+                // SAFETY: valid create info pointing at the boxed log.
+                match unsafe { di.create_debug_utils_messenger(&info, None) } {
+                    Ok(m) => messenger = m,
+                    Err(e) => {
+                        // SAFETY: nothing else was created from the instance.
+                        unsafe { instance.destroy_instance(None) };
+                        return Err(GpuError::vk("vkCreateDebugUtilsMessengerEXT")(e));
+                    }
+                }
+            }
+        }
+
+        // From here on, failures must tear down what exists.
+        let cleanup = |instance: &ash::Instance| unsafe {
+            if let Some(di) = &debug_instance {
+                if messenger != vk::DebugUtilsMessengerEXT::null() {
+                    di.destroy_debug_utils_messenger(messenger, None);
+                }
+            }
+            instance.destroy_instance(None);
+        };
+
+        let result = Self::open_device(&instance, desc);
+        let (candidate, device) = match result {
+            Ok(x) => x,
+            Err(e) => {
+                cleanup(&instance);
+                return Err(e);
+            }
+        };
+        let info = candidate.info.clone();
+        // SAFETY: the device was created with one queue of this family.
+        let queue = unsafe { device.get_device_queue(info.queue_family, 0) };
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(info.queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        // SAFETY: valid device.
+        let command_pool = match unsafe { device.create_command_pool(&pool_info, None) } {
+            Ok(p) => p,
+            Err(e) => {
+                unsafe { device.destroy_device(None) };
+                cleanup(&instance);
+                return Err(GpuError::vk("vkCreateCommandPool")(e));
+            }
+        };
+        let allocator = match Allocator::new(&AllocatorCreateDesc {
+            instance: instance.clone(),
+            device: device.clone(),
+            physical_device: candidate.handle,
+            debug_settings: AllocatorDebugSettings::default(),
+            buffer_device_address: false,
+            allocation_sizes: AllocationSizes::default(),
+        }) {
+            Ok(a) => a,
+            Err(e) => {
+                unsafe {
+                    device.destroy_command_pool(command_pool, None);
+                    device.destroy_device(None);
+                }
+                cleanup(&instance);
+                return Err(GpuError::Allocation(e.to_string()).into());
+            }
+        };
+        let debug_device =
+            has_debug_utils.then(|| ash::ext::debug_utils::Device::new(&instance, &device));
+
+        let shared = Shared {
+            _entry: entry,
+            instance,
+            debug_instance,
+            messenger,
+            log,
+            physical: candidate.handle,
+            device,
+            debug_device,
+            queue: Mutex::new(queue),
+            command_pool: Mutex::new(command_pool),
+            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+            pipelines: Mutex::new(PipelineCache::default()),
+            info,
+            timeout_ms: desc.timeout_ms.max(1),
+            validation: desc.validation,
+        };
+        shared.set_name(queue, "tessera graphics queue");
+        shared.set_name(command_pool, "tessera one-shot command pool");
+        Ok(Context {
+            shared: Arc::new(shared),
+        })
+    }
+
+    fn open_device(
+        instance: &ash::Instance,
+        desc: &ContextDesc,
+    ) -> Result<(device::Candidate, ash::Device)> {
+        // SAFETY: valid instance.
+        let pds = unsafe { instance.enumerate_physical_devices() }
+            .map_err(vkerr("vkEnumeratePhysicalDevices"))?;
+        let candidates: Vec<_> = pds
+            .iter()
+            .map(|pd| device::describe(instance, *pd))
+            .collect();
+        let env = std::env::var("TESSERA_DEVICE").ok();
+        let wanted = desc.device.clone().or(env);
+        let idx = device::select(&candidates, wanted.as_deref(), &desc.required)?;
+        let cand = candidates[idx].clone();
+        let f = cand.info.features;
+        let features = vk::PhysicalDeviceFeatures::default()
+            .tessellation_shader(f.tessellation_shader)
+            .fill_mode_non_solid(f.fill_mode_non_solid)
+            .pipeline_statistics_query(f.pipeline_statistics_query)
+            .vertex_pipeline_stores_and_atomics(f.vertex_pipeline_stores_and_atomics)
+            .shader_float64(f.shader_float64);
+        let prio = [1.0f32];
+        let queues = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(cand.info.queue_family)
+            .queue_priorities(&prio)];
+        let dci = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queues)
+            .enabled_features(&features);
+        // SAFETY: valid create info for this physical device.
+        let device = unsafe { instance.create_device(cand.handle, &dci, None) }
+            .map_err(vkerr("vkCreateDevice"))?;
+        Ok((cand, device))
+    }
+
+    /// The `ash` device (for recording commands).
+    pub fn device(&self) -> &ash::Device {
+        &self.shared.device
+    }
+
+    /// The `ash` instance.
+    pub fn instance(&self) -> &ash::Instance {
+        &self.shared.instance
+    }
+
+    /// The physical device in use.
+    pub fn physical_device(&self) -> vk::PhysicalDevice {
+        self.shared.physical
+    }
+
+    /// Name, features, limits and queue family of the selected device.
+    pub fn info(&self) -> &DeviceInfo {
+        &self.shared.info
+    }
+
+    /// Whether validation is on.
+    pub fn validation_enabled(&self) -> bool {
+        self.shared.validation
+    }
+
+    /// Fails with a typed error naming every feature of `features` the device lacks.
+    pub fn require(&self, features: &[Feature]) -> Result<()> {
+        let missing = self.shared.info.features.missing(features);
+        if missing.is_empty() {
+            return Ok(());
+        }
+        Err(GpuError::MissingFeatures {
+            name: self.shared.info.name.clone(),
+            missing,
+            devices: Vec::new(),
+        }
+        .into())
+    }
+
+    fn log(&self) -> ValidationLog {
+        self.shared
+            .log
+            .lock()
+            .map(|l| l.clone())
+            .unwrap_or_default()
+    }
+
+    /// Number of validation errors reported so far.
+    pub fn validation_errors(&self) -> usize {
+        self.shared.log.lock().map(|l| l.errors).unwrap_or(0)
+    }
+
+    /// Number of validation warnings reported so far.
+    pub fn validation_warnings(&self) -> usize {
+        self.shared.log.lock().map(|l| l.warnings).unwrap_or(0)
+    }
+
+    /// The validation messages kept so far (errors and warnings).
+    pub fn validation_messages(&self) -> Vec<String> {
+        self.log().messages
+    }
+
+    /// Names a Vulkan object for debuggers / validation messages (no-op without debug utils).
+    pub fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {
+        self.shared.set_name(handle, name);
+    }
+
+    /// Waits until the device is idle.
+    pub fn wait_idle(&self) -> Result<()> {
+        // SAFETY: valid device; queue access is serialised by holding the queue lock.
+        let _q = self.shared.queue.lock().unwrap_or_else(|p| p.into_inner());
+        unsafe { self.shared.device.device_wait_idle() }.map_err(vkerr("vkDeviceWaitIdle"))
+    }
+}

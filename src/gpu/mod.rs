@@ -1,0 +1,29 @@
+//! Vulkan core (ash): context with validation, device selection and limits, memory through
+//! gpu-allocator, one-shot submission, offscreen render target, embedded SPIR-V, cached
+//! pipelines, descriptors and queries. See `src/gpu/README.md` for a usage sequence.
+
+mod commands;
+mod context;
+mod debug;
+mod descriptors;
+mod device;
+mod error;
+mod memory;
+mod pipeline;
+mod query;
+pub mod shaders;
+mod target;
+
+pub use ash::vk;
+pub use context::{Context, ContextDesc};
+pub use debug::ValidationLog;
+pub use descriptors::{BufferBinding, DescriptorPool};
+pub use device::{DeviceFeatures, DeviceInfo, DeviceLimits, Feature};
+pub use error::{DeviceReport, GpuError};
+pub use memory::{as_bytes, from_bytes, Buffer, Image, ImageDesc, MemoryLocation, Pod};
+pub use pipeline::{
+    ComputePipelineDesc, DescriptorBinding, DescriptorKind, GraphicsPipelineDesc, Pipeline,
+    PushConstants, VertexAttribute, VertexBinding,
+};
+pub use query::{ticks_to_ms, GpuTimer, PipelineStats, StatsQuery};
+pub use target::{RenderTarget, TargetFormat, COLOR_FORMAT};

@@ -1,0 +1,528 @@
+//! Graphics / compute pipelines built from hashable descriptions, cached in the context.
+
+use std::collections::HashMap;
+use std::ffi::CStr;
+
+use ash::vk;
+
+use super::context::Context;
+use super::device::Feature;
+use super::error::{invalid, GpuError};
+use super::shaders::stage_of;
+use super::target::{create_render_pass, RenderTarget, TargetFormat};
+use crate::Result;
+
+const ENTRY: &CStr = c"main";
+
+/// Kind of a buffer descriptor.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DescriptorKind {
+    /// `layout(std430) buffer` (storage buffer).
+    StorageBuffer,
+    /// `uniform` block (uniform buffer).
+    UniformBuffer,
+}
+
+impl DescriptorKind {
+    /// The Vulkan descriptor type.
+    pub fn vk(self) -> vk::DescriptorType {
+        match self {
+            DescriptorKind::StorageBuffer => vk::DescriptorType::STORAGE_BUFFER,
+            DescriptorKind::UniformBuffer => vk::DescriptorType::UNIFORM_BUFFER,
+        }
+    }
+}
+
+/// One binding of a descriptor set layout.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct DescriptorBinding {
+    /// `binding = N` in GLSL.
+    pub binding: u32,
+    /// Buffer kind.
+    pub kind: DescriptorKind,
+    /// Stages that access it.
+    pub stages: vk::ShaderStageFlags,
+}
+
+/// A vertex buffer binding.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct VertexBinding {
+    /// Binding index (`cmd_bind_vertex_buffers` slot).
+    pub binding: u32,
+    /// Bytes between consecutive elements.
+    pub stride: u32,
+    /// Advance per instance instead of per vertex.
+    pub per_instance: bool,
+}
+
+/// A vertex attribute.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct VertexAttribute {
+    /// `layout(location = N)`.
+    pub location: u32,
+    /// Source binding.
+    pub binding: u32,
+    /// Format, e.g. `R32G32B32_SFLOAT`.
+    pub format: vk::Format,
+    /// Byte offset inside the element.
+    pub offset: u32,
+}
+
+/// Push-constant range shared by the listed stages.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct PushConstants {
+    /// Stages reading the block.
+    pub stages: vk::ShaderStageFlags,
+    /// Size in bytes (multiple of 4, within `maxPushConstantsSize`).
+    pub size: u32,
+}
+
+/// Everything that defines a graphics pipeline. Shader names refer to embedded shaders.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct GraphicsPipelineDesc {
+    /// Debug name.
+    pub label: String,
+    /// Vertex shader, e.g. `"bspline.vert"`.
+    pub vertex: String,
+    /// Tessellation control shader (both tessellation stages or neither).
+    pub tess_control: Option<String>,
+    /// Tessellation evaluation shader.
+    pub tess_eval: Option<String>,
+    /// Fragment shader.
+    pub fragment: String,
+    /// Vertex buffer bindings.
+    pub vertex_bindings: Vec<VertexBinding>,
+    /// Vertex attributes.
+    pub vertex_attributes: Vec<VertexAttribute>,
+    /// Topology (`PATCH_LIST` with tessellation).
+    pub topology: vk::PrimitiveTopology,
+    /// Control points per patch (tessellation only).
+    pub patch_control_points: u32,
+    /// `FILL` or `LINE` (LINE needs fillModeNonSolid).
+    pub polygon_mode: vk::PolygonMode,
+    /// Cull mode.
+    pub cull_mode: vk::CullModeFlags,
+    /// Front-face winding.
+    pub front_face: vk::FrontFace,
+    /// Enable depth test (LESS_OR_EQUAL).
+    pub depth_test: bool,
+    /// Enable depth writes.
+    pub depth_write: bool,
+    /// Descriptor set layouts, set 0 first.
+    pub set_layouts: Vec<Vec<DescriptorBinding>>,
+    /// Push-constant range (offset 0).
+    pub push_constants: Option<PushConstants>,
+}
+
+impl Default for GraphicsPipelineDesc {
+    fn default() -> Self {
+        GraphicsPipelineDesc {
+            label: String::from("pipeline"),
+            vertex: String::new(),
+            tess_control: None,
+            tess_eval: None,
+            fragment: String::new(),
+            vertex_bindings: Vec::new(),
+            vertex_attributes: Vec::new(),
+            topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+            patch_control_points: 0,
+            polygon_mode: vk::PolygonMode::FILL,
+            cull_mode: vk::CullModeFlags::NONE,
+            front_face: vk::FrontFace::COUNTER_CLOCKWISE,
+            depth_test: true,
+            depth_write: true,
+            set_layouts: Vec::new(),
+            push_constants: None,
+        }
+    }
+}
+
+/// Description of a compute pipeline.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct ComputePipelineDesc {
+    /// Debug name.
+    pub label: String,
+    /// Compute shader name, e.g. `"foo.comp"`.
+    pub shader: String,
+    /// Descriptor set layouts, set 0 first.
+    pub set_layouts: Vec<Vec<DescriptorBinding>>,
+    /// Push-constant range (offset 0).
+    pub push_constants: Option<PushConstants>,
+}
+
+/// A created pipeline. Owned by the context's cache (destroyed with the context); copy freely.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Pipeline {
+    /// The pipeline.
+    pub raw: vk::Pipeline,
+    /// Its layout.
+    pub layout: vk::PipelineLayout,
+    /// Its descriptor set layouts (set 0 first), for allocating sets.
+    pub set_layouts: Vec<vk::DescriptorSetLayout>,
+    /// Bind point (GRAPHICS or COMPUTE).
+    pub bind_point: vk::PipelineBindPoint,
+}
+
+/// Cache of everything pipeline-related; destroyed with the context.
+#[derive(Default)]
+pub(crate) struct PipelineCache {
+    set_layouts: HashMap<Vec<DescriptorBinding>, vk::DescriptorSetLayout>,
+    layouts: HashMap<(Vec<Vec<DescriptorBinding>>, Option<PushConstants>), vk::PipelineLayout>,
+    render_passes: HashMap<TargetFormat, vk::RenderPass>,
+    graphics: HashMap<(GraphicsPipelineDesc, TargetFormat), Pipeline>,
+    compute: HashMap<ComputePipelineDesc, Pipeline>,
+}
+
+impl PipelineCache {
+    pub fn destroy(&mut self, dev: &ash::Device) {
+        // SAFETY: called once at context teardown after the device is idle.
+        unsafe {
+            for p in self.graphics.values().chain(self.compute.values()) {
+                dev.destroy_pipeline(p.raw, None);
+            }
+            for l in self.layouts.values() {
+                dev.destroy_pipeline_layout(*l, None);
+            }
+            for l in self.set_layouts.values() {
+                dev.destroy_descriptor_set_layout(*l, None);
+            }
+            for r in self.render_passes.values() {
+                dev.destroy_render_pass(*r, None);
+            }
+        }
+        *self = PipelineCache::default();
+    }
+
+    fn set_layout(
+        &mut self,
+        ctx: &Context,
+        bindings: &[DescriptorBinding],
+    ) -> Result<vk::DescriptorSetLayout> {
+        if let Some(l) = self.set_layouts.get(bindings) {
+            return Ok(*l);
+        }
+        let vkb: Vec<_> = bindings
+            .iter()
+            .map(|b| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(b.binding)
+                    .descriptor_type(b.kind.vk())
+                    .descriptor_count(1)
+                    .stage_flags(b.stages)
+            })
+            .collect();
+        let ci = vk::DescriptorSetLayoutCreateInfo::default().bindings(&vkb);
+        // SAFETY: valid create info.
+        let l = unsafe { ctx.device().create_descriptor_set_layout(&ci, None) }
+            .map_err(GpuError::vk("vkCreateDescriptorSetLayout"))?;
+        self.set_layouts.insert(bindings.to_vec(), l);
+        Ok(l)
+    }
+
+    fn layout(
+        &mut self,
+        ctx: &Context,
+        sets: &[Vec<DescriptorBinding>],
+        push: Option<PushConstants>,
+    ) -> Result<(vk::PipelineLayout, Vec<vk::DescriptorSetLayout>)> {
+        let lim = &ctx.info().limits;
+        if sets.len() as u32 > lim.max_bound_descriptor_sets {
+            return Err(GpuError::Limit(format!(
+                "{} descriptor sets exceed maxBoundDescriptorSets {}",
+                sets.len(),
+                lim.max_bound_descriptor_sets
+            ))
+            .into());
+        }
+        if let Some(p) = push {
+            if p.size == 0 || p.size % 4 != 0 || p.size > lim.max_push_constants_size {
+                return Err(GpuError::Limit(format!(
+                    "push-constant size {} must be a non-zero multiple of 4 within maxPushConstantsSize {}",
+                    p.size, lim.max_push_constants_size
+                ))
+                .into());
+            }
+        }
+        let set_layouts = sets
+            .iter()
+            .map(|s| self.set_layout(ctx, s))
+            .collect::<Result<Vec<_>>>()?;
+        let key = (sets.to_vec(), push);
+        if let Some(l) = self.layouts.get(&key) {
+            return Ok((*l, set_layouts));
+        }
+        let ranges: Vec<_> = push
+            .iter()
+            .map(|p| {
+                vk::PushConstantRange::default()
+                    .stage_flags(p.stages)
+                    .offset(0)
+                    .size(p.size)
+            })
+            .collect();
+        let ci = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(&set_layouts)
+            .push_constant_ranges(&ranges);
+        // SAFETY: valid create info.
+        let l = unsafe { ctx.device().create_pipeline_layout(&ci, None) }
+            .map_err(GpuError::vk("vkCreatePipelineLayout"))?;
+        self.layouts.insert(key, l);
+        Ok((l, set_layouts))
+    }
+
+    fn render_pass(&mut self, ctx: &Context, fmt: TargetFormat) -> Result<vk::RenderPass> {
+        if let Some(r) = self.render_passes.get(&fmt) {
+            return Ok(*r);
+        }
+        let r = create_render_pass(ctx.device(), fmt)?;
+        self.render_passes.insert(fmt, r);
+        Ok(r)
+    }
+}
+
+fn check_stage(name: &str, want: vk::ShaderStageFlags, what: &str) -> Result<()> {
+    if stage_of(name) != Some(want) {
+        return invalid(format!(
+            "{what} shader \"{name}\" must have the extension of that stage"
+        ));
+    }
+    Ok(())
+}
+
+fn validate(ctx: &Context, d: &GraphicsPipelineDesc) -> Result<()> {
+    check_stage(&d.vertex, vk::ShaderStageFlags::VERTEX, "vertex")?;
+    check_stage(&d.fragment, vk::ShaderStageFlags::FRAGMENT, "fragment")?;
+    match (&d.tess_control, &d.tess_eval) {
+        (Some(c), Some(e)) => {
+            ctx.require(&[Feature::TessellationShader])?;
+            check_stage(
+                c,
+                vk::ShaderStageFlags::TESSELLATION_CONTROL,
+                "tessellation control",
+            )?;
+            check_stage(
+                e,
+                vk::ShaderStageFlags::TESSELLATION_EVALUATION,
+                "tessellation evaluation",
+            )?;
+            if d.topology != vk::PrimitiveTopology::PATCH_LIST {
+                return invalid(format!(
+                    "{}: tessellation needs PATCH_LIST topology",
+                    d.label
+                ));
+            }
+            let max = ctx.info().limits.max_tessellation_patch_size;
+            if d.patch_control_points == 0 || d.patch_control_points > max {
+                return Err(GpuError::Limit(format!(
+                    "{}: {} control points per patch; device allows 1..={max} (maxTessellationPatchSize)",
+                    d.label, d.patch_control_points
+                ))
+                .into());
+            }
+        }
+        (None, None) => {
+            if d.topology == vk::PrimitiveTopology::PATCH_LIST {
+                return invalid(format!(
+                    "{}: PATCH_LIST topology without tessellation shaders",
+                    d.label
+                ));
+            }
+        }
+        _ => {
+            return invalid(format!(
+                "{}: give both tessellation shaders or neither",
+                d.label
+            ))
+        }
+    }
+    if d.polygon_mode != vk::PolygonMode::FILL {
+        ctx.require(&[Feature::FillModeNonSolid])?;
+    }
+    Ok(())
+}
+
+impl Context {
+    /// The graphics pipeline for `desc`, usable with `target` (created once, then cached).
+    pub fn graphics_pipeline(
+        &self,
+        desc: &GraphicsPipelineDesc,
+        target: &RenderTarget,
+    ) -> Result<Pipeline> {
+        self.graphics_pipeline_for(desc, target.format())
+    }
+
+    /// The graphics pipeline for `desc`, compatible with render targets of format `fmt`.
+    pub fn graphics_pipeline_for(
+        &self,
+        desc: &GraphicsPipelineDesc,
+        fmt: TargetFormat,
+    ) -> Result<Pipeline> {
+        let mut cache = self
+            .shared
+            .pipelines
+            .lock()
+            .unwrap_or_else(|p| p.into_inner());
+        let key = (desc.clone(), fmt);
+        if let Some(p) = cache.graphics.get(&key) {
+            return Ok(p.clone());
+        }
+        validate(self, desc)?;
+        let (layout, set_layouts) = cache.layout(self, &desc.set_layouts, desc.push_constants)?;
+        let render_pass = cache.render_pass(self, fmt)?;
+
+        let mut names = vec![(vk::ShaderStageFlags::VERTEX, desc.vertex.as_str())];
+        if let (Some(c), Some(e)) = (&desc.tess_control, &desc.tess_eval) {
+            names.push((vk::ShaderStageFlags::TESSELLATION_CONTROL, c));
+            names.push((vk::ShaderStageFlags::TESSELLATION_EVALUATION, e));
+        }
+        names.push((vk::ShaderStageFlags::FRAGMENT, desc.fragment.as_str()));
+        let mut modules = Vec::new();
+        for (_, n) in &names {
+            match self.shader_module(n) {
+                Ok(m) => modules.push(m),
+                Err(e) => {
+                    destroy_modules(self, &modules);
+                    return Err(e);
+                }
+            }
+        }
+        let stages: Vec<_> = names
+            .iter()
+            .zip(&modules)
+            .map(|((s, _), m)| {
+                vk::PipelineShaderStageCreateInfo::default()
+                    .stage(*s)
+                    .module(*m)
+                    .name(ENTRY)
+            })
+            .collect();
+        let vb: Vec<_> = desc
+            .vertex_bindings
+            .iter()
+            .map(|b| {
+                vk::VertexInputBindingDescription::default()
+                    .binding(b.binding)
+                    .stride(b.stride)
+                    .input_rate(if b.per_instance {
+                        vk::VertexInputRate::INSTANCE
+                    } else {
+                        vk::VertexInputRate::VERTEX
+                    })
+            })
+            .collect();
+        let va: Vec<_> = desc
+            .vertex_attributes
+            .iter()
+            .map(|a| {
+                vk::VertexInputAttributeDescription::default()
+                    .location(a.location)
+                    .binding(a.binding)
+                    .format(a.format)
+                    .offset(a.offset)
+            })
+            .collect();
+        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+            .vertex_binding_descriptions(&vb)
+            .vertex_attribute_descriptions(&va);
+        let input_assembly =
+            vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
+        let tess = vk::PipelineTessellationStateCreateInfo::default()
+            .patch_control_points(desc.patch_control_points);
+        let viewport = vk::PipelineViewportStateCreateInfo::default()
+            .viewport_count(1)
+            .scissor_count(1);
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(desc.polygon_mode)
+            .cull_mode(desc.cull_mode)
+            .front_face(desc.front_face)
+            .line_width(1.0);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+            .rasterization_samples(vk::SampleCountFlags::from_raw(fmt.samples));
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(desc.depth_test)
+            .depth_write_enable(desc.depth_write)
+            .depth_compare_op(vk::CompareOp::LESS_OR_EQUAL);
+        let blend_att = [vk::PipelineColorBlendAttachmentState::default()
+            .color_write_mask(vk::ColorComponentFlags::RGBA)];
+        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_att);
+        let dyn_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dyn_states);
+        let mut ci = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&input_assembly)
+            .viewport_state(&viewport)
+            .rasterization_state(&raster)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth)
+            .color_blend_state(&blend)
+            .dynamic_state(&dynamic)
+            .layout(layout)
+            .render_pass(render_pass)
+            .subpass(0);
+        if desc.tess_control.is_some() {
+            ci = ci.tessellation_state(&tess);
+        }
+        // SAFETY: all referenced state lives until the call returns.
+        let result = unsafe {
+            self.device()
+                .create_graphics_pipelines(vk::PipelineCache::null(), &[ci], None)
+        };
+        destroy_modules(self, &modules);
+        let raw = result.map_err(|(_, e)| GpuError::vk("vkCreateGraphicsPipelines")(e))?[0];
+        self.set_name(raw, &desc.label);
+        let p = Pipeline {
+            raw,
+            layout,
+            set_layouts,
+            bind_point: vk::PipelineBindPoint::GRAPHICS,
+        };
+        cache.graphics.insert(key, p.clone());
+        Ok(p)
+    }
+
+    /// The compute pipeline for `desc` (created once, then cached).
+    pub fn compute_pipeline(&self, desc: &ComputePipelineDesc) -> Result<Pipeline> {
+        let mut cache = self
+            .shared
+            .pipelines
+            .lock()
+            .unwrap_or_else(|p| p.into_inner());
+        if let Some(p) = cache.compute.get(desc) {
+            return Ok(p.clone());
+        }
+        check_stage(&desc.shader, vk::ShaderStageFlags::COMPUTE, "compute")?;
+        let (layout, set_layouts) = cache.layout(self, &desc.set_layouts, desc.push_constants)?;
+        let module = self.shader_module(&desc.shader)?;
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(module)
+            .name(ENTRY);
+        let ci = vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(layout);
+        // SAFETY: valid create info.
+        let result = unsafe {
+            self.device()
+                .create_compute_pipelines(vk::PipelineCache::null(), &[ci], None)
+        };
+        destroy_modules(self, &[module]);
+        let raw = result.map_err(|(_, e)| GpuError::vk("vkCreateComputePipelines")(e))?[0];
+        self.set_name(raw, &desc.label);
+        let p = Pipeline {
+            raw,
+            layout,
+            set_layouts,
+            bind_point: vk::PipelineBindPoint::COMPUTE,
+        };
+        cache.compute.insert(desc.clone(), p.clone());
+        Ok(p)
+    }
+}
+
+fn destroy_modules(ctx: &Context, modules: &[vk::ShaderModule]) {
+    for m in modules {
+        // SAFETY: modules are not needed after pipeline creation.
+        unsafe { ctx.device().destroy_shader_module(*m, None) };
+    }
+}
