@@ -12,8 +12,10 @@
 //! Corner `i` of a patch is corner `i` of its face; a quad patch uses the face's (u, v)
 //! (corners at (0,0), (1,0), (1,1), (0,1)).
 
+mod build;
 mod eval;
 mod vertex;
 
-pub use eval::{GregoryQuad, GregoryTriangle};
-pub use vertex::{GregoryVertex, VertexRing};
+pub use build::{gregory_patch, gregory_vertices, is_supported_vertex, vertex_ring, GregoryPatch};
+pub use eval::{CornerRef, GregoryQuad, GregoryTriangle, PatchPoint};
+pub use vertex::{face_point, subdominant_eigenvalue, GregoryVertex, VertexRing};
