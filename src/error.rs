@@ -6,6 +6,27 @@ use thiserror::Error;
 /// Result alias used throughout the crate.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
+/// Which kind of subdivision tag an error refers to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TagKind {
+    /// A crease (sharp edge).
+    Crease,
+    /// A corner (sharp vertex).
+    Corner,
+    /// A hole face.
+    Hole,
+}
+
+impl std::fmt::Display for TagKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            TagKind::Crease => "crease",
+            TagKind::Corner => "corner",
+            TagKind::Hole => "hole",
+        })
+    }
+}
+
 /// Every error tessera reports. Variants name the offending element (vertex, face, edge, line).
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum Error {
@@ -15,6 +36,136 @@ pub enum Error {
     /// Generic invalid input that does not fit another variant.
     #[error("invalid input: {0}")]
     Invalid(String),
+    /// Two arrays that must agree in length do not (e.g. the face sizes do not add up to the
+    /// number of face-vertex indices).
+    #[error("size mismatch: {what}: expected {expected}, found {found}")]
+    SizeMismatch {
+        /// What was compared.
+        what: &'static str,
+        /// The length implied by the other array.
+        expected: u64,
+        /// The length found.
+        found: u64,
+    },
+    /// A face has fewer than 3 vertices.
+    #[error("face {face} has {size} vertices (at least 3 needed)")]
+    FaceTooSmall {
+        /// The face (0-based).
+        face: u32,
+        /// Its number of vertices.
+        size: u32,
+    },
+    /// A face refers to a vertex that does not exist.
+    #[error("face {face}, corner {corner}: vertex index {index} out of range (mesh has {vertex_count} vertices)")]
+    IndexOutOfRange {
+        /// The face (0-based).
+        face: u32,
+        /// Position of the bad index within the face (0-based corner).
+        corner: u32,
+        /// The bad index.
+        index: u32,
+        /// Number of vertices of the mesh.
+        vertex_count: u32,
+    },
+    /// A vertex coordinate is NaN or infinite.
+    #[error("vertex {vertex} has a non-finite coordinate")]
+    NonFiniteCoordinate {
+        /// The vertex (0-based).
+        vertex: u32,
+    },
+    /// A face uses the same vertex twice.
+    #[error("face {face} uses vertex {vertex} more than once")]
+    RepeatedVertex {
+        /// The face (0-based).
+        face: u32,
+        /// The repeated vertex.
+        vertex: u32,
+    },
+    /// An edge is used by three or more faces.
+    #[error("non-manifold edge {v0}-{v1}: used by {face_count} faces")]
+    NonManifoldEdge {
+        /// Smaller end vertex.
+        v0: u32,
+        /// Larger end vertex.
+        v1: u32,
+        /// How many faces use it.
+        face_count: u32,
+    },
+    /// The faces around a vertex form more than one fan (a "bow-tie").
+    #[error("non-manifold vertex {vertex}: its faces form {fans} separate fans")]
+    NonManifoldVertex {
+        /// The vertex.
+        vertex: u32,
+        /// Number of separate face fans around it (>= 2).
+        fans: u32,
+    },
+    /// Two faces traverse a shared edge in the same direction: their windings disagree.
+    #[error(
+        "inconsistent winding: faces {face0} and {face1} both use the directed edge {v0}->{v1}"
+    )]
+    InconsistentWinding {
+        /// First face.
+        face0: u32,
+        /// Second face.
+        face1: u32,
+        /// Start of the directed edge both faces use.
+        v0: u32,
+        /// End of the directed edge both faces use.
+        v1: u32,
+    },
+    /// A crease tag names two vertices that are not joined by an edge of the mesh.
+    #[error("crease {crease}: {v0}-{v1} is not an edge of the mesh")]
+    CreaseNotAnEdge {
+        /// Index of the crease in the crease list.
+        crease: u32,
+        /// First vertex of the tag.
+        v0: u32,
+        /// Second vertex of the tag.
+        v1: u32,
+    },
+    /// A crease or corner sharpness is negative or NaN.
+    #[error("{kind} {index}: invalid sharpness {sharpness} (must be >= 0)")]
+    InvalidSharpness {
+        /// Crease or corner.
+        kind: TagKind,
+        /// Index of the tag in its list.
+        index: u32,
+        /// The bad value.
+        sharpness: f32,
+    },
+    /// A crease/corner vertex or a hole face index is out of range.
+    #[error("{kind} {index}: index {value} out of range (limit {limit})")]
+    TagIndexOutOfRange {
+        /// Crease, corner or hole.
+        kind: TagKind,
+        /// Index of the tag in its list.
+        index: u32,
+        /// The bad vertex or face index.
+        value: u32,
+        /// Number of vertices (crease, corner) or faces (hole).
+        limit: u32,
+    },
+    /// A line of an OBJ file could not be understood.
+    #[error("line {line}: {message}: `{text}`")]
+    Parse {
+        /// 1-based line number.
+        line: usize,
+        /// The line as written.
+        text: String,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// The OBJ reader (tobj) refused the file.
+    #[error("OBJ error: {0}")]
+    Obj(String),
+    /// A file could not be read.
+    #[error("cannot read {path}: {message}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The operating system's message.
+        message: String,
+    },
     /// Vulkan / device failure (see [`crate::gpu::GpuError`]).
     #[error(transparent)]
     Gpu(#[from] crate::gpu::GpuError),

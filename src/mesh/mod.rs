@@ -97,6 +97,7 @@ pub struct ControlMesh {
     pub(crate) corners: Vec<Corner>,
     pub(crate) holes: Vec<bool>,
     pub(crate) options: SchemeOptions,
+    pub(crate) warnings: Vec<MeshWarning>,
 }
 
 impl ControlMesh {
@@ -157,6 +158,11 @@ impl ControlMesh {
         self.options
     }
 
+    /// Non-fatal findings: unreferenced vertices, and for files unknown or unsupported tags.
+    pub fn warnings(&self) -> &[MeshWarning] {
+        &self.warnings
+    }
+
     /// Axis-aligned bounding box `(min, max)` of the positions.
     pub fn bounding_box(&self) -> (DVec3, DVec3) {
         let mut lo = DVec3::splat(f64::INFINITY);
@@ -175,7 +181,13 @@ impl ControlMesh {
     }
 }
 
+pub mod obj;
+mod tags;
 pub mod validate;
+mod warning;
+
+pub use obj::ObjOptions;
+pub use warning::MeshWarning;
 
 impl ControlMesh {
     /// Builds and validates a mesh. Errors name the offending vertex, face or edge.
@@ -184,14 +196,14 @@ impl ControlMesh {
         if desc.left_handed {
             let mut start = 0usize;
             for &n in &desc.face_sizes {
-                let end = start + n as usize;
-                if end <= desc.face_vertices.len() && n > 0 {
+                let end = start.saturating_add(n as usize);
+                if end <= desc.face_vertices.len() && n > 1 {
                     desc.face_vertices[start + 1..end].reverse();
                 }
                 start = end;
             }
         }
-        validate::validate(&desc)?;
+        let warnings = validate::validate(&desc)?;
         let mut face_offsets = Vec::with_capacity(desc.face_sizes.len() + 1);
         let mut acc = 0u32;
         face_offsets.push(0);
@@ -211,6 +223,7 @@ impl ControlMesh {
             corners: desc.corners,
             holes,
             options: desc.options,
+            warnings,
         })
     }
 

@@ -1,1 +1,9 @@
 //! Patch schemes: CPU construction and reference evaluation, one module per scheme.
+//!
+//! - [`basis`]: cubic B-spline and Bernstein bases, B-spline to Bézier conversion.
+//! - [`regular`]: bicubic B-spline patches of regular (and boundary-regular) quads.
+
+pub mod basis;
+pub mod regular;
+
+pub use regular::RegularPatch;

@@ -1,1 +1,14 @@
 //! Catmull-Clark subdivision: rules, refinement, limit masks, exact evaluation, stencil tables.
+//!
+//! [`Level`] is the unit of refinement; [`Level::refine`] performs one uniform step and returns
+//! the child level with its [`SparseMatrix`]; [`StencilTable`] composes those matrices.
+
+pub mod eval;
+mod level;
+pub mod limit;
+mod refine;
+pub mod rules;
+pub mod sparse;
+
+pub use level::Level;
+pub use sparse::SparseMatrix;

@@ -1,1 +1,354 @@
 //! Mesh topology: edges, ordered one-rings, boundaries, per-face classification.
+//!
+//! [`Topology`] stores flat arrays (CSR style). One-ring convention, used everywhere in the
+//! crate: around vertex `v`, `vertex_faces(v)[i]` lies between `vertex_edges(v)[i]` (the edge
+//! leaving `v` along that face's winding) and `vertex_edges(v)[i + 1]` (cyclically for interior
+//! vertices). The order is counter-clockwise seen from outside. A boundary vertex has one more
+//! edge than faces and its ring starts at a boundary edge.
+//!
+//! The topology also carries the subdivision tags after the boundary rule has been applied:
+//! boundary edges are infinitely sharp, and with [`BoundaryInterpolation::EdgeAndCorner`] a
+//! boundary vertex with a single face is an infinitely sharp corner.
+
+mod build;
+pub(crate) mod par;
+
+pub(crate) use build::build;
+
+use crate::mesh::{BoundaryInterpolation, ControlMesh, SchemeOptions, INFINITE_SHARPNESS};
+use crate::{Error, Result};
+
+/// Marks "no face" in [`Topology`]'s edge-face slots.
+pub(crate) const NONE: u32 = u32::MAX;
+
+/// Per-face classification used by the patch schemes (checked in this order: Hole, Boundary,
+/// Creased, Triangle, Polygon, IrregularQuad, RegularQuad).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum FaceClass {
+    /// A quad with four interior valence-4 vertices and no sharpness on or around it.
+    RegularQuad,
+    /// A quad with an extraordinary vertex or a non-quad face around one of its vertices
+    /// (no boundary, no sharpness).
+    IrregularQuad,
+    /// A triangle (no boundary, no sharpness).
+    Triangle,
+    /// A face with more than four vertices (no boundary, no sharpness).
+    Polygon,
+    /// A face touching the boundary.
+    Boundary,
+    /// Sharpness on the face's edges or vertices or on edges incident to its vertices.
+    Creased,
+    /// A hole face (kept in the topology, no surface).
+    Hole,
+}
+
+/// Connectivity plus subdivision tags of a polygon mesh (see the module docs for conventions).
+#[derive(Debug, Clone)]
+pub struct Topology {
+    pub(crate) num_vertices: u32,
+    pub(crate) face_offsets: Vec<u32>,
+    pub(crate) face_verts: Vec<u32>,
+    /// Parallel to `face_verts`: edge `k` of a face joins its corners `k` and `k + 1`.
+    pub(crate) face_edges: Vec<u32>,
+    /// Oriented as in `edge_faces[e][0]`.
+    pub(crate) edge_verts: Vec<[u32; 2]>,
+    /// Second slot is [`NONE`] on boundary edges.
+    pub(crate) edge_faces: Vec<[u32; 2]>,
+    /// Index of the edge within each of its faces.
+    pub(crate) edge_face_local: Vec<[u16; 2]>,
+    pub(crate) vert_face_offsets: Vec<u32>,
+    pub(crate) vert_faces: Vec<u32>,
+    /// Index of the vertex within each of its faces (parallel to `vert_faces`).
+    pub(crate) vert_face_local: Vec<u16>,
+    pub(crate) vert_edge_offsets: Vec<u32>,
+    pub(crate) vert_edges: Vec<u32>,
+    pub(crate) edge_sharpness: Vec<f32>,
+    pub(crate) vertex_sharpness: Vec<f32>,
+    pub(crate) holes: Vec<bool>,
+    pub(crate) options: SchemeOptions,
+    pub(crate) max_face_size: u32,
+}
+
+/// Clamps a tag sharpness to `[0, INFINITE_SHARPNESS]`.
+pub(crate) fn clamp_sharpness(s: f32) -> f32 {
+    s.clamp(0.0, INFINITE_SHARPNESS)
+}
+
+impl Topology {
+    /// Builds the topology of a validated mesh and applies its tags and boundary rule.
+    ///
+    /// Errors (never panics) on non-manifold edges or vertices, inconsistent winding, creases on
+    /// missing edges and invalid sharpness, naming the element.
+    pub fn new(mesh: &ControlMesh) -> Result<Topology> {
+        let mut t = build(
+            mesh.vertex_count(),
+            mesh.face_offsets().to_vec(),
+            mesh.face_vertices().to_vec(),
+            true,
+        )?;
+        t.options = mesh.options();
+        for c in mesh.creases() {
+            if !(c.sharpness >= 0.0) {
+                return Err(Error::Invalid(format!(
+                    "crease {}-{}: invalid sharpness {}",
+                    c.v0, c.v1, c.sharpness
+                )));
+            }
+            let e = t
+                .find_edge(c.v0, c.v1)
+                .ok_or_else(|| Error::Invalid(format!("crease {}-{}: no such edge", c.v0, c.v1)))?;
+            t.edge_sharpness[e as usize] = clamp_sharpness(c.sharpness);
+        }
+        for c in mesh.corners() {
+            if !(c.sharpness >= 0.0) || c.vertex >= t.num_vertices {
+                return Err(Error::Invalid(format!(
+                    "corner {}: invalid vertex or sharpness {}",
+                    c.vertex, c.sharpness
+                )));
+            }
+            t.vertex_sharpness[c.vertex as usize] = clamp_sharpness(c.sharpness);
+        }
+        for f in 0..t.face_count() {
+            t.holes[f] = mesh.is_hole(f);
+        }
+        t.apply_boundary_rule();
+        Ok(t)
+    }
+
+    /// Boundary edges become infinitely sharp; with `EdgeAndCorner`, boundary vertices with a
+    /// single face become infinitely sharp corners.
+    pub(crate) fn apply_boundary_rule(&mut self) {
+        for e in 0..self.edge_count() {
+            if self.edge_faces[e][1] == NONE {
+                self.edge_sharpness[e] = INFINITE_SHARPNESS;
+            }
+        }
+        if self.options.boundary == BoundaryInterpolation::EdgeAndCorner {
+            for v in 0..self.vertex_count() {
+                if self.vertex_faces(v as u32).len() == 1 {
+                    self.vertex_sharpness[v] = INFINITE_SHARPNESS;
+                }
+            }
+        }
+    }
+
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.num_vertices as usize
+    }
+
+    /// Number of faces (holes included).
+    pub fn face_count(&self) -> usize {
+        self.face_offsets.len() - 1
+    }
+
+    /// Number of edges.
+    pub fn edge_count(&self) -> usize {
+        self.edge_verts.len()
+    }
+
+    /// Total number of face corners (sum of face sizes).
+    pub fn corner_count(&self) -> usize {
+        self.face_verts.len()
+    }
+
+    /// Offsets of the faces in the flat face arrays (`face_count() + 1` entries).
+    pub fn face_offsets(&self) -> &[u32] {
+        &self.face_offsets
+    }
+
+    /// Number of vertices of face `f`.
+    pub fn face_size(&self, f: u32) -> usize {
+        (self.face_offsets[f as usize + 1] - self.face_offsets[f as usize]) as usize
+    }
+
+    /// Largest face size.
+    pub fn max_face_size(&self) -> usize {
+        self.max_face_size as usize
+    }
+
+    /// The vertices of face `f`, counter-clockwise.
+    pub fn face_vertices(&self, f: u32) -> &[u32] {
+        let (a, b) = self.face_range(f);
+        &self.face_verts[a..b]
+    }
+
+    /// The edges of face `f`: edge `k` joins corners `k` and `k + 1`.
+    pub fn face_edges(&self, f: u32) -> &[u32] {
+        let (a, b) = self.face_range(f);
+        &self.face_edges[a..b]
+    }
+
+    fn face_range(&self, f: u32) -> (usize, usize) {
+        (
+            self.face_offsets[f as usize] as usize,
+            self.face_offsets[f as usize + 1] as usize,
+        )
+    }
+
+    /// End vertices of edge `e`, oriented as in its first face.
+    pub fn edge_vertices(&self, e: u32) -> [u32; 2] {
+        self.edge_verts[e as usize]
+    }
+
+    /// The one or two faces of edge `e`; the edge runs `v0 -> v1` in the first.
+    pub fn edge_faces(&self, e: u32) -> &[u32] {
+        let ef = &self.edge_faces[e as usize];
+        if ef[1] == NONE {
+            &ef[..1]
+        } else {
+            &ef[..]
+        }
+    }
+
+    /// Position of edge `e` within each of its faces (parallel to [`Self::edge_faces`]).
+    pub fn edge_face_locals(&self, e: u32) -> &[u16] {
+        let n = self.edge_faces(e).len();
+        &self.edge_face_local[e as usize][..n]
+    }
+
+    /// Faces around `v`, counter-clockwise (see the module docs).
+    pub fn vertex_faces(&self, v: u32) -> &[u32] {
+        let (a, b) = (
+            self.vert_face_offsets[v as usize] as usize,
+            self.vert_face_offsets[v as usize + 1] as usize,
+        );
+        &self.vert_faces[a..b]
+    }
+
+    /// Position of `v` within each face of [`Self::vertex_faces`].
+    pub fn vertex_face_locals(&self, v: u32) -> &[u16] {
+        let (a, b) = (
+            self.vert_face_offsets[v as usize] as usize,
+            self.vert_face_offsets[v as usize + 1] as usize,
+        );
+        &self.vert_face_local[a..b]
+    }
+
+    /// Edges around `v`, counter-clockwise; face `i` lies between edges `i` and `i + 1`.
+    pub fn vertex_edges(&self, v: u32) -> &[u32] {
+        let (a, b) = (
+            self.vert_edge_offsets[v as usize] as usize,
+            self.vert_edge_offsets[v as usize + 1] as usize,
+        );
+        &self.vert_edges[a..b]
+    }
+
+    /// The end of edge `e` that is not `v`.
+    pub fn other_vertex(&self, e: u32, v: u32) -> u32 {
+        let [a, b] = self.edge_verts[e as usize];
+        if a == v {
+            b
+        } else {
+            a
+        }
+    }
+
+    /// Whether edge `e` has a single face.
+    pub fn is_boundary_edge(&self, e: u32) -> bool {
+        self.edge_faces[e as usize][1] == NONE
+    }
+
+    /// Whether `v` lies on the boundary (or has no face at all).
+    pub fn is_boundary_vertex(&self, v: u32) -> bool {
+        let nf = self.vertex_faces(v).len();
+        nf == 0 || self.vertex_edges(v).len() != nf
+    }
+
+    /// Number of edges incident to `v`.
+    pub fn valence(&self, v: u32) -> usize {
+        self.vertex_edges(v).len()
+    }
+
+    /// The edge joining `a` and `b`, if any.
+    pub fn find_edge(&self, a: u32, b: u32) -> Option<u32> {
+        if a as usize >= self.vertex_count() || b as usize >= self.vertex_count() {
+            return None;
+        }
+        self.vertex_edges(a)
+            .iter()
+            .copied()
+            .find(|&e| self.other_vertex(e, a) == b)
+    }
+
+    /// Sharpness of edge `e` after tags and the boundary rule (`>= INFINITE_SHARPNESS`: infinite).
+    pub fn edge_sharpness(&self, e: u32) -> f32 {
+        self.edge_sharpness[e as usize]
+    }
+
+    /// Sharpness of vertex `v` after tags and the boundary rule.
+    pub fn vertex_sharpness(&self, v: u32) -> f32 {
+        self.vertex_sharpness[v as usize]
+    }
+
+    /// All edge sharpness values.
+    pub fn edge_sharpnesses(&self) -> &[f32] {
+        &self.edge_sharpness
+    }
+
+    /// All vertex sharpness values.
+    pub fn vertex_sharpnesses(&self) -> &[f32] {
+        &self.vertex_sharpness
+    }
+
+    /// Whether face `f` is a hole.
+    pub fn is_hole(&self, f: u32) -> bool {
+        self.holes[f as usize]
+    }
+
+    /// Scheme options the tags were applied with.
+    pub fn options(&self) -> SchemeOptions {
+        self.options
+    }
+
+    /// False for holes and, with [`BoundaryInterpolation::None`], for faces touching a boundary
+    /// vertex.
+    pub fn has_limit_surface(&self, f: u32) -> bool {
+        if self.is_hole(f) {
+            return false;
+        }
+        if self.options.boundary == BoundaryInterpolation::None {
+            return !self
+                .face_vertices(f)
+                .iter()
+                .any(|&v| self.is_boundary_vertex(v));
+        }
+        true
+    }
+
+    /// Whether any sharpness lies on face `f`'s edges or vertices or on edges incident to them.
+    pub fn is_creased_face(&self, f: u32) -> bool {
+        self.face_vertices(f).iter().any(|&v| {
+            self.vertex_sharpness(v) > 0.0
+                || self
+                    .vertex_edges(v)
+                    .iter()
+                    .any(|&e| self.edge_sharpness(e) > 0.0)
+        })
+    }
+
+    /// Classification of face `f` (see [`FaceClass`]).
+    pub fn face_class(&self, f: u32) -> FaceClass {
+        let verts = self.face_vertices(f);
+        if self.is_hole(f) {
+            FaceClass::Hole
+        } else if verts.iter().any(|&v| self.is_boundary_vertex(v)) {
+            FaceClass::Boundary
+        } else if self.is_creased_face(f) {
+            FaceClass::Creased
+        } else if verts.len() == 3 {
+            FaceClass::Triangle
+        } else if verts.len() > 4 {
+            FaceClass::Polygon
+        } else if verts.iter().any(|&v| {
+            self.valence(v) != 4 || self.vertex_faces(v).iter().any(|&g| self.face_size(g) != 4)
+        }) {
+            FaceClass::IrregularQuad
+        } else {
+            FaceClass::RegularQuad
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

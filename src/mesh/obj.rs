@@ -1,0 +1,291 @@
+//! Wavefront OBJ input with OpenSubdiv-style tags.
+//!
+//! Faces of any size are kept as polygons (`tobj` without triangulation). tobj renumbers the
+//! vertices of each object by first use and stores them as `f32`, while tags address the file's
+//! `v` list by 0-based index and may name vertices no face uses. So this reader makes one pass
+//! of its own first: it reads every `v` line in `f64` (vertex `i` of the mesh is the file's
+//! `i`-th `v`), parses the `t` tag lines, checks and resolves face indices (1-based or
+//! negative relative) with line numbers, and hands tobj a clean copy whose `v` lines encode
+//! their own index. tobj's per-object output is decoded back to file indices through those
+//! encoded positions, and the objects (`o` / `g`) are concatenated in file order.
+//! Texture coordinates, normals, materials and smoothing groups are not used.
+
+use glam::DVec3;
+
+use super::tags::Tags;
+use super::{ControlMesh, ControlMeshDesc, MeshWarning};
+use crate::{Error, Result};
+
+/// Options of the OBJ reader.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ObjOptions {
+    /// The file's faces are wound clockwise seen from outside (e.g. OpenSubdiv's
+    /// `catmark_lefthanded`): reverse them on load.
+    pub left_handed: bool,
+}
+
+/// OBJ statements that mean nothing for a subdivision control mesh and are skipped silently.
+const SILENT: &[&str] = &["vt", "vn", "vp", "s", "mtllib", "usemtl", "o", "g"];
+
+/// OBJ statements that are valid OBJ but not used here; skipped with a warning.
+const IGNORED: &[&str] = &[
+    "l",
+    "p",
+    "cstype",
+    "deg",
+    "bmat",
+    "step",
+    "curv",
+    "curv2",
+    "surf",
+    "parm",
+    "trim",
+    "hole",
+    "scrv",
+    "sp",
+    "end",
+    "con",
+    "mg",
+    "lod",
+    "maplib",
+    "usemap",
+    "bevel",
+    "c_interp",
+    "d_interp",
+    "shadow_obj",
+    "trace_obj",
+    "ctech",
+    "stech",
+    "call",
+    "csh",
+];
+
+impl ControlMesh {
+    /// Reads an OBJ file with OpenSubdiv tags. Errors name the file, line or element at fault.
+    pub fn from_obj_file(path: impl AsRef<std::path::Path>, options: &ObjOptions) -> Result<Self> {
+        let path = path.as_ref();
+        let bytes = std::fs::read(path).map_err(|e| Error::Io {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        let text = String::from_utf8_lossy(&bytes);
+        Self::from_obj_str(&text, &path.display().to_string(), options)
+    }
+
+    /// Parses OBJ text with OpenSubdiv tags; `name` identifies the source in messages.
+    pub fn from_obj_str(text: &str, name: &str, options: &ObjOptions) -> Result<Self> {
+        let scan = Scan::run(text)?;
+        let (face_sizes, face_vertices) = faces_through_tobj(&scan, name)?;
+        let Tags {
+            creases,
+            corners,
+            holes,
+            options: scheme,
+            warnings: tag_warnings,
+        } = scan.tags;
+        let mut mesh = ControlMesh::new(ControlMeshDesc {
+            positions: scan.positions,
+            face_sizes,
+            face_vertices,
+            creases,
+            corners,
+            holes,
+            options: scheme,
+            left_handed: options.left_handed,
+        })?;
+        let mut warnings = scan.warnings;
+        warnings.extend(tag_warnings);
+        warnings.append(&mut mesh.warnings);
+        mesh.warnings = warnings;
+        Ok(mesh)
+    }
+}
+
+/// What the first pass finds.
+struct Scan {
+    positions: Vec<DVec3>,
+    /// 0-based file vertex indices of each face, in file order.
+    faces: Vec<Vec<u32>>,
+    tags: Tags,
+    warnings: Vec<MeshWarning>,
+    /// The text handed to tobj: `v` lines encode their index, `f` lines hold absolute indices.
+    clean: String,
+}
+
+impl Scan {
+    fn run(text: &str) -> Result<Scan> {
+        let mut scan = Scan {
+            positions: Vec::new(),
+            faces: Vec::new(),
+            tags: Tags::default(),
+            warnings: Vec::new(),
+            clean: String::with_capacity(text.len()),
+        };
+        // (line, text) of the first face using each index beyond the vertices read so far.
+        let mut forward: Vec<(u32, usize, &str)> = Vec::new();
+        for (i, raw) in text.lines().enumerate() {
+            let line = i + 1;
+            let content = raw.split('#').next().unwrap_or("");
+            let words: Vec<&str> = content.split_whitespace().collect();
+            let Some((&key, args)) = words.split_first() else {
+                continue;
+            };
+            let err = |message: String| Error::Parse {
+                line,
+                text: raw.trim().to_string(),
+                message,
+            };
+            match key {
+                "v" => {
+                    let p = parse_position(args).map_err(err)?;
+                    let index = scan.positions.len() as u64;
+                    if index >= u32::MAX as u64 {
+                        return Err(err("too many vertices".into()));
+                    }
+                    // Two f32-exact halves: tobj reads positions as f32.
+                    scan.clean
+                        .push_str(&format!("v {} {} 0\n", index >> 16, index & 0xffff));
+                    scan.positions.push(p);
+                }
+                "f" => {
+                    let nv = scan.positions.len() as i64;
+                    let mut face = Vec::with_capacity(args.len());
+                    scan.clean.push('f');
+                    for w in args {
+                        let v = resolve_index(w, nv).map_err(err)?;
+                        if v as i64 >= nv {
+                            forward.push((v, line, raw));
+                        }
+                        scan.clean.push_str(&format!(" {}", v as u64 + 1));
+                        face.push(v);
+                    }
+                    scan.clean.push('\n');
+                    scan.faces.push(face);
+                }
+                "t" => scan.tags.parse_line(args, line, raw)?,
+                "o" | "g" => {
+                    scan.clean.push_str(content.trim());
+                    scan.clean.push('\n');
+                }
+                k if SILENT.contains(&k) => {}
+                k if IGNORED.contains(&k) => scan.warnings.push(MeshWarning::IgnoredStatement {
+                    line,
+                    keyword: k.to_string(),
+                }),
+                k => return Err(err(format!("unknown OBJ statement `{k}`"))),
+            }
+        }
+        let nv = scan.positions.len();
+        if let Some(&(v, line, raw)) = forward.iter().find(|f| f.0 as usize >= nv) {
+            return Err(Error::Parse {
+                line,
+                text: raw.trim().to_string(),
+                message: format!("vertex {} does not exist (the file has {nv})", v as u64 + 1),
+            });
+        }
+        Ok(scan)
+    }
+}
+
+/// `x y z`, `x y z w` (divided by `w`) or `x y z r g b` (colour ignored).
+fn parse_position(args: &[&str]) -> std::result::Result<DVec3, String> {
+    let num = |s: &str| {
+        s.parse::<f64>()
+            .map_err(|_| format!("`{s}` is not a number"))
+    };
+    match args.len() {
+        3 | 4 | 6 => {
+            let p = DVec3::new(num(args[0])?, num(args[1])?, num(args[2])?);
+            if args.len() == 4 {
+                let w = num(args[3])?;
+                if w == 0.0 {
+                    return Err("homogeneous coordinate w = 0".into());
+                }
+                return Ok(p / w);
+            }
+            Ok(p)
+        }
+        n => Err(format!(
+            "a vertex needs 3 coordinates (optionally w, or r g b), found {n} values"
+        )),
+    }
+}
+
+/// The 0-based vertex index of a face word `v`, `v/vt`, `v//vn` or `v/vt/vn` (1-based, or
+/// negative = relative to the `nv` vertices read so far).
+fn resolve_index(word: &str, nv: i64) -> std::result::Result<u32, String> {
+    let first = word.split('/').next().unwrap_or("");
+    let k: i64 = first
+        .parse()
+        .map_err(|_| format!("`{word}` is not a vertex reference"))?;
+    let v = match k {
+        0 => return Err("vertex index 0 (OBJ indices start at 1)".into()),
+        k if k > 0 => k - 1,
+        k => nv + k,
+    };
+    if v < 0 {
+        return Err(format!(
+            "relative index {k} reaches before the first vertex"
+        ));
+    }
+    u32::try_from(v)
+        .ok()
+        .filter(|&v| v < u32::MAX)
+        .ok_or_else(|| format!("vertex index {k} is too large"))
+}
+
+/// Runs tobj on the cleaned text and maps its per-object, renumbered output back to file
+/// indices. The result is checked against the first pass, face by face.
+fn faces_through_tobj(scan: &Scan, name: &str) -> Result<(Vec<u32>, Vec<u32>)> {
+    let load = tobj::LoadOptions {
+        triangulate: false,
+        single_index: false,
+        ignore_points: false,
+        ignore_lines: false,
+    };
+    let mut reader = std::io::Cursor::new(scan.clean.as_bytes());
+    let (models, _) =
+        tobj::load_obj_buf(&mut reader, &load, |_| Err(tobj::LoadError::GenericFailure))
+            .map_err(|e| Error::Obj(format!("{name}: {e}")))?;
+    let inconsistent = || Error::Obj(format!("{name}: tobj output is inconsistent"));
+    let mut sizes = Vec::with_capacity(scan.faces.len());
+    let mut vertices = Vec::with_capacity(scan.faces.iter().map(Vec::len).sum());
+    for model in &models {
+        let m = &model.mesh;
+        let decode = |i: u32| -> Option<u32> {
+            let i = i as usize * 3;
+            let (hi, lo) = (*m.positions.get(i)?, *m.positions.get(i + 1)?);
+            Some(((hi as u32) << 16) | lo as u32)
+        };
+        let arities: Vec<u32> = if m.face_arities.is_empty() {
+            vec![3; m.indices.len() / 3]
+        } else {
+            m.face_arities.clone()
+        };
+        let mut at = 0usize;
+        for n in arities {
+            let end = at + n as usize;
+            if end > m.indices.len() {
+                return Err(inconsistent());
+            }
+            for &i in &m.indices[at..end] {
+                vertices.push(decode(i).ok_or_else(inconsistent)?);
+            }
+            sizes.push(n);
+            at = end;
+        }
+    }
+    let agrees = sizes.len() == scan.faces.len()
+        && scan
+            .faces
+            .iter()
+            .flatten()
+            .copied()
+            .eq(vertices.iter().copied());
+    if !agrees {
+        return Err(Error::Obj(format!(
+            "{name}: tobj's faces disagree with the file's face lines"
+        )));
+    }
+    Ok((sizes, vertices))
+}

@@ -1,0 +1,222 @@
+//! Gregory patch control points, assembly from per-vertex data, and CPU reference evaluation
+//! through the Bézier form with blended face points (Loop et al. 2009, §3.1 and §4.4).
+
+use super::vertex::{face_point, GregoryVertex};
+use crate::patch::basis::{bernstein, bernstein_deriv, eval_tensor};
+use glam::DVec3;
+
+/// Position and first derivatives of a patch at a parameter point.
+///
+/// The derivatives are those of the Bézier patch with the face points frozen at the
+/// parameter (§4.4): exact along patch edges, continuous inside, and what the GPU computes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PatchPoint {
+    /// Surface position.
+    pub position: DVec3,
+    /// Derivative along the first parameter.
+    pub du: DVec3,
+    /// Derivative along the second parameter.
+    pub dv: DVec3,
+}
+
+impl PatchPoint {
+    /// `normalize(du x dv)`; zero if the derivatives are parallel.
+    pub fn normal(&self) -> DVec3 {
+        self.du.cross(self.dv).normalize_or_zero()
+    }
+}
+
+/// The 20 control points of a quad Gregory patch (paper Fig. 4a), indexed by patch corner.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GregoryQuad {
+    /// Corner points.
+    pub p: [DVec3; 4],
+    /// Edge point at corner `i` towards corner `i + 1`.
+    pub e_plus: [DVec3; 4],
+    /// Edge point at corner `i` towards corner `i - 1`.
+    pub e_minus: [DVec3; 4],
+    /// Face point at corner `i` next to the edge `i -> i + 1`.
+    pub f_plus: [DVec3; 4],
+    /// Face point at corner `i` next to the edge `i -> i - 1`.
+    pub f_minus: [DVec3; 4],
+}
+
+/// The 15 control points of a triangular Gregory patch (paper Fig. 4b), indexed by corner.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GregoryTriangle {
+    /// Corner points.
+    pub p: [DVec3; 3],
+    /// Edge point at corner `i` towards corner `i + 1`.
+    pub e_plus: [DVec3; 3],
+    /// Edge point at corner `i` towards corner `i - 1`.
+    pub e_minus: [DVec3; 3],
+    /// Face point at corner `i` next to the edge `i -> i + 1`.
+    pub f_plus: [DVec3; 3],
+    /// Face point at corner `i` next to the edge `i -> i - 1`.
+    pub f_minus: [DVec3; 3],
+}
+
+/// One patch corner: the vertex data and the position of the patch's face in that vertex's
+/// ring (the face lies between ring edges `j` (towards the next corner) and `j + 1` (towards
+/// the previous corner)).
+#[derive(Debug, Clone, Copy)]
+pub struct CornerRef<'a> {
+    /// Per-vertex data of the corner's vertex.
+    pub vertex: &'a GregoryVertex,
+    /// Index of the patch's face in the vertex's ring.
+    pub j: usize,
+}
+
+/// Corner, edge and face points for a patch with `N` corners; `d` is 3 for quads, 4 for
+/// triangles (§3.4).
+#[allow(clippy::type_complexity)]
+fn assemble<const N: usize>(
+    corners: &[CornerRef<'_>; N],
+    d: f64,
+) -> ([DVec3; N], [DVec3; N], [DVec3; N], [DVec3; N], [DVec3; N]) {
+    let p = corners.map(|c| c.vertex.p);
+    let e_plus = corners.map(|c| c.vertex.e[c.j]);
+    let e_minus = corners.map(|c| c.vertex.e[(c.j + 1) % c.vertex.n]);
+    let r_plus = corners.map(|c| c.vertex.r[c.j]);
+    // r_{j+1} points from the patch's face into the next face: negate to point inwards.
+    let r_minus = corners.map(|c| -c.vertex.r[(c.j + 1) % c.vertex.n]);
+    let n = corners.map(|c| c.vertex.n);
+    let mut f_plus = [DVec3::ZERO; N];
+    let mut f_minus = [DVec3::ZERO; N];
+    for i in 0..N {
+        let next = (i + 1) % N;
+        let prev = (i + N - 1) % N;
+        f_plus[i] = face_point(d, n[i], n[next], p[i], e_plus[i], e_minus[next], r_plus[i]);
+        f_minus[i] = face_point(d, n[i], n[prev], p[i], e_minus[i], e_plus[prev], r_minus[i]);
+    }
+    (p, e_plus, e_minus, f_plus, f_minus)
+}
+
+/// `(a * x + b * y) / (a + b)`, or the mean at the singular corner `a + b == 0` (§4.4).
+fn blend(a: f64, x: DVec3, b: f64, y: DVec3) -> DVec3 {
+    let s = a + b;
+    if s > 0.0 {
+        (a * x + b * y) / s
+    } else {
+        0.5 * (x + y)
+    }
+}
+
+impl GregoryQuad {
+    /// Builds the patch of a quad face from its four corners (in face order).
+    pub fn new(corners: &[CornerRef<'_>; 4]) -> GregoryQuad {
+        let (p, e_plus, e_minus, f_plus, f_minus) = assemble(corners, 3.0);
+        GregoryQuad {
+            p,
+            e_plus,
+            e_minus,
+            f_plus,
+            f_minus,
+        }
+    }
+
+    /// The bicubic Bézier control net at `(u, v)`, `b[4*j + i]` with `i` along u: the paper's
+    /// matrix `G` (§3.1) with `F_i` blended from the face points.
+    pub fn bezier_at(&self, u: f64, v: f64) -> [DVec3; 16] {
+        let (p, ep, em, fp, fm) = (
+            &self.p,
+            &self.e_plus,
+            &self.e_minus,
+            &self.f_plus,
+            &self.f_minus,
+        );
+        let f0 = blend(u, fp[0], v, fm[0]);
+        let f1 = blend(1.0 - u, fm[1], v, fp[1]);
+        let f2 = blend(1.0 - u, fp[2], 1.0 - v, fm[2]);
+        let f3 = blend(u, fm[3], 1.0 - v, fp[3]);
+        // G[i][j] from the paper (row i along u, column j along v), stored at b[4*j + i].
+        let g = [
+            [p[0], em[0], ep[3], p[3]],
+            [ep[0], f0, f3, em[3]],
+            [em[1], f1, f2, ep[2]],
+            [p[1], ep[1], em[2], p[2]],
+        ];
+        let mut b = [DVec3::ZERO; 16];
+        for (i, row) in g.iter().enumerate() {
+            for (j, x) in row.iter().enumerate() {
+                b[4 * j + i] = *x;
+            }
+        }
+        b
+    }
+
+    /// Position and (approximate, §4.4) derivatives at the face's `(u, v)`.
+    pub fn eval(&self, u: f64, v: f64) -> PatchPoint {
+        let b = self.bezier_at(u, v);
+        let (position, du, dv) = eval_tensor(
+            &b,
+            &bernstein(u),
+            &bernstein_deriv(u),
+            &bernstein(v),
+            &bernstein_deriv(v),
+        );
+        PatchPoint { position, du, dv }
+    }
+}
+
+impl GregoryTriangle {
+    /// Builds the patch of a triangle from its three corners (in face order).
+    pub fn new(corners: &[CornerRef<'_>; 3]) -> GregoryTriangle {
+        let (p, e_plus, e_minus, f_plus, f_minus) = assemble(corners, 4.0);
+        GregoryTriangle {
+            p,
+            e_plus,
+            e_minus,
+            f_plus,
+            f_minus,
+        }
+    }
+
+    /// Position and (approximate) derivatives at the point with barycentric weights
+    /// `(1 - s - t, s, t)` of corners 0, 1, 2: `du = dT/ds`, `dv = dT/dt`, so that
+    /// `du x dv` points outwards for a counter-clockwise face.
+    ///
+    /// `T(u,v,w) = u³p0 + v³p1 + w³p2 + 3uv(u+v)(u e0+ + v e1-) + 3vw(v+w)(v e1+ + w e2-)
+    /// + 3wu(w+u)(w e2+ + u e0-) + 12uvw(u F0 + v F1 + w F2)` with
+    /// `F0 = (w f0- + v f0+)/(v+w)`, `F1 = (u f1- + w f1+)/(w+u)`, `F2 = (v f2- + u f2+)/(u+v)`
+    /// (§3.1), differentiated with the `F_i` frozen.
+    pub fn eval(&self, s: f64, t: f64) -> PatchPoint {
+        let (u, v, w) = (1.0 - s - t, s, t);
+        let (p, ep, em, fp, fm) = (
+            &self.p,
+            &self.e_plus,
+            &self.e_minus,
+            &self.f_plus,
+            &self.f_minus,
+        );
+        let f0 = blend(w, fm[0], v, fp[0]);
+        let f1 = blend(u, fm[1], w, fp[1]);
+        let f2 = blend(v, fm[2], u, fp[2]);
+        // One edge term 3ab(a+b)(a X + b Y) and its partials in a and b.
+        let edge = |a: f64, b: f64, x: DVec3, y: DVec3| {
+            let val = 3.0 * a * b * (a + b) * (a * x + b * y);
+            let da = 3.0 * b * ((2.0 * a + b) * (a * x + b * y) + a * (a + b) * x);
+            let db = 3.0 * a * ((a + 2.0 * b) * (a * x + b * y) + b * (a + b) * y);
+            (val, da, db)
+        };
+        let (e01, e01_u, e01_v) = edge(u, v, ep[0], em[1]);
+        let (e12, e12_v, e12_w) = edge(v, w, ep[1], em[2]);
+        let (e20, e20_w, e20_u) = edge(w, u, ep[2], em[0]);
+        let inner = u * f0 + v * f1 + w * f2;
+        let position = u * u * u * p[0]
+            + v * v * v * p[1]
+            + w * w * w * p[2]
+            + e01
+            + e12
+            + e20
+            + 12.0 * u * v * w * inner;
+        let tu = 3.0 * u * u * p[0] + e01_u + e20_u + 12.0 * (v * w * inner + u * v * w * f0);
+        let tv = 3.0 * v * v * p[1] + e01_v + e12_v + 12.0 * (u * w * inner + u * v * w * f1);
+        let tw = 3.0 * w * w * p[2] + e12_w + e20_w + 12.0 * (u * v * inner + u * v * w * f2);
+        PatchPoint {
+            position,
+            du: tv - tu,
+            dv: tw - tu,
+        }
+    }
+}

@@ -1,0 +1,232 @@
+//! Regular bicubic B-spline patches (the Catmull-Clark limit of a regular quad, Köbler 2013 §3.1),
+//! including boundary-regular quads next to boundaries and infinitely sharp creases, which use
+//! mirrored phantom control points.
+
+use glam::DVec3;
+
+use super::basis;
+use crate::mesh::INFINITE_SHARPNESS;
+use crate::subdiv::eval::LimitSample;
+use crate::topology::Topology;
+
+/// The bicubic B-spline patch of a (boundary-)regular quad.
+///
+/// `cvs[4 * j + i]`: `i` along u, `j` along v; the face corners 0, 1, 2, 3 are `cvs[5]`,
+/// `cvs[6]`, `cvs[10]`, `cvs[9]`, so patch `(u, v)` equals face `(u, v)`.
+/// `boundary_mask` bit `e` is set when patch edge `e` lies on a boundary or infinitely sharp
+/// crease: bit 0 = `v = 0` side (row 0 phantom), bit 1 = `u = 1` (column 3 phantom), bit 2 =
+/// `v = 1` (row 3 phantom), bit 3 = `u = 0` (column 0 phantom). Phantom entries hold a valid
+/// vertex index and are ignored; [`RegularPatch::control_points`] mirrors them: columns first
+/// (`col0 = 2 col1 - col2`, `col3 = 2 col2 - col1`), then rows (`row0 = 2 row1 - row2`,
+/// `row3 = 2 row2 - row1`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RegularPatch {
+    /// The face this patch covers.
+    pub face: u32,
+    /// Control vertex indices (see the type docs).
+    pub cvs: [u32; 16],
+    /// Phantom sides (see the type docs).
+    pub boundary_mask: u8,
+}
+
+/// What a face corner looks like for the regular-patch test.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum CornerKind {
+    /// Interior, valence 4, all quads, no sharpness.
+    Smooth,
+    /// Crease rule, the face's sector between the two sharp edges has 2 faces.
+    Crease,
+    /// Corner rule, the face's sector has 1 face.
+    Corner,
+    /// Anything else.
+    Irregular,
+}
+
+fn is_inf(s: f32) -> bool {
+    s >= INFINITE_SHARPNESS
+}
+
+fn is_semi(s: f32) -> bool {
+    s > 0.0 && s < INFINITE_SHARPNESS
+}
+
+/// Classifies vertex `v` as seen from face `f` (one of its faces).
+fn corner_kind(topo: &Topology, v: u32, f: u32) -> CornerKind {
+    let faces = topo.vertex_faces(v);
+    let edges = topo.vertex_edges(v);
+    let vs = topo.vertex_sharpness(v);
+    if is_semi(vs) || faces.iter().any(|&g| topo.face_size(g) != 4) {
+        return CornerKind::Irregular;
+    }
+    let mut sharp = 0;
+    for &e in edges {
+        let s = topo.edge_sharpness(e);
+        if is_semi(s) {
+            return CornerKind::Irregular;
+        }
+        if is_inf(s) {
+            sharp += 1;
+        }
+    }
+    let boundary = topo.is_boundary_vertex(v);
+    if sharp == 0 && !is_inf(vs) {
+        return if !boundary && faces.len() == 4 && edges.len() == 4 {
+            CornerKind::Smooth
+        } else {
+            CornerKind::Irregular
+        };
+    }
+    let Some(i) = faces.iter().position(|&g| g == f) else {
+        return CornerKind::Irregular;
+    };
+    // Sector size around face i: walk both ways until a sharp edge.
+    let nf = faces.len();
+    let ne = edges.len();
+    let mut size = 1;
+    let mut j = i;
+    loop {
+        let e = edges[(j + 1) % ne];
+        if is_inf(topo.edge_sharpness(e)) || size > nf {
+            break;
+        }
+        j = (j + 1) % nf;
+        size += 1;
+    }
+    let mut j = i;
+    loop {
+        let e = edges[j];
+        if is_inf(topo.edge_sharpness(e)) || size > nf {
+            break;
+        }
+        j = (j + nf - 1) % nf;
+        size += 1;
+    }
+    let corner_rule = is_inf(vs) || sharp > 2;
+    match (sharp, corner_rule, size) {
+        (2, false, 2) => CornerKind::Crease,
+        (_, true, 1) if sharp >= 2 => CornerKind::Corner,
+        _ => CornerKind::Irregular,
+    }
+}
+
+/// Grid position `(i, j)` of face corner `k`.
+const CORNER_POS: [(i32, i32); 4] = [(1, 1), (2, 1), (2, 2), (1, 2)];
+/// Outward grid direction of face edge `k`.
+const OUT: [(i32, i32); 4] = [(0, -1), (1, 0), (0, 1), (-1, 0)];
+
+fn slot(p: (i32, i32)) -> usize {
+    (4 * p.1 + p.0) as usize
+}
+
+/// The neighbour across the edge that quad `f` runs `a -> b`: its index and its corners rotated
+/// to `[b, a, r2, r3]` (`r2` adjacent to `a`, `r3` adjacent to `b`).
+fn across(topo: &Topology, f: u32, a: u32, b: u32) -> Option<(u32, [u32; 4])> {
+    let e = topo.find_edge(a, b)?;
+    let g = *topo.edge_faces(e).iter().find(|&&g| g != f)?;
+    let gv = topo.face_vertices(g);
+    if gv.len() != 4 {
+        return None;
+    }
+    let s = gv.iter().position(|&x| x == b)?;
+    let r = [gv[s], gv[(s + 1) % 4], gv[(s + 2) % 4], gv[(s + 3) % 4]];
+    (r[1] == a).then_some((g, r))
+}
+
+impl RegularPatch {
+    /// Builds the patch of face `face`, or `None` when the face is not (boundary-)regular: every
+    /// corner must be smooth interior valence 4 (all quads, no sharpness), a crease vertex whose
+    /// sector containing the face has 2 faces, or a corner whose sector has 1 face, with no
+    /// semi-sharp edge or vertex at any corner. Holes and faces without limit surface give `None`.
+    pub fn gather(topo: &Topology, face: u32) -> Option<RegularPatch> {
+        if face as usize >= topo.face_count() || !topo.has_limit_surface(face) {
+            return None;
+        }
+        let fv = topo.face_vertices(face);
+        if fv.len() != 4 {
+            return None;
+        }
+        let c: [u32; 4] = [fv[0], fv[1], fv[2], fv[3]];
+        for &v in &c {
+            if corner_kind(topo, v, face) == CornerKind::Irregular {
+                return None;
+            }
+        }
+        let fe = topo.face_edges(face);
+        let mut mask = 0u8;
+        for (k, &e) in fe.iter().enumerate() {
+            if is_inf(topo.edge_sharpness(e)) {
+                mask |= 1 << k;
+            }
+        }
+        let mut cvs = [c[0]; 16];
+        for k in 0..4 {
+            cvs[slot(CORNER_POS[k])] = c[k];
+        }
+        let add = |p: (i32, i32), q: (i32, i32)| (p.0 + q.0, p.1 + q.1);
+        for k in 0..4 {
+            if mask & (1 << k) != 0 {
+                continue;
+            }
+            let (a, b) = (c[k], c[(k + 1) % 4]);
+            let (g, n) = across(topo, face, a, b)?;
+            cvs[slot(add(CORNER_POS[k], OUT[k]))] = n[2];
+            cvs[slot(add(CORNER_POS[(k + 1) % 4], OUT[k]))] = n[3];
+            let prev = (k + 3) % 4;
+            if mask & (1 << prev) == 0 {
+                // Diagonal face at corner k: the neighbour of `n` across its edge c_k -> n[2].
+                let (_, d) = across(topo, g, c[k], n[2])?;
+                cvs[slot(add(add(CORNER_POS[k], OUT[k]), OUT[prev]))] = d[3];
+            }
+        }
+        Some(RegularPatch {
+            face,
+            cvs,
+            boundary_mask: mask,
+        })
+    }
+
+    /// The 16 control points with phantom points filled in by the mirror rule (type docs).
+    pub fn control_points(&self, positions: &[DVec3]) -> [DVec3; 16] {
+        let mut p = [DVec3::ZERO; 16];
+        for (k, &i) in self.cvs.iter().enumerate() {
+            p[k] = positions[i as usize];
+        }
+        let m = self.boundary_mask;
+        for j in 0..4 {
+            let r = 4 * j;
+            if m & 8 != 0 {
+                p[r] = 2.0 * p[r + 1] - p[r + 2];
+            }
+            if m & 2 != 0 {
+                p[r + 3] = 2.0 * p[r + 2] - p[r + 1];
+            }
+        }
+        for i in 0..4 {
+            if m & 1 != 0 {
+                p[i] = 2.0 * p[4 + i] - p[8 + i];
+            }
+            if m & 4 != 0 {
+                p[12 + i] = 2.0 * p[8 + i] - p[4 + i];
+            }
+        }
+        p
+    }
+
+    /// Evaluates position, partial derivatives and unit normal at `(u, v)` in `[0, 1]^2`.
+    pub fn eval(&self, positions: &[DVec3], u: f64, v: f64) -> LimitSample {
+        let p = self.control_points(positions);
+        eval_bspline(&p, u, v)
+    }
+}
+
+/// Evaluates a bicubic B-spline patch given its 16 control points.
+pub fn eval_bspline(p: &[DVec3; 16], u: f64, v: f64) -> LimitSample {
+    let (pos, du, dv) = basis::eval_tensor(
+        p,
+        &basis::bspline(u),
+        &basis::bspline_deriv(u),
+        &basis::bspline(v),
+        &basis::bspline_deriv(v),
+    );
+    LimitSample::new(pos, du, dv)
+}

@@ -1,0 +1,202 @@
+//! [`Level`]: one level of a subdivision hierarchy (topology, sharpness, holes), and
+//! extraction of sub-levels around a set of faces.
+
+use crate::mesh::{BoundaryInterpolation, ControlMesh};
+use crate::topology::{self, Topology};
+use crate::Result;
+use std::ops::Range;
+
+/// The unit of refinement: a [`Topology`] (which carries sharpness and holes) plus, for levels
+/// extracted from a larger mesh, which edges are cut by the extraction and which vertices are
+/// complete.
+///
+/// A vertex is *complete* when its position, one-ring and incident sharpness equal those of the
+/// same vertex in the refinement of the whole mesh (conservative: some exact vertices next to
+/// a cut are reported incomplete). Levels built from a whole mesh are complete everywhere.
+#[derive(Debug, Clone)]
+pub struct Level {
+    pub(crate) topo: Topology,
+    /// Per edge: boundary only because of an extraction (empty when there is none).
+    pub(crate) cut: Vec<bool>,
+    /// Per vertex: not complete (empty when all are complete).
+    pub(crate) incomplete: Vec<bool>,
+}
+
+impl Level {
+    /// The base level of a mesh.
+    pub fn from_mesh(mesh: &ControlMesh) -> Result<Level> {
+        Ok(Level::from_topology(Topology::new(mesh)?))
+    }
+
+    /// Wraps a complete topology.
+    pub fn from_topology(topo: Topology) -> Level {
+        Level {
+            topo,
+            cut: Vec::new(),
+            incomplete: Vec::new(),
+        }
+    }
+
+    /// The topology (with sharpness and holes) of this level.
+    pub fn topology(&self) -> &Topology {
+        &self.topo
+    }
+
+    /// Consumes the level, returning its topology.
+    pub fn into_topology(self) -> Topology {
+        self.topo
+    }
+
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.topo.vertex_count()
+    }
+
+    /// Number of faces.
+    pub fn face_count(&self) -> usize {
+        self.topo.face_count()
+    }
+
+    /// The children of face `f` in the refined level: one quad per corner, in corner order.
+    pub fn child_faces(&self, f: u32) -> Range<u32> {
+        self.topo.face_offsets[f as usize]..self.topo.face_offsets[f as usize + 1]
+    }
+
+    /// Index of the face point of face `f` in the refined level.
+    pub fn child_face_point(&self, f: u32) -> u32 {
+        f
+    }
+
+    /// Index of the edge point of edge `e` in the refined level.
+    pub fn child_edge_point(&self, e: u32) -> u32 {
+        self.topo.face_count() as u32 + e
+    }
+
+    /// Index of the vertex point of vertex `v` in the refined level.
+    pub fn child_vertex_point(&self, v: u32) -> u32 {
+        (self.topo.face_count() + self.topo.edge_count()) as u32 + v
+    }
+
+    /// Whether edge `e` is a boundary only because of an extraction (not a real boundary: it
+    /// keeps its real sharpness and nothing should be evaluated next to it).
+    pub fn is_cut_edge(&self, e: u32) -> bool {
+        !self.cut.is_empty() && self.cut[e as usize]
+    }
+
+    /// Whether edge `e` is a real boundary edge (one face in the whole mesh).
+    pub fn is_real_boundary_edge(&self, e: u32) -> bool {
+        self.topo.is_boundary_edge(e) && !self.is_cut_edge(e)
+    }
+
+    /// Whether vertex `v` is complete (see the type docs).
+    pub fn is_complete_vertex(&self, v: u32) -> bool {
+        self.incomplete.is_empty() || !self.incomplete[v as usize]
+    }
+
+    /// Whether every vertex of this level is complete.
+    pub fn is_complete(&self) -> bool {
+        self.incomplete.is_empty()
+    }
+
+    /// Whether `v` lies on a real boundary edge.
+    pub fn is_real_boundary_vertex(&self, v: u32) -> bool {
+        self.topo
+            .vertex_edges(v)
+            .iter()
+            .any(|&e| self.is_real_boundary_edge(e))
+    }
+
+    /// False for holes and, with [`BoundaryInterpolation::None`], for faces touching a real
+    /// boundary vertex.
+    pub fn has_limit_surface(&self, f: u32) -> bool {
+        if self.topo.is_hole(f) {
+            return false;
+        }
+        if self.topo.options.boundary == BoundaryInterpolation::None {
+            return !self
+                .topo
+                .face_vertices(f)
+                .iter()
+                .any(|&v| self.is_real_boundary_vertex(v));
+        }
+        true
+    }
+
+    /// The sub-level made of `faces` (new face `i` is `faces[i]`), with the real sharpness and
+    /// holes, and the map from new to old vertex indices. Edges that become boundaries only
+    /// through the extraction keep their sharpness (0 unless tagged) and are reported by
+    /// [`Self::is_cut_edge`]; vertices on them are incomplete.
+    ///
+    /// # Panics
+    /// If `faces` is empty, holds an index out of range or a face twice (caller bugs).
+    pub fn extract(&self, faces: &[u32]) -> (Level, Vec<u32>) {
+        self.try_extract(faces)
+            .unwrap_or_else(|e| panic!("Level::extract: {e}"))
+    }
+
+    /// [`Self::extract`] returning an error instead of panicking.
+    pub fn try_extract(&self, faces: &[u32]) -> Result<(Level, Vec<u32>)> {
+        let t = &self.topo;
+        let mut offsets = Vec::with_capacity(faces.len() + 1);
+        offsets.push(0u32);
+        let mut old_verts = Vec::with_capacity(faces.len() * 4);
+        for &f in faces {
+            if f as usize >= t.face_count() {
+                return Err(crate::Error::Invalid(format!(
+                    "extract: face {f} out of range"
+                )));
+            }
+            old_verts.extend_from_slice(t.face_vertices(f));
+            offsets.push(old_verts.len() as u32);
+        }
+        let mut map = old_verts.clone();
+        map.sort_unstable();
+        map.dedup();
+        let local: Vec<u32> = old_verts
+            .iter()
+            .map(|v| map.binary_search(v).unwrap_or(0) as u32)
+            .collect();
+        let mut sub = topology::build(map.len(), offsets, local, false)?;
+        sub.options = t.options;
+        for (i, &f) in faces.iter().enumerate() {
+            sub.holes[i] = t.holes[f as usize];
+        }
+        let mut cut = vec![false; sub.edge_count()];
+        let mut any_cut = false;
+        for e in 0..sub.edge_count() {
+            let [a, b] = sub.edge_verts[e];
+            let pe = t
+                .find_edge(map[a as usize], map[b as usize])
+                .ok_or_else(|| {
+                    crate::Error::Invalid("extract: edge missing in the parent".into())
+                })?;
+            sub.edge_sharpness[e] = t.edge_sharpness[pe as usize];
+            if sub.edge_faces[e][1] == topology::NONE && !t.is_boundary_edge(pe) {
+                cut[e] = true;
+                any_cut = true;
+            } else if self.is_cut_edge(pe) {
+                cut[e] = true;
+                any_cut = true;
+            }
+        }
+        let mut incomplete = vec![false; sub.vertex_count()];
+        let mut any_incomplete = false;
+        for (v, &old) in map.iter().enumerate() {
+            sub.vertex_sharpness[v] = t.vertex_sharpness[old as usize];
+            let bad = !self.is_complete_vertex(old)
+                || sub.vertex_faces(v as u32).len() != t.vertex_faces(old).len();
+            incomplete[v] = bad;
+            any_incomplete |= bad;
+        }
+        let level = Level {
+            topo: sub,
+            cut: if any_cut { cut } else { Vec::new() },
+            incomplete: if any_incomplete {
+                incomplete
+            } else {
+                Vec::new()
+            },
+        };
+        Ok((level, map))
+    }
+}

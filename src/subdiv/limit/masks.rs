@@ -1,0 +1,272 @@
+//! Closed-form Catmull-Clark limit masks on an explicit quad one-ring, and the numerical
+//! eigen-analysis of a local subdivision matrix used where no closed form applies.
+//!
+//! Ring convention (valence `n`, all faces quads): `e[i]` is the far end of the i-th edge
+//! counter-clockwise around the vertex, `f[i]` the vertex opposite the centre in the quad
+//! between edges `i` and `i + 1`.
+
+use std::f64::consts::PI;
+
+/// Weights of the smooth interior limit position on a quad ring:
+/// `(n^2 v + 4 sum e + sum f) / (n (n + 5))` (Halstead, Kass, DeRose 1993, §A; the dominant left
+/// eigenvector of the Catmull-Clark subdivision matrix). Returns `(w_v, w_e, w_f)`.
+pub fn smooth_position(n: usize) -> (f64, f64, f64) {
+    let nf = n as f64;
+    let d = nf * (nf + 5.0);
+    (nf * nf / d, 4.0 / d, 1.0 / d)
+}
+
+/// Smooth interior limit tangent on a quad ring, pointing along edge `start` (Halstead et al.
+/// 1993 eq. for the subdominant eigenvectors):
+/// `t = sum_i A_n c_i e_i + (c_i + c_{i+1}) f_i`, `c_i = cos(2 pi (i - start) / n)`,
+/// `A_n = 1 + cos(2pi/n) + cos(pi/n) sqrt(2 (9 + cos(2pi/n)))`, scaled by `1/12` so that the
+/// regular case `n = 4` gives exactly the bicubic B-spline partial derivative.
+/// Returns `(w_e, w_f)` (the centre weight is 0).
+pub fn smooth_tangent(n: usize, start: usize) -> (Vec<f64>, Vec<f64>) {
+    let nf = n as f64;
+    let c1 = (2.0 * PI / nf).cos();
+    let a = 1.0 + c1 + (PI / nf).cos() * (2.0 * (9.0 + c1)).sqrt();
+    let c = |i: usize| {
+        let k = (i + n - start % n) % n;
+        (2.0 * PI * k as f64 / nf).cos()
+    };
+    let we = (0..n).map(|i| a * c(i) / 12.0).collect();
+    let wf = (0..n).map(|i| (c(i) + c(i + 1)) / 12.0).collect();
+    (we, wf)
+}
+
+/// Limit position of a crease vertex (two infinitely sharp edges, crease rule): the cubic
+/// B-spline of the crease polygon, `(e_a + 4 v + e_b) / 6`. Returns `(w_v, w_end)`.
+pub fn crease_position() -> (f64, f64) {
+    (4.0 / 6.0, 1.0 / 6.0)
+}
+
+/// A small dense square matrix, row-major.
+#[derive(Debug, Clone)]
+pub struct Dense {
+    /// Dimension.
+    pub m: usize,
+    /// `m * m` entries, row-major.
+    pub a: Vec<f64>,
+}
+
+impl Dense {
+    /// Row vector times matrix: `x S`.
+    fn left_mul(&self, x: &[f64]) -> Vec<f64> {
+        let m = self.m;
+        let mut y = vec![0.0; m];
+        for (i, &xi) in x.iter().enumerate() {
+            if xi == 0.0 {
+                continue;
+            }
+            let row = &self.a[i * m..(i + 1) * m];
+            for (yj, &r) in y.iter_mut().zip(row) {
+                *yj += xi * r;
+            }
+        }
+        y
+    }
+}
+
+/// Result of [`eigen_limit`]: weights over the ring entries of the local subdivision matrix.
+#[derive(Debug, Clone)]
+pub struct EigenLimit {
+    /// Dominant left eigenvector (eigenvalue 1), normalised to sum 1: the limit position mask.
+    pub position: Vec<f64>,
+    /// Two vectors spanning the subdominant left invariant subspace: tangent masks, in the
+    /// orientation of the starting pair.
+    pub tangents: [Vec<f64>; 2],
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+fn norm(a: &[f64]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// Limit masks from the local subdivision matrix `s` (rows: the ring after one step in terms of
+/// the ring before; affine, so rows sum to 1), by power iteration for the dominant left
+/// eigenvector and orthonormalised subspace iteration (Gram-Schmidt, which keeps the orientation
+/// of the pair) for the two subdominant left eigenvectors (Halstead et al. 1993 §A: limit
+/// position and tangents are the left eigenvectors of the subdivision matrix).
+///
+/// `centre` is the ring entry of the vertex, `start` the two starting tangent vectors (e.g.
+/// `e_a - e_centre`, `e_b - e_centre`), which fix the orientation. Returns `None` when the
+/// iteration does not converge.
+pub fn eigen_limit(s: &Dense, centre: usize, start: [Vec<f64>; 2]) -> Option<EigenLimit> {
+    let m = s.m;
+    let mut l = vec![0.0; m];
+    l[centre] = 1.0;
+    let mut converged = false;
+    for _ in 0..2000 {
+        let next = s.left_mul(&l);
+        let diff: f64 = next.iter().zip(&l).map(|(a, b)| (a - b).abs()).sum();
+        l = next;
+        if diff < 1e-15 {
+            converged = true;
+            break;
+        }
+    }
+    if !converged {
+        return None;
+    }
+    let total: f64 = l.iter().sum();
+    if total.abs() < 1e-12 {
+        return None;
+    }
+    l.iter_mut().for_each(|x| *x /= total);
+
+    let deflate = |x: &mut Vec<f64>| {
+        let c: f64 = x.iter().sum();
+        for (xi, li) in x.iter_mut().zip(&l) {
+            *xi -= c * li;
+        }
+    };
+    let [mut x1, mut x2] = start;
+    let orthonormalise = |x1: &mut Vec<f64>, x2: &mut Vec<f64>| -> bool {
+        let n1 = norm(x1);
+        if n1 < 1e-300 {
+            return false;
+        }
+        x1.iter_mut().for_each(|x| *x /= n1);
+        let c = dot(x1, x2);
+        x2.iter_mut().zip(x1.iter()).for_each(|(b, a)| *b -= c * a);
+        let n2 = norm(x2);
+        if n2 < 1e-300 {
+            return false;
+        }
+        x2.iter_mut().for_each(|x| *x /= n2);
+        true
+    };
+    deflate(&mut x1);
+    deflate(&mut x2);
+    if !orthonormalise(&mut x1, &mut x2) {
+        return None;
+    }
+    let mut converged = false;
+    for _ in 0..4000 {
+        let mut y1 = s.left_mul(&x1);
+        let mut y2 = s.left_mul(&x2);
+        deflate(&mut y1);
+        deflate(&mut y2);
+        if !orthonormalise(&mut y1, &mut y2) {
+            return None;
+        }
+        // Subspace change: residual of the new basis against the old span.
+        let res = |y: &[f64]| {
+            let a = dot(y, &x1);
+            let b = dot(y, &x2);
+            y.iter()
+                .zip(x1.iter().zip(&x2))
+                .map(|(yi, (p, q))| (yi - a * p - b * q).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        };
+        let r = res(&y1).max(res(&y2));
+        x1 = y1;
+        x2 = y2;
+        if r < 1e-13 {
+            converged = true;
+            break;
+        }
+    }
+    if !converged {
+        return None;
+    }
+    Some(EigenLimit {
+        position: l,
+        tangents: [x1, x2],
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The local subdivision matrix of a smooth interior quad ring of valence n, built from the
+    /// Catmull-Clark rules (independent of the closed-form masks). Ring order: v, e_0..e_{n-1},
+    /// f_0..f_{n-1}.
+    fn smooth_ring_matrix(n: usize) -> Dense {
+        let m = 2 * n + 1;
+        let mut a = vec![0.0; m * m];
+        let nf = n as f64;
+        let e = |i: usize| 1 + (i % n);
+        let f = |i: usize| 1 + n + (i % n);
+        // Face point of quad i: (v + e_i + f_i + e_{i+1}) / 4.
+        let face_row = |i: usize| {
+            let mut r = vec![0.0; m];
+            r[0] += 0.25;
+            r[e(i)] += 0.25;
+            r[f(i)] += 0.25;
+            r[e(i + 1)] += 0.25;
+            r
+        };
+        for i in 0..n {
+            let r = face_row(i);
+            a[f(i) * m..(f(i) + 1) * m].copy_from_slice(&r);
+        }
+        // Edge point of edge i: (v + e_i + F_{i-1} + F_i) / 4.
+        for i in 0..n {
+            let mut r = vec![0.0; m];
+            r[0] += 0.25;
+            r[e(i)] += 0.25;
+            for (k, x) in face_row(i).iter().enumerate() {
+                r[k] += 0.25 * x;
+            }
+            for (k, x) in face_row(i + n - 1).iter().enumerate() {
+                r[k] += 0.25 * x;
+            }
+            a[e(i) * m..(e(i) + 1) * m].copy_from_slice(&r);
+        }
+        // Vertex point: (n-2)/n v + 1/n^2 sum e + 1/n^2 sum F.
+        let mut r = vec![0.0; m];
+        r[0] += (nf - 2.0) / nf;
+        for i in 0..n {
+            r[e(i)] += 1.0 / (nf * nf);
+            for (k, x) in face_row(i).iter().enumerate() {
+                r[k] += x / (nf * nf);
+            }
+        }
+        a[..m].copy_from_slice(&r);
+        Dense { m, a }
+    }
+
+    #[test]
+    fn numeric_matches_closed_form_smooth() {
+        for n in [3usize, 4, 5, 6, 8, 12] {
+            let s = smooth_ring_matrix(n);
+            let m = s.m;
+            let mut x1 = vec![0.0; m];
+            x1[1] = 1.0;
+            x1[0] = -1.0;
+            let mut x2 = vec![0.0; m];
+            x2[2] = 1.0;
+            x2[0] = -1.0;
+            let r = eigen_limit(&s, 0, [x1, x2]).expect("converges");
+            let (wv, we, wf) = smooth_position(n);
+            assert!((r.position[0] - wv).abs() < 1e-12, "n={n}");
+            for i in 0..n {
+                assert!((r.position[1 + i] - we).abs() < 1e-12);
+                assert!((r.position[1 + n + i] - wf).abs() < 1e-12);
+            }
+            // Both closed-form tangents lie in the numerical subspace.
+            for start in 0..2 {
+                let (te, tf) = smooth_tangent(n, start);
+                let mut t = vec![0.0; m];
+                t[1..=n].copy_from_slice(&te);
+                t[n + 1..].copy_from_slice(&tf);
+                let a = dot(&t, &r.tangents[0]);
+                let b = dot(&t, &r.tangents[1]);
+                let res: f64 = t
+                    .iter()
+                    .zip(r.tangents[0].iter().zip(&r.tangents[1]))
+                    .map(|(ti, (p, q))| (ti - a * p - b * q).powi(2))
+                    .sum::<f64>()
+                    .sqrt();
+                assert!(res < 1e-10 * norm(&t), "n={n} res={res}");
+            }
+        }
+    }
+}

@@ -1,0 +1,398 @@
+//! One uniform Catmull-Clark step: the child topology derived directly from the parent (no
+//! hashing) and the refinement matrix of the child vertices.
+//!
+//! Child vertices: `[face points | edge points | vertex points]`. Child faces: corner `k` of
+//! parent face `f` (at flat index `h = face_offsets[f] + k`) gives the quad `(vertex point of
+//! corner k, edge point of edge k, face point, edge point of edge k-1)`. Child edges:
+//! `[one per parent corner h, from the edge point of edge k to the face point | two halves per
+//! parent edge e at 2e and 2e + 1, starting at its first and second end]`.
+
+use super::level::Level;
+use super::rules::{child_edge_sharpness, decrement, fractional_weight, vertex_rule};
+use super::rules::{VertexMask, VertexRule};
+use super::sparse::SparseMatrix;
+use crate::topology::par::{for_chunks, Shared};
+use crate::topology::{Topology, NONE};
+use glam::DVec3;
+use rayon::prelude::*;
+
+impl Level {
+    /// One uniform Catmull-Clark step: the child level and the matrix giving the child vertices
+    /// from this level's vertices.
+    pub fn refine(&self) -> (Level, SparseMatrix) {
+        let (child, m) = rayon::join(|| self.refine_topology(), || self.refine_matrix());
+        (child, m)
+    }
+
+    /// The child level only (topology, sharpness, holes, completeness).
+    pub fn refine_topology(&self) -> Level {
+        let t = &self.topo;
+        let (nf, ne, nv, fv) = (
+            t.face_count(),
+            t.edge_count(),
+            t.vertex_count(),
+            t.corner_count(),
+        );
+        let cnv = nf + ne + nv;
+        let cne = fv + 2 * ne;
+        let ep = |e: u32| nf as u32 + e;
+        let vp = |v: u32| (nf + ne) as u32 + v;
+        let half = |e: u32, v: u32| -> u32 {
+            (fv + 2 * e as usize + (t.edge_verts[e as usize][0] != v) as usize) as u32
+        };
+
+        // Prefix of edge face counts, for the rings of the edge points.
+        let mut epre = vec![0u32; ne + 1];
+        for e in 0..ne {
+            epre[e + 1] = epre[e] + 1 + (t.edge_faces[e][1] != NONE) as u32;
+        }
+        let mut vfo = vec![0u32; cnv + 1];
+        let mut veo = vec![0u32; cnv + 1];
+        {
+            let (vf_f, rest) = vfo.split_at_mut(nf);
+            let (vf_e, vf_v) = rest.split_at_mut(ne);
+            vf_f.copy_from_slice(&t.face_offsets[..nf]);
+            vf_e.par_iter_mut()
+                .enumerate()
+                .for_each(|(e, o)| *o = fv as u32 + 2 * epre[e]);
+            let base = fv as u32 + 2 * epre[ne];
+            vf_v.par_iter_mut()
+                .zip(t.vert_face_offsets.par_iter())
+                .for_each(|(o, &p)| *o = base + p);
+            let (ve_f, rest) = veo.split_at_mut(nf);
+            let (ve_e, ve_v) = rest.split_at_mut(ne);
+            ve_f.copy_from_slice(&t.face_offsets[..nf]);
+            ve_e.par_iter_mut()
+                .enumerate()
+                .for_each(|(e, o)| *o = (fv + 2 * e) as u32 + epre[e]);
+            let base = (fv + 2 * ne) as u32 + epre[ne];
+            ve_v.par_iter_mut()
+                .zip(t.vert_edge_offsets.par_iter())
+                .for_each(|(o, &p)| *o = base + p);
+        }
+        let face_offsets: Vec<u32> = (0..=fv as u32).into_par_iter().map(|i| 4 * i).collect();
+        let mut face_verts = vec![0u32; 4 * fv];
+        let mut face_edges = vec![0u32; 4 * fv];
+        let mut edge_verts = vec![[0u32; 2]; cne];
+        let mut edge_faces = vec![[0u32; 2]; cne];
+        let mut edge_face_local = vec![[0u16; 2]; cne];
+        let mut edge_sharpness = vec![0f32; cne];
+        let mut vert_faces = vec![0u32; 4 * fv];
+        let mut vert_face_local = vec![0u16; 4 * fv];
+        let mut vert_edges = vec![0u32; veo[cnv] as usize];
+        let mut vertex_sharpness = vec![0f32; cnv];
+        let mut holes = vec![false; fv];
+        let s_fv = Shared::new(&mut face_verts);
+        let s_fe = Shared::new(&mut face_edges);
+        let s_ev = Shared::new(&mut edge_verts);
+        let s_ef = Shared::new(&mut edge_faces);
+        let s_el = Shared::new(&mut edge_face_local);
+        let s_es = Shared::new(&mut edge_sharpness);
+        let s_vf = Shared::new(&mut vert_faces);
+        let s_vl = Shared::new(&mut vert_face_local);
+        let s_ve = Shared::new(&mut vert_edges);
+        let s_vs = Shared::new(&mut vertex_sharpness);
+        let s_h = Shared::new(&mut holes);
+
+        // SAFETY (all three passes): every parent face / edge / vertex writes only the child
+        // ranges it owns: corner ranges of its face, slots 2e and 2e + 1, and its own ring
+        // range given by the monotone offsets `vfo` / `veo`.
+        for_chunks(nf, |lo, hi| {
+            let (a, b) = (t.face_offsets[lo] as usize, t.face_offsets[hi] as usize);
+            let (fvs, fes, evs, efs, els, vfs, vls, ves, hs) = unsafe {
+                (
+                    s_fv.range(4 * a, 4 * b),
+                    s_fe.range(4 * a, 4 * b),
+                    s_ev.range(a, b),
+                    s_ef.range(a, b),
+                    s_el.range(a, b),
+                    s_vf.range(a, b),
+                    s_vl.range(a, b),
+                    s_ve.range(a, b),
+                    s_h.range(a, b),
+                )
+            };
+            for f in lo..hi {
+                let off = t.face_offsets[f] as usize;
+                let n = t.face_offsets[f + 1] as usize - off;
+                let hole = t.holes[f];
+                for k in 0..n {
+                    let h = off + k;
+                    let hp = off + (k + n - 1) % n;
+                    let hn = off + (k + 1) % n;
+                    let v = t.face_verts[h];
+                    let (ek, ekm) = (t.face_edges[h], t.face_edges[hp]);
+                    let i = h - a;
+                    fvs[4 * i..4 * i + 4].copy_from_slice(&[vp(v), ep(ek), f as u32, ep(ekm)]);
+                    fes[4 * i..4 * i + 4].copy_from_slice(&[
+                        half(ek, v),
+                        h as u32,
+                        hp as u32,
+                        half(ekm, v),
+                    ]);
+                    evs[i] = [ep(ek), f as u32];
+                    efs[i] = [h as u32, hn as u32];
+                    els[i] = [1, 2];
+                    hs[i] = hole;
+                    vfs[i] = h as u32;
+                    vls[i] = 2;
+                    ves[i] = hp as u32;
+                }
+            }
+        });
+
+        for_chunks(ne, |lo, hi| {
+            let (evs, efs, els, ess) = unsafe {
+                (
+                    s_ev.range(fv + 2 * lo, fv + 2 * hi),
+                    s_ef.range(fv + 2 * lo, fv + 2 * hi),
+                    s_el.range(fv + 2 * lo, fv + 2 * hi),
+                    s_es.range(fv + 2 * lo, fv + 2 * hi),
+                )
+            };
+            let (ra, rb) = (vfo[nf + lo] as usize, vfo[nf + hi] as usize);
+            let (ea, eb) = (veo[nf + lo] as usize, veo[nf + hi] as usize);
+            let (vfs, vls, ves) =
+                unsafe { (s_vf.range(ra, rb), s_vl.range(ra, rb), s_ve.range(ea, eb)) };
+            for e in lo..hi {
+                let [a, b] = t.edge_verts[e];
+                let [f0, f1] = t.edge_faces[e];
+                let [k0, k1] = t.edge_face_local[e];
+                let off0 = t.face_offsets[f0 as usize];
+                let n0 = t.face_offsets[f0 as usize + 1] - off0;
+                let c00 = off0 + k0 as u32;
+                let c01 = off0 + (k0 as u32 + 1) % n0;
+                let h0 = (fv + 2 * e) as u32;
+                let i = 2 * (e - lo);
+                evs[i] = [vp(a), ep(e as u32)];
+                evs[i + 1] = [ep(e as u32), vp(b)];
+                ess[i] = child_edge_sharpness(t, e as u32, a);
+                ess[i + 1] = child_edge_sharpness(t, e as u32, b);
+                let r = vfo[nf + e] as usize - ra;
+                let q = veo[nf + e] as usize - ea;
+                if f1 != NONE {
+                    let off1 = t.face_offsets[f1 as usize];
+                    let n1 = t.face_offsets[f1 as usize + 1] - off1;
+                    let c10 = off1 + k1 as u32;
+                    let c11 = off1 + (k1 as u32 + 1) % n1;
+                    efs[i] = [c00, c11];
+                    els[i] = [0, 3];
+                    efs[i + 1] = [c01, c10];
+                    els[i + 1] = [3, 0];
+                    vfs[r..r + 4].copy_from_slice(&[c00, c11, c10, c01]);
+                    vls[r..r + 4].copy_from_slice(&[1, 3, 1, 3]);
+                    ves[q..q + 4].copy_from_slice(&[c00, h0, c10, h0 + 1]);
+                } else {
+                    efs[i] = [c00, NONE];
+                    els[i] = [0, 0];
+                    efs[i + 1] = [c01, NONE];
+                    els[i + 1] = [3, 0];
+                    vfs[r..r + 2].copy_from_slice(&[c01, c00]);
+                    vls[r..r + 2].copy_from_slice(&[3, 1]);
+                    ves[q..q + 3].copy_from_slice(&[h0 + 1, c00, h0]);
+                }
+            }
+        });
+
+        for_chunks(nv, |lo, hi| {
+            let (ra, rb) = (vfo[nf + ne + lo] as usize, vfo[nf + ne + hi] as usize);
+            let (ea, eb) = (veo[nf + ne + lo] as usize, veo[nf + ne + hi] as usize);
+            let (vfs, vls, ves, vss) = unsafe {
+                (
+                    s_vf.range(ra, rb),
+                    s_vl.range(ra, rb),
+                    s_ve.range(ea, eb),
+                    s_vs.range(nf + ne + lo, nf + ne + hi),
+                )
+            };
+            for v in lo..hi {
+                let r = vfo[nf + ne + v] as usize - ra;
+                for (j, (&g, &l)) in t
+                    .vertex_faces(v as u32)
+                    .iter()
+                    .zip(t.vertex_face_locals(v as u32))
+                    .enumerate()
+                {
+                    vfs[r + j] = t.face_offsets[g as usize] + l as u32;
+                    vls[r + j] = 0;
+                }
+                let q = veo[nf + ne + v] as usize - ea;
+                for (j, &e) in t.vertex_edges(v as u32).iter().enumerate() {
+                    ves[q + j] = half(e, v as u32);
+                }
+                vss[v - lo] = decrement(t.vertex_sharpness[v]);
+            }
+        });
+
+        let topo = Topology {
+            num_vertices: cnv as u32,
+            face_offsets,
+            face_verts,
+            face_edges,
+            edge_verts,
+            edge_faces,
+            edge_face_local,
+            vert_face_offsets: vfo,
+            vert_faces,
+            vert_face_local,
+            vert_edge_offsets: veo,
+            vert_edges,
+            edge_sharpness,
+            vertex_sharpness,
+            holes,
+            options: t.options,
+            max_face_size: 4,
+        };
+        let (cut, incomplete) = self.child_flags();
+        Level {
+            topo,
+            cut,
+            incomplete,
+        }
+    }
+
+    /// Cut edges and incomplete vertices of the child level (empty vectors when none).
+    fn child_flags(&self) -> (Vec<bool>, Vec<bool>) {
+        if self.cut.is_empty() && self.incomplete.is_empty() {
+            return (Vec::new(), Vec::new());
+        }
+        let t = &self.topo;
+        let (nf, ne, nv, fv) = (
+            t.face_count(),
+            t.edge_count(),
+            t.vertex_count(),
+            t.corner_count(),
+        );
+        let bad = |v: u32| !self.is_complete_vertex(v);
+        let face_bad = |f: u32| t.face_vertices(f).iter().any(|&v| bad(v));
+        let mut cut = vec![false; fv + 2 * ne];
+        if !self.cut.is_empty() {
+            for e in 0..ne {
+                cut[fv + 2 * e] = self.cut[e];
+                cut[fv + 2 * e + 1] = self.cut[e];
+            }
+        }
+        let mut inc = vec![false; nf + ne + nv];
+        for f in 0..nf {
+            inc[f] = face_bad(f as u32);
+        }
+        for e in 0..ne {
+            inc[nf + e] =
+                self.is_cut_edge(e as u32) || t.edge_faces(e as u32).iter().any(|&f| face_bad(f));
+        }
+        for v in 0..nv {
+            inc[nf + ne + v] =
+                bad(v as u32) || t.vertex_faces(v as u32).iter().any(|&f| face_bad(f));
+        }
+        let any_cut = cut.iter().any(|&c| c);
+        let any_inc = inc.iter().any(|&c| c);
+        (
+            if any_cut { cut } else { Vec::new() },
+            if any_inc { inc } else { Vec::new() },
+        )
+    }
+
+    /// The refinement matrix: rows are child vertices (face, edge, vertex points), columns are
+    /// this level's vertices.
+    pub fn refine_matrix(&self) -> SparseMatrix {
+        let t = &self.topo;
+        let (nf, ne, nv) = (t.face_count(), t.edge_count(), t.vertex_count());
+        SparseMatrix::from_rows(nf + ne + nv, nv, |r, buf| {
+            if r < nf {
+                face_row(t, r as u32, buf);
+            } else if r < nf + ne {
+                edge_row(t, (r - nf) as u32, buf);
+            } else {
+                vertex_row(t, (r - nf - ne) as u32, buf);
+            }
+        })
+    }
+
+    /// The child vertex positions from this level's positions (one entry per vertex).
+    pub fn refine_positions(&self, positions: &[DVec3]) -> Vec<DVec3> {
+        self.refine_matrix().apply_vec(positions)
+    }
+}
+
+/// Face point: the centroid.
+fn face_row(t: &Topology, f: u32, buf: &mut Vec<(u32, f64)>) {
+    let verts = t.face_vertices(f);
+    let w = 1.0 / verts.len() as f64;
+    buf.extend(verts.iter().map(|&v| (v, w)));
+}
+
+/// Edge point: smooth `(v0 + v1 + c0 + c1) / 4` with face centroids `c`, midpoint when the edge
+/// has sharpness `>= 1` or one face, `s * midpoint + (1 - s) * smooth` for `0 < s < 1`
+/// (DeRose et al. 1998, section 3; Köbler 2013, section 3.2).
+fn edge_row(t: &Topology, e: u32, buf: &mut Vec<(u32, f64)>) {
+    let [a, b] = t.edge_verts[e as usize];
+    let s = t.edge_sharpness[e as usize] as f64;
+    if t.is_boundary_edge(e) || s >= 1.0 {
+        buf.extend([(a, 0.5), (b, 0.5)]);
+        return;
+    }
+    let sharp = s.max(0.0);
+    let smooth = 1.0 - sharp;
+    let ends = 0.5 * sharp + 0.25 * smooth;
+    buf.extend([(a, ends), (b, ends)]);
+    for &f in t.edge_faces(e) {
+        let verts = t.face_vertices(f);
+        let w = 0.25 * smooth / verts.len() as f64;
+        buf.extend(verts.iter().map(|&v| (v, w)));
+    }
+}
+
+/// Vertex point: the parent rule, blended with the child rule by the fractional weight when
+/// they differ (DeRose et al. 1998, section 3; [`super::rules`]).
+fn vertex_row(t: &Topology, v: u32, buf: &mut Vec<(u32, f64)>) {
+    let edges = t.vertex_edges(v);
+    let faces = t.vertex_faces(v);
+    let ne = edges.len();
+    let mut parent = [0f32; 16];
+    let mut child = [0f32; 16];
+    let mut big_p = Vec::new();
+    let mut big_c = Vec::new();
+    let (ps, cs): (&mut [f32], &mut [f32]) = if ne <= 16 {
+        (&mut parent[..ne], &mut child[..ne])
+    } else {
+        big_p.resize(ne, 0.0);
+        big_c.resize(ne, 0.0);
+        (&mut big_p[..], &mut big_c[..])
+    };
+    for (i, &e) in edges.iter().enumerate() {
+        ps[i] = t.edge_sharpness[e as usize];
+        cs[i] = child_edge_sharpness(t, e, v);
+    }
+    let pv = t.vertex_sharpness[v as usize];
+    let cv = decrement(pv);
+    let psharp: Vec<usize> = (0..ne).filter(|&i| ps[i] > 0.0).collect();
+    let prule = vertex_rule(pv, psharp.len());
+    let mut mask = VertexMask::default();
+    mask.reset(ne, faces.len());
+    if matches!(prule, VertexRule::Smooth | VertexRule::Dart) {
+        mask.add_rule(prule, &psharp, 1.0);
+    } else {
+        let csharp: Vec<usize> = (0..ne).filter(|&i| cs[i] > 0.0).collect();
+        let crule = vertex_rule(cv, csharp.len());
+        if crule == prule {
+            mask.add_rule(prule, &psharp, 1.0);
+        } else {
+            let w = fractional_weight(pv, cv, ps, cs);
+            mask.add_rule(prule, &psharp, w);
+            mask.add_rule(crule, &csharp, 1.0 - w);
+        }
+    }
+    buf.push((v, mask.vertex));
+    for (i, &e) in edges.iter().enumerate() {
+        if mask.edges[i] != 0.0 {
+            buf.push((t.other_vertex(e, v), mask.edges[i]));
+        }
+    }
+    for (i, &f) in faces.iter().enumerate() {
+        if mask.faces[i] != 0.0 {
+            let verts = t.face_vertices(f);
+            let w = mask.faces[i] / verts.len() as f64;
+            buf.extend(verts.iter().map(|&u| (u, w)));
+        }
+    }
+}

@@ -1,0 +1,175 @@
+//! Catmull-Clark rules with semi-sharp creases (DeRose, Kass, Truong 1998; the RenderMan /
+//! OpenSubdiv semantics, listed in Köbler 2013 section 3.1-3.2 and Nießner et al. 2012).
+//!
+//! Masks are expressed on a vertex's one-ring (see [`crate::topology`] for the ring order):
+//! a weight for the vertex itself, one per incident edge (applied to the edge's other end) and
+//! one per incident face (applied to the face centroid).
+
+use crate::mesh::{CreaseMethod, INFINITE_SHARPNESS};
+use crate::topology::Topology;
+
+/// Whether a sharpness value is infinitely sharp.
+pub fn is_infinite(s: f32) -> bool {
+    s >= INFINITE_SHARPNESS
+}
+
+/// Sharpness of a child edge or vertex under the normal rule: `max(s - 1, 0)`; infinite stays
+/// infinite (DeRose et al. 1998, section 3).
+pub fn decrement(s: f32) -> f32 {
+    if is_infinite(s) {
+        INFINITE_SHARPNESS
+    } else if s > 1.0 {
+        s - 1.0
+    } else {
+        0.0
+    }
+}
+
+/// The vertex rule chosen by the number of incident sharp edges and the vertex sharpness.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum VertexRule {
+    /// No sharp edge: the smooth Catmull-Clark rule.
+    Smooth,
+    /// One sharp edge: the smooth rule.
+    Dart,
+    /// Two sharp edges: the crease rule `1/8, 3/4, 1/8`.
+    Crease,
+    /// More than two sharp edges or a sharp vertex: the vertex stays.
+    Corner,
+}
+
+/// Rule for a vertex with sharpness `vertex_sharpness` and `sharp_edges` incident edges of
+/// sharpness `> 0` (DeRose et al. 1998, section 3; Köbler 2013, section 3.2).
+pub fn vertex_rule(vertex_sharpness: f32, sharp_edges: usize) -> VertexRule {
+    if vertex_sharpness > 0.0 {
+        return VertexRule::Corner;
+    }
+    match sharp_edges {
+        0 => VertexRule::Smooth,
+        1 => VertexRule::Dart,
+        2 => VertexRule::Crease,
+        _ => VertexRule::Corner,
+    }
+}
+
+/// Sharpness of the child (half) edge of `e` that ends at `v`.
+///
+/// Normal: [`decrement`]. Chaikin: `max(0.75 s + 0.25 avg - 1, 0)` where `avg` is the mean
+/// sharpness of the other semi-sharp edges at `v`; plain `s - 1` when there are none; smooth
+/// stays smooth and infinite stays infinite (OpenSubdiv's Chaikin creasing).
+pub fn child_edge_sharpness(topo: &Topology, e: u32, v: u32) -> f32 {
+    let s = topo.edge_sharpness[e as usize];
+    if s <= 0.0 || is_infinite(s) || topo.options.crease_method == CreaseMethod::Normal {
+        return decrement(s);
+    }
+    let mut sum = 0.0f32;
+    let mut count = 0u32;
+    for &o in topo.vertex_edges(v) {
+        let so = topo.edge_sharpness[o as usize];
+        if o != e && so > 0.0 && !is_infinite(so) {
+            sum += so;
+            count += 1;
+        }
+    }
+    if count == 0 {
+        decrement(s)
+    } else {
+        decrement(0.75 * s + 0.25 * sum / count as f32)
+    }
+}
+
+/// Weight of the parent rule when the rule changes between parent and child: the mean parent
+/// sharpness of the vertex and edges that are sharp in the parent and smooth in the child,
+/// clamped to `[0, 1]` (DeRose et al. 1998, section 3, fractional sharpness).
+pub fn fractional_weight(
+    parent_vertex: f32,
+    child_vertex: f32,
+    parent_edges: &[f32],
+    child_edges: &[f32],
+) -> f64 {
+    let mut sum = 0.0f64;
+    let mut count = 0u32;
+    if parent_vertex > 0.0 && child_vertex <= 0.0 {
+        sum += parent_vertex as f64;
+        count += 1;
+    }
+    for (&p, &c) in parent_edges.iter().zip(child_edges) {
+        if p > 0.0 && c <= 0.0 {
+            sum += p as f64;
+            count += 1;
+        }
+    }
+    if count == 0 {
+        0.0
+    } else {
+        (sum / count as f64).clamp(0.0, 1.0)
+    }
+}
+
+/// A vertex-point mask on a one-ring: `vertex` weight, `edges[i]` for the far end of ring edge
+/// `i`, `faces[i]` for the centroid of ring face `i`.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct VertexMask {
+    /// Weight of the vertex itself.
+    pub vertex: f64,
+    /// Weights of the far ends of the ring edges.
+    pub edges: Vec<f64>,
+    /// Weights of the centroids of the ring faces.
+    pub faces: Vec<f64>,
+}
+
+impl VertexMask {
+    /// Resets to the zero mask of a ring with `ne` edges and `nf` faces.
+    pub fn reset(&mut self, ne: usize, nf: usize) {
+        self.vertex = 0.0;
+        self.edges.clear();
+        self.edges.resize(ne, 0.0);
+        self.faces.clear();
+        self.faces.resize(nf, 0.0);
+    }
+
+    /// Adds `w` times the mask of `rule`. `sharp` lists the ring edges that are sharp for the
+    /// rule (used by the crease rule, which needs exactly two).
+    ///
+    /// Smooth (Catmull-Clark 1978, general valence `n` = number of ring edges):
+    /// `(n-2)/n v + 1/n^2 sum(edge ends) + 1/n^2 sum(face centroids)`; on an incomplete ring
+    /// (only possible on extraction cuts) the weights are renormalised to sum to one.
+    /// Crease: `3/4 v + 1/8 (a + b)`. Corner: `v`.
+    pub fn add_rule(&mut self, rule: VertexRule, sharp: &[usize], w: f64) {
+        let ne = self.edges.len();
+        let nf = self.faces.len();
+        let rule = if rule == VertexRule::Crease && sharp.len() != 2 {
+            VertexRule::Corner
+        } else {
+            rule
+        };
+        match rule {
+            VertexRule::Smooth | VertexRule::Dart => {
+                if ne < 2 || nf == 0 {
+                    self.vertex += w;
+                    return;
+                }
+                let n = ne as f64;
+                let inv = 1.0 / (n * n);
+                let scale = if ne == nf {
+                    w
+                } else {
+                    w / ((n - 2.0) / n + inv * (ne + nf) as f64)
+                };
+                self.vertex += scale * (n - 2.0) / n;
+                for x in &mut self.edges {
+                    *x += scale * inv;
+                }
+                for x in &mut self.faces {
+                    *x += scale * inv;
+                }
+            }
+            VertexRule::Crease => {
+                self.vertex += 0.75 * w;
+                self.edges[sharp[0]] += 0.125 * w;
+                self.edges[sharp[1]] += 0.125 * w;
+            }
+            VertexRule::Corner => self.vertex += w,
+        }
+    }
+}

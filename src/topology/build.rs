@@ -1,0 +1,281 @@
+//! Construction of the connectivity (edges, edge-face and ordered vertex one-rings) from flat
+//! face arrays, without hashing: half-edges are bucketed by their smaller end vertex.
+
+use super::par::{try_for_chunks, Shared};
+use super::{Topology, NONE};
+use crate::mesh::SchemeOptions;
+use crate::{Error, Result};
+
+/// Builds the connectivity of `nv` vertices and the faces `face_offsets` / `face_verts`.
+///
+/// `strict`: a vertex whose faces form more than one fan is an error (non-manifold vertex).
+/// Without it (extracted sub-meshes) the fans are listed one after the other, each starting
+/// at its boundary edge. Sharpness is zero, no face is a hole.
+pub(crate) fn build(
+    nv: usize,
+    face_offsets: Vec<u32>,
+    face_verts: Vec<u32>,
+    strict: bool,
+) -> Result<Topology> {
+    let nf = face_offsets.len().saturating_sub(1);
+    let fv = face_verts.len();
+    if nf == 0 || nv == 0 {
+        return Err(Error::EmptyMesh("topology needs vertices and faces".into()));
+    }
+    if face_offsets[0] != 0 || face_offsets[nf] as usize != fv {
+        return Err(Error::Invalid(
+            "face offsets do not match the face-vertex array".into(),
+        ));
+    }
+    let mut corner_face = vec![0u32; fv];
+    let mut max_size = 0usize;
+    for f in 0..nf {
+        let (a, b) = (face_offsets[f] as usize, face_offsets[f + 1] as usize);
+        if b < a + 3 {
+            return Err(Error::Invalid(format!(
+                "face {f} has fewer than 3 vertices"
+            )));
+        }
+        if b - a > u16::MAX as usize {
+            return Err(Error::Invalid(format!(
+                "face {f} has {} vertices (at most {} supported)",
+                b - a,
+                u16::MAX
+            )));
+        }
+        max_size = max_size.max(b - a);
+        for (h, cf) in corner_face.iter_mut().enumerate().take(b).skip(a) {
+            if face_verts[h] as usize >= nv {
+                return Err(Error::Invalid(format!(
+                    "face {f}: vertex index {} out of range",
+                    face_verts[h]
+                )));
+            }
+            *cf = f as u32;
+        }
+    }
+    let next = |h: usize| -> usize {
+        let f = corner_face[h] as usize;
+        if h + 1 == face_offsets[f + 1] as usize {
+            face_offsets[f] as usize
+        } else {
+            h + 1
+        }
+    };
+    let prev = |h: usize| -> usize {
+        let f = corner_face[h] as usize;
+        if h == face_offsets[f] as usize {
+            face_offsets[f + 1] as usize - 1
+        } else {
+            h - 1
+        }
+    };
+
+    // Bucket half-edges by their smaller end vertex (counting sort).
+    let mut bstart = vec![0u32; nv + 1];
+    for h in 0..fv {
+        let (a, b) = (face_verts[h], face_verts[next(h)]);
+        if a == b {
+            return Err(Error::Invalid(format!(
+                "face {}: vertex {a} repeated",
+                corner_face[h]
+            )));
+        }
+        bstart[a.min(b) as usize + 1] += 1;
+    }
+    for v in 0..nv {
+        bstart[v + 1] += bstart[v];
+    }
+    let mut cursor = bstart.clone();
+    let mut entries = vec![(0u32, 0u32); fv];
+    for h in 0..fv {
+        let (a, b) = (face_verts[h], face_verts[next(h)]);
+        let slot = &mut cursor[a.min(b) as usize];
+        entries[*slot as usize] = (a.max(b), h as u32);
+        *slot += 1;
+    }
+    drop(cursor);
+
+    // Assign edge ids; an edge's orientation is that of its first face.
+    let mut face_edges = vec![0u32; fv];
+    let mut edge_verts: Vec<[u32; 2]> = Vec::with_capacity(fv / 2 + 16);
+    let mut edge_faces: Vec<[u32; 2]> = Vec::with_capacity(fv / 2 + 16);
+    let mut edge_face_local: Vec<[u16; 2]> = Vec::with_capacity(fv / 2 + 16);
+    for v in 0..nv {
+        let (lo, hi) = (bstart[v] as usize, bstart[v + 1] as usize);
+        for i in lo..hi {
+            let (other, h) = entries[i];
+            let h = h as usize;
+            let f = corner_face[h];
+            let k = (h - face_offsets[f as usize] as usize) as u16;
+            let found = entries[lo..i].iter().find(|x| x.0 == other);
+            match found {
+                Some(&(_, h0)) => {
+                    let e = face_edges[h0 as usize] as usize;
+                    if edge_faces[e][1] != NONE {
+                        return Err(Error::Invalid(format!(
+                            "non-manifold edge {}-{}: used by 3 or more faces (faces {}, {}, {f})",
+                            edge_verts[e][0], edge_verts[e][1], edge_faces[e][0], edge_faces[e][1]
+                        )));
+                    }
+                    if face_verts[h] != edge_verts[e][1] {
+                        return Err(Error::Invalid(format!(
+                            "inconsistent winding across edge {}-{} (faces {} and {f})",
+                            edge_verts[e][0], edge_verts[e][1], edge_faces[e][0]
+                        )));
+                    }
+                    edge_faces[e][1] = f;
+                    edge_face_local[e][1] = k;
+                    face_edges[h] = e as u32;
+                }
+                None => {
+                    face_edges[h] = edge_verts.len() as u32;
+                    edge_verts.push([face_verts[h], face_verts[next(h)]]);
+                    edge_faces.push([f, NONE]);
+                    edge_face_local.push([k, 0]);
+                }
+            }
+        }
+    }
+    drop(entries);
+    drop(bstart);
+
+    // Vertex -> corners (unordered), and the number of one-ring edges per vertex.
+    let mut vfo = vec![0u32; nv + 1];
+    let mut veo = vec![0u32; nv + 1];
+    for h in 0..fv {
+        let v = face_verts[h] as usize;
+        vfo[v + 1] += 1;
+        veo[v + 1] += 1;
+        if edge_faces[face_edges[h] as usize][1] == NONE {
+            veo[v + 1] += 1;
+        }
+    }
+    for v in 0..nv {
+        vfo[v + 1] += vfo[v];
+        veo[v + 1] += veo[v];
+    }
+    let mut raw = vec![0u32; fv];
+    let mut cursor = vfo.clone();
+    for h in 0..fv {
+        let slot = &mut cursor[face_verts[h] as usize];
+        raw[*slot as usize] = h as u32;
+        *slot += 1;
+    }
+    drop(cursor);
+
+    // Order every one-ring counter-clockwise.
+    let mut vert_faces = vec![0u32; fv];
+    let mut vert_face_local = vec![0u16; fv];
+    let mut vert_edges = vec![0u32; veo[nv] as usize];
+    let (sf, sl, se) = (
+        Shared::new(&mut vert_faces),
+        Shared::new(&mut vert_face_local),
+        Shared::new(&mut vert_edges),
+    );
+    let is_bnd = |e: u32| edge_faces[e as usize][1] == NONE;
+    try_for_chunks(nv, |lo, hi| {
+        let mut visited: Vec<bool> = Vec::new();
+        let mut fbuf: Vec<u32> = Vec::new();
+        let mut lbuf: Vec<u16> = Vec::new();
+        let mut ebuf: Vec<u32> = Vec::new();
+        for v in lo..hi {
+            let (a, b) = (vfo[v] as usize, vfo[v + 1] as usize);
+            let corners = &raw[a..b];
+            let n = corners.len();
+            visited.clear();
+            visited.resize(n, false);
+            fbuf.clear();
+            lbuf.clear();
+            ebuf.clear();
+            let mut fans = 0;
+            for pass in 0..2 {
+                for s in 0..n {
+                    if visited[s] {
+                        continue;
+                    }
+                    let h = corners[s] as usize;
+                    if pass == 0 && !is_bnd(face_edges[h]) {
+                        continue;
+                    }
+                    fans += 1;
+                    if strict && fans > 1 {
+                        return Err(Error::Invalid(format!(
+                            "non-manifold vertex {v}: its faces form more than one fan"
+                        )));
+                    }
+                    let mut cur = s;
+                    ebuf.push(face_edges[h]);
+                    loop {
+                        visited[cur] = true;
+                        let h = corners[cur] as usize;
+                        let f = corner_face[h];
+                        let k = h - face_offsets[f as usize] as usize;
+                        fbuf.push(f);
+                        lbuf.push(k as u16);
+                        let hp = prev(h);
+                        let ine = face_edges[hp];
+                        if is_bnd(ine) {
+                            ebuf.push(ine);
+                            break;
+                        }
+                        let kp = (hp - face_offsets[f as usize] as usize) as u16;
+                        let ef = edge_faces[ine as usize];
+                        let el = edge_face_local[ine as usize];
+                        let (g, l) = if ef[0] == f && el[0] == kp {
+                            (ef[1], el[1])
+                        } else {
+                            (ef[0], el[0])
+                        };
+                        let hg = face_offsets[g as usize] as usize + l as usize;
+                        let j = corners.iter().position(|&c| c as usize == hg);
+                        let Some(j) = j else {
+                            return Err(Error::Invalid(format!(
+                                "inconsistent winding around vertex {v} (faces {f} and {g})"
+                            )));
+                        };
+                        if visited[j] {
+                            break;
+                        }
+                        ebuf.push(ine);
+                        cur = j;
+                    }
+                }
+            }
+            let (ea, eb) = (veo[v] as usize, veo[v + 1] as usize);
+            if fbuf.len() != n || ebuf.len() != eb - ea {
+                return Err(Error::Invalid(format!(
+                    "vertex {v}: its one-ring cannot be ordered (non-manifold)"
+                )));
+            }
+            // SAFETY: vertex ranges of monotone prefix sums are disjoint between vertices.
+            unsafe {
+                sf.range(a, b).copy_from_slice(&fbuf);
+                sl.range(a, b).copy_from_slice(&lbuf);
+                se.range(ea, eb).copy_from_slice(&ebuf);
+            }
+        }
+        Ok(())
+    })?;
+
+    let ne = edge_verts.len();
+    Ok(Topology {
+        num_vertices: nv as u32,
+        face_offsets,
+        face_verts,
+        face_edges,
+        edge_verts,
+        edge_faces,
+        edge_face_local,
+        vert_face_offsets: vfo,
+        vert_faces,
+        vert_face_local,
+        vert_edge_offsets: veo,
+        vert_edges,
+        edge_sharpness: vec![0.0; ne],
+        vertex_sharpness: vec![0.0; nv],
+        holes: vec![false; nf],
+        options: SchemeOptions::default(),
+        max_face_size: max_size as u32,
+    })
+}
