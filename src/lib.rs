@@ -13,6 +13,7 @@ pub mod error;
 pub mod gpu;
 pub mod mesh;
 pub mod patch;
+pub mod render;
 pub mod subdiv;
 pub mod topology;
 

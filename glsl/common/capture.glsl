@@ -1,0 +1,30 @@
+// Capture of TES output for `tessera sample` and the GPU-vs-CPU tests (compiled in with CAPTURE).
+// Each TES invocation takes a unique slot from an atomic counter and stores the base face id, the
+// face's (u, v), the position and the normal. Slots past `capacity` are counted but not written, so
+// the host can detect an undersized buffer.
+#ifndef TESSERA_CAPTURE_GLSL
+#define TESSERA_CAPTURE_GLSL
+
+struct CaptureRecord {
+    uint face;
+    float u, v;
+    float px, py, pz;
+    float nx, ny, nz;
+};
+
+layout(std430, set = 0, binding = 3) buffer Capture {
+    uint capture_count;
+    uint capture_capacity;
+    uint capture_pad0;
+    uint capture_pad1;
+    CaptureRecord capture_records[];
+};
+
+void capture_point(uint face, vec2 uv, vec3 p, vec3 n) {
+    uint slot = atomicAdd(capture_count, 1u);
+    if (slot < capture_capacity) {
+        capture_records[slot] = CaptureRecord(face, uv.x, uv.y, p.x, p.y, p.z, n.x, n.y, n.z);
+    }
+}
+
+#endif

@@ -1,0 +1,46 @@
+// Per-frame uniforms and the storage buffers shared by the surface shaders (src/render/frame.rs
+// mirrors this layout byte for byte; keep them in sync).
+#ifndef TESSERA_FRAME_GLSL
+#define TESSERA_FRAME_GLSL
+
+/// Tessellation-factor modes (`Frame.tess.y`).
+#define TESS_MODE_UNIFORM 0.0
+#define TESS_MODE_ADAPTIVE 1.0
+
+/// Colour modes (`Frame.flags.x`).
+#define COLOR_NONE 0u
+#define COLOR_PATCH_TYPE 1u
+
+/// Patch classes for colouring (per patch / per fallback vertex).
+#define CLASS_REGULAR 0u
+#define CLASS_IRREGULAR 1u
+#define CLASS_TRIANGLE 2u
+
+layout(std140, set = 0, binding = 0) uniform Frame {
+    mat4 view_proj;      // world -> clip (Vulkan clip space: y down, depth 0..1)
+    vec4 eye;            // xyz: camera position in world space
+    vec4 viewport;       // xy: framebuffer size in pixels
+    vec4 tess;           // x: uniform level, y: mode, z: pixels per edge, w: max level
+    vec4 light_dir;      // xyz: direction towards the key light (world), normalised
+    uvec4 flags;         // x: colour mode
+} frame;
+
+/// Per-patch data of the regular B-spline patches (one entry per patch, indexed by gl_PrimitiveID).
+struct PatchInfo {
+    uint face;           // base-mesh face id
+    uint flags;          // bits 0-3: boundary mask (api.md), bits 4-7: edge e runs from the larger vertex id
+    uint pad0;
+    uint pad1;
+    uvec4 corners;       // vertex ids of the face corners 0..3 (cvs 5, 6, 10, 9)
+};
+
+layout(std430, set = 0, binding = 1) readonly buffer Patches {
+    PatchInfo patches[];
+};
+
+/// Limit positions of the base-mesh vertices (xyz; w unused), the data neighbours share.
+layout(std430, set = 0, binding = 2) readonly buffer VertexLimits {
+    vec4 vertex_limit[];
+};
+
+#endif

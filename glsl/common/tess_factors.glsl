@@ -1,0 +1,29 @@
+// Tessellation factors from data both patches of an edge share (needs frame.glsl).
+// Uniform: the requested level. Adaptive: the projected length, in pixels, of the chord between
+// the limit points of the edge's two end vertices, divided by the target pixels per edge. The end
+// vertices are taken in increasing vertex-id order so both neighbours run the same arithmetic.
+#ifndef TESSERA_TESS_FACTORS_GLSL
+#define TESSERA_TESS_FACTORS_GLSL
+
+/// Screen position (pixels) of a world point; points behind the eye are pushed to the near side.
+vec2 to_pixels(vec3 p) {
+    vec4 c = frame.view_proj * vec4(p, 1.0);
+    float w = max(c.w, 1e-4);
+    return (c.xy / w * 0.5 + 0.5) * frame.viewport.xy;
+}
+
+/// Outer level of the edge between base vertices a and b.
+float edge_tess_level(uint a, uint b) {
+    float max_level = frame.tess.w;
+    if (frame.tess.y != TESS_MODE_ADAPTIVE) {
+        return clamp(frame.tess.x, 1.0, max_level);
+    }
+    uint lo = min(a, b);
+    uint hi = max(a, b);
+    vec2 p = to_pixels(vertex_limit[lo].xyz);
+    vec2 q = to_pixels(vertex_limit[hi].xyz);
+    float len = length(q - p);
+    return clamp(len / max(frame.tess.z, 1e-3), 1.0, max_level);
+}
+
+#endif

@@ -1,0 +1,16 @@
+#version 450
+// Triangles evaluated on the CPU (faces without a GPU patch scheme yet): world position, normal
+// and colour class per vertex.
+#include "common/frame.glsl"
+layout(location = 0) in vec3 in_pos;
+layout(location = 1) in vec3 in_normal;
+layout(location = 2) in uint in_class;
+layout(location = 0) out vec3 t_world;
+layout(location = 1) out vec3 t_normal;
+layout(location = 2) flat out uint t_class;
+void main() {
+    t_world = in_pos;
+    t_normal = in_normal;
+    t_class = in_class;
+    gl_Position = frame.view_proj * vec4(in_pos, 1.0);
+}

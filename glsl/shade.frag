@@ -1,0 +1,30 @@
+#version 450
+// Lit material: key light + head light diffuse, Blinn specular, optional colour by patch type
+// (regular gold, irregular purple, triangle green, as in Fig. 1 of the Gregory-patch paper).
+// Normals come from the surface; they are flipped towards the viewer so open surfaces show both sides.
+#include "common/frame.glsl"
+layout(location = 0) in vec3 t_world;
+layout(location = 1) in vec3 t_normal;
+layout(location = 2) flat in uint t_class;
+layout(location = 0) out vec4 out_color;
+
+vec3 base_color() {
+    if (frame.flags.x != COLOR_PATCH_TYPE) return vec3(0.72, 0.74, 0.78);
+    if (t_class == CLASS_REGULAR) return vec3(0.90, 0.68, 0.20);
+    if (t_class == CLASS_TRIANGLE) return vec3(0.30, 0.72, 0.35);
+    return vec3(0.58, 0.38, 0.80);
+}
+
+void main() {
+    vec3 n = normalize(t_normal);
+    vec3 to_eye = normalize(frame.eye.xyz - t_world);
+    if (dot(n, to_eye) < 0.0) n = -n;
+    vec3 l = normalize(frame.light_dir.xyz);
+    vec3 h = normalize(l + to_eye);
+    vec3 albedo = base_color();
+    float key = max(dot(n, l), 0.0);
+    float head = max(dot(n, to_eye), 0.0);
+    float spec = pow(max(dot(n, h), 0.0), 48.0);
+    vec3 c = albedo * (0.12 + 0.68 * key + 0.25 * head) + vec3(0.22 * spec);
+    out_color = vec4(c, 1.0);
+}

@@ -1,0 +1,23 @@
+//! Rendering of subdivision surfaces through the Vulkan tessellation stages (on top of
+//! [`crate::gpu`]): regular faces as bicubic B-spline patches evaluated by TCS/TES, every other
+//! face with a limit surface (for now) as triangles evaluated by the CPU reference.
+
+pub mod camera;
+pub mod compare;
+pub mod fallback;
+pub mod layout;
+pub mod offscreen;
+pub mod renderer;
+pub mod scene;
+pub mod settings;
+pub mod surface;
+
+pub use camera::{Camera, CameraSpec};
+pub use compare::{compare_images, CompareReport, CompareThreshold};
+pub use fallback::{FallbackFace, FallbackMesh, PatchClass};
+pub use layout::BSplinePatch;
+pub use offscreen::{render_to_image, FrameReport, OffscreenDesc, OffscreenSession, RenderOutput};
+pub use renderer::{CaptureRecord, RenderDesc, SurfaceRenderer};
+pub use scene::{surface_with, SurfacePlan};
+pub use settings::{ColorBy, FrameUniforms, Spacing, TessMode, TessSettings};
+pub use surface::SurfaceData;

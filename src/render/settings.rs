@@ -1,0 +1,178 @@
+//! Render settings shared by the library API and the CLI, and the per-frame uniform block
+//! (`Frame` in `glsl/common/frame.glsl`).
+
+use glam::{Mat4, Vec3};
+
+use crate::{Error, Result};
+
+/// How tessellation levels are chosen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum TessMode {
+    /// Every edge gets the requested level.
+    #[default]
+    Uniform,
+    /// Levels from the projected length of each edge (target pixels per segment).
+    Adaptive,
+}
+
+/// Tessellation spacing (SPIR-V `SpacingEqual`, `SpacingFractionalOdd`, `SpacingFractionalEven`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Spacing {
+    /// Integer levels (rounded up).
+    #[default]
+    Equal,
+    /// Fractional levels, odd segment counts.
+    FractionalOdd,
+    /// Fractional levels, even segment counts.
+    FractionalEven,
+}
+
+impl Spacing {
+    /// Parses `equal`, `fractional-odd` or `fractional-even`.
+    pub fn parse(s: &str) -> Result<Spacing> {
+        match s {
+            "equal" => Ok(Spacing::Equal),
+            "fractional-odd" => Ok(Spacing::FractionalOdd),
+            "fractional-even" => Ok(Spacing::FractionalEven),
+            _ => Err(Error::Invalid(format!(
+                "spacing `{s}`: expected equal, fractional-odd or fractional-even"
+            ))),
+        }
+    }
+
+    /// Suffix of the TES variant in `glsl/variants.txt`.
+    pub(crate) fn shader_suffix(self) -> &'static str {
+        match self {
+            Spacing::Equal => "equal",
+            Spacing::FractionalOdd => "odd",
+            Spacing::FractionalEven => "even",
+        }
+    }
+}
+
+/// Surface colouring.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ColorBy {
+    /// One neutral material.
+    #[default]
+    None,
+    /// Regular patches gold, irregular purple, triangles green (Gregory-patch paper, Fig. 1).
+    PatchType,
+}
+
+/// Tessellation settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TessSettings {
+    /// Uniform level (clamped to `1..=maxTessellationGenerationLevel`).
+    pub level: f32,
+    /// Uniform or screen-space adaptive.
+    pub mode: TessMode,
+    /// Adaptive target: pixels per tessellated segment.
+    pub pixels_per_edge: f32,
+    /// Spacing of the tessellator.
+    pub spacing: Spacing,
+}
+
+impl Default for TessSettings {
+    fn default() -> Self {
+        TessSettings {
+            level: 8.0,
+            mode: TessMode::Uniform,
+            pixels_per_edge: 8.0,
+            spacing: Spacing::Equal,
+        }
+    }
+}
+
+/// Everything a frame's uniform block holds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameUniforms {
+    /// World -> Vulkan clip space.
+    pub view_proj: Mat4,
+    /// Eye position (world).
+    pub eye: Vec3,
+    /// Framebuffer size in pixels.
+    pub viewport: [f32; 2],
+    /// Tessellation settings.
+    pub tess: TessSettings,
+    /// Device limit `maxTessellationGenerationLevel`.
+    pub max_level: f32,
+    /// Direction towards the key light (world; normalised by the shader).
+    pub light_dir: Vec3,
+    /// Colouring.
+    pub color_by: ColorBy,
+}
+
+/// Size of the std140 `Frame` block.
+pub const FRAME_UNIFORM_BYTES: usize = 144;
+
+impl FrameUniforms {
+    /// The std140 bytes of the `Frame` block.
+    pub fn to_bytes(&self) -> [u8; FRAME_UNIFORM_BYTES] {
+        let mut f = [0f32; 32];
+        f[..16].copy_from_slice(&self.view_proj.to_cols_array());
+        f[16..19].copy_from_slice(&self.eye.to_array());
+        f[20] = self.viewport[0];
+        f[21] = self.viewport[1];
+        f[24] = self.tess.level;
+        f[25] = match self.tess.mode {
+            TessMode::Uniform => 0.0,
+            TessMode::Adaptive => 1.0,
+        };
+        f[26] = self.tess.pixels_per_edge;
+        f[27] = self.max_level;
+        f[28..31].copy_from_slice(&self.light_dir.to_array());
+        let mut out = [0u8; FRAME_UNIFORM_BYTES];
+        for (k, v) in f.iter().enumerate() {
+            out[4 * k..4 * k + 4].copy_from_slice(&v.to_le_bytes());
+        }
+        let color = match self.color_by {
+            ColorBy::None => 0u32,
+            ColorBy::PatchType => 1u32,
+        };
+        out[128..132].copy_from_slice(&color.to_le_bytes());
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_block_offsets() {
+        let u = FrameUniforms {
+            view_proj: Mat4::from_cols_array(&std::array::from_fn(|k| k as f32)),
+            eye: Vec3::new(1.0, 2.0, 3.0),
+            viewport: [640.0, 480.0],
+            tess: TessSettings {
+                level: 5.0,
+                mode: TessMode::Adaptive,
+                pixels_per_edge: 4.0,
+                spacing: Spacing::Equal,
+            },
+            max_level: 64.0,
+            light_dir: Vec3::new(0.0, 1.0, 0.0),
+            color_by: ColorBy::PatchType,
+        };
+        let b = u.to_bytes();
+        let f = |o: usize| f32::from_le_bytes(b[o..o + 4].try_into().unwrap());
+        assert_eq!(f(4 * 15), 15.0);
+        assert_eq!(f(64), 1.0);
+        assert_eq!(f(80), 640.0);
+        assert_eq!(f(96), 5.0);
+        assert_eq!(f(100), 1.0);
+        assert_eq!(f(108), 64.0);
+        assert_eq!(f(116), 1.0);
+        assert_eq!(u32::from_le_bytes(b[128..132].try_into().unwrap()), 1);
+    }
+
+    #[test]
+    fn spacing_names() {
+        assert_eq!(
+            Spacing::parse("fractional-odd").unwrap(),
+            Spacing::FractionalOdd
+        );
+        assert!(Spacing::parse("odd").is_err());
+    }
+}

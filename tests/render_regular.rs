@@ -1,0 +1,220 @@
+//! GPU regular-patch pipeline on synthetic all-regular meshes: TES capture against an independent
+//! CPU B-spline evaluation, bitwise watertightness of shared edges, winding, validation.
+
+mod render_common;
+
+use std::collections::HashMap;
+
+use render_common::{assert_validation_clean, context, eval_patch, open_grid, torus};
+use tessera::render::renderer::capture_capacity_for;
+use tessera::render::{
+    render_to_image, CaptureRecord, OffscreenDesc, RenderDesc, Spacing, SurfaceData, TessMode,
+    TessSettings,
+};
+
+fn capture(ctx: &tessera::gpu::Context, s: &SurfaceData, tess: TessSettings) -> Vec<CaptureRecord> {
+    let cap = capture_capacity_for(s.patches.len(), 64.0, Spacing::FractionalEven);
+    let render = RenderDesc {
+        tess,
+        capture_capacity: Some(cap),
+        ..RenderDesc::default()
+    };
+    let desc = OffscreenDesc {
+        width: 96,
+        height: 96,
+        ..OffscreenDesc::default()
+    };
+    let out = render_to_image(ctx, s, &render, &desc, true).expect("render");
+    let recs = out.capture.expect("capture");
+    let stats = out.report.expect("report").patch_stats;
+    assert_eq!(stats.tcs_patches, s.patches.len() as u64);
+    assert_eq!(
+        stats.tes_invocations,
+        recs.len() as u64,
+        "one record per TES invocation"
+    );
+    recs
+}
+
+/// Every record matches the CPU limit within 1e-5 of the bbox diagonal (normals within 1e-3).
+fn check_accuracy(s: &SurfaceData, recs: &[CaptureRecord]) {
+    let (lo, hi) = s.bounding_box();
+    let diag = (hi - lo).length();
+    let by_face: HashMap<u32, usize> = s
+        .patches
+        .iter()
+        .enumerate()
+        .map(|(k, p)| (p.face, k))
+        .collect();
+    let mut worst = 0.0f64;
+    for r in recs {
+        let p = &s.patches[by_face[&r.face]];
+        let (pos, n) = eval_patch(p, &s.positions, f64::from(r.u), f64::from(r.v));
+        let g = glam::DVec3::from(r.position.map(f64::from));
+        let gn = glam::DVec3::from(r.normal.map(f64::from));
+        worst = worst.max((g - pos).length() / diag);
+        assert!(
+            (gn - n).length() < 1e-3,
+            "normal of face {} at ({}, {}): {gn} vs {n}",
+            r.face,
+            r.u,
+            r.v
+        );
+    }
+    assert!(
+        worst < 1e-5,
+        "worst position error {worst} of the bbox diagonal"
+    );
+}
+
+/// A mesh edge as (smaller vertex id, larger vertex id).
+type EdgeKey = (u32, u32);
+
+/// Groups edge points by mesh edge; both faces of every interior edge must emit the same set of
+/// bit patterns. Returns the number of shared edges checked.
+fn check_watertight(s: &SurfaceData, recs: &[CaptureRecord]) -> usize {
+    let by_face: HashMap<u32, usize> = s
+        .patches
+        .iter()
+        .enumerate()
+        .map(|(k, p)| (p.face, k))
+        .collect();
+    // (edge key, face) -> sorted bit patterns
+    let mut sets: HashMap<(EdgeKey, u32), Vec<[u32; 3]>> = HashMap::new();
+    for r in recs {
+        let c = s.patches[by_face[&r.face]].corners();
+        let mut edges = Vec::new();
+        if r.v == 0.0 {
+            edges.push((c[0], c[1]));
+        }
+        if r.u == 1.0 {
+            edges.push((c[1], c[2]));
+        }
+        if r.v == 1.0 {
+            edges.push((c[3], c[2]));
+        }
+        if r.u == 0.0 {
+            edges.push((c[0], c[3]));
+        }
+        for (a, b) in edges {
+            let key = (a.min(b), a.max(b));
+            sets.entry((key, r.face))
+                .or_default()
+                .push(r.position.map(f32::to_bits));
+        }
+    }
+    let mut per_edge: HashMap<(u32, u32), Vec<Vec<[u32; 3]>>> = HashMap::new();
+    for ((key, _face), mut pts) in sets {
+        pts.sort_unstable();
+        pts.dedup();
+        per_edge.entry(key).or_default().push(pts);
+    }
+    let mut shared = 0;
+    for (key, sides) in per_edge {
+        if sides.len() == 2 {
+            shared += 1;
+            assert_eq!(
+                sides[0].len(),
+                sides[1].len(),
+                "edge {key:?}: point counts differ"
+            );
+            assert!(
+                sides[0] == sides[1],
+                "edge {key:?}: positions not bitwise identical"
+            );
+        }
+    }
+    shared
+}
+
+#[test]
+fn torus_uniform_matches_cpu_and_is_watertight() {
+    let Some(ctx) = context() else { return };
+    let s = torus(8, 6, 2.0, 0.7);
+    let level = 5.0;
+    let recs = capture(
+        &ctx,
+        &s,
+        TessSettings {
+            level,
+            ..TessSettings::default()
+        },
+    );
+    // Equal spacing, level 5: a (5+1)^2 grid of domain points per quad patch.
+    assert_eq!(recs.len(), s.patches.len() * 36);
+    check_accuracy(&s, &recs);
+    // Torus: every edge is shared; 2 * faces edges.
+    assert_eq!(check_watertight(&s, &recs), 2 * s.patches.len());
+    assert_validation_clean(&ctx);
+}
+
+#[test]
+fn open_grid_fractional_and_adaptive_are_watertight() {
+    let Some(ctx) = context() else { return };
+    let s = open_grid(5, 4);
+    // (nu - 1) interior vertical lines of nv edges + (nv - 1) horizontal lines of nu edges.
+    let interior_edges = 4 * 4 + 3 * 5;
+    for tess in [
+        TessSettings {
+            level: 4.3,
+            spacing: Spacing::FractionalOdd,
+            ..TessSettings::default()
+        },
+        TessSettings {
+            level: 3.7,
+            spacing: Spacing::FractionalEven,
+            ..TessSettings::default()
+        },
+        TessSettings {
+            mode: TessMode::Adaptive,
+            pixels_per_edge: 6.0,
+            spacing: Spacing::FractionalOdd,
+            ..TessSettings::default()
+        },
+        TessSettings {
+            mode: TessMode::Adaptive,
+            pixels_per_edge: 5.0,
+            spacing: Spacing::Equal,
+            ..TessSettings::default()
+        },
+    ] {
+        let recs = capture(&ctx, &s, tess);
+        check_accuracy(&s, &recs);
+        assert_eq!(check_watertight(&s, &recs), interior_edges, "{tess:?}");
+    }
+    assert_validation_clean(&ctx);
+}
+
+#[test]
+fn front_faces_are_outside() {
+    // On a closed surface the visible faces are front faces: culling back faces must not change
+    // the picture when the TES winding and the front-face convention agree.
+    let Some(ctx) = context() else { return };
+    let s = torus(8, 6, 2.0, 0.7);
+    let desc = OffscreenDesc {
+        width: 128,
+        height: 96,
+        ..OffscreenDesc::default()
+    };
+    let mut render = RenderDesc::default();
+    render.tess.level = 4.0;
+    let a = render_to_image(&ctx, &s, &render, &desc, false)
+        .unwrap()
+        .image;
+    render.cull_back_faces = true;
+    let b = render_to_image(&ctx, &s, &render, &desc, false)
+        .unwrap()
+        .image;
+    let bg = a.get_pixel(0, 0).0;
+    let covered = a.pixels().filter(|p| p.0 != bg).count();
+    assert!(
+        covered > 128 * 96 / 10,
+        "torus covers only {covered} pixels"
+    );
+    let differing = a.pixels().zip(b.pixels()).filter(|(x, y)| x != y).count();
+    assert!(
+        differing * 200 < covered,
+        "{differing} of {covered} pixels change with culling"
+    );
+    assert_validation_clean(&ctx);
+}
