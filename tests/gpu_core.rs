@@ -90,14 +90,11 @@ fn clear_colour_reads_back_as_srgb() {
         let img = clear_and_read(&ctx, s, clear);
         assert_eq!(img.dimensions(), (37, 21));
         for (x, y, p) in img.enumerate_pixels() {
-            for c in 0..4 {
-                assert!(
-                    close(p.0[c], want[c]),
-                    "{s}x: pixel ({x},{y}) channel {c} = {} expected {}",
-                    p.0[c],
-                    want[c]
-                );
-            }
+            assert!(
+                p.0.iter().zip(&want).all(|(a, b)| close(*a, *b)),
+                "{s}x: pixel ({x},{y}) = {:?} expected {want:?}",
+                p.0
+            );
         }
     }
     assert_clean(&ctx);
