@@ -19,7 +19,7 @@ const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 /// How to create a [`Context`].
 #[derive(Debug, Clone)]
 pub struct ContextDesc {
-    /// Enable the Khronos validation layer and the messenger. Default: on in debug builds.
+    /// Enable the Khronos validation layer and the messenger. Default: [`validation_default`].
     pub validation: bool,
     /// Substring of the device name; `None` reads `TESSERA_DEVICE`, then picks the first device
     /// with every required feature.
@@ -33,11 +33,20 @@ pub struct ContextDesc {
 impl Default for ContextDesc {
     fn default() -> Self {
         ContextDesc {
-            validation: cfg!(debug_assertions),
+            validation: validation_default(),
             device: None,
             required: vec![Feature::TessellationShader],
             timeout_ms: 120_000,
         }
+    }
+}
+
+/// Validation default: `TESSERA_VALIDATION=1`/`0` if set, else on in debug builds only.
+pub fn validation_default() -> bool {
+    match std::env::var("TESSERA_VALIDATION").as_deref() {
+        Ok("1") | Ok("true") | Ok("on") => true,
+        Ok("0") | Ok("false") | Ok("off") => false,
+        _ => cfg!(debug_assertions),
     }
 }
 
@@ -156,9 +165,26 @@ impl Context {
         if desc.validation && !has_layer {
             return Err(GpuError::NoValidationLayer.into());
         }
-        let has_debug_utils = exts
-            .iter()
-            .any(|e| e.extension_name_as_c_str() == Ok(ash::ext::debug_utils::NAME));
+        let is_debug_utils = |e: &vk::ExtensionProperties| {
+            e.extension_name_as_c_str() == Ok(ash::ext::debug_utils::NAME)
+        };
+        let mut has_debug_utils = exts.iter().any(is_debug_utils);
+        if desc.validation && !has_debug_utils {
+            // The validation layer itself provides VK_EXT_debug_utils.
+            // SAFETY: enumeration of a present layer's extensions.
+            let layer_exts =
+                unsafe { entry.enumerate_instance_extension_properties(Some(VALIDATION_LAYER)) }
+                    .map_err(vkerr("vkEnumerateInstanceExtensionProperties"))?;
+            has_debug_utils = layer_exts.iter().any(is_debug_utils);
+            if !has_debug_utils {
+                return Err(GpuError::Invalid(
+                    "validation requested but VK_EXT_debug_utils is unavailable, so validation \
+                     messages could not be counted"
+                        .to_owned(),
+                )
+                .into());
+            }
+        }
         if inst_version < vk::API_VERSION_1_2 {
             return Err(GpuError::Invalid(format!(
                 "the Vulkan loader supports only API {}.{}; tessera needs 1.2 or newer",

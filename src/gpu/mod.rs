@@ -15,7 +15,7 @@ pub mod shaders;
 mod target;
 
 pub use ash::vk;
-pub use context::{Context, ContextDesc};
+pub use context::{validation_default, Context, ContextDesc};
 pub use debug::ValidationLog;
 pub use descriptors::{BufferBinding, DescriptorPool};
 pub use device::{DeviceFeatures, DeviceInfo, DeviceLimits, Feature};

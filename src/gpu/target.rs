@@ -1,6 +1,7 @@
 //! Offscreen render target: sRGB colour + depth, optional MSAA with resolve, PNG readback.
 
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 use ash::vk;
@@ -36,6 +37,8 @@ pub struct RenderTarget {
     depth: Image,
     render_pass: vk::RenderPass,
     framebuffer: vk::Framebuffer,
+    /// Set once `begin` was recorded (before that the colour image has no defined layout).
+    begun: AtomicBool,
 }
 
 impl std::fmt::Debug for RenderTarget {
@@ -277,6 +280,7 @@ impl RenderTarget {
             depth,
             render_pass,
             framebuffer,
+            begun: AtomicBool::new(false),
         })
     }
 
@@ -375,6 +379,7 @@ impl RenderTarget {
             offset: vk::Offset2D { x: 0, y: 0 },
             extent: self.extent(),
         };
+        self.begun.store(true, Ordering::Relaxed);
         // SAFETY: cmd is recording, outside a render pass.
         unsafe {
             dev.cmd_begin_render_pass(cmd, &bi, vk::SubpassContents::INLINE);
@@ -393,6 +398,9 @@ impl RenderTarget {
     pub fn read_rgba(&self, ctx: &Context) -> Result<image::RgbaImage> {
         if !Arc::ptr_eq(&ctx.shared, &self.shared) {
             return invalid("read_rgba: render target belongs to another context");
+        }
+        if !self.begun.load(Ordering::Relaxed) {
+            return invalid("read_rgba: nothing was rendered into this target yet");
         }
         let bytes = u64::from(self.width) * u64::from(self.height) * 4;
         let staging = Buffer::new(
