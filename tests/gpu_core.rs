@@ -528,3 +528,32 @@ fn readback_before_rendering_is_an_error() {
     ));
     assert_clean(&ctx);
 }
+
+#[test]
+fn synchronization_validation_reports_hazards() {
+    let Some(ctx) = context() else { return };
+    let buf = Buffer::new(
+        &ctx,
+        256,
+        vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::GpuOnly,
+        "hazard",
+    )
+    .expect("buffer");
+    // Two transfer writes to the same range without a barrier: a write-after-write hazard.
+    ctx.submit_once(|dev, cmd| {
+        // SAFETY: valid buffer; the missing barrier is deliberate.
+        unsafe {
+            dev.cmd_fill_buffer(cmd, buf.raw(), 0, 256, 1);
+            dev.cmd_fill_buffer(cmd, buf.raw(), 0, 256, 2);
+        }
+        Ok(())
+    })
+    .expect("submit");
+    let msgs = ctx.validation_messages();
+    assert!(
+        msgs.iter()
+            .any(|m| m.contains("SYNC-HAZARD-WRITE-AFTER-WRITE")),
+        "sync validation missed the hazard: {msgs:?}"
+    );
+}

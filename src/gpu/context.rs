@@ -24,6 +24,9 @@ pub struct ContextDesc {
     /// Substring of the device name; `None` reads `TESSERA_DEVICE`, then picks the first device
     /// with every required feature.
     pub device: Option<String>,
+    /// With `validation`, also enable the layer's synchronization validation (missing barriers,
+    /// hazards) when the layer offers VK_EXT_validation_features. Default: true.
+    pub sync_validation: bool,
     /// Features a device must have to be selected (default: tessellationShader only).
     pub required: Vec<Feature>,
     /// Timeout for waiting on GPU work, in milliseconds (default 120 s).
@@ -35,6 +38,7 @@ impl Default for ContextDesc {
         ContextDesc {
             validation: validation_default(),
             device: None,
+            sync_validation: true,
             required: vec![Feature::TessellationShader],
             timeout_ms: 120_000,
         }
@@ -193,6 +197,16 @@ impl Context {
             ))
             .into());
         }
+        let mut has_validation_features = false;
+        if desc.validation && desc.sync_validation {
+            // SAFETY: enumeration of a present layer's extensions.
+            let layer_exts =
+                unsafe { entry.enumerate_instance_extension_properties(Some(VALIDATION_LAYER)) }
+                    .map_err(vkerr("vkEnumerateInstanceExtensionProperties"))?;
+            has_validation_features = layer_exts
+                .iter()
+                .any(|e| e.extension_name_as_c_str() == Ok(ash::ext::validation_features::NAME));
+        }
         let api = inst_version.min(vk::API_VERSION_1_3);
 
         let app = vk::ApplicationInfo::default()
@@ -204,11 +218,16 @@ impl Context {
         } else {
             Vec::new()
         };
-        let ext_names: Vec<*const std::ffi::c_char> = if has_debug_utils {
-            vec![ash::ext::debug_utils::NAME.as_ptr()]
-        } else {
-            Vec::new()
-        };
+        let mut ext_names: Vec<*const std::ffi::c_char> = Vec::new();
+        if has_debug_utils {
+            ext_names.push(ash::ext::debug_utils::NAME.as_ptr());
+        }
+        if has_validation_features {
+            ext_names.push(ash::ext::validation_features::NAME.as_ptr());
+        }
+        let enables = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+        let mut validation_features =
+            vk::ValidationFeaturesEXT::default().enabled_validation_features(&enables);
         let mut messenger_info = debug::messenger_info(&log);
         let mut ici = vk::InstanceCreateInfo::default()
             .application_info(&app)
@@ -216,6 +235,9 @@ impl Context {
             .enabled_extension_names(&ext_names);
         if desc.validation && has_debug_utils {
             ici = ici.push_next(&mut messenger_info);
+        }
+        if has_validation_features {
+            ici = ici.push_next(&mut validation_features);
         }
         // SAFETY: create info is valid; `log` outlives the instance (owned by Shared).
         let instance =
