@@ -557,3 +557,84 @@ fn synchronization_validation_reports_hazards() {
         "sync validation missed the hazard: {msgs:?}"
     );
 }
+
+#[test]
+fn long_work_times_out_with_an_error_instead_of_hanging() {
+    let Some(_) = context() else { return };
+    let ctx = Context::new(&ContextDesc {
+        validation: true,
+        timeout_ms: 1,
+        ..ContextDesc::default()
+    })
+    .expect("context");
+    let rt = RenderTarget::new(&ctx, 64, 64, 1).expect("target");
+    let desc = quad_desc("core_test.frag", vk::PolygonMode::FILL);
+    let pipe = ctx.graphics_pipeline(&desc, &rt).expect("pipeline");
+    let quad: [[f32; 3]; 4] = [
+        [-1.0, -1.0, 0.5],
+        [1.0, -1.0, 0.5],
+        [1.0, 1.0, 0.5],
+        [-1.0, 1.0, 0.5],
+    ];
+    let vbuf = Buffer::from_slice(&ctx, &quad, vk::BufferUsageFlags::VERTEX_BUFFER, "quad")
+        .expect("vertices");
+    let mut ssbo = Buffer::new(
+        &ctx,
+        16,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::GpuToCpu,
+        "counter",
+    )
+    .expect("ssbo");
+    ssbo.write(0, &[0u32, 0]).expect("init"); // capacity 0: count only
+    let pool = DescriptorPool::new(&ctx, 1, 1, 0).expect("pool");
+    let set = pool.allocate(pipe.set_layouts[0]).expect("set");
+    ctx.write_buffer_descriptors(
+        set,
+        &[BufferBinding {
+            binding: 0,
+            kind: DescriptorKind::StorageBuffer,
+            buffer: &ssbo,
+        }],
+    );
+    let level = ctx.info().limits.max_tessellation_generation_level as f32;
+    let push: [f32; 8] = [1.0, 1.0, 1.0, 1.0, level, 0.0, 0.0, 0.0];
+    let instances = 400u32;
+    let result = ctx.submit_once(|dev, cmd| {
+        rt.begin(dev, cmd, [0.0; 4]);
+        // SAFETY: valid handles; the work is deliberately heavy.
+        unsafe {
+            dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipe.raw);
+            dev.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                pipe.layout,
+                0,
+                &[set],
+                &[],
+            );
+            dev.cmd_push_constants(cmd, pipe.layout, STAGES, 0, as_bytes(&push));
+            dev.cmd_bind_vertex_buffers(cmd, 0, &[vbuf.raw()], &[0]);
+            dev.cmd_draw(cmd, 4, instances, 0, 0);
+        }
+        rt.end(dev, cmd);
+        Ok(())
+    });
+    match result {
+        Err(Error::Gpu(GpuError::Timeout(1))) => {}
+        other => panic!("expected a 1 ms timeout, got {other:?}"),
+    }
+    ctx.wait_idle().expect("wait idle");
+    // The work completed after the timeout: (level+1)^2 domain points per instance at least.
+    let count: Vec<u32> = ssbo.read().expect("read");
+    let per = (level as u32 + 1) * (level as u32 + 1);
+    assert!(
+        count[0] >= per * instances,
+        "{} < {}",
+        count[0],
+        per * instances
+    );
+    // The next submission reclaims the timed-out command buffer and works normally.
+    ctx.submit_once(|_, _| Ok(())).expect("empty submit");
+    assert_clean(&ctx);
+}

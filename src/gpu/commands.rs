@@ -9,8 +9,9 @@ use crate::Result;
 impl Context {
     /// Records commands with `record` into a fresh primary command buffer, submits it to the
     /// graphics queue and waits for completion. Waiting longer than the context's timeout
-    /// returns [`GpuError::Timeout`] instead of hanging (the command buffer is then leaked on
-    /// purpose, since the GPU may still use it).
+    /// returns [`GpuError::Timeout`] instead of hanging; the work keeps running, so call
+    /// [`Context::wait_idle`] before dropping resources it uses. Its command buffer and fence are
+    /// released once it finishes (at the next submission or when the context drops).
     pub fn submit_once<R>(
         &self,
         record: impl FnOnce(&ash::Device, vk::CommandBuffer) -> Result<R>,
@@ -18,6 +19,7 @@ impl Context {
         let s = &self.shared;
         let dev = &s.device;
         let pool = s.command_pool.lock().unwrap_or_else(|p| p.into_inner());
+        self.release_finished(*pool);
         let ai = vk::CommandBufferAllocateInfo::default()
             .command_pool(*pool)
             .level(vk::CommandBufferLevel::PRIMARY)
@@ -77,8 +79,35 @@ impl Context {
                 free(*pool);
                 Ok(out)
             }
-            Err(vk::Result::TIMEOUT) => Err(GpuError::Timeout(s.timeout_ms).into()),
+            Err(vk::Result::TIMEOUT) => {
+                s.pending
+                    .lock()
+                    .unwrap_or_else(|p| p.into_inner())
+                    .push((fence, cmd));
+                Err(GpuError::Timeout(s.timeout_ms).into())
+            }
             Err(e) => Err(GpuError::vk("vkWaitForFences")(e)),
         }
+    }
+
+    /// Frees command buffers and fences of timed-out submissions that have since finished.
+    fn release_finished(&self, pool: vk::CommandPool) {
+        let dev = &self.shared.device;
+        let mut pending = self
+            .shared
+            .pending
+            .lock()
+            .unwrap_or_else(|p| p.into_inner());
+        pending.retain(|(fence, cmd)| {
+            // SAFETY: fence and command buffer belong to this device / pool (locked by caller).
+            let done = unsafe { dev.get_fence_status(*fence) }.unwrap_or(false);
+            if done {
+                unsafe {
+                    dev.destroy_fence(*fence, None);
+                    dev.free_command_buffers(pool, &[*cmd]);
+                }
+            }
+            !done
+        });
     }
 }

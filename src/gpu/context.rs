@@ -66,6 +66,8 @@ pub(crate) struct Shared {
     debug_device: Option<ash::ext::debug_utils::Device>,
     pub queue: Mutex<vk::Queue>,
     pub command_pool: Mutex<vk::CommandPool>,
+    /// Submissions that timed out: (fence, command buffer), released when signalled.
+    pub pending: Mutex<Vec<(vk::Fence, vk::CommandBuffer)>>,
     pub allocator: ManuallyDrop<Mutex<Allocator>>,
     pub pipelines: Mutex<PipelineCache>,
     pub info: DeviceInfo,
@@ -98,6 +100,9 @@ impl Drop for Shared {
         // SAFETY: every resource holding an Arc<Shared> is gone; destroy in reverse order.
         unsafe {
             let _ = self.device.device_wait_idle();
+            for (fence, _) in self.pending.get_mut().unwrap_or_else(|p| p.into_inner()).drain(..) {
+                self.device.destroy_fence(fence, None);
+            }
             self.pipelines
                 .get_mut()
                 .unwrap_or_else(|p| p.into_inner())
@@ -326,6 +331,7 @@ impl Context {
             debug_device,
             queue: Mutex::new(queue),
             command_pool: Mutex::new(command_pool),
+            pending: Mutex::new(Vec::new()),
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             pipelines: Mutex::new(PipelineCache::default()),
             info,
