@@ -149,19 +149,27 @@ struct QuadRun {
     gpu_ms: f64,
 }
 
-/// Draws one bilinear quad patch covering clip space [-0.5, 0.5]^2 at tessellation `level`.
-fn draw_quad(ctx: &Context, desc: &GraphicsPipelineDesc, level: f32, colour: [f32; 4]) -> QuadRun {
+/// Draws one bilinear quad patch covering clip space [-half, half]^2 at tessellation `level`
+/// into a 64x64 target with `samples` samples per pixel.
+fn draw_quad(
+    ctx: &Context,
+    desc: &GraphicsPipelineDesc,
+    level: f32,
+    colour: [f32; 4],
+    samples: u32,
+    half: f32,
+) -> QuadRun {
     let size = 64;
-    let rt = RenderTarget::new(ctx, size, size, 1).expect("render target");
+    let rt = RenderTarget::new(ctx, size, size, samples).expect("render target");
     let pipe = ctx.graphics_pipeline(desc, &rt).expect("pipeline");
     let again = ctx.graphics_pipeline(desc, &rt).expect("cached pipeline");
     assert_eq!(pipe, again, "pipeline cache returned a different pipeline");
 
     let quad: [[f32; 3]; 4] = [
-        [-0.5, -0.5, 0.25],
-        [0.5, -0.5, 0.25],
-        [0.5, 0.5, 0.25],
-        [-0.5, 0.5, 0.25],
+        [-half, -half, 0.25],
+        [half, -half, 0.25],
+        [half, half, 0.25],
+        [-half, half, 0.25],
     ];
     let vbuf = ctx
         .upload_buffer(&quad, vk::BufferUsageFlags::VERTEX_BUFFER, "quad vertices")
@@ -259,6 +267,8 @@ fn tessellated_quad_has_the_spec_domain_points() {
         &quad_desc("core_test.frag", vk::PolygonMode::FILL),
         level as f32,
         colour,
+        1,
+        0.5,
     );
 
     // Quad domain, equal spacing, all levels n: the vertices are the (n+1)^2 grid points
@@ -329,6 +339,8 @@ fn variant_and_wireframe_pipelines_draw_cleanly() {
         &quad_desc("core_test_invert.frag", vk::PolygonMode::FILL),
         3.0,
         colour,
+        1,
+        0.5,
     );
     let p = inv.image.get_pixel(32, 32).0;
     let want = [srgb_byte(0.75), srgb_byte(0.5), srgb_byte(0.25), 255];
@@ -344,6 +356,8 @@ fn variant_and_wireframe_pipelines_draw_cleanly() {
             &quad_desc("core_test.frag", vk::PolygonMode::LINE),
             4.0,
             colour,
+            1,
+            0.5,
         );
         let lit = wire
             .image
@@ -636,5 +650,47 @@ fn long_work_times_out_with_an_error_instead_of_hanging() {
     );
     // The next submission reclaims the timed-out command buffer and works normally.
     ctx.submit_once(|_, _| Ok(())).expect("empty submit");
+    assert_clean(&ctx);
+}
+
+#[test]
+fn msaa_resolves_partial_coverage() {
+    let Some(ctx) = context() else { return };
+    if !ctx.info().limits.supports_samples(4) {
+        eprintln!("device has no 4x MSAA; only the single-sample path is checked");
+    }
+    let white = [1.0, 1.0, 1.0, 1.0];
+    let desc = quad_desc("core_test.frag", vk::PolygonMode::FILL);
+    // Edges at clip +-0.51: x = 15.68 and 48.32 pixels, so columns 15 and 48 are partly covered
+    // but their centres (15.5, 48.5) are outside the quad.
+    let single = draw_quad(&ctx, &desc, 2.0, white, 1, 0.51);
+    for y in 20..44 {
+        assert_eq!(single.image.get_pixel(15, y).0, [0, 0, 0, 255]);
+        assert_eq!(single.image.get_pixel(48, y).0, [0, 0, 0, 255]);
+        assert_eq!(single.image.get_pixel(16, y).0, [255, 255, 255, 255]);
+    }
+    if ctx.info().limits.supports_samples(4) {
+        let multi = draw_quad(&ctx, &desc, 2.0, white, 4, 0.51);
+        let partial = |x: u32| {
+            (20..44)
+                .filter(|y| {
+                    let v = multi.image.get_pixel(x, *y).0[0];
+                    v > 0 && v < 255
+                })
+                .count()
+        };
+        // The resolve averages covered and uncovered samples on both partly covered columns.
+        assert!(
+            partial(15) > 0 && partial(48) > 0,
+            "no partial coverage resolved"
+        );
+        assert_eq!(multi.image.get_pixel(32, 32).0, [255, 255, 255, 255]);
+        assert_eq!(multi.image.get_pixel(2, 2).0, [0, 0, 0, 255]);
+        assert_eq!(multi.stats.tcs_patches, 1);
+        multi
+            .image
+            .save(out_dir().join("quad_msaa4.png"))
+            .expect("save png");
+    }
     assert_clean(&ctx);
 }
