@@ -694,3 +694,29 @@ fn msaa_resolves_partial_coverage() {
     }
     assert_clean(&ctx);
 }
+
+#[test]
+fn device_info_is_reported() {
+    let Some(ctx) = context() else { return };
+    let line = ctx.info().to_string();
+    eprintln!("{line}");
+    assert!(line.contains(&ctx.info().name));
+    let lim = ctx.info().limits;
+    assert!(
+        lim.max_tess_control_per_vertex_output_components >= 64,
+        "spec minimum"
+    );
+    assert!(
+        lim.max_tess_control_per_patch_output_components >= 120,
+        "spec minimum"
+    );
+    assert!(
+        lim.max_tess_evaluation_input_components >= 64,
+        "spec minimum"
+    );
+    assert!(lim.supports_samples(1));
+    if ctx.info().features.timestamps {
+        assert!(lim.timestamp_period_ns > 0.0 && lim.timestamp_valid_bits >= 36);
+    }
+    assert_clean(&ctx);
+}

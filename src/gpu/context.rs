@@ -100,7 +100,12 @@ impl Drop for Shared {
         // SAFETY: every resource holding an Arc<Shared> is gone; destroy in reverse order.
         unsafe {
             let _ = self.device.device_wait_idle();
-            for (fence, _) in self.pending.get_mut().unwrap_or_else(|p| p.into_inner()).drain(..) {
+            for (fence, _) in self
+                .pending
+                .get_mut()
+                .unwrap_or_else(|p| p.into_inner())
+                .drain(..)
+            {
                 self.device.destroy_fence(fence, None);
             }
             self.pipelines

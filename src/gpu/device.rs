@@ -149,6 +149,26 @@ pub struct DeviceInfo {
     pub queue_family: u32,
 }
 
+impl std::fmt::Display for DeviceInfo {
+    /// One line: name, type, API version, tessellation limits, timestamp resolution.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (a, b, c) = self.api_version;
+        let l = &self.limits;
+        write!(
+            f,
+            "{} ({}, Vulkan {a}.{b}.{c}; max tess level {}, max patch size {}, samples {:?}, \
+             timestamp period {} ns / {} bits)",
+            self.name,
+            self.kind,
+            l.max_tessellation_generation_level,
+            l.max_tessellation_patch_size,
+            l.supported_sample_counts(),
+            l.timestamp_period_ns,
+            l.timestamp_valid_bits
+        )
+    }
+}
+
 /// One enumerated device before selection.
 #[derive(Debug, Clone)]
 pub(crate) struct Candidate {
