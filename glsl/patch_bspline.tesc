@@ -13,7 +13,7 @@ layout(location = 0) out vec3 c_bspline[];
 layout(location = 1) out vec3 c_bezier[];
 
 void main() {
-    uint flags = patches[gl_PrimitiveID].flags;
+    uint flags = patches[chunk.patch_base + uint(gl_PrimitiveID)].flags;
     vec3 P[16];
     for (int k = 0; k < 16; ++k) {
         P[k] = v_pos[k];
@@ -44,7 +44,7 @@ void main() {
     c_bezier[gl_InvocationID] = acc;
 
     if (id == 0) {
-        uvec4 c = patches[gl_PrimitiveID].corners;
+        uvec4 c = patches[chunk.patch_base + uint(gl_PrimitiveID)].corners;
         // Vulkan quad domain: outer[0] is the u=0 edge, [1] v=0, [2] u=1, [3] v=1.
         float o0 = edge_tess_level(c.x, c.w);
         float o1 = edge_tess_level(c.x, c.y);

@@ -77,7 +77,7 @@ void main() {
     float len = length(nrm);
     nrm = len > 0.0 ? nrm / len : vec3(0.0, 0.0, 1.0);
 
-    PatchInfo info = patches[gl_PrimitiveID];
+    PatchInfo info = patches[chunk.patch_base + uint(gl_PrimitiveID)];
     bool u_edge = (u == 0.0 || u == 1.0);
     bool v_edge = (v == 0.0 || v == 1.0);
     if (u_edge && v_edge) {

@@ -1,7 +1,7 @@
 #version 450
 // Lit material: key light + head light diffuse, Blinn specular, optional colour by patch type
 // (regular gold, irregular purple, triangle green, as in Fig. 1 of the Gregory-patch paper).
-// Normals come from the surface; they are flipped towards the viewer so open surfaces show both sides.
+// Normals come from the surface; back faces (the inside of open surfaces) use the flipped normal.
 #include "common/frame.glsl"
 layout(location = 0) in vec3 t_world;
 layout(location = 1) in vec3 t_normal;
@@ -18,7 +18,7 @@ vec3 base_color() {
 void main() {
     vec3 n = normalize(t_normal);
     vec3 to_eye = normalize(frame.eye.xyz - t_world);
-    if (dot(n, to_eye) < 0.0) n = -n;
+    if (!gl_FrontFacing) n = -n;
     vec3 l = normalize(frame.light_dir.xyz);
     vec3 h = normalize(l + to_eye);
     vec3 albedo = base_color();

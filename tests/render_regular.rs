@@ -130,7 +130,8 @@ fn check_watertight(s: &SurfaceData, recs: &[CaptureRecord]) -> usize {
 #[test]
 fn torus_uniform_matches_cpu_and_is_watertight() {
     let Some(ctx) = context() else { return };
-    let s = torus(8, 6, 2.0, 0.7);
+    // 160 patches: more than one draw chunk (PATCHES_PER_DRAW = 64), the last one partial.
+    let s = torus(16, 10, 2.0, 0.7);
     let level = 5.0;
     let recs = capture(
         &ctx,

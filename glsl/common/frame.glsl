@@ -25,6 +25,12 @@ layout(std140, set = 0, binding = 0) uniform Frame {
     uvec4 flags;         // x: colour mode
 } frame;
 
+/// Index of the first patch of the current draw call: patches are drawn in chunks (see
+/// src/render/renderer.rs), and gl_PrimitiveID restarts at 0 in every draw.
+layout(push_constant) uniform DrawChunk {
+    uint patch_base;
+} chunk;
+
 /// Per-patch data of the regular B-spline patches (one entry per patch, indexed by gl_PrimitiveID).
 struct PatchInfo {
     uint face;           // base-mesh face id

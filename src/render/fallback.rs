@@ -50,35 +50,66 @@ pub fn grid_resolution(level: u32, corners: u32) -> u32 {
     }
 }
 
-/// Evaluates every face on an `(r+1) x (r+1)` grid per quad domain with `eval(face, sub, u, v)
-/// -> (position, normal)` (the CPU limit evaluator) and triangulates each grid cell.
-pub fn tessellate<F>(faces: &[FallbackFace], level: u32, mut eval: F) -> Result<FallbackMesh>
+/// Evaluates every face on an `(r+1) x (r+1)` grid per quad domain with
+/// `eval(face, sub, &[(u, v)]) -> [(position, unit normal)]` (the CPU limit evaluator, called once
+/// per quad domain, in parallel over faces) and triangulates each grid cell.
+pub fn tessellate<F>(faces: &[FallbackFace], level: u32, eval: F) -> Result<FallbackMesh>
 where
-    F: FnMut(u32, u32, f64, f64) -> Result<(DVec3, DVec3)>,
+    F: Fn(u32, u32, &[(f64, f64)]) -> Result<Vec<(DVec3, DVec3)>> + Sync,
+{
+    use rayon::prelude::*;
+    let pieces: Vec<FallbackMesh> = faces
+        .par_iter()
+        .map(|f| face_grid(f, level, &eval))
+        .collect::<Result<_>>()?;
+    let mut mesh = FallbackMesh::default();
+    for p in pieces {
+        let base = mesh.positions.len() as u32;
+        mesh.positions.extend(p.positions);
+        mesh.normals.extend(p.normals);
+        mesh.classes.extend(p.classes);
+        mesh.indices.extend(p.indices.iter().map(|i| i + base));
+    }
+    Ok(mesh)
+}
+
+/// The grid triangles of one face (indices local to the face).
+fn face_grid<F>(f: &FallbackFace, level: u32, eval: &F) -> Result<FallbackMesh>
+where
+    F: Fn(u32, u32, &[(f64, f64)]) -> Result<Vec<(DVec3, DVec3)>>,
 {
     let mut mesh = FallbackMesh::default();
-    for f in faces {
-        let r = grid_resolution(level, f.corners);
-        let subs = if f.corners == 4 { 1 } else { f.corners };
-        for sub in 0..subs {
-            let base = mesh.positions.len() as u32;
-            for j in 0..=r {
-                for i in 0..=r {
-                    let (u, v) = (f64::from(i) / f64::from(r), f64::from(j) / f64::from(r));
-                    let (p, n) = eval(f.face, sub, u, v)?;
-                    mesh.positions.push(p);
-                    mesh.normals.push(n);
-                    mesh.classes.push(f.class as u32);
-                }
-            }
-            let row = r + 1;
-            for j in 0..r {
-                for i in 0..r {
-                    let a = base + j * row + i;
-                    let (b, c, d) = (a + 1, a + row + 1, a + row);
-                    // (u, v) counter-clockwise = outward for counter-clockwise faces.
-                    mesh.indices.extend_from_slice(&[a, b, c, a, c, d]);
-                }
+    let r = grid_resolution(level, f.corners);
+    let subs = if f.corners == 4 { 1 } else { f.corners };
+    let mut uv = Vec::with_capacity(((r + 1) * (r + 1)) as usize);
+    for j in 0..=r {
+        for i in 0..=r {
+            uv.push((f64::from(i) / f64::from(r), f64::from(j) / f64::from(r)));
+        }
+    }
+    for sub in 0..subs {
+        let base = mesh.positions.len() as u32;
+        let pts = eval(f.face, sub, &uv)?;
+        if pts.len() != uv.len() {
+            return Err(crate::Error::Invalid(format!(
+                "limit evaluation of face {} returned {} points for {} parameters",
+                f.face,
+                pts.len(),
+                uv.len()
+            )));
+        }
+        for (p, n) in pts {
+            mesh.positions.push(p);
+            mesh.normals.push(n);
+            mesh.classes.push(f.class as u32);
+        }
+        let row = r + 1;
+        for j in 0..r {
+            for i in 0..r {
+                let a = base + j * row + i;
+                let (b, c, d) = (a + 1, a + row + 1, a + row);
+                // (u, v) counter-clockwise = outward for counter-clockwise faces.
+                mesh.indices.extend_from_slice(&[a, b, c, a, c, d]);
             }
         }
     }
@@ -103,16 +134,28 @@ mod tests {
                 class: PatchClass::Triangle,
             },
         ];
-        let mut calls = Vec::new();
-        let mesh = tessellate(&faces, 4, |f, s, u, v| {
-            calls.push((f, s));
-            Ok((DVec3::new(u, v, f64::from(f)), DVec3::Z))
+        let calls = std::sync::Mutex::new(Vec::new());
+        let mesh = tessellate(&faces, 4, |f, s, uv| {
+            calls.lock().unwrap().push((f, s, uv.len()));
+            Ok(uv
+                .iter()
+                .map(|&(u, v)| (DVec3::new(u, v, f64::from(f)), DVec3::Z))
+                .collect())
         })
         .unwrap();
+        let calls = calls.into_inner().unwrap();
         // Quad: 5x5 points, 32 triangles. Triangle: 3 sub-faces of 3x3 points, 8 triangles each.
         assert_eq!(mesh.positions.len(), 25 + 3 * 9);
         assert_eq!(mesh.indices.len(), 3 * (32 + 3 * 8));
-        assert_eq!(calls.iter().filter(|c| c.0 == 5).count(), 27);
+        assert_eq!(
+            calls
+                .iter()
+                .filter(|c| c.0 == 5)
+                .map(|c| c.2)
+                .sum::<usize>(),
+            27
+        );
+        assert_eq!(calls.len(), 4);
         assert_eq!(mesh.classes[25], PatchClass::Triangle as u32);
         // First triangle of the quad: (0,0) (1/4,0) (1/4,1/4): counter-clockwise in (u, v).
         let t: Vec<DVec3> = mesh.indices[..3]
@@ -129,7 +172,7 @@ mod tests {
             corners: 4,
             class: PatchClass::Irregular,
         }];
-        let r = tessellate(&faces, 2, |_, _, _, _| {
+        let r = tessellate(&faces, 2, |_, _, _| {
             Err(crate::Error::Invalid("no limit".into()))
         });
         assert!(r.is_err());

@@ -10,7 +10,8 @@ use super::settings::{ColorBy, FrameUniforms, Spacing, TessSettings, FRAME_UNIFO
 use super::surface::SurfaceData;
 use crate::gpu::{
     Buffer, BufferBinding, Context, DescriptorBinding, DescriptorKind, DescriptorPool,
-    GraphicsPipelineDesc, MemoryLocation, Pipeline, TargetFormat, VertexAttribute, VertexBinding,
+    GraphicsPipelineDesc, MemoryLocation, Pipeline, PushConstants, TargetFormat, VertexAttribute,
+    VertexBinding,
 };
 use crate::{Error, Result};
 
@@ -20,6 +21,12 @@ pub const CAPTURE_RECORD_BYTES: usize = 36;
 pub const CAPTURE_HEADER_BYTES: usize = 16;
 /// Bytes per fallback vertex: position (3 f32), normal (3 f32), class (u32).
 const FALLBACK_VERTEX_BYTES: usize = 28;
+
+/// Patches per draw call. Mesa 22.3 lavapipe hands the TCS outputs of patch k + 64 to the TES
+/// of patch k when one draw has more than 64 sixteen-point patches (tests/render_regular.rs
+/// catches it), so the patch draw is split; gl_PrimitiveID restarts per draw, so the chunk's
+/// first patch index is a push constant.
+pub const PATCHES_PER_DRAW: u32 = 64;
 
 /// How a surface is drawn.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -335,7 +342,11 @@ impl SurfaceRenderer {
             depth_test: true,
             depth_write: true,
             set_layouts: vec![set_layout()],
-            push_constants: None,
+            push_constants: Some(PushConstants {
+                stages: vk::ShaderStageFlags::TESSELLATION_CONTROL
+                    | vk::ShaderStageFlags::TESSELLATION_EVALUATION,
+                size: 4,
+            }),
         };
         let fallback = GraphicsPipelineDesc {
             label: "cpu-evaluated triangles".into(),
@@ -476,7 +487,20 @@ impl SurfaceRenderer {
             );
             dev.cmd_bind_vertex_buffers(cmd, 0, &[self.positions.raw()], &[0]);
             dev.cmd_bind_index_buffer(cmd, self.patch_indices.raw(), 0, vk::IndexType::UINT32);
-            dev.cmd_draw_indexed(cmd, self.patch_count * 16, 1, 0, 0, 0);
+            let mut base = 0u32;
+            while base < self.patch_count {
+                let n = PATCHES_PER_DRAW.min(self.patch_count - base);
+                dev.cmd_push_constants(
+                    cmd,
+                    self.patch_pipeline.layout,
+                    vk::ShaderStageFlags::TESSELLATION_CONTROL
+                        | vk::ShaderStageFlags::TESSELLATION_EVALUATION,
+                    0,
+                    &base.to_le_bytes(),
+                );
+                dev.cmd_draw_indexed(cmd, n * 16, 1, base * 16, 0, 0);
+                base += n;
+            }
         }
     }
 

@@ -59,10 +59,10 @@ impl SurfacePlan {
 }
 
 /// Builds the surface of `mesh` with the CPU-evaluated faces sampled at tessellation `level`
-/// through `eval(face, sub, u, v) -> (position, unit normal)`.
+/// through `eval(face, sub, &[(u, v)]) -> [(position, unit normal)]`.
 pub fn surface_with<F>(mesh: &ControlMesh, level: u32, eval: F) -> Result<SurfaceData>
 where
-    F: FnMut(u32, u32, f64, f64) -> Result<(DVec3, DVec3)>,
+    F: Fn(u32, u32, &[(f64, f64)]) -> Result<Vec<(DVec3, DVec3)>> + Sync,
 {
     let topo = Topology::new(mesh)?;
     let plan = SurfacePlan::new(&topo);
