@@ -720,3 +720,49 @@ fn device_info_is_reported() {
     }
     assert_clean(&ctx);
 }
+
+/// Child half of `no_driver_gives_a_typed_error`: runs only in the re-executed test binary.
+#[test]
+fn no_driver_child() {
+    if std::env::var("TESSERA_D1_NO_DRIVER_CHILD").is_err() {
+        return;
+    }
+    match Context::new(&ContextDesc {
+        validation: false,
+        ..ContextDesc::default()
+    }) {
+        Err(Error::Gpu(GpuError::NoSuitableDevice { devices })) => {
+            assert!(devices.is_empty(), "{devices:?}");
+            let msg = GpuError::NoSuitableDevice { devices }.to_string();
+            assert!(msg.contains("mesa-vulkan-drivers"), "{msg}");
+            println!("CHILD-OK: {msg}");
+        }
+        Err(Error::Gpu(GpuError::Loader(m))) => println!("CHILD-OK (no loader): {m}"),
+        other => panic!("expected NoSuitableDevice without drivers, got {other:?}"),
+    }
+}
+
+#[test]
+fn no_driver_gives_a_typed_error() {
+    // The loader reads VK_ICD_FILENAMES / VK_DRIVER_FILES at instance creation; a child process
+    // keeps the other tests unaffected.
+    let out = std::process::Command::new(std::env::current_exe().expect("test binary"))
+        .args([
+            "--exact",
+            "no_driver_child",
+            "--nocapture",
+            "--test-threads",
+            "1",
+        ])
+        .env("TESSERA_D1_NO_DRIVER_CHILD", "1")
+        .env("VK_ICD_FILENAMES", "/nonexistent/tessera-no-driver.json")
+        .env("VK_DRIVER_FILES", "/nonexistent/tessera-no-driver.json")
+        .output()
+        .expect("run child");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && stdout.contains("CHILD-OK"),
+        "child failed:\n{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

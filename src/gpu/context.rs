@@ -250,8 +250,17 @@ impl Context {
             ici = ici.push_next(&mut validation_features);
         }
         // SAFETY: create info is valid; `log` outlives the instance (owned by Shared).
-        let instance =
-            unsafe { entry.create_instance(&ici, None) }.map_err(vkerr("vkCreateInstance"))?;
+        let instance = match unsafe { entry.create_instance(&ici, None) } {
+            Ok(i) => i,
+            // The loader found no driver at all.
+            Err(vk::Result::ERROR_INCOMPATIBLE_DRIVER) => {
+                return Err(GpuError::NoSuitableDevice {
+                    devices: Vec::new(),
+                }
+                .into())
+            }
+            Err(e) => return Err(GpuError::vk("vkCreateInstance")(e)),
+        };
 
         let debug_instance =
             has_debug_utils.then(|| ash::ext::debug_utils::Instance::new(&entry, &instance));
@@ -355,8 +364,12 @@ impl Context {
         desc: &ContextDesc,
     ) -> Result<(device::Candidate, ash::Device)> {
         // SAFETY: valid instance.
-        let pds = unsafe { instance.enumerate_physical_devices() }
-            .map_err(vkerr("vkEnumeratePhysicalDevices"))?;
+        let pds = match unsafe { instance.enumerate_physical_devices() } {
+            Ok(p) => p,
+            // Some loaders report "no driver" here instead of at instance creation.
+            Err(vk::Result::ERROR_INITIALIZATION_FAILED) => Vec::new(),
+            Err(e) => return Err(GpuError::vk("vkEnumeratePhysicalDevices")(e)),
+        };
         let candidates: Vec<_> = pds
             .iter()
             .map(|pd| device::describe(instance, *pd))

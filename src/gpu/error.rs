@@ -35,7 +35,9 @@ impl fmt::Display for DeviceReport {
 
 fn list(devices: &[DeviceReport]) -> String {
     if devices.is_empty() {
-        return " (no Vulkan devices found)".to_owned();
+        return " none found (is a Vulkan driver installed? Without a GPU, Mesa lavapipe: \
+                Debian package mesa-vulkan-drivers)"
+            .to_owned();
     }
     devices.iter().map(|d| format!("\n  - {d}")).collect()
 }
