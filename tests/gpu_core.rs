@@ -177,7 +177,7 @@ fn draw_quad(
     let capacity = 256u32;
     let mut ssbo = Buffer::new(
         ctx,
-        8 + 8 * u64::from(capacity),
+        16 + 32 * u64::from(capacity),
         vk::BufferUsageFlags::STORAGE_BUFFER,
         MemoryLocation::GpuToCpu,
         "tes capture",
@@ -244,8 +244,8 @@ fn draw_quad(
     let words: Vec<u32> = ssbo.read().expect("read ssbo");
     let written = words[0];
     let n = written.min(capacity) as usize;
-    let floats: Vec<f32> = from_bytes(as_bytes(&words[2..2 + 2 * n]));
-    let uvs = floats.chunks(2).map(|c| [c[0], c[1]]).collect();
+    let floats: Vec<f32> = from_bytes(as_bytes(&words[4..4 + 8 * n]));
+    let uvs = floats.chunks(8).map(|c| [c[0], c[1]]).collect();
     let timings = timer.results().expect("timings");
     assert_eq!(timings.len(), 1);
     QuadRun {
@@ -765,4 +765,132 @@ fn no_driver_gives_a_typed_error() {
         "child failed:\n{stdout}\n{}",
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+/// Corners of patch `k` of the many-patch test: a 0.1-wide square on a 16-column grid.
+fn patch_corners(k: u32) -> [[f32; 3]; 4] {
+    let x0 = -1.0 + 0.125 * (k % 16) as f32;
+    let y0 = -1.0 + 0.125 * (k / 16) as f32;
+    let d = 0.1 + 0.001 * (k % 7) as f32;
+    [
+        [x0, y0, 0.5],
+        [x0 + d, y0, 0.5],
+        [x0 + d, y0 + d, 0.5],
+        [x0, y0 + d, 0.5],
+    ]
+}
+
+#[test]
+fn many_patches_keep_their_own_control_points() {
+    let Some(ctx) = context() else { return };
+    let patches = 200u32;
+    let level = 2u32;
+    let rt = RenderTarget::new(&ctx, 64, 64, 1).expect("target");
+    let desc = quad_desc("core_test.frag", vk::PolygonMode::FILL);
+    let pipe = ctx.graphics_pipeline(&desc, &rt).expect("pipeline");
+    let verts: Vec<[f32; 3]> = (0..patches).flat_map(patch_corners).collect();
+    let vbuf = ctx
+        .upload_buffer(&verts, vk::BufferUsageFlags::VERTEX_BUFFER, "patches")
+        .expect("vertices");
+    let capacity = patches * (level + 1) * (level + 1) * 2;
+    let mut ssbo = Buffer::new(
+        &ctx,
+        16 + 32 * u64::from(capacity),
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::GpuToCpu,
+        "capture",
+    )
+    .expect("ssbo");
+    ssbo.write(0, &[0u32, capacity]).expect("init");
+    let pool = DescriptorPool::new(&ctx, 1, 1, 0).expect("pool");
+    let set = pool.allocate(pipe.set_layouts[0]).expect("set");
+    ctx.write_buffer_descriptors(
+        set,
+        &[BufferBinding {
+            binding: 0,
+            kind: DescriptorKind::StorageBuffer,
+            buffer: &ssbo,
+        }],
+    );
+    let push: [f32; 8] = [1.0, 1.0, 1.0, 1.0, level as f32, 0.0, 0.0, 0.0];
+    ctx.submit_once(|dev, cmd| {
+        rt.begin(dev, cmd, [0.0, 0.0, 0.0, 1.0]);
+        // SAFETY: valid handles.
+        unsafe {
+            dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipe.raw);
+            dev.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                pipe.layout,
+                0,
+                &[set],
+                &[],
+            );
+            dev.cmd_push_constants(cmd, pipe.layout, STAGES, 0, as_bytes(&push));
+            dev.cmd_bind_vertex_buffers(cmd, 0, &[vbuf.raw()], &[0]);
+            dev.cmd_draw(cmd, 4 * patches, 1, 0, 0);
+        }
+        rt.end(dev, cmd);
+        let barrier = vk::MemoryBarrier::default()
+            .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+            .dst_access_mask(vk::AccessFlags::HOST_READ);
+        // SAFETY: outside the render pass.
+        unsafe {
+            dev.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::TESSELLATION_EVALUATION_SHADER,
+                vk::PipelineStageFlags::HOST,
+                vk::DependencyFlags::empty(),
+                &[barrier],
+                &[],
+                &[],
+            );
+        }
+        Ok(())
+    })
+    .expect("draw");
+    let words: Vec<u32> = ssbo.read().expect("read");
+    let n = words[0].min(capacity) as usize;
+    assert!(
+        n >= (patches * (level + 1) * (level + 1)) as usize,
+        "{n} records"
+    );
+    let f: Vec<f32> = from_bytes(as_bytes(&words[4..4 + 8 * n]));
+    let mut wrong = Vec::new();
+    let mut seen = BTreeSet::new();
+    for r in f.chunks(8) {
+        let (u, v, prim) = (r[0], r[1], r[2] as u32);
+        assert!(prim < patches, "gl_PrimitiveID {prim}");
+        let c = patch_corners(prim);
+        // Bilinear interpolation of the patch's own corners (same formula as the TES).
+        let want: Vec<f32> = (0..3)
+            .map(|i| {
+                let a = c[0][i] + (c[1][i] - c[0][i]) * u;
+                let b = c[3][i] + (c[2][i] - c[3][i]) * u;
+                a + (b - a) * v
+            })
+            .collect();
+        let err = (0..3)
+            .map(|i| (r[4 + i] - want[i]).abs())
+            .fold(0.0f32, f32::max);
+        if err > 1e-5 {
+            wrong.push((prim, u, v, err));
+        }
+        seen.insert((
+            prim,
+            (u * level as f32).round() as u32,
+            (v * level as f32).round() as u32,
+        ));
+    }
+    assert_eq!(seen.len(), (patches * (level + 1) * (level + 1)) as usize);
+    let bad_patches: BTreeSet<u32> = wrong.iter().map(|w| w.0).collect();
+    assert!(
+        wrong.is_empty(),
+        "{} TES positions of {} patches do not match their own control points; first {:?}; patches {:?}",
+        wrong.len(),
+        bad_patches.len(),
+        &wrong[..wrong.len().min(5)],
+        bad_patches
+    );
+    assert_clean(&ctx);
 }
