@@ -57,8 +57,11 @@ vec3 edge_point(uint flags, int e, float x) {
 }
 
 void main() {
-    float u = gl_TessCoord.x;
-    float v = gl_TessCoord.y;
+    // Face (u, v) of this domain point: sub-patch origin + local coordinate * size (exact, as
+    // every term is dyadic, so neighbours across a face edge still get exactly 1 - x).
+    vec3 sd = sub_domain();
+    float u = sd.x + gl_TessCoord.x * sd.z;
+    float v = sd.y + gl_TessCoord.y * sd.z;
     vec4 bu, dbu, bv, dbv;
     bernstein3(u, 1.0 - u, bu, dbu);
     bernstein3(v, 1.0 - v, bv, dbv);

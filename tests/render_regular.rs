@@ -13,7 +13,19 @@ use tessera::render::{
 };
 
 fn capture(ctx: &tessera::gpu::Context, s: &SurfaceData, tess: TessSettings) -> Vec<CaptureRecord> {
-    let cap = capture_capacity_for(s.patches.len(), 64.0, Spacing::FractionalEven);
+    let cap = if tess.mode == TessMode::Adaptive {
+        capture_capacity_for(
+            s.patches.len(),
+            &TessSettings {
+                level: 64.0,
+                spacing: Spacing::FractionalEven,
+                max_patch_level: f32::INFINITY,
+                ..tess
+            },
+        )
+    } else {
+        capture_capacity_for(s.patches.len(), &tess)
+    };
     let render = RenderDesc {
         tess,
         capture_capacity: Some(cap),
@@ -27,7 +39,8 @@ fn capture(ctx: &tessera::gpu::Context, s: &SurfaceData, tess: TessSettings) -> 
     let out = render_to_image(ctx, s, &render, &desc, true).expect("render");
     let recs = out.capture.expect("capture");
     let stats = out.report.expect("report").patch_stats;
-    assert_eq!(stats.tcs_patches, s.patches.len() as u64);
+    let split = u64::from(tess.split());
+    assert_eq!(stats.tcs_patches, s.patches.len() as u64 * split * split);
     assert_eq!(
         stats.tes_invocations,
         recs.len() as u64,
@@ -166,6 +179,13 @@ fn open_grid_fractional_and_adaptive_are_watertight() {
             spacing: Spacing::FractionalEven,
             ..TessSettings::default()
         },
+        // Split patches: 4x4 sub-patches of fractional level 7 / 4 each.
+        TessSettings {
+            level: 7.0,
+            spacing: Spacing::FractionalOdd,
+            max_patch_level: 2.0,
+            ..TessSettings::default()
+        },
         TessSettings {
             mode: TessMode::Adaptive,
             pixels_per_edge: 6.0,
@@ -217,5 +237,32 @@ fn front_faces_are_outside() {
         differing * 200 < covered,
         "{differing} of {covered} pixels change with culling"
     );
+    assert_validation_clean(&ctx);
+}
+
+#[test]
+fn split_patches_cover_the_same_surface() {
+    // Level 6 with sub-patch limit 3: every patch drawn as 2x2 sub-patches of level 3.
+    let Some(ctx) = context() else { return };
+    let s = torus(8, 6, 2.0, 0.7);
+    let tess = TessSettings {
+        level: 6.0,
+        max_patch_level: 3.0,
+        ..TessSettings::default()
+    };
+    assert_eq!(tess.split(), 2);
+    let recs = capture(&ctx, &s, tess);
+    assert_eq!(recs.len(), s.patches.len() * 4 * 16);
+    // Same face (u, v) set as one patch at level 6: k/6 for k in 0..=6 (as f32).
+    let mut uv: Vec<(u32, u32)> = recs
+        .iter()
+        .filter(|r| r.face == 0)
+        .map(|r| ((r.u * 6.0).round() as u32, (r.v * 6.0).round() as u32))
+        .collect();
+    uv.sort_unstable();
+    uv.dedup();
+    assert_eq!(uv.len(), 49);
+    check_accuracy(&s, &recs);
+    assert_eq!(check_watertight(&s, &recs), 2 * s.patches.len());
     assert_validation_clean(&ctx);
 }

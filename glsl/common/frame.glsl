@@ -25,11 +25,22 @@ layout(std140, set = 0, binding = 0) uniform Frame {
     uvec4 flags;         // x: colour mode
 } frame;
 
-/// Index of the first patch of the current draw call: patches are drawn in chunks (see
-/// src/render/renderer.rs), and gl_PrimitiveID restarts at 0 in every draw.
+/// Per-draw constants (src/render/renderer.rs). Patches are drawn in chunks and gl_PrimitiveID
+/// restarts at 0 in every draw, so `patch_base` is the chunk's first patch. With uniform levels
+/// above the sub-patch limit every patch is drawn as split x split sub-patches of the domain,
+/// one draw per sub-patch index `sub_index` (row-major, `sub_index % split` along u).
 layout(push_constant) uniform DrawChunk {
     uint patch_base;
+    uint sub_index;
+    uint split;
 } chunk;
+
+/// Domain origin and size of the current sub-patch: (u0, v0, size), exact dyadic numbers.
+vec3 sub_domain() {
+    float size = 1.0 / float(chunk.split);
+    return vec3(float(chunk.sub_index % chunk.split) * size,
+                float(chunk.sub_index / chunk.split) * size, size);
+}
 
 /// Per-patch data of the regular B-spline patches (one entry per patch, indexed by gl_PrimitiveID).
 struct PatchInfo {

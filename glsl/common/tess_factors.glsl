@@ -16,7 +16,8 @@ vec2 to_pixels(vec3 p) {
 float edge_tess_level(uint a, uint b) {
     float max_level = frame.tess.w;
     if (frame.tess.y != TESS_MODE_ADAPTIVE) {
-        return clamp(frame.tess.x, 1.0, max_level);
+        // A split patch covers its domain with split x split sub-patches of level / split.
+        return clamp(frame.tess.x / float(chunk.split), 1.0, max_level);
     }
     uint lo = min(a, b);
     uint hi = max(a, b);

@@ -77,6 +77,7 @@ pub struct SurfaceRenderer {
     patches: Vec<BSplinePatch>,
     vertex_count: usize,
     patch_count: u32,
+    split: u32,
     fallback_index_count: u32,
     positions: Buffer,
     vertex_limits: Buffer,
@@ -276,6 +277,7 @@ impl SurfaceRenderer {
             desc: *desc,
             patches: surface.patches.clone(),
             vertex_count: surface.positions.len(),
+            split: desc.tess.split(),
             patch_count: surface.patches.len() as u32,
             fallback_index_count: surface.fallback.indices.len() as u32,
             positions,
@@ -345,7 +347,7 @@ impl SurfaceRenderer {
             push_constants: Some(PushConstants {
                 stages: vk::ShaderStageFlags::TESSELLATION_CONTROL
                     | vk::ShaderStageFlags::TESSELLATION_EVALUATION,
-                size: 4,
+                size: 12,
             }),
         };
         let fallback = GraphicsPipelineDesc {
@@ -487,18 +489,25 @@ impl SurfaceRenderer {
             );
             dev.cmd_bind_vertex_buffers(cmd, 0, &[self.positions.raw()], &[0]);
             dev.cmd_bind_index_buffer(cmd, self.patch_indices.raw(), 0, vk::IndexType::UINT32);
+            let split = self.split;
             let mut base = 0u32;
             while base < self.patch_count {
                 let n = PATCHES_PER_DRAW.min(self.patch_count - base);
-                dev.cmd_push_constants(
-                    cmd,
-                    self.patch_pipeline.layout,
-                    vk::ShaderStageFlags::TESSELLATION_CONTROL
-                        | vk::ShaderStageFlags::TESSELLATION_EVALUATION,
-                    0,
-                    &base.to_le_bytes(),
-                );
-                dev.cmd_draw_indexed(cmd, n * 16, 1, base * 16, 0, 0);
+                for sub in 0..split * split {
+                    let mut pc = [0u8; 12];
+                    for (k, w) in [base, sub, split].iter().enumerate() {
+                        pc[4 * k..4 * k + 4].copy_from_slice(&w.to_le_bytes());
+                    }
+                    dev.cmd_push_constants(
+                        cmd,
+                        self.patch_pipeline.layout,
+                        vk::ShaderStageFlags::TESSELLATION_CONTROL
+                            | vk::ShaderStageFlags::TESSELLATION_EVALUATION,
+                        0,
+                        &pc,
+                    );
+                    dev.cmd_draw_indexed(cmd, n * 16, 1, base * 16, 0, 0);
+                }
                 base += n;
             }
         }
@@ -574,9 +583,11 @@ impl SurfaceRenderer {
     }
 }
 
-/// Capture capacity (records) sufficient for uniform tessellation at `level` with `spacing`
-/// over `patches` patches: at most `(ceil(level) + 2)^2` domain points per patch.
-pub fn capture_capacity_for(patches: usize, level: f32, spacing: Spacing) -> u32 {
-    let n = (level.max(1.0).ceil() as u64) + if spacing == Spacing::Equal { 1 } else { 2 };
-    (patches as u64 * n * n).min(u64::from(u32::MAX / 64)) as u32
+/// Capture capacity (records) sufficient for `tess` (uniform) over `patches` patches: per
+/// (sub-)patch at most `(ceil(level / split) + 2)^2` domain points.
+pub fn capture_capacity_for(patches: usize, tess: &TessSettings) -> u32 {
+    let split = u64::from(tess.split());
+    let sub = tess.level.max(1.0) / split as f32;
+    let n = (sub.ceil() as u64) + if tess.spacing == Spacing::Equal { 1 } else { 2 };
+    (patches as u64 * split * split * n * n).min(u64::from(u32::MAX / 64)) as u32
 }

@@ -71,6 +71,28 @@ pub struct TessSettings {
     pub pixels_per_edge: f32,
     /// Spacing of the tessellator.
     pub spacing: Spacing,
+    /// Uniform mode: patches whose level exceeds this are drawn as 2x2, 4x4, ... sub-patches of
+    /// level `level / split` (power-of-two split, so shared edges stay bitwise identical). On
+    /// Mesa lavapipe the cost per domain point jumps ~3x above level 24 and ~30x at 31+
+    /// (`tessera bench`); `f32::INFINITY` disables splitting.
+    pub max_patch_level: f32,
+}
+
+impl TessSettings {
+    /// Sub-patches per side for uniform mode (1 in adaptive mode or below the limit).
+    pub fn split(&self) -> u32 {
+        if self.mode != TessMode::Uniform
+            || self.max_patch_level.is_nan()
+            || self.max_patch_level < 1.0
+        {
+            return 1;
+        }
+        let mut s = 1u32;
+        while self.level / s as f32 > self.max_patch_level && s < 64 {
+            s *= 2;
+        }
+        s
+    }
 }
 
 impl Default for TessSettings {
@@ -80,6 +102,7 @@ impl Default for TessSettings {
             mode: TessMode::Uniform,
             pixels_per_edge: 8.0,
             spacing: Spacing::Equal,
+            max_patch_level: 16.0,
         }
     }
 }
@@ -150,6 +173,7 @@ mod tests {
                 mode: TessMode::Adaptive,
                 pixels_per_edge: 4.0,
                 spacing: Spacing::Equal,
+                max_patch_level: 16.0,
             },
             max_level: 64.0,
             light_dir: Vec3::new(0.0, 1.0, 0.0),
@@ -165,6 +189,29 @@ mod tests {
         assert_eq!(f(108), 64.0);
         assert_eq!(f(116), 1.0);
         assert_eq!(u32::from_le_bytes(b[128..132].try_into().unwrap()), 1);
+    }
+
+    #[test]
+    fn split_is_a_power_of_two_keeping_sub_levels_in_bounds() {
+        let t = |level| TessSettings {
+            level,
+            ..TessSettings::default()
+        };
+        assert_eq!(t(16.0).split(), 1);
+        assert_eq!(t(16.5).split(), 2);
+        assert_eq!(t(32.0).split(), 2);
+        assert_eq!(t(33.0).split(), 4);
+        assert_eq!(t(64.0).split(), 4);
+        let adaptive = TessSettings {
+            mode: TessMode::Adaptive,
+            ..t(64.0)
+        };
+        assert_eq!(adaptive.split(), 1);
+        let off = TessSettings {
+            max_patch_level: f32::INFINITY,
+            ..t(64.0)
+        };
+        assert_eq!(off.split(), 1);
     }
 
     #[test]
