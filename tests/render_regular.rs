@@ -8,8 +8,8 @@ use std::collections::HashMap;
 use render_common::{assert_validation_clean, context, eval_patch, open_grid, torus};
 use tessera::render::renderer::capture_capacity_for;
 use tessera::render::{
-    render_to_image, CaptureRecord, OffscreenDesc, RenderDesc, Spacing, SurfaceData, TessMode,
-    TessSettings,
+    render_to_image, CaptureRecord, OffscreenDesc, OffscreenSession, RenderDesc, Spacing,
+    SurfaceData, TessMode, TessSettings,
 };
 
 fn capture(ctx: &tessera::gpu::Context, s: &SurfaceData, tess: TessSettings) -> Vec<CaptureRecord> {
@@ -264,5 +264,68 @@ fn split_patches_cover_the_same_surface() {
     assert_eq!(uv.len(), 49);
     check_accuracy(&s, &recs);
     assert_eq!(check_watertight(&s, &recs), 2 * s.patches.len());
+    assert_validation_clean(&ctx);
+}
+
+#[test]
+fn update_positions_moves_the_surface_and_msaa_renders() {
+    let Some(ctx) = context() else { return };
+    let s = torus(8, 6, 2.0, 0.7);
+    let tess = TessSettings {
+        level: 3.0,
+        ..TessSettings::default()
+    };
+    let samples = if ctx.info().limits.supports_samples(4) {
+        4
+    } else {
+        1
+    };
+    let render = RenderDesc {
+        tess,
+        capture_capacity: Some(capture_capacity_for(s.patches.len(), &tess)),
+        ..RenderDesc::default()
+    };
+    let desc = OffscreenDesc {
+        width: 64,
+        height: 48,
+        samples,
+        ..OffscreenDesc::default()
+    };
+    let mut session = OffscreenSession::new(&ctx, &s, &render, &desc, false).unwrap();
+    session.frame().unwrap();
+    let before = session.capture().unwrap();
+    // Animate: translate every control vertex; the limit surface translates with it.
+    let shift = glam::DVec3::new(0.5, -1.0, 2.0);
+    let moved: Vec<_> = s.positions.iter().map(|p| *p + shift).collect();
+    session
+        .renderer_mut()
+        .update_positions(&moved, None)
+        .unwrap();
+    session.frame().unwrap();
+    let after = session.capture().unwrap();
+    assert_eq!(before.len(), after.len());
+    let key = |r: &CaptureRecord| (r.face, r.u.to_bits(), r.v.to_bits());
+    let mut a: Vec<_> = before.iter().map(|r| (key(r), r.position)).collect();
+    let mut b: Vec<_> = after.iter().map(|r| (key(r), r.position)).collect();
+    a.sort_by_key(|x| x.0);
+    b.sort_by_key(|x| x.0);
+    for ((ka, pa), (kb, pb)) in a.iter().zip(&b) {
+        assert_eq!(ka, kb);
+        let d = glam::Vec3::from(*pb) - glam::Vec3::from(*pa) - shift.as_vec3();
+        assert!(
+            d.length() < 1e-5,
+            "face {} moved by {d} more than the shift",
+            ka.0
+        );
+    }
+    let mut s2 = s.clone();
+    s2.positions = moved;
+    check_accuracy(&s2, &after);
+    assert!(session
+        .renderer_mut()
+        .update_positions(&s.positions[1..], None)
+        .is_err());
+    let img = session.image().unwrap();
+    assert_eq!(img.dimensions(), (64, 48));
     assert_validation_clean(&ctx);
 }
