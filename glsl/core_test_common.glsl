@@ -2,4 +2,5 @@
 layout(push_constant) uniform CoreTestPush {
     vec4 color;
     float level;
+    float first_patch; // gl_PrimitiveID restarts per draw
 } pc;

@@ -780,21 +780,68 @@ fn patch_corners(k: u32) -> [[f32; 3]; 4] {
     ]
 }
 
-#[test]
-fn many_patches_keep_their_own_control_points() {
-    let Some(ctx) = context() else { return };
-    let patches = 200u32;
+/// Control points of patch `k` with `points` = 4 (corners), or >= 16: a 4x4 row-major grid
+/// followed by `points - 16` extra points (repeating the grid from its start).
+fn patch_points(k: u32, points: u32) -> Vec<[f32; 3]> {
+    let c = patch_corners(k);
+    if points == 4 {
+        return c.to_vec();
+    }
+    let d = c[1][0] - c[0][0];
+    (0..points)
+        .map(|i| {
+            let g = i % 16;
+            let (x, y) = ((g % 4) as f32 / 3.0, (g / 4) as f32 / 3.0);
+            [c[0][0] + d * x, c[0][1] + d * y, 0.5]
+        })
+        .collect()
+}
+
+/// What the many-patch draw captured.
+struct ManyReport {
+    /// TES positions not on their own patch: (patch, u, v, error).
+    wrong_position: Vec<(u32, f32, f32, f32)>,
+    /// Records whose TES gl_PrimitiveID differs from the TCS's: (tes, tcs).
+    tcs_id_mismatch: Vec<(u32, u32)>,
+    /// Records whose TCS mean-of-inputs is not its patch's: (patch, got, want).
+    tcs_mean_mismatch: Vec<(u32, f32, f32)>,
+    /// Distinct (patch, u, v) domain points.
+    distinct: usize,
+}
+
+/// Draws `patches` patches of `points` control points each, in one draw call or (`chunked`) in
+/// draws of `max_patches_per_draw` patches, and checks every TES record against its own patch.
+fn many_patches(
+    ctx: &Context,
+    patches: u32,
+    points: u32,
+    indexed: bool,
+    chunked: bool,
+) -> ManyReport {
     let level = 2u32;
-    let rt = RenderTarget::new(&ctx, 64, 64, 1).expect("target");
-    let desc = quad_desc("core_test.frag", vk::PolygonMode::FILL);
+    let rt = RenderTarget::new(ctx, 64, 64, 1).expect("target");
+    let mut desc = quad_desc("core_test.frag", vk::PolygonMode::FILL);
+    if points >= 16 {
+        desc.tess_control = Some(format!("core_test_quad{points}.tesc"));
+        desc.tess_eval = Some("core_test_quad16.tese".into());
+        desc.patch_control_points = points;
+    }
     let pipe = ctx.graphics_pipeline(&desc, &rt).expect("pipeline");
-    let verts: Vec<[f32; 3]> = (0..patches).flat_map(patch_corners).collect();
+    let verts: Vec<[f32; 3]> = (0..patches).flat_map(|k| patch_points(k, points)).collect();
     let vbuf = ctx
         .upload_buffer(&verts, vk::BufferUsageFlags::VERTEX_BUFFER, "patches")
         .expect("vertices");
+    let indices: Vec<u32> = (0..points * patches).collect();
+    let ibuf = ctx
+        .upload_buffer(
+            &indices,
+            vk::BufferUsageFlags::INDEX_BUFFER,
+            "patch indices",
+        )
+        .expect("indices");
     let capacity = patches * (level + 1) * (level + 1) * 2;
     let mut ssbo = Buffer::new(
-        &ctx,
+        ctx,
         16 + 32 * u64::from(capacity),
         vk::BufferUsageFlags::STORAGE_BUFFER,
         MemoryLocation::GpuToCpu,
@@ -802,7 +849,7 @@ fn many_patches_keep_their_own_control_points() {
     )
     .expect("ssbo");
     ssbo.write(0, &[0u32, capacity]).expect("init");
-    let pool = DescriptorPool::new(&ctx, 1, 1, 0).expect("pool");
+    let pool = DescriptorPool::new(ctx, 1, 1, 0).expect("pool");
     let set = pool.allocate(pipe.set_layouts[0]).expect("set");
     ctx.write_buffer_descriptors(
         set,
@@ -812,7 +859,11 @@ fn many_patches_keep_their_own_control_points() {
             buffer: &ssbo,
         }],
     );
-    let push: [f32; 8] = [1.0, 1.0, 1.0, 1.0, level as f32, 0.0, 0.0, 0.0];
+    let draws: Vec<(u32, u32)> = if chunked {
+        patch_draw_chunks(patches, points, indexed).collect()
+    } else {
+        vec![(0, patches)]
+    };
     ctx.submit_once(|dev, cmd| {
         rt.begin(dev, cmd, [0.0, 0.0, 0.0, 1.0]);
         // SAFETY: valid handles.
@@ -826,9 +877,17 @@ fn many_patches_keep_their_own_control_points() {
                 &[set],
                 &[],
             );
-            dev.cmd_push_constants(cmd, pipe.layout, STAGES, 0, as_bytes(&push));
             dev.cmd_bind_vertex_buffers(cmd, 0, &[vbuf.raw()], &[0]);
-            dev.cmd_draw(cmd, 4 * patches, 1, 0, 0);
+            dev.cmd_bind_index_buffer(cmd, ibuf.raw(), 0, vk::IndexType::UINT32);
+            for &(first, count) in &draws {
+                let push: [f32; 8] = [1.0, 1.0, 1.0, 1.0, level as f32, first as f32, 0.0, 0.0];
+                dev.cmd_push_constants(cmd, pipe.layout, STAGES, 0, as_bytes(&push));
+                if indexed {
+                    dev.cmd_draw_indexed(cmd, points * count, 1, points * first, 0, 0);
+                } else {
+                    dev.cmd_draw(cmd, points * count, 1, points * first, 0);
+                }
+            }
         }
         rt.end(dev, cmd);
         let barrier = vk::MemoryBarrier::default()
@@ -858,9 +917,19 @@ fn many_patches_keep_their_own_control_points() {
     let f: Vec<f32> = from_bytes(as_bytes(&words[4..4 + 8 * n]));
     let mut wrong = Vec::new();
     let mut seen = BTreeSet::new();
+    let mut tcs_mismatch = Vec::new();
+    let mut mean_mismatch = Vec::new();
     for r in f.chunks(8) {
         let (u, v, prim) = (r[0], r[1], r[2] as u32);
         assert!(prim < patches, "gl_PrimitiveID {prim}");
+        if r[3] != r[2] {
+            tcs_mismatch.push((prim, r[3] as u32));
+        }
+        let pts = patch_points(prim, points);
+        let mean_x = pts.iter().map(|p| p[0]).sum::<f32>() / pts.len() as f32;
+        if (r[7] - mean_x).abs() > 1e-5 {
+            mean_mismatch.push((prim, r[7], mean_x));
+        }
         let c = patch_corners(prim);
         // Bilinear interpolation of the patch's own corners (same formula as the TES).
         let want: Vec<f32> = (0..3)
@@ -882,15 +951,60 @@ fn many_patches_keep_their_own_control_points() {
             (v * level as f32).round() as u32,
         ));
     }
-    assert_eq!(seen.len(), (patches * (level + 1) * (level + 1)) as usize);
-    let bad_patches: BTreeSet<u32> = wrong.iter().map(|w| w.0).collect();
+    ManyReport {
+        wrong_position: wrong,
+        tcs_id_mismatch: tcs_mismatch,
+        tcs_mean_mismatch: mean_mismatch,
+        distinct: seen.len(),
+    }
+}
+
+fn check_many(patches: u32, points: u32, indexed: bool, chunked: bool) {
+    let Some(ctx) = context() else { return };
+    let r = many_patches(&ctx, patches, points, indexed, chunked);
+    let bad: BTreeSet<u32> = r
+        .wrong_position
+        .iter()
+        .map(|w| w.0)
+        .chain(r.tcs_mean_mismatch.iter().map(|w| w.0))
+        .chain(r.tcs_id_mismatch.iter().map(|w| w.0))
+        .collect();
     assert!(
-        wrong.is_empty(),
-        "{} TES positions of {} patches do not match their own control points; first {:?}; patches {:?}",
-        wrong.len(),
-        bad_patches.len(),
-        &wrong[..wrong.len().min(5)],
-        bad_patches
+        r.wrong_position.is_empty() && r.tcs_id_mismatch.is_empty() && r.tcs_mean_mismatch.is_empty(),
+        "{patches} {points}-point patches (indexed {indexed}, chunked {chunked}): {} wrong positions (first {:?}), {} TCS/TES \
+         primitive-id mismatches (first {:?}), {} wrong TCS input means (first {:?}); {} patches \
+         affected, first {:?}",
+        r.wrong_position.len(),
+        r.wrong_position.first(),
+        r.tcs_id_mismatch.len(),
+        r.tcs_id_mismatch.first(),
+        r.tcs_mean_mismatch.len(),
+        r.tcs_mean_mismatch.first(),
+        bad.len(),
+        bad.iter().take(10).collect::<Vec<_>>()
+    );
+    assert_eq!(
+        r.distinct,
+        (patches * 9) as usize,
+        "distinct domain points (level 2)"
     );
     assert_clean(&ctx);
+}
+
+#[test]
+fn many_patches_keep_their_own_control_points() {
+    // 200 four-point patches: 800 vertices, within both draw-size rules (src/gpu/draw.rs).
+    check_many(200, 4, false, false);
+    check_many(200, 4, true, false);
+}
+
+#[test]
+fn chunked_patch_draws_are_correct() {
+    // Large patch lists split with `patch_draw_chunks` evaluate every patch from its own
+    // control points (one draw of this size is wrong on Mesa 22.3 lavapipe; see draw.rs).
+    for points in [4, 16, 20] {
+        for indexed in [false, true] {
+            check_many(1100, points, indexed, true);
+        }
+    }
 }

@@ -7,6 +7,7 @@ mod context;
 mod debug;
 mod descriptors;
 mod device;
+mod draw;
 mod error;
 mod memory;
 mod pipeline;
@@ -19,6 +20,10 @@ pub use context::{validation_default, Context, ContextDesc};
 pub use debug::ValidationLog;
 pub use descriptors::{BufferBinding, DescriptorPool};
 pub use device::{DeviceFeatures, DeviceInfo, DeviceLimits, Feature};
+pub use draw::{
+    max_patches_per_draw, patch_draw_chunks, MAX_INDICES_PER_PATCH_DRAW,
+    MAX_VERTICES_PER_PATCH_DRAW,
+};
 pub use error::{DeviceReport, GpuError};
 pub use memory::{as_bytes, from_bytes, Buffer, Image, ImageDesc, MemoryLocation, Pod};
 pub use pipeline::{

@@ -1,0 +1,55 @@
+//! Draw-size rules for patch lists.
+//!
+//! Measured on Mesa 22.3.6 lavapipe (tests/gpu_core.rs, `chunked_patch_draws_are_correct`
+//! and the scan recorded in src/gpu/README.md): within one draw of a `PATCH_LIST`, only the
+//! first `floor(1024 / P)` patches of an indexed draw, or `floor(4096 / P)` patches of a
+//! non-indexed draw, reach the TCS with their own control points (P = control points per
+//! patch); every later patch is evaluated from wrong control points (deterministically). Splitting draws at these
+//! sizes is valid on every device and costs a few extra draw calls, so it is applied always
+//! (no driver detection).
+
+/// Largest number of `points_per_patch`-point patches to put in one indexed draw.
+pub const MAX_INDICES_PER_PATCH_DRAW: u32 = 1024;
+/// Largest number of vertices to put in one non-indexed patch draw.
+pub const MAX_VERTICES_PER_PATCH_DRAW: u32 = 4096;
+
+/// How many patches of `points_per_patch` control points one draw may hold (at least 1).
+pub fn max_patches_per_draw(points_per_patch: u32, indexed: bool) -> u32 {
+    let limit = if indexed {
+        MAX_INDICES_PER_PATCH_DRAW
+    } else {
+        MAX_VERTICES_PER_PATCH_DRAW
+    };
+    (limit / points_per_patch.max(1)).max(1)
+}
+
+/// Splits `patch_count` patches into `(first_patch, count)` draws of at most
+/// [`max_patches_per_draw`] patches. `gl_PrimitiveID` restarts at 0 in every draw, so shaders
+/// need `first_patch` (e.g. as a push constant) to index per-patch data.
+pub fn patch_draw_chunks(
+    patch_count: u32,
+    points_per_patch: u32,
+    indexed: bool,
+) -> impl Iterator<Item = (u32, u32)> {
+    let step = max_patches_per_draw(points_per_patch, indexed);
+    (0..patch_count)
+        .step_by(step as usize)
+        .map(move |first| (first, step.min(patch_count - first)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chunk_sizes() {
+        assert_eq!(max_patches_per_draw(16, true), 64);
+        assert_eq!(max_patches_per_draw(20, true), 51);
+        assert_eq!(max_patches_per_draw(4, false), 1024);
+        assert_eq!(max_patches_per_draw(20, false), 204);
+        assert_eq!(max_patches_per_draw(2000, true), 1);
+        let c: Vec<_> = patch_draw_chunks(130, 16, true).collect();
+        assert_eq!(c, vec![(0, 64), (64, 64), (128, 2)]);
+        assert_eq!(patch_draw_chunks(0, 16, true).count(), 0);
+    }
+}
