@@ -4,6 +4,8 @@
 
 use glam::DVec3;
 
+use crate::patch::RegularPatch;
+
 /// A regular bicubic B-spline patch as the GPU consumes it: the layout of api.md's
 /// `patch::regular::RegularPatch` (`cvs[4*j + i]`, i along u; face corners 0..3 are cvs 5, 6, 10,
 /// 9; boundary bit e: 0 = v=0 side, 1 = u=1, 2 = v=1, 3 = u=0, phantoms mirrored columns first).
@@ -43,47 +45,16 @@ impl BSplinePatch {
         flags
     }
 
-    /// The 16 control points with phantoms mirrored (columns first, then rows: 2a - b).
-    pub fn control_points(&self, positions: &[DVec3]) -> [DVec3; 16] {
-        let mut p = [DVec3::ZERO; 16];
-        for (k, slot) in p.iter_mut().enumerate() {
-            *slot = positions[self.cvs[k] as usize];
-        }
-        let m = self.boundary_mask;
-        for j in 0..4 {
-            if m & 8 != 0 {
-                p[4 * j] = 2.0 * p[4 * j + 1] - p[4 * j + 2];
-            }
-            if m & 2 != 0 {
-                p[4 * j + 3] = 2.0 * p[4 * j + 2] - p[4 * j + 1];
-            }
-        }
-        for i in 0..4 {
-            if m & 1 != 0 {
-                p[i] = 2.0 * p[4 + i] - p[8 + i];
-            }
-            if m & 4 != 0 {
-                p[12 + i] = 2.0 * p[8 + i] - p[4 + i];
-            }
-        }
-        p
-    }
-
-    /// Limit positions of the four face corners: the bicubic B-spline at the domain corners,
-    /// i.e. the tensor of the weights (1, 4, 1)/6 over the 3x3 points around each corner.
+    /// Limit positions of the four face corners, from the CPU reference patch
+    /// ([`RegularPatch::eval`] at the domain corners).
     pub fn corner_limits(&self, positions: &[DVec3]) -> [DVec3; 4] {
-        let p = self.control_points(positions);
-        let w = [1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0];
-        let at = |i0: usize, j0: usize| {
-            let mut acc = DVec3::ZERO;
-            for (b, wb) in w.iter().enumerate() {
-                for (a, wa) in w.iter().enumerate() {
-                    acc += wa * wb * p[4 * (j0 + b) + i0 + a];
-                }
-            }
-            acc
+        let p = RegularPatch {
+            face: self.face,
+            cvs: self.cvs,
+            boundary_mask: self.boundary_mask,
         };
-        [at(0, 0), at(1, 0), at(1, 1), at(0, 1)]
+        [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+            .map(|(u, v)| p.eval(positions, u, v).position)
     }
 }
 
@@ -167,12 +138,6 @@ mod tests {
         }
     }
 
-    fn grid_positions() -> Vec<DVec3> {
-        (0..16)
-            .map(|k| DVec3::new((k % 4) as f64, (k / 4) as f64, ((k * 7) % 5) as f64 * 0.1))
-            .collect()
-    }
-
     #[test]
     fn flags_encode_mask_and_edge_direction() {
         let p = grid_patch(0b0101);
@@ -196,22 +161,6 @@ mod tests {
         for (k, v) in grid_patch(0).corners().iter().enumerate() {
             assert!((lim[k] - pos[*v as usize]).length() < 1e-12);
         }
-    }
-
-    #[test]
-    fn phantom_rows_and_columns_mirror() {
-        let pos = grid_positions();
-        let p = grid_patch(0b1001).control_points(&pos);
-        // Column 0 = 2*col1 - col2 for every row (bit 3), then row 0 = 2*row1 - row2 (bit 0).
-        for j in 1..4 {
-            assert_eq!(p[4 * j], 2.0 * pos[4 * j + 1] - pos[4 * j + 2]);
-        }
-        for i in 1..4 {
-            assert_eq!(p[i], 2.0 * pos[4 + i] - pos[8 + i]);
-        }
-        let c1 = 2.0 * pos[5] - pos[6];
-        let c2 = 2.0 * pos[9] - pos[10];
-        assert_eq!(p[0], 2.0 * c1 - c2);
     }
 
     #[test]
