@@ -93,16 +93,42 @@ impl Camera {
         };
         let (az, el) = (az.to_radians(), el.to_radians());
         let dir = DVec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos());
-        let near = (dist - 2.0 * radius).max(dist * 1e-3);
-        let far = dist + 2.0 * radius;
-        Camera {
+        let place = |dist: f64| Camera {
             eye: centre + dir * dist,
             target: centre,
             fov_y,
             aspect,
-            near,
-            far,
+            near: (dist - 2.0 * radius).max(dist * 1e-3),
+            far: dist + 2.0 * radius,
+        };
+        let mut cam = place(dist);
+        if spec == CameraSpec::Auto {
+            // The bounding sphere is conservative: move in until the box's projected corners
+            // fill 90% of the narrower half-extent (a few fixed-point steps; always in front).
+            for _ in 0..4 {
+                let m = cam.projected_extent(lo, hi);
+                let d = ((cam.eye - centre).length() * m / 0.9).max(radius * 1.05);
+                cam = place(d);
+            }
         }
+        cam
+    }
+
+    /// Largest |x| or |y| in normalised device coordinates over the corners of a box.
+    fn projected_extent(&self, lo: DVec3, hi: DVec3) -> f64 {
+        let m = self.view_proj().as_dmat4();
+        let mut e = 0.0f64;
+        for i in 0..8 {
+            let p = DVec3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            );
+            let c = m * p.extend(1.0);
+            let w = c.w.max(1e-9);
+            e = e.max((c.x / w).abs()).max((c.y / w).abs());
+        }
+        e
     }
 
     /// World -> Vulkan clip space (right-handed view, y flipped for Vulkan's y-down clip space).
@@ -171,6 +197,7 @@ mod tests {
         let (lo, hi) = (DVec3::new(-3.0, -1.0, -2.0), DVec3::new(5.0, 2.0, 1.0));
         let cam = Camera::frame(CameraSpec::Auto, lo, hi, 1.5);
         let m = cam.view_proj();
+        let mut extent = 0.0f32;
         for i in 0..8 {
             let p = DVec3::new(
                 if i & 1 == 0 { lo.x } else { hi.x },
@@ -184,6 +211,11 @@ mod tests {
                 "corner {i} off screen: {x} {y}"
             );
             assert!((0.0..=1.0).contains(&z), "corner {i} clipped in depth: {z}");
+            extent = extent.max(x.abs()).max(y.abs());
         }
+        assert!(
+            extent > 0.8,
+            "the box fills only {extent} of the half-frame"
+        );
     }
 }
