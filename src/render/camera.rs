@@ -76,6 +76,18 @@ pub struct Camera {
 impl Camera {
     /// Places the camera for the bounding box `(lo, hi)` of the model and an image aspect ratio.
     pub fn frame(spec: CameraSpec, lo: DVec3, hi: DVec3, aspect: f64) -> Camera {
+        Self::frame_points(spec, lo, hi, &[], aspect)
+    }
+
+    /// As [`Camera::frame`]; `Auto` fits `points` (samples of the surface inside the box) to the
+    /// frame instead of the box corners when any are given.
+    pub fn frame_points(
+        spec: CameraSpec,
+        lo: DVec3,
+        hi: DVec3,
+        points: &[DVec3],
+        aspect: f64,
+    ) -> Camera {
         let centre = (lo + hi) * 0.5;
         let radius = ((hi - lo).length() * 0.5).max(1e-6);
         let fov_y = FOV_Y_DEG.to_radians();
@@ -104,31 +116,38 @@ impl Camera {
         let mut cam = place(dist);
         if spec == CameraSpec::Auto {
             // The bounding sphere is conservative: move in until the box's projected corners
-            // fill 90% of the narrower half-extent (a few fixed-point steps; always in front).
+            // fill 85% of the narrower half-extent (a few fixed-point steps; always in front).
+            let corners: Vec<DVec3> = (0..8)
+                .map(|i| {
+                    DVec3::new(
+                        if i & 1 == 0 { lo.x } else { hi.x },
+                        if i & 2 == 0 { lo.y } else { hi.y },
+                        if i & 4 == 0 { lo.z } else { hi.z },
+                    )
+                })
+                .collect();
+            let fit = if points.is_empty() {
+                &corners[..]
+            } else {
+                points
+            };
             for _ in 0..4 {
-                let m = cam.projected_extent(lo, hi);
-                let d = ((cam.eye - centre).length() * m / 0.9).max(radius * 1.05);
+                let m = cam.projected_extent(fit);
+                let d = ((cam.eye - centre).length() * m / 0.85).max(radius * 1.05);
                 cam = place(d);
             }
         }
         cam
     }
 
-    /// Largest |x| or |y| in normalised device coordinates over the corners of a box.
-    fn projected_extent(&self, lo: DVec3, hi: DVec3) -> f64 {
+    /// Largest |x| or |y| in normalised device coordinates over `points`.
+    fn projected_extent(&self, points: &[DVec3]) -> f64 {
         let m = self.view_proj().as_dmat4();
-        let mut e = 0.0f64;
-        for i in 0..8 {
-            let p = DVec3::new(
-                if i & 1 == 0 { lo.x } else { hi.x },
-                if i & 2 == 0 { lo.y } else { hi.y },
-                if i & 4 == 0 { lo.z } else { hi.z },
-            );
+        points.iter().fold(0.0f64, |e, p| {
             let c = m * p.extend(1.0);
             let w = c.w.max(1e-9);
-            e = e.max((c.x / w).abs()).max((c.y / w).abs());
-        }
-        e
+            e.max((c.x / w).abs()).max((c.y / w).abs())
+        })
     }
 
     /// World -> Vulkan clip space (right-handed view, y flipped for Vulkan's y-down clip space).

@@ -78,7 +78,15 @@ impl OffscreenSession {
         let renderer = SurfaceRenderer::new(ctx, surface, render, target.format())?;
         let (lo, hi) = surface.bounding_box();
         let aspect = f64::from(desc.width) / f64::from(desc.height.max(1));
-        let camera = Camera::frame(desc.camera, lo, hi, aspect);
+        // Fit the drawn surface (patch corner limits and CPU-evaluated points, subsampled).
+        let mut points: Vec<DVec3> = surface
+            .patches
+            .iter()
+            .flat_map(|p| p.corner_limits(&surface.positions))
+            .collect();
+        let step = (surface.fallback.positions.len() / 4096).max(1);
+        points.extend(surface.fallback.positions.iter().step_by(step));
+        let camera = Camera::frame_points(desc.camera, lo, hi, &points, aspect);
         let (timer, stats) = if timings {
             (Some(GpuTimer::new(ctx, 2)?), Some(StatsQuery::new(ctx)?))
         } else {

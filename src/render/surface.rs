@@ -22,14 +22,13 @@ pub struct SurfaceData {
 }
 
 impl SurfaceData {
-    /// Bounding box `(min, max)` of everything drawn (control positions of the patches and the
-    /// fallback triangles); `(0, 0)` when empty.
+    /// Bounding box `(min, max)` of the limit corners of the patches and the fallback triangles
+    /// (what is drawn, up to the bulge of patch interiors); `(0, 0)` when empty.
     pub fn bounding_box(&self) -> (DVec3, DVec3) {
         let mut lo = DVec3::splat(f64::INFINITY);
         let mut hi = DVec3::splat(f64::NEG_INFINITY);
         for p in &self.patches {
-            for c in p.corners() {
-                let q = self.positions[c as usize];
+            for q in p.corner_limits(&self.positions) {
                 lo = lo.min(q);
                 hi = hi.max(q);
             }
