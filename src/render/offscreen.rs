@@ -8,7 +8,7 @@ use super::camera::{Camera, CameraSpec};
 use super::renderer::{CaptureRecord, RenderDesc, SurfaceRenderer};
 use super::settings::FrameUniforms;
 use super::surface::SurfaceData;
-use crate::gpu::{Context, GpuTimer, PipelineStats, RenderTarget, StatsQuery};
+use crate::gpu::{vk, Context, GpuTimer, PipelineStats, RenderTarget, StatsQuery};
 use crate::Result;
 
 /// Image size, samples, camera and background of an offscreen frame.
@@ -132,6 +132,7 @@ impl OffscreenSession {
         let target = &self.target;
         let renderer = &self.renderer;
         let clear = self.desc.clear;
+        let capture = r.capture_capacity.is_some();
         let mut timer = self.timer.take();
         let stats = self.stats.take();
         let result = self.ctx.submit_once(|dev, cmd| {
@@ -165,6 +166,24 @@ impl OffscreenSession {
                 t.end(cmd, i)?;
             }
             target.end(dev, cmd);
+            if capture {
+                // Make the TES's storage writes visible to the host read-back.
+                let barrier = vk::MemoryBarrier::default()
+                    .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+                    .dst_access_mask(vk::AccessFlags::HOST_READ);
+                // SAFETY: cmd is recording outside a render pass.
+                unsafe {
+                    dev.cmd_pipeline_barrier(
+                        cmd,
+                        vk::PipelineStageFlags::TESSELLATION_EVALUATION_SHADER,
+                        vk::PipelineStageFlags::HOST,
+                        vk::DependencyFlags::empty(),
+                        &[barrier],
+                        &[],
+                        &[],
+                    );
+                }
+            }
             Ok(())
         });
         let report = match (&timer, &stats) {
