@@ -1,0 +1,97 @@
+#version 450
+// Triangular Gregory patch evaluation (15 control points, layout in common/gregory.glsl): the
+// cubic-boundary quartic of §3.1 with the face points blended (§4.4), position and derivatives
+// (F frozen) for the normal; corners and edges by the shared watertight rules (§4.5).
+// Domain: gl_TessCoord = barycentric weights (b0, b1, b2) of face corners 0, 1, 2; the captured
+// (u, v) are (b1, b2), the (s, t) of patch::gregory::GregoryTriangle::eval.
+// Defines: SPACING, CAPTURE.
+#include "common/frame.glsl"
+#include "common/bspline.glsl"
+#include "common/gregory.glsl"
+#ifdef CAPTURE
+#include "common/capture.glsl"
+#endif
+
+#ifndef SPACING
+#define SPACING equal_spacing
+#endif
+
+layout(triangles, SPACING, cw) in;
+layout(location = 0) in vec3 g_cp[];
+layout(location = 1) patch in vec3 g_eout[6];
+layout(location = 0) out vec3 t_world;
+layout(location = 1) out vec3 t_normal;
+layout(location = 2) flat out uint t_class;
+
+#define P(i) g_cp[(i)]
+#define EP(i) g_cp[3 + (i)]
+#define EM(i) g_cp[6 + (i)]
+#define FP(i) g_cp[9 + (i)]
+#define FM(i) g_cp[12 + (i)]
+
+/// Face edge k (corner k -> k+1) at coordinate x measured from corner k.
+void tri_edge(GregoryPatchInfo info, int k, float x, out vec3 pos, out vec3 nrm) {
+    int a = k;
+    int b = (k + 1) % 3;
+    bool a_is_lo = info.corners[a] < info.corners[b];
+    float t, s;
+    canonical_ts(x, a_is_lo, t, s);
+    if (a_is_lo) {
+        gregory_edge(P(a), EP(a), EM(b), P(b), EM(a) - g_eout[2 * k], EP(b) - g_eout[2 * k + 1],
+                     t, s, pos, nrm);
+    } else {
+        gregory_edge(P(b), EM(b), EP(a), P(a), g_eout[2 * k + 1] - EP(b), g_eout[2 * k] - EM(a),
+                     t, s, pos, nrm);
+    }
+}
+
+/// One edge term 3ab(a+b)(aX + bY) and its partials in a and b.
+void edge_term(float a, float b, vec3 x, vec3 y, out vec3 val, out vec3 da, out vec3 db) {
+    vec3 m = a * x + b * y;
+    val = 3.0 * a * b * (a + b) * m;
+    da = 3.0 * b * ((2.0 * a + b) * m + a * (a + b) * x);
+    db = 3.0 * a * ((a + 2.0 * b) * m + b * (a + b) * y);
+}
+
+void main() {
+    float w0 = gl_TessCoord.x;
+    float w1 = gl_TessCoord.y;
+    float w2 = gl_TessCoord.z;
+    vec3 f0 = gregory_blend(w2, FM(0), w1, FP(0));
+    vec3 f1 = gregory_blend(w0, FM(1), w2, FP(1));
+    vec3 f2 = gregory_blend(w1, FM(2), w0, FP(2));
+    vec3 e01, e01_0, e01_1, e12, e12_1, e12_2, e20, e20_2, e20_0;
+    edge_term(w0, w1, EP(0), EM(1), e01, e01_0, e01_1);
+    edge_term(w1, w2, EP(1), EM(2), e12, e12_1, e12_2);
+    edge_term(w2, w0, EP(2), EM(0), e20, e20_2, e20_0);
+    vec3 inner = w0 * f0 + w1 * f1 + w2 * f2;
+    vec3 p = w0 * w0 * w0 * P(0) + w1 * w1 * w1 * P(1) + w2 * w2 * w2 * P(2) + e01 + e12 + e20
+           + 12.0 * w0 * w1 * w2 * inner;
+    vec3 t0 = 3.0 * w0 * w0 * P(0) + e01_0 + e20_0 + 12.0 * (w1 * w2 * inner + w0 * w1 * w2 * f0);
+    vec3 t1 = 3.0 * w1 * w1 * P(1) + e01_1 + e12_1 + 12.0 * (w0 * w2 * inner + w0 * w1 * w2 * f1);
+    vec3 t2 = 3.0 * w2 * w2 * P(2) + e12_2 + e20_2 + 12.0 * (w0 * w1 * inner + w0 * w1 * w2 * f2);
+    vec3 nrm = safe_normal(t1 - t0, t2 - t0);
+
+    uint patch_index = chunk.patch_base + uint(gl_PrimitiveID);
+    GregoryPatchInfo info = gpatches[patch_index];
+    int zeros = int(w0 == 0.0) + int(w1 == 0.0) + int(w2 == 0.0);
+    if (zeros >= 2) {
+        int k = (w0 != 0.0) ? 0 : (w1 != 0.0 ? 1 : 2);
+        p = vertex_limit[info.corners[k]].xyz;
+        nrm = vertex_normal[info.corners[k]].xyz;
+    } else if (w2 == 0.0) {
+        tri_edge(info, 0, w1, p, nrm);
+    } else if (w0 == 0.0) {
+        tri_edge(info, 1, w2, p, nrm);
+    } else if (w1 == 0.0) {
+        tri_edge(info, 2, w0, p, nrm);
+    }
+
+    t_world = p;
+    t_normal = nrm;
+    t_class = CLASS_TRIANGLE;
+    gl_Position = frame.view_proj * vec4(p, 1.0);
+#ifdef CAPTURE
+    capture_point(info.face, vec2(w1, w2), p, nrm);
+#endif
+}
