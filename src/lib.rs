@@ -9,6 +9,7 @@
 //!
 //! No Vulkan type appears in these layers.
 
+pub mod assets;
 pub mod error;
 pub mod mesh;
 pub mod patch;

@@ -771,3 +771,118 @@ fn osd_specific_files() {
         [MeshWarning::SmoothTrianglesIgnored { .. }]
     ));
 }
+
+// ---------------------------------------------------------------------------------------------
+// Embedded meshes
+
+/// Per undirected edge, the number of faces using it (computed here with a map, independently
+/// of the crate's validation).
+fn edge_use(m: &ControlMesh) -> std::collections::HashMap<(u32, u32), u32> {
+    let mut uses = std::collections::HashMap::new();
+    for f in 0..m.face_count() {
+        let face = m.face(f);
+        for k in 0..face.len() {
+            let (a, b) = (face[k], face[(k + 1) % face.len()]);
+            *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    uses
+}
+
+/// (valence, is boundary) of every vertex.
+fn valences(m: &ControlMesh) -> Vec<(usize, bool)> {
+    let mut out = vec![(0usize, false); m.vertex_count()];
+    for (&(a, b), &n) in &edge_use(m) {
+        for v in [a, b] {
+            out[v as usize].0 += 1;
+            out[v as usize].1 |= n == 1;
+        }
+    }
+    out
+}
+
+fn face_size_counts(m: &ControlMesh) -> std::collections::BTreeMap<usize, usize> {
+    let mut c = std::collections::BTreeMap::new();
+    for f in 0..m.face_count() {
+        *c.entry(m.face_size(f)).or_insert(0) += 1;
+    }
+    c
+}
+
+#[test]
+fn embedded_mixed_is_closed_with_the_promised_features() {
+    use tessera::assets::{default_mesh, EmbeddedMesh};
+    let m = EmbeddedMesh::Mixed.load().unwrap();
+    assert_eq!(default_mesh().face_count(), m.face_count());
+    assert!(m.warnings().is_empty());
+    assert!(edge_use(&m).values().all(|&n| n == 2), "closed");
+    assert!(signed_volume6(&m) > 0.0, "counter-clockwise from outside");
+    let sizes = face_size_counts(&m);
+    assert!(sizes[&3] > 0 && sizes[&4] > 0 && sizes[&5] > 0, "{sizes:?}");
+    assert!((20..=200).contains(&m.face_count()));
+    let vals: Vec<usize> = valences(&m).iter().map(|v| v.0).collect();
+    for n in [3, 5, 6] {
+        assert!(vals.contains(&n), "valence {n} missing: {vals:?}");
+    }
+}
+
+#[test]
+fn embedded_open_has_boundary_corners_and_a_boundary_extraordinary_vertex() {
+    use tessera::assets::EmbeddedMesh;
+    let m = EmbeddedMesh::Open.load().unwrap();
+    assert!(m.warnings().is_empty());
+    assert!((20..=200).contains(&m.face_count()));
+    let vals = valences(&m);
+    // Boundary corner: boundary vertex with 2 edges. Regular boundary vertex: 3 edges.
+    assert_eq!(vals.iter().filter(|v| **v == (2, true)).count(), 2);
+    assert!(vals.iter().any(|v| v.1 && v.0 > 3));
+    // Consistently oriented: seen from +z every face turns counter-clockwise (shoelace area).
+    for f in 0..m.face_count() {
+        let face = m.face(f);
+        let p = |k: usize| m.positions()[face[k % face.len()] as usize];
+        let area: f64 = (0..face.len())
+            .map(|k| p(k).x * p(k + 1).y - p(k + 1).x * p(k).y)
+            .sum();
+        assert!(area > 0.0, "face {f}");
+    }
+}
+
+#[test]
+fn embedded_creased_has_semi_sharp_and_infinite_creases_and_a_corner() {
+    use tessera::assets::EmbeddedMesh;
+    use tessera::mesh::INFINITE_SHARPNESS;
+    let m = EmbeddedMesh::Creased.load().unwrap();
+    assert!(m.warnings().is_empty());
+    assert!((20..=200).contains(&m.face_count()));
+    assert!(edge_use(&m).values().all(|&n| n == 2), "closed");
+    assert!(signed_volume6(&m) > 0.0);
+    let s: Vec<f32> = m.creases().iter().map(|c| c.sharpness).collect();
+    for want in [0.5, 1.0, 2.5] {
+        assert!(s.contains(&want), "sharpness {want} missing");
+    }
+    assert!(s.iter().any(|&x| x >= INFINITE_SHARPNESS));
+    assert!(m
+        .corners()
+        .iter()
+        .any(|c| c.sharpness >= INFINITE_SHARPNESS));
+    assert_eq!(
+        face_size_counts(&m).keys().copied().collect::<Vec<_>>(),
+        vec![4]
+    );
+}
+
+#[test]
+fn load_mesh_spec() {
+    use tessera::assets::load_mesh;
+    let o = ObjOptions::default();
+    assert_eq!(load_mesh("embedded:open", &o).unwrap().face_count(), 21);
+    assert!(matches!(
+        load_mesh("embedded:teapot", &o),
+        Err(Error::Invalid(_))
+    ));
+    let car = osd_dir().join("catmark_cube.obj");
+    assert_eq!(
+        load_mesh(car.to_str().unwrap(), &o).unwrap().face_count(),
+        6
+    );
+}
