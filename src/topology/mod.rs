@@ -23,7 +23,7 @@ pub(crate) const NONE: u32 = u32::MAX;
 
 /// Per-face classification used by the patch schemes (checked in this order: Hole, Boundary,
 /// Creased, Triangle, Polygon, IrregularQuad, RegularQuad).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum FaceClass {
     /// A quad with four interior valence-4 vertices and no sharpness on or around it.
     RegularQuad,
