@@ -886,3 +886,131 @@ fn load_mesh_spec() {
         6
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// `tessera info`
+
+fn run_info(args: &[&str]) -> (bool, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_tessera"))
+        .arg("info")
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// The value after `key: ` on the line starting with `key`.
+fn info_field<'a>(report: &'a str, key: &str) -> &'a str {
+    report
+        .lines()
+        .find_map(|l| l.strip_prefix(key)?.strip_prefix(": "))
+        .unwrap_or_else(|| panic!("no `{key}` in\n{report}"))
+}
+
+#[test]
+fn info_on_the_embedded_default_mesh() {
+    let (ok, out, err) = run_info(&["embedded:mixed"]);
+    assert!(ok, "{err}");
+    // Counted by hand from the construction of assets/mixed.obj: 5 + 5 + 6 + 6 + 6 + 1
+    // vertices; 1 pentagon, 22 quads (5 + 5 + 6 + 6), 7 triangles (1 + 6); Euler: V - E + F = 2.
+    assert_eq!(info_field(&out, "faces"), "30 (by size: 3: 7, 4: 22, 5: 1)");
+    assert!(info_field(&out, "vertices").starts_with("29 "));
+    assert_eq!(info_field(&out, "edges"), "57 (boundary 0)");
+    assert_eq!(
+        info_field(&out, "extraordinary vertices, interior"),
+        "7 (by valence: 3: 5, 5: 1, 6: 1)"
+    );
+    let (ok, out, _) = run_info(&["embedded:creased"]);
+    assert!(ok);
+    // 4 vertical chains of 3 edges (0.5, 1, 2.5, 10), the 12-edge top rim (10), one edge of 2.
+    assert_eq!(
+        info_field(&out, "creases"),
+        "25 (by sharpness: 0.5: 3, 1: 3, 2: 1, 2.5: 3, inf: 15)"
+    );
+    assert_eq!(info_field(&out, "corners"), "1 (by sharpness: inf: 1)");
+}
+
+#[test]
+fn info_refuses_bad_input_with_the_typed_error() {
+    let fan = osd_dir().join("catmark_fan.obj");
+    let (ok, out, err) = run_info(&[fan.to_str().unwrap()]);
+    assert!(!ok);
+    assert!(out.is_empty());
+    assert!(err.contains("non-manifold edge 7-8"), "{err}");
+    let path = std::env::temp_dir().join(format!("tessera_bad_{}.obj", std::process::id()));
+    std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n").unwrap();
+    let (ok, _, err) = run_info(&[path.to_str().unwrap()]);
+    std::fs::remove_file(&path).ok();
+    assert!(!ok);
+    assert!(err.contains("line 4") && err.contains("f 1 2 0"), "{err}");
+    let (ok, _, err) = run_info(&["embedded:nothing"]);
+    assert!(!ok && err.contains("no embedded mesh"), "{err}");
+}
+
+/// `tessera info` against the counts SOURCE.md lists for every loadable OpenSubdiv file
+/// (computed there from the OBJ text by a separate script).
+#[test]
+fn info_agrees_with_source_md() {
+    let table = std::fs::read_to_string(osd_dir().join("SOURCE.md")).unwrap();
+    let mut checked = 0;
+    for row in table.lines().filter(|l| l.starts_with("| catmark_")) {
+        let cols: Vec<&str> = row.split('|').map(str::trim).collect();
+        let name = cols[1].trim_end_matches(".obj");
+        if REFUSED.iter().any(|r| r.0 == name) {
+            continue;
+        }
+        let n = |i: usize| cols[i].parse::<usize>().unwrap();
+        let path = osd_dir().join(cols[1]);
+        let mut args = vec![path.to_str().unwrap()];
+        if name == "catmark_lefthanded" {
+            args.push("--left-handed");
+        }
+        let (ok, out, err) = run_info(&args);
+        assert!(ok, "{name}: {err}");
+        assert!(
+            info_field(&out, "vertices").starts_with(&format!("{} ", n(2))),
+            "{name}"
+        );
+        let faces = info_field(&out, "faces");
+        assert!(faces.starts_with(&format!("{} ", n(3))), "{name}");
+        let size = |s: usize| {
+            faces
+                .split(&format!(" {s}: "))
+                .nth(1)
+                .map_or(0, |t| t.split([',', ')']).next().unwrap().parse().unwrap())
+        };
+        let other = n(3) - size(3) - size(4);
+        assert_eq!((size(3), size(4), other), (n(4), n(5), n(6)), "{name}");
+        let count = |key: &str| -> usize {
+            info_field(&out, key)
+                .split(' ')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap()
+        };
+        assert_eq!(count("creases"), n(7), "{name}");
+        assert_eq!(count("corners"), n(8), "{name}");
+        // SOURCE.md counts `t hole` lines; a line may list several faces: count them here.
+        let hole_faces: usize = std::fs::read_to_string(&path)
+            .unwrap()
+            .lines()
+            .filter_map(|l| l.strip_prefix("t hole "))
+            .map(|l| l.split_whitespace().count() - 1)
+            .sum();
+        assert_eq!(n(9) > 0, hole_faces > 0, "{name}");
+        assert_eq!(count("holes"), hole_faces, "{name}");
+        let edges = info_field(&out, "edges");
+        assert!(
+            edges.ends_with(&format!("(boundary {})", n(11))),
+            "{name}: {edges}"
+        );
+        assert_eq!(count("extraordinary vertices, interior"), n(13), "{name}");
+        checked += 1;
+    }
+    assert_eq!(checked, 82 - REFUSED.len());
+}
