@@ -559,3 +559,55 @@ fn extraction_refines_like_the_whole_mesh_where_complete() {
     }
     assert!(checked > 100, "only {checked} complete vertices");
 }
+
+#[test]
+fn stencil_tables_match_direct_refinement() {
+    use tessera::subdiv::StencilTable;
+    for name in [
+        "catmark_car",
+        "catmark_chaikin1",
+        "catmark_nonquads",
+        "catmark_edgenone",
+        "catmark_cubes_semisharp",
+        "catmark_hole_test3",
+    ] {
+        let path = format!("/work/shared/meshes/osd/{name}.obj");
+        let mesh = ControlMesh::from_obj_file(&path, &ObjOptions::default()).unwrap();
+        let mut level = Level::from_mesh(&mesh).unwrap();
+        let mut pos = mesh.positions().to_vec();
+        for depth in 0..=3u32 {
+            let table = StencilTable::refined(&mesh, depth).unwrap();
+            assert_eq!(table.len(), pos.len(), "{name} level {depth}");
+            assert_eq!(table.base_count(), mesh.vertex_count());
+            let got = table.apply_vec(mesh.positions());
+            for (a, b) in got.iter().zip(&pos) {
+                assert!(close(*a, *b, 1e-12), "{name} level {depth}: {a} vs {b}");
+            }
+            for r in 0..table.len() {
+                let (idx, w) = table.stencil(r);
+                assert!(idx.windows(2).all(|x| x[0] < x[1]) && w.iter().all(|&x| x != 0.0));
+            }
+            let (child, m) = level.refine();
+            pos = m.apply_vec(&pos);
+            level = child;
+        }
+    }
+}
+
+#[test]
+fn refined_level_round_trips_through_a_control_mesh() {
+    let path = "/work/shared/meshes/osd/catmark_car.obj";
+    let mesh = ControlMesh::from_obj_file(path, &ObjOptions::default()).unwrap();
+    let level = Level::from_mesh(&mesh).unwrap();
+    let (child, m) = level.refine();
+    let pos = m.apply_vec(mesh.positions());
+    let again = Level::from_mesh(&ControlMesh::new(child.to_mesh_desc(pos)).unwrap()).unwrap();
+    let (a, b) = (child.topology(), again.topology());
+    assert_eq!(a.edge_count(), b.edge_count());
+    for e in 0..a.edge_count() as u32 {
+        let [u, v] = a.edge_vertices(e);
+        let f = b.find_edge(u, v).unwrap();
+        assert_eq!(a.edge_sharpness(e), b.edge_sharpness(f));
+    }
+    assert_eq!(a.vertex_sharpnesses(), b.vertex_sharpnesses());
+}

@@ -1,9 +1,10 @@
 //! [`Level`]: one level of a subdivision hierarchy (topology, sharpness, holes), and
 //! extraction of sub-levels around a set of faces.
 
-use crate::mesh::{BoundaryInterpolation, ControlMesh};
+use crate::mesh::{BoundaryInterpolation, ControlMesh, ControlMeshDesc, Corner, Crease};
 use crate::topology::{self, Topology};
 use crate::Result;
+use glam::DVec3;
 use std::ops::Range;
 
 /// The unit of refinement: a [`Topology`] (which carries sharpness and holes) plus, for levels
@@ -120,6 +121,47 @@ impl Level {
                 .any(|&v| self.is_real_boundary_vertex(v));
         }
         true
+    }
+
+    /// A mesh description of this level with the given positions (one per vertex): faces,
+    /// sharp non-boundary edges as creases, sharp vertices as corners, holes and options, so
+    /// that `ControlMesh::new` rebuilds an equivalent base mesh (e.g. a refined mesh as a new
+    /// control mesh for benchmarks).
+    pub fn to_mesh_desc(&self, positions: Vec<DVec3>) -> ControlMeshDesc {
+        let t = &self.topo;
+        let face_sizes = (0..t.face_count() as u32)
+            .map(|f| t.face_size(f) as u32)
+            .collect();
+        let creases = (0..t.edge_count() as u32)
+            .filter(|&e| t.edge_sharpness(e) > 0.0 && !t.is_boundary_edge(e))
+            .map(|e| {
+                let [v0, v1] = t.edge_vertices(e);
+                Crease {
+                    v0,
+                    v1,
+                    sharpness: t.edge_sharpness(e),
+                }
+            })
+            .collect();
+        let corners = (0..t.vertex_count() as u32)
+            .filter(|&v| t.vertex_sharpness(v) > 0.0)
+            .map(|v| Corner {
+                vertex: v,
+                sharpness: t.vertex_sharpness(v),
+            })
+            .collect();
+        ControlMeshDesc {
+            positions,
+            face_sizes,
+            face_vertices: t.face_verts.clone(),
+            creases,
+            corners,
+            holes: (0..t.face_count() as u32)
+                .filter(|&f| t.is_hole(f))
+                .collect(),
+            options: t.options,
+            left_handed: false,
+        }
     }
 
     /// The sub-level made of `faces` (new face `i` is `faces[i]`), with the real sharpness and

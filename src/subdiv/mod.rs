@@ -9,6 +9,8 @@ pub mod limit;
 mod refine;
 pub mod rules;
 pub mod sparse;
+mod stencil;
 
 pub use level::Level;
 pub use sparse::SparseMatrix;
+pub use stencil::StencilTable;

@@ -308,6 +308,22 @@ impl Level {
         })
     }
 
+    /// The refinement matrix composed with `rhs` (whose rows are this level's vertices):
+    /// the child vertices in terms of `rhs`'s columns, without storing the matrix.
+    pub fn compose_refinement(&self, rhs: &SparseMatrix) -> SparseMatrix {
+        let t = &self.topo;
+        let (nf, ne, nv) = (t.face_count(), t.edge_count(), t.vertex_count());
+        SparseMatrix::compose_rows(nf + ne + nv, rhs, |r, buf| {
+            if r < nf {
+                face_row(t, r as u32, buf);
+            } else if r < nf + ne {
+                edge_row(t, (r - nf) as u32, buf);
+            } else {
+                vertex_row(t, (r - nf - ne) as u32, buf);
+            }
+        })
+    }
+
     /// The child vertex positions from this level's positions (one entry per vertex).
     pub fn refine_positions(&self, positions: &[DVec3]) -> Vec<DVec3> {
         self.refine_matrix().apply_vec(positions)

@@ -201,28 +201,47 @@ impl SparseMatrix {
 
     /// The product `self * rhs` (rows of `self` combine rows of `rhs`), exact zeros pruned.
     pub fn compose(&self, rhs: &SparseMatrix) -> SparseMatrix {
+        Self::compose_rows(self.rows(), rhs, |r, buf| {
+            let (i, w) = self.row(r);
+            buf.extend(i.iter().copied().zip(w.iter().copied()));
+        })
+    }
+
+    /// `rows` rows, row `r` being `sum_k w_k * rhs.row(c_k)` for the `(c_k, w_k)` that
+    /// `row(r, buf)` pushes (repeats allowed); columns sorted, exact zeros pruned.
+    pub fn compose_rows<F>(rows: usize, rhs: &SparseMatrix, row: F) -> SparseMatrix
+    where
+        F: Fn(usize, &mut Vec<(u32, f64)>) + Sync + Send,
+    {
         let cols = rhs.cols;
-        let chunks = self.rows().div_ceil(CHUNK).max(1);
+        let chunks = rows.div_ceil(CHUNK).max(1);
         let parts: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)> = (0..chunks)
             .into_par_iter()
             .map_init(
-                || (vec![0f64; cols], Vec::<u32>::with_capacity(64)),
-                |(acc, touched), c| {
-                    let (lo, hi) = (c * CHUNK, ((c + 1) * CHUNK).min(self.rows()));
+                || {
+                    (
+                        vec![0f64; cols],
+                        Vec::<u32>::with_capacity(64),
+                        Vec::<(u32, f64)>::with_capacity(32),
+                    )
+                },
+                |(acc, touched, buf), c| {
+                    let (lo, hi) = (c * CHUNK, ((c + 1) * CHUNK).min(rows));
                     let mut lens = Vec::with_capacity(hi - lo);
-                    let mut idx = Vec::with_capacity((hi - lo) * 16);
-                    let mut wts = Vec::with_capacity((hi - lo) * 16);
+                    let mut idx = Vec::with_capacity((hi - lo) * 20);
+                    let mut wts = Vec::with_capacity((hi - lo) * 20);
                     for r in lo..hi {
-                        let (ci, cw) = self.row(r);
-                        for (&p, &w) in ci.iter().zip(cw) {
+                        buf.clear();
+                        row(r, buf);
+                        for &(p, w) in buf.iter() {
                             let (ri, rw) = rhs.row(p as usize);
                             for (&q, &x) in ri.iter().zip(rw) {
                                 let slot = &mut acc[q as usize];
+                                // A column may be pushed twice if its sum cancels to zero on
+                                // the way; the read-out below zeroes it after the first copy.
                                 if *slot == 0.0 {
                                     touched.push(q);
                                 }
-                                // A column may be pushed twice if its sum cancels to zero on
-                                // the way; the read-out below zeroes it after the first copy.
                                 *slot += w * x;
                             }
                         }
