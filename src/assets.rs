@@ -9,14 +9,14 @@ use crate::{Error, Result};
 /// A mesh shipped inside the crate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum EmbeddedMesh {
-    /// Closed "gumdrop": a pentagon, quads and triangles; extraordinary vertices of valence
-    /// 3, 5 and 6. The default mesh.
+    /// Closed twisted onion dome: a pentagon, quads and triangles; extraordinary vertices of
+    /// valence 3, 5 and 6. The default mesh.
     Mixed,
     /// Open scallop shell: boundary corners (valence 2) and a boundary extraordinary vertex
     /// (3 faces); interior valence-3 vertices.
     Open,
     /// Closed box with semi-sharp creases (0.5, 1, 2, 2.5), infinitely sharp creases and an
-    /// infinitely sharp corner.
+    /// infinitely sharp corner at the bottom of its infinitely sharp vertical edge.
     Creased,
 }
 
