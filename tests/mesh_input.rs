@@ -748,9 +748,7 @@ fn osd_specific_files() {
     assert_eq!((sizes(&nonquads, 3), sizes(&nonquads, 4)), (7, 7));
     // Bare vertices: a warning naming 10 vertices.
     let bare = load("catmark_nonman_bareverts", false);
-    assert!(
-        matches!(&bare.warnings()[..], [MeshWarning::UnreferencedVertices(v)] if v.len() == 10)
-    );
+    assert!(matches!(bare.warnings(), [MeshWarning::UnreferencedVertices(v)] if v.len() == 10));
     // The left-handed model encloses positive volume only with the flag; the
     // right-handed twin does without it.
     let lh = load("catmark_lefthanded", true);
