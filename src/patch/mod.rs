@@ -4,6 +4,7 @@
 //! - [`regular`]: bicubic B-spline patches of regular (and boundary-regular) quads.
 
 pub mod basis;
+pub mod gregory;
 pub mod regular;
 
 pub use regular::RegularPatch;
