@@ -205,7 +205,7 @@ impl Level {
         }
         let mut cut = vec![false; sub.edge_count()];
         let mut any_cut = false;
-        for e in 0..sub.edge_count() {
+        for (e, c) in cut.iter_mut().enumerate() {
             let [a, b] = sub.edge_verts[e];
             let pe = t
                 .find_edge(map[a as usize], map[b as usize])
@@ -213,11 +213,9 @@ impl Level {
                     crate::Error::Invalid("extract: edge missing in the parent".into())
                 })?;
             sub.edge_sharpness[e] = t.edge_sharpness[pe as usize];
-            if sub.edge_faces[e][1] == topology::NONE && !t.is_boundary_edge(pe) {
-                cut[e] = true;
-                any_cut = true;
-            } else if self.is_cut_edge(pe) {
-                cut[e] = true;
+            let opened = sub.edge_faces[e][1] == topology::NONE && !t.is_boundary_edge(pe);
+            if opened || self.is_cut_edge(pe) {
+                *c = true;
                 any_cut = true;
             }
         }

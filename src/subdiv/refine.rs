@@ -273,8 +273,8 @@ impl Level {
             }
         }
         let mut inc = vec![false; nf + ne + nv];
-        for f in 0..nf {
-            inc[f] = face_bad(f as u32);
+        for (f, x) in inc[..nf].iter_mut().enumerate() {
+            *x = face_bad(f as u32);
         }
         for e in 0..ne {
             inc[nf + e] =

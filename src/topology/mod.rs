@@ -88,7 +88,7 @@ impl Topology {
         )?;
         t.options = mesh.options();
         for c in mesh.creases() {
-            if !(c.sharpness >= 0.0) {
+            if c.sharpness.is_nan() || c.sharpness < 0.0 {
                 return Err(Error::Invalid(format!(
                     "crease {}-{}: invalid sharpness {}",
                     c.v0, c.v1, c.sharpness
@@ -100,7 +100,7 @@ impl Topology {
             t.edge_sharpness[e as usize] = clamp_sharpness(c.sharpness);
         }
         for c in mesh.corners() {
-            if !(c.sharpness >= 0.0) || c.vertex >= t.num_vertices {
+            if c.sharpness.is_nan() || c.sharpness < 0.0 || c.vertex >= t.num_vertices {
                 return Err(Error::Invalid(format!(
                     "corner {}: invalid vertex or sharpness {}",
                     c.vertex, c.sharpness
