@@ -6,7 +6,7 @@ use tessera::mesh::{
     BoundaryInterpolation, ControlMeshDesc, Corner, Crease, ObjOptions, SchemeOptions,
 };
 use tessera::subdiv::eval::LimitEvaluator;
-use tessera::subdiv::limit::limit_positions;
+use tessera::subdiv::limit::{limit_positions, limit_stencil_tables};
 use tessera::subdiv::Level;
 use tessera::{ControlMesh, Error};
 
@@ -409,16 +409,18 @@ fn cube_limit_is_symmetric_and_outward() {
 #[test]
 fn pyramid_with_triangles_is_symmetric() {
     // Square base (quad) and four triangles, apex above the centre; symmetric under x -> -x.
-    let mut d = ControlMeshDesc::default();
-    d.positions = vec![
-        DVec3::new(-1.0, -1.0, 0.0),
-        DVec3::new(1.0, -1.0, 0.0),
-        DVec3::new(1.0, 1.0, 0.0),
-        DVec3::new(-1.0, 1.0, 0.0),
-        DVec3::new(0.0, 0.0, 1.5),
-    ];
-    d.face_sizes = vec![4, 3, 3, 3, 3];
-    d.face_vertices = vec![3, 2, 1, 0, 0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4];
+    let d = ControlMeshDesc {
+        positions: vec![
+            DVec3::new(-1.0, -1.0, 0.0),
+            DVec3::new(1.0, -1.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(-1.0, 1.0, 0.0),
+            DVec3::new(0.0, 0.0, 1.5),
+        ],
+        face_sizes: vec![4, 3, 3, 3, 3],
+        face_vertices: vec![3, 2, 1, 0, 0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4],
+        ..Default::default()
+    };
     let mesh = ControlMesh::new(d).unwrap();
     symmetric_samples(&mesh, |p| DVec3::new(-p.x, p.y, p.z), 4);
     symmetric_samples(&mesh, |p| DVec3::new(p.y, p.x, p.z), 4);
@@ -625,4 +627,63 @@ fn every_osd_mesh_evaluates() {
     }
     eprintln!("evaluated {evaluated}, skipped (non-manifold) {skipped:?}");
     assert!(evaluated >= 70, "only {evaluated} meshes evaluated");
+}
+
+// ---------- limit stencils ------------------------------------------------------------------
+
+/// Limit stencils over the base vertices reproduce the evaluator on a deformed copy of the mesh
+/// (topology fixed, positions changed: the per-frame path).
+#[test]
+fn limit_stencils_follow_deformed_positions() {
+    let mesh = osd("catmark_cube_creases1");
+    let base = Level::from_mesh(&mesh).unwrap();
+    let depth = 2;
+    let tables = limit_stencil_tables(&base, depth).unwrap();
+    // Deform: a twist around z.
+    let moved: Vec<DVec3> = mesh
+        .positions()
+        .iter()
+        .map(|p| {
+            let a = 0.3 * p.z;
+            DVec3::new(
+                p.x * a.cos() - p.y * a.sin(),
+                p.x * a.sin() + p.y * a.cos(),
+                p.z * 1.2,
+            )
+        })
+        .collect();
+    let mut deformed = mesh.clone();
+    deformed.set_positions(&moved).unwrap();
+    let ev = LimitEvaluator::new(&deformed).unwrap();
+    let pos = tables.position.apply_vec(&moved);
+    let tu = tables.tangent_u.apply_vec(&moved);
+    let tv = tables.tangent_v.apply_vec(&moved);
+    let (chain, _) = refine(&mesh, depth);
+    let last = chain.last().unwrap();
+    let n = 1u64 << depth;
+    let diag = deformed.bbox_diagonal();
+    let mut checked = 0;
+    for f in 0..mesh.face_count() {
+        for (i, j) in [(0, 0), (1, 2), (n, 1), (2, 2), (3, n)] {
+            let vtx = refined_vertex(&chain, f as u32, 0, i, j) as usize;
+            let s = ev
+                .eval(f, 0, i as f64 / n as f64, j as f64 / n as f64)
+                .unwrap();
+            assert!(close(pos[vtx], s.position, 1e-9 * diag));
+            // The stencil normal uses the vertex's first face; compare where that face's
+            // sector is the evaluated face's (smooth vertices: everywhere).
+            let first = last.topology().vertex_faces(vtx as u32)[0];
+            let smooth = last
+                .topology()
+                .vertex_edges(vtx as u32)
+                .iter()
+                .all(|&e| last.topology().edge_sharpness(e) == 0.0);
+            if smooth || refined_corner(&chain, f as u32, 0, i, j).0 == first {
+                let normal = tu[vtx].cross(tv[vtx]).normalize();
+                assert!(close(normal, s.normal, 1e-7), "face {f} ({i},{j})");
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 20);
 }

@@ -15,17 +15,21 @@ pub mod masks;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::{Level, SparseMatrix};
+use super::{Level, SparseMatrix, StencilTable};
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::topology::Topology;
 use crate::{Error, Result};
 
 /// Limit position and two tangent masks of one vertex, as weights over vertices of a level.
 ///
-/// The tangents point (for smooth vertices exactly, otherwise as an oriented basis of the
-/// tangent plane) along the two edges of the chosen face at the vertex: `tangent_u` toward the
-/// face's next corner, `tangent_v` toward its previous corner, so `tangent_u x tangent_v` is
-/// the outward normal for a counter-clockwise face.
+/// Tangents are taken in the sector of the chosen face and `tangent_u x tangent_v` is the
+/// outward normal of a counter-clockwise face. At smooth interior vertices they are Halstead's
+/// tangents along the face's edges (`tangent_u` toward the face's next corner, `tangent_v`
+/// toward its previous one; for valence 4 exactly the B-spline partials). Elsewhere they are an
+/// oriented basis of the tangent plane: crease and corner sectors use the sharp edge's tangent
+/// and the cross tangent into the sector; darts, corner tags without sharp edges (cusps, whose
+/// normal is perpendicular to the cusp axis) and other cases the two leading eigenvectors of
+/// the local subdivision matrix. Valence-2 vertices use the two positive 1/4 modes.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct VertexMask {
     /// Vertex indices of the level.
@@ -381,4 +385,73 @@ pub fn limit_normals(level: &Level, positions: &[DVec3]) -> Result<Vec<DVec3>> {
             }
         })
         .collect()
+}
+
+/// Limit stencils of every vertex of a level: position and the two tangents, one row per
+/// vertex (tangents oriented by the vertex's first face; vertices without faces: identity
+/// position row, empty tangent rows).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LimitStencils {
+    /// Limit positions.
+    pub position: SparseMatrix,
+    /// First tangents (see [`VertexMask`]).
+    pub tangent_u: SparseMatrix,
+    /// Second tangents; `tangent_u x tangent_v` is the outward normal.
+    pub tangent_v: SparseMatrix,
+}
+
+/// The limit masks of all vertices of `level` as matrices over `level`'s vertices.
+pub fn limit_matrices(level: &Level) -> Result<LimitStencils> {
+    let topo = level.topology();
+    let n = topo.vertex_count();
+    let masks: Vec<Option<VertexMask>> = (0..n as u32)
+        .into_par_iter()
+        .map(|v| match topo.vertex_faces(v).first() {
+            None => Ok(None),
+            Some(&f) => vertex_mask(level, v, f).map(Some),
+        })
+        .collect::<Result<_>>()?;
+    let build = |k: usize| {
+        SparseMatrix::from_rows(n, n, |r, buf| match &masks[r] {
+            None if k == 0 => buf.push((r as u32, 1.0)),
+            None => {}
+            Some(m) => {
+                let w = [&m.position, &m.tangent_u, &m.tangent_v][k];
+                buf.extend(m.indices.iter().copied().zip(w.iter().copied()));
+            }
+        })
+    };
+    Ok(LimitStencils {
+        position: build(0),
+        tangent_u: build(1),
+        tangent_v: build(2),
+    })
+}
+
+/// Limit stencils of the vertices of uniform level `depth` below `base`, in terms of `base`'s
+/// vertices (the per-frame GPU path: topology fixed, `apply` to new control positions).
+pub fn limit_stencil_tables(base: &Level, depth: u32) -> Result<LimitStencilTables> {
+    let refined = StencilTable::from_level(base, depth);
+    let mut level = base.clone();
+    for _ in 0..depth {
+        level = level.refine_topology();
+    }
+    let m = limit_matrices(&level)?;
+    let over_base = |a: &SparseMatrix| StencilTable::from_matrix(a.compose(refined.matrix()));
+    Ok(LimitStencilTables {
+        position: over_base(&m.position),
+        tangent_u: over_base(&m.tangent_u),
+        tangent_v: over_base(&m.tangent_v),
+    })
+}
+
+/// [`LimitStencils`] composed with the refinement: rows over the base vertices.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LimitStencilTables {
+    /// Limit positions of the level's vertices.
+    pub position: StencilTable,
+    /// First tangents.
+    pub tangent_u: StencilTable,
+    /// Second tangents.
+    pub tangent_v: StencilTable,
 }
