@@ -687,3 +687,108 @@ fn limit_stencils_follow_deformed_positions() {
     }
     assert!(checked > 20);
 }
+
+// ---------- watertightness across faces -----------------------------------------------------
+
+/// Parameter of the point at fraction `t` along edge `k -> k+1` of a face with `n` corners.
+fn edge_param(n: usize, k: usize, t: f64) -> (usize, f64, f64) {
+    if n == 4 {
+        let (u, v) = match k {
+            0 => (t, 0.0),
+            1 => (1.0, t),
+            2 => (1.0 - t, 1.0),
+            _ => (0.0, 1.0 - t),
+        };
+        (0, u, v)
+    } else if t <= 0.5 {
+        (k, 2.0 * t, 0.0)
+    } else {
+        ((k + 1) % n, 0.0, 2.0 * (1.0 - t))
+    }
+}
+
+/// The two faces of every interior edge give the same limit points along it (different code
+/// paths meet there: B-spline patches, local refinement, non-quad sub-faces), and the same
+/// normals unless the edge is infinitely sharp (semi-sharp creases are smooth in the limit).
+#[test]
+fn adjacent_faces_agree_along_shared_edges() {
+    for name in [
+        "catmark_car",
+        "catmark_nonquads",
+        "catmark_cube_creases1",
+        "catmark_pole8",
+        "catmark_dart_edgeonly",
+        "catmark_tent_creases1",
+        "catmark_hole_test2",
+        "catmark_chaikin1",
+    ] {
+        let mesh = osd(name);
+        let ev = LimitEvaluator::new(&mesh).unwrap();
+        let level = Level::from_mesh(&mesh).unwrap();
+        let topo = level.topology();
+        let diag = mesh.bbox_diagonal();
+        let mut checked = 0;
+        for e in 0..topo.edge_count() as u32 {
+            let faces = topo.edge_faces(e);
+            if faces.len() != 2 || !faces.iter().all(|&f| ev.has_limit_surface(f as usize)) {
+                continue;
+            }
+            let [a, b] = topo.edge_vertices(e);
+            let sharp = topo.edge_sharpness(e) >= 10.0;
+            for t in [0.25, 0.5, 0.8] {
+                let mut samples = Vec::new();
+                for &f in faces {
+                    let fv = topo.face_vertices(f);
+                    let n = fv.len();
+                    let k = (0..n)
+                        .find(|&k| {
+                            let (p, q) = (fv[k], fv[(k + 1) % n]);
+                            (p, q) == (a, b) || (p, q) == (b, a)
+                        })
+                        .unwrap();
+                    // Fraction measured from `a`.
+                    let tt = if fv[k] == a { t } else { 1.0 - t };
+                    let (sub, u, v) = edge_param(n, k, tt);
+                    samples.push(ev.eval(f as usize, sub, u, v).unwrap());
+                }
+                let d = (samples[0].position - samples[1].position).length();
+                assert!(d < 1e-9 * diag, "{name} edge {e} t {t}: gap {d}");
+                if !sharp {
+                    let c = samples[0].normal.dot(samples[1].normal);
+                    assert!(c > 1.0 - 1e-9, "{name} edge {e} t {t}: normal cosine {c}");
+                }
+                checked += 1;
+            }
+        }
+        assert!(checked > 0, "{name}");
+        // Smooth vertices: every incident face gives the same limit point and normal.
+        for v in 0..topo.vertex_count() as u32 {
+            let smooth = topo.vertex_sharpness(v) == 0.0
+                && !topo.is_boundary_vertex(v)
+                && topo
+                    .vertex_edges(v)
+                    .iter()
+                    .all(|&e| topo.edge_sharpness(e) == 0.0);
+            let faces = topo.vertex_faces(v);
+            if !smooth || !faces.iter().all(|&f| ev.has_limit_surface(f as usize)) {
+                continue;
+            }
+            let samples: Vec<_> = faces
+                .iter()
+                .map(|&f| {
+                    let fv = topo.face_vertices(f);
+                    let k = fv.iter().position(|&x| x == v).unwrap();
+                    let (sub, u, w) = edge_param(fv.len(), k, 0.0);
+                    ev.eval(f as usize, sub, u, w).unwrap()
+                })
+                .collect();
+            for s in &samples[1..] {
+                assert!((s.position - samples[0].position).length() < 1e-12 * diag);
+                assert!(
+                    s.normal.dot(samples[0].normal) > 1.0 - 1e-9,
+                    "{name} vertex {v}"
+                );
+            }
+        }
+    }
+}
