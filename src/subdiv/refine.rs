@@ -11,7 +11,7 @@ use super::level::Level;
 use super::rules::{child_edge_sharpness, decrement, fractional_weight, vertex_rule};
 use super::rules::{VertexMask, VertexRule};
 use super::sparse::SparseMatrix;
-use crate::topology::par::{for_chunks, Shared};
+use crate::topology::par::{for_chunks, Shared, CHUNK};
 use crate::topology::{Topology, NONE};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -20,8 +20,10 @@ impl Level {
     /// One uniform Catmull-Clark step: the child level and the matrix giving the child vertices
     /// from this level's vertices.
     pub fn refine(&self) -> (Level, SparseMatrix) {
-        let (child, m) = rayon::join(|| self.refine_topology(), || self.refine_matrix());
-        (child, m)
+        if self.topo.corner_count() < 4 * CHUNK {
+            return (self.refine_topology(), self.refine_matrix());
+        }
+        rayon::join(|| self.refine_topology(), || self.refine_matrix())
     }
 
     /// The child level only (topology, sharpness, holes, completeness).
@@ -364,6 +366,23 @@ fn vertex_row(t: &Topology, v: u32, buf: &mut Vec<(u32, f64)>) {
     let edges = t.vertex_edges(v);
     let faces = t.vertex_faces(v);
     let ne = edges.len();
+    let smooth = t.vertex_sharpness[v as usize] <= 0.0
+        && edges.iter().all(|&e| t.edge_sharpness[e as usize] <= 0.0);
+    if smooth && ne == faces.len() && ne >= 2 {
+        // The smooth rule without building a mask (same weights as `VertexMask::add_rule`).
+        let n = ne as f64;
+        let inv = 1.0 / (n * n);
+        buf.push((v, (n - 2.0) / n));
+        for &e in edges {
+            buf.push((t.other_vertex(e, v), inv));
+        }
+        for &f in faces {
+            let verts = t.face_vertices(f);
+            let w = inv / verts.len() as f64;
+            buf.extend(verts.iter().map(|&u| (u, w)));
+        }
+        return;
+    }
     let mut parent = [0f32; 16];
     let mut child = [0f32; 16];
     let mut big_p = Vec::new();

@@ -227,6 +227,8 @@ impl SparseMatrix {
                 },
                 |(acc, touched, buf), c| {
                     let (lo, hi) = (c * CHUNK, ((c + 1) * CHUNK).min(rows));
+                    let acc: &mut [f64] = acc.as_mut_slice();
+                    let (ro, ri, rw) = (&rhs.offsets[..], &rhs.indices[..], &rhs.weights[..]);
                     let mut lens = Vec::with_capacity(hi - lo);
                     let mut idx = Vec::with_capacity((hi - lo) * 20);
                     let mut wts = Vec::with_capacity((hi - lo) * 20);
@@ -234,8 +236,8 @@ impl SparseMatrix {
                         buf.clear();
                         row(r, buf);
                         for &(p, w) in buf.iter() {
-                            let (ri, rw) = rhs.row(p as usize);
-                            for (&q, &x) in ri.iter().zip(rw) {
+                            let (a, b) = (ro[p as usize], ro[p as usize + 1]);
+                            for (&q, &x) in ri[a..b].iter().zip(&rw[a..b]) {
                                 let slot = &mut acc[q as usize];
                                 // A column may be pushed twice if its sum cancels to zero on
                                 // the way; the read-out below zeroes it after the first copy.
@@ -248,8 +250,7 @@ impl SparseMatrix {
                         touched.sort_unstable();
                         let mut n = 0;
                         for &q in touched.iter() {
-                            let w = acc[q as usize];
-                            acc[q as usize] = 0.0;
+                            let w = std::mem::take(&mut acc[q as usize]);
                             if w != 0.0 {
                                 idx.push(q);
                                 wts.push(w);
