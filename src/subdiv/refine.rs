@@ -11,10 +11,9 @@ use super::level::Level;
 use super::rules::{child_edge_sharpness, decrement, fractional_weight, vertex_rule};
 use super::rules::{VertexMask, VertexRule};
 use super::sparse::SparseMatrix;
-use crate::topology::par::{for_chunks, Shared, CHUNK};
+use crate::topology::par::{fill, for_chunks, Shared, CHUNK};
 use crate::topology::{Topology, NONE};
 use glam::DVec3;
-use rayon::prelude::*;
 
 impl Level {
     /// One uniform Catmull-Clark step: the child level and the matrix giving the child vertices
@@ -54,25 +53,18 @@ impl Level {
             let (vf_f, rest) = vfo.split_at_mut(nf);
             let (vf_e, vf_v) = rest.split_at_mut(ne);
             vf_f.copy_from_slice(&t.face_offsets[..nf]);
-            vf_e.par_iter_mut()
-                .enumerate()
-                .for_each(|(e, o)| *o = fv as u32 + 2 * epre[e]);
+            fill(vf_e, |e| fv as u32 + 2 * epre[e]);
             let base = fv as u32 + 2 * epre[ne];
-            vf_v.par_iter_mut()
-                .zip(t.vert_face_offsets.par_iter())
-                .for_each(|(o, &p)| *o = base + p);
+            fill(vf_v, |v| base + t.vert_face_offsets[v]);
             let (ve_f, rest) = veo.split_at_mut(nf);
             let (ve_e, ve_v) = rest.split_at_mut(ne);
             ve_f.copy_from_slice(&t.face_offsets[..nf]);
-            ve_e.par_iter_mut()
-                .enumerate()
-                .for_each(|(e, o)| *o = (fv + 2 * e) as u32 + epre[e]);
+            fill(ve_e, |e| (fv + 2 * e) as u32 + epre[e]);
             let base = (fv + 2 * ne) as u32 + epre[ne];
-            ve_v.par_iter_mut()
-                .zip(t.vert_edge_offsets.par_iter())
-                .for_each(|(o, &p)| *o = base + p);
+            fill(ve_v, |v| base + t.vert_edge_offsets[v]);
         }
-        let face_offsets: Vec<u32> = (0..=fv as u32).into_par_iter().map(|i| 4 * i).collect();
+        let mut face_offsets = vec![0u32; fv + 1];
+        fill(&mut face_offsets, |i| 4 * i as u32);
         let mut face_verts = vec![0u32; 4 * fv];
         let mut face_edges = vec![0u32; 4 * fv];
         let mut edge_verts = vec![[0u32; 2]; cne];

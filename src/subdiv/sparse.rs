@@ -1,7 +1,7 @@
 //! Row-compressed sparse matrices: refinement matrices (child vertices from parent vertices)
 //! and the storage of [`super::StencilTable`].
 
-use crate::topology::par::{Shared, CHUNK};
+use crate::topology::par::{map_chunks, Shared, CHUNK};
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -51,27 +51,24 @@ impl SparseMatrix {
         F: Fn(usize, &mut Vec<(u32, f64)>) + Sync + Send,
     {
         let chunks = rows.div_ceil(CHUNK).max(1);
-        let parts: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)> = (0..chunks)
-            .into_par_iter()
-            .map(|c| {
-                let (lo, hi) = (c * CHUNK, ((c + 1) * CHUNK).min(rows));
-                let mut lens = Vec::with_capacity(hi - lo);
-                let mut idx = Vec::with_capacity((hi - lo) * 8);
-                let mut wts = Vec::with_capacity((hi - lo) * 8);
-                let mut buf = Vec::with_capacity(32);
-                for r in lo..hi {
-                    buf.clear();
-                    row(r, &mut buf);
-                    merge_row(&mut buf);
-                    lens.push(buf.len());
-                    for &(i, w) in &buf {
-                        idx.push(i);
-                        wts.push(w);
-                    }
+        let parts: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)> = map_chunks(chunks, |c| {
+            let (lo, hi) = (c * CHUNK, ((c + 1) * CHUNK).min(rows));
+            let mut lens = Vec::with_capacity(hi - lo);
+            let mut idx = Vec::with_capacity((hi - lo) * 8);
+            let mut wts = Vec::with_capacity((hi - lo) * 8);
+            let mut buf = Vec::with_capacity(32);
+            for r in lo..hi {
+                buf.clear();
+                row(r, &mut buf);
+                merge_row(&mut buf);
+                lens.push(buf.len());
+                for &(i, w) in &buf {
+                    idx.push(i);
+                    wts.push(w);
                 }
-                (lens, idx, wts)
-            })
-            .collect();
+            }
+            (lens, idx, wts)
+        });
         Self::concat(cols, parts)
     }
 
@@ -92,13 +89,18 @@ impl SparseMatrix {
         let mut indices = vec![0u32; nnz];
         let mut weights = vec![0f64; nnz];
         let (si, sw) = (Shared::new(&mut indices), Shared::new(&mut weights));
-        parts.par_iter().zip(starts.par_iter()).for_each(|(p, &s)| {
+        let copy = |(p, &s): (&(Vec<usize>, Vec<u32>, Vec<f64>), &usize)| {
             // SAFETY: blocks occupy consecutive disjoint ranges of the output.
             unsafe {
                 si.range(s, s + p.1.len()).copy_from_slice(&p.1);
                 sw.range(s, s + p.2.len()).copy_from_slice(&p.2);
             }
-        });
+        };
+        if parts.len() <= 1 {
+            parts.iter().zip(starts.iter()).for_each(copy);
+        } else {
+            parts.par_iter().zip(starts.par_iter()).for_each(copy);
+        }
         SparseMatrix {
             cols,
             offsets,
@@ -215,55 +217,56 @@ impl SparseMatrix {
     {
         let cols = rhs.cols;
         let chunks = rows.div_ceil(CHUNK).max(1);
-        let parts: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)> = (0..chunks)
-            .into_par_iter()
-            .map_init(
-                || {
-                    (
-                        vec![0f64; cols],
-                        Vec::<u32>::with_capacity(64),
-                        Vec::<(u32, f64)>::with_capacity(32),
-                    )
-                },
-                |(acc, touched, buf), c| {
-                    let (lo, hi) = (c * CHUNK, ((c + 1) * CHUNK).min(rows));
-                    let acc: &mut [f64] = acc.as_mut_slice();
-                    let (ro, ri, rw) = (&rhs.offsets[..], &rhs.indices[..], &rhs.weights[..]);
-                    let mut lens = Vec::with_capacity(hi - lo);
-                    let mut idx = Vec::with_capacity((hi - lo) * 20);
-                    let mut wts = Vec::with_capacity((hi - lo) * 20);
-                    for r in lo..hi {
-                        buf.clear();
-                        row(r, buf);
-                        for &(p, w) in buf.iter() {
-                            let (a, b) = (ro[p as usize], ro[p as usize + 1]);
-                            for (&q, &x) in ri[a..b].iter().zip(&rw[a..b]) {
-                                let slot = &mut acc[q as usize];
-                                // A column may be pushed twice if its sum cancels to zero on
-                                // the way; the read-out below zeroes it after the first copy.
-                                if *slot == 0.0 {
-                                    touched.push(q);
-                                }
-                                *slot += w * x;
-                            }
-                        }
-                        touched.sort_unstable();
-                        let mut n = 0;
-                        for &q in touched.iter() {
-                            let w = std::mem::take(&mut acc[q as usize]);
-                            if w != 0.0 {
-                                idx.push(q);
-                                wts.push(w);
-                                n += 1;
-                            }
-                        }
-                        touched.clear();
-                        lens.push(n);
-                    }
-                    (lens, idx, wts)
-                },
+        type State = (Vec<f64>, Vec<u32>, Vec<(u32, f64)>);
+        let init = || -> State {
+            (
+                vec![0f64; cols],
+                Vec::with_capacity(64),
+                Vec::with_capacity(32),
             )
-            .collect();
+        };
+        let body = |(acc, touched, buf): &mut State, c: usize| {
+            let (lo, hi) = (c * CHUNK, ((c + 1) * CHUNK).min(rows));
+            let acc: &mut [f64] = acc.as_mut_slice();
+            let (ro, ri, rw) = (&rhs.offsets[..], &rhs.indices[..], &rhs.weights[..]);
+            let mut lens = Vec::with_capacity(hi - lo);
+            let mut idx = Vec::with_capacity((hi - lo) * 20);
+            let mut wts = Vec::with_capacity((hi - lo) * 20);
+            for r in lo..hi {
+                buf.clear();
+                row(r, buf);
+                for &(p, w) in buf.iter() {
+                    let (a, b) = (ro[p as usize], ro[p as usize + 1]);
+                    for (&q, &x) in ri[a..b].iter().zip(&rw[a..b]) {
+                        let slot = &mut acc[q as usize];
+                        // A column may be pushed twice if its sum cancels to zero on
+                        // the way; the read-out below zeroes it after the first copy.
+                        if *slot == 0.0 {
+                            touched.push(q);
+                        }
+                        *slot += w * x;
+                    }
+                }
+                touched.sort_unstable();
+                let mut n = 0;
+                for &q in touched.iter() {
+                    let w = std::mem::take(&mut acc[q as usize]);
+                    if w != 0.0 {
+                        idx.push(q);
+                        wts.push(w);
+                        n += 1;
+                    }
+                }
+                touched.clear();
+                lens.push(n);
+            }
+            (lens, idx, wts)
+        };
+        let parts: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)> = if chunks == 1 {
+            vec![body(&mut init(), 0)]
+        } else {
+            (0..chunks).into_par_iter().map_init(init, body).collect()
+        };
         Self::concat(cols, parts)
     }
 }
