@@ -15,6 +15,9 @@ pub struct SparseMatrix {
     pub(crate) weights: Vec<f64>,
 }
 
+/// A block of consecutive rows: row lengths, indices, weights.
+pub(crate) type Block = (Vec<usize>, Vec<u32>, Vec<f64>);
+
 /// Sorts a row by column and adds up repeated columns, dropping exact zeros.
 pub(crate) fn merge_row(row: &mut Vec<(u32, f64)>) {
     if row.len() > 1 {
@@ -51,7 +54,7 @@ impl SparseMatrix {
         F: Fn(usize, &mut Vec<(u32, f64)>) + Sync + Send,
     {
         let chunks = rows.div_ceil(CHUNK).max(1);
-        let parts: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)> = map_chunks(chunks, |c| {
+        let parts: Vec<Block> = map_chunks(chunks, |c| {
             let (lo, hi) = (c * CHUNK, ((c + 1) * CHUNK).min(rows));
             let mut lens = Vec::with_capacity(hi - lo);
             let mut idx = Vec::with_capacity((hi - lo) * 8);
@@ -73,7 +76,7 @@ impl SparseMatrix {
     }
 
     /// Joins row blocks `(row lengths, indices, weights)` in order.
-    pub(crate) fn concat(cols: usize, parts: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)>) -> Self {
+    pub(crate) fn concat(cols: usize, parts: Vec<Block>) -> Self {
         let rows: usize = parts.iter().map(|p| p.0.len()).sum();
         let mut offsets = Vec::with_capacity(rows + 1);
         offsets.push(0usize);
@@ -89,7 +92,7 @@ impl SparseMatrix {
         let mut indices = vec![0u32; nnz];
         let mut weights = vec![0f64; nnz];
         let (si, sw) = (Shared::new(&mut indices), Shared::new(&mut weights));
-        let copy = |(p, &s): (&(Vec<usize>, Vec<u32>, Vec<f64>), &usize)| {
+        let copy = |(p, &s): (&Block, &usize)| {
             // SAFETY: blocks occupy consecutive disjoint ranges of the output.
             unsafe {
                 si.range(s, s + p.1.len()).copy_from_slice(&p.1);
@@ -262,7 +265,7 @@ impl SparseMatrix {
             }
             (lens, idx, wts)
         };
-        let parts: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)> = if chunks == 1 {
+        let parts: Vec<Block> = if chunks == 1 {
             vec![body(&mut init(), 0)]
         } else {
             (0..chunks).into_par_iter().map_init(init, body).collect()
