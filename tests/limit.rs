@@ -655,6 +655,10 @@ fn limit_stencils_follow_deformed_positions() {
     let mut deformed = mesh.clone();
     deformed.set_positions(&moved).unwrap();
     let ev = LimitEvaluator::new(&deformed).unwrap();
+    // The same evaluator obtained by moving the control points of the original one.
+    let mut moved_ev = LimitEvaluator::new(&mesh).unwrap();
+    moved_ev.set_positions(&moved).unwrap();
+    assert!(moved_ev.set_positions(&moved[1..]).is_err());
     let pos = tables.position.apply_vec(&moved);
     let tu = tables.tangent_u.apply_vec(&moved);
     let tv = tables.tangent_v.apply_vec(&moved);
@@ -670,6 +674,10 @@ fn limit_stencils_follow_deformed_positions() {
                 .eval(f, 0, i as f64 / n as f64, j as f64 / n as f64)
                 .unwrap();
             assert!(close(pos[vtx], s.position, 1e-9 * diag));
+            let m = moved_ev
+                .eval(f, 0, i as f64 / n as f64, j as f64 / n as f64)
+                .unwrap();
+            assert_eq!(m, s);
             // The stencil normal uses the vertex's first face; compare where that face's
             // sector is the evaluated face's (smooth vertices: everywhere).
             let first = last.topology().vertex_faces(vtx as u32)[0];
@@ -791,4 +799,124 @@ fn adjacent_faces_agree_along_shared_edges() {
             }
         }
     }
+}
+
+// ---------- errors and the command line -----------------------------------------------------
+
+#[test]
+fn evaluator_refuses_bad_queries() {
+    let holes = osd("catmark_hole_test1");
+    let ev = LimitEvaluator::new(&holes).unwrap();
+    assert!(!ev.has_limit_surface(1));
+    let e = ev.eval(1, 0, 0.5, 0.5).unwrap_err().to_string();
+    assert!(
+        e.contains("face 1") && e.contains("no limit surface"),
+        "{e}"
+    );
+    assert!(ev.eval(0, 0, 0.5, 0.5).is_ok());
+    assert!(ev
+        .eval(99, 0, 0.5, 0.5)
+        .unwrap_err()
+        .to_string()
+        .contains("face 99"));
+    assert!(
+        ev.eval(0, 1, 0.5, 0.5).is_err(),
+        "quads have only sub-face 0"
+    );
+    assert!(ev.eval(0, 0, 1.5, 0.5).is_err());
+    assert!(ev.eval(0, 0, f64::NAN, 0.5).is_err());
+    // Boundary interpolation "none": faces touching the boundary have no limit surface.
+    let none = osd("catmark_edgenone");
+    let ev = LimitEvaluator::new(&none).unwrap();
+    let with: Vec<usize> = (0..none.face_count())
+        .filter(|&f| ev.has_limit_surface(f))
+        .collect();
+    assert!(!with.is_empty() && with.len() < none.face_count());
+    for f in 0..none.face_count() {
+        assert_eq!(ev.eval(f, 0, 0.5, 0.5).is_ok(), with.contains(&f));
+    }
+}
+
+#[test]
+fn command_line_writes_one_line_per_sample() {
+    let bin = env!("CARGO_BIN_EXE_tessera");
+    let dir = std::env::temp_dir().join(format!("tessera-limit-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("nonquads.txt");
+    let status = std::process::Command::new(bin)
+        .args([
+            "limit",
+            "/work/shared/meshes/osd/catmark_nonquads.obj",
+            "--grid",
+            "3",
+            "--out",
+        ])
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let text = std::fs::read_to_string(&out).unwrap();
+    let mesh = osd("catmark_nonquads");
+    let ev = LimitEvaluator::new(&mesh).unwrap();
+    // 16 samples per quad or per sub-face of a non-quad.
+    let expected: usize = (0..mesh.face_count())
+        .map(|f| {
+            16 * if mesh.face_size(f) == 4 {
+                1
+            } else {
+                mesh.face_size(f)
+            }
+        })
+        .sum();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), expected);
+    let mut k = 0;
+    for f in 0..mesh.face_count() {
+        let n = mesh.face_size(f);
+        for sub in 0..if n == 4 { 1 } else { n } {
+            for j in 0..=3 {
+                for i in 0..=3 {
+                    let cols: Vec<&str> = lines[k].split(' ').collect();
+                    k += 1;
+                    assert_eq!(cols.len(), 9);
+                    let label = if n == 4 {
+                        format!("{f}")
+                    } else {
+                        format!("{f}:{sub}")
+                    };
+                    assert_eq!(cols[0], label);
+                    let num = |c: usize| cols[c].parse::<f32>().unwrap();
+                    assert_eq!((num(1), num(2)), (i as f32 / 3.0, j as f32 / 3.0));
+                    let s = ev.eval(f, sub, i as f64 / 3.0, j as f64 / 3.0).unwrap();
+                    let p = s.position.as_vec3();
+                    let nn = s.normal.as_vec3();
+                    // Printed values read back as exactly the f32 values.
+                    assert_eq!([num(3), num(4), num(5)], [p.x, p.y, p.z]);
+                    assert_eq!([num(6), num(7), num(8)], [nn.x, nn.y, nn.z]);
+                }
+            }
+        }
+    }
+    // Hole faces print nothing.
+    let output = std::process::Command::new(bin)
+        .args([
+            "limit",
+            "/work/shared/meshes/osd/catmark_hole_test1.obj",
+            "--grid",
+            "1",
+        ])
+        .output()
+        .unwrap();
+    assert!(output.status.success());
+    let text = String::from_utf8(output.stdout).unwrap();
+    assert!(text.lines().all(|l| !l.starts_with("1 ")));
+    assert_eq!(text.lines().count(), 5 * 4);
+    // Bad input: a non-zero exit with the typed error.
+    let output = std::process::Command::new(bin)
+        .args(["limit", "/work/shared/meshes/osd/catmark_fan.obj"])
+        .output()
+        .unwrap();
+    assert!(!output.status.success());
+    assert!(String::from_utf8_lossy(&output.stderr).contains("non-manifold edge"));
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -282,6 +282,30 @@ impl LimitEvaluator {
         })
     }
 
+    /// Replaces the control positions (animation: topology, tags and patches are kept).
+    /// Errors if the count differs or a coordinate is not finite.
+    pub fn set_positions(&mut self, positions: &[DVec3]) -> Result<()> {
+        if positions.len() != self.positions.len() {
+            return Err(Error::Invalid(format!(
+                "limit evaluator: got {} positions, mesh has {} vertices",
+                positions.len(),
+                self.positions.len()
+            )));
+        }
+        if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(Error::Invalid(format!(
+                "limit evaluator: vertex {i} has a non-finite coordinate"
+            )));
+        }
+        self.positions.copy_from_slice(positions);
+        Ok(())
+    }
+
+    /// The control positions.
+    pub fn positions(&self) -> &[DVec3] {
+        &self.positions
+    }
+
     /// The base level.
     pub fn level(&self) -> &Level {
         &self.level
