@@ -611,3 +611,56 @@ fn refined_level_round_trips_through_a_control_mesh() {
     }
     assert_eq!(a.vertex_sharpnesses(), b.vertex_sharpnesses());
 }
+
+#[test]
+fn triangles_use_the_general_valence_rules() {
+    // A regular tetrahedron centred at the origin, outward counter-clockwise triangles.
+    let d = ControlMeshDesc {
+        positions: vec![
+            DVec3::new(1.0, 1.0, 1.0),
+            DVec3::new(1.0, -1.0, -1.0),
+            DVec3::new(-1.0, 1.0, -1.0),
+            DVec3::new(-1.0, -1.0, 1.0),
+        ],
+        face_sizes: vec![3; 4],
+        face_vertices: vec![0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2],
+        ..Default::default()
+    };
+    let p = d.positions.clone();
+    let (level, _) = level_of(d);
+    let t = level.topology();
+    assert_eq!(t.edge_count(), 6);
+    let q = level.refine_positions(&p);
+    // With the vertices summing to zero, the valence-3 smooth rule
+    // (1/3) v + (1/9) sum(neighbours) + (1/9) sum(face centroids) gives 7/27 v, and the edge
+    // rule (a + b + c0 + c1) / 4 gives (a + b) / 3.
+    for v in 0..4u32 {
+        let got = q[level.child_vertex_point(v) as usize];
+        assert!(
+            close(got, p[v as usize] * (7.0 / 27.0), 1e-15),
+            "vertex {v}"
+        );
+    }
+    for e in 0..6u32 {
+        let [a, b] = t.edge_vertices(e);
+        let got = q[level.child_edge_point(e) as usize];
+        assert!(
+            close(got, (p[a as usize] + p[b as usize]) / 3.0, 1e-15),
+            "edge {e}"
+        );
+    }
+    // Every child face is a quad (vertex point, edge point, face point, edge point).
+    let c = level.refine_topology();
+    assert_eq!(c.face_count(), 12);
+    for f in 0..12u32 {
+        let fv = c.topology().face_vertices(f);
+        let parent = f / 3;
+        let k = (f % 3) as usize;
+        let pv = t.face_vertices(parent);
+        let pe = t.face_edges(parent);
+        assert_eq!(fv[0], level.child_vertex_point(pv[k]));
+        assert_eq!(fv[1], level.child_edge_point(pe[k]));
+        assert_eq!(fv[2], level.child_face_point(parent));
+        assert_eq!(fv[3], level.child_edge_point(pe[(k + 2) % 3]));
+    }
+}
