@@ -664,3 +664,35 @@ fn triangles_use_the_general_valence_rules() {
         assert_eq!(fv[3], level.child_edge_point(pe[(k + 2) % 3]));
     }
 }
+
+#[test]
+fn extraction_with_a_bow_tie_vertex_refines_without_error() {
+    // Faces (0,0) and (1,1) of a 2x2 grid touch only at the centre vertex 4.
+    let d = grid(2);
+    let p = d.positions.clone();
+    let (level, _) = level_of(d);
+    let (sub, map) = level.extract(&[0, 3]);
+    assert_eq!(map.len(), 7);
+    let centre = map.iter().position(|&v| v == 4).unwrap() as u32;
+    let t = sub.topology();
+    assert_eq!(t.vertex_faces(centre).len(), 2);
+    assert_eq!(t.vertex_edges(centre).len(), 4);
+    assert!(!sub.is_complete_vertex(centre));
+    // Face 0 keeps its boundary corner 0, which is complete (its whole ring is present).
+    assert!(sub.is_complete_vertex(0));
+    assert_eq!(
+        (0..t.edge_count() as u32)
+            .filter(|&e| sub.is_cut_edge(e))
+            .count(),
+        4
+    );
+    let mut pos: Vec<DVec3> = map.iter().map(|&v| p[v as usize]).collect();
+    let mut l = sub;
+    for _ in 0..2 {
+        let (c, m) = l.refine();
+        pos = m.apply_vec(&pos);
+        assert!(pos.iter().all(|x| x.is_finite()));
+        l = c;
+    }
+    assert_eq!(l.face_count(), 32);
+}
