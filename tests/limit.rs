@@ -6,7 +6,7 @@ use tessera::mesh::{
     BoundaryInterpolation, ControlMeshDesc, Corner, Crease, ObjOptions, SchemeOptions,
 };
 use tessera::subdiv::eval::LimitEvaluator;
-use tessera::subdiv::limit::{limit_positions, limit_stencil_tables};
+use tessera::subdiv::limit::{limit_normals, limit_positions, limit_stencil_tables};
 use tessera::subdiv::Level;
 use tessera::{ControlMesh, Error};
 
@@ -261,9 +261,12 @@ fn boundary_regular_faces_agree_with_deep_refinement() {
     let levels = 6;
     let (chain, pos) = refine(&mesh, levels);
     let lim = limit_positions(chain.last().unwrap(), &pos).unwrap();
+    let normals = limit_normals(chain.last().unwrap(), &pos).unwrap();
     let diag = mesh.bbox_diagonal();
     let n = 1u64 << levels;
-    // Boundary faces, including the corner faces (corner rule).
+    // Boundary faces, including the corner faces (corner rule). The evaluator takes the
+    // phantom-point B-spline path here; the limit masks (crease / corner eigen-analysis) of the
+    // level-6 vertices must give the same points and normals.
     for f in [0u32, 1, 2, (w - 1) as u32, (w * h - 1) as u32, w as u32] {
         for (i, j) in [(0, 0), (n, 0), (n / 2, 0), (n / 4, n / 2), (n, n), (3, 7)] {
             let vtx = refined_vertex(&chain, f, 0, i, j) as usize;
@@ -276,6 +279,12 @@ fn boundary_regular_faces_agree_with_deep_refinement() {
                 "face {f} ({i},{j}): {:?} vs {:?}",
                 lim[vtx],
                 s.position
+            );
+            assert!(
+                normals[vtx].dot(s.normal) > 1.0 - 1e-12,
+                "face {f} ({i},{j}): normal {:?} vs {:?}",
+                normals[vtx],
+                s.normal
             );
         }
     }
