@@ -696,3 +696,45 @@ fn extraction_with_a_bow_tie_vertex_refines_without_error() {
     }
     assert_eq!(l.face_count(), 32);
 }
+
+#[test]
+fn dart_ends_use_the_smooth_vertex_rule() {
+    // One infinitely sharp interior edge (2,2)-(3,2): both ends have a single sharp edge.
+    let n = 5;
+    let mut d = grid(n);
+    let (a, b) = (2 * (n + 1) + 2, 2 * (n + 1) + 3);
+    d.creases.push(Crease {
+        v0: a,
+        v1: b,
+        sharpness: INFINITE_SHARPNESS,
+    });
+    let p = d.positions.clone();
+    let (ld, _) = level_of(d);
+    let (ls, _) = level_of(grid(n));
+    let (qd, qs) = (ld.refine_positions(&p), ls.refine_positions(&p));
+    for v in [a, b] {
+        let r = ld.child_vertex_point(v) as usize;
+        assert_eq!(qd[r], qs[r]);
+    }
+    let e = ld.topology().find_edge(a, b).unwrap();
+    let mid = (p[a as usize] + p[b as usize]) * 0.5;
+    assert!(close(qd[ld.child_edge_point(e) as usize], mid, 1e-15));
+}
+
+#[test]
+fn stencil_tables_take_appended_rows() {
+    use tessera::subdiv::{SparseMatrix, StencilTable};
+    let path = "/work/shared/meshes/osd/catmark_nonquads.obj";
+    let mesh = ControlMesh::from_obj_file(path, &ObjOptions::default()).unwrap();
+    let mut table = StencilTable::refined(&mesh, 1).unwrap();
+    let n = table.len();
+    // A row over the level-1 vertices: the mean of child vertices 0 and 5.
+    let mut extra = SparseMatrix::new(n);
+    extra.push_row(&[(0, 0.5), (5, 0.5)]);
+    table.append_composed(&extra);
+    table.push(&[(3, 1.0)]);
+    assert_eq!(table.len(), n + 2);
+    let level1 = table.apply_vec(mesh.positions());
+    assert!(close(level1[n], (level1[0] + level1[5]) * 0.5, 1e-14));
+    assert_eq!(level1[n + 1], mesh.positions()[3]);
+}
