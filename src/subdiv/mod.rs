@@ -6,6 +6,7 @@
 pub mod eval;
 mod level;
 pub mod limit;
+mod points;
 mod refine;
 pub mod rules;
 pub mod sparse;
