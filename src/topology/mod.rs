@@ -244,6 +244,16 @@ impl Topology {
         }
     }
 
+    /// The face across edge `k` (joining corners `k` and `k + 1`) of face `f`, if any.
+    pub fn adjacent_face(&self, f: u32, k: usize) -> Option<u32> {
+        let e = self.face_edges(f)[k] as usize;
+        match self.edge_faces[e] {
+            [a, b] if a == f && b != NONE => Some(b),
+            [a, b] if b == f => Some(a),
+            _ => None,
+        }
+    }
+
     /// Whether edge `e` has a single face.
     pub fn is_boundary_edge(&self, e: u32) -> bool {
         self.edge_faces[e as usize][1] == NONE

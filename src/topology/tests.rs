@@ -140,6 +140,10 @@ fn grid_rings_are_counter_clockwise() {
     assert_eq!(t.face_class(4), FaceClass::RegularQuad);
     assert_eq!(t.face_class(0), FaceClass::Boundary);
     assert_eq!(t.find_edge(5, 6), t.find_edge(6, 5));
+    // Face 4 = (1,1): across its edges k = 0..3 lie faces (1,0), (2,1), (1,2), (0,1).
+    let across: Vec<_> = (0..4).map(|k| t.adjacent_face(4, k)).collect();
+    assert_eq!(across, [Some(1), Some(5), Some(7), Some(3)]);
+    assert_eq!(t.adjacent_face(0, 0), None);
     assert!(t.find_edge(5, 10).is_none());
 }
 
