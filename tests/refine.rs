@@ -460,6 +460,16 @@ fn boundary_corner_rules() {
     let (ln, _) = level_of(d);
     assert_eq!(le.refine_positions(&p), ln.refine_positions(&p));
     assert!(!ln.has_limit_surface(0) && ln.has_limit_surface(5));
+    // Descendants inherit it: the child of face 0 at its corner 2 = (1,1) does not touch the
+    // boundary but still has no limit surface (OpenSubdiv makes these faces holes).
+    let c = ln.refine_topology();
+    let inner_child = ln.child_faces(0).start + 2;
+    let cv = c.topology().face_vertices(inner_child);
+    assert!(cv.iter().all(|&v| !c.topology().is_boundary_vertex(v)));
+    assert!(!c.has_limit_surface(inner_child));
+    assert!(ln.child_faces(5).all(|f| c.has_limit_surface(f)));
+    let (sub, _) = c.extract(&[inner_child, ln.child_faces(5).start]);
+    assert!(!sub.has_limit_surface(0) && sub.has_limit_surface(1));
 }
 
 #[test]

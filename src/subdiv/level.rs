@@ -1,7 +1,7 @@
 //! [`Level`]: one level of a subdivision hierarchy (topology, sharpness, holes), and
 //! extraction of sub-levels around a set of faces.
 
-use crate::mesh::{BoundaryInterpolation, ControlMesh, ControlMeshDesc, Corner, Crease};
+use crate::mesh::{ControlMesh, ControlMeshDesc, Corner, Crease};
 use crate::topology::{self, Topology};
 use crate::Result;
 use glam::DVec3;
@@ -107,24 +107,16 @@ impl Level {
             .any(|&e| self.is_real_boundary_edge(e))
     }
 
-    /// False for holes and, with [`BoundaryInterpolation::None`], for faces touching a real
-    /// boundary vertex.
+    /// False for holes and, with [`crate::mesh::BoundaryInterpolation::None`], for faces touching
+    /// a boundary vertex of the base mesh and their descendants (see
+    /// [`Topology::has_limit_surface`]).
     pub fn has_limit_surface(&self, f: u32) -> bool {
-        if self.topo.is_hole(f) {
-            return false;
-        }
-        if self.topo.options.boundary == BoundaryInterpolation::None {
-            return !self
-                .topo
-                .face_vertices(f)
-                .iter()
-                .any(|&v| self.is_real_boundary_vertex(v));
-        }
-        true
+        self.topo.has_limit_surface(f)
     }
 
     /// A mesh description of this level with the given positions (one per vertex): faces,
-    /// sharp non-boundary edges as creases, sharp vertices as corners, holes and options, so
+    /// sharp non-boundary edges as creases, sharp vertices as corners, faces without limit
+    /// surface as holes, and the options, so
     /// that `ControlMesh::new` rebuilds an equivalent base mesh (e.g. a refined mesh as a new
     /// control mesh for benchmarks).
     pub fn to_mesh_desc(&self, positions: Vec<DVec3>) -> ControlMeshDesc {
@@ -202,6 +194,9 @@ impl Level {
         sub.options = t.options;
         for (i, &f) in faces.iter().enumerate() {
             sub.holes[i] = t.holes[f as usize];
+        }
+        if !t.no_limit.is_empty() {
+            sub.no_limit = faces.iter().map(|&f| t.no_limit[f as usize]).collect();
         }
         let mut cut = vec![false; sub.edge_count()];
         let mut any_cut = false;

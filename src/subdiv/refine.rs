@@ -232,6 +232,7 @@ impl Level {
             edge_sharpness,
             vertex_sharpness,
             holes,
+            no_limit: child_no_limit(t),
             options: t.options,
             max_face_size: 4,
         };
@@ -283,4 +284,17 @@ impl Level {
             if any_inc { inc } else { Vec::new() },
         )
     }
+}
+
+/// The no-limit flags of the child faces: inherited from their parent face.
+fn child_no_limit(t: &Topology) -> Vec<bool> {
+    if t.no_limit.is_empty() {
+        return Vec::new();
+    }
+    let mut out = vec![false; t.corner_count()];
+    for f in 0..t.face_count() {
+        let (a, b) = (t.face_offsets[f] as usize, t.face_offsets[f + 1] as usize);
+        out[a..b].fill(t.no_limit[f]);
+    }
+    out
 }

@@ -65,6 +65,9 @@ pub struct Topology {
     pub(crate) edge_sharpness: Vec<f32>,
     pub(crate) vertex_sharpness: Vec<f32>,
     pub(crate) holes: Vec<bool>,
+    /// Faces without limit surface besides holes (with `BoundaryInterpolation::None`: faces
+    /// touching a boundary vertex of the base mesh, and their descendants); empty if none.
+    pub(crate) no_limit: Vec<bool>,
     pub(crate) options: SchemeOptions,
     pub(crate) max_face_size: u32,
 }
@@ -112,6 +115,14 @@ impl Topology {
             t.holes[f] = mesh.is_hole(f);
         }
         t.apply_boundary_rule();
+        if t.options.boundary == BoundaryInterpolation::None {
+            let no_limit: Vec<bool> = (0..t.face_count() as u32)
+                .map(|f| t.face_vertices(f).iter().any(|&v| t.is_boundary_vertex(v)))
+                .collect();
+            if no_limit.iter().any(|&x| x) {
+                t.no_limit = no_limit;
+            }
+        }
         Ok(t)
     }
 
@@ -312,18 +323,10 @@ impl Topology {
     }
 
     /// False for holes and, with [`BoundaryInterpolation::None`], for faces touching a boundary
-    /// vertex.
+    /// vertex of the base mesh and their descendants in refined levels (OpenSubdiv treats them
+    /// as holes).
     pub fn has_limit_surface(&self, f: u32) -> bool {
-        if self.is_hole(f) {
-            return false;
-        }
-        if self.options.boundary == BoundaryInterpolation::None {
-            return !self
-                .face_vertices(f)
-                .iter()
-                .any(|&v| self.is_boundary_vertex(v));
-        }
-        true
+        !self.is_hole(f) && (self.no_limit.is_empty() || !self.no_limit[f as usize])
     }
 
     /// Whether any sharpness lies on face `f`'s edges or vertices or on edges incident to them.
