@@ -486,18 +486,15 @@ fn children_of_holes_are_holes() {
     assert!((first..first + 16).all(|f| c.topology().is_hole(f)));
 }
 
-/// Extracting faces, refining the extraction and refining the whole mesh agree on every vertex
-/// the extraction reports complete, and their sharpness agrees too.
-#[test]
-fn extraction_refines_like_the_whole_mesh_where_complete() {
-    let path = "/work/shared/meshes/osd/catmark_chaikin1.obj";
-    let mesh = ControlMesh::from_obj_file(path, &ObjOptions::default()).unwrap();
-    let whole = Level::from_mesh(&mesh).unwrap();
+/// Extracts the faces within `rings` vertex-rings of face `seed`, refines the extraction and
+/// the whole mesh three times, and checks that they agree (position, sharpness, limit-surface
+/// flags) on every vertex the extraction reports complete. Returns how many were checked.
+fn check_extraction(mesh: &ControlMesh, seed: u32, rings: usize) -> usize {
+    let whole = Level::from_mesh(mesh).unwrap();
     let t = whole.topology();
-    // Faces within two vertex-rings of face 3.
-    let mut faces: Vec<u32> = Vec::new();
-    let mut verts: Vec<u32> = t.face_vertices(3).to_vec();
-    for _ in 0..2 {
+    let mut faces: Vec<u32> = vec![seed];
+    let mut verts: Vec<u32> = t.face_vertices(seed).to_vec();
+    for _ in 0..rings {
         for &v in &verts {
             faces.extend_from_slice(t.vertex_faces(v));
         }
@@ -508,12 +505,10 @@ fn extraction_refines_like_the_whole_mesh_where_complete() {
             .flat_map(|&f| t.face_vertices(f).to_vec())
             .collect();
     }
-    assert!(faces.len() < t.face_count(), "extraction must be partial");
     let (sub, map) = whole.extract(&faces);
-    assert!(!sub.is_complete());
     let sp: Vec<DVec3> = map.iter().map(|&v| mesh.positions()[v as usize]).collect();
     let (mut wl, mut wp, mut sl, mut spos) = (whole, mesh.positions().to_vec(), sub, sp);
-    // Track which whole-mesh vertex each extracted vertex is, through the refinements.
+    // Track which whole-mesh vertex / face each extracted one is, through the refinements.
     let mut vmap = map;
     let mut fmap: Vec<u32> = faces.clone();
     let mut checked = 0;
@@ -521,19 +516,20 @@ fn extraction_refines_like_the_whole_mesh_where_complete() {
         let (wc, wm) = wl.refine();
         let (sc, sm) = sl.refine();
         let (wt, st) = (wl.topology(), sl.topology());
-        // Map child vertices of the extraction to the whole mesh's children.
         let mut cv = vec![0u32; sc.vertex_count()];
         let mut cf = Vec::new();
         for f in 0..st.face_count() as u32 {
-            cv[sl.child_face_point(f) as usize] = wl.child_face_point(fmap[f as usize]);
             let wf = fmap[f as usize];
+            assert_eq!(sl.has_limit_surface(f), wl.has_limit_surface(wf));
+            cv[sl.child_face_point(f) as usize] = wl.child_face_point(wf);
+            let n = st.face_size(f);
             let wk = wt
                 .face_vertices(wf)
                 .iter()
                 .position(|&v| v == vmap[st.face_vertices(f)[0] as usize])
                 .unwrap();
-            for k in 0..4 {
-                cf.push(wl.child_faces(wf).start + ((wk + k) % 4) as u32);
+            for k in 0..n {
+                cf.push(wl.child_faces(wf).start + ((wk + k) % n) as u32);
             }
         }
         for e in 0..st.edge_count() as u32 {
@@ -546,28 +542,50 @@ fn extraction_refines_like_the_whole_mesh_where_complete() {
         }
         wp = wm.apply_vec(&wp);
         spos = sm.apply_vec(&spos);
+        let (ct, wct) = (sc.topology(), wc.topology());
         for v in 0..sc.vertex_count() as u32 {
             if sc.is_complete_vertex(v) {
                 let w = cv[v as usize];
-                assert!(close(spos[v as usize], wp[w as usize], 1e-13), "vertex {v}");
-                assert_eq!(
-                    sc.topology().vertex_sharpness(v),
-                    wc.topology().vertex_sharpness(w)
-                );
-                for &e in sc.topology().vertex_edges(v) {
-                    let o = sc.topology().other_vertex(e, v);
-                    let we = wc.topology().find_edge(w, cv[o as usize]).unwrap();
-                    assert_eq!(
-                        sc.topology().edge_sharpness(e),
-                        wc.topology().edge_sharpness(we)
-                    );
+                assert!(close(spos[v as usize], wp[w as usize], 1e-12), "vertex {v}");
+                assert_eq!(ct.vertex_sharpness(v), wct.vertex_sharpness(w));
+                assert_eq!(ct.vertex_faces(v).len(), wct.vertex_faces(w).len());
+                for &e in ct.vertex_edges(v) {
+                    let o = ct.other_vertex(e, v);
+                    let we = wct.find_edge(w, cv[o as usize]).unwrap();
+                    assert_eq!(ct.edge_sharpness(e), wct.edge_sharpness(we));
                 }
                 checked += 1;
             }
         }
         (wl, sl, vmap, fmap) = (wc, sc, cv, cf);
     }
+    checked
+}
+
+#[test]
+fn extraction_refines_like_the_whole_mesh_where_complete() {
+    let path = "/work/shared/meshes/osd/catmark_chaikin1.obj";
+    let mesh = ControlMesh::from_obj_file(path, &ObjOptions::default()).unwrap();
+    let checked = check_extraction(&mesh, 3, 2);
     assert!(checked > 100, "only {checked} complete vertices");
+}
+
+#[test]
+fn extractions_of_every_osd_mesh_agree_with_the_whole() {
+    let mut total = 0;
+    for (name, mesh) in osd_meshes() {
+        let nf = mesh.face_count() as u32;
+        for seed in [0, nf / 2, nf - 1] {
+            for rings in [1, 2] {
+                let r = std::panic::catch_unwind(|| check_extraction(&mesh, seed, rings));
+                match r {
+                    Ok(n) => total += n,
+                    Err(_) => panic!("{name}: seed face {seed}, {rings} rings"),
+                }
+            }
+        }
+    }
+    assert!(total > 10_000, "only {total} complete vertices checked");
 }
 
 #[test]
