@@ -110,8 +110,8 @@ impl Level {
                 let hole = t.holes[f];
                 for k in 0..n {
                     let h = off + k;
-                    let hp = off + (k + n - 1) % n;
-                    let hn = off + (k + 1) % n;
+                    let hp = if k == 0 { off + n - 1 } else { h - 1 };
+                    let hn = if k + 1 == n { off } else { h + 1 };
                     let v = t.face_verts[h];
                     let (ek, ekm) = (t.face_edges[h], t.face_edges[hp]);
                     let i = h - a;
@@ -153,7 +153,7 @@ impl Level {
                 let off0 = t.face_offsets[f0 as usize];
                 let n0 = t.face_offsets[f0 as usize + 1] - off0;
                 let c00 = off0 + k0 as u32;
-                let c01 = off0 + (k0 as u32 + 1) % n0;
+                let c01 = off0 + next_corner(k0 as u32, n0);
                 let h0 = (fv + 2 * e) as u32;
                 let i = 2 * (e - lo);
                 evs[i] = [vp(a), ep(e as u32)];
@@ -166,7 +166,7 @@ impl Level {
                     let off1 = t.face_offsets[f1 as usize];
                     let n1 = t.face_offsets[f1 as usize + 1] - off1;
                     let c10 = off1 + k1 as u32;
-                    let c11 = off1 + (k1 as u32 + 1) % n1;
+                    let c11 = off1 + next_corner(k1 as u32, n1);
                     efs[i] = [c00, c11];
                     els[i] = [0, 3];
                     efs[i + 1] = [c01, c10];
@@ -297,4 +297,14 @@ fn child_no_limit(t: &Topology) -> Vec<bool> {
         out[a..b].fill(t.no_limit[f]);
     }
     out
+}
+
+/// `(k + 1) % n` for `k < n`, without a division.
+#[inline]
+fn next_corner(k: u32, n: u32) -> u32 {
+    if k + 1 == n {
+        0
+    } else {
+        k + 1
+    }
 }
