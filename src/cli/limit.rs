@@ -8,13 +8,14 @@ use clap::Args;
 use rayon::prelude::*;
 use tessera::mesh::ObjOptions;
 use tessera::subdiv::eval::{GridSample, LimitEvaluator};
-use tessera::{ControlMesh, Error};
+use tessera::Error;
 
 /// Arguments of `tessera limit`.
 #[derive(Args)]
 pub struct LimitArgs {
-    /// Control mesh (OBJ with OpenSubdiv tags).
-    pub mesh: PathBuf,
+    /// Control mesh: an OBJ file with OpenSubdiv tags, or `embedded:NAME`
+    /// (mixed, open, creased).
+    pub mesh: String,
     /// Grid resolution N: samples at u = i/N, v = j/N, i, j in 0..=N, per quad or quad sub-face.
     #[arg(long, default_value_t = 4)]
     pub grid: usize,
@@ -51,7 +52,7 @@ pub fn run(args: LimitArgs) -> tessera::Result<()> {
     let options = ObjOptions {
         left_handed: args.left_handed,
     };
-    let mesh = ControlMesh::from_obj_file(&args.mesh, &options)?;
+    let mesh = tessera::assets::load_mesh(&args.mesh, &options)?;
     let ev = LimitEvaluator::new(&mesh)?;
     let lines: Vec<String> = (0..ev.face_count())
         .into_par_iter()
