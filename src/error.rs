@@ -1,5 +1,5 @@
 //! The crate's error type. Every failure a user can trigger (bad input, missing device features)
-//! is reported through [`Error`]; nothing a user supplies may cause a panic.
+//! is reported through [`enum@Error`]; nothing a user supplies may cause a panic.
 
 use thiserror::Error;
 

@@ -9,6 +9,7 @@
 //!
 //! No Vulkan type appears in these layers.
 
+pub mod assets;
 pub mod error;
 pub mod gpu;
 pub mod mesh;

@@ -748,9 +748,7 @@ fn osd_specific_files() {
     assert_eq!((sizes(&nonquads, 3), sizes(&nonquads, 4)), (7, 7));
     // Bare vertices: a warning naming 10 vertices.
     let bare = load("catmark_nonman_bareverts", false);
-    assert!(
-        matches!(&bare.warnings()[..], [MeshWarning::UnreferencedVertices(v)] if v.len() == 10)
-    );
+    assert!(matches!(bare.warnings(), [MeshWarning::UnreferencedVertices(v)] if v.len() == 10));
     // The left-handed model encloses positive volume only with the flag; the
     // right-handed twin does without it.
     let lh = load("catmark_lefthanded", true);
@@ -770,4 +768,247 @@ fn osd_specific_files() {
         smooth.warnings(),
         [MeshWarning::SmoothTrianglesIgnored { .. }]
     ));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Embedded meshes
+
+/// Per undirected edge, the number of faces using it (computed here with a map, independently
+/// of the crate's validation).
+fn edge_use(m: &ControlMesh) -> std::collections::HashMap<(u32, u32), u32> {
+    let mut uses = std::collections::HashMap::new();
+    for f in 0..m.face_count() {
+        let face = m.face(f);
+        for k in 0..face.len() {
+            let (a, b) = (face[k], face[(k + 1) % face.len()]);
+            *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    uses
+}
+
+/// (valence, is boundary) of every vertex.
+fn valences(m: &ControlMesh) -> Vec<(usize, bool)> {
+    let mut out = vec![(0usize, false); m.vertex_count()];
+    for (&(a, b), &n) in &edge_use(m) {
+        for v in [a, b] {
+            out[v as usize].0 += 1;
+            out[v as usize].1 |= n == 1;
+        }
+    }
+    out
+}
+
+fn face_size_counts(m: &ControlMesh) -> std::collections::BTreeMap<usize, usize> {
+    let mut c = std::collections::BTreeMap::new();
+    for f in 0..m.face_count() {
+        *c.entry(m.face_size(f)).or_insert(0) += 1;
+    }
+    c
+}
+
+#[test]
+fn embedded_mixed_is_closed_with_the_promised_features() {
+    use tessera::assets::{default_mesh, EmbeddedMesh};
+    let m = EmbeddedMesh::Mixed.load().unwrap();
+    assert_eq!(default_mesh().face_count(), m.face_count());
+    assert!(m.warnings().is_empty());
+    assert!(edge_use(&m).values().all(|&n| n == 2), "closed");
+    assert!(signed_volume6(&m) > 0.0, "counter-clockwise from outside");
+    let sizes = face_size_counts(&m);
+    assert!(sizes[&3] > 0 && sizes[&4] > 0 && sizes[&5] > 0, "{sizes:?}");
+    assert!((20..=200).contains(&m.face_count()));
+    let vals: Vec<usize> = valences(&m).iter().map(|v| v.0).collect();
+    for n in [3, 5, 6] {
+        assert!(vals.contains(&n), "valence {n} missing: {vals:?}");
+    }
+}
+
+#[test]
+fn embedded_open_has_boundary_corners_and_a_boundary_extraordinary_vertex() {
+    use tessera::assets::EmbeddedMesh;
+    let m = EmbeddedMesh::Open.load().unwrap();
+    assert!(m.warnings().is_empty());
+    assert!((20..=200).contains(&m.face_count()));
+    let vals = valences(&m);
+    // Boundary corner: boundary vertex with 2 edges. Regular boundary vertex: 3 edges.
+    assert_eq!(vals.iter().filter(|v| **v == (2, true)).count(), 2);
+    assert!(vals.iter().any(|v| v.1 && v.0 > 3));
+    // Consistently oriented: seen from +z every face turns counter-clockwise (shoelace area).
+    for f in 0..m.face_count() {
+        let face = m.face(f);
+        let p = |k: usize| m.positions()[face[k % face.len()] as usize];
+        let area: f64 = (0..face.len())
+            .map(|k| p(k).x * p(k + 1).y - p(k + 1).x * p(k).y)
+            .sum();
+        assert!(area > 0.0, "face {f}");
+    }
+}
+
+#[test]
+fn embedded_creased_has_semi_sharp_and_infinite_creases_and_a_corner() {
+    use tessera::assets::EmbeddedMesh;
+    use tessera::mesh::INFINITE_SHARPNESS;
+    let m = EmbeddedMesh::Creased.load().unwrap();
+    assert!(m.warnings().is_empty());
+    assert!((20..=200).contains(&m.face_count()));
+    assert!(edge_use(&m).values().all(|&n| n == 2), "closed");
+    assert!(signed_volume6(&m) > 0.0);
+    let s: Vec<f32> = m.creases().iter().map(|c| c.sharpness).collect();
+    for want in [0.5, 1.0, 2.5] {
+        assert!(s.contains(&want), "sharpness {want} missing");
+    }
+    assert!(s.iter().any(|&x| x >= INFINITE_SHARPNESS));
+    assert!(m
+        .corners()
+        .iter()
+        .any(|c| c.sharpness >= INFINITE_SHARPNESS));
+    assert_eq!(
+        face_size_counts(&m).keys().copied().collect::<Vec<_>>(),
+        vec![4]
+    );
+}
+
+#[test]
+fn load_mesh_spec() {
+    use tessera::assets::load_mesh;
+    let o = ObjOptions::default();
+    assert_eq!(load_mesh("embedded:open", &o).unwrap().face_count(), 21);
+    assert!(matches!(
+        load_mesh("embedded:teapot", &o),
+        Err(Error::Invalid(_))
+    ));
+    let car = osd_dir().join("catmark_cube.obj");
+    assert_eq!(
+        load_mesh(car.to_str().unwrap(), &o).unwrap().face_count(),
+        6
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// `tessera info`
+
+fn run_info(args: &[&str]) -> (bool, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_tessera"))
+        .arg("info")
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// The value after `key: ` on the line starting with `key`.
+fn info_field<'a>(report: &'a str, key: &str) -> &'a str {
+    report
+        .lines()
+        .find_map(|l| l.strip_prefix(key)?.strip_prefix(": "))
+        .unwrap_or_else(|| panic!("no `{key}` in\n{report}"))
+}
+
+#[test]
+fn info_on_the_embedded_default_mesh() {
+    let (ok, out, err) = run_info(&["embedded:mixed"]);
+    assert!(ok, "{err}");
+    // Counted by hand from the construction of assets/mixed.obj: 5 + 5 + 6 + 6 + 6 + 1
+    // vertices; 1 pentagon, 22 quads (5 + 5 + 6 + 6), 7 triangles (1 + 6); Euler: V - E + F = 2.
+    assert_eq!(info_field(&out, "faces"), "30 (by size: 3: 7, 4: 22, 5: 1)");
+    assert!(info_field(&out, "vertices").starts_with("29 "));
+    assert_eq!(info_field(&out, "edges"), "57 (boundary 0)");
+    assert_eq!(
+        info_field(&out, "extraordinary vertices, interior"),
+        "7 (by valence: 3: 5, 5: 1, 6: 1)"
+    );
+    let (ok, out, _) = run_info(&["embedded:creased"]);
+    assert!(ok);
+    // 4 vertical chains of 3 edges (0.5, 1, 2.5, 10), the 12-edge top rim (10), one edge of 2.
+    assert_eq!(
+        info_field(&out, "creases"),
+        "25 (by sharpness: 0.5: 3, 1: 3, 2: 1, 2.5: 3, inf: 15)"
+    );
+    assert_eq!(info_field(&out, "corners"), "1 (by sharpness: inf: 1)");
+}
+
+#[test]
+fn info_refuses_bad_input_with_the_typed_error() {
+    let fan = osd_dir().join("catmark_fan.obj");
+    let (ok, out, err) = run_info(&[fan.to_str().unwrap()]);
+    assert!(!ok);
+    assert!(out.is_empty());
+    assert!(err.contains("non-manifold edge 7-8"), "{err}");
+    let path = std::env::temp_dir().join(format!("tessera_bad_{}.obj", std::process::id()));
+    std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n").unwrap();
+    let (ok, _, err) = run_info(&[path.to_str().unwrap()]);
+    std::fs::remove_file(&path).ok();
+    assert!(!ok);
+    assert!(err.contains("line 4") && err.contains("f 1 2 0"), "{err}");
+    let (ok, _, err) = run_info(&["embedded:nothing"]);
+    assert!(!ok && err.contains("no embedded mesh"), "{err}");
+}
+
+/// `tessera info` against the counts SOURCE.md lists for every loadable OpenSubdiv file
+/// (computed there from the OBJ text by a separate script).
+#[test]
+fn info_agrees_with_source_md() {
+    let table = std::fs::read_to_string(osd_dir().join("SOURCE.md")).unwrap();
+    let mut checked = 0;
+    for row in table.lines().filter(|l| l.starts_with("| catmark_")) {
+        let cols: Vec<&str> = row.split('|').map(str::trim).collect();
+        let name = cols[1].trim_end_matches(".obj");
+        if REFUSED.iter().any(|r| r.0 == name) {
+            continue;
+        }
+        let n = |i: usize| cols[i].parse::<usize>().unwrap();
+        let path = osd_dir().join(cols[1]);
+        let mut args = vec![path.to_str().unwrap()];
+        if name == "catmark_lefthanded" {
+            args.push("--left-handed");
+        }
+        let (ok, out, err) = run_info(&args);
+        assert!(ok, "{name}: {err}");
+        assert!(
+            info_field(&out, "vertices").starts_with(&format!("{} ", n(2))),
+            "{name}"
+        );
+        let faces = info_field(&out, "faces");
+        assert!(faces.starts_with(&format!("{} ", n(3))), "{name}");
+        let size = |s: usize| {
+            faces
+                .split(&format!(" {s}: "))
+                .nth(1)
+                .map_or(0, |t| t.split([',', ')']).next().unwrap().parse().unwrap())
+        };
+        let other = n(3) - size(3) - size(4);
+        assert_eq!((size(3), size(4), other), (n(4), n(5), n(6)), "{name}");
+        let count = |key: &str| -> usize {
+            info_field(&out, key)
+                .split(' ')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap()
+        };
+        assert_eq!(count("creases"), n(7), "{name}");
+        assert_eq!(count("corners"), n(8), "{name}");
+        // SOURCE.md counts `t hole` lines; a line may list several faces: count them here.
+        let hole_faces: usize = std::fs::read_to_string(&path)
+            .unwrap()
+            .lines()
+            .filter_map(|l| l.strip_prefix("t hole "))
+            .map(|l| l.split_whitespace().count() - 1)
+            .sum();
+        assert_eq!(n(9) > 0, hole_faces > 0, "{name}");
+        assert_eq!(count("holes"), hole_faces, "{name}");
+        let edges = info_field(&out, "edges");
+        assert!(
+            edges.ends_with(&format!("(boundary {})", n(11))),
+            "{name}: {edges}"
+        );
+        assert_eq!(count("extraordinary vertices, interior"), n(13), "{name}");
+        checked += 1;
+    }
+    assert_eq!(checked, 82 - REFUSED.len());
 }

@@ -65,7 +65,32 @@ pub struct Corner {
 ///
 /// Faces are given as `face_sizes` (one entry per face, each >= 3) and the concatenated
 /// `face_vertices` (0-based), counter-clockwise seen from outside unless `left_handed` is set,
-/// in which case every face is reversed on construction.
+/// in which case every face is reversed on construction (corner 0 stays first). Crease and
+/// corner vertices and hole faces are 0-based. [`ControlMesh::new`] validates everything and
+/// never panics; see [`validate`] for the checks.
+///
+/// ```
+/// use glam::DVec3;
+/// use tessera::mesh::{ControlMeshDesc, Crease, INFINITE_SHARPNESS};
+/// use tessera::ControlMesh;
+///
+/// // A square pyramid: one quad base (seen from below) and four triangles.
+/// let mesh = ControlMesh::new(ControlMeshDesc {
+///     positions: vec![
+///         DVec3::new(-1.0, -1.0, 0.0),
+///         DVec3::new(1.0, -1.0, 0.0),
+///         DVec3::new(1.0, 1.0, 0.0),
+///         DVec3::new(-1.0, 1.0, 0.0),
+///         DVec3::new(0.0, 0.0, 1.0),
+///     ],
+///     face_sizes: vec![4, 3, 3, 3, 3],
+///     face_vertices: vec![0, 3, 2, 1, 0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4],
+///     creases: vec![Crease { v0: 0, v1: 4, sharpness: INFINITE_SHARPNESS }],
+///     ..Default::default()
+/// })?;
+/// assert_eq!(mesh.face_count(), 5);
+/// # Ok::<(), tessera::Error>(())
+/// ```
 #[derive(Debug, Clone, Default)]
 pub struct ControlMeshDesc {
     /// Vertex positions.

@@ -121,7 +121,8 @@ impl Scan {
             warnings: Vec::new(),
             clean: String::with_capacity(text.len()),
         };
-        // (line, text) of the first face using each index beyond the vertices read so far.
+        // (index, line, text) of face references beyond the vertices read so far (allowed if
+        // the vertex comes later in the file).
         let mut forward: Vec<(u32, usize, &str)> = Vec::new();
         for (i, raw) in text.lines().enumerate() {
             let line = i + 1;

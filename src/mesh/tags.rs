@@ -1,4 +1,5 @@
-//! OpenSubdiv-style subdivision tags in OBJ files: `t NAME nint/nfloat[/nstring] ints floats strings`.
+//! OpenSubdiv-style subdivision tags in OBJ files:
+//! `t NAME nint/nfloat[/nstring] ints... floats... strings...`.
 //!
 //! Supported: `crease` (pairs of 0-based vertices, one sharpness shared by all pairs or one per
 //! pair), `corner` (vertices, one shared sharpness or one each), `hole` (0-based faces),

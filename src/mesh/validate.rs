@@ -127,58 +127,68 @@ fn repeated_vertex(face: &[u32], scratch: &mut Vec<u32>) -> Option<u32> {
 /// Undirected edges found by grouping half-edges.
 ///
 /// Half-edge `h` is the corner `h` of `face_vertices` together with the next corner of its
-/// face. `by_lo` lists the half-edges bucketed by their smaller end vertex
-/// (`lo_start[v]..lo_start[v + 1]`) and sorted by the larger end (`hi`, aligned with `by_lo`).
-struct EdgeIndex {
+/// face. `sorted` holds `(hi, h)` for every half-edge, bucketed by the smaller end vertex `lo`
+/// (`lo_start[lo]..lo_start[lo + 1]`, a counting sort) and sorted by the larger end `hi`
+/// inside each bucket.
+struct EdgeIndex<'a> {
     next: Vec<u32>,
-    face_of: Vec<u32>,
+    offsets: &'a [u32],
     lo_start: Vec<u32>,
-    by_lo: Vec<u32>,
-    hi: Vec<u32>,
+    sorted: Vec<(u32, u32)>,
 }
 
-impl EdgeIndex {
-    fn build(fv: &[u32], offsets: &[u32], nv: usize) -> EdgeIndex {
+impl<'a> EdgeIndex<'a> {
+    fn build(fv: &[u32], offsets: &'a [u32], nv: usize) -> EdgeIndex<'a> {
         let nh = fv.len();
         let mut next = vec![0u32; nh];
-        let mut face_of = vec![0u32; nh];
-        for f in 0..offsets.len() - 1 {
-            let (s, e) = (offsets[f], offsets[f + 1]);
-            for c in s..e {
-                next[c as usize] = if c + 1 < e { c + 1 } else { s };
-                face_of[c as usize] = f as u32;
-            }
-        }
         let mut lo_start = vec![0u32; nv + 1];
-        for h in 0..nh {
-            let lo = fv[h].min(fv[next[h] as usize]);
-            lo_start[lo as usize + 1] += 1;
+        for w in offsets.windows(2) {
+            let (s, e) = (w[0] as usize, w[1] as usize);
+            let face = &fv[s..e];
+            for (k, n) in next[s..e].iter_mut().enumerate() {
+                *n = (s + k + 1) as u32;
+                let lo = face[k].min(face[(k + 1) % face.len()]);
+                lo_start[lo as usize + 1] += 1;
+            }
+            next[e - 1] = s as u32;
         }
         for v in 0..nv {
             lo_start[v + 1] += lo_start[v];
         }
         let mut fill = lo_start.clone();
-        let mut by_lo = vec![0u32; nh];
-        for h in 0..nh {
-            let lo = fv[h].min(fv[next[h] as usize]);
-            by_lo[fill[lo as usize] as usize] = h as u32;
-            fill[lo as usize] += 1;
+        let mut sorted = vec![(0u32, 0u32); nh];
+        for (h, (&a, &n)) in fv.iter().zip(&next).enumerate() {
+            let b = fv[n as usize];
+            let lo = a.min(b) as usize;
+            sorted[fill[lo] as usize] = (a.max(b), h as u32);
+            fill[lo] += 1;
         }
-        let hi_of = |h: u32| fv[h as usize].max(fv[next[h as usize] as usize]);
         for v in 0..nv {
-            let bucket = &mut by_lo[lo_start[v] as usize..lo_start[v + 1] as usize];
-            if bucket.len() > 1 {
-                bucket.sort_unstable_by_key(|&h| hi_of(h));
+            let bucket = &mut sorted[lo_start[v] as usize..lo_start[v + 1] as usize];
+            if bucket.len() <= 16 {
+                // Insertion sort: buckets hold a handful of half-edges on ordinary meshes.
+                for i in 1..bucket.len() {
+                    let mut j = i;
+                    while j > 0 && bucket[j - 1].0 > bucket[j].0 {
+                        bucket.swap(j - 1, j);
+                        j -= 1;
+                    }
+                }
+            } else {
+                bucket.sort_unstable_by_key(|e| e.0);
             }
         }
-        let hi = by_lo.iter().map(|&h| hi_of(h)).collect();
         EdgeIndex {
             next,
-            face_of,
+            offsets,
             lo_start,
-            by_lo,
-            hi,
+            sorted,
         }
+    }
+
+    /// The face that corner `c` belongs to.
+    fn face_of(&self, c: usize) -> u32 {
+        (self.offsets.partition_point(|&o| o as usize <= c) - 1) as u32
     }
 
     /// Whether `a`-`b` is an edge of the mesh.
@@ -188,13 +198,15 @@ impl EdgeIndex {
             return false;
         }
         let range = self.lo_start[lo] as usize..self.lo_start[lo + 1] as usize;
-        self.hi[range].binary_search(&hi).is_ok()
+        self.sorted[range]
+            .binary_search_by_key(&hi, |e| e.0)
+            .is_ok()
     }
 
     /// Non-manifold edges, inconsistent winding, bow-tie vertices. Returns, per vertex, whether
     /// any face uses it.
     fn check_manifold(&self, fv: &[u32]) -> Result<Vec<bool>> {
-        let nh = self.by_lo.len();
+        let nh = self.sorted.len();
         let mut fans = UnionFind::new(nh);
         let mut winding: Option<Error> = None;
         for lo in 0..self.lo_start.len() - 1 {
@@ -202,23 +214,24 @@ impl EdgeIndex {
             let mut i = self.lo_start[lo] as usize;
             while i < end {
                 let mut j = i + 1;
-                while j < end && self.hi[j] == self.hi[i] {
+                let hi = self.sorted[i].0;
+                while j < end && self.sorted[j].0 == hi {
                     j += 1;
                 }
-                let group = &self.by_lo[i..j];
-                if group.len() > 2 {
+                if j - i > 2 {
                     return Err(Error::NonManifoldEdge {
                         v0: lo as u32,
-                        v1: self.hi[i],
-                        face_count: group.len() as u32,
+                        v1: hi,
+                        face_count: (j - i) as u32,
                     });
                 }
-                if let [h1, h2] = *group {
+                if j - i == 2 {
+                    let (h1, h2) = (self.sorted[i].1, self.sorted[i + 1].1);
                     let (h1, h2) = (h1 as usize, h2 as usize);
                     let (n1, n2) = (self.next[h1], self.next[h2]);
                     if fv[h1] == fv[h2] {
                         if winding.is_none() {
-                            let (f1, f2) = (self.face_of[h1], self.face_of[h2]);
+                            let (f1, f2) = (self.face_of(h1), self.face_of(h2));
                             winding = Some(Error::InconsistentWinding {
                                 face0: f1.min(f2),
                                 face1: f1.max(f2),
@@ -294,7 +307,7 @@ impl UnionFind {
 }
 
 /// Tag indices in range, sharpness >= 0 and not NaN, creases on existing edges.
-fn check_tags(desc: &ControlMeshDesc, edges: &EdgeIndex) -> Result<()> {
+fn check_tags(desc: &ControlMeshDesc, edges: &EdgeIndex<'_>) -> Result<()> {
     let nv = desc.positions.len() as u32;
     let nf = desc.face_sizes.len() as u32;
     let bad_sharpness = |s: f32| s.is_nan() || s < 0.0;

@@ -230,3 +230,97 @@ pub fn eval_bspline(p: &[DVec3; 16], u: f64, v: f64) -> LimitSample {
     );
     LimitSample::new(pos, du, dv)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{ControlMeshDesc, Crease};
+    use crate::ControlMesh;
+
+    /// A 4 x 4 quad grid; vertex (i, j) has index 5 j + i.
+    fn grid(creases: Vec<Crease>) -> Topology {
+        let mut d = ControlMeshDesc::default();
+        for j in 0..5 {
+            for i in 0..5 {
+                d.positions.push(DVec3::new(i as f64, j as f64, 0.0));
+            }
+        }
+        for j in 0..4u32 {
+            for i in 0..4u32 {
+                let v = 5 * j + i;
+                d.face_sizes.push(4);
+                d.face_vertices.extend([v, v + 1, v + 6, v + 5]);
+            }
+        }
+        d.creases = creases;
+        Topology::new(&ControlMesh::new(d).unwrap()).unwrap()
+    }
+
+    #[test]
+    fn gathers_interior_boundary_and_corner_faces() {
+        let t = grid(Vec::new());
+        // Interior face 5 (corner vertex 6): the 4 x 4 block starting at vertex 0.
+        let p = RegularPatch::gather(&t, 5).unwrap();
+        assert_eq!(p.boundary_mask, 0);
+        let expect: Vec<u32> = (0..4)
+            .flat_map(|j| (0..4).map(move |i| 5 * j + i))
+            .collect();
+        assert_eq!(p.cvs.to_vec(), expect);
+        // Bottom edge face 1: row 0 phantom; its real rows start at vertex 0.
+        let p = RegularPatch::gather(&t, 1).unwrap();
+        assert_eq!(p.boundary_mask, 0b0001);
+        assert_eq!(&p.cvs[4..], &[0, 1, 2, 3, 5, 6, 7, 8, 10, 11, 12, 13]);
+        // Corner face 0: v = 0 and u = 0 sides phantom.
+        assert_eq!(RegularPatch::gather(&t, 0).unwrap().boundary_mask, 0b1001);
+        // Top-right corner face 15: u = 1 and v = 1 sides.
+        assert_eq!(RegularPatch::gather(&t, 15).unwrap().boundary_mask, 0b0110);
+    }
+
+    #[test]
+    fn creases_decide_regularity() {
+        // Infinitely sharp crease along the row j = 2 through the whole grid: faces below it
+        // get a phantom row on their v = 1 side.
+        let row = |s: f32| {
+            (0..4)
+                .map(|i| Crease {
+                    v0: 10 + i,
+                    v1: 11 + i,
+                    sharpness: s,
+                })
+                .collect()
+        };
+        let t = grid(row(10.0));
+        assert_eq!(RegularPatch::gather(&t, 5).unwrap().boundary_mask, 0b0100);
+        assert_eq!(RegularPatch::gather(&t, 9).unwrap().boundary_mask, 0b0001);
+        // Semi-sharp: no patch next to it.
+        let t = grid(row(2.5));
+        assert!(RegularPatch::gather(&t, 5).is_none());
+        assert!(RegularPatch::gather(&t, 1).is_some());
+        // A dart (one sharp edge ending inside) makes its end vertex irregular.
+        let t = grid(vec![Crease {
+            v0: 11,
+            v1: 12,
+            sharpness: 10.0,
+        }]);
+        assert!(RegularPatch::gather(&t, 5).is_none());
+        assert!(RegularPatch::gather(&t, 0).is_some());
+    }
+
+    #[test]
+    fn phantoms_mirror_columns_then_rows() {
+        let t = grid(Vec::new());
+        let pos: Vec<DVec3> = (0..25)
+            .map(|k| DVec3::new((k % 5) as f64, (k / 5) as f64, ((k * 7) % 5) as f64))
+            .collect();
+        let p = RegularPatch::gather(&t, 0).unwrap();
+        let c = p.control_points(&pos);
+        let at = |i: usize, j: usize| c[4 * j + i];
+        assert_eq!(at(0, 1), 2.0 * at(1, 1) - at(2, 1));
+        assert_eq!(at(1, 0), 2.0 * at(1, 1) - at(1, 2));
+        // The corner phantom mirrors the mirrored column.
+        assert_eq!(at(0, 0), 2.0 * at(0, 1) - at(0, 2));
+        // The corner of the patch interpolates the mesh corner (corner rule).
+        let s = p.eval(&pos, 0.0, 0.0);
+        assert!((s.position - pos[0]).length() < 1e-12);
+    }
+}

@@ -1,9 +1,10 @@
 //! [`Level`]: one level of a subdivision hierarchy (topology, sharpness, holes), and
 //! extraction of sub-levels around a set of faces.
 
-use crate::mesh::{BoundaryInterpolation, ControlMesh};
+use crate::mesh::{ControlMesh, ControlMeshDesc, Corner, Crease};
 use crate::topology::{self, Topology};
 use crate::Result;
+use glam::DVec3;
 use std::ops::Range;
 
 /// The unit of refinement: a [`Topology`] (which carries sharpness and holes) plus, for levels
@@ -106,20 +107,53 @@ impl Level {
             .any(|&e| self.is_real_boundary_edge(e))
     }
 
-    /// False for holes and, with [`BoundaryInterpolation::None`], for faces touching a real
-    /// boundary vertex.
+    /// False for holes and, with [`crate::mesh::BoundaryInterpolation::None`], for faces touching
+    /// a boundary vertex of the base mesh and their descendants (see
+    /// [`Topology::has_limit_surface`]).
     pub fn has_limit_surface(&self, f: u32) -> bool {
-        if self.topo.is_hole(f) {
-            return false;
+        self.topo.has_limit_surface(f)
+    }
+
+    /// A mesh description of this level with the given positions (one per vertex): faces,
+    /// sharp non-boundary edges as creases, sharp vertices as corners, faces without limit
+    /// surface as holes, and the options, so
+    /// that `ControlMesh::new` rebuilds an equivalent base mesh (e.g. a refined mesh as a new
+    /// control mesh for benchmarks).
+    pub fn to_mesh_desc(&self, positions: Vec<DVec3>) -> ControlMeshDesc {
+        let t = &self.topo;
+        let face_sizes = (0..t.face_count() as u32)
+            .map(|f| t.face_size(f) as u32)
+            .collect();
+        let creases = (0..t.edge_count() as u32)
+            .filter(|&e| t.edge_sharpness(e) > 0.0 && !t.is_boundary_edge(e))
+            .map(|e| {
+                let [v0, v1] = t.edge_vertices(e);
+                Crease {
+                    v0,
+                    v1,
+                    sharpness: t.edge_sharpness(e),
+                }
+            })
+            .collect();
+        let corners = (0..t.vertex_count() as u32)
+            .filter(|&v| t.vertex_sharpness(v) > 0.0)
+            .map(|v| Corner {
+                vertex: v,
+                sharpness: t.vertex_sharpness(v),
+            })
+            .collect();
+        ControlMeshDesc {
+            positions,
+            face_sizes,
+            face_vertices: t.face_verts.clone(),
+            creases,
+            corners,
+            holes: (0..t.face_count() as u32)
+                .filter(|&f| t.is_hole(f))
+                .collect(),
+            options: t.options,
+            left_handed: false,
         }
-        if self.topo.options.boundary == BoundaryInterpolation::None {
-            return !self
-                .topo
-                .face_vertices(f)
-                .iter()
-                .any(|&v| self.is_real_boundary_vertex(v));
-        }
-        true
     }
 
     /// The sub-level made of `faces` (new face `i` is `faces[i]`), with the real sharpness and
@@ -161,9 +195,12 @@ impl Level {
         for (i, &f) in faces.iter().enumerate() {
             sub.holes[i] = t.holes[f as usize];
         }
+        if !t.no_limit.is_empty() {
+            sub.no_limit = faces.iter().map(|&f| t.no_limit[f as usize]).collect();
+        }
         let mut cut = vec![false; sub.edge_count()];
         let mut any_cut = false;
-        for e in 0..sub.edge_count() {
+        for (e, c) in cut.iter_mut().enumerate() {
             let [a, b] = sub.edge_verts[e];
             let pe = t
                 .find_edge(map[a as usize], map[b as usize])
@@ -171,11 +208,9 @@ impl Level {
                     crate::Error::Invalid("extract: edge missing in the parent".into())
                 })?;
             sub.edge_sharpness[e] = t.edge_sharpness[pe as usize];
-            if sub.edge_faces[e][1] == topology::NONE && !t.is_boundary_edge(pe) {
-                cut[e] = true;
-                any_cut = true;
-            } else if self.is_cut_edge(pe) {
-                cut[e] = true;
+            let opened = sub.edge_faces[e][1] == topology::NONE && !t.is_boundary_edge(pe);
+            if opened || self.is_cut_edge(pe) {
+                *c = true;
                 any_cut = true;
             }
         }

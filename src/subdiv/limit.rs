@@ -1,4 +1,457 @@
-//! Catmull-Clark limit masks: limit positions and tangents of the vertices of a [`Level`]
-//! (smooth interior, crease/boundary, corner, dart), and limit stencils.
+//! Catmull-Clark limit masks: limit position and tangents of any vertex of a [`Level`]
+//! (smooth interior, dart, crease/boundary, corner, semi-sharp), limit positions and normals of
+//! whole levels, and limit stencils.
+//!
+//! Method: a smooth interior vertex whose faces are all quads uses the closed-form masks of
+//! Halstead, Kass, DeRose 1993 (appendix A). A vertex with non-quad faces or semi-sharp edges /
+//! vertex sharpness is first refined locally (`Level::extract` of its faces + `Level::refine`)
+//! until neither remains (at most `ceil(sharpness)` steps). Every other vertex (dart, crease,
+//! corner, boundary) uses the left eigenvectors of its local subdivision matrix restricted to
+//! the sector of the face of interest ([`masks::eigen_limit`]); for crease vertices the position
+//! is the closed form `(1, 4, 1) / 6` along the crease and for corners the vertex itself.
 
 pub mod masks;
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use super::{Level, SparseMatrix, StencilTable};
+use crate::mesh::INFINITE_SHARPNESS;
+use crate::topology::Topology;
+use crate::{Error, Result};
+
+/// Limit position and two tangent masks of one vertex, as weights over vertices of a level.
+///
+/// Tangents are taken in the sector of the chosen face and `tangent_u x tangent_v` is the
+/// outward normal of a counter-clockwise face. At smooth interior vertices they are Halstead's
+/// tangents along the face's edges (`tangent_u` toward the face's next corner, `tangent_v`
+/// toward its previous one; for valence 4 exactly the B-spline partials). Elsewhere they are an
+/// oriented basis of the tangent plane: crease and corner sectors use the sharp edge's tangent
+/// and the cross tangent into the sector; darts, corner tags without sharp edges (cusps, whose
+/// normal is perpendicular to the cusp axis) and other cases the two leading eigenvectors of
+/// the local subdivision matrix. Valence-2 vertices use the two positive 1/4 modes.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct VertexMask {
+    /// Vertex indices of the level.
+    pub indices: Vec<u32>,
+    /// Limit position weights (sum 1).
+    pub position: Vec<f64>,
+    /// First tangent weights (sum 0).
+    pub tangent_u: Vec<f64>,
+    /// Second tangent weights (sum 0).
+    pub tangent_v: Vec<f64>,
+}
+
+impl VertexMask {
+    fn from_triples(mut t: Vec<(u32, [f64; 3])>) -> VertexMask {
+        t.sort_unstable_by_key(|x| x.0);
+        let mut m = VertexMask::default();
+        for (i, w) in t {
+            if m.indices.last() == Some(&i) {
+                let k = m.indices.len() - 1;
+                m.position[k] += w[0];
+                m.tangent_u[k] += w[1];
+                m.tangent_v[k] += w[2];
+            } else {
+                m.indices.push(i);
+                m.position.push(w[0]);
+                m.tangent_u.push(w[1]);
+                m.tangent_v.push(w[2]);
+            }
+        }
+        m
+    }
+
+    /// Applies the mask: `(position, tangent_u, tangent_v)`.
+    pub fn apply(&self, positions: &[DVec3]) -> (DVec3, DVec3, DVec3) {
+        let mut p = DVec3::ZERO;
+        let mut tu = DVec3::ZERO;
+        let mut tv = DVec3::ZERO;
+        for (k, &i) in self.indices.iter().enumerate() {
+            let x = positions[i as usize];
+            p += self.position[k] * x;
+            tu += self.tangent_u[k] * x;
+            tv += self.tangent_v[k] * x;
+        }
+        (p, tu, tv)
+    }
+}
+
+fn is_inf(s: f32) -> bool {
+    s >= INFINITE_SHARPNESS
+}
+
+fn is_semi(s: f32) -> bool {
+    s > 0.0 && s < INFINITE_SHARPNESS
+}
+
+/// Maximum number of local refinement steps (semi-sharpness < 10 decays in at most 10, plus one
+/// step for non-quad faces).
+const MAX_LOCAL_STEPS: u32 = 12;
+
+/// The limit mask of vertex `v` of `level`, with tangents oriented by face `face` (one of the
+/// faces of `v`). Errors if `face` is not incident to `v` or the local iteration fails.
+pub fn vertex_mask(level: &Level, v: u32, face: u32) -> Result<VertexMask> {
+    vertex_mask_rec(level, v, face, 0)
+}
+
+fn vertex_mask_rec(level: &Level, v: u32, face: u32, depth: u32) -> Result<VertexMask> {
+    let topo = level.topology();
+    if v as usize >= topo.vertex_count() || face as usize >= topo.face_count() {
+        return Err(Error::Invalid(format!(
+            "limit mask: vertex {v} or face {face} out of range"
+        )));
+    }
+    let faces = topo.vertex_faces(v);
+    let Some(i) = faces.iter().position(|&g| g == face) else {
+        return Err(Error::Invalid(format!(
+            "limit mask: face {face} is not incident to vertex {v}"
+        )));
+    };
+    let edges = topo.vertex_edges(v);
+    let semi =
+        is_semi(topo.vertex_sharpness(v)) || edges.iter().any(|&e| is_semi(topo.edge_sharpness(e)));
+    let non_quad = faces.iter().any(|&g| topo.face_size(g) != 4);
+    if semi || non_quad {
+        if depth >= MAX_LOCAL_STEPS {
+            return Err(Error::Invalid(format!(
+                "limit mask: vertex {v} still semi-sharp after {depth} local refinements"
+            )));
+        }
+        return refined_mask(level, v, i, depth);
+    }
+    let sharp = edges
+        .iter()
+        .filter(|&&e| is_inf(topo.edge_sharpness(e)))
+        .count();
+    if sharp == 0 && !is_inf(topo.vertex_sharpness(v)) && !topo.is_boundary_vertex(v) {
+        return Ok(smooth_mask(level, v, i));
+    }
+    eigen_mask(level, v, i, sharp)
+}
+
+/// Closed-form smooth interior mask on a quad ring (Halstead et al. 1993, appendix A).
+fn smooth_mask(level: &Level, v: u32, i: usize) -> VertexMask {
+    let topo = level.topology();
+    let faces = topo.vertex_faces(v);
+    let locals = topo.vertex_face_locals(v);
+    let edges = topo.vertex_edges(v);
+    let n = faces.len();
+    let (wv, we, wf) = masks::smooth_position(n);
+    let ((tue, tuf), (tve, tvf)) = if n == 2 {
+        // Valence 2: Halstead's tangents vanish. The subdominant spectrum is 1/4 (twice, left
+        // eigenvectors e_0 - e_1 and f_0 - f_1) and -1/4; the plane of the two positive modes,
+        // oriented as the face (e_a at angle 0, the face's far corner at angle pi/2).
+        let mut e = vec![0.0; 2];
+        let mut f = vec![0.0; 2];
+        e[i] = 0.5;
+        e[1 - i] = -0.5;
+        f[i] = 0.5;
+        f[1 - i] = -0.5;
+        ((e, vec![0.0; 2]), (vec![0.0; 2], f))
+    } else {
+        (
+            masks::smooth_tangent(n, i),
+            masks::smooth_tangent(n, (i + 1) % n),
+        )
+    };
+    let mut t = Vec::with_capacity(2 * n + 1);
+    t.push((v, [wv, 0.0, 0.0]));
+    for j in 0..n {
+        let e = topo.other_vertex(edges[j], v);
+        let fv = topo.face_vertices(faces[j]);
+        let f = fv[(locals[j] as usize + 2) % 4];
+        t.push((e, [we, tue[j], tve[j]]));
+        t.push((f, [wf, tuf[j], tvf[j]]));
+    }
+    VertexMask::from_triples(t)
+}
+
+/// Row `r` of a sparse matrix as `(column, weight)` pairs.
+fn row(m: &SparseMatrix, r: usize) -> impl Iterator<Item = (u32, f64)> + '_ {
+    let (i, w) = m.row(r);
+    i.iter().copied().zip(w.iter().copied())
+}
+
+/// One local refinement step around `v`, then the mask of its child vertex, mapped back.
+fn refined_mask(level: &Level, v: u32, i: usize, depth: u32) -> Result<VertexMask> {
+    let topo = level.topology();
+    let faces = topo.vertex_faces(v).to_vec();
+    let (sub, map) = level.extract(&faces);
+    let v_sub = map
+        .iter()
+        .position(|&x| x == v)
+        .ok_or_else(|| Error::Invalid(format!("limit mask: vertex {v} lost in extraction")))?
+        as u32;
+    // Extraction keeps the order of the given faces: faces[i] is sub face i.
+    let face_sub = i as u32;
+    let (child, r) = sub.refine();
+    let st = sub.topology();
+    let corner = st
+        .face_vertices(face_sub)
+        .iter()
+        .position(|&x| x == v_sub)
+        .ok_or_else(|| Error::Invalid(format!("limit mask: vertex {v} lost in extraction")))?;
+    let v_child = (st.face_count() + st.edge_count()) as u32 + v_sub;
+    let child_face = sub.child_faces(face_sub).start + corner as u32;
+    let cm = vertex_mask_rec(&child, v_child, child_face, depth + 1)?;
+    let mut t = Vec::new();
+    for (k, &c) in cm.indices.iter().enumerate() {
+        let w = [cm.position[k], cm.tangent_u[k], cm.tangent_v[k]];
+        for (col, x) in row(&r, c as usize) {
+            t.push((map[col as usize], [w[0] * x, w[1] * x, w[2] * x]));
+        }
+    }
+    Ok(VertexMask::from_triples(t))
+}
+
+/// Face slots of `v`'s sector containing face slot `i` (between infinitely sharp edges), in
+/// counter-clockwise order.
+fn sector(topo: &Topology, v: u32, i: usize) -> Vec<usize> {
+    let nf = topo.vertex_faces(v).len();
+    let edges = topo.vertex_edges(v);
+    let ne = edges.len();
+    let sharp = |k: usize| is_inf(topo.edge_sharpness(edges[k % ne]));
+    let mut lo = i;
+    let mut count = 1;
+    while !sharp(lo) && count < nf {
+        lo = (lo + nf - 1) % nf;
+        count += 1;
+    }
+    let mut out = vec![lo];
+    let mut j = lo;
+    while out.len() < nf && !sharp(j + 1) {
+        j = (j + 1) % nf;
+        out.push(j);
+    }
+    out
+}
+
+/// Mask from the eigenvectors of the local subdivision matrix restricted to the face's sector
+/// (sectors between infinitely sharp edges do not interact: crease and corner rules only read
+/// the sharp edges' ends).
+fn eigen_mask(level: &Level, v: u32, i: usize, sharp: usize) -> Result<VertexMask> {
+    let topo = level.topology();
+    let faces = topo.vertex_faces(v).to_vec();
+    let fail = || Error::Invalid(format!("limit mask: no convergence at vertex {v}"));
+    let (sub, map) = level.extract(&faces);
+    let v_sub = map.iter().position(|&x| x == v).ok_or_else(fail)? as u32;
+    let (_child, r) = sub.refine();
+    let st = sub.topology();
+    let nf_sub = st.face_count() as u32;
+    let ne_sub = st.edge_count() as u32;
+    let sub_edges = st.vertex_edges(v_sub).to_vec();
+    let sub_faces = st.vertex_faces(v_sub).to_vec();
+    let sub_locals = st.vertex_face_locals(v_sub).to_vec();
+    // Extraction keeps the order of the given faces: faces[i] is sub face i.
+    let i_sub = sub_faces
+        .iter()
+        .position(|&g| g == i as u32)
+        .ok_or_else(fail)?;
+    let sec = sector(st, v_sub, i_sub);
+    // Sector ring (sub-level vertex ids) and, for each, the child vertex that replaces it.
+    let mut ring: Vec<u32> = vec![v_sub];
+    let mut child_of: Vec<(u32, u32)> = vec![(nf_sub + ne_sub + v_sub, v_sub)];
+    let mut edge_slots: Vec<usize> = sec.clone();
+    edge_slots.push(sec[sec.len() - 1] + 1);
+    for &k in &edge_slots {
+        let e = sub_edges[k % sub_edges.len()];
+        let x = st.other_vertex(e, v_sub);
+        if !ring.contains(&x) {
+            ring.push(x);
+            child_of.push((nf_sub + e, x));
+        }
+    }
+    for &k in &sec {
+        let g = sub_faces[k];
+        let fv = st.face_vertices(g);
+        let x = fv[(sub_locals[k] as usize + 2) % 4];
+        if !ring.contains(&x) {
+            ring.push(x);
+            child_of.push((g, x));
+        }
+    }
+    let m = ring.len();
+    let pos_in_ring = |x: u32| ring.iter().position(|&y| y == x);
+    let mut s = masks::Dense {
+        m,
+        a: vec![0.0; m * m],
+    };
+    for &(c, x) in &child_of {
+        let ri = pos_in_ring(x).ok_or_else(fail)?;
+        for (col, w) in row(&r, c as usize) {
+            let ci = pos_in_ring(col).ok_or_else(fail)?;
+            s.a[ri * m + ci] += w;
+        }
+    }
+    let ne = sub_edges.len();
+    let corner_rule = is_inf(topo.vertex_sharpness(v)) || sharp > 2;
+    let lim = if sharp >= 2 {
+        // Sector bounded by sharp edges: lock the exactly known edge tangent and find the cross
+        // tangent pointing into the sector. (lower edge, into sector) is counter-clockwise.
+        let lo = pos_in_ring(st.other_vertex(sub_edges[sec[0] % ne], v_sub)).ok_or_else(fail)?;
+        let last = sec[sec.len() - 1];
+        let hi =
+            pos_in_ring(st.other_vertex(sub_edges[(last + 1) % ne], v_sub)).ok_or_else(fail)?;
+        let mut lock = vec![0.0; m];
+        if corner_rule || lo == hi {
+            lock[lo] += 1.0;
+            lock[0] -= 1.0;
+        } else {
+            lock[lo] += 0.5;
+            lock[hi] -= 0.5;
+        }
+        if corner_rule && sec.len() <= 2 && lo != hi {
+            // Corner sector of one or two faces: both sharp edges' tangents are exact
+            // eigenvectors of the top eigenvalue 1/2 (a Jordan block for two faces).
+            let mut other = vec![0.0; m];
+            other[hi] += 1.0;
+            other[0] -= 1.0;
+            let mut position = vec![0.0; m];
+            position[0] = 1.0;
+            masks::EigenLimit {
+                position,
+                tangents: [lock, other],
+            }
+        } else {
+            let mut hint = vec![1.0 / (m - 1) as f64; m];
+            hint[0] = -1.0;
+            masks::eigen_limit_locked(&s, 0, lock, hint).ok_or_else(fail)?
+        }
+    } else {
+        let a = pos_in_ring(st.other_vertex(sub_edges[i_sub], v_sub)).ok_or_else(fail)?;
+        let b =
+            pos_in_ring(st.other_vertex(sub_edges[(i_sub + 1) % ne], v_sub)).ok_or_else(fail)?;
+        let mut x1 = vec![0.0; m];
+        x1[a] = 1.0;
+        x1[0] = -1.0;
+        let mut x2 = vec![0.0; m];
+        x2[b] = 1.0;
+        x2[0] = -1.0;
+        masks::eigen_limit(&s, 0, [x1, x2]).ok_or_else(fail)?
+    };
+    let mut position = lim.position.clone();
+    // Closed forms where they exist (exact; the tests check them against deep refinement).
+    if corner_rule {
+        position.iter_mut().for_each(|x| *x = 0.0);
+        position[0] = 1.0;
+    } else if sharp == 2 {
+        let (wv, wend) = masks::crease_position();
+        position.iter_mut().for_each(|x| *x = 0.0);
+        position[0] = wv;
+        for &e in &sub_edges {
+            if is_inf(st.edge_sharpness(e)) {
+                let x = pos_in_ring(st.other_vertex(e, v_sub)).ok_or_else(fail)?;
+                position[x] += wend;
+            }
+        }
+    }
+    let t = ring
+        .iter()
+        .enumerate()
+        .map(|(k, &x)| {
+            (
+                map[x as usize],
+                [position[k], lim.tangents[0][k], lim.tangents[1][k]],
+            )
+        })
+        .collect();
+    Ok(VertexMask::from_triples(t))
+}
+
+/// Limit positions of every vertex of `level` (vertices without faces keep their position).
+pub fn limit_positions(level: &Level, positions: &[DVec3]) -> Result<Vec<DVec3>> {
+    let topo = level.topology();
+    (0..topo.vertex_count() as u32)
+        .into_par_iter()
+        .map(|v| match topo.vertex_faces(v).first() {
+            None => Ok(positions[v as usize]),
+            Some(&f) => Ok(vertex_mask(level, v, f)?.apply(positions).0),
+        })
+        .collect()
+}
+
+/// Limit unit normals of every vertex of `level`. At crease and corner vertices the normal is
+/// the one of the sector of the vertex's first face. Vertices without faces get zero.
+pub fn limit_normals(level: &Level, positions: &[DVec3]) -> Result<Vec<DVec3>> {
+    let topo = level.topology();
+    (0..topo.vertex_count() as u32)
+        .into_par_iter()
+        .map(|v| match topo.vertex_faces(v).first() {
+            None => Ok(DVec3::ZERO),
+            Some(&f) => {
+                let (_, tu, tv) = vertex_mask(level, v, f)?.apply(positions);
+                Ok(tu.cross(tv).normalize_or_zero())
+            }
+        })
+        .collect()
+}
+
+/// Limit stencils of every vertex of a level: position and the two tangents, one row per
+/// vertex (tangents oriented by the vertex's first face; vertices without faces: identity
+/// position row, empty tangent rows).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LimitStencils {
+    /// Limit positions.
+    pub position: SparseMatrix,
+    /// First tangents (see [`VertexMask`]).
+    pub tangent_u: SparseMatrix,
+    /// Second tangents; `tangent_u x tangent_v` is the outward normal.
+    pub tangent_v: SparseMatrix,
+}
+
+/// The limit masks of all vertices of `level` as matrices over `level`'s vertices.
+pub fn limit_matrices(level: &Level) -> Result<LimitStencils> {
+    let topo = level.topology();
+    let n = topo.vertex_count();
+    let masks: Vec<Option<VertexMask>> = (0..n as u32)
+        .into_par_iter()
+        .map(|v| match topo.vertex_faces(v).first() {
+            None => Ok(None),
+            Some(&f) => vertex_mask(level, v, f).map(Some),
+        })
+        .collect::<Result<_>>()?;
+    let build = |k: usize| {
+        SparseMatrix::from_rows(n, n, |r, buf| match &masks[r] {
+            None if k == 0 => buf.push((r as u32, 1.0)),
+            None => {}
+            Some(m) => {
+                let w = [&m.position, &m.tangent_u, &m.tangent_v][k];
+                buf.extend(m.indices.iter().copied().zip(w.iter().copied()));
+            }
+        })
+    };
+    Ok(LimitStencils {
+        position: build(0),
+        tangent_u: build(1),
+        tangent_v: build(2),
+    })
+}
+
+/// Limit stencils of the vertices of uniform level `depth` below `base`, in terms of `base`'s
+/// vertices (the per-frame GPU path: topology fixed, `apply` to new control positions).
+pub fn limit_stencil_tables(base: &Level, depth: u32) -> Result<LimitStencilTables> {
+    let refined = StencilTable::from_level(base, depth);
+    let mut level = base.clone();
+    for _ in 0..depth {
+        level = level.refine_topology();
+    }
+    let m = limit_matrices(&level)?;
+    let over_base = |a: &SparseMatrix| StencilTable::from_matrix(a.compose(refined.matrix()));
+    Ok(LimitStencilTables {
+        position: over_base(&m.position),
+        tangent_u: over_base(&m.tangent_u),
+        tangent_v: over_base(&m.tangent_v),
+    })
+}
+
+/// [`LimitStencils`] composed with the refinement: rows over the base vertices.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LimitStencilTables {
+    /// Limit positions of the level's vertices.
+    pub position: StencilTable,
+    /// First tangents.
+    pub tangent_u: StencilTable,
+    /// Second tangents.
+    pub tangent_v: StencilTable,
+}

@@ -6,9 +6,12 @@
 pub mod eval;
 mod level;
 pub mod limit;
+mod points;
 mod refine;
 pub mod rules;
 pub mod sparse;
+mod stencil;
 
 pub use level::Level;
 pub use sparse::SparseMatrix;
+pub use stencil::StencilTable;

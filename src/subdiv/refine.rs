@@ -1,5 +1,5 @@
 //! One uniform Catmull-Clark step: the child topology derived directly from the parent (no
-//! hashing) and the refinement matrix of the child vertices.
+//! hashing); the refinement matrix of the child vertices is in [`super::points`].
 //!
 //! Child vertices: `[face points | edge points | vertex points]`. Child faces: corner `k` of
 //! parent face `f` (at flat index `h = face_offsets[f] + k`) gives the quad `(vertex point of
@@ -8,20 +8,19 @@
 //! parent edge e at 2e and 2e + 1, starting at its first and second end]`.
 
 use super::level::Level;
-use super::rules::{child_edge_sharpness, decrement, fractional_weight, vertex_rule};
-use super::rules::{VertexMask, VertexRule};
+use super::rules::{child_edge_sharpness, decrement};
 use super::sparse::SparseMatrix;
-use crate::topology::par::{for_chunks, Shared};
+use crate::topology::par::{fill, for_chunks, Shared, CHUNK};
 use crate::topology::{Topology, NONE};
-use glam::DVec3;
-use rayon::prelude::*;
 
 impl Level {
     /// One uniform Catmull-Clark step: the child level and the matrix giving the child vertices
     /// from this level's vertices.
     pub fn refine(&self) -> (Level, SparseMatrix) {
-        let (child, m) = rayon::join(|| self.refine_topology(), || self.refine_matrix());
-        (child, m)
+        if self.topo.corner_count() < 4 * CHUNK {
+            return (self.refine_topology(), self.refine_matrix());
+        }
+        rayon::join(|| self.refine_topology(), || self.refine_matrix())
     }
 
     /// The child level only (topology, sharpness, holes, completeness).
@@ -52,25 +51,18 @@ impl Level {
             let (vf_f, rest) = vfo.split_at_mut(nf);
             let (vf_e, vf_v) = rest.split_at_mut(ne);
             vf_f.copy_from_slice(&t.face_offsets[..nf]);
-            vf_e.par_iter_mut()
-                .enumerate()
-                .for_each(|(e, o)| *o = fv as u32 + 2 * epre[e]);
+            fill(vf_e, |e| fv as u32 + 2 * epre[e]);
             let base = fv as u32 + 2 * epre[ne];
-            vf_v.par_iter_mut()
-                .zip(t.vert_face_offsets.par_iter())
-                .for_each(|(o, &p)| *o = base + p);
+            fill(vf_v, |v| base + t.vert_face_offsets[v]);
             let (ve_f, rest) = veo.split_at_mut(nf);
             let (ve_e, ve_v) = rest.split_at_mut(ne);
             ve_f.copy_from_slice(&t.face_offsets[..nf]);
-            ve_e.par_iter_mut()
-                .enumerate()
-                .for_each(|(e, o)| *o = (fv + 2 * e) as u32 + epre[e]);
+            fill(ve_e, |e| (fv + 2 * e) as u32 + epre[e]);
             let base = (fv + 2 * ne) as u32 + epre[ne];
-            ve_v.par_iter_mut()
-                .zip(t.vert_edge_offsets.par_iter())
-                .for_each(|(o, &p)| *o = base + p);
+            fill(ve_v, |v| base + t.vert_edge_offsets[v]);
         }
-        let face_offsets: Vec<u32> = (0..=fv as u32).into_par_iter().map(|i| 4 * i).collect();
+        let mut face_offsets = vec![0u32; fv + 1];
+        fill(&mut face_offsets, |i| 4 * i as u32);
         let mut face_verts = vec![0u32; 4 * fv];
         let mut face_edges = vec![0u32; 4 * fv];
         let mut edge_verts = vec![[0u32; 2]; cne];
@@ -118,8 +110,8 @@ impl Level {
                 let hole = t.holes[f];
                 for k in 0..n {
                     let h = off + k;
-                    let hp = off + (k + n - 1) % n;
-                    let hn = off + (k + 1) % n;
+                    let hp = if k == 0 { off + n - 1 } else { h - 1 };
+                    let hn = if k + 1 == n { off } else { h + 1 };
                     let v = t.face_verts[h];
                     let (ek, ekm) = (t.face_edges[h], t.face_edges[hp]);
                     let i = h - a;
@@ -161,7 +153,7 @@ impl Level {
                 let off0 = t.face_offsets[f0 as usize];
                 let n0 = t.face_offsets[f0 as usize + 1] - off0;
                 let c00 = off0 + k0 as u32;
-                let c01 = off0 + (k0 as u32 + 1) % n0;
+                let c01 = off0 + next_corner(k0 as u32, n0);
                 let h0 = (fv + 2 * e) as u32;
                 let i = 2 * (e - lo);
                 evs[i] = [vp(a), ep(e as u32)];
@@ -174,7 +166,7 @@ impl Level {
                     let off1 = t.face_offsets[f1 as usize];
                     let n1 = t.face_offsets[f1 as usize + 1] - off1;
                     let c10 = off1 + k1 as u32;
-                    let c11 = off1 + (k1 as u32 + 1) % n1;
+                    let c11 = off1 + next_corner(k1 as u32, n1);
                     efs[i] = [c00, c11];
                     els[i] = [0, 3];
                     efs[i + 1] = [c01, c10];
@@ -240,6 +232,7 @@ impl Level {
             edge_sharpness,
             vertex_sharpness,
             holes,
+            no_limit: child_no_limit(t),
             options: t.options,
             max_face_size: 4,
         };
@@ -273,8 +266,8 @@ impl Level {
             }
         }
         let mut inc = vec![false; nf + ne + nv];
-        for f in 0..nf {
-            inc[f] = face_bad(f as u32);
+        for (f, x) in inc[..nf].iter_mut().enumerate() {
+            *x = face_bad(f as u32);
         }
         for e in 0..ne {
             inc[nf + e] =
@@ -291,108 +284,27 @@ impl Level {
             if any_inc { inc } else { Vec::new() },
         )
     }
-
-    /// The refinement matrix: rows are child vertices (face, edge, vertex points), columns are
-    /// this level's vertices.
-    pub fn refine_matrix(&self) -> SparseMatrix {
-        let t = &self.topo;
-        let (nf, ne, nv) = (t.face_count(), t.edge_count(), t.vertex_count());
-        SparseMatrix::from_rows(nf + ne + nv, nv, |r, buf| {
-            if r < nf {
-                face_row(t, r as u32, buf);
-            } else if r < nf + ne {
-                edge_row(t, (r - nf) as u32, buf);
-            } else {
-                vertex_row(t, (r - nf - ne) as u32, buf);
-            }
-        })
-    }
-
-    /// The child vertex positions from this level's positions (one entry per vertex).
-    pub fn refine_positions(&self, positions: &[DVec3]) -> Vec<DVec3> {
-        self.refine_matrix().apply_vec(positions)
-    }
 }
 
-/// Face point: the centroid.
-fn face_row(t: &Topology, f: u32, buf: &mut Vec<(u32, f64)>) {
-    let verts = t.face_vertices(f);
-    let w = 1.0 / verts.len() as f64;
-    buf.extend(verts.iter().map(|&v| (v, w)));
+/// The no-limit flags of the child faces: inherited from their parent face.
+fn child_no_limit(t: &Topology) -> Vec<bool> {
+    if t.no_limit.is_empty() {
+        return Vec::new();
+    }
+    let mut out = vec![false; t.corner_count()];
+    for f in 0..t.face_count() {
+        let (a, b) = (t.face_offsets[f] as usize, t.face_offsets[f + 1] as usize);
+        out[a..b].fill(t.no_limit[f]);
+    }
+    out
 }
 
-/// Edge point: smooth `(v0 + v1 + c0 + c1) / 4` with face centroids `c`, midpoint when the edge
-/// has sharpness `>= 1` or one face, `s * midpoint + (1 - s) * smooth` for `0 < s < 1`
-/// (DeRose et al. 1998, section 3; Köbler 2013, section 3.2).
-fn edge_row(t: &Topology, e: u32, buf: &mut Vec<(u32, f64)>) {
-    let [a, b] = t.edge_verts[e as usize];
-    let s = t.edge_sharpness[e as usize] as f64;
-    if t.is_boundary_edge(e) || s >= 1.0 {
-        buf.extend([(a, 0.5), (b, 0.5)]);
-        return;
-    }
-    let sharp = s.max(0.0);
-    let smooth = 1.0 - sharp;
-    let ends = 0.5 * sharp + 0.25 * smooth;
-    buf.extend([(a, ends), (b, ends)]);
-    for &f in t.edge_faces(e) {
-        let verts = t.face_vertices(f);
-        let w = 0.25 * smooth / verts.len() as f64;
-        buf.extend(verts.iter().map(|&v| (v, w)));
-    }
-}
-
-/// Vertex point: the parent rule, blended with the child rule by the fractional weight when
-/// they differ (DeRose et al. 1998, section 3; [`super::rules`]).
-fn vertex_row(t: &Topology, v: u32, buf: &mut Vec<(u32, f64)>) {
-    let edges = t.vertex_edges(v);
-    let faces = t.vertex_faces(v);
-    let ne = edges.len();
-    let mut parent = [0f32; 16];
-    let mut child = [0f32; 16];
-    let mut big_p = Vec::new();
-    let mut big_c = Vec::new();
-    let (ps, cs): (&mut [f32], &mut [f32]) = if ne <= 16 {
-        (&mut parent[..ne], &mut child[..ne])
+/// `(k + 1) % n` for `k < n`, without a division.
+#[inline]
+fn next_corner(k: u32, n: u32) -> u32 {
+    if k + 1 == n {
+        0
     } else {
-        big_p.resize(ne, 0.0);
-        big_c.resize(ne, 0.0);
-        (&mut big_p[..], &mut big_c[..])
-    };
-    for (i, &e) in edges.iter().enumerate() {
-        ps[i] = t.edge_sharpness[e as usize];
-        cs[i] = child_edge_sharpness(t, e, v);
-    }
-    let pv = t.vertex_sharpness[v as usize];
-    let cv = decrement(pv);
-    let psharp: Vec<usize> = (0..ne).filter(|&i| ps[i] > 0.0).collect();
-    let prule = vertex_rule(pv, psharp.len());
-    let mut mask = VertexMask::default();
-    mask.reset(ne, faces.len());
-    if matches!(prule, VertexRule::Smooth | VertexRule::Dart) {
-        mask.add_rule(prule, &psharp, 1.0);
-    } else {
-        let csharp: Vec<usize> = (0..ne).filter(|&i| cs[i] > 0.0).collect();
-        let crule = vertex_rule(cv, csharp.len());
-        if crule == prule {
-            mask.add_rule(prule, &psharp, 1.0);
-        } else {
-            let w = fractional_weight(pv, cv, ps, cs);
-            mask.add_rule(prule, &psharp, w);
-            mask.add_rule(crule, &csharp, 1.0 - w);
-        }
-    }
-    buf.push((v, mask.vertex));
-    for (i, &e) in edges.iter().enumerate() {
-        if mask.edges[i] != 0.0 {
-            buf.push((t.other_vertex(e, v), mask.edges[i]));
-        }
-    }
-    for (i, &f) in faces.iter().enumerate() {
-        if mask.faces[i] != 0.0 {
-            let verts = t.face_vertices(f);
-            let w = mask.faces[i] / verts.len() as f64;
-            buf.extend(verts.iter().map(|&u| (u, w)));
-        }
+        k + 1
     }
 }

@@ -173,3 +173,45 @@ impl VertexMask {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sharpness_decay_and_rules() {
+        assert_eq!(decrement(2.5), 1.5);
+        assert_eq!(decrement(0.7), 0.0);
+        assert_eq!(decrement(INFINITE_SHARPNESS), INFINITE_SHARPNESS);
+        assert_eq!(decrement(25.0), INFINITE_SHARPNESS);
+        assert_eq!(vertex_rule(0.0, 0), VertexRule::Smooth);
+        assert_eq!(vertex_rule(0.0, 1), VertexRule::Dart);
+        assert_eq!(vertex_rule(0.0, 2), VertexRule::Crease);
+        assert_eq!(vertex_rule(0.0, 3), VertexRule::Corner);
+        assert_eq!(vertex_rule(0.5, 0), VertexRule::Corner);
+    }
+
+    #[test]
+    fn fractional_weight_averages_the_transitions() {
+        // Edges 0.4 and 0.6 become smooth, the 10 stays: (0.4 + 0.6) / 2.
+        let w = fractional_weight(0.0, 0.0, &[0.4, 0.6, 10.0, 0.0], &[0.0, 0.0, 10.0, 0.0]);
+        assert!((w - 0.5).abs() < 1e-7);
+        // A vertex sharpness 0.25 turning smooth together with an edge 1.0 -> 0.
+        let w = fractional_weight(0.25, 0.0, &[1.0], &[0.0]);
+        assert!((w - 0.625).abs() < 1e-7);
+        // Clamped to 1 and 0 without transitions.
+        assert_eq!(fractional_weight(0.0, 0.0, &[3.0, 2.0], &[2.0, 1.0]), 0.0);
+    }
+
+    #[test]
+    fn masks_sum_to_one() {
+        let mut m = VertexMask::default();
+        m.reset(5, 5);
+        m.add_rule(VertexRule::Smooth, &[], 0.3);
+        m.add_rule(VertexRule::Crease, &[1, 3], 0.7);
+        let total = m.vertex + m.edges.iter().sum::<f64>() + m.faces.iter().sum::<f64>();
+        assert!((total - 1.0).abs() < 1e-15);
+        assert!((m.edges[1] - (0.3 / 25.0 + 0.7 / 8.0)).abs() < 1e-15);
+        assert!((m.vertex - (0.3 * 3.0 / 5.0 + 0.7 * 0.75)).abs() < 1e-15);
+    }
+}

@@ -1,7 +1,7 @@
 //! Row-compressed sparse matrices: refinement matrices (child vertices from parent vertices)
 //! and the storage of [`super::StencilTable`].
 
-use crate::topology::par::{Shared, CHUNK};
+use crate::topology::par::{map_chunks, Shared, CHUNK};
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -14,6 +14,9 @@ pub struct SparseMatrix {
     pub(crate) indices: Vec<u32>,
     pub(crate) weights: Vec<f64>,
 }
+
+/// A block of consecutive rows: row lengths, indices, weights.
+pub(crate) type Block = (Vec<usize>, Vec<u32>, Vec<f64>);
 
 /// Sorts a row by column and adds up repeated columns, dropping exact zeros.
 pub(crate) fn merge_row(row: &mut Vec<(u32, f64)>) {
@@ -51,32 +54,29 @@ impl SparseMatrix {
         F: Fn(usize, &mut Vec<(u32, f64)>) + Sync + Send,
     {
         let chunks = rows.div_ceil(CHUNK).max(1);
-        let parts: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)> = (0..chunks)
-            .into_par_iter()
-            .map(|c| {
-                let (lo, hi) = (c * CHUNK, ((c + 1) * CHUNK).min(rows));
-                let mut lens = Vec::with_capacity(hi - lo);
-                let mut idx = Vec::with_capacity((hi - lo) * 8);
-                let mut wts = Vec::with_capacity((hi - lo) * 8);
-                let mut buf = Vec::with_capacity(32);
-                for r in lo..hi {
-                    buf.clear();
-                    row(r, &mut buf);
-                    merge_row(&mut buf);
-                    lens.push(buf.len());
-                    for &(i, w) in &buf {
-                        idx.push(i);
-                        wts.push(w);
-                    }
+        let parts: Vec<Block> = map_chunks(chunks, |c| {
+            let (lo, hi) = (c * CHUNK, ((c + 1) * CHUNK).min(rows));
+            let mut lens = Vec::with_capacity(hi - lo);
+            let mut idx = Vec::with_capacity((hi - lo) * 8);
+            let mut wts = Vec::with_capacity((hi - lo) * 8);
+            let mut buf = Vec::with_capacity(32);
+            for r in lo..hi {
+                buf.clear();
+                row(r, &mut buf);
+                merge_row(&mut buf);
+                lens.push(buf.len());
+                for &(i, w) in &buf {
+                    idx.push(i);
+                    wts.push(w);
                 }
-                (lens, idx, wts)
-            })
-            .collect();
+            }
+            (lens, idx, wts)
+        });
         Self::concat(cols, parts)
     }
 
     /// Joins row blocks `(row lengths, indices, weights)` in order.
-    pub(crate) fn concat(cols: usize, parts: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)>) -> Self {
+    pub(crate) fn concat(cols: usize, parts: Vec<Block>) -> Self {
         let rows: usize = parts.iter().map(|p| p.0.len()).sum();
         let mut offsets = Vec::with_capacity(rows + 1);
         offsets.push(0usize);
@@ -92,13 +92,18 @@ impl SparseMatrix {
         let mut indices = vec![0u32; nnz];
         let mut weights = vec![0f64; nnz];
         let (si, sw) = (Shared::new(&mut indices), Shared::new(&mut weights));
-        parts.par_iter().zip(starts.par_iter()).for_each(|(p, &s)| {
+        let copy = |(p, &s): (&Block, &usize)| {
             // SAFETY: blocks occupy consecutive disjoint ranges of the output.
             unsafe {
                 si.range(s, s + p.1.len()).copy_from_slice(&p.1);
                 sw.range(s, s + p.2.len()).copy_from_slice(&p.2);
             }
-        });
+        };
+        if parts.len() <= 1 {
+            parts.iter().zip(starts.iter()).for_each(copy);
+        } else {
+            parts.par_iter().zip(starts.par_iter()).for_each(copy);
+        }
         SparseMatrix {
             cols,
             offsets,
@@ -201,49 +206,70 @@ impl SparseMatrix {
 
     /// The product `self * rhs` (rows of `self` combine rows of `rhs`), exact zeros pruned.
     pub fn compose(&self, rhs: &SparseMatrix) -> SparseMatrix {
+        Self::compose_rows(self.rows(), rhs, |r, buf| {
+            let (i, w) = self.row(r);
+            buf.extend(i.iter().copied().zip(w.iter().copied()));
+        })
+    }
+
+    /// `rows` rows, row `r` being `sum_k w_k * rhs.row(c_k)` for the `(c_k, w_k)` that
+    /// `row(r, buf)` pushes (repeats allowed); columns sorted, exact zeros pruned.
+    pub fn compose_rows<F>(rows: usize, rhs: &SparseMatrix, row: F) -> SparseMatrix
+    where
+        F: Fn(usize, &mut Vec<(u32, f64)>) + Sync + Send,
+    {
         let cols = rhs.cols;
-        let chunks = self.rows().div_ceil(CHUNK).max(1);
-        let parts: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)> = (0..chunks)
-            .into_par_iter()
-            .map_init(
-                || (vec![0f64; cols], Vec::<u32>::with_capacity(64)),
-                |(acc, touched), c| {
-                    let (lo, hi) = (c * CHUNK, ((c + 1) * CHUNK).min(self.rows()));
-                    let mut lens = Vec::with_capacity(hi - lo);
-                    let mut idx = Vec::with_capacity((hi - lo) * 16);
-                    let mut wts = Vec::with_capacity((hi - lo) * 16);
-                    for r in lo..hi {
-                        let (ci, cw) = self.row(r);
-                        for (&p, &w) in ci.iter().zip(cw) {
-                            let (ri, rw) = rhs.row(p as usize);
-                            for (&q, &x) in ri.iter().zip(rw) {
-                                let slot = &mut acc[q as usize];
-                                if *slot == 0.0 {
-                                    touched.push(q);
-                                }
-                                // A column may be pushed twice if its sum cancels to zero on
-                                // the way; the read-out below zeroes it after the first copy.
-                                *slot += w * x;
-                            }
-                        }
-                        touched.sort_unstable();
-                        let mut n = 0;
-                        for &q in touched.iter() {
-                            let w = acc[q as usize];
-                            acc[q as usize] = 0.0;
-                            if w != 0.0 {
-                                idx.push(q);
-                                wts.push(w);
-                                n += 1;
-                            }
-                        }
-                        touched.clear();
-                        lens.push(n);
-                    }
-                    (lens, idx, wts)
-                },
+        let chunks = rows.div_ceil(CHUNK).max(1);
+        type State = (Vec<f64>, Vec<u32>, Vec<(u32, f64)>);
+        let init = || -> State {
+            (
+                vec![0f64; cols],
+                Vec::with_capacity(64),
+                Vec::with_capacity(32),
             )
-            .collect();
+        };
+        let body = |(acc, touched, buf): &mut State, c: usize| {
+            let (lo, hi) = (c * CHUNK, ((c + 1) * CHUNK).min(rows));
+            let acc: &mut [f64] = acc.as_mut_slice();
+            let (ro, ri, rw) = (&rhs.offsets[..], &rhs.indices[..], &rhs.weights[..]);
+            let mut lens = Vec::with_capacity(hi - lo);
+            let mut idx = Vec::with_capacity((hi - lo) * 20);
+            let mut wts = Vec::with_capacity((hi - lo) * 20);
+            for r in lo..hi {
+                buf.clear();
+                row(r, buf);
+                for &(p, w) in buf.iter() {
+                    let (a, b) = (ro[p as usize], ro[p as usize + 1]);
+                    for (&q, &x) in ri[a..b].iter().zip(&rw[a..b]) {
+                        let slot = &mut acc[q as usize];
+                        // A column may be pushed twice if its sum cancels to zero on
+                        // the way; the read-out below zeroes it after the first copy.
+                        if *slot == 0.0 {
+                            touched.push(q);
+                        }
+                        *slot += w * x;
+                    }
+                }
+                touched.sort_unstable();
+                let mut n = 0;
+                for &q in touched.iter() {
+                    let w = std::mem::take(&mut acc[q as usize]);
+                    if w != 0.0 {
+                        idx.push(q);
+                        wts.push(w);
+                        n += 1;
+                    }
+                }
+                touched.clear();
+                lens.push(n);
+            }
+            (lens, idx, wts)
+        };
+        let parts: Vec<Block> = if chunks == 1 {
+            vec![body(&mut init(), 0)]
+        } else {
+            (0..chunks).into_par_iter().map_init(init, body).collect()
+        };
         Self::concat(cols, parts)
     }
 }

@@ -275,6 +275,7 @@ pub(crate) fn build(
         edge_sharpness: vec![0.0; ne],
         vertex_sharpness: vec![0.0; nv],
         holes: vec![false; nf],
+        no_limit: Vec::new(),
         options: SchemeOptions::default(),
         max_face_size: max_size as u32,
     })

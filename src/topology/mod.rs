@@ -23,7 +23,7 @@ pub(crate) const NONE: u32 = u32::MAX;
 
 /// Per-face classification used by the patch schemes (checked in this order: Hole, Boundary,
 /// Creased, Triangle, Polygon, IrregularQuad, RegularQuad).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum FaceClass {
     /// A quad with four interior valence-4 vertices and no sharpness on or around it.
     RegularQuad,
@@ -65,6 +65,9 @@ pub struct Topology {
     pub(crate) edge_sharpness: Vec<f32>,
     pub(crate) vertex_sharpness: Vec<f32>,
     pub(crate) holes: Vec<bool>,
+    /// Faces without limit surface besides holes (with `BoundaryInterpolation::None`: faces
+    /// touching a boundary vertex of the base mesh, and their descendants); empty if none.
+    pub(crate) no_limit: Vec<bool>,
     pub(crate) options: SchemeOptions,
     pub(crate) max_face_size: u32,
 }
@@ -88,7 +91,7 @@ impl Topology {
         )?;
         t.options = mesh.options();
         for c in mesh.creases() {
-            if !(c.sharpness >= 0.0) {
+            if c.sharpness.is_nan() || c.sharpness < 0.0 {
                 return Err(Error::Invalid(format!(
                     "crease {}-{}: invalid sharpness {}",
                     c.v0, c.v1, c.sharpness
@@ -100,7 +103,7 @@ impl Topology {
             t.edge_sharpness[e as usize] = clamp_sharpness(c.sharpness);
         }
         for c in mesh.corners() {
-            if !(c.sharpness >= 0.0) || c.vertex >= t.num_vertices {
+            if c.sharpness.is_nan() || c.sharpness < 0.0 || c.vertex >= t.num_vertices {
                 return Err(Error::Invalid(format!(
                     "corner {}: invalid vertex or sharpness {}",
                     c.vertex, c.sharpness
@@ -112,6 +115,14 @@ impl Topology {
             t.holes[f] = mesh.is_hole(f);
         }
         t.apply_boundary_rule();
+        if t.options.boundary == BoundaryInterpolation::None {
+            let no_limit: Vec<bool> = (0..t.face_count() as u32)
+                .map(|f| t.face_vertices(f).iter().any(|&v| t.is_boundary_vertex(v)))
+                .collect();
+            if no_limit.iter().any(|&x| x) {
+                t.no_limit = no_limit;
+            }
+        }
         Ok(t)
     }
 
@@ -244,6 +255,16 @@ impl Topology {
         }
     }
 
+    /// The face across edge `k` (joining corners `k` and `k + 1`) of face `f`, if any.
+    pub fn adjacent_face(&self, f: u32, k: usize) -> Option<u32> {
+        let e = self.face_edges(f)[k] as usize;
+        match self.edge_faces[e] {
+            [a, b] if a == f && b != NONE => Some(b),
+            [a, b] if b == f => Some(a),
+            _ => None,
+        }
+    }
+
     /// Whether edge `e` has a single face.
     pub fn is_boundary_edge(&self, e: u32) -> bool {
         self.edge_faces[e as usize][1] == NONE
@@ -302,18 +323,10 @@ impl Topology {
     }
 
     /// False for holes and, with [`BoundaryInterpolation::None`], for faces touching a boundary
-    /// vertex.
+    /// vertex of the base mesh and their descendants in refined levels (OpenSubdiv treats them
+    /// as holes).
     pub fn has_limit_surface(&self, f: u32) -> bool {
-        if self.is_hole(f) {
-            return false;
-        }
-        if self.options.boundary == BoundaryInterpolation::None {
-            return !self
-                .face_vertices(f)
-                .iter()
-                .any(|&v| self.is_boundary_vertex(v));
-        }
-        true
+        !self.is_hole(f) && (self.no_limit.is_empty() || !self.no_limit[f as usize])
     }
 
     /// Whether any sharpness lies on face `f`'s edges or vertices or on edges incident to them.

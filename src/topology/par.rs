@@ -65,3 +65,35 @@ where
         .into_par_iter()
         .try_for_each(|c| f(c * CHUNK, ((c + 1) * CHUNK).min(n)))
 }
+
+/// `out[i] = f(i)` for every element, in parallel chunks when large.
+pub(crate) fn fill<T, F>(out: &mut [T], f: F)
+where
+    T: Send,
+    F: Fn(usize) -> T + Sync + Send,
+{
+    if out.len() <= 4 * CHUNK {
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = f(i);
+        }
+    } else {
+        out.par_chunks_mut(CHUNK).enumerate().for_each(|(c, ch)| {
+            for (j, o) in ch.iter_mut().enumerate() {
+                *o = f(c * CHUNK + j);
+            }
+        });
+    }
+}
+
+/// `(0..chunks).map(f).collect()`, in parallel when there is more than one chunk.
+pub(crate) fn map_chunks<T, F>(chunks: usize, f: F) -> Vec<T>
+where
+    T: Send,
+    F: Fn(usize) -> T + Sync + Send,
+{
+    if chunks <= 1 {
+        (0..chunks).map(f).collect()
+    } else {
+        (0..chunks).into_par_iter().map(f).collect()
+    }
+}

@@ -140,6 +140,10 @@ fn grid_rings_are_counter_clockwise() {
     assert_eq!(t.face_class(4), FaceClass::RegularQuad);
     assert_eq!(t.face_class(0), FaceClass::Boundary);
     assert_eq!(t.find_edge(5, 6), t.find_edge(6, 5));
+    // Face 4 = (1,1): across its edges k = 0..3 lie faces (1,0), (2,1), (1,2), (0,1).
+    let across: Vec<_> = (0..4).map(|k| t.adjacent_face(4, k)).collect();
+    assert_eq!(across, [Some(1), Some(5), Some(7), Some(3)]);
+    assert_eq!(t.adjacent_face(0, 0), None);
     assert!(t.find_edge(5, 10).is_none());
 }
 
@@ -196,4 +200,44 @@ fn structural_errors_are_reported() {
     // Repeated vertex.
     let err = build(4, vec![0, 4], vec![0, 1, 1, 2], true).unwrap_err();
     assert!(format!("{err}").contains("repeated"), "{err}");
+}
+
+#[test]
+fn face_classes_follow_the_documented_order() {
+    let mut d = grid(5, 5);
+    // Hole wins over everything; a sharp vertex makes faces around it Creased.
+    d.holes.push(0);
+    d.corners.push(crate::mesh::Corner {
+        vertex: 14,
+        sharpness: 0.5,
+    });
+    // A triangle fan replacing face (3,3): vertices 21, 22, 28, 27 plus a centre.
+    d.positions.push(DVec3::new(3.5, 3.5, 0.0));
+    let c = 36u32;
+    let mut fv = Vec::new();
+    let mut fs = Vec::new();
+    for f in 0..25usize {
+        let q = &d.face_vertices[4 * f..4 * f + 4];
+        if f == 18 {
+            for k in 0..4 {
+                fs.push(3);
+                fv.extend([q[k], q[(k + 1) % 4], c]);
+            }
+        } else {
+            fs.push(4);
+            fv.extend_from_slice(q);
+        }
+    }
+    d.face_vertices = fv;
+    d.face_sizes = fs;
+    let t = Topology::new(&ControlMesh::new(d).unwrap()).unwrap();
+    assert_eq!(t.face_class(0), FaceClass::Hole);
+    assert!(!t.has_limit_surface(0));
+    assert_eq!(t.face_class(1), FaceClass::Boundary);
+    assert_eq!(t.face_class(7), FaceClass::Creased);
+    assert_eq!(t.face_class(18), FaceClass::Triangle);
+    // Face 13 = (3,2) shares vertices (3,3), (4,3) with the fan: valence 4, triangles around.
+    assert_eq!(t.face_class(13), FaceClass::IrregularQuad);
+    // Face 8 = (3,1): interior, valence 4, quads only, no sharpness near it.
+    assert_eq!(t.face_class(8), FaceClass::RegularQuad);
 }

@@ -68,6 +68,96 @@ impl Dense {
     }
 }
 
+/// The dominant left eigenvector (eigenvalue 1) of an affine subdivision matrix by power
+/// iteration from the unit vector at `centre`, normalised to sum 1.
+pub fn dominant(s: &Dense, centre: usize) -> Option<Vec<f64>> {
+    let mut l = vec![0.0; s.m];
+    l[centre] = 1.0;
+    for _ in 0..4000 {
+        let next = s.left_mul(&l);
+        let diff: f64 = next.iter().zip(&l).map(|(a, b)| (a - b).abs()).sum();
+        l = next;
+        if diff < 1e-15 {
+            let total: f64 = l.iter().sum();
+            if total.abs() < 1e-12 {
+                return None;
+            }
+            l.iter_mut().for_each(|x| *x /= total);
+            return Some(l);
+        }
+    }
+    None
+}
+
+/// Limit masks when one subdominant left eigenvector is known exactly (`lock`, e.g. the crease
+/// tangent `(e_lo - e_hi) / 2` or a corner's edge tangent `e_lo - v`): the second tangent is the
+/// dominant mode of `S` on the complement of `1`-eigenvector and `lock` (power iteration with
+/// deflation and Gram-Schmidt against `lock`), signed to have a positive product with `hint`.
+/// Used at crease and corner sectors, where the spectrum may hold a repeated eigenvalue that
+/// stalls plain subspace iteration (e.g. a boundary vertex with 4 faces: 1, 0.611, 0.5, 0.5).
+pub fn eigen_limit_locked(
+    s: &Dense,
+    centre: usize,
+    lock: Vec<f64>,
+    hint: Vec<f64>,
+) -> Option<EigenLimit> {
+    let l = dominant(s, centre)?;
+    let nl = norm(&lock);
+    if nl < 1e-300 {
+        return None;
+    }
+    let lock_unit: Vec<f64> = lock.iter().map(|x| x / nl).collect();
+    let project = |x: &mut Vec<f64>| -> bool {
+        let c: f64 = x.iter().sum();
+        for (xi, li) in x.iter_mut().zip(&l) {
+            *xi -= c * li;
+        }
+        let d = dot(x, &lock_unit);
+        for (xi, li) in x.iter_mut().zip(&lock_unit) {
+            *xi -= d * li;
+        }
+        let n = norm(x);
+        if n < 1e-300 {
+            return false;
+        }
+        x.iter_mut().for_each(|v| *v /= n);
+        true
+    };
+    let mut hint = hint;
+    if !project(&mut hint) {
+        return None;
+    }
+    let mut x = hint.clone();
+    // A repeated quotient eigenvalue with a Jordan block (e.g. a crease vertex whose sector has
+    // one face: spectrum 1, 1/2, 1/4, 1/4) converges only like 1/k: allow many cheap steps and
+    // accept a direction that has stopped moving to 1e-7 per step (its error is then ~1e-4).
+    let max_iter = (20_000_000 / (s.m * s.m)).clamp(4000, 50_000);
+    for it in 0..max_iter {
+        let mut y = s.left_mul(&x);
+        if !project(&mut y) {
+            return None;
+        }
+        let sign = if dot(&y, &x) < 0.0 { -1.0 } else { 1.0 };
+        let diff: f64 = y
+            .iter()
+            .zip(&x)
+            .map(|(a, b)| (a - sign * b).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        x = y;
+        if diff < 1e-13 || (it + 1 == max_iter && diff < 1e-7) {
+            if dot(&x, &hint) < 0.0 {
+                x.iter_mut().for_each(|v| *v = -*v);
+            }
+            return Some(EigenLimit {
+                position: l,
+                tangents: [lock, x],
+            });
+        }
+    }
+    None
+}
+
 /// Result of [`eigen_limit`]: weights over the ring entries of the local subdivision matrix.
 #[derive(Debug, Clone)]
 pub struct EigenLimit {
@@ -87,98 +177,58 @@ fn norm(a: &[f64]) -> f64 {
 }
 
 /// Limit masks from the local subdivision matrix `s` (rows: the ring after one step in terms of
-/// the ring before; affine, so rows sum to 1), by power iteration for the dominant left
-/// eigenvector and orthonormalised subspace iteration (Gram-Schmidt, which keeps the orientation
-/// of the pair) for the two subdominant left eigenvectors (Halstead et al. 1993 §A: limit
-/// position and tangents are the left eigenvectors of the subdivision matrix).
+/// the ring before; affine, so rows sum to 1). Halstead et al. 1993 §A: limit position and
+/// tangents are left eigenvectors of the subdivision matrix.
 ///
-/// `centre` is the ring entry of the vertex, `start` the two starting tangent vectors (e.g.
-/// `e_a - e_centre`, `e_b - e_centre`), which fix the orientation. Returns `None` when the
-/// iteration does not converge.
+/// `centre` is the ring entry of the vertex; `start = [x_a, x_b]` are the face's two edge
+/// vectors at the vertex (`e_a - e_centre`, `e_b - e_centre`, counter-clockwise). The first
+/// tangent is the dominant mode reached from `x_a + x_b` (power iteration with deflation of the
+/// eigenvalue 1), the second the dominant mode of the quotient by the first, signed by
+/// `x_b - x_a`. Since `(x_a + x_b) x (x_b - x_a) = 2 x_a x x_b`, the pair keeps the face's
+/// orientation. This also covers spectra whose top mode is simple (darts, corner tags with
+/// smooth edges) where the tangent "plane" is spanned by two modes of different eigenvalues.
+/// Returns `None` when the iteration does not converge.
 pub fn eigen_limit(s: &Dense, centre: usize, start: [Vec<f64>; 2]) -> Option<EigenLimit> {
-    let m = s.m;
-    let mut l = vec![0.0; m];
-    l[centre] = 1.0;
-    let mut converged = false;
-    for _ in 0..2000 {
-        let next = s.left_mul(&l);
-        let diff: f64 = next.iter().zip(&l).map(|(a, b)| (a - b).abs()).sum();
-        l = next;
-        if diff < 1e-15 {
-            converged = true;
-            break;
-        }
-    }
-    if !converged {
-        return None;
-    }
-    let total: f64 = l.iter().sum();
-    if total.abs() < 1e-12 {
-        return None;
-    }
-    l.iter_mut().for_each(|x| *x /= total);
-
-    let deflate = |x: &mut Vec<f64>| {
+    let l = dominant(s, centre)?;
+    let [xa, xb] = start;
+    let deflate_unit = |x: &mut Vec<f64>| -> bool {
         let c: f64 = x.iter().sum();
         for (xi, li) in x.iter_mut().zip(&l) {
             *xi -= c * li;
         }
-    };
-    let [mut x1, mut x2] = start;
-    let orthonormalise = |x1: &mut Vec<f64>, x2: &mut Vec<f64>| -> bool {
-        let n1 = norm(x1);
-        if n1 < 1e-300 {
+        let n = norm(x);
+        if n < 1e-300 {
             return false;
         }
-        x1.iter_mut().for_each(|x| *x /= n1);
-        let c = dot(x1, x2);
-        x2.iter_mut().zip(x1.iter()).for_each(|(b, a)| *b -= c * a);
-        let n2 = norm(x2);
-        if n2 < 1e-300 {
-            return false;
-        }
-        x2.iter_mut().for_each(|x| *x /= n2);
+        x.iter_mut().for_each(|v| *v /= n);
         true
     };
-    deflate(&mut x1);
-    deflate(&mut x2);
-    if !orthonormalise(&mut x1, &mut x2) {
+    let mut x: Vec<f64> = xa.iter().zip(&xb).map(|(a, b)| a + b).collect();
+    if !deflate_unit(&mut x) {
         return None;
     }
-    let mut converged = false;
-    for _ in 0..4000 {
-        let mut y1 = s.left_mul(&x1);
-        let mut y2 = s.left_mul(&x2);
-        deflate(&mut y1);
-        deflate(&mut y2);
-        if !orthonormalise(&mut y1, &mut y2) {
+    let max_iter = (20_000_000 / (s.m * s.m)).clamp(4000, 50_000);
+    let mut t1 = None;
+    for it in 0..max_iter {
+        let mut y = s.left_mul(&x);
+        if !deflate_unit(&mut y) {
             return None;
         }
-        // Subspace change: residual of the new basis against the old span.
-        let res = |y: &[f64]| {
-            let a = dot(y, &x1);
-            let b = dot(y, &x2);
-            y.iter()
-                .zip(x1.iter().zip(&x2))
-                .map(|(yi, (p, q))| (yi - a * p - b * q).powi(2))
-                .sum::<f64>()
-                .sqrt()
-        };
-        let r = res(&y1).max(res(&y2));
-        x1 = y1;
-        x2 = y2;
-        if r < 1e-13 {
-            converged = true;
+        let diff: f64 = y
+            .iter()
+            .zip(&x)
+            .map(|(a, b)| (a - b).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        x = y;
+        if diff < 1e-13 || (it + 1 == max_iter && diff < 1e-7) {
+            t1 = Some(x);
             break;
         }
     }
-    if !converged {
-        return None;
-    }
-    Some(EigenLimit {
-        position: l,
-        tangents: [x1, x2],
-    })
+    let t1 = t1?;
+    let hint: Vec<f64> = xa.iter().zip(&xb).map(|(a, b)| b - a).collect();
+    eigen_limit_locked(s, centre, t1, hint)
 }
 
 #[cfg(test)]

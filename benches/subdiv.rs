@@ -1,0 +1,78 @@
+//! Topology, refinement and stencil benchmarks on `catmark_car` (1,575 quads) and on the car
+//! refined three times (100,800 quads) as a new control mesh.
+//!
+//! OpenSubdiv 3.5 Far on the same 2-core machines (issue 2): topology creation 40.5 ms, uniform
+//! refinement of the topology to level 3 727 ms, level-3 stencil table 6.6 s (all on the
+//! 100,800-quad mesh), level-3 stencil table of the original car 83 ms.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use std::hint::black_box;
+use std::time::Duration;
+use tessera::mesh::ObjOptions;
+use tessera::subdiv::{Level, StencilTable};
+use tessera::topology::Topology;
+use tessera::ControlMesh;
+
+const CAR: &str = "/work/shared/meshes/osd/catmark_car.obj";
+
+fn car() -> ControlMesh {
+    ControlMesh::from_obj_file(CAR, &ObjOptions::default()).expect("catmark_car loads")
+}
+
+/// The car refined three times, with its decayed crease sharpness, as a control mesh.
+fn car_level3() -> ControlMesh {
+    let base = car();
+    let mut level = Level::from_mesh(&base).expect("car topology");
+    let mut pos = base.positions().to_vec();
+    for _ in 0..3 {
+        let (child, m) = level.refine();
+        pos = m.apply_vec(&pos);
+        level = child;
+    }
+    ControlMesh::new(level.to_mesh_desc(pos)).expect("refined car is valid")
+}
+
+fn benches(c: &mut Criterion) {
+    let car = car();
+    let big = car_level3();
+    assert_eq!(big.face_count(), 100_800);
+    let big_level = Level::from_mesh(&big).expect("level");
+    let car_level = Level::from_mesh(&car).expect("level");
+
+    let mut g = c.benchmark_group("car3_100800_quads");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(8));
+    g.bench_function("topology_new", |b| {
+        b.iter(|| black_box(Topology::new(black_box(&big)).expect("topology")))
+    });
+    g.bench_function("refine_topology_to_level3", |b| {
+        b.iter(|| {
+            let l1 = big_level.refine_topology();
+            let l2 = l1.refine_topology();
+            black_box(l2.refine_topology())
+        })
+    });
+    g.bench_function("stencil_table_level3", |b| {
+        b.iter(|| black_box(StencilTable::from_level(&big_level, 3)))
+    });
+    let table = StencilTable::from_level(&big_level, 3);
+    let mut dst = vec![glam::DVec3::ZERO; table.len()];
+    g.bench_function("stencil_apply_level3", |b| {
+        b.iter(|| table.apply(black_box(big.positions()), &mut dst))
+    });
+    drop(table);
+    g.finish();
+
+    let mut g = c.benchmark_group("car_1575_quads");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(3));
+    g.bench_function("stencil_table_level3", |b| {
+        b.iter(|| black_box(StencilTable::from_level(&car_level, 3)))
+    });
+    g.finish();
+}
+
+criterion_group!(subdiv, benches);
+criterion_main!(subdiv);
