@@ -18,6 +18,13 @@ enum Command {
     Info(cli::info::InfoArgs),
     /// Evaluate the exact Catmull-Clark limit surface on a grid per face.
     Limit(cli::limit::LimitArgs),
+    /// Render a mesh offscreen through the Vulkan tessellation pipeline to a PNG. Regular faces
+    /// are GPU B-spline patches; other faces are drawn, for now, from the CPU limit reference.
+    Render(cli::render::RenderArgs),
+    /// Capture every TES invocation (face, u, v, position, normal) of the GPU pipeline.
+    Sample(cli::sample::SampleArgs),
+    /// Median GPU time per frame at several tessellation levels.
+    Bench(cli::bench::BenchArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -25,6 +32,9 @@ fn main() -> std::process::ExitCode {
     let result = match cli.command {
         Command::Info(args) => cli::info::run(args),
         Command::Limit(args) => cli::limit::run(args),
+        Command::Render(args) => cli::render::run(args),
+        Command::Sample(args) => cli::sample::run(args),
+        Command::Bench(args) => cli::bench::run(args),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

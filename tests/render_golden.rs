@@ -136,3 +136,70 @@ fn golden_synthetic_regular() {
     );
     assert_validation_clean(&ctx);
 }
+
+#[test]
+fn golden_embedded_meshes() {
+    use tessera::assets::EmbeddedMesh;
+    use tessera::render::surface_from_mesh;
+    let Some(ctx) = context() else { return };
+    let load = |m: EmbeddedMesh, lvl: u32| surface_from_mesh(&m.load().unwrap(), lvl).unwrap();
+    let shaded = |l: f32, color_by| RenderDesc {
+        tess: level(l),
+        color_by,
+        ..RenderDesc::default()
+    };
+    let mixed = load(EmbeddedMesh::Mixed, 6);
+    check_golden(
+        "mixed_patch_type",
+        &render(
+            &ctx,
+            &mixed,
+            shaded(6.0, ColorBy::PatchType),
+            CameraSpec::Auto,
+        ),
+    );
+    check_golden(
+        "open_shaded",
+        &render(
+            &ctx,
+            &load(EmbeddedMesh::Open, 6),
+            shaded(6.0, ColorBy::None),
+            CameraSpec::Auto,
+        ),
+    );
+    check_golden(
+        "creased_patch_type",
+        &render(
+            &ctx,
+            &load(EmbeddedMesh::Creased, 6),
+            shaded(6.0, ColorBy::PatchType),
+            CameraSpec::Auto,
+        ),
+    );
+    let mixed4 = load(EmbeddedMesh::Mixed, 4);
+    let wire = RenderDesc {
+        tess: level(4.0),
+        wireframe: true,
+        ..RenderDesc::default()
+    };
+    check_golden(
+        "mixed_wireframe",
+        &render(&ctx, &mixed4, wire, CameraSpec::Auto),
+    );
+    let adaptive = RenderDesc {
+        tess: TessSettings {
+            mode: TessMode::Adaptive,
+            pixels_per_edge: 8.0,
+            spacing: Spacing::FractionalEven,
+            ..TessSettings::default()
+        },
+        wireframe: true,
+        color_by: ColorBy::PatchType,
+        ..RenderDesc::default()
+    };
+    check_golden(
+        "mixed_adaptive_wireframe",
+        &render(&ctx, &mixed4, adaptive, CameraSpec::Auto),
+    );
+    assert_validation_clean(&ctx);
+}

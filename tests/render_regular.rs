@@ -143,7 +143,7 @@ fn check_watertight(s: &SurfaceData, recs: &[CaptureRecord]) -> usize {
 #[test]
 fn torus_uniform_matches_cpu_and_is_watertight() {
     let Some(ctx) = context() else { return };
-    // 160 patches: more than one draw chunk (PATCHES_PER_DRAW = 64), the last one partial.
+    // 160 patches: more than one draw chunk (64 patches, gpu::patch_draw_chunks), the last partial.
     let s = torus(16, 10, 2.0, 0.7);
     let level = 5.0;
     let recs = capture(

@@ -1,4 +1,7 @@
 //! Subcommands of the `tessera` binary: argument structs and their `run` functions.
 
+pub mod bench;
 pub mod info;
 pub mod limit;
+pub mod render;
+pub mod sample;

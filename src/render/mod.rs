@@ -18,6 +18,6 @@ pub use fallback::{FallbackFace, FallbackMesh, PatchClass};
 pub use layout::BSplinePatch;
 pub use offscreen::{render_to_image, FrameReport, OffscreenDesc, OffscreenSession, RenderOutput};
 pub use renderer::{CaptureRecord, RenderDesc, SurfaceRenderer};
-pub use scene::{surface_with, SurfacePlan};
+pub use scene::{surface_from_mesh, surface_with, SurfacePlan};
 pub use settings::{ColorBy, FrameUniforms, Spacing, TessMode, TessSettings};
 pub use surface::SurfaceData;

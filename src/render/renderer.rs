@@ -9,9 +9,9 @@ use super::layout::{self, BSplinePatch};
 use super::settings::{ColorBy, FrameUniforms, Spacing, TessSettings, FRAME_UNIFORM_BYTES};
 use super::surface::SurfaceData;
 use crate::gpu::{
-    Buffer, BufferBinding, Context, DescriptorBinding, DescriptorKind, DescriptorPool,
-    GraphicsPipelineDesc, MemoryLocation, Pipeline, PushConstants, TargetFormat, VertexAttribute,
-    VertexBinding,
+    patch_draw_chunks, Buffer, BufferBinding, Context, DescriptorBinding, DescriptorKind,
+    DescriptorPool, GraphicsPipelineDesc, MemoryLocation, Pipeline, PushConstants, TargetFormat,
+    VertexAttribute, VertexBinding,
 };
 use crate::{Error, Result};
 
@@ -21,12 +21,6 @@ pub const CAPTURE_RECORD_BYTES: usize = 36;
 pub const CAPTURE_HEADER_BYTES: usize = 16;
 /// Bytes per fallback vertex: position (3 f32), normal (3 f32), class (u32).
 const FALLBACK_VERTEX_BYTES: usize = 28;
-
-/// Patches per draw call. Mesa 22.3 lavapipe hands the TCS outputs of patch k + 64 to the TES
-/// of patch k when one draw has more than 64 sixteen-point patches (tests/render_regular.rs
-/// catches it), so the patch draw is split; gl_PrimitiveID restarts per draw, so the chunk's
-/// first patch index is a push constant.
-pub const PATCHES_PER_DRAW: u32 = 64;
 
 /// How a surface is drawn.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -489,10 +483,11 @@ impl SurfaceRenderer {
             );
             dev.cmd_bind_vertex_buffers(cmd, 0, &[self.positions.raw()], &[0]);
             dev.cmd_bind_index_buffer(cmd, self.patch_indices.raw(), 0, vk::IndexType::UINT32);
+            // Mesa 22.3 lavapipe gives wrong control points to patches past the first 64
+            // sixteen-point patches of one indexed draw (gpu::draw); gl_PrimitiveID restarts per
+            // draw, so the chunk's first patch index is a push constant.
             let split = self.split;
-            let mut base = 0u32;
-            while base < self.patch_count {
-                let n = PATCHES_PER_DRAW.min(self.patch_count - base);
+            for (base, n) in patch_draw_chunks(self.patch_count, 16, true) {
                 for sub in 0..split * split {
                     let mut pc = [0u8; 12];
                     for (k, w) in [base, sub, split].iter().enumerate() {
@@ -508,7 +503,6 @@ impl SurfaceRenderer {
                     );
                     dev.cmd_draw_indexed(cmd, n * 16, 1, base * 16, 0, 0);
                 }
-                base += n;
             }
         }
     }

@@ -8,6 +8,7 @@ use super::layout::BSplinePatch;
 use super::surface::SurfaceData;
 use crate::mesh::ControlMesh;
 use crate::patch::RegularPatch;
+use crate::subdiv::eval::LimitEvaluator;
 use crate::topology::Topology;
 use crate::Result;
 
@@ -67,6 +68,32 @@ where
     let topo = Topology::new(mesh)?;
     let plan = SurfacePlan::new(&topo);
     let fallback = fallback::tessellate(&plan.fallback_faces, level, eval)?;
+    Ok(SurfaceData {
+        positions: mesh.positions().to_vec(),
+        patches: plan.patches,
+        fallback_faces: plan.fallback_faces,
+        fallback,
+        skipped_faces: plan.skipped_faces,
+    })
+}
+
+/// Builds the surface of `mesh`: regular faces as GPU patches, every other face with a limit
+/// surface evaluated exactly on the CPU ([`LimitEvaluator`]) on a grid matching `level`.
+pub fn surface_from_mesh(mesh: &ControlMesh, level: u32) -> Result<SurfaceData> {
+    let topo = Topology::new(mesh)?;
+    let plan = SurfacePlan::new(&topo);
+    let fallback = if plan.fallback_faces.is_empty() {
+        super::fallback::FallbackMesh::default()
+    } else {
+        let ev = LimitEvaluator::new(mesh)?;
+        fallback::tessellate(&plan.fallback_faces, level, |f, sub, uv| {
+            Ok(ev
+                .eval_points(f as usize, sub as usize, uv)?
+                .into_iter()
+                .map(|s| (s.position, s.normal))
+                .collect())
+        })?
+    };
     Ok(SurfaceData {
         positions: mesh.positions().to_vec(),
         patches: plan.patches,

@@ -1,0 +1,113 @@
+//! `tessera bench`: GPU time per frame of the tessellation pipeline at several levels.
+
+use clap::Args;
+use tessera::render::{OffscreenDesc, OffscreenSession, RenderDesc, TessSettings};
+use tessera::{Error, Result};
+
+use super::render::{
+    check_validation, clamp_level, context, load, max_patch_level, parse_size, report_fallback,
+};
+
+/// Arguments of `tessera bench`.
+#[derive(Args)]
+pub struct BenchArgs {
+    /// Control mesh: an OBJ file or `embedded:NAME`; default: the embedded default mesh.
+    pub mesh: Option<String>,
+    /// Comma-separated uniform tessellation levels.
+    #[arg(long, default_value = "2,4,8,16,32,64")]
+    pub tess: String,
+    /// Timed frames per level (after one warm-up frame).
+    #[arg(long, default_value_t = 10)]
+    pub frames: u32,
+    /// Uniform levels above this draw each patch as sub-patches; 0 disables (see `render`).
+    #[arg(long, default_value_t = 16.0)]
+    pub max_patch_level: f32,
+    /// Image size WxH.
+    #[arg(long, default_value = "800x600")]
+    pub size: String,
+    /// Enable the Khronos validation layer (always on in debug builds).
+    #[arg(long)]
+    pub validation: bool,
+    /// The file's faces are wound clockwise.
+    #[arg(long)]
+    pub left_handed: bool,
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// Runs the subcommand.
+pub fn run(args: BenchArgs) -> Result<()> {
+    let (width, height) = parse_size(&args.size)?;
+    if args.frames == 0 {
+        return Err(Error::Invalid("--frames must be at least 1".into()));
+    }
+    let levels: Vec<f32> = args
+        .tess
+        .split(',')
+        .map(|t| {
+            t.trim()
+                .parse::<f32>()
+                .map_err(|_| Error::Invalid(format!("--tess: `{t}` is not a number")))
+        })
+        .collect::<Result<_>>()?;
+    let mesh = load(args.mesh.as_deref(), args.left_handed)?;
+    let ctx = context(args.validation)?;
+    println!("device: {}", ctx.info().name);
+    println!(
+        "{:>6} {:>9} {:>12} {:>14} {:>14} {:>14}",
+        "level", "patches", "TES invoc.", "patch ms (med)", "cpu-tri ms", "frame ms (med)"
+    );
+    for &req in &levels {
+        let level = clamp_level(&ctx, req)?;
+        let surface = tessera::render::surface_from_mesh(&mesh, level.ceil() as u32)?;
+        if req == levels[0] {
+            report_fallback(&surface);
+        }
+        let render = RenderDesc {
+            tess: TessSettings {
+                level,
+                max_patch_level: max_patch_level(args.max_patch_level),
+                ..TessSettings::default()
+            },
+            ..RenderDesc::default()
+        };
+        let desc = OffscreenDesc {
+            width,
+            height,
+            ..OffscreenDesc::default()
+        };
+        let mut session = OffscreenSession::new(&ctx, &surface, &render, &desc, true)?;
+        session.frame()?;
+        let (mut patch, mut cpu, mut total) = (Vec::new(), Vec::new(), Vec::new());
+        let mut tes = 0;
+        for _ in 0..args.frames {
+            let r = session
+                .frame()?
+                .ok_or_else(|| Error::Invalid("bench: no timings returned".into()))?;
+            let p = r.passes.first().map_or(0.0, |x| x.1);
+            let c = r.passes.get(1).map_or(0.0, |x| x.1);
+            patch.push(p);
+            cpu.push(c);
+            total.push(p + c);
+            tes = r.patch_stats.tes_invocations;
+        }
+        println!(
+            "{:>6} {:>9} {:>12} {:>14.3} {:>14.3} {:>14.3}",
+            level,
+            surface.patches.len(),
+            tes,
+            median(&mut patch),
+            median(&mut cpu),
+            median(&mut total)
+        );
+    }
+    check_validation(&ctx)
+}

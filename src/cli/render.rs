@@ -1,0 +1,237 @@
+//! `tessera render`: draws a control mesh offscreen through the tessellation pipeline to a PNG.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use tessera::gpu::{Context, ContextDesc};
+use tessera::mesh::ObjOptions;
+use tessera::render::{
+    render_to_image, CameraSpec, ColorBy, FrameReport, OffscreenDesc, RenderDesc, Spacing,
+    SurfaceData, TessMode, TessSettings,
+};
+use tessera::{ControlMesh, Error, Result};
+
+/// Arguments of `tessera render`.
+///
+/// Regular faces (also next to boundaries and infinitely sharp creases) are bicubic B-spline
+/// patches tessellated and evaluated on the GPU. Every other face with a limit surface is, for
+/// now, drawn from the CPU reference: exact limit points on a grid matching the tessellation
+/// level, as triangles. Holes are not drawn.
+#[derive(Args)]
+pub struct RenderArgs {
+    /// Control mesh: an OBJ file (OpenSubdiv tags) or `embedded:NAME`; default: the embedded
+    /// default mesh.
+    pub mesh: Option<String>,
+    /// Output PNG.
+    #[arg(long, default_value = "out.png")]
+    pub out: PathBuf,
+    /// Image size WxH in pixels.
+    #[arg(long, default_value = "800x600")]
+    pub size: String,
+    /// `auto` (frame the bounding box) or `az,el,dist` (degrees, degrees, model units).
+    #[arg(long, default_value = "auto")]
+    pub camera: String,
+    /// Uniform tessellation level (clamped to the device's maxTessellationGenerationLevel); also
+    /// the grid density of the CPU-evaluated faces.
+    #[arg(long, default_value_t = 8.0)]
+    pub tess: f32,
+    /// `uniform` or `adaptive` (screen-space, from the shared edges' end-point limit positions).
+    #[arg(long, default_value = "uniform", value_parser = ["uniform", "adaptive"])]
+    pub tess_mode: String,
+    /// Adaptive mode: target length of a tessellated segment in pixels.
+    #[arg(long, default_value_t = 8.0)]
+    pub pixels_per_edge: f32,
+    /// Tessellation spacing.
+    #[arg(long, default_value = "equal", value_parser = ["equal", "fractional-odd", "fractional-even"])]
+    pub spacing: String,
+    /// Uniform levels above this draw each patch as 2x2, 4x4, ... sub-patches (lavapipe's cost
+    /// per domain point jumps above ~24); 0 disables.
+    #[arg(long, default_value_t = 16.0)]
+    pub max_patch_level: f32,
+    /// Draw triangle edges only.
+    #[arg(long)]
+    pub wireframe: bool,
+    /// `patch-type`: regular gold, irregular purple, triangles green; `none`: one material.
+    #[arg(long, default_value = "none", value_parser = ["patch-type", "none"])]
+    pub color_by: String,
+    /// MSAA samples (1, 2, 4, 8; must be supported by the device).
+    #[arg(long, default_value_t = 1)]
+    pub msaa: u32,
+    /// Print GPU time per pass (timestamp queries) and pipeline statistics.
+    #[arg(long)]
+    pub timings: bool,
+    /// Enable the Khronos validation layer (always on in debug builds); errors fail the run.
+    #[arg(long)]
+    pub validation: bool,
+    /// The file's faces are wound clockwise.
+    #[arg(long)]
+    pub left_handed: bool,
+}
+
+/// Parses `WxH`.
+pub fn parse_size(s: &str) -> Result<(u32, u32)> {
+    let bad = || Error::Invalid(format!("size `{s}`: expected WxH, e.g. 800x600"));
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let w: u32 = w.trim().parse().map_err(|_| bad())?;
+    let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    if w == 0 || h == 0 || w > 16384 || h > 16384 {
+        return Err(Error::Invalid(format!(
+            "size `{s}`: width and height must be in 1..=16384"
+        )));
+    }
+    Ok((w, h))
+}
+
+/// Loads the mesh named on the command line, or the embedded default mesh.
+pub fn load(mesh: Option<&str>, left_handed: bool) -> Result<ControlMesh> {
+    match mesh {
+        Some(spec) => tessera::assets::load_mesh(spec, &ObjOptions { left_handed }),
+        None => Ok(tessera::assets::default_mesh()),
+    }
+}
+
+/// Creates the Vulkan context (validation on in debug builds or when asked).
+pub fn context(validation: bool) -> Result<Context> {
+    Context::new(&ContextDesc {
+        validation: validation || cfg!(debug_assertions),
+        ..ContextDesc::default()
+    })
+}
+
+/// Fails if the validation layer reported errors, printing them.
+pub fn check_validation(ctx: &Context) -> Result<()> {
+    let n = ctx.validation_errors();
+    if n == 0 {
+        return Ok(());
+    }
+    for m in ctx.validation_messages() {
+        eprintln!("validation: {m}");
+    }
+    Err(Error::Invalid(format!(
+        "the Vulkan validation layer reported {n} error(s)"
+    )))
+}
+
+/// Clamps a requested level to the device limit, saying so on stderr.
+pub fn clamp_level(ctx: &Context, level: f32) -> Result<f32> {
+    if !level.is_finite() || level < 1.0 {
+        return Err(Error::Invalid(format!(
+            "--tess {level}: the tessellation level must be at least 1"
+        )));
+    }
+    let max = ctx.info().limits.max_tessellation_generation_level as f32;
+    if level > max {
+        eprintln!("note: --tess {level} clamped to the device limit {max}");
+        return Ok(max);
+    }
+    Ok(level)
+}
+
+/// `--max-patch-level`: 0 (or less) disables splitting.
+pub fn max_patch_level(arg: f32) -> f32 {
+    if arg > 0.0 {
+        arg
+    } else {
+        f32::INFINITY
+    }
+}
+
+/// Prints the CPU-fallback face counts of a surface.
+pub fn report_fallback(surface: &SurfaceData) {
+    if !surface.fallback_faces.is_empty() {
+        eprintln!(
+            "{} face(s) drawn from the CPU reference (no GPU patch scheme yet), {} on the GPU as \
+             B-spline patches",
+            surface.fallback_faces.len(),
+            surface.patches.len()
+        );
+    }
+}
+
+/// Prints per-pass GPU times and the patch pass's pipeline statistics.
+pub fn print_report(r: &FrameReport) {
+    println!("GPU time per pass:");
+    for (label, ms) in &r.passes {
+        println!("  {label:<28} {ms:9.3} ms");
+    }
+    let s = &r.patch_stats;
+    println!("pipeline statistics (patch pass):");
+    println!("  TCS patches                  {}", s.tcs_patches);
+    println!("  TES invocations              {}", s.tes_invocations);
+    println!("  clipping invocations         {}", s.clipping_invocations);
+    println!("  clipping primitives          {}", s.clipping_primitives);
+    println!("  fragment invocations         {}", s.fragment_invocations);
+}
+
+/// Runs the subcommand.
+pub fn run(args: RenderArgs) -> Result<()> {
+    let (width, height) = parse_size(&args.size)?;
+    let camera = CameraSpec::parse(&args.camera)?;
+    let mesh = load(args.mesh.as_deref(), args.left_handed)?;
+    let ctx = context(args.validation)?;
+    if !ctx.info().limits.supports_samples(args.msaa) {
+        return Err(Error::Invalid(format!(
+            "--msaa {}: the device supports {:?}",
+            args.msaa,
+            ctx.info().limits.supported_sample_counts()
+        )));
+    }
+    let level = clamp_level(&ctx, args.tess)?;
+    let tess = TessSettings {
+        level,
+        mode: if args.tess_mode == "adaptive" {
+            TessMode::Adaptive
+        } else {
+            TessMode::Uniform
+        },
+        pixels_per_edge: args.pixels_per_edge,
+        spacing: Spacing::parse(&args.spacing)?,
+        max_patch_level: max_patch_level(args.max_patch_level),
+    };
+    if !(tess.pixels_per_edge.is_finite() && tess.pixels_per_edge > 0.0) {
+        return Err(Error::Invalid("--pixels-per-edge must be positive".into()));
+    }
+    let surface = tessera::render::surface_from_mesh(&mesh, level.ceil() as u32)?;
+    report_fallback(&surface);
+    let render = RenderDesc {
+        tess,
+        wireframe: args.wireframe,
+        color_by: if args.color_by == "patch-type" {
+            ColorBy::PatchType
+        } else {
+            ColorBy::None
+        },
+        ..RenderDesc::default()
+    };
+    let desc = OffscreenDesc {
+        width,
+        height,
+        samples: args.msaa,
+        camera,
+        ..OffscreenDesc::default()
+    };
+    let out = render_to_image(&ctx, &surface, &render, &desc, args.timings)?;
+    out.image
+        .save_with_format(&args.out, image::ImageFormat::Png)
+        .map_err(|e| Error::Io {
+            path: args.out.display().to_string(),
+            message: e.to_string(),
+        })?;
+    if let Some(r) = &out.report {
+        print_report(r);
+    }
+    check_validation(&ctx)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes() {
+        assert_eq!(parse_size("800x600").unwrap(), (800, 600));
+        assert!(parse_size("800").is_err());
+        assert!(parse_size("0x10").is_err());
+        assert!(parse_size("axb").is_err());
+    }
+}

@@ -1,0 +1,98 @@
+//! `tessera sample`: captures every TES invocation of the real pipeline.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use clap::Args;
+use tessera::render::renderer::capture_capacity_for;
+use tessera::render::{
+    render_to_image, OffscreenDesc, RenderDesc, SurfaceData, SurfacePlan, TessSettings,
+};
+use tessera::topology::Topology;
+use tessera::{Error, Result};
+
+use super::render::{check_validation, clamp_level, context, load};
+
+/// Arguments of `tessera sample`.
+///
+/// Renders the mesh at uniform level N and writes, from an SSBO the TES fills, one line per TES
+/// invocation: `f u v x y z nx ny nz` (base face, the face's (u, v), limit position and normal;
+/// numbers as the shortest text reading back as the same f32, like `tessera limit`), sorted by
+/// face, v, u. Faces drawn from the CPU reference are not in the file (counted on stderr).
+#[derive(Args)]
+pub struct SampleArgs {
+    /// Control mesh: an OBJ file or `embedded:NAME`.
+    pub mesh: String,
+    /// Uniform tessellation level.
+    #[arg(long, default_value_t = 4.0)]
+    pub tess: f32,
+    /// Output file.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Enable the Khronos validation layer (always on in debug builds).
+    #[arg(long)]
+    pub validation: bool,
+    /// The file's faces are wound clockwise.
+    #[arg(long)]
+    pub left_handed: bool,
+}
+
+/// Runs the subcommand.
+pub fn run(args: SampleArgs) -> Result<()> {
+    let mesh = load(Some(&args.mesh), args.left_handed)?;
+    let ctx = context(args.validation)?;
+    let level = clamp_level(&ctx, args.tess)?;
+    // Only the GPU patches are captured; the other faces are counted, not evaluated.
+    let plan = SurfacePlan::new(&Topology::new(&mesh)?);
+    let surface = SurfaceData {
+        positions: mesh.positions().to_vec(),
+        patches: plan.patches,
+        fallback_faces: plan.fallback_faces,
+        skipped_faces: plan.skipped_faces,
+        ..SurfaceData::default()
+    };
+    eprintln!(
+        "{} face(s) captured from the GPU, {} drawn another way (CPU fallback, not in the file), \
+         {} without limit surface",
+        surface.patches.len(),
+        surface.fallback_faces.len(),
+        surface.skipped_faces
+    );
+    let tess = TessSettings {
+        level,
+        ..TessSettings::default()
+    };
+    let render = RenderDesc {
+        tess,
+        capture_capacity: Some(capture_capacity_for(surface.patches.len(), &tess)),
+        ..RenderDesc::default()
+    };
+    let desc = OffscreenDesc {
+        width: 64,
+        height: 64,
+        ..OffscreenDesc::default()
+    };
+    let out = render_to_image(&ctx, &surface, &render, &desc, false)?;
+    let mut recs = out.capture.unwrap_or_default();
+    recs.sort_by(|a, b| {
+        (a.face, a.v, a.u)
+            .partial_cmp(&(b.face, b.v, b.u))
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
+    let mut text = String::with_capacity(recs.len() * 96);
+    for r in &recs {
+        let [x, y, z] = r.position;
+        let [nx, ny, nz] = r.normal;
+        let _ = writeln!(
+            text,
+            "{} {:?} {:?} {:?} {:?} {:?} {:?} {:?} {:?}",
+            r.face, r.u, r.v, x, y, z, nx, ny, nz
+        );
+    }
+    std::fs::write(&args.out, text).map_err(|e| Error::Io {
+        path: args.out.display().to_string(),
+        message: e.to_string(),
+    })?;
+    eprintln!("{} TES invocations written", recs.len());
+    check_validation(&ctx)
+}
