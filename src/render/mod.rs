@@ -5,6 +5,7 @@
 pub mod camera;
 pub mod compare;
 pub mod fallback;
+pub mod gregory_stencil;
 pub mod layout;
 pub mod offscreen;
 pub mod renderer;

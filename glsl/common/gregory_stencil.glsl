@@ -1,0 +1,100 @@
+// Stencil variant of Gregory patches (Loop et al. 2009, §4.3): the TCS body shared by the quad
+// (20 points) and triangle (15 points) shaders. The input patch is the face's one-ring, sorted by
+// global vertex id and padded to the pipeline's patch size; invocation i computes control point i
+// as the weighted sum of the ring vertices whose weight is nonzero (mask bit set), in ascending
+// ring order, with `precise` so that no multiply-add is fused: a corner or edge point shared with
+// a neighbouring patch gets the same nonzero terms in the same order on both sides and so is
+// bitwise equal. Output order: p0.., e_plus0.., e_minus0.., f_plus0.., f_minus0.. (as
+// GregoryQuad / GregoryTriangle); stencil rows GREGORY_POINTS.. are the neighbours' edge points
+// g_eout (contract in common/gregory.glsl). Define GREGORY_TRI for triangles.
+// Needs frame.glsl and tess_factors.glsl.
+#ifndef TESSERA_GREGORY_STENCIL_GLSL
+#define TESSERA_GREGORY_STENCIL_GLSL
+
+#ifdef GREGORY_TRI
+#define GREGORY_POINTS 15
+#define GREGORY_EXTRA 6
+#else
+#define GREGORY_POINTS 20
+#define GREGORY_EXTRA 8
+#endif
+
+/// Stencil blocks: one per connectivity type, STENCIL_ROWS x STENCIL_COLS floats
+/// (src/render/gregory_stencil/gpu.rs mirrors this layout).
+#define STENCIL_ROWS 28u
+#define STENCIL_COLS 32u
+
+struct StencilRecord {
+    uint face;       // base-mesh face
+    uint type_id;    // connectivity type (stencil block)
+    uint ring_len;   // ring vertices actually used (<= patch size)
+    uint pad;
+    uvec4 corners;   // corner vertex ids (w repeats corner 0 for triangles)
+};
+
+layout(std430, set = 1, binding = 0) readonly buffer StencilWeights {
+    float stencil_weights[];
+};
+layout(std430, set = 1, binding = 1) readonly buffer StencilMasks {
+    uint stencil_masks[];
+};
+layout(std430, set = 1, binding = 2) readonly buffer StencilRecords {
+    StencilRecord stencil_records[];
+};
+
+layout(vertices = GREGORY_POINTS) out;
+layout(location = 0) in vec3 v_pos[];
+layout(location = 0) out vec3 g_cp[];
+layout(location = 1) patch out vec3 g_eout[GREGORY_EXTRA];
+
+/// Stencil row `row` of connectivity type `type_id` applied to the input ring: nonzero terms
+/// only, ascending ring order, no fused multiply-add.
+vec3 stencil_row(uint type_id, uint row) {
+    uint base = (type_id * STENCIL_ROWS + row) * STENCIL_COLS;
+    uint mask = stencil_masks[type_id * STENCIL_ROWS + row];
+    precise vec3 acc = vec3(0.0);
+    while (mask != 0u) {
+        int k = findLSB(mask);
+        mask &= mask - 1u;
+        precise vec3 term = stencil_weights[base + uint(k)] * v_pos[k];
+        acc = acc + term;
+    }
+    return acc;
+}
+
+void main() {
+    StencilRecord rec = stencil_records[chunk.patch_base + uint(gl_PrimitiveID)];
+    g_cp[gl_InvocationID] = stencil_row(rec.type_id, uint(gl_InvocationID));
+    if (gl_InvocationID < GREGORY_EXTRA) {
+        g_eout[gl_InvocationID] = stencil_row(rec.type_id, uint(GREGORY_POINTS + gl_InvocationID));
+    }
+
+    if (gl_InvocationID == 0) {
+        uvec4 c = rec.corners;
+#ifdef GREGORY_TRI
+        // Triangle domain: outer[i] is the edge where gl_TessCoord[i] == 0; barycentric weight
+        // of corner i is gl_TessCoord[i], so outer[0] is edge 1-2, [1] edge 2-0, [2] edge 0-1.
+        float o0 = edge_tess_level(c.y, c.z);
+        float o1 = edge_tess_level(c.z, c.x);
+        float o2 = edge_tess_level(c.x, c.y);
+        gl_TessLevelOuter[0] = o0;
+        gl_TessLevelOuter[1] = o1;
+        gl_TessLevelOuter[2] = o2;
+        gl_TessLevelInner[0] = max(o0, max(o1, o2));
+#else
+        // Quad domain: outer[0] is the u=0 edge, [1] v=0, [2] u=1, [3] v=1.
+        float o0 = edge_tess_level(c.x, c.w);
+        float o1 = edge_tess_level(c.x, c.y);
+        float o2 = edge_tess_level(c.y, c.z);
+        float o3 = edge_tess_level(c.w, c.z);
+        gl_TessLevelOuter[0] = o0;
+        gl_TessLevelOuter[1] = o1;
+        gl_TessLevelOuter[2] = o2;
+        gl_TessLevelOuter[3] = o3;
+        gl_TessLevelInner[0] = max(o1, o3);
+        gl_TessLevelInner[1] = max(o0, o2);
+#endif
+    }
+}
+
+#endif

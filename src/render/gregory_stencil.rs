@@ -1,0 +1,13 @@
+//! The stencil variant of Gregory patches on the GPU (Loop et al. 2009, §4.3).
+
+pub mod gpu;
+pub mod session;
+pub mod table;
+
+pub use gpu::{frame_set_layout, StencilPatches};
+pub use session::{vertex_limit_frame, StencilFrameReport, StencilSession};
+
+pub use table::{
+    face_ring, gregory_faces, Rejected, StencilPatch, StencilTable, StencilType, MAX_RING,
+    QUAD_POINTS, TRI_POINTS,
+};
