@@ -228,3 +228,16 @@ fn cube_quads() {
 fn prism_triangles_and_quads() {
     gpu_matches_cpu_and_is_watertight(&prism(), "prism");
 }
+
+
+#[test]
+fn smoothtris_triangles() {
+    gpu_matches_cpu_and_is_watertight(&osd("catmark_smoothtris0"), "catmark_smoothtris0");
+}
+
+#[test]
+fn gregory_test8_and_car() {
+    // The car: 452 stencil patches in several draw chunks (lavapipe patch-list size rule).
+    gpu_matches_cpu_and_is_watertight(&osd("catmark_gregory_test8"), "catmark_gregory_test8");
+    gpu_matches_cpu_and_is_watertight(&osd("catmark_car"), "catmark_car");
+}

@@ -242,6 +242,12 @@ impl StencilPatches {
         self.groups.first().map(|g| g.pipeline.set_layouts[0])
     }
 
+    /// The drawn faces in draw order (quads first, then triangles): the order of the shared
+    /// TES's patch records (`GregoryLayout::new(topo, &faces())`, binding 6).
+    pub fn faces(&self) -> Vec<u32> {
+        self.table.patches.iter().map(|p| p.face).collect()
+    }
+
     /// Number of patches drawn.
     pub fn patch_count(&self) -> u32 {
         self.table.patches.len() as u32
