@@ -1,5 +1,5 @@
 // Gregory patch evaluation shared by both GPU construction variants (Loop, Schaefer, Ni, Castano
-// 2009, §3.1, §4.4, §4.5). Needs common/frame.glsl and common/bspline.glsl.
+// 2009, §3.1, §4.4, §4.5). The TES also includes common/frame.glsl (push constants, vertex_limit).
 //
 // TCS -> TES contract (both variants):
 //   quads:     layout(vertices = 20) out vec3 g_cp[] at location 0: p0..3, e_plus0..3, e_minus0..3,
@@ -17,9 +17,12 @@
 // Gregory/Gregory edges as the boundary cubic (p, e, e, p) with normal cross(tangent, cross-edge
 // vector) where the cross-edge vector blends (e_left - e_right) of both end vertices; edges shared
 // with a regular B-spline patch from the 12 B-spline points of the edge's grid, exactly as
-// glsl/patch_bspline.tese evaluates them.
+// glsl/patch_bspline.tese evaluates them. The edge arithmetic is `precise` (no contraction into
+// fused multiply-adds), so every shader that inlines it computes the same bits.
 #ifndef TESSERA_GREGORY_GLSL
 #define TESSERA_GREGORY_GLSL
+
+#include "common/bspline.glsl"
 
 /// One Gregory patch. flags bit k (0..3): patch edge k (corner k -> k+1) is shared with a regular
 /// B-spline patch (evaluate it from the grid in binding 7).
@@ -60,8 +63,8 @@ vec3 control_point(uint v) {
 /// from max(x, 1 - x) only, as patch_bspline.tese does, so both sides agree when the tessellator
 /// gives them x and 1 - x.
 void canonical_ts(float x, bool from_lo, out float t, out float s) {
-    float w = max(x, 1.0 - x);
-    float l = 1.0 - w;
+    precise float w = max(x, 1.0 - x);
+    precise float l = 1.0 - w;
     t = (x >= 0.5) ? w : l;
     s = (x >= 0.5) ? l : w;
     if (!from_lo) {
@@ -82,8 +85,8 @@ vec4 bspline3_deriv(float t, float s) {
 /// patch_bspline.tese's edge_point) and the normal cross(dC/dt, sum N_i (left_i - right_i)).
 void grid_edge(uint patch_index, int k, float t, float s, out vec3 pos, out vec3 nrm) {
     uint base = patch_index * 48u + uint(k) * 12u;
-    vec3 c[4];
-    vec3 d[4];
+    precise vec3 c[4];
+    precise vec3 d[4];
     for (int i = 0; i < 4; ++i) {
         vec3 l = control_point(grid_ids[base + uint(i)]);
         vec3 m = control_point(grid_ids[base + 4u + uint(i)]);
@@ -91,12 +94,14 @@ void grid_edge(uint patch_index, int k, float t, float s, out vec3 pos, out vec3
         c[i] = ((l + r) + 4.0 * m) * (1.0 / 6.0);
         d[i] = l - r;
     }
-    vec4 n = bspline3(t, s);
-    pos = ((n.x * c[0] + n.y * c[1]) + n.z * c[2]) + n.w * c[3];
-    vec4 dn = bspline3_deriv(t, s);
-    vec3 tangent = ((dn.x * c[0] + dn.y * c[1]) + dn.z * c[2]) + dn.w * c[3];
-    vec3 cross_dir = ((n.x * d[0] + n.y * d[1]) + n.z * d[2]) + n.w * d[3];
-    nrm = normalize(cross(tangent, cross_dir));
+    precise vec4 n = bspline3(t, s);
+    precise vec3 p = ((n.x * c[0] + n.y * c[1]) + n.z * c[2]) + n.w * c[3];
+    precise vec4 dn = bspline3_deriv(t, s);
+    precise vec3 tangent = ((dn.x * c[0] + dn.y * c[1]) + dn.z * c[2]) + dn.w * c[3];
+    precise vec3 cross_dir = ((n.x * d[0] + n.y * d[1]) + n.z * d[2]) + n.w * d[3];
+    precise vec3 nn = normalize(cross(tangent, cross_dir));
+    pos = p;
+    nrm = nn;
 }
 
 /// Gregory/Gregory edge in canonical order: boundary cubic (p0, e0, e1, p1) from the smaller-id
@@ -104,11 +109,13 @@ void grid_edge(uint patch_index, int k, float t, float s, out vec3 pos, out vec3
 /// both ends (tangent-plane vectors across the edge, §3.3).
 void gregory_edge(vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 d0, vec3 d1, float t, float s,
                   out vec3 pos, out vec3 nrm) {
-    vec4 b = vec4(s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t);
-    pos = ((b.x * p0 + b.y * e0) + b.z * e1) + b.w * p1;
-    vec3 tangent = ((s * s) * (e0 - p0) + (2.0 * t * s) * (e1 - e0)) + (t * t) * (p1 - e1);
-    vec3 cross_dir = s * d0 + t * d1;
-    nrm = normalize(cross(tangent, cross_dir));
+    precise vec4 b = vec4(s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t);
+    precise vec3 p = ((b.x * p0 + b.y * e0) + b.z * e1) + b.w * p1;
+    precise vec3 tangent = ((s * s) * (e0 - p0) + (2.0 * t * s) * (e1 - e0)) + (t * t) * (p1 - e1);
+    precise vec3 cross_dir = s * d0 + t * d1;
+    precise vec3 nn = normalize(cross(tangent, cross_dir));
+    pos = p;
+    nrm = nn;
 }
 
 /// `(a x + b y) / (a + b)`, the mean where a + b == 0 (the patch corner, §4.4).

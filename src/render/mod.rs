@@ -5,7 +5,9 @@
 pub mod camera;
 pub mod compare;
 pub mod fallback;
+pub mod gregory_layout;
 pub mod gregory_stencil;
+pub mod gregory_vs;
 pub mod layout;
 pub mod offscreen;
 pub mod renderer;

@@ -1,0 +1,97 @@
+#version 450
+// Two-stage Gregory construction, stage 2 (§4.2) for a quad (20 control points): the patch primitive is the
+// face's 4 vertices with their per-vertex data from gregory_vs.vert; invocation k writes control
+// point k (order of common/gregory.glsl): corner points and edge points are picked from the
+// per-vertex data with the patch's ring offsets (Fig. 8), face points are built with eq. 6.
+#include "common/frame.glsl"
+#include "common/tess_factors.glsl"
+#include "common/gregory.glsl"
+#include "common/gregory_vs.glsl"
+
+#define NC 4
+layout(vertices = 20) out;
+
+layout(location = 0) in vec4 v_data[][GVS_SLOTS];
+layout(location = 0) out vec3 g_cp[];
+layout(location = 1) patch out vec3 g_eout[2 * NC];
+
+float get(int corner, int f) {
+    return v_data[corner][1 + f / 4][f % 4];
+}
+
+vec3 get3(int corner, int f) {
+    return vec3(get(corner, f), get(corner, f + 1), get(corner, f + 2));
+}
+
+int valence(int corner) {
+    return int(v_data[corner][0].w);
+}
+
+/// Edge point of corner `corner`'s vertex on its ring edge j (mod n).
+vec3 edge_pt(int corner, int j) {
+    int n = valence(corner);
+    return get3(corner, 6 * ((j + n) % n));
+}
+
+/// Transversal vector of corner `corner`'s vertex across its ring edge j (mod n).
+vec3 r_vec(int corner, int j) {
+    int n = valence(corner);
+    return get3(corner, 6 * ((j + n) % n) + 3);
+}
+
+/// Face point next to the edge from corner a to corner b (eq. 6 as re-derived in
+/// src/patch/gregory/vertex.rs `face_point`): (c_b p_a + (d - 2 c_a - c_b) e_ab + 2 c_a e_ba + r) / d.
+vec3 face_point(int a, int b, vec3 e_ab, vec3 e_ba, vec3 r) {
+    float ca = cos(2.0 * GVS_PI / float(valence(a)));
+    float cb = cos(2.0 * GVS_PI / float(valence(b)));
+    float d = (NC == 4) ? 3.0 : 4.0;
+    return (cb * v_data[a][0].xyz + (d - 2.0 * ca - cb) * e_ab + 2.0 * ca * e_ba + r) / d;
+}
+
+void main() {
+    uint patch_index = chunk.patch_base + uint(gl_PrimitiveID);
+    int id = gl_InvocationID;
+    int kind = id / NC;
+    int i = id % NC;
+    int nx = (i + 1) % NC;
+    int pr = (i + NC - 1) % NC;
+    int j = int(corner_ring[4u * patch_index + uint(i)]);
+    int j_nx = int(corner_ring[4u * patch_index + uint(nx)]);
+    int j_pr = int(corner_ring[4u * patch_index + uint(pr)]);
+    vec3 x;
+    if (kind == 0) {
+        x = v_data[i][0].xyz;
+    } else if (kind == 1) {
+        x = edge_pt(i, j);
+    } else if (kind == 2) {
+        x = edge_pt(i, j + 1);
+    } else if (kind == 3) {
+        x = face_point(i, nx, edge_pt(i, j), edge_pt(nx, j_nx + 1), r_vec(i, j));
+    } else {
+        x = face_point(i, pr, edge_pt(i, j + 1), edge_pt(pr, j_pr), -r_vec(i, j + 1));
+    }
+    g_cp[gl_InvocationID] = x;
+    if (id < 2 * NC) {
+        int k = id / 2;
+        if ((id & 1) == 0) {
+            g_eout[id] = edge_pt(k, int(corner_ring[4u * patch_index + uint(k)]) - 1);
+        } else {
+            int k1 = (k + 1) % NC;
+            g_eout[id] = edge_pt(k1, int(corner_ring[4u * patch_index + uint(k1)]) + 2);
+        }
+    }
+    if (id == 0) {
+        uvec4 c = gpatches[patch_index].corners;
+        // Vulkan quad domain: outer[0] is the u=0 edge, [1] v=0, [2] u=1, [3] v=1.
+        float o0 = edge_tess_level(c.x, c.w);
+        float o1 = edge_tess_level(c.x, c.y);
+        float o2 = edge_tess_level(c.y, c.z);
+        float o3 = edge_tess_level(c.w, c.z);
+        gl_TessLevelOuter[0] = o0;
+        gl_TessLevelOuter[1] = o1;
+        gl_TessLevelOuter[2] = o2;
+        gl_TessLevelOuter[3] = o3;
+        gl_TessLevelInner[0] = max(o1, o3);
+        gl_TessLevelInner[1] = max(o0, o2);
+    }
+}

@@ -1,0 +1,256 @@
+//! Per-patch data of Gregory patches that the shared TES reads (`glsl/common/gregory.glsl`),
+//! the same for both GPU construction variants: patch records (face, flags, corner ids), the
+//! 12-point B-spline grids of edges shared with regular patches, and per-vertex limit positions
+//! and normals for the patch corners (§4.5: watertight corners and edges).
+
+use glam::DVec3;
+
+use super::layout::{BSplinePatch, PATCH_EDGES};
+use crate::patch::gregory::{is_supported_vertex, vertex_ring, GregoryVertex};
+use crate::patch::RegularPatch;
+use crate::topology::Topology;
+
+/// Bytes of one `GregoryPatchInfo` record.
+pub const GREGORY_PATCH_INFO_BYTES: usize = 32;
+/// Grid vertex ids per patch (4 edges x 3 rows x 4).
+pub const GRID_IDS_PER_PATCH: usize = 48;
+
+/// Why a face is not drawn as a GPU Gregory patch (the renderer keeps it on the CPU path).
+pub fn gregory_face_problem(topo: &Topology, f: u32) -> Option<String> {
+    let n = topo.face_size(f);
+    if n != 3 && n != 4 {
+        return Some(format!(
+            "face {f} has {n} corners (Gregory patches: 3 or 4)"
+        ));
+    }
+    for &v in topo.face_vertices(f) {
+        if !is_supported_vertex(topo, v) {
+            return Some(format!(
+                "face {f}: vertex {v} is on a boundary or has sharpness (not covered by the GPU Gregory construction yet)"
+            ));
+        }
+    }
+    None
+}
+
+/// Faces a Gregory scheme should draw: a limit surface, not (boundary-)regular, 3 or 4 corners
+/// (whether the construction covers them is [`gregory_face_problem`]).
+pub fn irregular_faces(topo: &Topology) -> Vec<u32> {
+    (0..topo.face_count() as u32)
+        .filter(|&f| {
+            topo.has_limit_surface(f)
+                && matches!(topo.face_size(f), 3 | 4)
+                && RegularPatch::gather(topo, f).is_none()
+        })
+        .collect()
+}
+
+/// Shared TES data of a list of Gregory faces, in draw order: quads first, then triangles.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct GregoryLayout {
+    /// Face of each patch.
+    pub faces: Vec<u32>,
+    /// Number of quad patches (the first `quad_count` entries).
+    pub quad_count: u32,
+    /// Corner vertex ids (w repeats corner 0 for triangles).
+    pub corners: Vec<[u32; 4]>,
+    /// Index of the patch's face in each corner vertex's ring (paper Fig. 8).
+    pub corner_ring: Vec<[u32; 4]>,
+    /// Bit k: edge k (corner k -> k+1) is shared with a regular B-spline patch.
+    pub flags: Vec<u32>,
+    /// [`GRID_IDS_PER_PATCH`] ids per patch (zeros where the flag is off).
+    pub grid_ids: Vec<u32>,
+}
+
+/// The 12 grid ids of the edge `a -> b` of Gregory face `f` shared with regular patch `p`, in the
+/// TES order: rows left / on / right of the direction from the smaller id, 4 along it.
+fn grid_of(p: &RegularPatch, a: u32, b: u32) -> Option<[u32; 12]> {
+    let c = [p.cvs[5], p.cvs[6], p.cvs[10], p.cvs[9]];
+    let pe = PATCH_EDGES
+        .iter()
+        .position(|&(s, t)| (c[s] == a && c[t] == b) || (c[s] == b && c[t] == a))?;
+    // Phantom points (mirrored on the GPU) cannot be named by an id.
+    if p.boundary_mask != 0 {
+        return None;
+    }
+    let along_u = pe == 0 || pe == 2;
+    let off = usize::from(pe == 1 || pe == 2);
+    let (s, t) = PATCH_EDGES[pe];
+    let reversed = c[s] > c[t];
+    let (lo, hi) = (a.min(b), a.max(b));
+    // The Gregory face runs a -> b, so it lies left of lo -> hi exactly when a is lo.
+    let gregory_left = a == lo;
+    let _ = hi;
+    let outer = if off == 0 { 0 } else { 2 };
+    let rows = if gregory_left {
+        [outer, 1, 2 - outer]
+    } else {
+        [2 - outer, 1, outer]
+    };
+    let mut out = [0u32; 12];
+    for (r, &m) in rows.iter().enumerate() {
+        for k in 0..4 {
+            let kk = if reversed { 3 - k } else { k };
+            let idx = if along_u {
+                (m + off) * 4 + kk
+            } else {
+                kk * 4 + m + off
+            };
+            out[r * 4 + k] = p.cvs[idx];
+        }
+    }
+    Some(out)
+}
+
+impl GregoryLayout {
+    /// Tables for `faces` (each a triangle or quad with interior smooth vertices: check with
+    /// [`gregory_face_problem`] first; others are skipped).
+    pub fn new(topo: &Topology, faces: &[u32]) -> GregoryLayout {
+        let mut quads: Vec<u32> = faces
+            .iter()
+            .copied()
+            .filter(|&f| topo.face_size(f) == 4)
+            .collect();
+        let tris: Vec<u32> = faces
+            .iter()
+            .copied()
+            .filter(|&f| topo.face_size(f) == 3)
+            .collect();
+        let quad_count = quads.len() as u32;
+        quads.extend(tris);
+        let mut out = GregoryLayout {
+            quad_count,
+            ..Default::default()
+        };
+        for &f in &quads {
+            let fv = topo.face_vertices(f);
+            let n = fv.len();
+            let mut corners = [fv[0]; 4];
+            let mut ring = [0u32; 4];
+            let mut flags = 0u32;
+            let mut grids = [0u32; GRID_IDS_PER_PATCH];
+            for k in 0..n {
+                corners[k] = fv[k];
+                ring[k] = topo
+                    .vertex_faces(fv[k])
+                    .iter()
+                    .position(|&g| g == f)
+                    .unwrap_or(0) as u32;
+                let (a, b) = (fv[k], fv[(k + 1) % n]);
+                let neighbour = topo.find_edge(a, b).and_then(|e| {
+                    topo.edge_faces(e)
+                        .iter()
+                        .copied()
+                        .find(|&g| g != f)
+                        .and_then(|g| RegularPatch::gather(topo, g))
+                });
+                if let Some(grid) = neighbour.as_ref().and_then(|p| grid_of(p, a, b)) {
+                    flags |= 1 << k;
+                    grids[12 * k..12 * k + 12].copy_from_slice(&grid);
+                }
+            }
+            out.faces.push(f);
+            out.corners.push(corners);
+            out.corner_ring.push(ring);
+            out.flags.push(flags);
+            out.grid_ids.extend_from_slice(&grids);
+        }
+        out
+    }
+
+    /// Number of patches.
+    pub fn patch_count(&self) -> u32 {
+        self.faces.len() as u32
+    }
+
+    /// `GregoryPatchInfo` records (binding 6).
+    pub fn patch_info_bytes(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(self.faces.len() * GREGORY_PATCH_INFO_BYTES);
+        for i in 0..self.faces.len() {
+            let c = self.corners[i];
+            for w in [self.faces[i], self.flags[i], 0, 0, c[0], c[1], c[2], c[3]] {
+                out.extend_from_slice(&w.to_le_bytes());
+            }
+        }
+        out
+    }
+
+    /// Grid ids (binding 7).
+    pub fn grid_bytes(&self) -> Vec<u8> {
+        self.grid_ids.iter().flat_map(|w| w.to_le_bytes()).collect()
+    }
+
+    /// Ring offsets, 4 words per patch (two-stage variant, binding 5).
+    pub fn corner_ring_bytes(&self) -> Vec<u8> {
+        self.corner_ring
+            .iter()
+            .flatten()
+            .flat_map(|w| w.to_le_bytes())
+            .collect()
+    }
+
+    /// Index buffer of the two-stage draw: the face's corners (4 per quad, then 3 per triangle).
+    pub fn corner_index_bytes(&self) -> Vec<u8> {
+        let mut out = Vec::new();
+        for (i, c) in self.corners.iter().enumerate() {
+            let n = if (i as u32) < self.quad_count { 4 } else { 3 };
+            for v in &c[..n] {
+                out.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+        out
+    }
+}
+
+/// Limit position and unit limit normal of an interior smooth vertex (§3.2-3.3: the tangent
+/// plane of the limit tangents along ring edges 0 and 1; outward for counter-clockwise faces).
+pub fn gregory_vertex_frame(topo: &Topology, positions: &[DVec3], v: u32) -> (DVec3, DVec3) {
+    let g = GregoryVertex::interior(&vertex_ring(topo, positions, v));
+    let n = (g.e[0] - g.p).cross(g.e[1] - g.p).normalize_or_zero();
+    (g.p, n)
+}
+
+/// Per-vertex limit positions and normals every patch corner reads (`vertex_limit`, binding 2,
+/// and `vertex_normal`, binding 9): regular patch corners from the B-spline patch (first patch
+/// that has the vertex, as [`super::layout::vertex_limits`]), then the remaining corners of the
+/// Gregory patches from the Gregory construction. Other entries hold the control position and +z.
+pub fn vertex_frames(
+    topo: &Topology,
+    positions: &[DVec3],
+    regular: &[BSplinePatch],
+    gregory: &GregoryLayout,
+) -> (Vec<DVec3>, Vec<DVec3>) {
+    let mut lim = positions.to_vec();
+    let mut nrm = vec![DVec3::Z; positions.len()];
+    let mut done = vec![false; positions.len()];
+    for p in regular {
+        let rp = RegularPatch {
+            face: p.face,
+            cvs: p.cvs,
+            boundary_mask: p.boundary_mask,
+        };
+        for (k, (u, v)) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+            .into_iter()
+            .enumerate()
+        {
+            let vid = p.corners()[k] as usize;
+            if !done[vid] {
+                done[vid] = true;
+                let s = rp.eval(positions, u, v);
+                lim[vid] = s.position;
+                nrm[vid] = s.normal;
+            }
+        }
+    }
+    for c in &gregory.corners {
+        for &v in c {
+            if !done[v as usize] {
+                done[v as usize] = true;
+                let (p, n) = gregory_vertex_frame(topo, positions, v);
+                lim[v as usize] = p;
+                nrm[v as usize] = n;
+            }
+        }
+    }
+    (lim, nrm)
+}

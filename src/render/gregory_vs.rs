@@ -1,0 +1,457 @@
+//! The two-stage GPU Gregory construction (`--scheme gregory-vs`, Loop et al. 2009 §4.1-4.2).
+//!
+//! Stage 1, the vertex shader (`glsl/gregory_vs.vert`), runs once per control vertex of the
+//! Gregory faces (indexed draw: the patch primitive is the face's 3 or 4 vertices) and computes
+//! from the vertex's one-ring — read from a connectivity storage buffer (the paper's Fig. 7
+//! textures) and the dynamic positions buffer — its limit position, one edge point and one
+//! transversal vector `r` per ring edge. Stage 2, the TCS (`glsl/gregory_vs_{quad,tri}.tesc`),
+//! picks each patch's corner and edge points with the per-patch ring offsets (Fig. 8) and builds
+//! the face points with eq. 6; the shared TES evaluates.
+//!
+//! The per-vertex results travel as vertex-shader outputs, not through a storage buffer: the
+//! TCS of a patch reads exactly its own corners' outputs, which the pipeline orders after the
+//! vertex stage, whereas storage writes of one vertex invocation are not guaranteed visible to
+//! another patch's TCS in the same draw. The price is the varyings budget: `4 + 6 n` floats
+//! for valence `n`, so the largest valence is `(components - 4) / 6` with `components` the
+//! smaller of `maxVertexOutputComponents` and `maxTessellationControlPerVertexInputComponents`
+//! minus one location for the built-ins (128 on lavapipe: 31 slots, valence 20; the variant for
+//! 64-component devices takes valence 9). Faces with a larger
+//! valence corner go to another path (the renderer says so on stderr).
+
+use ash::vk;
+use glam::DVec3;
+
+use super::gregory_layout::{gregory_face_problem, GregoryLayout};
+use super::layout::vec3_bytes;
+use super::renderer::RenderDesc;
+use crate::gpu::{
+    patch_draw_chunks, Buffer, BufferBinding, Context, DescriptorBinding, DescriptorKind,
+    DescriptorPool, GraphicsPipelineDesc, MemoryLocation, Pipeline, PushConstants, TargetFormat,
+};
+use crate::topology::Topology;
+use crate::{Error, Result};
+
+/// Varyings budget of the vertex stage: vec4 slots per vertex and the largest valence they hold.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct VsBudget {
+    /// vec4 output slots (31 or 15; selects the shader variant).
+    pub slots: u32,
+    /// Largest vertex valence: `(4 * slots - 4) / 6`.
+    pub max_valence: usize,
+}
+
+/// The budget the device allows, or `None` when even 15 slots do not fit.
+pub fn vs_budget(ctx: &Context) -> Option<VsBudget> {
+    // SAFETY: valid instance and physical device owned by the context.
+    let props = unsafe {
+        ctx.instance()
+            .get_physical_device_properties(ctx.physical_device())
+    };
+    let comps = props.limits.max_vertex_output_components.min(
+        props
+            .limits
+            .max_tessellation_control_per_vertex_input_components,
+    );
+    // One location of the budget is taken by the built-in per-vertex block.
+    [31u32, 15]
+        .into_iter()
+        .find(|&s| 4 * s + 4 <= comps)
+        .map(|slots| VsBudget {
+            slots,
+            max_valence: ((4 * slots - 4) / 6) as usize,
+        })
+}
+
+/// Splits candidate Gregory faces into those this variant draws and those it cannot, with the
+/// reason (boundary/crease vertex, valence over the budget, a ring face with more than 4 sides
+/// is fine).
+pub fn select_faces(
+    topo: &Topology,
+    faces: &[u32],
+    budget: VsBudget,
+) -> (Vec<u32>, Vec<(u32, String)>) {
+    let mut ok = Vec::new();
+    let mut rejected = Vec::new();
+    for &f in faces {
+        if let Some(why) = gregory_face_problem(topo, f) {
+            rejected.push((f, why));
+            continue;
+        }
+        if let Some(&v) = topo
+            .face_vertices(f)
+            .iter()
+            .find(|&&v| topo.valence(v) > budget.max_valence)
+        {
+            rejected.push((
+                f,
+                format!(
+                    "face {f}: vertex {v} has valence {} > {} (the two-stage variant's varyings budget)",
+                    topo.valence(v),
+                    budget.max_valence
+                ),
+            ));
+            continue;
+        }
+        ok.push(f);
+    }
+    (ok, rejected)
+}
+
+/// Connectivity words (layout in `glsl/common/gregory_vs.glsl`): a header `(ring offset, n)`
+/// per vertex, ring records `(neighbour, face record offset)`, face records `(size, ids...)`.
+pub fn connectivity_words(topo: &Topology) -> Vec<u32> {
+    let nv = topo.vertex_count();
+    let nf = topo.face_count();
+    let mut face_off = vec![0u32; nf];
+    let mut words = vec![0u32; 2 * nv];
+    let ring_start = words.len();
+    let ring_len: usize = (0..nv as u32).map(|v| topo.vertex_faces(v).len()).sum();
+    let face_start = ring_start + 2 * ring_len;
+    let mut faces = Vec::new();
+    for (f, off) in face_off.iter_mut().enumerate() {
+        *off = (face_start + faces.len()) as u32;
+        let fv = topo.face_vertices(f as u32);
+        faces.push(fv.len() as u32);
+        faces.extend_from_slice(fv);
+    }
+    for v in 0..nv as u32 {
+        let vf = topo.vertex_faces(v);
+        let ve = topo.vertex_edges(v);
+        words[2 * v as usize] = words.len() as u32;
+        words[2 * v as usize + 1] = vf.len() as u32;
+        for (i, &f) in vf.iter().enumerate() {
+            let nb = ve.get(i).map_or(v, |&e| topo.other_vertex(e, v));
+            words.push(nb);
+            words.push(face_off[f as usize]);
+        }
+    }
+    debug_assert_eq!(words.len(), face_start);
+    words.extend(faces);
+    words
+}
+
+/// The shared buffers the two-stage pass binds but does not own (the surface renderer's).
+#[derive(Clone, Copy)]
+pub struct SharedBuffers<'a> {
+    /// Frame uniforms (binding 0).
+    pub frame: &'a Buffer,
+    /// Vertex limit positions (binding 2), filled by [`super::gregory_layout::vertex_frames`].
+    pub vertex_limits: &'a Buffer,
+    /// TES capture (binding 3).
+    pub capture: &'a Buffer,
+}
+
+/// GPU resources and pipelines of the two-stage Gregory patches of one surface.
+pub struct GregoryVsPatches {
+    ctx: Context,
+    layout: GregoryLayout,
+    split: u32,
+    vertex_count: usize,
+    _conn: Buffer,
+    _corner_ring: Buffer,
+    _patch_info: Buffer,
+    _grids: Buffer,
+    indices: Buffer,
+    control_pos: Buffer,
+    vertex_normals: Buffer,
+    _pool: DescriptorPool,
+    set: vk::DescriptorSet,
+    quad_pipeline: Pipeline,
+    tri_pipeline: Pipeline,
+}
+
+fn storage_stages() -> vk::ShaderStageFlags {
+    vk::ShaderStageFlags::VERTEX
+        | vk::ShaderStageFlags::TESSELLATION_CONTROL
+        | vk::ShaderStageFlags::TESSELLATION_EVALUATION
+}
+
+/// Descriptor set 0 of the two-stage pipelines: 0 frame UBO, 1 (declared by frame.glsl, unused),
+/// 2 vertex limits, 3 capture, 4 connectivity, 5 ring offsets, 6 patch records, 7 grids,
+/// 8 control positions, 9 vertex normals.
+fn set_layout() -> Vec<DescriptorBinding> {
+    let mut v = vec![DescriptorBinding {
+        binding: 0,
+        kind: DescriptorKind::UniformBuffer,
+        stages: storage_stages() | vk::ShaderStageFlags::FRAGMENT,
+    }];
+    for b in 1..10 {
+        v.push(DescriptorBinding {
+            binding: b,
+            kind: DescriptorKind::StorageBuffer,
+            stages: storage_stages(),
+        });
+    }
+    v
+}
+
+fn host_buffer(ctx: &Context, bytes: &[u8], name: &str) -> Result<Buffer> {
+    let mut b = Buffer::new(
+        ctx,
+        bytes.len().max(64) as u64,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::CpuToGpu,
+        name,
+    )?;
+    b.write(0, bytes)?;
+    Ok(b)
+}
+
+fn padded(mut bytes: Vec<u8>) -> Vec<u8> {
+    if bytes.len() < 64 {
+        bytes.resize(64, 0);
+    }
+    bytes
+}
+
+fn vec4_bytes(points: &[DVec3]) -> Vec<u8> {
+    super::layout::vec4_bytes(points)
+}
+
+impl GregoryVsPatches {
+    /// Uploads the tables for the faces in `layout` (made from faces [`select_faces`] accepted)
+    /// and creates the pipelines for targets of format `target`. `normals`: per-vertex limit
+    /// normals (from [`super::gregory_layout::vertex_frames`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        ctx: &Context,
+        topo: &Topology,
+        layout: GregoryLayout,
+        positions: &[DVec3],
+        normals: &[DVec3],
+        shared: SharedBuffers<'_>,
+        desc: &RenderDesc,
+        target: TargetFormat,
+    ) -> Result<GregoryVsPatches> {
+        let budget = vs_budget(ctx).ok_or_else(|| {
+            Error::Invalid(
+                "the device's varyings budget is below 64 components: no two-stage Gregory variant"
+                    .into(),
+            )
+        })?;
+        if positions.len() != topo.vertex_count() || normals.len() != positions.len() {
+            return Err(Error::Invalid(format!(
+                "gregory-vs: {} positions / {} normals for {} vertices",
+                positions.len(),
+                normals.len(),
+                topo.vertex_count()
+            )));
+        }
+        if desc.capture_capacity.is_some() {
+            ctx.require(&[crate::gpu::Feature::VertexPipelineStoresAndAtomics])?;
+        }
+        let conn_words = connectivity_words(topo);
+        let conn = host_buffer(
+            ctx,
+            &padded(conn_words.iter().flat_map(|w| w.to_le_bytes()).collect()),
+            "gregory-vs connectivity",
+        )?;
+        let corner_ring = host_buffer(
+            ctx,
+            &padded(layout.corner_ring_bytes()),
+            "gregory-vs ring offsets",
+        )?;
+        let patch_info = host_buffer(
+            ctx,
+            &padded(layout.patch_info_bytes()),
+            "gregory patch records",
+        )?;
+        let grids = host_buffer(ctx, &padded(layout.grid_bytes()), "gregory edge grids")?;
+        let control_pos = host_buffer(
+            ctx,
+            &padded(vec3_bytes(positions)),
+            "gregory control positions",
+        )?;
+        let vertex_normals =
+            host_buffer(ctx, &padded(vec4_bytes(normals)), "gregory vertex normals")?;
+        let indices = ctx.upload_buffer(
+            &padded(layout.corner_index_bytes()),
+            vk::BufferUsageFlags::INDEX_BUFFER,
+            "gregory-vs corner indices",
+        )?;
+        let quad_pipeline = Self::pipeline(ctx, desc, target, budget, true)?;
+        let tri_pipeline = Self::pipeline(ctx, desc, target, budget, false)?;
+        let pool = DescriptorPool::new(ctx, 1, 9, 1)?;
+        let set = pool.allocate(quad_pipeline.set_layouts[0])?;
+        let bind = |binding, buffer| BufferBinding {
+            binding,
+            kind: DescriptorKind::StorageBuffer,
+            buffer,
+        };
+        ctx.write_buffer_descriptors(
+            set,
+            &[
+                BufferBinding {
+                    binding: 0,
+                    kind: DescriptorKind::UniformBuffer,
+                    buffer: shared.frame,
+                },
+                bind(1, &patch_info),
+                bind(2, shared.vertex_limits),
+                bind(3, shared.capture),
+                bind(4, &conn),
+                bind(5, &corner_ring),
+                bind(6, &patch_info),
+                bind(7, &grids),
+                bind(8, &control_pos),
+                bind(9, &vertex_normals),
+            ],
+        );
+        Ok(GregoryVsPatches {
+            ctx: ctx.clone(),
+            layout,
+            split: desc.tess.split(),
+            vertex_count: positions.len(),
+            _conn: conn,
+            _corner_ring: corner_ring,
+            _patch_info: patch_info,
+            _grids: grids,
+            indices,
+            control_pos,
+            vertex_normals,
+            _pool: pool,
+            set,
+            quad_pipeline,
+            tri_pipeline,
+        })
+    }
+
+    fn pipeline(
+        ctx: &Context,
+        desc: &RenderDesc,
+        target: TargetFormat,
+        budget: VsBudget,
+        quads: bool,
+    ) -> Result<Pipeline> {
+        let suffix = if budget.slots == 31 { "" } else { "_16" };
+        let shape = if quads { "quad" } else { "tri" };
+        let tese = format!(
+            "patch_gregory_{shape}_{}{}.tese",
+            desc.tess.spacing.shader_suffix(),
+            if desc.capture_capacity.is_some() {
+                "_capture"
+            } else {
+                ""
+            }
+        );
+        let p = GraphicsPipelineDesc {
+            label: format!("gregory-vs {shape} patches ({tese})"),
+            vertex: format!("gregory_vs{suffix}.vert"),
+            tess_control: Some(format!("gregory_vs_{shape}{suffix}.tesc")),
+            tess_eval: Some(tese),
+            fragment: "shade.frag".into(),
+            vertex_bindings: vec![],
+            vertex_attributes: vec![],
+            topology: vk::PrimitiveTopology::PATCH_LIST,
+            patch_control_points: if quads { 4 } else { 3 },
+            polygon_mode: if desc.wireframe {
+                vk::PolygonMode::LINE
+            } else {
+                vk::PolygonMode::FILL
+            },
+            cull_mode: if desc.cull_back_faces {
+                vk::CullModeFlags::BACK
+            } else {
+                vk::CullModeFlags::NONE
+            },
+            front_face: vk::FrontFace::COUNTER_CLOCKWISE,
+            depth_test: true,
+            depth_write: true,
+            set_layouts: vec![set_layout()],
+            push_constants: Some(PushConstants {
+                stages: vk::ShaderStageFlags::TESSELLATION_CONTROL
+                    | vk::ShaderStageFlags::TESSELLATION_EVALUATION,
+                size: 12,
+            }),
+        };
+        ctx.graphics_pipeline_for(&p, target)
+    }
+
+    /// The patch tables.
+    pub fn layout(&self) -> &GregoryLayout {
+        &self.layout
+    }
+
+    /// Number of patches (quads + triangles).
+    pub fn patch_count(&self) -> u32 {
+        self.layout.patch_count()
+    }
+
+    /// Animation: new control positions and vertex normals (same topology); every patch is
+    /// rebuilt on the GPU in the next frame. The caller updates the shared vertex limits.
+    pub fn update_positions(&mut self, positions: &[DVec3], normals: &[DVec3]) -> Result<()> {
+        if positions.len() != self.vertex_count || normals.len() != self.vertex_count {
+            return Err(Error::Invalid(format!(
+                "gregory-vs update: {} positions / {} normals, the surface has {} vertices",
+                positions.len(),
+                normals.len(),
+                self.vertex_count
+            )));
+        }
+        self.control_pos.write(0, &vec3_bytes(positions))?;
+        self.vertex_normals.write(0, &vec4_bytes(normals))?;
+        Ok(())
+    }
+
+    /// Records the Gregory patch draws (inside the caller's render pass): quads in sub-patch
+    /// splits like the regular patches, triangles unsplit; chunked per
+    /// [`crate::gpu::patch_draw_chunks`], the chunk's first patch as push constant.
+    pub fn record(&self, cmd: vk::CommandBuffer) {
+        let dev = self.ctx.device();
+        let quads = self.layout.quad_count;
+        let tris = self.layout.patch_count() - quads;
+        let push = |pipe: &Pipeline, base: u32, sub: u32, split: u32| {
+            let mut pc = [0u8; 12];
+            for (k, w) in [base, sub, split].iter().enumerate() {
+                pc[4 * k..4 * k + 4].copy_from_slice(&w.to_le_bytes());
+            }
+            // SAFETY: recording; the range matches the pipeline layout.
+            unsafe {
+                dev.cmd_push_constants(
+                    cmd,
+                    pipe.layout,
+                    vk::ShaderStageFlags::TESSELLATION_CONTROL
+                        | vk::ShaderStageFlags::TESSELLATION_EVALUATION,
+                    0,
+                    &pc,
+                );
+            }
+        };
+        for (pipe, count, quad) in [
+            (&self.quad_pipeline, quads, true),
+            (&self.tri_pipeline, tris, false),
+        ] {
+            if count == 0 {
+                continue;
+            }
+            let points = if quad { 4 } else { 3 };
+            // SAFETY: cmd records inside a render pass of the pipeline's format; every bound
+            // resource lives as long as self.
+            unsafe {
+                dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipe.raw);
+                dev.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    pipe.layout,
+                    0,
+                    &[self.set],
+                    &[],
+                );
+                dev.cmd_bind_index_buffer(cmd, self.indices.raw(), 0, vk::IndexType::UINT32);
+            }
+            let split = if quad { self.split } else { 1 };
+            for (first, n) in patch_draw_chunks(count, points, true) {
+                let (base, first_index) = if quad {
+                    (first, 4 * first)
+                } else {
+                    (quads + first, 4 * quads + 3 * first)
+                };
+                for sub in 0..split * split {
+                    push(pipe, base, sub, split);
+                    // SAFETY: as above.
+                    unsafe { dev.cmd_draw_indexed(cmd, n * points, 1, first_index, 0, 0) };
+                }
+            }
+        }
+    }
+}

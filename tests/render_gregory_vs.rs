@@ -1,0 +1,448 @@
+//! The two-stage GPU Gregory variant (`gregory-vs`): TES output against the CPU construction,
+//! bitwise watertight positions and normals along every shared edge and at every shared corner
+//! (Gregory/Gregory and Gregory/B-spline), validation-clean.
+
+mod render_common;
+
+use std::collections::HashMap;
+
+use glam::{DVec3, Vec3};
+use tessera::gpu::{vk, Buffer, Context, MemoryLocation, RenderTarget};
+use tessera::mesh::{ControlMesh, ObjOptions};
+use tessera::patch::gregory::{gregory_patch, gregory_vertices, GregoryPatch};
+use tessera::render::gregory_layout::{irregular_faces, vertex_frames, GregoryLayout};
+use tessera::render::gregory_vs::{select_faces, vs_budget, GregoryVsPatches, SharedBuffers};
+use tessera::render::layout::vec4_bytes;
+use tessera::render::settings::FRAME_UNIFORM_BYTES;
+use tessera::render::{
+    BSplinePatch, Camera, CameraSpec, CaptureRecord, ColorBy, FrameUniforms, RenderDesc,
+    SurfaceData, SurfaceRenderer, TessSettings,
+};
+use tessera::topology::Topology;
+
+const CAPTURE_HEADER: usize = 16;
+const CAPTURE_RECORD: usize = 36;
+/// Gregory/B-spline shared points must be bitwise equal too (needs the B-spline TES to use the
+/// shared edge/corner rules of glsl/common/gregory.glsl).
+const STRICT_MIXED: bool = false;
+
+fn osd(name: &str) -> ControlMesh {
+    ControlMesh::from_obj_file(
+        format!("/work/shared/meshes/osd/{name}.obj"),
+        &ObjOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+fn embedded(name: &str) -> ControlMesh {
+    tessera::assets::EmbeddedMesh::from_name(name)
+        .unwrap()
+        .load()
+        .unwrap()
+}
+
+/// One frame: regular faces through the B-spline renderer, the Gregory faces the two-stage
+/// variant accepts through it; both captured.
+struct Frame {
+    topo: Topology,
+    positions: Vec<DVec3>,
+    regular: Vec<BSplinePatch>,
+    gregory: Vec<u32>,
+    rejected: usize,
+    records: Vec<CaptureRecord>,
+    gregory_records: usize,
+}
+
+fn read_capture(buf: &Buffer) -> Vec<CaptureRecord> {
+    let words: Vec<u32> = buf.read().unwrap();
+    let count = words[0] as usize;
+    assert!(count <= words[1] as usize, "capture overflow");
+    let f = f32::from_bits;
+    (0..count)
+        .map(|k| {
+            let r = &words[4 + 9 * k..4 + 9 * k + 9];
+            CaptureRecord {
+                face: r[0],
+                u: f(r[1]),
+                v: f(r[2]),
+                position: [f(r[3]), f(r[4]), f(r[5])],
+                normal: [f(r[6]), f(r[7]), f(r[8])],
+            }
+        })
+        .collect()
+}
+
+fn render(ctx: &Context, mesh: &ControlMesh, level: f32) -> (Frame, image::RgbaImage) {
+    let topo = Topology::new(mesh).unwrap();
+    let positions = mesh.positions().to_vec();
+    let regular: Vec<BSplinePatch> = (0..topo.face_count() as u32)
+        .filter_map(|f| tessera::patch::RegularPatch::gather(&topo, f))
+        .map(|p| BSplinePatch {
+            face: p.face,
+            cvs: p.cvs,
+            boundary_mask: p.boundary_mask,
+        })
+        .collect();
+    let budget = vs_budget(ctx).expect("varyings budget");
+    let (gregory, rejected) = select_faces(&topo, &irregular_faces(&topo), budget);
+    let layout = GregoryLayout::new(&topo, &gregory);
+    let (limits, normals) = vertex_frames(&topo, &positions, &regular, &layout);
+
+    let tess = TessSettings {
+        level,
+        ..TessSettings::default()
+    };
+    let cap = 200_000u32;
+    let desc = RenderDesc {
+        tess,
+        color_by: ColorBy::PatchType,
+        capture_capacity: Some(cap),
+        ..RenderDesc::default()
+    };
+    let rt = RenderTarget::new(ctx, 256, 256, 1).unwrap();
+    let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+    let mut frame_buf = Buffer::new(
+        ctx,
+        FRAME_UNIFORM_BYTES as u64,
+        vk::BufferUsageFlags::UNIFORM_BUFFER,
+        MemoryLocation::CpuToGpu,
+        "test frame",
+    )
+    .unwrap();
+    let mut limit_buf = Buffer::new(
+        ctx,
+        (16 * limits.len()) as u64,
+        storage,
+        MemoryLocation::CpuToGpu,
+        "test limits",
+    )
+    .unwrap();
+    limit_buf.write(0, &vec4_bytes(&limits)).unwrap();
+    let mut cap_bytes = vec![0u8; CAPTURE_HEADER + CAPTURE_RECORD * cap as usize];
+    cap_bytes[4..8].copy_from_slice(&cap.to_le_bytes());
+    let mut capture = Buffer::new(
+        ctx,
+        cap_bytes.len() as u64,
+        storage,
+        MemoryLocation::GpuToCpu,
+        "test capture",
+    )
+    .unwrap();
+    capture.write(0, &cap_bytes).unwrap();
+    let greg = GregoryVsPatches::new(
+        ctx,
+        &topo,
+        layout,
+        &positions,
+        &normals,
+        SharedBuffers {
+            frame: &frame_buf,
+            vertex_limits: &limit_buf,
+            capture: &capture,
+        },
+        &desc,
+        rt.format(),
+    )
+    .unwrap();
+    let surface = SurfaceData {
+        positions: positions.clone(),
+        patches: regular.clone(),
+        ..SurfaceData::default()
+    };
+    let mut bspline = SurfaceRenderer::new(ctx, &surface, &desc, rt.format()).unwrap();
+    let lo = limits
+        .iter()
+        .fold(DVec3::splat(f64::INFINITY), |a, b| a.min(*b));
+    let hi = limits
+        .iter()
+        .fold(DVec3::splat(f64::NEG_INFINITY), |a, b| a.max(*b));
+    let cam = Camera::frame_points(CameraSpec::Auto, lo, hi, &limits, 1.0);
+    let uniforms = FrameUniforms {
+        view_proj: cam.view_proj(),
+        eye: cam.eye.as_vec3(),
+        viewport: [256.0, 256.0],
+        tess,
+        max_level: 64.0,
+        light_dir: Vec3::new(0.3, 0.8, 0.5),
+        color_by: ColorBy::PatchType,
+    };
+    frame_buf.write(0, &uniforms.to_bytes()).unwrap();
+    bspline.set_frame(&uniforms).unwrap();
+    bspline.reset_capture().unwrap();
+    ctx.submit_once(|dev, cmd| {
+        rt.begin(dev, cmd, [0.0, 0.0, 0.0, 1.0]);
+        bspline.record_patches(cmd);
+        greg.record(cmd);
+        rt.end(dev, cmd);
+        let barrier = vk::MemoryBarrier::default()
+            .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+            .dst_access_mask(vk::AccessFlags::HOST_READ);
+        // SAFETY: outside the render pass.
+        unsafe {
+            dev.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::TESSELLATION_EVALUATION_SHADER,
+                vk::PipelineStageFlags::HOST,
+                vk::DependencyFlags::empty(),
+                &[barrier],
+                &[],
+                &[],
+            );
+        }
+        Ok(())
+    })
+    .unwrap();
+    let mut records = read_capture(&capture);
+    let gregory_records = records.len();
+    records.extend(bspline.read_capture().unwrap());
+    let img = rt.read_rgba(ctx).unwrap();
+    (
+        Frame {
+            topo,
+            positions,
+            regular,
+            gregory,
+            rejected: rejected.len(),
+            records,
+            gregory_records,
+        },
+        img,
+    )
+}
+
+fn bbox_diagonal(points: &[DVec3]) -> f64 {
+    let lo = points
+        .iter()
+        .fold(DVec3::splat(f64::INFINITY), |a, b| a.min(*b));
+    let hi = points
+        .iter()
+        .fold(DVec3::splat(f64::NEG_INFINITY), |a, b| a.max(*b));
+    (hi - lo).length()
+}
+
+/// Max position error / bbox diagonal and max normal angle (interior points; edge points) of
+/// the Gregory records against the CPU construction at the same parameters.
+fn compare_with_cpu(fr: &Frame) -> (f64, f64, f64) {
+    let verts = gregory_vertices(&fr.topo, &fr.positions);
+    let patches: HashMap<u32, GregoryPatch> = fr
+        .gregory
+        .iter()
+        .map(|&f| (f, gregory_patch(&fr.topo, &verts, f).unwrap()))
+        .collect();
+    let diag = bbox_diagonal(&fr.positions);
+    let (mut pos_err, mut n_in, mut n_edge) = (0.0f64, 0.0f64, 0.0f64);
+    for r in &fr.records[..fr.gregory_records] {
+        let (u, v) = (f64::from(r.u), f64::from(r.v));
+        let (pp, on_edge) = match patches[&r.face] {
+            GregoryPatch::Quad(q) => (q.eval(u, v), u == 0.0 || v == 0.0 || u == 1.0 || v == 1.0),
+            GregoryPatch::Triangle(t) => (
+                t.eval(u, v),
+                u == 0.0 || v == 0.0 || (r.u + r.v) >= 1.0 - 1e-6,
+            ),
+        };
+        let p = DVec3::from(r.position.map(f64::from));
+        let n = DVec3::from(r.normal.map(f64::from));
+        pos_err = pos_err.max((p - pp.position).length() / diag);
+        let ang = n.angle_between(pp.normal());
+        if on_edge {
+            n_edge = n_edge.max(ang);
+        } else {
+            n_in = n_in.max(ang);
+        }
+    }
+    (pos_err, n_in, n_edge)
+}
+
+/// (smaller vertex id, larger vertex id, rounded parameter); corners: (v, v, 0).
+type EdgeKey = (u32, u32, i64);
+/// (face, is a regular patch, position and normal bits).
+type SharedPoint = (u32, bool, [u32; 6]);
+
+/// Key of a captured point on a face edge or corner: the vertex ids and the parameter from the
+/// smaller id (rounded), or the vertex for corners.
+fn edge_key(corners: &[u32], u: f32, v: f32, quad: bool) -> Option<EdgeKey> {
+    let q = |x: f32| (f64::from(x) * 1e5).round() as i64;
+    let along = |a: u32, b: u32, x: f32| {
+        if a < b {
+            (a, b, q(x))
+        } else {
+            (b, a, q(1.0 - x))
+        }
+    };
+    if quad {
+        let c = corners;
+        let ue = u == 0.0 || u == 1.0;
+        let ve = v == 0.0 || v == 1.0;
+        if ue && ve {
+            let k = if u == 0.0 {
+                if v == 0.0 {
+                    0
+                } else {
+                    3
+                }
+            } else if v == 0.0 {
+                1
+            } else {
+                2
+            };
+            return Some((c[k], c[k], 0));
+        }
+        if v == 0.0 {
+            return Some(along(c[0], c[1], u));
+        }
+        if u == 1.0 {
+            return Some(along(c[1], c[2], v));
+        }
+        if v == 1.0 {
+            return Some(along(c[3], c[2], u));
+        }
+        if u == 0.0 {
+            return Some(along(c[0], c[3], v));
+        }
+        None
+    } else {
+        let (w1, w2) = (u, v);
+        let w0_zero = f64::from(w1) + f64::from(w2) >= 1.0 - 1e-6;
+        let zeros = usize::from(w1 == 0.0) + usize::from(w2 == 0.0) + usize::from(w0_zero);
+        if zeros >= 2 {
+            let k = if w1 == 0.0 && w2 == 0.0 {
+                0
+            } else if w1 != 0.0 {
+                1
+            } else {
+                2
+            };
+            return Some((corners[k], corners[k], 0));
+        }
+        if w2 == 0.0 {
+            return Some(along(corners[0], corners[1], w1));
+        }
+        if w0_zero {
+            return Some(along(corners[1], corners[2], w2));
+        }
+        if w1 == 0.0 {
+            return Some(along(corners[2], corners[0], 1.0 - w2));
+        }
+        None
+    }
+}
+
+/// Checks bitwise equality of positions and normals at every shared edge/corner point; returns
+/// (points compared across faces, Gregory/B-spline comparisons).
+fn check_watertight(fr: &Frame, name: &str) -> (usize, usize) {
+    let corners_of: HashMap<u32, (Vec<u32>, bool, bool)> = fr
+        .regular
+        .iter()
+        .map(|p| (p.face, (p.corners().to_vec(), true, true)))
+        .chain(fr.gregory.iter().map(|&f| {
+            let fv = fr.topo.face_vertices(f).to_vec();
+            let quad = fv.len() == 4;
+            (f, (fv, quad, false))
+        }))
+        .collect();
+    let mut groups: HashMap<EdgeKey, Vec<SharedPoint>> = HashMap::new();
+    for r in &fr.records {
+        let (c, quad, regular) = &corners_of[&r.face];
+        if let Some(k) = edge_key(c, r.u, r.v, *quad) {
+            let bits = [
+                r.position[0].to_bits(),
+                r.position[1].to_bits(),
+                r.position[2].to_bits(),
+                r.normal[0].to_bits(),
+                r.normal[1].to_bits(),
+                r.normal[2].to_bits(),
+            ];
+            groups.entry(k).or_default().push((r.face, *regular, bits));
+        }
+    }
+    let (mut compared, mut mixed) = (0, 0);
+    let mut failures = Vec::new();
+    let mut mixed_failures = Vec::new();
+    for (k, g) in &groups {
+        let faces: std::collections::BTreeSet<u32> = g.iter().map(|x| x.0).collect();
+        if faces.len() < 2 || g.iter().all(|x| x.1) {
+            continue; // one face only, or B-spline/B-spline (tests/render_regular.rs)
+        }
+        compared += 1;
+        let first = g[0].2;
+        let differs = g.iter().any(|x| x.2 != first);
+        if g.iter().any(|x| x.1) {
+            mixed += 1;
+            if differs {
+                mixed_failures.push(format!("{k:?}: {g:?}"));
+            }
+        } else if differs {
+            failures.push(format!("{k:?}: {g:?}"));
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{name}: {} of {compared} Gregory/Gregory shared points differ, e.g.\n{}",
+        failures.len(),
+        failures[..failures.len().min(5)].join("\n")
+    );
+    if STRICT_MIXED {
+        assert!(
+            mixed_failures.is_empty(),
+            "{name}: {} of {mixed} Gregory/B-spline shared points differ, e.g.\n{}",
+            mixed_failures.len(),
+            mixed_failures[..mixed_failures.len().min(5)].join("\n")
+        );
+    } else if !mixed_failures.is_empty() {
+        eprintln!(
+            "{name}: {} of {mixed} Gregory/B-spline shared points differ, e.g.\n{}",
+            mixed_failures.len(),
+            mixed_failures[..mixed_failures.len().min(3)].join("\n")
+        );
+    }
+    (compared, mixed)
+}
+
+fn run(_name: &str, mesh: &ControlMesh, level: f32) -> Frame {
+    let ctx = render_common::context().unwrap();
+    let (fr, _) = render(&ctx, mesh, level);
+    render_common::assert_validation_clean(&ctx);
+    fr
+}
+
+#[test]
+fn gpu_matches_cpu_construction() {
+    for (name, mesh) in [
+        ("catmark_cube", osd("catmark_cube")),
+        ("mixed", embedded("mixed")),
+        ("catmark_gregory_test6", osd("catmark_gregory_test6")),
+    ] {
+        let fr = run(name, &mesh, 6.0);
+        assert!(!fr.gregory.is_empty(), "{name}: no Gregory faces drawn");
+        let (pos, n_in, n_edge) = compare_with_cpu(&fr);
+        eprintln!(
+            "{name}: {} gregory patches ({} rejected), {} records: max pos err {pos:.2e} of diag, max normal angle interior {n_in:.2e} edge {n_edge:.2e}",
+            fr.gregory.len(),
+            fr.rejected,
+            fr.gregory_records
+        );
+        assert!(
+            pos <= 1e-5,
+            "{name}: position error {pos:e} of the bbox diagonal"
+        );
+        assert!(n_in <= 1e-3, "{name}: interior normal angle {n_in:e}");
+    }
+}
+
+#[test]
+fn watertight_bitwise() {
+    for (name, mesh) in [
+        ("catmark_cube", osd("catmark_cube")),
+        ("mixed", embedded("mixed")),
+        ("catmark_gregory_test6", osd("catmark_gregory_test6")),
+    ] {
+        for level in [3.0, 6.0] {
+            let fr = run(name, &mesh, level);
+            let (n, mixed) = check_watertight(&fr, name);
+            eprintln!(
+                "{name} level {level}: {n} shared points bitwise equal ({mixed} Gregory/B-spline)"
+            );
+            assert!(n > 0);
+        }
+    }
+}
