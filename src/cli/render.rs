@@ -7,7 +7,7 @@ use tessera::gpu::{Context, ContextDesc};
 use tessera::mesh::ObjOptions;
 use tessera::render::{
     render_to_image, CameraSpec, ColorBy, FrameReport, OffscreenDesc, RenderDesc, Spacing,
-    SurfaceData, TessMode, TessSettings,
+    SurfaceData, TessMode, TessSettings, UpAxis,
 };
 use tessera::{ControlMesh, Error, Result};
 
@@ -31,6 +31,9 @@ pub struct RenderArgs {
     /// `auto` (frame the bounding box) or `az,el,dist` (degrees, degrees, model units).
     #[arg(long, default_value = "auto")]
     pub camera: String,
+    /// World axis pointing up on screen: `z` (OpenSubdiv shapes, embedded meshes) or `y`.
+    #[arg(long, default_value = "z")]
+    pub up: String,
     /// Uniform tessellation level (clamped to the device's maxTessellationGenerationLevel); also
     /// the grid density of the CPU-evaluated faces.
     #[arg(long, default_value_t = 8.0)]
@@ -208,6 +211,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         height,
         samples: args.msaa,
         camera,
+        up: UpAxis::parse(&args.up)?,
         ..OffscreenDesc::default()
     };
     let out = render_to_image(&ctx, &surface, &render, &desc, args.timings)?;

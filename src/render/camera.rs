@@ -53,6 +53,44 @@ impl CameraSpec {
     }
 }
 
+/// Which world axis points up on screen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum UpAxis {
+    /// +y is up (the orbit's azimuth 0 looks from +z).
+    Y,
+    /// +z is up, as in the OpenSubdiv regression shapes and the embedded meshes (azimuth 0 looks
+    /// from -y).
+    #[default]
+    Z,
+}
+
+impl UpAxis {
+    /// The up vector.
+    pub fn vector(self) -> DVec3 {
+        match self {
+            UpAxis::Y => DVec3::Y,
+            UpAxis::Z => DVec3::Z,
+        }
+    }
+
+    /// Direction from the target to the eye for an orbit (radians).
+    fn orbit_direction(self, az: f64, el: f64) -> DVec3 {
+        match self {
+            UpAxis::Y => DVec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos()),
+            UpAxis::Z => DVec3::new(el.cos() * az.sin(), -el.cos() * az.cos(), el.sin()),
+        }
+    }
+
+    /// Parses `y` or `z`.
+    pub fn parse(text: &str) -> Result<UpAxis> {
+        match text.trim() {
+            "y" | "Y" => Ok(UpAxis::Y),
+            "z" | "Z" => Ok(UpAxis::Z),
+            _ => Err(Error::Invalid(format!("up axis `{text}`: expected `y` or `z`"))),
+        }
+    }
+}
+
 /// Vertical field of view of every camera, in degrees.
 pub const FOV_Y_DEG: f64 = 35.0;
 
@@ -71,18 +109,34 @@ pub struct Camera {
     pub near: f64,
     /// Far plane distance.
     pub far: f64,
+    /// World up direction.
+    pub up: DVec3,
 }
 
 impl Camera {
-    /// Places the camera for the bounding box `(lo, hi)` of the model and an image aspect ratio.
+    /// Places the camera for the bounding box `(lo, hi)` of the model and an image aspect ratio
+    /// (+y up; see [`Camera::frame_oriented`]).
     pub fn frame(spec: CameraSpec, lo: DVec3, hi: DVec3, aspect: f64) -> Camera {
         Self::frame_points(spec, lo, hi, &[], aspect)
     }
 
-    /// As [`Camera::frame`]; `Auto` fits `points` (samples of the surface inside the box) to the
-    /// frame instead of the box corners when any are given.
+    /// As [`Camera::frame_points`] with +y up.
     pub fn frame_points(
         spec: CameraSpec,
+        lo: DVec3,
+        hi: DVec3,
+        points: &[DVec3],
+        aspect: f64,
+    ) -> Camera {
+        Self::frame_oriented(spec, UpAxis::Y, lo, hi, points, aspect)
+    }
+
+    /// Places the camera for the bounding box `(lo, hi)` with `up` pointing up on screen; `Auto`
+    /// fits `points` (samples of the surface inside the box) to the frame instead of the box
+    /// corners when any are given.
+    pub fn frame_oriented(
+        spec: CameraSpec,
+        up: UpAxis,
         lo: DVec3,
         hi: DVec3,
         points: &[DVec3],
@@ -104,7 +158,7 @@ impl Camera {
             } => (azimuth_deg, elevation_deg, distance),
         };
         let (az, el) = (az.to_radians(), el.to_radians());
-        let dir = DVec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos());
+        let dir = up.orbit_direction(az, el);
         let place = |dist: f64| Camera {
             eye: centre + dir * dist,
             target: centre,
@@ -112,6 +166,7 @@ impl Camera {
             aspect,
             near: (dist - 2.0 * radius).max(dist * 1e-3),
             far: dist + 2.0 * radius,
+            up: up.vector(),
         };
         let mut cam = place(dist);
         if spec == CameraSpec::Auto {
@@ -154,10 +209,10 @@ impl Camera {
     pub fn view_proj(&self) -> Mat4 {
         let forward = (self.target - self.eye).normalize();
         // Avoid a degenerate basis when looking straight up or down.
-        let up = if forward.cross(DVec3::Y).length() < 1e-9 {
-            DVec3::Z
+        let up = if forward.cross(self.up).length() < 1e-9 {
+            self.up.any_orthonormal_vector()
         } else {
-            DVec3::Y
+            self.up
         };
         let view = DMat4::look_at_rh(self.eye, self.target, up);
         let mut proj = DMat4::perspective_rh(self.fov_y, self.aspect, self.near, self.far);

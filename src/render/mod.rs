@@ -15,7 +15,7 @@ pub mod scene;
 pub mod settings;
 pub mod surface;
 
-pub use camera::{Camera, CameraSpec};
+pub use camera::{Camera, CameraSpec, UpAxis};
 pub use compare::{compare_images, CompareReport, CompareThreshold};
 pub use fallback::{FallbackFace, FallbackMesh, PatchClass};
 pub use layout::BSplinePatch;

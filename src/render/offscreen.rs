@@ -4,7 +4,7 @@
 use glam::DVec3;
 use image::RgbaImage;
 
-use super::camera::{Camera, CameraSpec};
+use super::camera::{Camera, CameraSpec, UpAxis};
 use super::renderer::{CaptureRecord, RenderDesc, SurfaceRenderer};
 use super::settings::FrameUniforms;
 use super::surface::SurfaceData;
@@ -22,6 +22,8 @@ pub struct OffscreenDesc {
     pub samples: u32,
     /// Camera placement.
     pub camera: CameraSpec,
+    /// World axis that points up on screen.
+    pub up: UpAxis,
     /// Background colour (linear RGBA).
     pub clear: [f32; 4],
 }
@@ -33,6 +35,7 @@ impl Default for OffscreenDesc {
             height: 512,
             samples: 1,
             camera: CameraSpec::Auto,
+            up: UpAxis::Z,
             clear: [0.02, 0.025, 0.035, 1.0],
         }
     }
@@ -61,8 +64,8 @@ pub struct OffscreenSession {
 /// Direction towards the key light: above, slightly left of and in front of the camera.
 fn key_light(cam: &Camera) -> DVec3 {
     let to_eye = (cam.eye - cam.target).normalize();
-    let right = DVec3::Y.cross(to_eye).normalize_or(DVec3::X);
-    (to_eye * 0.6 + DVec3::Y * 0.7 - right * 0.4).normalize()
+    let right = cam.up.cross(to_eye).normalize_or(cam.up.any_orthonormal_vector());
+    (to_eye * 0.6 + cam.up * 0.7 - right * 0.4).normalize()
 }
 
 impl OffscreenSession {
@@ -86,7 +89,7 @@ impl OffscreenSession {
             .collect();
         let step = (surface.fallback.positions.len() / 4096).max(1);
         points.extend(surface.fallback.positions.iter().step_by(step));
-        let camera = Camera::frame_points(desc.camera, lo, hi, &points, aspect);
+        let camera = Camera::frame_oriented(desc.camera, desc.up, lo, hi, &points, aspect);
         let (timer, stats) = if timings {
             (Some(GpuTimer::new(ctx, 2)?), Some(StatsQuery::new(ctx)?))
         } else {
