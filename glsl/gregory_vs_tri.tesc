@@ -8,12 +8,14 @@
 #include "common/gregory.glsl"
 #include "common/gregory_vs.glsl"
 
+#define D_OWN 4.0
 #define NC 3
 layout(vertices = 15) out;
 
 layout(location = 0) in vec4 v_data[][GVS_SLOTS];
 layout(location = 0) out vec3 g_cp[];
 layout(location = 1) patch out vec3 g_eout[2 * NC];
+layout(location = 1 + 2 * NC) patch out vec3 g_nbr[2 * NC];
 
 float get(int corner, int f) {
     return v_data[corner][1 + f / 4][f % 4];
@@ -39,13 +41,15 @@ vec3 r_vec(int corner, int j) {
     return get3(corner, 6 * ((j + n) % n) + 3);
 }
 
-/// Face point next to the edge from corner a to corner b (eq. 6 as re-derived in
-/// src/patch/gregory/vertex.rs `face_point`): (c_b p_a + (d - 2 c_a - c_b) e_ab + 2 c_a e_ba + r) / d.
-vec3 face_point(int a, int b, vec3 e_ab, vec3 e_ba, vec3 r) {
-    float ca = cos(2.0 * GVS_PI / float(valence(a)));
-    float cb = cos(2.0 * GVS_PI / float(valence(b)));
-    float d = (NC == 4) ? 3.0 : 4.0;
-    return (cb * v_data[a][0].xyz + (d - 2.0 * ca - cb) * e_ab + 2.0 * ca * e_ba + r) / d;
+/// Face point next to the edge from corner a to corner b of a face with `d` = 3 (quad) or 4
+/// (triangle) (eq. 6 as re-derived in src/patch/gregory/vertex.rs `face_point`):
+/// (c_b p_a + (d - 2 c_a - c_b) e_ab + 2 c_a e_ba + r) / d. `precise`: the neighbour patch
+/// recomputes it bitwise (g_nbr).
+vec3 face_point(float d, int a, int b, vec3 e_ab, vec3 e_ba, vec3 r) {
+    precise float ca = cos(2.0 * GVS_PI / float(valence(a)));
+    precise float cb = cos(2.0 * GVS_PI / float(valence(b)));
+    precise vec3 f = (cb * v_data[a][0].xyz + (d - 2.0 * ca - cb) * e_ab + 2.0 * ca * e_ba + r) / d;
+    return f;
 }
 
 void main() {
@@ -66,18 +70,29 @@ void main() {
     } else if (kind == 2) {
         x = edge_pt(i, j + 1);
     } else if (kind == 3) {
-        x = face_point(i, nx, edge_pt(i, j), edge_pt(nx, j_nx + 1), r_vec(i, j));
+        x = face_point(D_OWN, i, nx, edge_pt(i, j), edge_pt(nx, j_nx + 1), r_vec(i, j));
     } else {
-        x = face_point(i, pr, edge_pt(i, j + 1), edge_pt(pr, j_pr), -r_vec(i, j + 1));
+        x = face_point(D_OWN, i, pr, edge_pt(i, j + 1), edge_pt(pr, j_pr), -r_vec(i, j + 1));
     }
     g_cp[gl_InvocationID] = x;
     if (id < 2 * NC) {
+        // Neighbour across edge k = id / 2 (corner k -> k1): its other edge point and its face
+        // point next to the edge, at corner k (even id) or k1 (odd id).
         int k = id / 2;
+        int k1 = (k + 1) % NC;
+        int jk = int(corner_ring[4u * patch_index + uint(k)]);
+        int jk1 = int(corner_ring[4u * patch_index + uint(k1)]);
+        uint nflags = gpatches[patch_index].flags;
+        float d_nbr = ((nflags & (1u << uint(8 + k))) != 0u) ? 4.0 : 3.0;
+        vec3 e_ab = edge_pt(k, jk);
+        vec3 e_ba = edge_pt(k1, jk1 + 1);
         if ((id & 1) == 0) {
-            g_eout[id] = edge_pt(k, int(corner_ring[4u * patch_index + uint(k)]) - 1);
+            g_eout[id] = edge_pt(k, jk - 1);
+            // r_jk points into this face: the neighbour's inward vector is its negation.
+            g_nbr[id] = face_point(d_nbr, k, k1, e_ab, e_ba, -r_vec(k, jk));
         } else {
-            int k1 = (k + 1) % NC;
-            g_eout[id] = edge_pt(k1, int(corner_ring[4u * patch_index + uint(k1)]) + 2);
+            g_eout[id] = edge_pt(k1, jk1 + 2);
+            g_nbr[id] = face_point(d_nbr, k1, k, e_ba, e_ab, r_vec(k1, jk1 + 1));
         }
     }
     if (id == 0) {

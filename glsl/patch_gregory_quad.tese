@@ -19,6 +19,7 @@
 layout(quads, SPACING, cw) in;
 layout(location = 0) in vec3 g_cp[];
 layout(location = 1) patch in vec3 g_eout[8];
+layout(location = 9) patch in vec3 g_nbr[8];
 layout(location = 0) out vec3 t_world;
 layout(location = 1) out vec3 t_normal;
 layout(location = 2) flat out uint t_class;
@@ -42,15 +43,10 @@ void quad_edge(uint patch_index, GregoryPatchInfo info, int k, float x, int from
         grid_edge(patch_index, k, t, s, pos, nrm);
         return;
     }
-    // This face lies left of a -> b.
-    vec3 d_a = EM(a) - g_eout[2 * k];
-    vec3 d_b = EP(b) - g_eout[2 * k + 1];
-    if (a_is_lo) {
-        gregory_edge(P(a), EP(a), EM(b), P(b), d_a, d_b, t, s, pos, nrm);
-    } else {
-        gregory_edge(P(b), EM(b), EP(a), P(a), g_eout[2 * k + 1] - EP(b), g_eout[2 * k] - EM(a),
-                     t, s, pos, nrm);
-    }
+    bool nbr_quad = (info.flags & (1u << uint(8 + k))) == 0u;
+    shared_edge(true, nbr_quad, a_is_lo, t, s, P(a), EP(a), EM(b), P(b),
+                EM(a), FP(a), FM(b), EP(b),
+                g_eout[2 * k], g_nbr[2 * k], g_nbr[2 * k + 1], g_eout[2 * k + 1], pos, nrm);
 }
 
 void main() {

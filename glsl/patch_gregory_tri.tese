@@ -19,6 +19,7 @@
 layout(triangles, SPACING, cw) in;
 layout(location = 0) in vec3 g_cp[];
 layout(location = 1) patch in vec3 g_eout[6];
+layout(location = 7) patch in vec3 g_nbr[6];
 layout(location = 0) out vec3 t_world;
 layout(location = 1) out vec3 t_normal;
 layout(location = 2) flat out uint t_class;
@@ -36,13 +37,10 @@ void tri_edge(GregoryPatchInfo info, int k, float x, out vec3 pos, out vec3 nrm)
     bool a_is_lo = info.corners[a] < info.corners[b];
     float t, s;
     canonical_ts(x, a_is_lo, t, s);
-    if (a_is_lo) {
-        gregory_edge(P(a), EP(a), EM(b), P(b), EM(a) - g_eout[2 * k], EP(b) - g_eout[2 * k + 1],
-                     t, s, pos, nrm);
-    } else {
-        gregory_edge(P(b), EM(b), EP(a), P(a), g_eout[2 * k + 1] - EP(b), g_eout[2 * k] - EM(a),
-                     t, s, pos, nrm);
-    }
+    bool nbr_quad = (info.flags & (1u << uint(8 + k))) == 0u;
+    shared_edge(false, nbr_quad, a_is_lo, t, s, P(a), EP(a), EM(b), P(b),
+                EM(a), FP(a), FM(b), EP(b),
+                g_eout[2 * k], g_nbr[2 * k], g_nbr[2 * k + 1], g_eout[2 * k + 1], pos, nrm);
 }
 
 /// One edge term 3ab(a+b)(aX + bY) and its partials in a and b.

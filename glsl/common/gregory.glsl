@@ -4,18 +4,23 @@
 // TCS -> TES contract (both variants):
 //   quads:     layout(vertices = 20) out vec3 g_cp[] at location 0: p0..3, e_plus0..3, e_minus0..3,
 //              f_plus0..3, f_minus0..3 (src/patch/gregory GregoryQuad fields, corner i = face corner i);
-//              layout(location = 1) patch out vec3 g_eout[8].
-//   triangles: layout(vertices = 15), same order with 3 per kind; patch out vec3 g_eout[6].
+//              layout(location = 1) patch out vec3 g_eout[8];
+//              layout(location = 9) patch out vec3 g_nbr[8].
+//   triangles: layout(vertices = 15), same order with 3 per kind; g_eout[6] at location 1,
+//              g_nbr[6] at location 7.
 //   g_eout[2k]   : at corner k, the edge point of corner k's vertex on the ring edge beyond patch edge k
 //                  (k -> k+1), i.e. the neighbour face's other edge point there (own one: e_minus[k]);
-//   g_eout[2k+1] : at corner k+1, the neighbour's other edge point there (own one: e_plus[k+1]).
+//   g_eout[2k+1] : at corner k+1, the neighbour's other edge point there (own one: e_plus[k+1]);
+//   g_nbr[2k], g_nbr[2k+1]: the neighbour patch's face points next to edge k at corner k and at
+//                  corner k+1 (eq. 6 with the neighbour's face size, flags bit 8+k), computed with
+//                  the same arithmetic as the neighbour computes them for itself.
 // Per-patch record (binding 6), indexed by chunk.patch_base + gl_PrimitiveID.
 //
 // Watertightness (§4.5): a patch corner is put at vertex_limit[id] with normal vertex_normal[id]
 // (per-vertex data every patch type reads). A patch edge is evaluated from data both neighbours
 // hold bitwise equal, with the parameter running from the end with the smaller vertex id:
-// Gregory/Gregory edges as the boundary cubic (p, e, e, p) with normal cross(tangent, cross-edge
-// vector) where the cross-edge vector blends (e_left - e_right) of both end vertices; edges shared
+// Gregory/Gregory edges as the boundary cubic (p, e, e, p) with normal cross(tangent, d_left -
+// d_right), d = both patches' cross-edge derivatives (each side computes both); edges shared
 // with a regular B-spline patch from the 12 B-spline points of the edge's grid, exactly as
 // glsl/patch_bspline.tese evaluates them. The edge arithmetic is `precise` (no contraction into
 // fused multiply-adds), so every shader that inlines it computes the same bits.
@@ -25,7 +30,8 @@
 #include "common/bspline.glsl"
 
 /// One Gregory patch. flags bit k (0..3): patch edge k (corner k -> k+1) is shared with a regular
-/// B-spline patch (evaluate it from the grid in binding 7).
+/// B-spline patch (evaluate it from the grid in binding 7); bit 8+k: the face across edge k is a
+/// triangle (else a quad).
 struct GregoryPatchInfo {
     uint face;
     uint flags;
@@ -104,18 +110,71 @@ void grid_edge(uint patch_index, int k, float t, float s, out vec3 pos, out vec3
     nrm = nn;
 }
 
-/// Gregory/Gregory edge in canonical order: boundary cubic (p0, e0, e1, p1) from the smaller-id
-/// end, normal cross(tangent, s d0 + t d1) with d the (left - right) edge-point differences at
-/// both ends (tangent-plane vectors across the edge, §3.3).
-void gregory_edge(vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 d0, vec3 d1, float t, float s,
-                  out vec3 pos, out vec3 nrm) {
+/// Cross-edge derivative of a quad Gregory patch along one of its edges, pointing into the
+/// patch, in the canonical frame (t from the smaller-id end "0"): the edge row (p0, e0, e1, p1)
+/// and the next row (eo0, f0, f1, eo1) of the Bezier net, eo = the patch's other edge point at
+/// that end, f = its face point there next to this edge (at the edge F_i equals that f, §4.4).
+vec3 cross_quad(vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 eo0, vec3 f0, vec3 f1, vec3 eo1,
+                float t, float s) {
+    precise vec4 b = vec4(s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t);
+    precise vec3 d = 3.0 * (((b.x * (eo0 - p0) + b.y * (f0 - e0)) + b.z * (f1 - e1))
+                            + b.w * (eo1 - p1));
+    return d;
+}
+
+/// Cross-edge derivative of a triangular Gregory patch along an edge (same arguments as
+/// cross_quad): d/dw - (d/du + d/dv) / 2 at w = 0, with u = s, v = t the weights of the edge's
+/// ends and w that of the opposite corner (§3.1 with the F points frozen); symmetric in the ends.
+vec3 cross_tri(vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 eo0, vec3 f0, vec3 f1, vec3 eo1,
+               float t, float s) {
+    precise vec3 m = s * e0 + t * e1;
+    precise vec3 tw = ((3.0 * s * s * s) * eo0 + (3.0 * t * t * t) * eo1)
+                    + (12.0 * s * t) * (s * f0 + t * f1);
+    precise vec3 tu = (3.0 * s * s) * p0 + (3.0 * t) * ((2.0 * s + t) * m + (s * (s + t)) * e0);
+    precise vec3 tv = (3.0 * t * t) * p1 + (3.0 * s) * ((s + 2.0 * t) * m + (t * (s + t)) * e1);
+    precise vec3 d = tw - 0.5 * (tu + tv);
+    return d;
+}
+
+/// Gregory/Gregory edge in canonical order: the boundary cubic (p0, e0, e1, p1) from the
+/// smaller-id end, normal cross(tangent, d_left - d_right) with d_* the two patches' cross-edge
+/// derivatives (into each patch). The construction is tangent-plane continuous across the edge
+/// (§3.4), so this is the normal of both patches; both compute the same bits.
+void gregory_edge(vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 d_left, vec3 d_right, float t,
+                  float s, out vec3 pos, out vec3 nrm) {
     precise vec4 b = vec4(s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t);
     precise vec3 p = ((b.x * p0 + b.y * e0) + b.z * e1) + b.w * p1;
     precise vec3 tangent = ((s * s) * (e0 - p0) + (2.0 * t * s) * (e1 - e0)) + (t * t) * (p1 - e1);
-    precise vec3 cross_dir = s * d0 + t * d1;
+    precise vec3 cross_dir = d_left - d_right;
     precise vec3 nn = normalize(cross(tangent, cross_dir));
     pos = p;
     nrm = nn;
+}
+
+/// Cross-edge derivative of a patch with `corners` corners (4: quad, else triangle).
+vec3 cross_any(bool quad, vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 eo0, vec3 f0, vec3 f1,
+               vec3 eo1, float t, float s) {
+    return quad ? cross_quad(p0, e0, e1, p1, eo0, f0, f1, eo1, t, s)
+                : cross_tri(p0, e0, e1, p1, eo0, f0, f1, eo1, t, s);
+}
+
+/// Evaluates patch edge k (corner a -> b, this patch on its left) from this patch's data
+/// (p, e along the edge, other edge points eo and face points f at both ends) and the
+/// neighbour's (g_eout / g_nbr of the TCS contract), in the canonical frame.
+void shared_edge(bool own_quad, bool nbr_quad, bool a_is_lo, float t, float s,
+                 vec3 pa, vec3 ea, vec3 eb, vec3 pb,
+                 vec3 own_eo_a, vec3 own_f_a, vec3 own_f_b, vec3 own_eo_b,
+                 vec3 nbr_eo_a, vec3 nbr_f_a, vec3 nbr_f_b, vec3 nbr_eo_b,
+                 out vec3 pos, out vec3 nrm) {
+    if (a_is_lo) {
+        vec3 d_own = cross_any(own_quad, pa, ea, eb, pb, own_eo_a, own_f_a, own_f_b, own_eo_b, t, s);
+        vec3 d_nbr = cross_any(nbr_quad, pa, ea, eb, pb, nbr_eo_a, nbr_f_a, nbr_f_b, nbr_eo_b, t, s);
+        gregory_edge(pa, ea, eb, pb, d_own, d_nbr, t, s, pos, nrm);
+    } else {
+        vec3 d_own = cross_any(own_quad, pb, eb, ea, pa, own_eo_b, own_f_b, own_f_a, own_eo_a, t, s);
+        vec3 d_nbr = cross_any(nbr_quad, pb, eb, ea, pa, nbr_eo_b, nbr_f_b, nbr_f_a, nbr_eo_a, t, s);
+        gregory_edge(pb, eb, ea, pa, d_nbr, d_own, t, s, pos, nrm);
+    }
 }
 
 /// `(a x + b y) / (a + b)`, the mean where a + b == 0 (the patch corner, §4.4).

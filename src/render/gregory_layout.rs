@@ -56,7 +56,8 @@ pub struct GregoryLayout {
     pub corners: Vec<[u32; 4]>,
     /// Index of the patch's face in each corner vertex's ring (paper Fig. 8).
     pub corner_ring: Vec<[u32; 4]>,
-    /// Bit k: edge k (corner k -> k+1) is shared with a regular B-spline patch.
+    /// Bit k: edge k (corner k -> k+1) is shared with a regular B-spline patch; bit 8+k: the
+    /// face across edge k is a triangle.
     pub flags: Vec<u32>,
     /// [`GRID_IDS_PER_PATCH`] ids per patch (zeros where the flag is off).
     pub grid_ids: Vec<u32>,
@@ -137,13 +138,13 @@ impl GregoryLayout {
                     .position(|&g| g == f)
                     .unwrap_or(0) as u32;
                 let (a, b) = (fv[k], fv[(k + 1) % n]);
-                let neighbour = topo.find_edge(a, b).and_then(|e| {
-                    topo.edge_faces(e)
-                        .iter()
-                        .copied()
-                        .find(|&g| g != f)
-                        .and_then(|g| RegularPatch::gather(topo, g))
-                });
+                let across = topo
+                    .find_edge(a, b)
+                    .and_then(|e| topo.edge_faces(e).iter().copied().find(|&g| g != f));
+                if across.is_some_and(|g| topo.face_size(g) == 3) {
+                    flags |= 1 << (8 + k);
+                }
+                let neighbour = across.and_then(|g| RegularPatch::gather(topo, g));
                 if let Some(grid) = neighbour.as_ref().and_then(|p| grid_of(p, a, b)) {
                     flags |= 1 << k;
                     grids[12 * k..12 * k + 12].copy_from_slice(&grid);
