@@ -5,23 +5,25 @@
 // ring order, with `precise` so that no multiply-add is fused: a corner or edge point shared with
 // a neighbouring patch gets the same nonzero terms in the same order on both sides and so is
 // bitwise equal. Output order: p0.., e_plus0.., e_minus0.., f_plus0.., f_minus0.. (as
-// GregoryQuad / GregoryTriangle); stencil rows GREGORY_POINTS.. are the neighbours' edge points
-// g_eout (contract in common/gregory.glsl). Define GREGORY_TRI for triangles.
+// GregoryQuad / GregoryTriangle); the next stencil rows are the neighbours' edge points g_eout,
+// then the neighbours' face points g_nbr (contract in common/gregory.glsl). Define GREGORY_TRI for triangles.
 // Needs frame.glsl and tess_factors.glsl.
 #ifndef TESSERA_GREGORY_STENCIL_GLSL
 #define TESSERA_GREGORY_STENCIL_GLSL
 
 #ifdef GREGORY_TRI
 #define GREGORY_POINTS 15
-#define GREGORY_EXTRA 6
+#define GREGORY_EDGE_PAIRS 6
+#define GREGORY_NBR_LOCATION 7
 #else
 #define GREGORY_POINTS 20
-#define GREGORY_EXTRA 8
+#define GREGORY_EDGE_PAIRS 8
+#define GREGORY_NBR_LOCATION 9
 #endif
 
 /// Stencil blocks: one per connectivity type, STENCIL_ROWS x STENCIL_COLS floats
 /// (src/render/gregory_stencil/gpu.rs mirrors this layout).
-#define STENCIL_ROWS 28u
+#define STENCIL_ROWS 36u
 #define STENCIL_COLS 32u
 
 struct StencilRecord {
@@ -45,7 +47,8 @@ layout(std430, set = 1, binding = 2) readonly buffer StencilRecords {
 layout(vertices = GREGORY_POINTS) out;
 layout(location = 0) in vec3 v_pos[];
 layout(location = 0) out vec3 g_cp[];
-layout(location = 1) patch out vec3 g_eout[GREGORY_EXTRA];
+layout(location = 1) patch out vec3 g_eout[GREGORY_EDGE_PAIRS];
+layout(location = GREGORY_NBR_LOCATION) patch out vec3 g_nbr[GREGORY_EDGE_PAIRS];
 
 /// Stencil row `row` of connectivity type `type_id` applied to the input ring: nonzero terms
 /// only, ascending ring order, no fused multiply-add.
@@ -65,8 +68,11 @@ vec3 stencil_row(uint type_id, uint row) {
 void main() {
     StencilRecord rec = stencil_records[chunk.patch_base + uint(gl_PrimitiveID)];
     g_cp[gl_InvocationID] = stencil_row(rec.type_id, uint(gl_InvocationID));
-    if (gl_InvocationID < GREGORY_EXTRA) {
+    if (gl_InvocationID < GREGORY_EDGE_PAIRS) {
         g_eout[gl_InvocationID] = stencil_row(rec.type_id, uint(GREGORY_POINTS + gl_InvocationID));
+    } else if (gl_InvocationID < 2 * GREGORY_EDGE_PAIRS) {
+        int i = gl_InvocationID - GREGORY_EDGE_PAIRS;
+        g_nbr[i] = stencil_row(rec.type_id, uint(GREGORY_POINTS + gl_InvocationID));
     }
 
     if (gl_InvocationID == 0) {

@@ -4,8 +4,8 @@ pub mod gpu;
 pub mod session;
 pub mod table;
 
-pub use gpu::{frame_set_layout, StencilPatches};
-pub use session::{vertex_limit_frame, StencilFrameReport, StencilSession};
+pub use gpu::{frame_set_layout, StencilPatches, StencilPlan};
+pub use session::{StencilFrameReport, StencilSession};
 
 pub use table::{
     face_ring, gregory_faces, Rejected, StencilPatch, StencilTable, StencilType, MAX_RING,

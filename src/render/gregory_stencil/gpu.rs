@@ -1,20 +1,26 @@
 //! GPU resources and draws of the stencil variant (paper §4.3): stencil blocks per connectivity
-//! type, per-patch records, the ring index buffer, and one pipeline per (quad/triangle, patch
-//! size). Descriptor set 0 is the surface renderer's (frame uniforms, vertex limits, capture;
-//! [`frame_set_layout`]); set 1 holds the stencil data. Byte layouts mirror
+//! type, per-patch records, the ring index buffer (the patch primitive is the face's one-ring,
+//! padded to one patch size per quad/triangle pipeline). Descriptor set 0 ([`frame_set_layout`])
+//! binds the renderer's frame, vertex-limit and capture buffers and the shared TES tables
+//! (`GregoryLayout`); set 1 holds the stencil data. Byte layouts mirror
 //! `glsl/common/gregory_stencil.glsl`.
 
 use ash::vk;
 
+use glam::DVec3;
+
 use super::table::{StencilTable, QUAD_EXTRA, QUAD_POINTS};
 use crate::gpu::{
     patch_draw_chunks, Buffer, BufferBinding, Context, DescriptorBinding, DescriptorKind,
-    DescriptorPool, GraphicsPipelineDesc, Pipeline, PushConstants, TargetFormat, VertexAttribute,
-    VertexBinding,
+    DescriptorPool, GraphicsPipelineDesc, MemoryLocation, Pipeline, PushConstants, TargetFormat,
+    VertexAttribute, VertexBinding,
 };
+use crate::render::gregory_layout::GregoryLayout;
+use crate::render::gregory_vs::SharedBuffers;
+use crate::render::layout::{vec3_bytes, vec4_bytes};
 use crate::render::renderer::RenderDesc;
 use crate::topology::Topology;
-use crate::Result;
+use crate::{Error, Result};
 
 /// Rows per stencil block (a quad's 20 points + 8 neighbour edge points; triangles use 21).
 pub const STENCIL_ROWS: usize = QUAD_POINTS + QUAD_EXTRA;
@@ -64,22 +70,22 @@ fn stencil_set_layout() -> Vec<DescriptorBinding> {
         .collect()
 }
 
-/// Patches of one kind and patch size, drawn with one pipeline.
+/// Patches of one kind (quads or triangles), drawn with one pipeline.
 #[derive(Debug, Clone)]
 struct DrawGroup {
     triangle: bool,
     points: u32,
     first_record: u32,
+    first_index: u32,
     count: u32,
     pipeline: Pipeline,
 }
 
-/// The stencil blocks, masks, records and ring indices of `table`, records ordered by
-/// `order` (indices into `table.patches`), rings padded to `sizes[i]`.
-fn buffers_bytes(
+/// The stencil blocks, masks, records and ring indices of `table` (patches in draw order),
+/// rings padded to `size(triangle)`.
+fn buffers_words(
     table: &StencilTable,
-    order: &[usize],
-    sizes: &[u32],
+    size: impl Fn(bool) -> u32,
 ) -> (Vec<f32>, Vec<u32>, Vec<u32>, Vec<u32>) {
     let mut weights = vec![0f32; table.types.len() * STENCIL_ROWS * STENCIL_COLS];
     let mut masks = vec![0u32; table.types.len() * STENCIL_ROWS];
@@ -90,14 +96,14 @@ fn buffers_bytes(
             masks[t * STENCIL_ROWS + row] = ty.masks[row];
         }
     }
-    let mut records = Vec::with_capacity(order.len() * RECORD_BYTES / 4);
+    let mut records = Vec::with_capacity(table.patches.len() * RECORD_BYTES / 4);
     let mut indices = Vec::new();
-    for (&i, &size) in order.iter().zip(sizes) {
-        let p = &table.patches[i];
+    for p in &table.patches {
         records.extend([p.face, p.type_id, p.ring.len() as u32, 0]);
         records.extend(p.corners);
         indices.extend(p.ring.iter().copied());
-        indices.extend(std::iter::repeat_n(p.ring[0], size as usize - p.ring.len()));
+        let pad = size(p.triangle) as usize - p.ring.len();
+        indices.extend(std::iter::repeat_n(p.ring[0], pad));
     }
     (weights, masks, records, indices)
 }
@@ -110,83 +116,139 @@ fn non_empty<T: Copy + Default>(mut v: Vec<T>) -> Vec<T> {
     v
 }
 
-/// The stencil-variant Gregory patches of one surface, ready to record.
+fn host_buffer(
+    ctx: &Context,
+    bytes: &[u8],
+    usage: vk::BufferUsageFlags,
+    name: &str,
+) -> Result<Buffer> {
+    let mut b = Buffer::new(
+        ctx,
+        bytes.len().max(64) as u64,
+        usage,
+        MemoryLocation::CpuToGpu,
+        name,
+    )?;
+    b.write(0, bytes)?;
+    Ok(b)
+}
+
+/// Which faces the stencil variant draws, in draw order, and the shared TES tables for them.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct StencilPlan {
+    /// Stencils; `patches` in draw order (quads, then triangles), `rejected` the faces left to
+    /// another path with the reason.
+    pub table: StencilTable,
+    /// Shared TES records (binding 6/7) for the same faces in the same order.
+    pub layout: GregoryLayout,
+}
+
+impl StencilPlan {
+    /// Stencils of `faces` (rings limited to `max_patch_size`, the device's
+    /// `maxTessellationPatchSize`) and the shared layout of the accepted ones.
+    pub fn new(topo: &Topology, faces: &[u32], max_patch_size: u32) -> StencilPlan {
+        let mut table = StencilTable::build(topo, faces, max_patch_size as usize);
+        // GregoryLayout's order: quads first, then triangles, each in input order.
+        table.patches.sort_by_key(|p| p.triangle);
+        let accepted: Vec<u32> = table.patches.iter().map(|p| p.face).collect();
+        let layout = GregoryLayout::new(topo, &accepted);
+        debug_assert_eq!(layout.faces, accepted);
+        StencilPlan { table, layout }
+    }
+}
+
+/// GPU resources and pipelines of the stencil-variant Gregory patches of one surface.
 pub struct StencilPatches {
     ctx: Context,
-    table: StencilTable,
+    plan: StencilPlan,
     groups: Vec<DrawGroup>,
     split: u32,
+    vertex_count: usize,
     _weights: Buffer,
     _masks: Buffer,
     _records: Buffer,
+    _patch_info: Buffer,
+    _grids: Buffer,
     indices: Buffer,
+    control_pos: Buffer,
+    vertex_normals: Buffer,
     _pool: DescriptorPool,
-    set: vk::DescriptorSet,
+    set0: vk::DescriptorSet,
+    set1: vk::DescriptorSet,
 }
 
 impl StencilPatches {
-    /// Builds the stencils of `faces` (see [`StencilTable::build`]; rings are limited by the
-    /// device's `maxTessellationPatchSize`) and the pipelines for targets of format `target`.
-    /// Faces the variant cannot take are in [`Self::table`]`.rejected`; the caller draws them
-    /// another way.
+    /// Uploads the stencils and shared tables of `plan` and creates the pipelines for targets
+    /// of format `target`. `positions`: control positions (also the ring vertex buffer);
+    /// `normals`: per-vertex limit normals ([`crate::render::gregory_layout::vertex_frames`]
+    /// with `plan.layout`); `shared`: the renderer's frame, vertex-limit and capture buffers.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         ctx: &Context,
-        topo: &Topology,
-        faces: &[u32],
+        plan: StencilPlan,
+        positions: &[DVec3],
+        normals: &[DVec3],
+        shared: SharedBuffers<'_>,
         desc: &RenderDesc,
         target: TargetFormat,
     ) -> Result<StencilPatches> {
-        let max_ring = ctx.info().limits.max_tessellation_patch_size as usize;
-        let table = StencilTable::build(topo, faces, max_ring);
-        Self::from_table(ctx, table, desc, target)
-    }
-
-    /// As [`Self::new`] from a prepared table.
-    pub fn from_table(
-        ctx: &Context,
-        table: StencilTable,
-        desc: &RenderDesc,
-        target: TargetFormat,
-    ) -> Result<StencilPatches> {
+        if normals.len() != positions.len() {
+            return Err(Error::Invalid(format!(
+                "gregory-stencil: {} positions but {} normals",
+                positions.len(),
+                normals.len()
+            )));
+        }
+        if let Some(p) = plan
+            .table
+            .patches
+            .iter()
+            .find(|p| p.ring.iter().any(|&v| v as usize >= positions.len()))
+        {
+            return Err(Error::Invalid(format!(
+                "gregory-stencil: face {} uses a vertex beyond the {} positions",
+                p.face,
+                positions.len()
+            )));
+        }
+        if desc.capture_capacity.is_some() {
+            ctx.require(&[crate::gpu::Feature::VertexPipelineStoresAndAtomics])?;
+        }
         let max_size = ctx.info().limits.max_tessellation_patch_size;
-        let size_of = |len: usize| {
+        let size_of = |tri: bool| {
+            let longest = plan
+                .table
+                .patches
+                .iter()
+                .filter(|p| p.triangle == tri)
+                .map(|p| p.ring.len() as u32)
+                .max()
+                .unwrap_or(1);
             PATCH_SIZES
                 .iter()
                 .copied()
-                .find(|&s| s as usize >= len && s <= max_size)
+                .find(|&s| s >= longest && s <= max_size)
                 .unwrap_or(max_size)
         };
-        // Group by (triangle, padded size).
-        let mut order: Vec<usize> = (0..table.patches.len()).collect();
-        order.sort_by_key(|&i| {
-            let p = &table.patches[i];
-            (p.triangle, size_of(p.ring.len()), i)
-        });
-        let sizes: Vec<u32> = order
-            .iter()
-            .map(|&i| size_of(table.patches[i].ring.len()))
-            .collect();
+        let quads = plan.layout.quad_count;
+        let total = plan.table.patches.len() as u32;
         let mut groups = Vec::new();
-        let mut start = 0usize;
-        while start < order.len() {
-            let tri = table.patches[order[start]].triangle;
-            let mut end = start;
-            while end < order.len()
-                && table.patches[order[end]].triangle == tri
-                && sizes[end] == sizes[start]
-            {
-                end += 1;
+        for (tri, first, count, first_index) in [
+            (false, 0, quads, 0),
+            (true, quads, total - quads, quads * size_of(false)),
+        ] {
+            if count > 0 {
+                groups.push(DrawGroup {
+                    triangle: tri,
+                    points: size_of(tri),
+                    first_record: first,
+                    first_index,
+                    count,
+                    pipeline: pipeline(ctx, desc, target, tri, size_of(tri))?,
+                });
             }
-            groups.push(DrawGroup {
-                triangle: tri,
-                points: sizes[start],
-                first_record: start as u32,
-                count: (end - start) as u32,
-                pipeline: pipeline(ctx, desc, target, tri, sizes[start])?,
-            });
-            start = end;
         }
-        let (w, m, r, ix) = buffers_bytes(&table, &order, &sizes);
+        let (w, m, r, ix) = buffers_words(&plan.table, size_of);
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let weights = ctx.upload_buffer(&non_empty(w), storage, "gregory stencil weights")?;
         let masks = ctx.upload_buffer(&non_empty(m), storage, "gregory stencil masks")?;
@@ -196,80 +258,122 @@ impl StencilPatches {
             vk::BufferUsageFlags::INDEX_BUFFER,
             "gregory stencil ring indices",
         )?;
-        let pool = DescriptorPool::new(ctx, 1, 3, 0)?;
-        let set = match groups.first() {
-            Some(g) => {
-                let set = pool.allocate(g.pipeline.set_layouts[1])?;
-                let sb = |binding, buffer| BufferBinding {
-                    binding,
-                    kind: DescriptorKind::StorageBuffer,
-                    buffer,
-                };
-                ctx.write_buffer_descriptors(
-                    set,
-                    &[sb(0, &weights), sb(1, &masks), sb(2, &records)],
-                );
-                set
-            }
-            None => vk::DescriptorSet::null(),
-        };
-        // Keep the table in record order, so `patch_base + gl_PrimitiveID` indexes it.
-        let mut table = table;
-        let mut sorted: Vec<_> = order.iter().map(|&i| table.patches[i].clone()).collect();
-        std::mem::swap(&mut table.patches, &mut sorted);
+        let patch_info = host_buffer(
+            ctx,
+            &plan.layout.patch_info_bytes(),
+            storage,
+            "gregory patch records",
+        )?;
+        let grids = host_buffer(
+            ctx,
+            &plan.layout.grid_bytes(),
+            storage,
+            "gregory edge grids",
+        )?;
+        let control_pos = host_buffer(
+            ctx,
+            &vec3_bytes(positions),
+            storage | vk::BufferUsageFlags::VERTEX_BUFFER,
+            "gregory control positions",
+        )?;
+        let vertex_normals =
+            host_buffer(ctx, &vec4_bytes(normals), storage, "gregory vertex normals")?;
+        let pool = DescriptorPool::new(ctx, 2, 10, 1)?;
+        let (mut set0, mut set1) = (vk::DescriptorSet::null(), vk::DescriptorSet::null());
+        if let Some(g) = groups.first() {
+            set0 = pool.allocate(g.pipeline.set_layouts[0])?;
+            set1 = pool.allocate(g.pipeline.set_layouts[1])?;
+            let sb = |binding, buffer| BufferBinding {
+                binding,
+                kind: DescriptorKind::StorageBuffer,
+                buffer,
+            };
+            ctx.write_buffer_descriptors(
+                set0,
+                &[
+                    BufferBinding {
+                        binding: 0,
+                        kind: DescriptorKind::UniformBuffer,
+                        buffer: shared.frame,
+                    },
+                    sb(1, &patch_info),
+                    sb(2, shared.vertex_limits),
+                    sb(3, shared.capture),
+                    sb(6, &patch_info),
+                    sb(7, &grids),
+                    sb(8, &control_pos),
+                    sb(9, &vertex_normals),
+                ],
+            );
+            ctx.write_buffer_descriptors(set1, &[sb(0, &weights), sb(1, &masks), sb(2, &records)]);
+        }
         Ok(StencilPatches {
             ctx: ctx.clone(),
-            table,
+            plan,
             groups,
             split: desc.tess.split(),
+            vertex_count: positions.len(),
             _weights: weights,
             _masks: masks,
             _records: records,
+            _patch_info: patch_info,
+            _grids: grids,
             indices,
+            control_pos,
+            vertex_normals,
             _pool: pool,
-            set,
+            set0,
+            set1,
         })
     }
 
     /// The stencils (patches in draw order) and the rejected faces.
     pub fn table(&self) -> &StencilTable {
-        &self.table
+        &self.plan.table
     }
 
-    /// The Vulkan handle of set 0's layout ([`frame_set_layout`]), for allocating a frame set;
-    /// `None` when there is nothing to draw.
-    pub fn frame_set_layout_handle(&self) -> Option<vk::DescriptorSetLayout> {
-        self.groups.first().map(|g| g.pipeline.set_layouts[0])
+    /// The shared TES tables (patch records in draw order).
+    pub fn layout(&self) -> &GregoryLayout {
+        &self.plan.layout
     }
 
-    /// The drawn faces in draw order (quads first, then triangles): the order of the shared
-    /// TES's patch records (`GregoryLayout::new(topo, &faces())`, binding 6).
-    pub fn faces(&self) -> Vec<u32> {
-        self.table.patches.iter().map(|p| p.face).collect()
+    /// The drawn faces in draw order.
+    pub fn faces(&self) -> &[u32] {
+        &self.plan.layout.faces
     }
 
     /// Number of patches drawn.
     pub fn patch_count(&self) -> u32 {
-        self.table.patches.len() as u32
+        self.plan.table.patches.len() as u32
     }
 
-    /// Records the draws inside the caller's render pass. `frame_set` is a set 0 of
-    /// [`frame_set_layout`] (the surface renderer's); `positions` the control-vertex buffer
-    /// (tightly packed f32 xyz), which the caller may update between frames (animation: the
-    /// stencils do not change).
-    pub fn record(
-        &self,
-        cmd: vk::CommandBuffer,
-        frame_set: vk::DescriptorSet,
-        positions: vk::Buffer,
-    ) {
+    /// Animation: new control positions and vertex normals (same topology). The stencils stay;
+    /// every patch is rebuilt by the TCS in the next frame. The caller updates the shared vertex
+    /// limits. Call while no frame using these buffers is executing.
+    pub fn update_positions(&mut self, positions: &[DVec3], normals: &[DVec3]) -> Result<()> {
+        if positions.len() != self.vertex_count || normals.len() != self.vertex_count {
+            return Err(Error::Invalid(format!(
+                "gregory-stencil update: {} positions / {} normals, the surface has {} vertices",
+                positions.len(),
+                normals.len(),
+                self.vertex_count
+            )));
+        }
+        self.control_pos.write(0, &vec3_bytes(positions))?;
+        self.vertex_normals.write(0, &vec4_bytes(normals))
+    }
+
+    /// Records the draws inside the caller's render pass: quads with the renderer's sub-patch
+    /// split, triangles whole; chunked per [`patch_draw_chunks`], the chunk's first patch as push
+    /// constant.
+    pub fn record(&self, cmd: vk::CommandBuffer) {
         let dev = self.ctx.device();
         let stages = vk::ShaderStageFlags::TESSELLATION_CONTROL
             | vk::ShaderStageFlags::TESSELLATION_EVALUATION;
         for g in &self.groups {
             // SAFETY: cmd is recording inside a render pass compatible with the pipeline's
             // target format; every bound resource outlives the submission (owned by self or
-            // the caller).
+            // the renderer).
             unsafe {
                 dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, g.pipeline.raw);
                 dev.cmd_bind_descriptor_sets(
@@ -277,10 +381,10 @@ impl StencilPatches {
                     vk::PipelineBindPoint::GRAPHICS,
                     g.pipeline.layout,
                     0,
-                    &[frame_set, self.set],
+                    &[self.set0, self.set1],
                     &[],
                 );
-                dev.cmd_bind_vertex_buffers(cmd, 0, &[positions], &[0]);
+                dev.cmd_bind_vertex_buffers(cmd, 0, &[self.control_pos.raw()], &[0]);
                 dev.cmd_bind_index_buffer(cmd, self.indices.raw(), 0, vk::IndexType::UINT32);
                 // The shared triangle TES has no sub-domains: triangles are drawn whole.
                 let split = if g.triangle { 1 } else { self.split };
@@ -296,7 +400,7 @@ impl StencilPatches {
                             cmd,
                             n * g.points,
                             1,
-                            self.first_index(g, first),
+                            g.first_index + first * g.points,
                             0,
                             0,
                         );
@@ -304,17 +408,6 @@ impl StencilPatches {
                 }
             }
         }
-    }
-
-    /// First index of patch `first` of group `g` in the ring index buffer.
-    fn first_index(&self, g: &DrawGroup, first: u32) -> u32 {
-        let before: u32 = self
-            .groups
-            .iter()
-            .take_while(|h| h.first_record < g.first_record)
-            .map(|h| h.count * h.points)
-            .sum();
-        before + first * g.points
     }
 }
 

@@ -1,40 +1,25 @@
 //! A self-contained offscreen session that draws only the stencil-variant Gregory patches of a
-//! mesh (no regular patches, no fallback): the harness of the stencil tests and of
-//! `tessera bench --scheme gregory-stencil` timings of the Gregory pass alone. It fills the
-//! shared descriptor set 0 itself (frame uniforms, vertex limit positions and normals, patch
-//! records, control positions, capture); every edge is treated as Gregory/Gregory (flags 0).
+//! mesh (no regular patches, no fallback): the harness of the stencil tests and of timings of
+//! the Gregory pass alone. It owns the buffers a surface renderer would share (frame uniforms,
+//! vertex limits, capture). Edges next to regular faces are evaluated from the B-spline grid as
+//! in the full renderer, even though the regular faces themselves are not drawn.
 
 use ash::vk;
 use glam::DVec3;
 use image::RgbaImage;
 
-use super::gpu::StencilPatches;
+use super::gpu::{StencilPatches, StencilPlan};
 use crate::gpu::{
-    Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool, GpuTimer, MemoryLocation,
-    PipelineStats, RenderTarget, StatsQuery,
+    Buffer, Context, GpuTimer, MemoryLocation, PipelineStats, RenderTarget, StatsQuery,
 };
-use crate::patch::gregory::{vertex_ring, GregoryVertex};
 use crate::render::camera::{Camera, CameraSpec};
+use crate::render::gregory_layout::vertex_frames;
+use crate::render::gregory_vs::SharedBuffers;
+use crate::render::layout::vec4_bytes;
 use crate::render::renderer::{CaptureRecord, RenderDesc};
 use crate::render::settings::{FrameUniforms, FRAME_UNIFORM_BYTES};
 use crate::topology::Topology;
 use crate::{Error, Result};
-
-/// Limit position and unit limit normal of interior vertex `v` (§3.2-3.3: the normal of the
-/// tangent plane spanned by the limit tangents along ring edges 0 and 1).
-pub fn vertex_limit_frame(topo: &Topology, positions: &[DVec3], v: u32) -> (DVec3, DVec3) {
-    let g = GregoryVertex::interior(&vertex_ring(topo, positions, v));
-    let n = (g.e[0] - g.p).cross(g.e[1] - g.p).normalize_or_zero();
-    (g.p, n)
-}
-
-fn f32_bytes(v: impl IntoIterator<Item = f32>) -> Vec<u8> {
-    v.into_iter().flat_map(|x| x.to_le_bytes()).collect()
-}
-
-fn u32_bytes(v: impl IntoIterator<Item = u32>) -> Vec<u8> {
-    v.into_iter().flat_map(|x| x.to_le_bytes()).collect()
-}
 
 fn host_buffer(
     ctx: &Context,
@@ -57,7 +42,7 @@ pub struct StencilFrameReport {
     pub stats: PipelineStats,
 }
 
-/// Offscreen target + stencil patches + their own set 0.
+/// Offscreen target + stencil patches + the buffers a renderer would share with them.
 pub struct StencilSession {
     ctx: Context,
     topo: Topology,
@@ -66,16 +51,9 @@ pub struct StencilSession {
     desc: RenderDesc,
     camera: Camera,
     size: (u32, u32),
-    positions: Buffer,
     limits: Buffer,
-    normals: Buffer,
     frame: Buffer,
     capture: Buffer,
-    _info: Buffer,
-    _grid: Buffer,
-    _dummy: Buffer,
-    _pool: DescriptorPool,
-    set: vk::DescriptorSet,
     timer: GpuTimer,
     stats: StatsQuery,
 }
@@ -97,24 +75,17 @@ impl StencilSession {
         height: u32,
     ) -> Result<StencilSession> {
         ctx.require(&[crate::gpu::Feature::TessellationShader])?;
-        if desc.capture_capacity.is_some() {
-            ctx.require(&[crate::gpu::Feature::VertexPipelineStoresAndAtomics])?;
-        }
         let target = RenderTarget::new(ctx, width, height, 1)?;
-        let patches = StencilPatches::new(ctx, &topo, faces, desc, target.format())?;
+        let plan = StencilPlan::new(&topo, faces, ctx.info().limits.max_tessellation_patch_size);
+        if plan.table.patches.is_empty() {
+            return Err(Error::Invalid(
+                "no face can be drawn by the stencil variant".into(),
+            ));
+        }
+        let (lim, nrm) = vertex_frames(&topo, positions, &[], &plan.layout);
         let loc = MemoryLocation::CpuToGpu;
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let pos_bytes = f32_bytes(positions.iter().flat_map(|p| p.as_vec3().to_array()));
-        let positions_buf = host_buffer(
-            ctx,
-            &pos_bytes,
-            vk::BufferUsageFlags::VERTEX_BUFFER | storage,
-            loc,
-            "stencil session control positions",
-        )?;
-        let nv = topo.vertex_count();
-        let limits = host_buffer(ctx, &vec![0; nv * 16], storage, loc, "vertex limits")?;
-        let normals = host_buffer(ctx, &vec![0; nv * 16], storage, loc, "vertex normals")?;
+        let limits = host_buffer(ctx, &vec4_bytes(&lim), storage, loc, "vertex limits")?;
         let frame = host_buffer(
             ctx,
             &[0; FRAME_UNIFORM_BYTES],
@@ -126,57 +97,13 @@ impl StencilSession {
         let mut cap = vec![0u8; CAPTURE_HEADER + CAPTURE_RECORD * capacity as usize];
         cap[4..8].copy_from_slice(&capacity.to_le_bytes());
         let capture = host_buffer(ctx, &cap, storage, MemoryLocation::GpuToCpu, "tes capture")?;
-        let info = host_buffer(
-            ctx,
-            &u32_bytes(patches.table().patches.iter().flat_map(|p| {
-                [
-                    p.face,
-                    0,
-                    0,
-                    0,
-                    p.corners[0],
-                    p.corners[1],
-                    p.corners[2],
-                    p.corners[3],
-                ]
-            })),
-            storage,
-            loc,
-            "gregory patch info",
-        )?;
-        let grid = host_buffer(ctx, &[0; 64], storage, loc, "gregory grids (unused)")?;
-        let dummy = host_buffer(ctx, &[0; 64], storage, loc, "regular patches (unused)")?;
-        let pool = DescriptorPool::new(ctx, 1, 7, 1)?;
-        let set = match patches.frame_set_layout_handle() {
-            Some(layout) => pool.allocate(layout)?,
-            None => {
-                return Err(Error::Invalid(
-                    "no face can be drawn by the stencil variant".into(),
-                ))
-            }
+        let shared = SharedBuffers {
+            frame: &frame,
+            vertex_limits: &limits,
+            capture: &capture,
         };
-        let sb = |binding, buffer| BufferBinding {
-            binding,
-            kind: DescriptorKind::StorageBuffer,
-            buffer,
-        };
-        ctx.write_buffer_descriptors(
-            set,
-            &[
-                BufferBinding {
-                    binding: 0,
-                    kind: DescriptorKind::UniformBuffer,
-                    buffer: &frame,
-                },
-                sb(1, &dummy),
-                sb(2, &limits),
-                sb(3, &capture),
-                sb(6, &info),
-                sb(7, &grid),
-                sb(8, &positions_buf),
-                sb(9, &normals),
-            ],
-        );
+        let patches =
+            StencilPatches::new(ctx, plan, positions, &nrm, shared, desc, target.format())?;
         let (lo, hi) = bbox(positions);
         let camera = Camera::frame(
             CameraSpec::Auto,
@@ -184,7 +111,7 @@ impl StencilSession {
             hi,
             f64::from(width) / f64::from(height),
         );
-        let mut s = StencilSession {
+        Ok(StencilSession {
             ctx: ctx.clone(),
             topo,
             target,
@@ -192,41 +119,12 @@ impl StencilSession {
             desc: *desc,
             camera,
             size: (width, height),
-            positions: positions_buf,
             limits,
-            normals,
             frame,
             capture,
-            _info: info,
-            _grid: grid,
-            _dummy: dummy,
-            _pool: pool,
-            set,
             timer: GpuTimer::new(ctx, 1)?,
             stats: StatsQuery::new(ctx)?,
-        };
-        s.write_vertex_data(positions)?;
-        Ok(s)
-    }
-
-    fn write_vertex_data(&mut self, positions: &[DVec3]) -> Result<()> {
-        let nv = self.topo.vertex_count();
-        let mut lim = vec![0f32; nv * 4];
-        let mut nrm = vec![0f32; nv * 4];
-        let mut done = vec![false; nv];
-        for p in &self.patches.table().patches {
-            for &v in &p.corners {
-                if std::mem::replace(&mut done[v as usize], true) {
-                    continue;
-                }
-                let (l, n) = vertex_limit_frame(&self.topo, positions, v);
-                let i = v as usize * 4;
-                lim[i..i + 4].copy_from_slice(&l.as_vec3().extend(1.0).to_array());
-                nrm[i..i + 4].copy_from_slice(&n.as_vec3().extend(0.0).to_array());
-            }
-        }
-        self.limits.write(0, &f32_bytes(lim))?;
-        self.normals.write(0, &f32_bytes(nrm))
+        })
     }
 
     /// The stencil patches (table, rejected faces).
@@ -234,8 +132,8 @@ impl StencilSession {
         &self.patches
     }
 
-    /// Animation: new control positions, same topology. Only the positions and the per-vertex
-    /// limit data are rewritten; the stencils stay.
+    /// Animation: new control positions, same topology. The positions, vertex limits and
+    /// normals are rewritten; the stencils stay.
     pub fn update_positions(&mut self, positions: &[DVec3]) -> Result<()> {
         if positions.len() != self.topo.vertex_count() {
             return Err(Error::Invalid(format!(
@@ -244,9 +142,9 @@ impl StencilSession {
                 self.topo.vertex_count()
             )));
         }
-        let bytes = f32_bytes(positions.iter().flat_map(|p| p.as_vec3().to_array()));
-        self.positions.write(0, &bytes)?;
-        self.write_vertex_data(positions)
+        let (lim, nrm) = vertex_frames(&self.topo, positions, &[], self.patches.layout());
+        self.limits.write(0, &vec4_bytes(&lim))?;
+        self.patches.update_positions(positions, &nrm)
     }
 
     /// Renders one frame, waits, and returns its GPU time and statistics.
@@ -265,8 +163,7 @@ impl StencilSession {
         if self.desc.capture_capacity.is_some() {
             self.capture.write(0, &[0u32])?;
         }
-        let (target, patches, set, pos) =
-            (&self.target, &self.patches, self.set, self.positions.raw());
+        let (target, patches) = (&self.target, &self.patches);
         let timer = &mut self.timer;
         let stats = &self.stats;
         self.ctx.submit_once(|dev, cmd| {
@@ -275,7 +172,7 @@ impl StencilSession {
             target.begin(dev, cmd, [0.02, 0.025, 0.035, 1.0]);
             let i = timer.begin(cmd, "gregory stencil patches")?;
             stats.begin(cmd);
-            patches.record(cmd, set, pos);
+            patches.record(cmd);
             stats.end(cmd);
             timer.end(cmd, i)?;
             target.end(dev, cmd);

@@ -9,7 +9,9 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use crate::patch::gregory::{vertex_ring, CornerRef, GregoryQuad, GregoryTriangle, GregoryVertex};
+use crate::patch::gregory::{
+    face_point, vertex_ring, CornerRef, GregoryQuad, GregoryTriangle, GregoryVertex,
+};
 use crate::patch::RegularPatch;
 use crate::topology::Topology;
 
@@ -18,10 +20,11 @@ pub const QUAD_POINTS: usize = 20;
 /// Control points of a triangular Gregory patch.
 pub const TRI_POINTS: usize = 15;
 /// Extra rows after a quad's control points: per patch edge k the neighbour's other edge points
-/// at both ends (`g_eout` of glsl/common/gregory.glsl).
-pub const QUAD_EXTRA: usize = 8;
-/// Extra rows after a triangle's control points.
-pub const TRI_EXTRA: usize = 6;
+/// at both ends (`g_eout` of glsl/common/gregory.glsl), then the neighbour's face points next
+/// to edge k at both ends (`g_nbr`).
+pub const QUAD_EXTRA: usize = 16;
+/// Extra rows after a triangle's control points (6 + 6).
+pub const TRI_EXTRA: usize = 12;
 /// Largest ring the GPU layout stores (Vulkan's guaranteed `maxTessellationPatchSize`).
 pub const MAX_RING: usize = 32;
 
@@ -50,8 +53,10 @@ pub struct StencilType {
     /// `weights[row * ring_len + k]`: weight of ring vertex `k` in row `row`: the control points
     /// p0.., e_plus0.., e_minus0.., f_plus0.., f_minus0.. (20 or 15), then for each patch edge
     /// k (corner k -> k+1) the edge point of corner k's vertex on the ring edge beyond edge k
-    /// and that of corner k+1's vertex beyond edge k (8 or 6 rows; the neighbour patch's own
-    /// edge points there, which the shared TES needs for symmetric edge normals).
+    /// and that of corner k+1's vertex beyond edge k (8 or 6 rows: the neighbour patch's own
+    /// edge points there), then for each edge k the neighbour patch's face points next to edge
+    /// k at corner k and at corner k+1 (8 or 6 rows, eq. 6 with the neighbour's face size): the
+    /// shared TES builds symmetric edge normals from both patches' cross-edge derivatives.
     pub weights: Vec<f32>,
     /// Bit `k` of `masks[row]` set when the weight of ring vertex `k` in `row` is nonzero.
     pub masks: Vec<u32>,
@@ -140,11 +145,16 @@ fn control_points(topo: &Topology, positions: &[DVec3], f: u32) -> Vec<DVec3> {
         .collect();
     let mut out = Vec::with_capacity(QUAD_POINTS + QUAD_EXTRA);
     let n = refs.len();
-    let mut extra = Vec::with_capacity(2 * n);
+    let mut extra = Vec::with_capacity(4 * n);
     for k in 0..n {
         let (a, b) = (&refs[k], &refs[(k + 1) % n]);
         extra.push(a.vertex.e[(a.j + a.vertex.n - 1) % a.vertex.n]);
         extra.push(b.vertex.e[(b.j + 2) % b.vertex.n]);
+    }
+    for k in 0..n {
+        let (x, y) = (fv[k], fv[(k + 1) % n]);
+        let (a, b) = (&refs[k], &refs[(k + 1) % n]);
+        extra.extend(neighbour_face_points(topo, f, (x, a.vertex), (y, b.vertex)));
     }
     if n == 3 {
         let t = GregoryTriangle::new(&[refs[0], refs[1], refs[2]]);
@@ -159,6 +169,57 @@ fn control_points(topo: &Topology, positions: &[DVec3], f: u32) -> Vec<DVec3> {
     }
     out.extend(extra);
     out
+}
+
+/// The face points of the face across edge `x -> y` of face `f` next to that edge, at `x` and at
+/// `y`, computed with exactly the arguments the neighbour's own construction passes to
+/// [`face_point`] (`assemble` in patch::gregory::eval), so the results are bitwise its own.
+/// Where the neighbour is not a triangle or quad (no Gregory patch), `f`'s own face points.
+fn neighbour_face_points(
+    topo: &Topology,
+    f: u32,
+    (x, gx): (u32, &GregoryVertex),
+    (y, gy): (u32, &GregoryVertex),
+) -> [DVec3; 2] {
+    let j_of = |v: u32, g: u32| topo.vertex_faces(v).iter().position(|&h| h == g);
+    let g = topo
+        .find_edge(x, y)
+        .and_then(|e| topo.edge_faces(e).iter().copied().find(|&h| h != f));
+    let (g, d) = match g.map(|g| (g, topo.face_size(g))) {
+        Some((g, 4)) => (g, 3.0),
+        Some((g, 3)) => (g, 4.0),
+        _ => (f, if topo.face_size(f) == 3 { 4.0 } else { 3.0 }),
+    };
+    let (Some(jx), Some(jy)) = (j_of(x, g), j_of(y, g)) else {
+        return [DVec3::ZERO; 2];
+    };
+    let (nx, ny) = (gx.n, gy.n);
+    if g == f {
+        // Own face points next to edge x -> y: f_plus at x, f_minus at y.
+        let fx = face_point(d, nx, ny, gx.p, gx.e[jx], gy.e[(jy + 1) % ny], gx.r[jx]);
+        let fy = face_point(
+            d,
+            ny,
+            nx,
+            gy.p,
+            gy.e[(jy + 1) % ny],
+            gx.e[jx],
+            -gy.r[(jy + 1) % ny],
+        );
+        return [fx, fy];
+    }
+    // In g the edge runs y -> x: f_minus at x (prev corner y), f_plus at y (next corner x).
+    let fx = face_point(
+        d,
+        nx,
+        ny,
+        gx.p,
+        gx.e[(jx + 1) % nx],
+        gy.e[jy],
+        -gx.r[(jx + 1) % nx],
+    );
+    let fy = face_point(d, ny, nx, gy.p, gy.e[jy], gx.e[(jx + 1) % nx], gy.r[jy]);
+    [fx, fy]
 }
 
 /// Weight rows of face `f` over `ring` (f64, `rows x ring.len()`), by linearity: ring vertices
@@ -393,6 +454,8 @@ mod tests {
                     (2 * n + (k + 1) % n, m + k2),   // e_minus[k+1] == e_plus[k2]
                     (5 * n + 2 * k, m + k2n),        // other edge point at x == e_plus[k2+1]
                     (5 * n + 2 * k + 1, 2 * m + k2), // other edge point at y == e_minus[k2]
+                    (7 * n + 2 * k, 4 * m + k2n),    // neighbour face point at x == f_minus[k2+1]
+                    (7 * n + 2 * k + 1, 3 * m + k2), // neighbour face point at y == f_plus[k2]
                 ];
                 for (ra, rb) in pairs {
                     assert_eq!(
@@ -405,7 +468,7 @@ mod tests {
                 }
             }
         }
-        assert_eq!(checked, 6 * (3 + 3 * 4 + 3 * 3));
+        assert_eq!(checked, 8 * (3 + 3 * 4 + 3 * 3));
     }
 
     #[test]
