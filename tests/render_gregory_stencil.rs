@@ -9,7 +9,7 @@ use std::collections::{HashMap, HashSet};
 use glam::DVec3;
 use tessera::mesh::{ControlMesh, ControlMeshDesc, ObjOptions};
 use tessera::patch::gregory::{gregory_patch, gregory_vertices, GregoryPatch};
-use tessera::render::gregory_stencil::{gregory_faces, StencilSession};
+use tessera::render::gregory_stencil::{GregorySession, GregoryVariant, SessionOptions};
 use tessera::render::renderer::CaptureRecord;
 use tessera::render::{RenderDesc, TessSettings};
 use tessera::topology::Topology;
@@ -50,45 +50,55 @@ struct Run {
     topo: Topology,
     positions: Vec<DVec3>,
     diag: f64,
+    gregory: HashSet<u32>,
     drawn: HashSet<u32>,
     records: Vec<CaptureRecord>,
 }
 
-/// Draws every stencil face of `mesh` at uniform `level` and captures the TES output.
-fn run(mesh: &ControlMesh, level: f32) -> Option<Run> {
+/// Draws the Gregory faces of `mesh` (with `variant`; plus its regular faces when
+/// `with_regular`) at uniform `level` and captures the TES output.
+fn run_with(
+    mesh: &ControlMesh,
+    level: f32,
+    variant: GregoryVariant,
+    with_regular: bool,
+) -> Option<Run> {
     let ctx = render_common::context()?;
     let topo = Topology::new(mesh).unwrap();
-    let faces = gregory_faces(&topo);
     let desc = RenderDesc {
         tess: TessSettings {
             level,
             ..TessSettings::default()
         },
-        capture_capacity: Some(faces.len() as u32 * 400),
+        capture_capacity: Some(topo.face_count() as u32 * 400),
         ..RenderDesc::default()
     };
-    let mut s = StencilSession::new(
-        &ctx,
-        Topology::new(mesh).unwrap(),
-        mesh.positions(),
-        &faces,
-        &desc,
-        128,
-        128,
-    )
-    .unwrap();
+    let opts = SessionOptions {
+        variant,
+        with_regular,
+        width: 128,
+        height: 128,
+    };
+    let mut s = GregorySession::new(&ctx, mesh, &desc, &opts).unwrap();
     s.frame().unwrap();
     let records = s.capture().unwrap();
     render_common::assert_validation_clean(&ctx);
-    let drawn: HashSet<u32> = s.patches().table().patches.iter().map(|p| p.face).collect();
-    assert!(!drawn.is_empty());
+    let gregory: HashSet<u32> = s.gregory_faces().iter().copied().collect();
+    assert!(!gregory.is_empty());
+    let drawn: HashSet<u32> = records.iter().map(|r| r.face).collect();
+    assert!(gregory.is_subset(&drawn));
     Some(Run {
         topo,
         positions: mesh.positions().to_vec(),
         diag: mesh.bbox_diagonal(),
+        gregory,
         drawn,
         records,
     })
+}
+
+fn run(mesh: &ControlMesh, level: f32) -> Option<Run> {
+    run_with(mesh, level, GregoryVariant::Stencil, false)
 }
 
 /// Which face edge (corner k -> k+1) a captured point lies on, if any (corners excluded).
@@ -112,12 +122,7 @@ fn check_against_cpu(r: &Run, normal_tol: f64) -> (f64, f64, f64) {
     let verts = gregory_vertices(&r.topo, &r.positions);
     let mut patches = HashMap::new();
     let (mut max_p, mut max_n, mut max_edge_n) = (0f64, 0f64, 0f64);
-    for rec in &r.records {
-        assert!(
-            r.drawn.contains(&rec.face),
-            "capture from undrawn face {}",
-            rec.face
-        );
+    for rec in r.records.iter().filter(|x| r.gregory.contains(&x.face)) {
         let patch = *patches
             .entry(rec.face)
             .or_insert_with(|| gregory_patch(&r.topo, &verts, rec.face).unwrap());
@@ -242,4 +247,91 @@ fn gregory_test8_and_car() {
     // The car: 452 stencil patches in several draw chunks (lavapipe patch-list size rule).
     gpu_matches_cpu_and_is_watertight(&osd("catmark_gregory_test8"), "catmark_gregory_test8");
     gpu_matches_cpu_and_is_watertight(&osd("catmark_car"), "catmark_car");
+}
+
+#[test]
+fn car_with_regular_patches_is_watertight() {
+    // Gregory/Gregory, Gregory/B-spline and B-spline/B-spline edges all bitwise equal.
+    let mesh = osd("catmark_car");
+    let Some(r) = run_with(&mesh, 6.0, GregoryVariant::Stencil, true) else {
+        return;
+    };
+    assert!(r.drawn.len() > r.gregory.len());
+    let (p, _, _) = check_against_cpu(&r, 2e-3);
+    let mut mixed = 0;
+    for &f in &r.gregory {
+        let fv = r.topo.face_vertices(f);
+        for k in 0..fv.len() {
+            let e = r.topo.find_edge(fv[k], fv[(k + 1) % fv.len()]).unwrap();
+            if r.topo
+                .edge_faces(e)
+                .iter()
+                .any(|g| r.drawn.contains(g) && !r.gregory.contains(g))
+            {
+                mixed += 1;
+            }
+        }
+    }
+    assert!(mixed > 0, "no Gregory/B-spline edge in the test");
+    let m = check_watertight(&r);
+    eprintln!(
+        "catmark_car with regular patches: {} Gregory + {} regular faces, {mixed} Gregory/B-spline \
+         edges, {m} edge points bitwise equal, max Gregory position error {p:.2e} of the diagonal",
+        r.gregory.len(),
+        r.drawn.len() - r.gregory.len()
+    );
+}
+
+/// Captured points keyed by (face, u bits, v bits).
+fn by_param(r: &Run) -> HashMap<(u32, u32, u32), &CaptureRecord> {
+    r.records
+        .iter()
+        .map(|x| ((x.face, x.u.to_bits(), x.v.to_bits()), x))
+        .collect()
+}
+
+#[test]
+fn stencil_and_two_stage_variants_agree() {
+    for (name, mesh) in [
+        ("catmark_car", osd("catmark_car")),
+        ("prism", prism()),
+        ("catmark_smoothtris0", osd("catmark_smoothtris0")),
+    ] {
+        let Some(a) = run_with(&mesh, 6.0, GregoryVariant::Stencil, true) else {
+            return;
+        };
+        let b = run_with(&mesh, 6.0, GregoryVariant::TwoStage, true).unwrap();
+        let (ma, mb) = (by_param(&a), by_param(&b));
+        let (mut max_p, mut max_n, mut corner_or_grid_bitwise, mut common) = (0f64, 0f64, 0, 0);
+        for (key, x) in &ma {
+            if !a.gregory.contains(&key.0) || !b.gregory.contains(&key.0) {
+                continue;
+            }
+            let y = mb[key];
+            common += 1;
+            let px = DVec3::from(x.position.map(f64::from));
+            let py = DVec3::from(y.position.map(f64::from));
+            let nx = DVec3::from(x.normal.map(f64::from));
+            let ny = DVec3::from(y.normal.map(f64::from));
+            max_p = max_p.max((px - py).length() / a.diag);
+            max_n = max_n.max(nx.angle_between(ny));
+            if x.position == y.position && x.normal == y.normal {
+                corner_or_grid_bitwise += 1;
+            }
+        }
+        assert!(common > 0);
+        assert!(
+            max_p <= 1e-5,
+            "{name}: variants differ by {max_p:e} of the diagonal"
+        );
+        assert!(
+            max_n <= 1e-3,
+            "{name}: variant normals differ by {max_n} rad"
+        );
+        eprintln!(
+            "{name}: {common} common points, stencil vs two-stage max position difference \
+             {max_p:.2e} of the diagonal, max normal difference {max_n:.2e} rad, \
+             {corner_or_grid_bitwise} bitwise equal"
+        );
+    }
 }

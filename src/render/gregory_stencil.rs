@@ -5,7 +5,7 @@ pub mod session;
 pub mod table;
 
 pub use gpu::{frame_set_layout, StencilPatches, StencilPlan};
-pub use session::{StencilFrameReport, StencilSession};
+pub use session::{GregoryFrameReport, GregorySession, GregoryVariant, SessionOptions};
 
 pub use table::{
     face_ring, gregory_faces, Rejected, StencilPatch, StencilTable, StencilType, MAX_RING,

@@ -1,53 +1,101 @@
-//! A self-contained offscreen session that draws only the stencil-variant Gregory patches of a
-//! mesh (no regular patches, no fallback): the harness of the stencil tests and of timings of
-//! the Gregory pass alone. It owns the buffers a surface renderer would share (frame uniforms,
-//! vertex limits, capture). Edges next to regular faces are evaluated from the B-spline grid as
-//! in the full renderer, even though the regular faces themselves are not drawn.
+//! A self-contained offscreen session that draws the Gregory patches of a mesh with either GPU
+//! variant, optionally together with its regular B-spline patches (no CPU fallback): the
+//! harness of the stencil tests (GPU == CPU, watertightness, variant against variant) and of
+//! the per-pass timings `tessera bench` reports. It owns the buffers a surface renderer shares
+//! with the Gregory pass (frame uniforms, vertex limits, capture).
 
 use ash::vk;
 use glam::DVec3;
 use image::RgbaImage;
 
 use super::gpu::{StencilPatches, StencilPlan};
+use super::table::gregory_faces;
 use crate::gpu::{
     Buffer, Context, GpuTimer, MemoryLocation, PipelineStats, RenderTarget, StatsQuery,
 };
+use crate::mesh::ControlMesh;
 use crate::render::camera::{Camera, CameraSpec};
-use crate::render::gregory_layout::vertex_frames;
-use crate::render::gregory_vs::SharedBuffers;
-use crate::render::layout::vec4_bytes;
-use crate::render::renderer::{CaptureRecord, RenderDesc};
+use crate::render::gregory_layout::{vertex_frames, GregoryLayout};
+use crate::render::gregory_vs::{select_faces, vs_budget, GregoryVsPatches, SharedBuffers};
+use crate::render::layout::{vec4_bytes, BSplinePatch};
+use crate::render::renderer::{CaptureRecord, RenderDesc, SurfaceRenderer};
+use crate::render::scene::SurfacePlan;
 use crate::render::settings::{FrameUniforms, FRAME_UNIFORM_BYTES};
+use crate::render::surface::SurfaceData;
 use crate::topology::Topology;
 use crate::{Error, Result};
 
-fn host_buffer(
-    ctx: &Context,
-    bytes: &[u8],
-    usage: vk::BufferUsageFlags,
-    loc: MemoryLocation,
-    name: &str,
-) -> Result<Buffer> {
-    let mut b = Buffer::new(ctx, bytes.len().max(64) as u64, usage, loc, name)?;
-    b.write(0, bytes)?;
-    Ok(b)
+/// Which GPU construction builds the Gregory patches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GregoryVariant {
+    /// §4.3: one-ring patch primitive, precomputed stencils (this module).
+    Stencil,
+    /// §4.1-4.2: per-vertex VS + per-corner TCS (`render::gregory_vs`).
+    TwoStage,
 }
 
-/// Timings and statistics of one stencil frame.
+/// What a [`GregorySession`] draws.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SessionOptions {
+    /// Construction variant.
+    pub variant: GregoryVariant,
+    /// Also draw the regular faces as B-spline patches (the regular pipeline of
+    /// [`SurfaceRenderer`]), sharing the vertex limit positions with the Gregory pass.
+    pub with_regular: bool,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+}
+
+/// Timings and statistics of one frame.
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct StencilFrameReport {
-    /// GPU milliseconds of the Gregory pass (construction in the TCS + evaluation).
-    pub gpu_ms: f64,
-    /// Pipeline statistics of the pass.
-    pub stats: PipelineStats,
+pub struct GregoryFrameReport {
+    /// GPU milliseconds of the Gregory pass (construction + evaluation).
+    pub gregory_ms: f64,
+    /// GPU milliseconds of the regular B-spline pass (0 without regular patches).
+    pub regular_ms: f64,
+    /// Pipeline statistics of the Gregory pass.
+    pub gregory_stats: PipelineStats,
 }
 
-/// Offscreen target + stencil patches + the buffers a renderer would share with them.
-pub struct StencilSession {
+enum Patches {
+    Stencil(StencilPatches),
+    TwoStage(GregoryVsPatches),
+}
+
+impl Patches {
+    fn record(&self, cmd: vk::CommandBuffer) {
+        match self {
+            Patches::Stencil(p) => p.record(cmd),
+            Patches::TwoStage(p) => p.record(cmd),
+        }
+    }
+
+    fn layout(&self) -> &GregoryLayout {
+        match self {
+            Patches::Stencil(p) => p.layout(),
+            Patches::TwoStage(p) => p.layout(),
+        }
+    }
+
+    fn update(&mut self, positions: &[DVec3], normals: &[DVec3]) -> Result<()> {
+        match self {
+            Patches::Stencil(p) => p.update_positions(positions, normals),
+            Patches::TwoStage(p) => p.update_positions(positions, normals),
+        }
+    }
+}
+
+/// Offscreen target, Gregory patches (and optionally the regular patches) of one mesh.
+pub struct GregorySession {
     ctx: Context,
     topo: Topology,
     target: RenderTarget,
-    patches: StencilPatches,
+    patches: Patches,
+    regular: Option<SurfaceRenderer>,
+    regular_patches: Vec<BSplinePatch>,
+    rejected: Vec<(u32, String)>,
     desc: RenderDesc,
     camera: Camera,
     size: (u32, u32),
@@ -62,27 +110,75 @@ pub struct StencilSession {
 const CAPTURE_HEADER: usize = 16;
 const CAPTURE_RECORD: usize = 36;
 
-impl StencilSession {
-    /// Builds the stencils of `faces` of `topo` and a `width x height` target framing the
-    /// control mesh (camera `auto`).
+fn host_buffer(
+    ctx: &Context,
+    bytes: &[u8],
+    usage: vk::BufferUsageFlags,
+    loc: MemoryLocation,
+    name: &str,
+) -> Result<Buffer> {
+    let mut b = Buffer::new(ctx, bytes.len().max(64) as u64, usage, loc, name)?;
+    b.write(0, bytes)?;
+    Ok(b)
+}
+
+impl GregorySession {
+    /// Plans the faces of `mesh` (regular / Gregory / rejected by the variant), uploads them and
+    /// frames the control mesh (camera `auto`).
     pub fn new(
         ctx: &Context,
-        topo: Topology,
-        positions: &[DVec3],
-        faces: &[u32],
+        mesh: &ControlMesh,
         desc: &RenderDesc,
-        width: u32,
-        height: u32,
-    ) -> Result<StencilSession> {
+        opts: &SessionOptions,
+    ) -> Result<GregorySession> {
         ctx.require(&[crate::gpu::Feature::TessellationShader])?;
-        let target = RenderTarget::new(ctx, width, height, 1)?;
-        let plan = StencilPlan::new(&topo, faces, ctx.info().limits.max_tessellation_patch_size);
-        if plan.table.patches.is_empty() {
-            return Err(Error::Invalid(
-                "no face can be drawn by the stencil variant".into(),
-            ));
+        let topo = Topology::new(mesh)?;
+        let positions = mesh.positions();
+        let target = RenderTarget::new(ctx, opts.width, opts.height, 1)?;
+        let candidates = gregory_faces(&topo);
+        let regular_patches = if opts.with_regular {
+            SurfacePlan::new(&topo).patches
+        } else {
+            Vec::new()
+        };
+        enum Planned {
+            Stencil(StencilPlan),
+            TwoStage(GregoryLayout),
         }
-        let (lim, nrm) = vertex_frames(&topo, positions, &[], &plan.layout);
+        let (planned, rejected) = match opts.variant {
+            GregoryVariant::Stencil => {
+                let plan = StencilPlan::new(
+                    &topo,
+                    &candidates,
+                    ctx.info().limits.max_tessellation_patch_size,
+                );
+                let rejected = plan
+                    .table
+                    .rejected
+                    .iter()
+                    .map(|r| (r.face, r.reason.clone()))
+                    .collect();
+                (Planned::Stencil(plan), rejected)
+            }
+            GregoryVariant::TwoStage => {
+                let budget = vs_budget(ctx).ok_or_else(|| {
+                    Error::Invalid("the device cannot run the two-stage Gregory variant".into())
+                })?;
+                let (ok, rejected) = select_faces(&topo, &candidates, budget);
+                (Planned::TwoStage(GregoryLayout::new(&topo, &ok)), rejected)
+            }
+        };
+        let layout = match &planned {
+            Planned::Stencil(p) => &p.layout,
+            Planned::TwoStage(l) => l,
+        };
+        if layout.faces.is_empty() {
+            return Err(Error::Invalid(format!(
+                "no face can be drawn by the {:?} Gregory variant",
+                opts.variant
+            )));
+        }
+        let (lim, nrm) = vertex_frames(&topo, positions, &regular_patches, layout);
         let loc = MemoryLocation::CpuToGpu;
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let limits = host_buffer(ctx, &vec4_bytes(&lim), storage, loc, "vertex limits")?;
@@ -102,38 +198,80 @@ impl StencilSession {
             vertex_limits: &limits,
             capture: &capture,
         };
-        let patches =
-            StencilPatches::new(ctx, plan, positions, &nrm, shared, desc, target.format())?;
-        let (lo, hi) = bbox(positions);
+        let patches = match planned {
+            Planned::Stencil(plan) => Patches::Stencil(StencilPatches::new(
+                ctx,
+                plan,
+                positions,
+                &nrm,
+                shared,
+                desc,
+                target.format(),
+            )?),
+            Planned::TwoStage(layout) => Patches::TwoStage(GregoryVsPatches::new(
+                ctx,
+                &topo,
+                layout,
+                positions,
+                &nrm,
+                shared,
+                desc,
+                target.format(),
+            )?),
+        };
+        let regular = if regular_patches.is_empty() {
+            None
+        } else {
+            let surface = SurfaceData {
+                positions: positions.to_vec(),
+                patches: regular_patches.clone(),
+                ..SurfaceData::default()
+            };
+            Some(SurfaceRenderer::new(ctx, &surface, desc, target.format())?)
+        };
+        let (lo, hi) = mesh.bounding_box();
         let camera = Camera::frame(
             CameraSpec::Auto,
             lo,
             hi,
-            f64::from(width) / f64::from(height),
+            f64::from(opts.width) / f64::from(opts.height),
         );
-        Ok(StencilSession {
+        Ok(GregorySession {
             ctx: ctx.clone(),
             topo,
             target,
             patches,
+            regular,
+            regular_patches,
+            rejected,
             desc: *desc,
             camera,
-            size: (width, height),
+            size: (opts.width, opts.height),
             limits,
             frame,
             capture,
-            timer: GpuTimer::new(ctx, 1)?,
+            timer: GpuTimer::new(ctx, 2)?,
             stats: StatsQuery::new(ctx)?,
         })
     }
 
-    /// The stencil patches (table, rejected faces).
-    pub fn patches(&self) -> &StencilPatches {
-        &self.patches
+    /// Faces drawn as Gregory patches, in draw order.
+    pub fn gregory_faces(&self) -> &[u32] {
+        &self.patches.layout().faces
     }
 
-    /// Animation: new control positions, same topology. The positions, vertex limits and
-    /// normals are rewritten; the stencils stay.
+    /// Number of regular B-spline patches drawn.
+    pub fn regular_count(&self) -> usize {
+        self.regular_patches.len()
+    }
+
+    /// Candidate Gregory faces the variant does not draw, with the reason.
+    pub fn rejected(&self) -> &[(u32, String)] {
+        &self.rejected
+    }
+
+    /// Animation: new control positions (same topology). Per-vertex limit data, the Gregory
+    /// pass's positions and the regular pass are updated; stencils and tables stay.
     pub fn update_positions(&mut self, positions: &[DVec3]) -> Result<()> {
         if positions.len() != self.topo.vertex_count() {
             return Err(Error::Invalid(format!(
@@ -142,39 +280,57 @@ impl StencilSession {
                 self.topo.vertex_count()
             )));
         }
-        let (lim, nrm) = vertex_frames(&self.topo, positions, &[], self.patches.layout());
+        let (lim, nrm) = vertex_frames(
+            &self.topo,
+            positions,
+            &self.regular_patches,
+            self.patches.layout(),
+        );
         self.limits.write(0, &vec4_bytes(&lim))?;
-        self.patches.update_positions(positions, &nrm)
+        if let Some(r) = self.regular.as_mut() {
+            r.update_positions(positions, None)?;
+        }
+        self.patches.update(positions, &nrm)
     }
 
-    /// Renders one frame, waits, and returns its GPU time and statistics.
-    pub fn frame(&mut self) -> Result<StencilFrameReport> {
-        let t = self.desc.tess;
+    /// Renders one frame, waits, and returns the per-pass GPU times and statistics.
+    pub fn frame(&mut self) -> Result<GregoryFrameReport> {
         let uniforms = FrameUniforms {
             view_proj: self.camera.view_proj(),
             eye: self.camera.eye.as_vec3(),
             viewport: [self.size.0 as f32, self.size.1 as f32],
-            tess: t,
+            tess: self.desc.tess,
             max_level: self.ctx.info().limits.max_tessellation_generation_level as f32,
             light_dir: (self.camera.eye - self.camera.target).normalize().as_vec3(),
             color_by: self.desc.color_by,
         };
         self.frame.write(0, &uniforms.to_bytes())?;
+        if let Some(r) = self.regular.as_mut() {
+            r.set_frame(&uniforms)?;
+            if self.desc.capture_capacity.is_some() {
+                r.reset_capture()?;
+            }
+        }
         if self.desc.capture_capacity.is_some() {
             self.capture.write(0, &[0u32])?;
         }
-        let (target, patches) = (&self.target, &self.patches);
+        let (target, patches, regular) = (&self.target, &self.patches, &self.regular);
         let timer = &mut self.timer;
         let stats = &self.stats;
         self.ctx.submit_once(|dev, cmd| {
             timer.reset(cmd);
             stats.reset(cmd);
             target.begin(dev, cmd, [0.02, 0.025, 0.035, 1.0]);
-            let i = timer.begin(cmd, "gregory stencil patches")?;
+            let i = timer.begin(cmd, "gregory patches")?;
             stats.begin(cmd);
             patches.record(cmd);
             stats.end(cmd);
             timer.end(cmd, i)?;
+            if let Some(r) = regular {
+                let i = timer.begin(cmd, "regular patches")?;
+                r.record_patches(cmd);
+                timer.end(cmd, i)?;
+            }
             target.end(dev, cmd);
             let barrier = vk::MemoryBarrier::default()
                 .src_access_mask(vk::AccessFlags::SHADER_WRITE)
@@ -193,9 +349,17 @@ impl StencilSession {
             }
             Ok(())
         })?;
-        Ok(StencilFrameReport {
-            gpu_ms: self.timer.results()?.iter().map(|(_, ms)| ms).sum(),
-            stats: self.stats.results()?,
+        let passes = self.timer.results()?;
+        let ms = |label: &str| {
+            passes
+                .iter()
+                .find(|(l, _)| l == label)
+                .map_or(0.0, |(_, ms)| *ms)
+        };
+        Ok(GregoryFrameReport {
+            gregory_ms: ms("gregory patches"),
+            regular_ms: ms("regular patches"),
+            gregory_stats: self.stats.results()?,
         })
     }
 
@@ -204,7 +368,7 @@ impl StencilSession {
         self.target.read_rgba(&self.ctx)
     }
 
-    /// The last frame's TES capture.
+    /// The last frame's TES capture: Gregory patches, then regular patches.
     pub fn capture(&self) -> Result<Vec<CaptureRecord>> {
         let Some(capacity) = self.desc.capture_capacity else {
             return Err(Error::Invalid(
@@ -219,7 +383,7 @@ impl StencilSession {
             )));
         }
         let f = f32::from_bits;
-        Ok((0..count as usize)
+        let mut out: Vec<CaptureRecord> = (0..count as usize)
             .map(|k| {
                 let r = &words[4 + 9 * k..4 + 9 * k + 9];
                 CaptureRecord {
@@ -230,13 +394,10 @@ impl StencilSession {
                     normal: [f(r[6]), f(r[7]), f(r[8])],
                 }
             })
-            .collect())
+            .collect();
+        if let Some(r) = &self.regular {
+            out.extend(r.read_capture()?);
+        }
+        Ok(out)
     }
-}
-
-fn bbox(points: &[DVec3]) -> (DVec3, DVec3) {
-    points.iter().fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    )
 }
