@@ -1,12 +1,15 @@
 #version 450
 // Regular bicubic B-spline patch evaluation. Interior points: Bezier form (from the TCS) with
 // derivatives for the normal n = normalize(dP/du x dP/dv). Points on the patch boundary are made
-// bitwise identical to the neighbour's: corners read the shared vertex limit position; edge points
-// evaluate the edge's limit curve from the 12 B-spline points both patches hold, in canonical order
-// (parameter running from the end vertex with the smaller id, rows combined symmetrically).
+// bitwise identical (position and normal) to the neighbour's, B-spline or Gregory: corners read the
+// shared vertex limit position and normal (bindings 2, 9); edge points evaluate the edge's limit
+// curve and normal from the 12 B-spline points both patches hold, in canonical order (parameter
+// running from the end vertex with the smaller id, rows combined symmetrically, precise
+// arithmetic: common/gregory.glsl grid_edge_rows).
 // Defines: SPACING (equal_spacing | fractional_odd_spacing | fractional_even_spacing), CAPTURE.
 #include "common/frame.glsl"
 #include "common/bspline.glsl"
+#include "common/gregory.glsl"
 #ifdef CAPTURE
 #include "common/capture.glsl"
 #endif
@@ -24,36 +27,36 @@ layout(location = 0) out vec3 t_world;
 layout(location = 1) out vec3 t_normal;
 layout(location = 2) flat out uint t_class;
 
-/// Limit point on patch edge e (0: v=0, 1: u=1, 2: v=1, 3: u=0) at local parameter x, computed from
-/// data and in an order that do not depend on which of the two patches evaluates it.
-vec3 edge_point(uint flags, int e, float x) {
+/// Limit point and normal on patch edge e (0: v=0, 1: u=1, 2: v=1, 3: u=0) at local parameter x,
+/// computed from data and in an order that do not depend on which of the two patches (B-spline
+/// or Gregory) evaluates it: common/gregory.glsl grid_edge_rows in the canonical frame.
+void edge_point(uint flags, int e, float x, out vec3 pos, out vec3 nrm) {
     bool along_u = (e == 0 || e == 2);
     int off = (e == 1 || e == 2) ? 1 : 0;
     bool reversed = ((flags >> (4 + e)) & 1u) != 0u;
-    // Edge curve B-spline points c_k = (r0 + r2 + 4 r1)/6: the v (or u) = 0 B-spline weights.
-    vec3 c[4];
+    // The face lies left of its edge in face order (corners 0->1, 1->2, 2->3, 3->0); the
+    // parameter runs with face order on edges 0 and 1. Left of the canonical direction (from the
+    // smaller id) is this patch's inner row exactly when the two directions agree.
+    bool face_order = (e == 0 || e == 1);
+    bool own_left = face_order != reversed;
+    int inner = (off == 0) ? 2 : 0;
+    int ml = own_left ? inner : 2 - inner;
+    int mr = 2 - ml;
+    vec3 l[4];
+    vec3 m[4];
+    vec3 r[4];
     for (int k = 0; k < 4; ++k) {
         int kk = reversed ? 3 - k : k;
-        vec3 r[3];
-        for (int m = 0; m < 3; ++m) {
-            int idx = along_u ? (m + off) * 4 + kk : kk * 4 + m + off;
-            r[m] = c_bspline[idx];
-        }
-        c[k] = ((r[0] + r[2]) + 4.0 * r[1]) * (1.0 / 6.0);
+        int il = along_u ? (ml + off) * 4 + kk : kk * 4 + ml + off;
+        int im = along_u ? (1 + off) * 4 + kk : kk * 4 + 1 + off;
+        int ir = along_u ? (mr + off) * 4 + kk : kk * 4 + mr + off;
+        l[k] = c_bspline[il];
+        m[k] = c_bspline[im];
+        r[k] = c_bspline[ir];
     }
-    // Canonical (t, s = 1 - t): derived from w = max(x, 1 - x) only, which both sides agree on
-    // whenever the tessellator generates mirrored coordinates as exact 1 - a.
-    float w = max(x, 1.0 - x);
-    float l = 1.0 - w;
-    float t = (x >= 0.5) ? w : l;
-    float s = (x >= 0.5) ? l : w;
-    if (reversed) {
-        float tmp = t;
-        t = s;
-        s = tmp;
-    }
-    vec4 n = bspline3(t, s);
-    return ((n.x * c[0] + n.y * c[1]) + n.z * c[2]) + n.w * c[3];
+    float t, s;
+    canonical_ts(x, !reversed, t, s);
+    grid_edge_rows(l, m, r, t, s, pos, nrm);
 }
 
 void main() {
@@ -86,10 +89,11 @@ void main() {
     if (u_edge && v_edge) {
         int k = (u == 0.0) ? (v == 0.0 ? 0 : 3) : (v == 0.0 ? 1 : 2);
         p = vertex_limit[info.corners[k]].xyz;
+        nrm = vertex_normal[info.corners[k]].xyz;
     } else if (u_edge || v_edge) {
         int e = (v == 0.0) ? 0 : (u == 1.0) ? 1 : (v == 1.0) ? 2 : 3;
         float x = v_edge ? u : v;
-        p = edge_point(info.flags, e, x);
+        edge_point(info.flags, e, x, p, nrm);
     }
 
     t_world = p;

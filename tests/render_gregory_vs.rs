@@ -4,27 +4,23 @@
 
 mod render_common;
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
-use glam::{DVec3, Vec3};
-use tessera::gpu::{vk, Buffer, Context, MemoryLocation, RenderTarget};
+use glam::DVec3;
+use tessera::gpu::Context;
 use tessera::mesh::{ControlMesh, ObjOptions};
 use tessera::patch::gregory::{gregory_patch, gregory_vertices, GregoryPatch};
-use tessera::render::gregory_layout::{irregular_faces, vertex_frames, GregoryLayout};
-use tessera::render::gregory_vs::{select_faces, vs_budget, GregoryVsPatches, SharedBuffers};
-use tessera::render::layout::vec4_bytes;
-use tessera::render::settings::FRAME_UNIFORM_BYTES;
+use tessera::render::gregory_layout::irregular_faces;
+use tessera::render::renderer::capture_capacity_for;
 use tessera::render::{
-    BSplinePatch, Camera, CameraSpec, CaptureRecord, ColorBy, FrameUniforms, RenderDesc,
-    SurfaceData, SurfaceRenderer, TessSettings,
+    render_to_image, surface_for_scheme, BSplinePatch, CaptureRecord, ColorBy, OffscreenDesc,
+    RenderDesc, Scheme, SchemeLimits, TessSettings,
 };
 use tessera::topology::Topology;
 
-const CAPTURE_HEADER: usize = 16;
-const CAPTURE_RECORD: usize = 36;
 /// Gregory/B-spline shared points must be bitwise equal too (needs the B-spline TES to use the
 /// shared edge/corner rules of glsl/common/gregory.glsl).
-const STRICT_MIXED: bool = false;
+const STRICT_MIXED: bool = true;
 
 fn osd(name: &str) -> ControlMesh {
     ControlMesh::from_obj_file(
@@ -53,160 +49,64 @@ struct Frame {
     gregory_records: usize,
 }
 
-fn read_capture(buf: &Buffer) -> Vec<CaptureRecord> {
-    let words: Vec<u32> = buf.read().unwrap();
-    let count = words[0] as usize;
-    assert!(count <= words[1] as usize, "capture overflow");
-    let f = f32::from_bits;
-    (0..count)
-        .map(|k| {
-            let r = &words[4 + 9 * k..4 + 9 * k + 9];
-            CaptureRecord {
-                face: r[0],
-                u: f(r[1]),
-                v: f(r[2]),
-                position: [f(r[3]), f(r[4]), f(r[5])],
-                normal: [f(r[6]), f(r[7]), f(r[8])],
-            }
-        })
-        .collect()
+fn render(ctx: &Context, mesh: &ControlMesh, level: f32) -> (Frame, image::RgbaImage) {
+    render_scheme(ctx, mesh, level, Scheme::GregoryVs)
 }
 
-fn render(ctx: &Context, mesh: &ControlMesh, level: f32) -> (Frame, image::RgbaImage) {
+/// Renders `mesh` through the integrated renderer ([`SurfaceRenderer`]) with `scheme`.
+fn render_scheme(
+    ctx: &Context,
+    mesh: &ControlMesh,
+    level: f32,
+    scheme: Scheme,
+) -> (Frame, image::RgbaImage) {
+    let surface =
+        surface_for_scheme(mesh, level as u32, scheme, &SchemeLimits::from_context(ctx)).unwrap();
     let topo = Topology::new(mesh).unwrap();
-    let positions = mesh.positions().to_vec();
-    let regular: Vec<BSplinePatch> = (0..topo.face_count() as u32)
-        .filter_map(|f| tessera::patch::RegularPatch::gather(&topo, f))
-        .map(|p| BSplinePatch {
-            face: p.face,
-            cvs: p.cvs,
-            boundary_mask: p.boundary_mask,
-        })
-        .collect();
-    let budget = vs_budget(ctx).expect("varyings budget");
-    let (gregory, rejected) = select_faces(&topo, &irregular_faces(&topo), budget);
-    let layout = GregoryLayout::new(&topo, &gregory);
-    let (limits, normals) = vertex_frames(&topo, &positions, &regular, &layout);
-
+    let gregory = surface
+        .gregory
+        .as_ref()
+        .map_or(Vec::new(), |g| g.faces.clone());
+    let rejected = irregular_faces(&topo).len() - gregory.len();
     let tess = TessSettings {
         level,
         ..TessSettings::default()
     };
-    let cap = 200_000u32;
     let desc = RenderDesc {
         tess,
         color_by: ColorBy::PatchType,
-        capture_capacity: Some(cap),
+        capture_capacity: Some(capture_capacity_for(
+            surface.patches.len() + gregory.len(),
+            &tess,
+        )),
         ..RenderDesc::default()
     };
-    let rt = RenderTarget::new(ctx, 256, 256, 1).unwrap();
-    let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-    let mut frame_buf = Buffer::new(
+    let out = render_to_image(
         ctx,
-        FRAME_UNIFORM_BYTES as u64,
-        vk::BufferUsageFlags::UNIFORM_BUFFER,
-        MemoryLocation::CpuToGpu,
-        "test frame",
-    )
-    .unwrap();
-    let mut limit_buf = Buffer::new(
-        ctx,
-        (16 * limits.len()) as u64,
-        storage,
-        MemoryLocation::CpuToGpu,
-        "test limits",
-    )
-    .unwrap();
-    limit_buf.write(0, &vec4_bytes(&limits)).unwrap();
-    let mut cap_bytes = vec![0u8; CAPTURE_HEADER + CAPTURE_RECORD * cap as usize];
-    cap_bytes[4..8].copy_from_slice(&cap.to_le_bytes());
-    let mut capture = Buffer::new(
-        ctx,
-        cap_bytes.len() as u64,
-        storage,
-        MemoryLocation::GpuToCpu,
-        "test capture",
-    )
-    .unwrap();
-    capture.write(0, &cap_bytes).unwrap();
-    let greg = GregoryVsPatches::new(
-        ctx,
-        &topo,
-        layout,
-        &positions,
-        &normals,
-        SharedBuffers {
-            frame: &frame_buf,
-            vertex_limits: &limit_buf,
-            capture: &capture,
-        },
+        &surface,
         &desc,
-        rt.format(),
+        &OffscreenDesc {
+            width: 256,
+            height: 256,
+            ..OffscreenDesc::default()
+        },
+        false,
     )
     .unwrap();
-    let surface = SurfaceData {
-        positions: positions.clone(),
-        patches: regular.clone(),
-        ..SurfaceData::default()
-    };
-    let mut bspline = SurfaceRenderer::new(ctx, &surface, &desc, rt.format()).unwrap();
-    let lo = limits
-        .iter()
-        .fold(DVec3::splat(f64::INFINITY), |a, b| a.min(*b));
-    let hi = limits
-        .iter()
-        .fold(DVec3::splat(f64::NEG_INFINITY), |a, b| a.max(*b));
-    let cam = Camera::frame_points(CameraSpec::Auto, lo, hi, &limits, 1.0);
-    let uniforms = FrameUniforms {
-        view_proj: cam.view_proj(),
-        eye: cam.eye.as_vec3(),
-        viewport: [256.0, 256.0],
-        tess,
-        max_level: 64.0,
-        light_dir: Vec3::new(0.3, 0.8, 0.5),
-        color_by: ColorBy::PatchType,
-    };
-    frame_buf.write(0, &uniforms.to_bytes()).unwrap();
-    bspline.set_frame(&uniforms).unwrap();
-    bspline.reset_capture().unwrap();
-    ctx.submit_once(|dev, cmd| {
-        rt.begin(dev, cmd, [0.0, 0.0, 0.0, 1.0]);
-        bspline.record_patches(cmd);
-        greg.record(cmd);
-        rt.end(dev, cmd);
-        let barrier = vk::MemoryBarrier::default()
-            .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-            .dst_access_mask(vk::AccessFlags::HOST_READ);
-        // SAFETY: outside the render pass.
-        unsafe {
-            dev.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::TESSELLATION_EVALUATION_SHADER,
-                vk::PipelineStageFlags::HOST,
-                vk::DependencyFlags::empty(),
-                &[barrier],
-                &[],
-                &[],
-            );
-        }
-        Ok(())
-    })
-    .unwrap();
-    let mut records = read_capture(&capture);
-    let gregory_records = records.len();
-    records.extend(bspline.read_capture().unwrap());
-    let img = rt.read_rgba(ctx).unwrap();
+    let records = out.capture.unwrap();
+    let set: HashSet<u32> = gregory.iter().copied().collect();
+    let gregory_records = records.iter().filter(|r| set.contains(&r.face)).count();
     (
         Frame {
             topo,
-            positions,
-            regular,
+            positions: surface.positions.clone(),
+            regular: surface.patches.clone(),
             gregory,
-            rejected: rejected.len(),
+            rejected,
             records,
             gregory_records,
         },
-        img,
+        out.image,
     )
 }
 
@@ -231,7 +131,8 @@ fn compare_with_cpu(fr: &Frame) -> (f64, f64, f64) {
         .collect();
     let diag = bbox_diagonal(&fr.positions);
     let (mut pos_err, mut n_in, mut n_edge) = (0.0f64, 0.0f64, 0.0f64);
-    for r in &fr.records[..fr.gregory_records] {
+    let set: HashSet<u32> = fr.gregory.iter().copied().collect();
+    for r in fr.records.iter().filter(|r| set.contains(&r.face)) {
         let (u, v) = (f64::from(r.u), f64::from(r.v));
         let (pp, on_edge) = match patches[&r.face] {
             GregoryPatch::Quad(q) => (q.eval(u, v), u == 0.0 || v == 0.0 || u == 1.0 || v == 1.0),
@@ -455,7 +356,8 @@ fn diag_edge_normals() {
     let (fr, _) = render(&ctx, &embedded("mixed"), 6.0);
     let verts = gregory_vertices(&fr.topo, &fr.positions);
     let mut groups: HashMap<EdgeKey, Vec<(u32, DVec3, DVec3)>> = HashMap::new();
-    for r in &fr.records[..fr.gregory_records] {
+    let set: HashSet<u32> = fr.gregory.iter().copied().collect();
+    for r in fr.records.iter().filter(|r| set.contains(&r.face)) {
         let fv = fr.topo.face_vertices(r.face).to_vec();
         let quad = fv.len() == 4;
         let (u, v) = (f64::from(r.u), f64::from(r.v));
@@ -484,6 +386,10 @@ fn diag_edge_normals() {
     }
     worst.sort_by(|x, y| y.0.partial_cmp(&x.0).unwrap());
     for w in worst.iter().take(12) {
-        eprintln!("{w:?} sizes {} {}", fr.topo.face_size(w.5), fr.topo.face_size(w.6));
+        eprintln!(
+            "{w:?} sizes {} {}",
+            fr.topo.face_size(w.5),
+            fr.topo.face_size(w.6)
+        );
     }
 }

@@ -87,18 +87,18 @@ vec4 bspline3_deriv(float t, float s) {
     return vec4(-0.5 * s * s, d1t, -d1s, 0.5 * t * t);
 }
 
-/// Edge shared with a regular patch: the limit curve of the 12-point grid (position as
-/// patch_bspline.tese's edge_point) and the normal cross(dC/dt, sum N_i (left_i - right_i)).
-void grid_edge(uint patch_index, int k, float t, float s, out vec3 pos, out vec3 nrm) {
-    uint base = patch_index * 48u + uint(k) * 12u;
+/// Limit curve and normal of an edge of a regular (B-spline) patch from its 12-point grid in the
+/// canonical frame: rows l (left of the direction from the smaller id), m (on the edge), r, each
+/// from the smaller-id end. Position: the edge-curve B-spline points ((l + r) + 4 m) / 6;
+/// normal: cross(dC/dt, sum N_i (l_i - r_i)), the exact cross derivative of both patches. Used
+/// by the B-spline TES for all its edges and by the Gregory TES for edges it shares with one.
+void grid_edge_rows(vec3 l[4], vec3 m[4], vec3 r[4], float t, float s, out vec3 pos,
+                    out vec3 nrm) {
     precise vec3 c[4];
     precise vec3 d[4];
     for (int i = 0; i < 4; ++i) {
-        vec3 l = control_point(grid_ids[base + uint(i)]);
-        vec3 m = control_point(grid_ids[base + 4u + uint(i)]);
-        vec3 r = control_point(grid_ids[base + 8u + uint(i)]);
-        c[i] = ((l + r) + 4.0 * m) * (1.0 / 6.0);
-        d[i] = l - r;
+        c[i] = ((l[i] + r[i]) + 4.0 * m[i]) * (1.0 / 6.0);
+        d[i] = l[i] - r[i];
     }
     precise vec4 n = bspline3(t, s);
     precise vec3 p = ((n.x * c[0] + n.y * c[1]) + n.z * c[2]) + n.w * c[3];
@@ -108,6 +108,21 @@ void grid_edge(uint patch_index, int k, float t, float s, out vec3 pos, out vec3
     precise vec3 nn = normalize(cross(tangent, cross_dir));
     pos = p;
     nrm = nn;
+}
+
+/// Edge k of Gregory patch `patch_index` shared with a regular patch: [`grid_edge_rows`] on the
+/// grid ids of binding 7.
+void grid_edge(uint patch_index, int k, float t, float s, out vec3 pos, out vec3 nrm) {
+    uint base = patch_index * 48u + uint(k) * 12u;
+    vec3 l[4];
+    vec3 m[4];
+    vec3 r[4];
+    for (int i = 0; i < 4; ++i) {
+        l[i] = control_point(grid_ids[base + uint(i)]);
+        m[i] = control_point(grid_ids[base + 4u + uint(i)]);
+        r[i] = control_point(grid_ids[base + 8u + uint(i)]);
+    }
+    grid_edge_rows(l, m, r, t, s, pos, nrm);
 }
 
 /// Cross-edge derivative of a quad Gregory patch along one of its edges, pointing into the

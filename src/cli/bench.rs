@@ -6,6 +6,7 @@ use tessera::{Error, Result};
 
 use super::render::{
     check_validation, clamp_level, context, load, max_patch_level, parse_size, report_fallback,
+    surface_for,
 };
 
 /// Arguments of `tessera bench`.
@@ -22,6 +23,9 @@ pub struct BenchArgs {
     /// Uniform levels above this draw each patch as sub-patches; 0 disables (see `render`).
     #[arg(long, default_value_t = 16.0)]
     pub max_patch_level: f32,
+    /// GPU scheme for non-regular faces (see `tessera render --help`).
+    #[arg(long, default_value = "gregory-stencil", value_parser = ["gregory-stencil", "gregory-vs", "bspline-only"])]
+    pub scheme: String,
     /// Image size WxH.
     #[arg(long, default_value = "800x600")]
     pub size: String,
@@ -67,7 +71,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     );
     for &req in &levels {
         let level = clamp_level(&ctx, req)?;
-        let surface = tessera::render::surface_from_mesh(&mesh, level.ceil() as u32)?;
+        let surface = surface_for(&ctx, &mesh, level, &args.scheme)?;
         if req == levels[0] {
             report_fallback(&surface);
         }
@@ -102,7 +106,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         println!(
             "{:>6} {:>9} {:>12} {:>14.3} {:>14.3} {:>14.3}",
             level,
-            surface.patches.len(),
+            surface.patches.len() + surface.gregory.as_ref().map_or(0, |g| g.faces.len()),
             tes,
             median(&mut patch),
             median(&mut cpu),

@@ -14,9 +14,11 @@ use tessera::{ControlMesh, Error, Result};
 /// Arguments of `tessera render`.
 ///
 /// Regular faces (also next to boundaries and infinitely sharp creases) are bicubic B-spline
-/// patches tessellated and evaluated on the GPU. Every other face with a limit surface is, for
-/// now, drawn from the CPU reference: exact limit points on a grid matching the tessellation
-/// level, as triangles. Holes are not drawn.
+/// patches tessellated and evaluated on the GPU; irregular triangles and quads whose vertices are
+/// interior and smooth are Gregory patches built and evaluated on the GPU (`--scheme`). Every
+/// other face with a limit surface (polygons, faces at boundary/crease/dart vertices, rings or
+/// valences over a scheme's limits) is drawn from the CPU reference: exact limit points on a grid
+/// matching the tessellation level, as triangles. Holes are not drawn.
 #[derive(Args)]
 pub struct RenderArgs {
     /// Control mesh: an OBJ file (OpenSubdiv tags) or `embedded:NAME`; default: the embedded
@@ -51,6 +53,14 @@ pub struct RenderArgs {
     /// per domain point jumps above ~24); 0 disables.
     #[arg(long, default_value_t = 16.0)]
     pub max_patch_level: f32,
+    /// GPU scheme for the faces that are not regular B-spline patches: `gregory-stencil`
+    /// (default: one Gregory patch per triangle/quad, control points as precomputed one-ring
+    /// stencils in the TCS, paper §4.3), `gregory-vs` (two-stage: per-vertex data in the vertex
+    /// shader, face points in the TCS, §4.1-4.2) or `bspline-only`. Faces a scheme cannot take
+    /// (polygons, boundary/crease vertices for now, too large rings or valences) are drawn from
+    /// the exact CPU reference, with a message.
+    #[arg(long, default_value = "gregory-stencil", value_parser = ["gregory-stencil", "gregory-vs", "bspline-only"])]
+    pub scheme: String,
     /// Draw triangle edges only.
     #[arg(long)]
     pub wireframe: bool,
@@ -139,14 +149,31 @@ pub fn max_patch_level(arg: f32) -> f32 {
     }
 }
 
+/// The surface of `mesh` for the `--scheme` named `scheme` on `ctx`'s device.
+pub fn surface_for(
+    ctx: &Context,
+    mesh: &ControlMesh,
+    level: f32,
+    scheme: &str,
+) -> Result<SurfaceData> {
+    tessera::render::surface_for_scheme(
+        mesh,
+        level.ceil() as u32,
+        tessera::render::Scheme::parse(scheme)?,
+        &tessera::render::SchemeLimits::from_context(ctx),
+    )
+}
+
 /// Prints the CPU-fallback face counts of a surface.
 pub fn report_fallback(surface: &SurfaceData) {
+    let gregory = surface.gregory.as_ref().map_or(0, |g| g.faces.len());
     if !surface.fallback_faces.is_empty() {
         eprintln!(
-            "{} face(s) drawn from the CPU reference (no GPU patch scheme yet), {} on the GPU as \
-             B-spline patches",
+            "{} face(s) drawn from the CPU reference (no GPU patch for them), {} on the GPU as \
+             B-spline patches, {} as Gregory patches",
             surface.fallback_faces.len(),
-            surface.patches.len()
+            surface.patches.len(),
+            gregory
         );
     }
 }
@@ -194,7 +221,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     if !(tess.pixels_per_edge.is_finite() && tess.pixels_per_edge > 0.0) {
         return Err(Error::Invalid("--pixels-per-edge must be positive".into()));
     }
-    let surface = tessera::render::surface_from_mesh(&mesh, level.ceil() as u32)?;
+    let surface = surface_for(&ctx, &mesh, level, &args.scheme)?;
     report_fallback(&surface);
     let render = RenderDesc {
         tess,

@@ -6,9 +6,8 @@ use std::path::PathBuf;
 use clap::Args;
 use tessera::render::renderer::capture_capacity_for;
 use tessera::render::{
-    render_to_image, OffscreenDesc, RenderDesc, SurfaceData, SurfacePlan, TessSettings,
+    render_to_image, OffscreenDesc, RenderDesc, Scheme, SchemeLimits, SurfaceData, TessSettings,
 };
-use tessera::topology::Topology;
 use tessera::{Error, Result};
 
 use super::render::{check_validation, clamp_level, context, load};
@@ -19,6 +18,9 @@ use super::render::{check_validation, clamp_level, context, load};
 /// invocation: `f u v x y z nx ny nz` (base face, the face's (u, v), limit position and normal;
 /// numbers as the shortest text reading back as the same f32, like `tessera limit`), sorted by
 /// face, v, u. Faces drawn from the CPU reference are not in the file (counted on stderr).
+/// Gregory patches (`--scheme gregory-*`): quads in the face's (u, v); a triangle's line holds
+/// (u, v) = the barycentric weights of its corners 1 and 2 (corner 0 has weight 1 - u - v),
+/// not Catmull-Clark's three-quad parameterisation of the triangle.
 #[derive(Args)]
 pub struct SampleArgs {
     /// Control mesh: an OBJ file or `embedded:NAME`.
@@ -29,6 +31,9 @@ pub struct SampleArgs {
     /// Output file.
     #[arg(long)]
     pub out: PathBuf,
+    /// GPU scheme for non-regular faces (see `tessera render --help`).
+    #[arg(long, default_value = "gregory-stencil", value_parser = ["gregory-stencil", "gregory-vs", "bspline-only"])]
+    pub scheme: String,
     /// Enable the Khronos validation layer (always on in debug builds).
     #[arg(long)]
     pub validation: bool,
@@ -43,18 +48,24 @@ pub fn run(args: SampleArgs) -> Result<()> {
     let ctx = context(args.validation)?;
     let level = clamp_level(&ctx, args.tess)?;
     // Only the GPU patches are captured; the other faces are counted, not evaluated.
-    let plan = SurfacePlan::new(&Topology::new(&mesh)?);
+    let (plan, gregory) = tessera::render::scheme::plan_for_scheme(
+        &mesh,
+        Scheme::parse(&args.scheme)?,
+        &SchemeLimits::from_context(&ctx),
+    )?;
+    let gregory_count = gregory.as_ref().map_or(0, |g| g.faces.len());
     let surface = SurfaceData {
         positions: mesh.positions().to_vec(),
         patches: plan.patches,
         fallback_faces: plan.fallback_faces,
         skipped_faces: plan.skipped_faces,
+        gregory,
         ..SurfaceData::default()
     };
     eprintln!(
         "{} face(s) captured from the GPU, {} drawn another way (CPU fallback, not in the file), \
          {} without limit surface",
-        surface.patches.len(),
+        surface.patches.len() + gregory_count,
         surface.fallback_faces.len(),
         surface.skipped_faces
     );
@@ -64,7 +75,10 @@ pub fn run(args: SampleArgs) -> Result<()> {
     };
     let render = RenderDesc {
         tess,
-        capture_capacity: Some(capture_capacity_for(surface.patches.len(), &tess)),
+        capture_capacity: Some(capture_capacity_for(
+            surface.patches.len() + gregory_count,
+            &tess,
+        )),
         ..RenderDesc::default()
     };
     let desc = OffscreenDesc {

@@ -70,11 +70,14 @@ fn grid_of(p: &RegularPatch, a: u32, b: u32) -> Option<[u32; 12]> {
     let pe = PATCH_EDGES
         .iter()
         .position(|&(s, t)| (c[s] == a && c[t] == b) || (c[s] == b && c[t] == a))?;
-    // Phantom points (mirrored on the GPU) cannot be named by an id.
-    if p.boundary_mask != 0 {
+    let along_u = pe == 0 || pe == 2;
+    // Phantom points (mirrored on the GPU) cannot be named by an id. The grid uses the three
+    // rows nearest the edge, so only phantoms on the two sides across the edge's ends matter
+    // (boundary bits: 0 = v=0, 1 = u=1, 2 = v=1, 3 = u=0).
+    let across_ends = if along_u { 0b1010 } else { 0b0101 };
+    if p.boundary_mask & across_ends != 0 {
         return None;
     }
-    let along_u = pe == 0 || pe == 2;
     let off = usize::from(pe == 1 || pe == 2);
     let (s, t) = PATCH_EDGES[pe];
     let reversed = c[s] > c[t];

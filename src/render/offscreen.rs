@@ -64,7 +64,10 @@ pub struct OffscreenSession {
 /// Direction towards the key light: above, slightly left of and in front of the camera.
 fn key_light(cam: &Camera) -> DVec3 {
     let to_eye = (cam.eye - cam.target).normalize();
-    let right = cam.up.cross(to_eye).normalize_or(cam.up.any_orthonormal_vector());
+    let right = cam
+        .up
+        .cross(to_eye)
+        .normalize_or(cam.up.any_orthonormal_vector());
     (to_eye * 0.6 + cam.up * 0.7 - right * 0.4).normalize()
 }
 
@@ -89,6 +92,7 @@ impl OffscreenSession {
             .collect();
         let step = (surface.fallback.positions.len() / 4096).max(1);
         points.extend(surface.fallback.positions.iter().step_by(step));
+        points.extend(surface.gregory_points());
         let camera = Camera::frame_oriented(desc.camera, desc.up, lo, hi, &points, aspect);
         let (timer, stats) = if timings {
             (Some(GpuTimer::new(ctx, 2)?), Some(StatsQuery::new(ctx)?))

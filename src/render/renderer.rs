@@ -5,6 +5,8 @@ use ash::vk;
 use glam::DVec3;
 
 use super::fallback::FallbackMesh;
+use super::gregory_pass::{surface_vertex_frames, GregoryPass, GregoryPassPlan};
+use super::gregory_vs::SharedBuffers;
 use super::layout::{self, BSplinePatch};
 use super::settings::{ColorBy, FrameUniforms, Spacing, TessSettings, FRAME_UNIFORM_BYTES};
 use super::surface::SurfaceData;
@@ -75,6 +77,8 @@ pub struct SurfaceRenderer {
     fallback_index_count: u32,
     positions: Buffer,
     vertex_limits: Buffer,
+    vertex_normals: Buffer,
+    gregory: Option<GregoryPass>,
     frame: Buffer,
     capture: Buffer,
     _patch_info: Buffer,
@@ -112,6 +116,12 @@ fn set_layout() -> Vec<DescriptorBinding> {
         },
         DescriptorBinding {
             binding: 3,
+            kind: DescriptorKind::StorageBuffer,
+            stages: vk::ShaderStageFlags::TESSELLATION_EVALUATION,
+        },
+        // Vertex limit normals (patch corners; glsl/common/gregory.glsl).
+        DescriptorBinding {
+            binding: 9,
             kind: DescriptorKind::StorageBuffer,
             stages: vk::ShaderStageFlags::TESSELLATION_EVALUATION,
         },
@@ -171,14 +181,19 @@ impl SurfaceRenderer {
         if desc.wireframe {
             ctx.require(&[crate::gpu::Feature::FillModeNonSolid])?;
         }
-        if !surface.patches.is_empty() {
+        if !surface.patches.is_empty() || surface.gregory.is_some() {
             ctx.require(&[crate::gpu::Feature::TessellationShader])?;
         }
         if desc.capture_capacity.is_some() {
             ctx.require(&[crate::gpu::Feature::VertexPipelineStoresAndAtomics])?;
         }
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let limits = layout::vertex_limits(&surface.patches, &surface.positions);
+        let plan = surface
+            .gregory
+            .as_ref()
+            .map(|g| GregoryPassPlan::new(ctx, g));
+        let (limits, normals) =
+            surface_vertex_frames(&surface.positions, &surface.patches, plan.as_ref());
         let positions = host_buffer(
             ctx,
             &non_empty(layout::vec3_bytes(&surface.positions)),
@@ -190,6 +205,12 @@ impl SurfaceRenderer {
             &non_empty(layout::vec4_bytes(&limits)),
             storage,
             "vertex limit positions",
+        )?;
+        let vertex_normals = host_buffer(
+            ctx,
+            &non_empty(layout::vec4_bytes(&normals)),
+            storage,
+            "vertex limit normals",
         )?;
         let frame = host_buffer(
             ctx,
@@ -239,7 +260,23 @@ impl SurfaceRenderer {
         )?;
 
         let (patch_pipeline, fallback_pipeline) = Self::pipelines(ctx, desc, target)?;
-        let pool = DescriptorPool::new(ctx, 1, 3, 1)?;
+        let gregory = match plan {
+            Some(plan) => Some(GregoryPass::new(
+                ctx,
+                plan,
+                &surface.positions,
+                &normals,
+                SharedBuffers {
+                    frame: &frame,
+                    vertex_limits: &vertex_limits,
+                    capture: &capture,
+                },
+                desc,
+                target,
+            )?),
+            None => None,
+        };
+        let pool = DescriptorPool::new(ctx, 1, 4, 1)?;
         let set = pool.allocate(patch_pipeline.set_layouts[0])?;
         ctx.write_buffer_descriptors(
             set,
@@ -264,6 +301,11 @@ impl SurfaceRenderer {
                     kind: DescriptorKind::StorageBuffer,
                     buffer: &capture,
                 },
+                BufferBinding {
+                    binding: 9,
+                    kind: DescriptorKind::StorageBuffer,
+                    buffer: &vertex_normals,
+                },
             ],
         );
         Ok(SurfaceRenderer {
@@ -276,6 +318,8 @@ impl SurfaceRenderer {
             fallback_index_count: surface.fallback.indices.len() as u32,
             positions,
             vertex_limits,
+            vertex_normals,
+            gregory,
             frame,
             capture,
             _patch_info: patch_info,
@@ -400,6 +444,11 @@ impl SurfaceRenderer {
         self.patch_count
     }
 
+    /// Number of Gregory patches drawn through the tessellation stages.
+    pub fn gregory_patch_count(&self) -> u32 {
+        self.gregory.as_ref().map_or(0, |g| g.patch_count())
+    }
+
     /// Number of CPU-evaluated triangles.
     pub fn fallback_triangle_count(&self) -> u32 {
         self.fallback_index_count / 3
@@ -427,8 +476,16 @@ impl SurfaceRenderer {
             )));
         }
         self.positions.write(0, &layout::vec3_bytes(positions))?;
-        let limits = layout::vertex_limits(&self.patches, positions);
+        let (limits, normals) = match &self.gregory {
+            Some(g) => g.vertex_frames(positions, &self.patches),
+            None => surface_vertex_frames(positions, &self.patches, None),
+        };
         self.vertex_limits.write(0, &layout::vec4_bytes(&limits))?;
+        self.vertex_normals
+            .write(0, &layout::vec4_bytes(&normals))?;
+        if let Some(g) = &mut self.gregory {
+            g.update_positions(positions, &normals)?;
+        }
         if let Some(mesh) = fallback {
             if mesh.indices.len() as u32 != self.fallback_index_count {
                 return Err(Error::Invalid(format!(
@@ -459,8 +516,17 @@ impl SurfaceRenderer {
         self.frame.write(0, &f.to_bytes())
     }
 
-    /// Records the regular-patch draw (inside the caller's render pass).
+    /// Records the tessellated draws (inside the caller's render pass): regular patches, then
+    /// the Gregory patches.
     pub fn record_patches(&self, cmd: vk::CommandBuffer) {
+        self.record_regular(cmd);
+        if let Some(g) = &self.gregory {
+            g.record(cmd);
+        }
+    }
+
+    /// Records the regular-patch draw (inside the caller's render pass).
+    pub fn record_regular(&self, cmd: vk::CommandBuffer) {
         if self.patch_count == 0 {
             return;
         }

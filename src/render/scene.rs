@@ -74,6 +74,7 @@ where
         fallback_faces: plan.fallback_faces,
         fallback,
         skipped_faces: plan.skipped_faces,
+        gregory: None,
     })
 }
 
@@ -100,5 +101,6 @@ pub fn surface_from_mesh(mesh: &ControlMesh, level: u32) -> Result<SurfaceData> 
         fallback_faces: plan.fallback_faces,
         fallback,
         skipped_faces: plan.skipped_faces,
+        gregory: None,
     })
 }

@@ -4,7 +4,9 @@
 use glam::DVec3;
 
 use super::fallback::{FallbackFace, FallbackMesh};
+use super::gregory_layout::gregory_vertex_frame;
 use super::layout::BSplinePatch;
+use super::scheme::GregorySurface;
 
 /// A surface ready for the GPU.
 #[derive(Debug, Clone, Default)]
@@ -19,6 +21,8 @@ pub struct SurfaceData {
     pub fallback: FallbackMesh,
     /// Faces that are not drawn at all (holes, faces without a limit surface).
     pub skipped_faces: usize,
+    /// Faces drawn as GPU Gregory patches and the variant (`--scheme`); `None`: none.
+    pub gregory: Option<GregorySurface>,
 }
 
 impl SurfaceData {
@@ -33,7 +37,7 @@ impl SurfaceData {
                 hi = hi.max(q);
             }
         }
-        for q in &self.fallback.positions {
+        for q in self.fallback.positions.iter().chain(&self.gregory_points()) {
             lo = lo.min(*q);
             hi = hi.max(*q);
         }
@@ -41,6 +45,26 @@ impl SurfaceData {
             return (DVec3::ZERO, DVec3::ZERO);
         }
         (lo, hi)
+    }
+
+    /// Limit positions of the corners of the Gregory faces (camera framing).
+    pub fn gregory_points(&self) -> Vec<DVec3> {
+        match &self.gregory {
+            Some(g) => {
+                let mut vs: Vec<u32> = g
+                    .faces
+                    .iter()
+                    .flat_map(|&f| g.topology.face_vertices(f).iter().copied())
+                    .filter(|&v| (v as usize) < self.positions.len())
+                    .collect();
+                vs.sort_unstable();
+                vs.dedup();
+                vs.into_iter()
+                    .map(|v| gregory_vertex_frame(&g.topology, &self.positions, v).0)
+                    .collect()
+            }
+            None => Vec::new(),
+        }
     }
 
     /// Checks that every patch control vertex exists.
