@@ -393,3 +393,55 @@ fn diag_edge_normals() {
         );
     }
 }
+
+/// Golden images coloured by patch type (regular gold, irregular quad purple, triangle green;
+/// the paper's Fig. 1) drawn with gregory-vs. `TESSERA_UPDATE_GOLDEN=1` rewrites them.
+#[test]
+fn golden_patch_type() {
+    let ctx = render_common::context().unwrap();
+    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
+    let threshold = tessera::render::CompareThreshold {
+        channel_tolerance: 32,
+        max_differing_fraction: 0.01,
+    };
+    for (name, mesh) in [
+        ("gregory_vs_mixed_patch_type", embedded("mixed")),
+        ("gregory_vs_cube_patch_type", osd("catmark_cube")),
+    ] {
+        let (_, img) = render(&ctx, &mesh, 8.0);
+        let path = dir.join(format!("{name}.png"));
+        if std::env::var("TESSERA_UPDATE_GOLDEN").as_deref() == Ok("1") {
+            img.save(&path).unwrap();
+            continue;
+        }
+        let expected = image::open(&path)
+            .unwrap_or_else(|e| {
+                panic!(
+                    "{}: {e} (TESSERA_UPDATE_GOLDEN=1 creates it)",
+                    path.display()
+                )
+            })
+            .to_rgba8();
+        let report = tessera::render::compare_images(&expected, &img, &threshold).unwrap();
+        if !report.passes(&threshold) {
+            let out = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+                .parent()
+                .unwrap()
+                .join("golden-failures");
+            std::fs::create_dir_all(&out).unwrap();
+            let a = out.join(format!("{name}.actual.png"));
+            let d = out.join(format!("{name}.diff.png"));
+            img.save(&a).unwrap();
+            report.diff_image.save(&d).unwrap();
+            panic!(
+                "golden {name}: {} of {} pixels differ (max {}); actual {}, diff {}",
+                report.differing,
+                report.total,
+                report.max_channel_diff,
+                a.display(),
+                d.display()
+            );
+        }
+    }
+    render_common::assert_validation_clean(&ctx);
+}
