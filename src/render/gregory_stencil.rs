@@ -1,9 +1,11 @@
 //! The stencil variant of Gregory patches on the GPU (Loop et al. 2009, §4.3).
 
+pub mod bench;
 pub mod gpu;
 pub mod session;
 pub mod table;
 
+pub use bench::{bench_gregory, GregoryBenchRow};
 pub use gpu::{frame_set_layout, StencilPatches, StencilPlan};
 pub use session::{GregoryFrameReport, GregorySession, GregoryVariant, SessionOptions};
 
