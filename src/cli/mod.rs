@@ -1,5 +1,6 @@
 //! Subcommands of the `tessera` binary: argument structs and their `run` functions.
 
+pub mod animate;
 pub mod bench;
 pub mod info;
 pub mod limit;

@@ -64,6 +64,10 @@ pub struct RenderArgs {
     /// Draw triangle edges only.
     #[arg(long)]
     pub wireframe: bool,
+    /// Animation: render this many frames of a twist about the up axis (one period), updating
+    /// only the control positions, and write them to `--out` as a contact sheet.
+    #[arg(long, default_value_t = 0)]
+    pub animate: u32,
     /// `patch-type`: regular gold, irregular purple, triangles green; `none`: one material.
     #[arg(long, default_value = "none", value_parser = ["patch-type", "none"])]
     pub color_by: String,
@@ -241,6 +245,20 @@ pub fn run(args: RenderArgs) -> Result<()> {
         up: UpAxis::parse(&args.up)?,
         ..OffscreenDesc::default()
     };
+    if args.animate > 0 {
+        super::animate::run(
+            &ctx,
+            &mesh,
+            &surface,
+            level.ceil() as u32,
+            &render,
+            &desc,
+            args.animate,
+            &args.out,
+            args.timings,
+        )?;
+        return check_validation(&ctx);
+    }
     let out = render_to_image(&ctx, &surface, &render, &desc, args.timings)?;
     out.image
         .save_with_format(&args.out, image::ImageFormat::Png)

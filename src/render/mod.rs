@@ -2,6 +2,7 @@
 //! [`crate::gpu`]): regular faces as bicubic B-spline patches evaluated by TCS/TES, every other
 //! face with a limit surface (for now) as triangles evaluated by the CPU reference.
 
+pub mod animate;
 pub mod camera;
 pub mod compare;
 pub mod fallback;
