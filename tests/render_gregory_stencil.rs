@@ -11,7 +11,10 @@ use tessera::mesh::{ControlMesh, ControlMeshDesc, ObjOptions};
 use tessera::patch::gregory::{gregory_patch, gregory_vertices, GregoryPatch};
 use tessera::render::gregory_stencil::{GregorySession, GregoryVariant, SessionOptions};
 use tessera::render::renderer::CaptureRecord;
-use tessera::render::{RenderDesc, TessSettings};
+use tessera::render::{
+    compare_images, render_to_image, surface_for_scheme, ColorBy, CompareThreshold, OffscreenDesc,
+    RenderDesc, Scheme, SchemeLimits, TessSettings,
+};
 use tessera::topology::Topology;
 
 fn osd(name: &str) -> ControlMesh {
@@ -334,4 +337,114 @@ fn stencil_and_two_stage_variants_agree() {
              {corner_or_grid_bitwise} bitwise equal"
         );
     }
+}
+
+fn embedded(name: &str) -> ControlMesh {
+    tessera::assets::EmbeddedMesh::from_name(name)
+        .unwrap()
+        .load()
+        .unwrap()
+}
+
+/// Renders `mesh` through the integrated renderer with `scheme`, coloured by patch type.
+fn patch_type_image(
+    ctx: &tessera::gpu::Context,
+    mesh: &ControlMesh,
+    scheme: Scheme,
+) -> image::RgbaImage {
+    let surface = surface_for_scheme(mesh, 8, scheme, &SchemeLimits::from_context(ctx)).unwrap();
+    let desc = RenderDesc {
+        tess: TessSettings {
+            level: 8.0,
+            ..TessSettings::default()
+        },
+        color_by: ColorBy::PatchType,
+        ..RenderDesc::default()
+    };
+    let off = OffscreenDesc {
+        width: 256,
+        height: 256,
+        ..OffscreenDesc::default()
+    };
+    render_to_image(ctx, &surface, &desc, &off, false)
+        .unwrap()
+        .image
+}
+
+/// Golden images coloured by patch type (regular gold, irregular quad purple, triangle green,
+/// the paper's Fig. 1) drawn with gregory-stencil: quad-only (catmark_cube), mixed tri/quad
+/// (embedded `mixed`), boundary (embedded `open`, whose boundary faces stay on the exact CPU
+/// path until the boundary construction lands); the boundary mesh also with gregory-vs
+/// (its mixed and cube goldens are in tests/render_gregory_vs.rs). `TESSERA_UPDATE_GOLDEN=1`
+/// rewrites them (look at them before committing).
+#[test]
+fn golden_patch_type() {
+    let Some(ctx) = render_common::context() else {
+        return;
+    };
+    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
+    let threshold = CompareThreshold {
+        channel_tolerance: 32,
+        max_differing_fraction: 0.01,
+    };
+    for (name, mesh, scheme) in [
+        (
+            "gregory_stencil_cube_patch_type",
+            osd("catmark_cube"),
+            Scheme::GregoryStencil,
+        ),
+        (
+            "gregory_stencil_mixed_patch_type",
+            embedded("mixed"),
+            Scheme::GregoryStencil,
+        ),
+        (
+            "gregory_stencil_open_patch_type",
+            embedded("open"),
+            Scheme::GregoryStencil,
+        ),
+        (
+            "gregory_vs_open_patch_type",
+            embedded("open"),
+            Scheme::GregoryVs,
+        ),
+    ] {
+        let img = patch_type_image(&ctx, &mesh, scheme);
+        let path = dir.join(format!("{name}.png"));
+        if std::env::var("TESSERA_UPDATE_GOLDEN").as_deref() == Ok("1") {
+            img.save(&path).unwrap();
+            eprintln!("updated {}", path.display());
+            continue;
+        }
+        let expected = image::open(&path)
+            .unwrap_or_else(|e| {
+                panic!(
+                    "{}: {e} (TESSERA_UPDATE_GOLDEN=1 creates it)",
+                    path.display()
+                )
+            })
+            .to_rgba8();
+        let report = compare_images(&expected, &img, &threshold).unwrap();
+        if !report.passes(&threshold) {
+            let out = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+                .parent()
+                .unwrap()
+                .join("golden-failures");
+            std::fs::create_dir_all(&out).unwrap();
+            let a = out.join(format!("{name}.actual.png"));
+            let d = out.join(format!("{name}.diff.png"));
+            img.save(&a).unwrap();
+            report.diff_image.save(&d).unwrap();
+            panic!(
+                "golden {name}: {} of {} pixels differ (max {}); expected {}, actual {}, diff {}",
+                report.differing,
+                report.total,
+                report.max_channel_diff,
+                path.display(),
+                a.display(),
+                d.display()
+            );
+        }
+    }
+    render_common::assert_validation_clean(&ctx);
 }
