@@ -448,3 +448,74 @@ fn golden_patch_type() {
     }
     render_common::assert_validation_clean(&ctx);
 }
+
+/// A closed spindle: apex fans of `n` triangles at both ends and a band of `n` quads between two
+/// rings of `n` vertices.
+fn spindle(n: u32) -> ControlMesh {
+    let mut positions = Vec::new();
+    for (z, r) in [(0.5, 1.0), (-0.5, 1.1)] {
+        for i in 0..n {
+            let a = std::f64::consts::TAU * f64::from(i) / f64::from(n);
+            positions.push(DVec3::new(r * a.cos(), r * a.sin(), z));
+        }
+    }
+    positions.push(DVec3::new(0.0, 0.0, 1.6)); // top apex 2n
+    positions.push(DVec3::new(0.0, 0.0, -1.5)); // bottom apex 2n + 1
+    let (top, bottom) = (2 * n, 2 * n + 1);
+    let mut face_vertices = Vec::new();
+    let mut face_sizes = Vec::new();
+    for i in 0..n {
+        let j = (i + 1) % n;
+        face_vertices.extend([i, j, top]);
+        face_vertices.extend([n + j, n + i, bottom]);
+        face_vertices.extend([n + i, n + j, j, i]);
+        face_sizes.extend([3, 3, 4]);
+    }
+    ControlMesh::new(ControlMeshDesc {
+        positions,
+        face_sizes,
+        face_vertices,
+        ..Default::default()
+    })
+    .unwrap()
+}
+
+#[test]
+fn rings_over_the_patch_size_limit_go_to_the_cpu_path() {
+    let Some(ctx) = render_common::context() else {
+        return;
+    };
+    let n = 40;
+    let mesh = spindle(n);
+    let limits = SchemeLimits::from_context(&ctx);
+    assert!(
+        limits.max_patch_size <= 32 + 8,
+        "test assumes a small patch size limit"
+    );
+    let surface = surface_for_scheme(&mesh, 6, Scheme::GregoryStencil, &limits).unwrap();
+    // The fan triangles have one-rings of n + 2 > 32 vertices: CPU path; the band quads fit.
+    let gregory = surface.gregory.as_ref().unwrap();
+    assert_eq!(gregory.faces.len(), n as usize);
+    assert!(gregory.faces.iter().all(|&f| f % 3 == 2), "only band quads");
+    assert_eq!(surface.fallback_faces.len(), 2 * n as usize);
+    let desc = RenderDesc {
+        tess: TessSettings {
+            level: 6.0,
+            ..TessSettings::default()
+        },
+        color_by: ColorBy::PatchType,
+        ..RenderDesc::default()
+    };
+    let off = OffscreenDesc {
+        width: 128,
+        height: 128,
+        ..OffscreenDesc::default()
+    };
+    let img = render_to_image(&ctx, &surface, &desc, &off, false)
+        .unwrap()
+        .image;
+    // Something was drawn (the background is uniform).
+    let bg = *img.get_pixel(0, 0);
+    assert!(img.pixels().filter(|p| **p != bg).count() > 1000);
+    render_common::assert_validation_clean(&ctx);
+}
