@@ -557,3 +557,204 @@ fn update_positions_equals_rebuild() {
     }
     render_common::assert_validation_clean(&ctx);
 }
+
+/// Renders only the Gregory faces of `mesh` through [`GregoryVsPatches::with_budget`] and
+/// returns the sorted capture.
+fn capture_with_budget(
+    ctx: &Context,
+    mesh: &ControlMesh,
+    budget: tessera::render::gregory_vs::VsBudget,
+) -> Vec<CaptureRecord> {
+    use tessera::gpu::{vk, Buffer, MemoryLocation, RenderTarget};
+    use tessera::render::gregory_layout::{vertex_frames, GregoryLayout};
+    use tessera::render::gregory_vs::{select_faces, GregoryVsPatches, SharedBuffers};
+    use tessera::render::layout::vec4_bytes;
+    use tessera::render::settings::FRAME_UNIFORM_BYTES;
+    use tessera::render::{Camera, CameraSpec, FrameUniforms};
+
+    let topo = Topology::new(mesh).unwrap();
+    let positions = mesh.positions().to_vec();
+    let (faces, _) = select_faces(&topo, &irregular_faces(&topo), budget);
+    let layout = GregoryLayout::new(&topo, &faces);
+    let (limits, normals) = vertex_frames(&topo, &positions, &[], &layout);
+    let tess = TessSettings {
+        level: 5.0,
+        ..TessSettings::default()
+    };
+    let desc = RenderDesc {
+        tess,
+        capture_capacity: Some(capture_capacity_for(faces.len(), &tess)),
+        ..RenderDesc::default()
+    };
+    let cap = desc.capture_capacity.unwrap();
+    let rt = RenderTarget::new(ctx, 64, 64, 1).unwrap();
+    let host = |size: usize, usage, loc, name: &str| {
+        Buffer::new(ctx, size as u64, usage, loc, name).unwrap()
+    };
+    let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+    let mut frame = host(
+        FRAME_UNIFORM_BYTES,
+        vk::BufferUsageFlags::UNIFORM_BUFFER,
+        MemoryLocation::CpuToGpu,
+        "frame",
+    );
+    let mut lim = host(
+        16 * limits.len(),
+        storage,
+        MemoryLocation::CpuToGpu,
+        "limits",
+    );
+    lim.write(0, &vec4_bytes(&limits)).unwrap();
+    let mut capture = host(
+        16 + 36 * cap as usize,
+        storage,
+        MemoryLocation::GpuToCpu,
+        "capture",
+    );
+    capture.write(0, &[0u32, cap, 0, 0]).unwrap();
+    let patches = GregoryVsPatches::with_budget(
+        ctx,
+        &topo,
+        layout,
+        &positions,
+        &normals,
+        SharedBuffers {
+            frame: &frame,
+            vertex_limits: &lim,
+            capture: &capture,
+        },
+        &desc,
+        rt.format(),
+        budget,
+    )
+    .unwrap();
+    let cam = Camera::frame(CameraSpec::Auto, -DVec3::ONE, DVec3::ONE, 1.0);
+    let uniforms = FrameUniforms {
+        view_proj: cam.view_proj(),
+        eye: cam.eye.as_vec3(),
+        viewport: [64.0, 64.0],
+        tess,
+        max_level: 64.0,
+        light_dir: glam::Vec3::Z,
+        color_by: ColorBy::PatchType,
+    };
+    frame.write(0, &uniforms.to_bytes()).unwrap();
+    ctx.submit_once(|dev, cmd| {
+        rt.begin(dev, cmd, [0.0; 4]);
+        patches.record(cmd);
+        rt.end(dev, cmd);
+        let barrier = vk::MemoryBarrier::default()
+            .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+            .dst_access_mask(vk::AccessFlags::HOST_READ);
+        // SAFETY: recording outside the render pass.
+        unsafe {
+            dev.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::TESSELLATION_EVALUATION_SHADER,
+                vk::PipelineStageFlags::HOST,
+                vk::DependencyFlags::empty(),
+                &[barrier],
+                &[],
+                &[],
+            );
+        }
+        Ok(())
+    })
+    .unwrap();
+    let words: Vec<u32> = capture.read().unwrap();
+    let n = words[0] as usize;
+    assert!(n <= cap as usize);
+    let mut recs: Vec<CaptureRecord> = (0..n)
+        .map(|k| {
+            let r = &words[4 + 9 * k..13 + 9 * k];
+            let f = f32::from_bits;
+            CaptureRecord {
+                face: r[0],
+                u: f(r[1]),
+                v: f(r[2]),
+                position: [f(r[3]), f(r[4]), f(r[5])],
+                normal: [f(r[6]), f(r[7]), f(r[8])],
+            }
+        })
+        .collect();
+    recs.sort_by(|a, b| {
+        (a.face, a.u.to_bits(), a.v.to_bits()).cmp(&(b.face, b.u.to_bits(), b.v.to_bits()))
+    });
+    recs
+}
+
+/// The 15-slot shader variant (for devices with 64 varyings components) gives bitwise the
+/// surface of the 31-slot one on a mesh within its valence 9; larger valences are refused.
+#[test]
+fn small_varyings_budget_variant() {
+    use tessera::render::gregory_vs::{vs_budget, VsBudget};
+    let ctx = render_common::context().unwrap();
+    let big = vs_budget(&ctx).unwrap();
+    assert_eq!(big.max_valence, 20, "lavapipe: 128 components");
+    let small = VsBudget {
+        slots: 15,
+        max_valence: 9,
+    };
+    let mesh = embedded("mixed");
+    let a = capture_with_budget(&ctx, &mesh, big);
+    let b = capture_with_budget(&ctx, &mesh, small);
+    assert!(!a.is_empty());
+    assert!(a == b, "15-slot and 31-slot captures differ");
+    render_common::assert_validation_clean(&ctx);
+}
+
+/// A vertex of valence 24 (a closed fan: apex, 24 triangles, a 24-gon base) exceeds the
+/// two-stage variant's budget: its faces are refused with a message naming face and vertex and
+/// the renderer draws them from the CPU path.
+#[test]
+fn valence_over_budget_falls_back() {
+    use tessera::render::gregory_vs::{select_faces, vs_budget};
+    let n = 24;
+    let mut obj = String::from("v 0 0 1\n");
+    for k in 0..n {
+        let a = std::f64::consts::TAU * k as f64 / n as f64;
+        obj += &format!("v {} {} 0\n", a.cos(), a.sin());
+    }
+    for k in 0..n {
+        obj += &format!("f 1 {} {}\n", 2 + k, 2 + (k + 1) % n);
+    }
+    obj += "f";
+    for k in (0..n).rev() {
+        obj += &format!(" {}", 2 + k);
+    }
+    obj += "\n";
+    let mesh = ControlMesh::from_obj_str(&obj, "fan", &ObjOptions::default()).unwrap();
+    let ctx = render_common::context().unwrap();
+    let topo = Topology::new(&mesh).unwrap();
+    let (ok, rejected) = select_faces(&topo, &irregular_faces(&topo), vs_budget(&ctx).unwrap());
+    assert!(ok.is_empty());
+    assert_eq!(rejected.len(), n);
+    assert!(
+        rejected[0].1.contains("vertex 0 has valence 24 > 20"),
+        "{}",
+        rejected[0].1
+    );
+    let surface = surface_for_scheme(
+        &mesh,
+        4,
+        Scheme::GregoryVs,
+        &SchemeLimits::from_context(&ctx),
+    )
+    .unwrap();
+    assert!(surface.gregory.is_none());
+    assert_eq!(surface.fallback_faces.len(), n + 1);
+    let out = render_to_image(
+        &ctx,
+        &surface,
+        &RenderDesc::default(),
+        &OffscreenDesc {
+            width: 64,
+            height: 64,
+            ..OffscreenDesc::default()
+        },
+        false,
+    )
+    .unwrap();
+    assert!(out.image.pixels().any(|p| p[0] > 60), "the fan is drawn");
+    render_common::assert_validation_clean(&ctx);
+}

@@ -229,6 +229,38 @@ impl GregoryVsPatches {
                     .into(),
             )
         })?;
+        Self::with_budget(
+            ctx, topo, layout, positions, normals, shared, desc, target, budget,
+        )
+    }
+
+    /// As [`Self::new`] with an explicit varyings budget (at most the device's [`vs_budget`]):
+    /// the 15-slot shader variant can be tested on devices that allow 31. Errors if a patch
+    /// corner's valence exceeds `budget.max_valence`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn with_budget(
+        ctx: &Context,
+        topo: &Topology,
+        layout: GregoryLayout,
+        positions: &[DVec3],
+        normals: &[DVec3],
+        shared: SharedBuffers<'_>,
+        desc: &RenderDesc,
+        target: TargetFormat,
+        budget: VsBudget,
+    ) -> Result<GregoryVsPatches> {
+        if let Some((f, v)) = layout.faces.iter().find_map(|&f| {
+            topo.face_vertices(f)
+                .iter()
+                .find(|&&v| topo.valence(v) > budget.max_valence)
+                .map(|&v| (f, v))
+        }) {
+            return Err(Error::Invalid(format!(
+                "gregory-vs: face {f}: vertex {v} has valence {} > {} (varyings budget)",
+                topo.valence(v),
+                budget.max_valence
+            )));
+        }
         if positions.len() != topo.vertex_count() || normals.len() != positions.len() {
             return Err(Error::Invalid(format!(
                 "gregory-vs: {} positions / {} normals for {} vertices",
