@@ -26,6 +26,16 @@ pub struct BenchArgs {
     /// GPU scheme for non-regular faces (see `tessera render --help`).
     #[arg(long, default_value = "gregory-stencil", value_parser = ["gregory-stencil", "gregory-vs", "bspline-only"])]
     pub scheme: String,
+    /// Animate: before every timed frame, twist the control positions (as `render --animate`)
+    /// and hand them to the renderer (`update_positions`: vertex limit frames and CPU-path faces
+    /// recomputed on the CPU, every GPU patch rebuilt on the GPU); adds the CPU milliseconds of
+    /// that update as a column.
+    #[arg(long)]
+    pub animate: bool,
+    /// Instead of whole frames: the Gregory faces alone with both GPU variants, on the exact CPU
+    /// path, and the regular pass alone, each timed in frames of its own (paper Table 1).
+    #[arg(long)]
+    pub variants: bool,
     /// Image size WxH.
     #[arg(long, default_value = "800x600")]
     pub size: String,
@@ -65,10 +75,32 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let mesh = load(args.mesh.as_deref(), args.left_handed)?;
     let ctx = context(args.validation)?;
     println!("device: {}", ctx.info().name);
+    if args.variants {
+        let levels: Vec<f32> = levels
+            .iter()
+            .map(|&l| clamp_level(&ctx, l))
+            .collect::<Result<_>>()?;
+        let max = max_patch_level(args.max_patch_level);
+        let size = (width, height);
+        super::bench_gregory::run_variants(&ctx, &mesh, &levels, args.frames, size, max)?;
+        return check_validation(&ctx);
+    }
     println!(
-        "{:>6} {:>9} {:>12} {:>14} {:>14} {:>14}",
-        "level", "patches", "TES invoc.", "patch ms (med)", "cpu-tri ms", "frame ms (med)"
+        "{:>6} {:>9} {:>12} {:>14} {:>14} {:>14}{}",
+        "level",
+        "patches",
+        "TES invoc.",
+        "patch ms (med)",
+        "cpu-tri ms",
+        "frame ms (med)",
+        if args.animate {
+            format!(" {:>15}", "update ms (cpu)")
+        } else {
+            String::new()
+        }
     );
+    let mut moving = mesh.clone();
+    let rest = mesh.positions().to_vec();
     for &req in &levels {
         let level = clamp_level(&ctx, req)?;
         let surface = surface_for(&ctx, &mesh, level, &args.scheme)?;
@@ -92,7 +124,31 @@ pub fn run(args: BenchArgs) -> Result<()> {
         session.frame()?;
         let (mut patch, mut cpu, mut total) = (Vec::new(), Vec::new(), Vec::new());
         let mut tes = 0;
-        for _ in 0..args.frames {
+        let mut update = Vec::new();
+        for k in 0..args.frames {
+            if args.animate {
+                let t0 = std::time::Instant::now();
+                let moved = tessera::render::animate::twist(
+                    &rest,
+                    desc.up.vector(),
+                    1.5,
+                    f64::from(k) / f64::from(args.frames),
+                );
+                moving.set_positions(&moved)?;
+                let fallback = if surface.fallback_faces.is_empty() {
+                    None
+                } else {
+                    Some(tessera::render::scheme::cpu_faces(
+                        &moving,
+                        &surface.fallback_faces,
+                        level.ceil() as u32,
+                    )?)
+                };
+                session
+                    .renderer_mut()
+                    .update_positions(&moved, fallback.as_ref())?;
+                update.push(t0.elapsed().as_secs_f64() * 1e3);
+            }
             let r = session
                 .frame()?
                 .ok_or_else(|| Error::Invalid("bench: no timings returned".into()))?;
@@ -104,13 +160,18 @@ pub fn run(args: BenchArgs) -> Result<()> {
             tes = r.patch_stats.tes_invocations;
         }
         println!(
-            "{:>6} {:>9} {:>12} {:>14.3} {:>14.3} {:>14.3}",
+            "{:>6} {:>9} {:>12} {:>14.3} {:>14.3} {:>14.3}{}",
             level,
             surface.patches.len() + surface.gregory.as_ref().map_or(0, |g| g.faces.len()),
             tes,
             median(&mut patch),
             median(&mut cpu),
-            median(&mut total)
+            median(&mut total),
+            if args.animate {
+                format!(" {:>15.3}", median(&mut update))
+            } else {
+                String::new()
+            }
         );
     }
     check_validation(&ctx)
