@@ -2,6 +2,7 @@
 
 pub mod animate;
 pub mod bench;
+pub mod bench_gregory;
 pub mod info;
 pub mod limit;
 pub mod render;

@@ -5,7 +5,7 @@ pub mod gpu;
 pub mod session;
 pub mod table;
 
-pub use bench::{bench_gregory, GregoryBenchRow};
+pub use bench::{bench_gregory, bench_paths, GregoryBenchRow, PathsBenchRow};
 pub use gpu::{frame_set_layout, StencilPatches, StencilPlan};
 pub use session::{GregoryFrameReport, GregorySession, GregoryVariant, SessionOptions};
 

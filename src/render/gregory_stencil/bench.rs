@@ -1,12 +1,21 @@
 //! GPU timings of the Gregory pass alone, per construction variant (the paper's Table 1:
-//! construction + evaluation of every irregular patch at uniform levels), and of the regular
-//! B-spline pass drawn with it.
+//! construction + evaluation of every irregular patch at uniform levels), of the same faces on
+//! the exact CPU path, and of the regular B-spline pass. Each pass is timed in a frame of its own:
+//! lavapipe's timestamps do not attribute work to passes within one render pass.
+
+use std::time::Instant;
 
 use super::session::{GregorySession, GregoryVariant, SessionOptions};
 use crate::gpu::Context;
 use crate::mesh::ControlMesh;
+use crate::render::fallback::{FallbackFace, PatchClass};
+use crate::render::offscreen::{OffscreenDesc, OffscreenSession};
 use crate::render::renderer::RenderDesc;
+use crate::render::scene::SurfacePlan;
+use crate::render::scheme::cpu_faces;
 use crate::render::settings::TessSettings;
+use crate::render::surface::SurfaceData;
+use crate::topology::Topology;
 use crate::{Error, Result};
 
 /// One uniform level of [`bench_gregory`].
@@ -89,6 +98,159 @@ pub fn bench_gregory(
             tes_invocations: tes,
             gregory_ms: median(&mut g),
             regular_ms: median(&mut r),
+        });
+    }
+    Ok(rows)
+}
+
+/// One uniform level of [`bench_paths`]: the same Gregory faces drawn every way, and the
+/// regular faces' B-spline pass.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PathsBenchRow {
+    /// Uniform level.
+    pub level: f32,
+    /// Faces the stencil variant draws.
+    pub gregory_patches: usize,
+    /// Faces the two-stage variant draws (differs where a valence or ring exceeds its limit).
+    pub two_stage_patches: usize,
+    /// TES invocations of the Gregory pass.
+    pub tes_invocations: u64,
+    /// Median GPU ms, stencil variant (§4.3).
+    pub stencil_ms: f64,
+    /// Median GPU ms, two-stage variant (§4.1-4.2).
+    pub two_stage_ms: f64,
+    /// Wall-clock ms to evaluate the same faces exactly on the CPU at this level (once per
+    /// frame when animating).
+    pub cpu_eval_ms: f64,
+    /// Median GPU ms to draw the CPU-evaluated triangles.
+    pub cpu_draw_ms: f64,
+    /// Regular B-spline patches of the mesh.
+    pub regular_patches: usize,
+    /// Median GPU ms of the regular pass alone.
+    pub regular_ms: f64,
+}
+
+fn timed_frames(session: &mut OffscreenSession, frames: u32, label: &str) -> Result<f64> {
+    session.frame()?;
+    let mut v = Vec::new();
+    for _ in 0..frames {
+        let r = session
+            .frame()?
+            .ok_or_else(|| Error::Invalid("bench: no timings returned".into()))?;
+        v.push(
+            r.passes
+                .iter()
+                .find(|(l, _)| l == label)
+                .map_or(0.0, |(_, ms)| *ms),
+        );
+    }
+    Ok(median(&mut v))
+}
+
+/// For each level: the Gregory pass alone with both variants (the faces both take), the same
+/// faces on the exact CPU path (evaluation wall-clock + GPU draw), and the regular pass alone.
+pub fn bench_paths(
+    ctx: &Context,
+    mesh: &ControlMesh,
+    levels: &[f32],
+    frames: u32,
+    size: (u32, u32),
+    max_patch_level: f32,
+) -> Result<Vec<PathsBenchRow>> {
+    let topo = Topology::new(mesh)?;
+    let regular = SurfacePlan::new(&topo).patches;
+    let off = OffscreenDesc {
+        width: size.0,
+        height: size.1,
+        ..OffscreenDesc::default()
+    };
+    let mut rows = Vec::new();
+    for &level in levels {
+        let stencil = bench_gregory(
+            ctx,
+            mesh,
+            GregoryVariant::Stencil,
+            false,
+            &[level],
+            frames,
+            size,
+            max_patch_level,
+        )?;
+        let two = bench_gregory(
+            ctx,
+            mesh,
+            GregoryVariant::TwoStage,
+            false,
+            &[level],
+            frames,
+            size,
+            max_patch_level,
+        )?;
+        let (s, t) = (&stencil[0], &two[0]);
+        let render = RenderDesc {
+            tess: TessSettings {
+                level: s.level,
+                max_patch_level,
+                ..TessSettings::default()
+            },
+            ..RenderDesc::default()
+        };
+        // The stencil session's faces, on the CPU path.
+        let opts = SessionOptions {
+            variant: GregoryVariant::Stencil,
+            with_regular: false,
+            width: 16,
+            height: 16,
+        };
+        let faces: Vec<FallbackFace> = GregorySession::new(ctx, mesh, &render, &opts)?
+            .gregory_faces()
+            .iter()
+            .map(|&f| {
+                let corners = topo.face_size(f) as u32;
+                FallbackFace {
+                    face: f,
+                    corners,
+                    class: if corners == 3 {
+                        PatchClass::Triangle
+                    } else {
+                        PatchClass::Irregular
+                    },
+                }
+            })
+            .collect();
+        let t0 = Instant::now();
+        let fallback = cpu_faces(mesh, &faces, s.level.ceil() as u32)?;
+        let cpu_eval_ms = t0.elapsed().as_secs_f64() * 1e3;
+        let cpu_surface = SurfaceData {
+            positions: mesh.positions().to_vec(),
+            fallback_faces: faces,
+            fallback,
+            ..SurfaceData::default()
+        };
+        let mut cpu = OffscreenSession::new(ctx, &cpu_surface, &render, &off, true)?;
+        let cpu_draw_ms = timed_frames(&mut cpu, frames, "cpu-evaluated triangles")?;
+        let regular_ms = if regular.is_empty() {
+            0.0
+        } else {
+            let reg_surface = SurfaceData {
+                positions: mesh.positions().to_vec(),
+                patches: regular.clone(),
+                ..SurfaceData::default()
+            };
+            let mut reg = OffscreenSession::new(ctx, &reg_surface, &render, &off, true)?;
+            timed_frames(&mut reg, frames, "patches (tessellated)")?
+        };
+        rows.push(PathsBenchRow {
+            level: s.level,
+            gregory_patches: s.gregory_patches,
+            two_stage_patches: t.gregory_patches,
+            tes_invocations: s.tes_invocations,
+            stencil_ms: s.gregory_ms,
+            two_stage_ms: t.gregory_ms,
+            cpu_eval_ms,
+            cpu_draw_ms,
+            regular_patches: regular.len(),
+            regular_ms,
         });
     }
     Ok(rows)
