@@ -372,6 +372,8 @@ fn watertight_spacings_variants_meshes() {
         (6.5, Spacing::FractionalEven, TessMode::Uniform),
         (7.0, Spacing::Equal, TessMode::Uniform),
         (8.0, Spacing::Equal, TessMode::Adaptive),
+        (24.0, Spacing::Equal, TessMode::Uniform),
+        (32.0, Spacing::Equal, TessMode::Uniform),
     ];
     for (name, mesh) in &meshes {
         for scheme in [Scheme::GregoryVs, Scheme::GregoryStencil] {
