@@ -399,51 +399,6 @@ fn watertight_spacings_variants_meshes() {
     render_common::assert_validation_clean(&ctx);
 }
 
-#[test]
-#[ignore]
-fn diag_edge_normals() {
-    let ctx = render_common::context().unwrap();
-    let (fr, _) = render(&ctx, &embedded("mixed"), 6.0);
-    let verts = gregory_vertices(&fr.topo, &fr.positions);
-    let mut groups: HashMap<EdgeKey, Vec<(u32, DVec3, DVec3)>> = HashMap::new();
-    let set: HashSet<u32> = fr.gregory.iter().copied().collect();
-    for r in fr.records.iter().filter(|r| set.contains(&r.face)) {
-        let fv = fr.topo.face_vertices(r.face).to_vec();
-        let quad = fv.len() == 4;
-        let (u, v) = (f64::from(r.u), f64::from(r.v));
-        let cpu = match gregory_patch(&fr.topo, &verts, r.face).unwrap() {
-            GregoryPatch::Quad(q) => q.eval(u, v).normal(),
-            GregoryPatch::Triangle(t) => t.eval(u, v).normal(),
-        };
-        if let Some(k) = edge_key(&fv, r.u, r.v, quad) {
-            if k.0 != k.1 {
-                groups.entry(k).or_default().push((
-                    r.face,
-                    cpu,
-                    DVec3::from(r.normal.map(f64::from)),
-                ));
-            }
-        }
-    }
-    let mut worst = Vec::new();
-    for (k, g) in &groups {
-        if g.len() == 2 {
-            let jump = g[0].1.angle_between(g[1].1);
-            let a = g[0].2.angle_between(g[0].1);
-            let b = g[0].2.angle_between(g[1].1);
-            worst.push((a.max(b), jump, a, b, *k, g[0].0, g[1].0));
-        }
-    }
-    worst.sort_by(|x, y| y.0.partial_cmp(&x.0).unwrap());
-    for w in worst.iter().take(12) {
-        eprintln!(
-            "{w:?} sizes {} {}",
-            fr.topo.face_size(w.5),
-            fr.topo.face_size(w.6)
-        );
-    }
-}
-
 /// Golden images coloured by patch type (regular gold, irregular quad purple, triangle green;
 /// the paper's Fig. 1) drawn with gregory-vs. `TESSERA_UPDATE_GOLDEN=1` rewrites them.
 #[test]
