@@ -715,3 +715,45 @@ fn valence_over_budget_falls_back() {
     assert!(out.image.pixels().any(|p| p[0] > 60), "the fan is drawn");
     render_common::assert_validation_clean(&ctx);
 }
+
+/// Winding: on a closed mesh, culling back faces changes nothing when every Gregory patch (quad
+/// and triangle TES) emits counter-clockwise (front-facing) triangles seen from outside.
+#[test]
+fn gregory_patches_face_outwards() {
+    let ctx = render_common::context().unwrap();
+    let mesh = embedded("mixed");
+    let surface = surface_for_scheme(
+        &mesh,
+        6,
+        Scheme::GregoryVs,
+        &SchemeLimits::from_context(&ctx),
+    )
+    .unwrap();
+    let off = OffscreenDesc {
+        width: 128,
+        height: 128,
+        ..OffscreenDesc::default()
+    };
+    let img = |cull| {
+        let desc = RenderDesc {
+            tess: TessSettings {
+                level: 6.0,
+                ..TessSettings::default()
+            },
+            cull_back_faces: cull,
+            color_by: ColorBy::PatchType,
+            ..RenderDesc::default()
+        };
+        render_to_image(&ctx, &surface, &desc, &off, false)
+            .unwrap()
+            .image
+    };
+    let (a, b) = (img(false), img(true));
+    let green = a.pixels().filter(|p| p[1] > p[0] && p[1] > p[2]).count();
+    assert!(
+        green > 50,
+        "triangle patches visible ({green} green pixels)"
+    );
+    assert!(a == b, "culling back faces changed the image");
+    render_common::assert_validation_clean(&ctx);
+}
