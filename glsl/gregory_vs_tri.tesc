@@ -25,30 +25,55 @@ vec3 get3(int corner, int f) {
     return vec3(get(corner, f), get(corner, f + 1), get(corner, f + 2));
 }
 
-int valence(int corner) {
-    return int(v_data[corner][0].w);
+uint corner_vertex(int corner) {
+    return gpatches[chunk.patch_base + uint(gl_PrimitiveID)].corners[corner];
 }
 
-/// Edge point of corner `corner`'s vertex on its ring edge j (mod n).
+bool smooth_corner(int corner) {
+    return conn[4u * corner_vertex(corner) + 3u] == GVS_KIND_SMOOTH;
+}
+
+/// Number of ring edges of the corner's vertex.
+int edge_count(int corner) {
+    return int(conn[4u * corner_vertex(corner) + 1u]);
+}
+
+/// Edge point of corner `corner`'s vertex on its ring edge j (mod the edge count).
 vec3 edge_pt(int corner, int j) {
-    int n = valence(corner);
-    return get3(corner, 6 * ((j + n) % n));
+    int ne = edge_count(corner);
+    int jj = (j + ne) % ne;
+    return get3(corner, smooth_corner(corner) ? 6 * jj : 9 * jj);
 }
 
-/// Transversal vector of corner `corner`'s vertex across its ring edge j (mod n).
-vec3 r_vec(int corner, int j) {
-    int n = valence(corner);
-    return get3(corner, 6 * ((j + n) % n) + 3);
+/// Transversal vector of face j (of the corner's ring) across its edge j, into face j.
+vec3 r_plus(int corner, int j) {
+    int ne = edge_count(corner);
+    int jj = (j + ne) % ne;
+    return get3(corner, smooth_corner(corner) ? 6 * jj + 3 : 9 * jj + 3);
+}
+
+/// Transversal vector of face j across its edge j + 1, into face j (smooth: -r_{j+1}).
+vec3 r_minus(int corner, int j) {
+    int ne = edge_count(corner);
+    int jj = (j + ne) % ne;
+    if (smooth_corner(corner)) {
+        return -get3(corner, 6 * ((jj + 1) % ne) + 3);
+    }
+    return get3(corner, 9 * jj + 6);
+}
+
+/// cos of condition (1) for face j of the corner's ring.
+float face_cos(int corner, int j) {
+    int nf = int(v_data[corner][0].w);
+    return gvs_face_cosine(corner_vertex(corner), (j + nf) % nf);
 }
 
 /// Face point next to the edge from corner a to corner b of a face with `d` = 3 (quad) or 4
 /// (triangle) (eq. 6 as re-derived in src/patch/gregory/vertex.rs `face_point`):
-/// (c_b p_a + (d - 2 c_a - c_b) e_ab + 2 c_a e_ba + r) / d. `precise`: the neighbour patch
-/// recomputes it bitwise (g_nbr).
-vec3 face_point(float d, int a, int b, vec3 e_ab, vec3 e_ba, vec3 r) {
-    precise float ca = cos(2.0 * GVS_PI / float(valence(a)));
-    precise float cb = cos(2.0 * GVS_PI / float(valence(b)));
-    precise vec3 f = (cb * v_data[a][0].xyz + (d - 2.0 * ca - cb) * e_ab + 2.0 * ca * e_ba + r) / d;
+/// (c_b p_a + (d - 2 c_a - c_b) e_ab + 2 c_a e_ba + r) / d, c = cos of condition (1) of the face's
+/// sector at each end. `precise`: the neighbour patch recomputes it bitwise (g_nbr).
+vec3 face_point(float d, float ca, float cb, vec3 pa, vec3 e_ab, vec3 e_ba, vec3 r) {
+    precise vec3 f = (cb * pa + (d - 2.0 * ca - cb) * e_ab + 2.0 * ca * e_ba + r) / d;
     return f;
 }
 
@@ -70,14 +95,18 @@ void main() {
     } else if (kind == 2) {
         x = edge_pt(i, j + 1);
     } else if (kind == 3) {
-        x = face_point(D_OWN, i, nx, edge_pt(i, j), edge_pt(nx, j_nx + 1), r_vec(i, j));
+        x = face_point(D_OWN, face_cos(i, j), face_cos(nx, j_nx), v_data[i][0].xyz,
+                       edge_pt(i, j), edge_pt(nx, j_nx + 1), r_plus(i, j));
     } else {
-        x = face_point(D_OWN, i, pr, edge_pt(i, j + 1), edge_pt(pr, j_pr), -r_vec(i, j + 1));
+        x = face_point(D_OWN, face_cos(i, j), face_cos(pr, j_pr), v_data[i][0].xyz,
+                       edge_pt(i, j + 1), edge_pt(pr, j_pr), r_minus(i, j));
     }
     g_cp[gl_InvocationID] = x;
     if (id < 2 * NC) {
-        // Neighbour across edge k = id / 2 (corner k -> k1): its other edge point and its face
-        // point next to the edge, at corner k (even id) or k1 (odd id).
+        // Neighbour across edge k = id / 2 (corner k -> k1; its face is jk - 1 in corner k's
+        // ring and jk1 + 1 in corner k1's): its other edge point and its face point next to the
+        // edge, at corner k (even id) or k1 (odd id), computed as the neighbour computes them.
+        // Unused (any value) where the edge is sharp or on a boundary (flags bit 12 + k).
         int k = id / 2;
         int k1 = (k + 1) % NC;
         int jk = int(corner_ring[4u * patch_index + uint(k)]);
@@ -86,21 +115,22 @@ void main() {
         float d_nbr = ((nflags & (1u << uint(8 + k))) != 0u) ? 4.0 : 3.0;
         vec3 e_ab = edge_pt(k, jk);
         vec3 e_ba = edge_pt(k1, jk1 + 1);
+        float ca = face_cos(k, jk - 1);
+        float cb = face_cos(k1, jk1 + 1);
         if ((id & 1) == 0) {
             g_eout[id] = edge_pt(k, jk - 1);
-            // r_jk points into this face: the neighbour's inward vector is its negation.
-            g_nbr[id] = face_point(d_nbr, k, k1, e_ab, e_ba, -r_vec(k, jk));
+            g_nbr[id] = face_point(d_nbr, ca, cb, v_data[k][0].xyz, e_ab, e_ba, r_minus(k, jk - 1));
         } else {
             g_eout[id] = edge_pt(k1, jk1 + 2);
-            g_nbr[id] = face_point(d_nbr, k1, k, e_ba, e_ab, r_vec(k1, jk1 + 1));
+            g_nbr[id] = face_point(d_nbr, cb, ca, v_data[k1][0].xyz, e_ba, e_ab, r_plus(k1, jk1 + 1));
         }
     }
     if (id == 0) {
         uvec4 c = gpatches[patch_index].corners;
         // Triangle domain: outer[k] is the edge where barycentric coordinate k is 0.
-        float o0 = edge_tess_level(c.y, c.z);
-        float o1 = edge_tess_level(c.z, c.x);
-        float o2 = edge_tess_level(c.x, c.y);
+        float o0 = gregory_tri_edge_level(c.y, c.z);
+        float o1 = gregory_tri_edge_level(c.z, c.x);
+        float o2 = gregory_tri_edge_level(c.x, c.y);
         gl_TessLevelOuter[0] = o0;
         gl_TessLevelOuter[1] = o1;
         gl_TessLevelOuter[2] = o2;

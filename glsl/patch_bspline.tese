@@ -55,7 +55,7 @@ void edge_point(uint flags, int e, float x, out vec3 pos, out vec3 nrm) {
         r[k] = c_bspline[ir];
     }
     float t, s;
-    canonical_ts(x, !reversed, t, s);
+    edge_ts(x, !reversed, t, s);
     grid_edge_rows(l, m, r, t, s, pos, nrm);
 }
 
@@ -89,7 +89,12 @@ void main() {
     if (u_edge && v_edge) {
         int k = (u == 0.0) ? (v == 0.0 ? 0 : 3) : (v == 0.0 ? 1 : 2);
         p = vertex_limit[info.corners[k]].xyz;
-        nrm = vertex_normal[info.corners[k]].xyz;
+        // The shared vertex normal only where no boundary/crease side of this patch meets the
+        // corner (there the limit normal may differ per sector; keep this patch's own).
+        uint sides = (k == 0) ? 9u : (k == 1) ? 3u : (k == 2) ? 6u : 12u;
+        if ((info.flags & sides) == 0u) {
+            nrm = vertex_normal[info.corners[k]].xyz;
+        }
     } else if (u_edge || v_edge) {
         int e = (v == 0.0) ? 0 : (u == 1.0) ? 1 : (v == 1.0) ? 2 : 3;
         float x = v_edge ? u : v;

@@ -38,13 +38,14 @@ void quad_edge(uint patch_index, GregoryPatchInfo info, int k, float x, int from
     bool a_is_lo = info.corners[a] < info.corners[b];
     bool from_lo = (from_corner == a) == a_is_lo;
     float t, s;
-    canonical_ts(x, from_lo, t, s);
+    edge_ts(x, from_lo, t, s);
     if ((info.flags & (1u << uint(k))) != 0u) {
         grid_edge(patch_index, k, t, s, pos, nrm);
         return;
     }
     bool nbr_quad = (info.flags & (1u << uint(8 + k))) == 0u;
-    shared_edge(true, nbr_quad, a_is_lo, t, s, P(a), EP(a), EM(b), P(b),
+    bool sharp = (info.flags & (1u << uint(12 + k))) != 0u;
+    shared_edge(true, nbr_quad, sharp, a_is_lo, t, s, P(a), EP(a), EM(b), P(b),
                 EM(a), FP(a), FM(b), EP(b),
                 g_eout[2 * k], g_nbr[2 * k], g_nbr[2 * k + 1], g_eout[2 * k + 1], pos, nrm);
 }
@@ -87,7 +88,9 @@ void main() {
     if (u_edge && v_edge) {
         int k = (u == 0.0) ? (v == 0.0 ? 0 : 3) : (v == 0.0 ? 1 : 2);
         p = vertex_limit[info.corners[k]].xyz;
-        nrm = vertex_normal[info.corners[k]].xyz;
+        if ((info.flags & (1u << uint(16 + k))) == 0u) {
+            nrm = vertex_normal[info.corners[k]].xyz;
+        }
     } else if (v == 0.0) {
         quad_edge(patch_index, info, 0, u, 0, p, nrm);
     } else if (u == 1.0) {

@@ -36,9 +36,10 @@ void tri_edge(GregoryPatchInfo info, int k, float x, out vec3 pos, out vec3 nrm)
     int b = (k + 1) % 3;
     bool a_is_lo = info.corners[a] < info.corners[b];
     float t, s;
-    canonical_ts(x, a_is_lo, t, s);
+    edge_ts(x, a_is_lo, t, s);
     bool nbr_quad = (info.flags & (1u << uint(8 + k))) == 0u;
-    shared_edge(false, nbr_quad, a_is_lo, t, s, P(a), EP(a), EM(b), P(b),
+    bool sharp = (info.flags & (1u << uint(12 + k))) != 0u;
+    shared_edge(false, nbr_quad, sharp, a_is_lo, t, s, P(a), EP(a), EM(b), P(b),
                 EM(a), FP(a), FM(b), EP(b),
                 g_eout[2 * k], g_nbr[2 * k], g_nbr[2 * k + 1], g_eout[2 * k + 1], pos, nrm);
 }
@@ -76,7 +77,9 @@ void main() {
     if (zeros >= 2) {
         int k = (w0 != 0.0) ? 0 : (w1 != 0.0 ? 1 : 2);
         p = vertex_limit[info.corners[k]].xyz;
-        nrm = vertex_normal[info.corners[k]].xyz;
+        if ((info.flags & (1u << uint(16 + k))) == 0u) {
+            nrm = vertex_normal[info.corners[k]].xyz;
+        }
     } else if (w2 == 0.0) {
         tri_edge(info, 0, w1, p, nrm);
     } else if (w0 == 0.0) {

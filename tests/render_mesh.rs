@@ -125,7 +125,15 @@ fn sample_command_writes_exact_limit_points() {
     }
     let out = std::env::temp_dir().join(format!("tessera_sample_{}.txt", std::process::id()));
     let res = Command::new(env!("CARGO_BIN_EXE_tessera"))
-        .args(["sample", "embedded:open", "--tess", "3", "--out"])
+        .args([
+            "sample",
+            "embedded:open",
+            "--tess",
+            "3",
+            "--scheme",
+            "bspline-only",
+            "--out",
+        ])
         .arg(&out)
         .output()
         .unwrap();

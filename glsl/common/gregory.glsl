@@ -31,7 +31,10 @@
 
 /// One Gregory patch. flags bit k (0..3): patch edge k (corner k -> k+1) is shared with a regular
 /// B-spline patch (evaluate it from the grid in binding 7); bit 8+k: the face across edge k is a
-/// triangle (else a quad).
+/// triangle (else a quad); bit 12+k: edge k is a boundary or infinitely sharp edge (no
+/// neighbour term in its normal); bit 16+k: corner k's vertex has several sectors (crease or
+/// corner rule, §4.6), so the corner keeps this patch's own normal (its position is still
+/// vertex_limit).
 struct GregoryPatchInfo {
     uint face;
     uint flags;
@@ -79,6 +82,43 @@ void canonical_ts(float x, bool from_lo, out float t, out float s) {
         s = tmp;
     }
 }
+
+#ifdef TESSERA_FRAME_GLSL
+/// Uniform mode with sub-patches (chunk.split > 1): the full edge level, the same for a split
+/// quad (split x the sub-patch level) and an unsplit triangle (whose TCS uses
+/// gregory_tri_edge_level).
+float split_edge_level() {
+    float sub = ceil(clamp(frame.tess.x / float(chunk.split), 1.0, frame.tess.w));
+    return sub * float(chunk.split);
+}
+
+/// Edge parameters in the canonical frame as canonical_ts, except with sub-patches and equal
+/// spacing: the tessellator's fixed-point coordinates of a sub-patch edge (origin + x * size)
+/// and of a whole triangle edge need not agree bitwise, so both snap to the lattice point k / L
+/// of the full edge level L and derive (t, s) from the integer k.
+void edge_ts(float x, bool from_lo, out float t, out float s) {
+#ifdef SPACING_EQUAL
+    if (chunk.split > 1u) {
+        float level = split_edge_level();
+        float k = round(x * level);
+        float k_lo = from_lo ? k : level - k;
+        t = k_lo / level;
+        s = (level - k_lo) / level;
+        return;
+    }
+#endif
+    canonical_ts(x, from_lo, t, s);
+}
+
+#ifdef TESSERA_TESS_FACTORS_GLSL
+/// Outer level of a triangle edge (triangles are drawn unsplit with the quads' split in
+/// chunk.split): uniform mode with sub-patches gives the split quads' full edge level.
+float gregory_tri_edge_level(uint a, uint b) {
+    float l = edge_tess_level(a, b);
+    return chunk.split > 1u ? split_edge_level() : l;
+}
+#endif
+#endif
 
 /// Derivative of bspline3(t, s) with respect to t.
 vec4 bspline3_deriv(float t, float s) {
@@ -176,18 +216,21 @@ vec3 cross_any(bool quad, vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 eo0, vec3 f0,
 /// Evaluates patch edge k (corner a -> b, this patch on its left) from this patch's data
 /// (p, e along the edge, other edge points eo and face points f at both ends) and the
 /// neighbour's (g_eout / g_nbr of the TCS contract), in the canonical frame.
-void shared_edge(bool own_quad, bool nbr_quad, bool a_is_lo, float t, float s,
+void shared_edge(bool own_quad, bool nbr_quad, bool sharp, bool a_is_lo, float t, float s,
                  vec3 pa, vec3 ea, vec3 eb, vec3 pb,
                  vec3 own_eo_a, vec3 own_f_a, vec3 own_f_b, vec3 own_eo_b,
                  vec3 nbr_eo_a, vec3 nbr_f_a, vec3 nbr_f_b, vec3 nbr_eo_b,
                  out vec3 pos, out vec3 nrm) {
+    // A boundary or infinitely sharp edge: no neighbour term (each side keeps its own normal).
     if (a_is_lo) {
         vec3 d_own = cross_any(own_quad, pa, ea, eb, pb, own_eo_a, own_f_a, own_f_b, own_eo_b, t, s);
-        vec3 d_nbr = cross_any(nbr_quad, pa, ea, eb, pb, nbr_eo_a, nbr_f_a, nbr_f_b, nbr_eo_b, t, s);
+        vec3 d_nbr = sharp ? vec3(0.0)
+                           : cross_any(nbr_quad, pa, ea, eb, pb, nbr_eo_a, nbr_f_a, nbr_f_b, nbr_eo_b, t, s);
         gregory_edge(pa, ea, eb, pb, d_own, d_nbr, t, s, pos, nrm);
     } else {
         vec3 d_own = cross_any(own_quad, pb, eb, ea, pa, own_eo_b, own_f_b, own_f_a, own_eo_a, t, s);
-        vec3 d_nbr = cross_any(nbr_quad, pb, eb, ea, pa, nbr_eo_b, nbr_f_b, nbr_f_a, nbr_eo_a, t, s);
+        vec3 d_nbr = sharp ? vec3(0.0)
+                           : cross_any(nbr_quad, pb, eb, ea, pa, nbr_eo_b, nbr_f_b, nbr_f_a, nbr_eo_a, t, s);
         gregory_edge(pb, eb, ea, pa, d_nbr, d_own, t, s, pos, nrm);
     }
 }

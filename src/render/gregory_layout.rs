@@ -6,6 +6,7 @@
 use glam::DVec3;
 
 use super::layout::{BSplinePatch, PATCH_EDGES};
+use crate::mesh::INFINITE_SHARPNESS;
 use crate::patch::gregory::{is_supported_vertex, vertex_ring, GregoryVertex};
 use crate::patch::RegularPatch;
 use crate::topology::Topology;
@@ -45,6 +46,25 @@ pub fn irregular_faces(topo: &Topology) -> Vec<u32> {
         .collect()
 }
 
+/// Boundary or infinitely sharp edge.
+fn is_sharp_edge(topo: &Topology, e: u32) -> bool {
+    topo.is_boundary_edge(e) || topo.edge_sharpness(e) >= INFINITE_SHARPNESS
+}
+
+/// Number of sectors the sharp edges split vertex `v`'s ring into (0 for a smooth vertex).
+fn sector_count(topo: &Topology, v: u32) -> usize {
+    let sharp = topo
+        .vertex_edges(v)
+        .iter()
+        .filter(|&&e| is_sharp_edge(topo, e))
+        .count();
+    if topo.is_boundary_vertex(v) {
+        sharp.saturating_sub(1)
+    } else {
+        sharp
+    }
+}
+
 /// Shared TES data of a list of Gregory faces, in draw order: quads first, then triangles.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct GregoryLayout {
@@ -57,7 +77,8 @@ pub struct GregoryLayout {
     /// Index of the patch's face in each corner vertex's ring (paper Fig. 8).
     pub corner_ring: Vec<[u32; 4]>,
     /// Bit k: edge k (corner k -> k+1) is shared with a regular B-spline patch; bit 8+k: the
-    /// face across edge k is a triangle.
+    /// face across edge k is a triangle; bit 12+k: edge k is a boundary or infinitely sharp edge;
+    /// bit 16+k: corner k's vertex has two or more sectors (`glsl/common/gregory.glsl`).
     pub flags: Vec<u32>,
     /// [`GRID_IDS_PER_PATCH`] ids per patch (zeros where the flag is off).
     pub grid_ids: Vec<u32>,
@@ -146,6 +167,13 @@ impl GregoryLayout {
                     .and_then(|e| topo.edge_faces(e).iter().copied().find(|&g| g != f));
                 if across.is_some_and(|g| topo.face_size(g) == 3) {
                     flags |= 1 << (8 + k);
+                }
+                let sharp_edge = topo.find_edge(a, b).is_none_or(|e| is_sharp_edge(topo, e));
+                if across.is_none() || sharp_edge {
+                    flags |= 1 << (12 + k);
+                }
+                if sector_count(topo, a) >= 2 {
+                    flags |= 1 << (16 + k);
                 }
                 let neighbour = across.and_then(|g| RegularPatch::gather(topo, g));
                 if let Some(grid) = neighbour.as_ref().and_then(|p| grid_of(p, a, b)) {

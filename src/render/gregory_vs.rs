@@ -28,6 +28,7 @@ use crate::gpu::{
     patch_draw_chunks, Buffer, BufferBinding, Context, DescriptorBinding, DescriptorKind,
     DescriptorPool, GraphicsPipelineDesc, MemoryLocation, Pipeline, PushConstants, TargetFormat,
 };
+use crate::patch::gregory::is_supported_vertex;
 use crate::topology::Topology;
 use crate::{Error, Result};
 
@@ -97,38 +98,40 @@ pub fn select_faces(
     (ok, rejected)
 }
 
-/// Connectivity words (layout in `glsl/common/gregory_vs.glsl`): a header `(ring offset, n)`
-/// per vertex, ring records `(neighbour, face record offset)`, face records `(size, ids...)`.
+/// Connectivity words (layout in `glsl/common/gregory_vs.glsl`: the per-vertex table of
+/// `patch::gregory::GregoryVertexTable`, offsets absolute): a header `(offset, ne, nf, kind)` per
+/// vertex, then per vertex its far edge vertices, sector words and face records. `kind` is
+/// smooth for interior vertices without sharpness ([`is_supported_vertex`]), none otherwise.
 pub fn connectivity_words(topo: &Topology) -> Vec<u32> {
     let nv = topo.vertex_count();
-    let nf = topo.face_count();
-    let mut face_off = vec![0u32; nf];
-    let mut words = vec![0u32; 2 * nv];
-    let ring_start = words.len();
-    let ring_len: usize = (0..nv as u32).map(|v| topo.vertex_faces(v).len()).sum();
-    let face_start = ring_start + 2 * ring_len;
-    let mut faces = Vec::new();
-    for (f, off) in face_off.iter_mut().enumerate() {
-        *off = (face_start + faces.len()) as u32;
-        let fv = topo.face_vertices(f as u32);
-        faces.push(fv.len() as u32);
-        faces.extend_from_slice(fv);
-    }
+    let mut words = vec![0u32; 4 * nv];
     for v in 0..nv as u32 {
-        let vf = topo.vertex_faces(v);
-        let ve = topo.vertex_edges(v);
-        words[2 * v as usize] = words.len() as u32;
-        words[2 * v as usize + 1] = vf.len() as u32;
-        for (i, &f) in vf.iter().enumerate() {
-            let nb = ve.get(i).map_or(v, |&e| topo.other_vertex(e, v));
-            words.push(nb);
-            words.push(face_off[f as usize]);
+        if !is_supported_vertex(topo, v) {
+            continue;
+        }
+        let edges = topo.vertex_edges(v);
+        let faces = topo.vertex_faces(v);
+        let (ne, nf) = (edges.len(), faces.len());
+        let h = 4 * v as usize;
+        let offset = words.len() as u32;
+        words[h..h + 4].copy_from_slice(&[offset, ne as u32, nf as u32, KIND_SMOOTH]);
+        let w: Vec<u32> = edges.iter().map(|&e| topo.other_vertex(e, v)).collect();
+        words.extend(&w);
+        words.extend(std::iter::repeat_n((nf as u32) << 16, nf));
+        for (i, &f) in faces.iter().enumerate() {
+            let fv = topo.face_vertices(f);
+            words.push(fv.len() as u32);
+            let k = fv.iter().position(|&x| x == w[i]).unwrap_or(0);
+            for s in 1..=fv.len().saturating_sub(3) {
+                words.push(fv[(k + s) % fv.len()]);
+            }
         }
     }
-    debug_assert_eq!(words.len(), face_start);
-    words.extend(faces);
     words
 }
+
+/// `kind` of a smooth interior vertex in the connectivity header.
+pub const KIND_SMOOTH: u32 = 1;
 
 /// The shared buffers the two-stage pass binds but does not own (the surface renderer's).
 #[derive(Clone, Copy)]
@@ -426,7 +429,7 @@ impl GregoryVsPatches {
     }
 
     /// Records the Gregory patch draws (inside the caller's render pass): quads in sub-patch
-    /// splits like the regular patches, triangles unsplit; chunked per
+    /// splits like the regular patches, triangles whole (their edge levels match); chunked per
     /// [`crate::gpu::patch_draw_chunks`], the chunk's first patch as push constant.
     pub fn record(&self, cmd: vk::CommandBuffer) {
         let dev = self.ctx.device();
@@ -471,14 +474,20 @@ impl GregoryVsPatches {
                 );
                 dev.cmd_bind_index_buffer(cmd, self.indices.raw(), 0, vk::IndexType::UINT32);
             }
-            let split = if quad { self.split } else { 1 };
+            // Triangles are drawn whole, with the quads' split in the push constants (their
+            // TCS/TES match the split quads' edges: gregory.glsl gregory_tri_edge_level).
+            let (split, subs) = if quad {
+                (self.split, self.split * self.split)
+            } else {
+                (self.split, 1)
+            };
             for (first, n) in patch_draw_chunks(count, points, true) {
                 let (base, first_index) = if quad {
                     (first, 4 * first)
                 } else {
                     (quads + first, 4 * quads + 3 * first)
                 };
-                for sub in 0..split * split {
+                for sub in 0..subs {
                     push(pipe, base, sub, split);
                     // SAFETY: as above.
                     unsafe { dev.cmd_draw_indexed(cmd, n * points, 1, first_index, 0, 0) };

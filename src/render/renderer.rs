@@ -178,6 +178,21 @@ impl SurfaceRenderer {
         target: TargetFormat,
     ) -> Result<SurfaceRenderer> {
         surface.validate()?;
+        // Sub-patches with fractional spacing cannot meet a whole Gregory triangle's edge point
+        // for point; draw such surfaces unsplit (correct, slower at high levels on lavapipe).
+        let mut desc_local = *desc;
+        let has_triangles = surface
+            .gregory
+            .as_ref()
+            .is_some_and(|g| g.faces.iter().any(|&f| g.topology.face_size(f) == 3));
+        if has_triangles && desc.tess.spacing != Spacing::Equal && desc.tess.split() > 1 {
+            eprintln!(
+                "note: fractional spacing with Gregory triangles: patches are not split into \
+                 sub-patches (--max-patch-level ignored)"
+            );
+            desc_local.tess.max_patch_level = f32::INFINITY;
+        }
+        let desc = &desc_local;
         if desc.wireframe {
             ctx.require(&[crate::gpu::Feature::FillModeNonSolid])?;
         }
