@@ -18,6 +18,8 @@ enum Command {
     Info(cli::info::InfoArgs),
     /// Evaluate the exact Catmull-Clark limit surface on a grid per face.
     Limit(cli::limit::LimitArgs),
+    /// Accuracy of a patch scheme against the exact limit surface.
+    Error(cli::error::ErrorArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -25,6 +27,7 @@ fn main() -> std::process::ExitCode {
     let result = match cli.command {
         Command::Info(args) => cli::info::run(args),
         Command::Limit(args) => cli::limit::run(args),
+        Command::Error(args) => cli::error::run(args),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
