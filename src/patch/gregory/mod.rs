@@ -25,6 +25,7 @@ pub mod accuracy;
 mod build;
 mod eval;
 mod point;
+pub mod stencil;
 mod vertex;
 
 pub use build::{
