@@ -33,9 +33,18 @@ const MESHES: [&str; 12] = [
     "embedded:creased",
 ];
 
+/// The five control-point arrays of a patch.
+type Parts<'a> = (
+    &'a [DVec3],
+    &'a [DVec3],
+    &'a [DVec3],
+    &'a [DVec3],
+    &'a [DVec3],
+);
+
 /// Control points of a directly built patch in stencil row order.
 fn direct_rows(p: &GregoryPatch) -> Vec<DVec3> {
-    let (pp, ep, em, fp, fm): (&[DVec3], &[DVec3], &[DVec3], &[DVec3], &[DVec3]) = match p {
+    let (pp, ep, em, fp, fm): Parts = match p {
         GregoryPatch::Quad(q) => (&q.p, &q.e_plus, &q.e_minus, &q.f_plus, &q.f_minus),
         GregoryPatch::Triangle(t) => (&t.p, &t.e_plus, &t.e_minus, &t.f_plus, &t.f_minus),
     };
