@@ -26,6 +26,7 @@ mod build;
 mod eval;
 mod point;
 pub mod stencil;
+pub mod table;
 mod vertex;
 
 pub use build::{

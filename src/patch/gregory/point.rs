@@ -22,6 +22,16 @@ impl GregoryPoint for DVec3 {
     }
 }
 
+impl GregoryPoint for f64 {
+    fn zero() -> Self {
+        0.0
+    }
+
+    fn add_scaled(&mut self, w: f64, x: &Self) {
+        *self += w * x;
+    }
+}
+
 /// `Σ w_i x_i`.
 pub fn combine<P: GregoryPoint>(terms: &[(f64, &P)]) -> P {
     let mut out = P::zero();
