@@ -65,8 +65,8 @@ fn vertex_stage(t: &GregoryVertexTable, pos: &[DVec3], v: usize) -> Option<Verte
     let mut r_plus = vec![DVec3::ZERO; nf];
     let mut r_minus = vec![DVec3::ZERO; nf];
     let mut cos = vec![0.0; nf];
-    for i in 0..nf {
-        let (s, k) = ((sector[i] & 0xffff) as usize, (sector[i] >> 16) as usize);
+    for (i, &word) in sector.iter().enumerate() {
+        let (s, k) = ((word & 0xffff) as usize, (word >> 16) as usize);
         if s != i {
             continue; // handle each sector once, from its first face
         }
