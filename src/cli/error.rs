@@ -33,7 +33,7 @@ pub struct ErrorArgs {
 /// The printed report.
 pub fn format_report(mesh: &str, scheme: &str, r: &AccuracyReport) -> String {
     format!(
-        "mesh {mesh}\nscheme {scheme}\nfaces sampled {} ({} triangles), regular {}, without Gregory patch {}\n\
+        "mesh {mesh}\nscheme {scheme}\nfaces sampled {} ({} triangles), regular {}, without Gregory patch {}{}\n\
          samples {}\nbbox diagonal {:.6e}\n\
          distance / diagonal: rms {:.3e} max {:.3e}\n\
          equal (u,v) on quads / diagonal: rms {:.3e} max {:.3e}\n\
@@ -42,6 +42,9 @@ pub fn format_report(mesh: &str, scheme: &str, r: &AccuracyReport) -> String {
         r.triangles,
         r.regular,
         r.unsupported,
+        r.first_unsupported
+            .map(|e| format!(" (first: {e})"))
+            .unwrap_or_default(),
         r.samples,
         r.diagonal,
         r.rms_distance,

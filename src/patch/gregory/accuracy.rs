@@ -46,8 +46,10 @@ pub struct AccuracyReport {
     pub faces: usize,
     /// Of which triangles.
     pub triangles: usize,
-    /// Faces with a limit surface but no Gregory patch (not sampled).
+    /// Non-regular faces with a limit surface but no Gregory patch (not sampled).
     pub unsupported: usize,
+    /// The first such face and why (see [`super::NotGregory`]).
+    pub first_unsupported: Option<super::NotGregory>,
     /// Regular faces (sampled only with `include_regular`).
     pub regular: usize,
     /// Samples taken.
@@ -147,12 +149,18 @@ pub fn measure(mesh: &ControlMesh, options: &AccuracyOptions) -> Result<Accuracy
         if !topo.has_limit_surface(f) {
             continue;
         }
-        let regular = RegularPatch::gather(&topo, f).is_some();
-        report.regular += regular as usize;
-        if check_face(&topo, f).is_err() {
-            report.unsupported += 1;
-        } else if !regular || options.include_regular {
-            chosen.push(f);
+        if RegularPatch::gather(&topo, f).is_some() {
+            report.regular += 1;
+            if !options.include_regular {
+                continue;
+            }
+        }
+        match check_face(&topo, f) {
+            Ok(()) => chosen.push(f),
+            Err(e) => {
+                report.unsupported += 1;
+                report.first_unsupported.get_or_insert(e);
+            }
         }
     }
     // Dense exact samples of every face, for the closest-point search.
