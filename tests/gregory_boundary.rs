@@ -346,6 +346,8 @@ fn test_meshes() -> Vec<(String, ControlMesh)> {
         ("catmark_inf_crease0".into(), osd("catmark_inf_crease0")),
         ("catmark_inf_crease1".into(), osd("catmark_inf_crease1")),
         ("catmark_cube_corner4".into(), osd("catmark_cube_corner4")),
+        ("catmark_smoothtris0".into(), osd("catmark_smoothtris0")),
+        ("catmark_nonquads".into(), osd("catmark_nonquads")),
         (
             "catmark_cubes_infsharp".into(),
             osd("catmark_cubes_infsharp"),
