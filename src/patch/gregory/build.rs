@@ -160,9 +160,25 @@ pub fn check_face(topo: &Topology, f: u32) -> Result<(), NotGregory> {
     fv.iter().try_for_each(|&v| check_vertex(topo, v, f))
 }
 
+/// The split one-ring of vertex `v` (paper Fig. 5) in the topology's ring order, from positions.
+pub fn vertex_ring(topo: &Topology, positions: &[DVec3], v: u32) -> VertexRing<DVec3> {
+    vertex_ring_with(topo, v, &|i: u32| positions[i as usize])
+}
+
+/// Whether the interior construction (§3) applies to vertex `v`: interior, no sharpness on it
+/// or its edges. [`check_vertex`] tells whether any construction (§3 or §4.6) applies.
+pub fn is_supported_vertex(topo: &Topology, v: u32) -> bool {
+    !topo.is_boundary_vertex(v)
+        && topo.vertex_sharpness(v) == 0.0
+        && topo
+            .vertex_edges(v)
+            .iter()
+            .all(|&e| topo.edge_sharpness(e) == 0.0)
+}
+
 /// The split one-ring of vertex `v` (paper Fig. 5) in the topology's ring order, with `point(i)`
 /// the "position" of control vertex `i` (a [`DVec3`] or a unit [`Weights`] vector).
-pub fn vertex_ring<P: GregoryPoint>(
+pub fn vertex_ring_with<P: GregoryPoint>(
     topo: &Topology,
     v: u32,
     point: &impl Fn(u32) -> P,
@@ -212,7 +228,7 @@ pub fn gregory_vertex<P: GregoryPoint>(
     if faces.is_empty() || faces.iter().all(|&f| check_vertex(topo, v, f).is_err()) {
         return None;
     }
-    GregoryVertex::new(&vertex_ring(topo, v, point))
+    GregoryVertex::new(&vertex_ring_with(topo, v, point))
 }
 
 /// Per-vertex Gregory data for every vertex (`None` where the construction does not apply).
@@ -283,7 +299,7 @@ fn local_patch<P: GregoryPoint>(
     let fv = topo.face_vertices(f);
     let mut data: Vec<Option<GregoryVertex<P>>> = Vec::with_capacity(fv.len());
     for &v in fv {
-        data.push(GregoryVertex::new(&vertex_ring(topo, v, point)));
+        data.push(GregoryVertex::new(&vertex_ring_with(topo, v, point)));
     }
     assemble_face(topo, f, |k, _| data[k].as_ref())
 }

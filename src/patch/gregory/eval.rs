@@ -2,7 +2,7 @@
 //! through the Bézier form with blended face points (Loop et al. 2009, §3.1 and §4.4).
 
 use super::point::GregoryPoint;
-use super::vertex::{face_point, GregoryVertex};
+use super::vertex::{face_point_cos, GregoryVertex};
 use crate::patch::basis::{bernstein, bernstein_deriv, eval_tensor};
 use glam::DVec3;
 
@@ -99,7 +99,7 @@ fn assemble<P: GregoryPoint, const N: usize>(
     let f_plus = std::array::from_fn(|i| {
         let next = (i + 1) % N;
         let c = &corners[i];
-        face_point(
+        face_point_cos(
             d,
             cos[i],
             cos[next],
@@ -112,7 +112,7 @@ fn assemble<P: GregoryPoint, const N: usize>(
     let f_minus = std::array::from_fn(|i| {
         let prev = (i + N - 1) % N;
         let c = &corners[i];
-        face_point(
+        face_point_cos(
             d,
             cos[i],
             cos[prev],

@@ -31,11 +31,12 @@ mod vertex;
 
 pub use build::{
     check_face, check_vertex, gregory_patch, gregory_patch_at, gregory_patch_weights,
-    gregory_vertex, gregory_vertices, vertex_ring, GregoryPatch, NotGregory,
+    gregory_vertex, gregory_vertices, is_supported_vertex, vertex_ring, vertex_ring_with,
+    GregoryPatch, NotGregory,
 };
 pub use eval::{CornerRef, GregoryQuad, GregoryTriangle, PatchPoint};
 pub use point::{combine, GregoryPoint, Weights};
 pub use vertex::{
-    crease_tangent_weights, face_point, sectors, subdominant_eigenvalue, GregoryVertex, Sector,
-    VertexKind, VertexRing,
+    crease_tangent_weights, face_point, face_point_cos, sectors, subdominant_eigenvalue,
+    GregoryVertex, Sector, VertexKind, VertexRing,
 };

@@ -3,6 +3,7 @@
 //! generic over the point type so the same code yields positions and stencil weights.
 
 use super::point::{combine, GregoryPoint};
+use glam::DVec3;
 use std::f64::consts::PI;
 
 /// The split one-ring of a vertex (paper Fig. 5), in the crate's ring order: `m[i]` is the
@@ -10,7 +11,7 @@ use std::f64::consts::PI;
 /// lies between edges `i` and `(i + 1) % m.len()`, counter-clockwise seen from outside. A
 /// boundary vertex has one more edge than faces (edges 0 and last are the boundary edges).
 #[derive(Debug, Clone)]
-pub struct VertexRing<P> {
+pub struct VertexRing<P = DVec3> {
     /// The vertex itself.
     pub v: P,
     /// Edge midpoints, one per incident edge.
@@ -42,9 +43,11 @@ pub enum VertexKind {
 /// across edge `j + 1`, both pointing into face `j` (the paper's `r_i^+`, `r_i^-`), and
 /// `cosine[j]` is `c = cos(2π/n)` of condition (1) for the sector holding face `j`.
 #[derive(Debug, Clone)]
-pub struct GregoryVertex<P> {
+pub struct GregoryVertex<P = DVec3> {
     /// Treatment of the vertex.
     pub kind: VertexKind,
+    /// Number of incident faces (the valence of an interior vertex).
+    pub n: usize,
     /// Limit position (§3.2; §4.6 on creases and corners).
     pub p: P,
     /// Edge points, one per incident edge (§3.3; 2:1 on sharp edges, §4.6).
@@ -199,6 +202,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
             .collect();
         GregoryVertex {
             kind: VertexKind::Smooth,
+            n,
             p,
             e,
             r_plus: r,
@@ -311,6 +315,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
         }
         Some(GregoryVertex {
             kind,
+            n: nf,
             p,
             e,
             r_plus,
@@ -328,7 +333,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
 /// edge pointing into the patch, and `d` is 3 for quads and 4 for triangles. (The printed eq. 6
 /// shows `v` and `e_0^-` where the derivation from condition (3) gives `p_a` and the edge point
 /// at the far end; with `n = 4` both reduce to `e_ab + r/3`, the B-spline case.)
-pub fn face_point<P: GregoryPoint>(
+pub fn face_point_cos<P: GregoryPoint>(
     d: f64,
     c_a: f64,
     c_b: f64,
@@ -343,4 +348,19 @@ pub fn face_point<P: GregoryPoint>(
         (2.0 * c_a / d, e_ba),
         (1.0 / d, r),
     ])
+}
+
+/// [`face_point_cos`] for interior vertices of valences `n_a`, `n_b` (`c = cos(2π/n)`), on
+/// positions; bitwise equal to what the patch assembly computes for smooth corners.
+pub fn face_point(
+    d: f64,
+    n_a: usize,
+    n_b: usize,
+    p_a: DVec3,
+    e_ab: DVec3,
+    e_ba: DVec3,
+    r: DVec3,
+) -> DVec3 {
+    let c = |n: usize| (2.0 * PI / n as f64).cos();
+    face_point_cos(d, c(n_a), c(n_b), &p_a, &e_ab, &e_ba, &r)
 }
