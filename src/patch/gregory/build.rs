@@ -10,7 +10,7 @@ use glam::DVec3;
 use std::fmt;
 
 /// One Gregory patch, the shape following the face.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum GregoryPatch<P = DVec3> {
     /// A quad face.
     Quad(GregoryQuad<P>),

@@ -29,7 +29,7 @@ impl PatchPoint {
 
 /// The 20 control points of a quad Gregory patch (paper Fig. 4a), indexed by patch corner.
 /// Generic over the point type: positions, or stencil weights ([`super::Weights`]).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GregoryQuad<P = DVec3> {
     /// Corner points.
     pub p: [P; 4],
@@ -44,7 +44,7 @@ pub struct GregoryQuad<P = DVec3> {
 }
 
 /// The 15 control points of a triangular Gregory patch (paper Fig. 4b), indexed by corner.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GregoryTriangle<P = DVec3> {
     /// Corner points.
     pub p: [P; 3],
