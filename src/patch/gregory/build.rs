@@ -33,7 +33,11 @@ pub enum NotGregory {
     /// An infinitely sharp vertex with fewer than two sharp edges (a cone point).
     Cusp { face: u32, vertex: u32 },
     /// The face lies alone between two sharp edges of a crease vertex (crease sector of one
-    /// face, e.g. a valence-2 boundary vertex with `EdgeOnly` interpolation).
+    /// face, e.g. a valence-2 boundary vertex with `EdgeOnly` interpolation). The crease rule
+    /// gives the patch collinear edge tangents there (the exact tangent plane comes from a
+    /// second-order term of the subdivision matrix's Jordan block), so the patch normal at that
+    /// corner is undefined. (The paper's §4.6 sets `p = v` for any one-face vertex, which is the
+    /// `EdgeAndCorner` surface, not the `EdgeOnly` one.)
     OneFaceCreaseSector { face: u32, vertex: u32 },
     /// The face lies in a sector of more than two faces at a corner vertex: the exact surface
     /// there has no tangent plane spanned by the two sharp curves (its leading interior mode
