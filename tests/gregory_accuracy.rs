@@ -5,7 +5,10 @@ use tessera::mesh::{ControlMesh, ObjOptions};
 use tessera::patch::gregory::accuracy::{measure, AccuracyOptions};
 
 fn osd(name: &str) -> ControlMesh {
-    let path = format!("/work/shared/meshes/osd/{name}.obj");
+    let path = format!(
+        "{}/../shared/meshes/osd/{name}.obj",
+        env!("CARGO_MANIFEST_DIR")
+    );
     ControlMesh::from_obj_file(path, &ObjOptions::default()).unwrap()
 }
 

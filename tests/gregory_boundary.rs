@@ -14,7 +14,7 @@ use tessera::patch::RegularPatch;
 use tessera::subdiv::eval::LimitEvaluator;
 use tessera::topology::Topology;
 
-const OSD: &str = "/work/shared/meshes/osd";
+const OSD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd");
 
 /// Uniform cubic B-spline basis written out independently of the crate's basis module.
 fn bspline_basis(t: f64) -> [f64; 4] {

@@ -8,7 +8,7 @@ use tessera::patch::gregory::stencil::{gregory_stencil, NoStencil, StencilTable,
 use tessera::patch::gregory::{gregory_patch_at, GregoryPatch};
 use tessera::topology::Topology;
 
-const OSD: &str = "/work/shared/meshes/osd";
+const OSD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd");
 
 fn load(spec: &str) -> ControlMesh {
     if spec.starts_with("embedded:") {

@@ -200,7 +200,10 @@ fn load(spec: &str) -> ControlMesh {
     if spec.starts_with("embedded:") {
         tessera::assets::load_mesh(spec, &ObjOptions::default()).unwrap()
     } else {
-        let path = format!("/work/shared/meshes/osd/{spec}.obj");
+        let path = format!(
+            "{}/../shared/meshes/osd/{spec}.obj",
+            env!("CARGO_MANIFEST_DIR")
+        );
         ControlMesh::from_obj_file(path, &ObjOptions::default()).unwrap()
     }
 }
