@@ -13,7 +13,10 @@ use tessera::subdiv::{Level, StencilTable};
 use tessera::topology::Topology;
 use tessera::ControlMesh;
 
-const CAR: &str = "/work/shared/meshes/osd/catmark_car.obj";
+const CAR: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../shared/meshes/osd/catmark_car.obj"
+);
 
 fn car() -> ControlMesh {
     ControlMesh::from_obj_file(CAR, &ObjOptions::default()).expect("catmark_car loads")

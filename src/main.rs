@@ -19,12 +19,15 @@ enum Command {
     /// Evaluate the exact Catmull-Clark limit surface on a grid per face.
     Limit(cli::limit::LimitArgs),
     /// Render a mesh offscreen through the Vulkan tessellation pipeline to a PNG. Regular faces
-    /// are GPU B-spline patches; other faces are drawn, for now, from the CPU limit reference.
+    /// are GPU B-spline patches, irregular triangles/quads GPU Gregory patches (--scheme); other
+    /// faces are drawn from the CPU limit reference.
     Render(cli::render::RenderArgs),
     /// Capture every TES invocation (face, u, v, position, normal) of the GPU pipeline.
     Sample(cli::sample::SampleArgs),
     /// Median GPU time per frame at several tessellation levels.
     Bench(cli::bench::BenchArgs),
+    /// Accuracy of a patch scheme against the exact limit surface.
+    Error(cli::error::ErrorArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -35,6 +38,7 @@ fn main() -> std::process::ExitCode {
         Command::Render(args) => cli::render::run(args),
         Command::Sample(args) => cli::sample::run(args),
         Command::Bench(args) => cli::bench::run(args),
+        Command::Error(args) => cli::error::run(args),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -72,7 +72,10 @@ fn bumpy(i: usize, j: usize) -> f64 {
 }
 
 fn osd(name: &str) -> ControlMesh {
-    let path = format!("/work/shared/meshes/osd/{name}.obj");
+    let path = format!(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/{}.obj"),
+        name
+    );
     ControlMesh::from_obj_file(&path, &ObjOptions::default()).expect("mesh loads")
 }
 
@@ -588,7 +591,7 @@ fn semi_sharp_and_corner_tags_converge() {
 
 #[test]
 fn every_osd_mesh_evaluates() {
-    let dir = std::path::Path::new("/work/shared/meshes/osd");
+    let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd"));
     let mut names: Vec<_> = std::fs::read_dir(dir)
         .unwrap()
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -855,7 +858,10 @@ fn command_line_writes_one_line_per_sample() {
     let status = std::process::Command::new(bin)
         .args([
             "limit",
-            "/work/shared/meshes/osd/catmark_nonquads.obj",
+            concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/../shared/meshes/osd/catmark_nonquads.obj"
+            ),
             "--grid",
             "3",
             "--out",
@@ -910,7 +916,10 @@ fn command_line_writes_one_line_per_sample() {
     let output = std::process::Command::new(bin)
         .args([
             "limit",
-            "/work/shared/meshes/osd/catmark_hole_test1.obj",
+            concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/../shared/meshes/osd/catmark_hole_test1.obj"
+            ),
             "--grid",
             "1",
         ])
@@ -922,7 +931,13 @@ fn command_line_writes_one_line_per_sample() {
     assert_eq!(text.lines().count(), 5 * 4);
     // Bad input: a non-zero exit with the typed error.
     let output = std::process::Command::new(bin)
-        .args(["limit", "/work/shared/meshes/osd/catmark_fan.obj"])
+        .args([
+            "limit",
+            concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/../shared/meshes/osd/catmark_fan.obj"
+            ),
+        ])
         .output()
         .unwrap();
     assert!(!output.status.success());

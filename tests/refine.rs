@@ -139,7 +139,11 @@ fn check_rings(t: &Topology) {
 
 #[test]
 fn cube_refines_with_consistent_counts() {
-    let text = std::fs::read_to_string("/work/shared/meshes/osd/catmark_cube.obj").unwrap();
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../shared/meshes/osd/catmark_cube.obj"
+    ))
+    .unwrap();
     let mesh = ControlMesh::from_obj_str(&text, "cube", &ObjOptions::default()).unwrap();
     let mut level = Level::from_mesh(&mesh).unwrap();
     for _ in 0..3 {
@@ -184,12 +188,13 @@ const NON_MANIFOLD: &[&str] = &[
 
 fn osd_meshes() -> Vec<(String, ControlMesh)> {
     let mut out = Vec::new();
-    let mut names: Vec<_> = std::fs::read_dir("/work/shared/meshes/osd")
-        .unwrap()
-        .filter_map(|e| e.ok())
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|x| x == "obj"))
-        .collect();
+    let mut names: Vec<_> =
+        std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd"))
+            .unwrap()
+            .filter_map(|e| e.ok())
+            .map(|e| e.path())
+            .filter(|p| p.extension().is_some_and(|x| x == "obj"))
+            .collect();
     names.sort();
     for path in names {
         let name = path.file_stem().unwrap().to_string_lossy().to_string();
@@ -249,7 +254,10 @@ fn closed_osd_meshes_have_the_euler_characteristic_of_their_genus() {
         ("catmark_pyramid", 2),
         ("catmark_torus", 0),
     ] {
-        let path = format!("/work/shared/meshes/osd/{name}.obj");
+        let path = format!(
+            concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/{}.obj"),
+            name
+        );
         let mesh = ControlMesh::from_obj_file(&path, &ObjOptions::default()).unwrap();
         let t = Topology::new(&mesh).unwrap();
         assert!((0..t.edge_count() as u32).all(|e| !t.is_boundary_edge(e)));
@@ -564,7 +572,10 @@ fn check_extraction(mesh: &ControlMesh, seed: u32, rings: usize) -> usize {
 
 #[test]
 fn extraction_refines_like_the_whole_mesh_where_complete() {
-    let path = "/work/shared/meshes/osd/catmark_chaikin1.obj";
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../shared/meshes/osd/catmark_chaikin1.obj"
+    );
     let mesh = ControlMesh::from_obj_file(path, &ObjOptions::default()).unwrap();
     let checked = check_extraction(&mesh, 3, 2);
     assert!(checked > 100, "only {checked} complete vertices");
@@ -599,7 +610,10 @@ fn stencil_tables_match_direct_refinement() {
         "catmark_cubes_semisharp",
         "catmark_hole_test3",
     ] {
-        let path = format!("/work/shared/meshes/osd/{name}.obj");
+        let path = format!(
+            concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/{}.obj"),
+            name
+        );
         let mesh = ControlMesh::from_obj_file(&path, &ObjOptions::default()).unwrap();
         let mut level = Level::from_mesh(&mesh).unwrap();
         let mut pos = mesh.positions().to_vec();
@@ -624,7 +638,10 @@ fn stencil_tables_match_direct_refinement() {
 
 #[test]
 fn refined_level_round_trips_through_a_control_mesh() {
-    let path = "/work/shared/meshes/osd/catmark_car.obj";
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../shared/meshes/osd/catmark_car.obj"
+    );
     let mesh = ControlMesh::from_obj_file(path, &ObjOptions::default()).unwrap();
     let level = Level::from_mesh(&mesh).unwrap();
     let (child, m) = level.refine();
@@ -752,7 +769,10 @@ fn dart_ends_use_the_smooth_vertex_rule() {
 #[test]
 fn stencil_tables_take_appended_rows() {
     use tessera::subdiv::{SparseMatrix, StencilTable};
-    let path = "/work/shared/meshes/osd/catmark_nonquads.obj";
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../shared/meshes/osd/catmark_nonquads.obj"
+    );
     let mesh = ControlMesh::from_obj_file(path, &ObjOptions::default()).unwrap();
     let mut table = StencilTable::refined(&mesh, 1).unwrap();
     let n = table.len();

@@ -3,6 +3,7 @@
 pub mod animate;
 pub mod bench;
 pub mod bench_gregory;
+pub mod error;
 pub mod info;
 pub mod limit;
 pub mod render;

@@ -1,46 +1,176 @@
-//! Gregory patches from a mesh's topology (paper §3, one patch per face).
+//! Gregory patches from a mesh's topology (paper §3, one patch per face; §4.6 boundaries and
+//! infinitely sharp creases), and which faces the construction covers.
 
 use super::eval::{CornerRef, GregoryQuad, GregoryTriangle};
-use super::vertex::{GregoryVertex, VertexRing};
+use super::point::{GregoryPoint, Weights};
+use super::vertex::{sectors, GregoryVertex, Sector, VertexRing};
+use crate::mesh::INFINITE_SHARPNESS;
 use crate::topology::Topology;
-use crate::{Error, Result};
 use glam::DVec3;
+use std::fmt;
 
 /// One Gregory patch, the shape following the face.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum GregoryPatch {
+pub enum GregoryPatch<P = DVec3> {
     /// A quad face.
-    Quad(GregoryQuad),
+    Quad(GregoryQuad<P>),
     /// A triangle.
-    Triangle(GregoryTriangle),
+    Triangle(GregoryTriangle<P>),
 }
 
-/// Centroid of face `f`.
-fn centroid(topo: &Topology, positions: &[DVec3], f: u32) -> DVec3 {
-    let fv = topo.face_vertices(f);
-    fv.iter().map(|&v| positions[v as usize]).sum::<DVec3>() / fv.len() as f64
+/// Why a face gets no Gregory patch (the renderer keeps its exact CPU path for it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NotGregory {
+    /// A hole, or a face without limit surface.
+    NoSurface { face: u32 },
+    /// Neither a triangle nor a quad.
+    Polygon { face: u32, size: usize },
+    /// A corner vertex touches a semi-sharp edge or has finite non-zero sharpness (not covered
+    /// by the paper).
+    SemiSharp { face: u32, vertex: u32 },
+    /// A corner vertex has exactly one infinitely sharp edge (a dart; not covered by the paper).
+    Dart { face: u32, vertex: u32 },
+    /// An infinitely sharp vertex with fewer than two sharp edges (a cone point).
+    Cusp { face: u32, vertex: u32 },
+    /// The face lies alone between two sharp edges of a crease vertex (crease sector of one
+    /// face, e.g. a valence-2 boundary vertex with `EdgeOnly` interpolation). The crease rule
+    /// gives the patch collinear edge tangents there (the exact tangent plane comes from a
+    /// second-order term of the subdivision matrix's Jordan block), so the patch normal at that
+    /// corner is undefined. (The paper's §4.6 sets `p = v` for any one-face vertex, which is the
+    /// `EdgeAndCorner` surface, not the `EdgeOnly` one.)
+    OneFaceCreaseSector { face: u32, vertex: u32 },
+    /// The face lies in a sector of more than two faces at a corner vertex: the exact surface
+    /// there has no tangent plane spanned by the two sharp curves (its leading interior mode
+    /// dominates), which the corner construction of §4.6 assumes.
+    WideCornerSector { face: u32, vertex: u32 },
 }
 
-/// The split one-ring of vertex `v` (paper Fig. 5) in the topology's ring order.
-pub fn vertex_ring(topo: &Topology, positions: &[DVec3], v: u32) -> VertexRing {
-    let pv = positions[v as usize];
-    VertexRing {
-        v: pv,
-        m: topo
-            .vertex_edges(v)
-            .iter()
-            .map(|&e| 0.5 * (pv + positions[topo.other_vertex(e, v) as usize]))
-            .collect(),
-        c: topo
-            .vertex_faces(v)
-            .iter()
-            .map(|&f| centroid(topo, positions, f))
-            .collect(),
+impl fmt::Display for NotGregory {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            NotGregory::NoSurface { face } => write!(f, "face {face}: hole or no limit surface"),
+            NotGregory::Polygon { face, size } => write!(
+                f,
+                "face {face} has {size} vertices: Gregory patches exist for triangles and quads only"
+            ),
+            NotGregory::SemiSharp { face, vertex } => write!(
+                f,
+                "face {face}: vertex {vertex} has semi-sharp tags, not covered by the Gregory construction"
+            ),
+            NotGregory::Dart { face, vertex } => write!(
+                f,
+                "face {face}: vertex {vertex} is a dart (one sharp edge), not covered by the Gregory construction"
+            ),
+            NotGregory::Cusp { face, vertex } => write!(
+                f,
+                "face {face}: vertex {vertex} is a sharp vertex with fewer than two sharp edges"
+            ),
+            NotGregory::WideCornerSector { face, vertex } => write!(
+                f,
+                "face {face}: in a corner sector of more than two faces at vertex {vertex}, not covered by the Gregory construction"
+            ),
+            NotGregory::OneFaceCreaseSector { face, vertex } => write!(
+                f,
+                "face {face}: alone in a crease sector of vertex {vertex}, not covered by the Gregory construction"
+            ),
+        }
     }
 }
 
-/// Whether the Gregory construction of this crate covers vertex `v`: interior, no sharpness on
-/// it or its edges.
+impl std::error::Error for NotGregory {}
+
+fn is_inf(s: f32) -> bool {
+    s >= INFINITE_SHARPNESS
+}
+
+/// Per incident edge of `v`: infinitely sharp (boundary edges are, after the boundary rule).
+fn sharp_edges(topo: &Topology, v: u32) -> Vec<bool> {
+    topo.vertex_edges(v)
+        .iter()
+        .map(|&e| is_inf(topo.edge_sharpness(e)))
+        .collect()
+}
+
+/// Whether the construction covers vertex `v` as a corner of face `f` (`Ok`) or why not.
+pub fn check_vertex(topo: &Topology, v: u32, f: u32) -> Result<(), NotGregory> {
+    let vs = topo.vertex_sharpness(v);
+    let semi = |s: f32| s > 0.0 && !is_inf(s);
+    if semi(vs)
+        || topo
+            .vertex_edges(v)
+            .iter()
+            .any(|&e| semi(topo.edge_sharpness(e)))
+    {
+        return Err(NotGregory::SemiSharp { face: f, vertex: v });
+    }
+    let sharp = sharp_edges(topo, v);
+    let count = sharp.iter().filter(|&&s| s).count();
+    let corner = is_inf(vs) || count > 2;
+    if corner && count < 2 {
+        return Err(NotGregory::Cusp { face: f, vertex: v });
+    }
+    if count == 1 {
+        return Err(NotGregory::Dart { face: f, vertex: v });
+    }
+    if corner
+        && sectors(&sharp, topo.vertex_faces(v).len())
+            .iter()
+            .any(|s| s.faces > 2 && in_sector(s, j_of(topo, v, f), sharp.len()))
+    {
+        return Err(NotGregory::WideCornerSector { face: f, vertex: v });
+    }
+    if count == 2 && !corner {
+        let j = topo
+            .vertex_faces(v)
+            .iter()
+            .position(|&g| g == f)
+            .unwrap_or(0);
+        let nf = topo.vertex_faces(v).len();
+        if sectors(&sharp, nf)
+            .iter()
+            .any(|s| s.faces == 1 && s.start == j)
+        {
+            return Err(NotGregory::OneFaceCreaseSector { face: f, vertex: v });
+        }
+    }
+    Ok(())
+}
+
+/// Index of face `f` in the ring of `v` (0 if absent).
+fn j_of(topo: &Topology, v: u32, f: u32) -> usize {
+    topo.vertex_faces(v)
+        .iter()
+        .position(|&g| g == f)
+        .unwrap_or(0)
+}
+
+/// Whether ring face `j` lies in sector `s` of a ring with `ne` edges.
+fn in_sector(s: &Sector, j: usize, ne: usize) -> bool {
+    (j + ne - s.start) % ne < s.faces
+}
+
+/// Whether face `f` gets a Gregory patch (`Ok`) or why not.
+pub fn check_face(topo: &Topology, f: u32) -> Result<(), NotGregory> {
+    if !topo.has_limit_surface(f) {
+        return Err(NotGregory::NoSurface { face: f });
+    }
+    let fv = topo.face_vertices(f);
+    if fv.len() != 3 && fv.len() != 4 {
+        return Err(NotGregory::Polygon {
+            face: f,
+            size: fv.len(),
+        });
+    }
+    fv.iter().try_for_each(|&v| check_vertex(topo, v, f))
+}
+
+/// The split one-ring of vertex `v` (paper Fig. 5) in the topology's ring order, from positions.
+pub fn vertex_ring(topo: &Topology, positions: &[DVec3], v: u32) -> VertexRing<DVec3> {
+    vertex_ring_with(topo, v, &|i: u32| positions[i as usize])
+}
+
+/// Whether the interior construction (§3) applies to vertex `v`: interior, no sharpness on it
+/// or its edges. [`check_vertex`] tells whether any construction (§3 or §4.6) applies.
 pub fn is_supported_vertex(topo: &Topology, v: u32) -> bool {
     !topo.is_boundary_vertex(v)
         && topo.vertex_sharpness(v) == 0.0
@@ -50,48 +180,141 @@ pub fn is_supported_vertex(topo: &Topology, v: u32) -> bool {
             .all(|&e| topo.edge_sharpness(e) == 0.0)
 }
 
-/// Per-vertex Gregory data for every vertex (`None` where [`is_supported_vertex`] is false).
-pub fn gregory_vertices(topo: &Topology, positions: &[DVec3]) -> Vec<Option<GregoryVertex>> {
-    (0..topo.vertex_count() as u32)
-        .map(|v| {
-            is_supported_vertex(topo, v)
-                .then(|| GregoryVertex::interior(&vertex_ring(topo, positions, v)))
+/// The split one-ring of vertex `v` (paper Fig. 5) in the topology's ring order, with `point(i)`
+/// the "position" of control vertex `i` (a [`DVec3`] or a unit [`Weights`] vector).
+pub fn vertex_ring_with<P: GregoryPoint>(
+    topo: &Topology,
+    v: u32,
+    point: &impl Fn(u32) -> P,
+) -> VertexRing<P> {
+    let pv = point(v);
+    let m = topo
+        .vertex_edges(v)
+        .iter()
+        .map(|&e| {
+            let mut x = pv.clone();
+            x.add_scaled(1.0, &point(topo.other_vertex(e, v)));
+            let mut h = P::zero();
+            h.add_scaled(0.5, &x);
+            h
         })
+        .collect();
+    let c = topo
+        .vertex_faces(v)
+        .iter()
+        .map(|&f| {
+            let fv = topo.face_vertices(f);
+            let mut x = P::zero();
+            for &u in fv {
+                x.add_scaled(1.0 / fv.len() as f64, &point(u));
+            }
+            x
+        })
+        .collect();
+    let sharp = sharp_edges(topo, v);
+    let count = sharp.iter().filter(|&&s| s).count();
+    VertexRing {
+        v: pv,
+        m,
+        c,
+        sharp,
+        corner: is_inf(topo.vertex_sharpness(v)) || count > 2,
+    }
+}
+
+/// Per-vertex Gregory data of vertex `v`, or `None` where no supported face could use it.
+pub fn gregory_vertex<P: GregoryPoint>(
+    topo: &Topology,
+    v: u32,
+    point: &impl Fn(u32) -> P,
+) -> Option<GregoryVertex<P>> {
+    let faces = topo.vertex_faces(v);
+    if faces.is_empty() || faces.iter().all(|&f| check_vertex(topo, v, f).is_err()) {
+        return None;
+    }
+    GregoryVertex::new(&vertex_ring_with(topo, v, point))
+}
+
+/// Per-vertex Gregory data for every vertex (`None` where the construction does not apply).
+pub fn gregory_vertices(topo: &Topology, positions: &[DVec3]) -> Vec<Option<GregoryVertex<DVec3>>> {
+    let point = |i: u32| positions[i as usize];
+    (0..topo.vertex_count() as u32)
+        .map(|v| gregory_vertex(topo, v, &point))
         .collect()
 }
 
-/// The Gregory patch of face `f`, from per-vertex data made by [`gregory_vertices`].
-///
-/// Errors name the face when it is not a triangle or quad or touches an unsupported vertex.
-pub fn gregory_patch(
+/// The Gregory patch of face `f`, from per-vertex data made by [`gregory_vertices`] (or any
+/// point type). Errors name the face and the reason when the face gets no Gregory patch.
+pub fn gregory_patch<P: GregoryPoint>(
     topo: &Topology,
-    vertices: &[Option<GregoryVertex>],
+    vertices: &[Option<GregoryVertex<P>>],
     f: u32,
-) -> Result<GregoryPatch> {
+) -> Result<GregoryPatch<P>, NotGregory> {
+    check_face(topo, f)?;
+    assemble_face(topo, f, |_, v| vertices[v as usize].as_ref())
+}
+
+/// Builds the patch of a checked face from its corners' data (`get(k, v)` for corner `k`).
+fn assemble_face<'a, P: GregoryPoint + 'a>(
+    topo: &Topology,
+    f: u32,
+    get: impl Fn(usize, u32) -> Option<&'a GregoryVertex<P>>,
+) -> Result<GregoryPatch<P>, NotGregory> {
     let fv = topo.face_vertices(f);
     let mut refs = Vec::with_capacity(fv.len());
-    for &v in fv {
-        let vertex = vertices[v as usize].as_ref().ok_or_else(|| {
-            Error::Invalid(format!(
-                "face {f}: vertex {v} is on a boundary or crease, which the Gregory construction does not cover yet"
-            ))
-        })?;
+    for (k, &v) in fv.iter().enumerate() {
+        // The face passed check_face, so its corners have data; stay total anyway.
+        let vertex = get(k, v).ok_or(NotGregory::Cusp { face: f, vertex: v })?;
         let j = topo
             .vertex_faces(v)
             .iter()
             .position(|&g| g == f)
-            .ok_or_else(|| Error::Invalid(format!("face {f}: not in the ring of vertex {v}")))?;
+            .ok_or(NotGregory::NoSurface { face: f })?;
         refs.push(CornerRef { vertex, j });
     }
-    match refs.len() {
-        3 => Ok(GregoryPatch::Triangle(GregoryTriangle::new(&[
-            refs[0], refs[1], refs[2],
-        ]))),
-        4 => Ok(GregoryPatch::Quad(GregoryQuad::new(&[
-            refs[0], refs[1], refs[2], refs[3],
-        ]))),
-        n => Err(Error::Invalid(format!(
-            "face {f} has {n} vertices: Gregory patches exist for triangles and quads only"
-        ))),
+    Ok(match refs.len() {
+        3 => GregoryPatch::Triangle(GregoryTriangle::new(&[refs[0], refs[1], refs[2]])),
+        _ => GregoryPatch::Quad(GregoryQuad::new(&[refs[0], refs[1], refs[2], refs[3]])),
+    })
+}
+
+/// The Gregory patch of face `f` built directly from positions (only the face's corners are
+/// processed).
+pub fn gregory_patch_at(
+    topo: &Topology,
+    positions: &[DVec3],
+    f: u32,
+) -> Result<GregoryPatch<DVec3>, NotGregory> {
+    let point = |i: u32| positions[i as usize];
+    local_patch(topo, f, &point)
+}
+
+/// The Gregory patch of face `f` with every control point as weights over control vertices.
+pub fn gregory_patch_weights(topo: &Topology, f: u32) -> Result<GregoryPatch<Weights>, NotGregory> {
+    local_patch(topo, f, &Weights::unit)
+}
+
+fn local_patch<P: GregoryPoint>(
+    topo: &Topology,
+    f: u32,
+    point: &impl Fn(u32) -> P,
+) -> Result<GregoryPatch<P>, NotGregory> {
+    check_face(topo, f)?;
+    let fv = topo.face_vertices(f);
+    let mut data: Vec<Option<GregoryVertex<P>>> = Vec::with_capacity(fv.len());
+    for &v in fv {
+        data.push(GregoryVertex::new(&vertex_ring_with(topo, v, point)));
+    }
+    assemble_face(topo, f, |k, _| data[k].as_ref())
+}
+
+impl GregoryPatch<DVec3> {
+    /// Position and approximate derivatives (§4.4): quads at the face's `(u, v)`, triangles at
+    /// barycentric `(1 - u - v, u, v)` of corners 0, 1, 2.
+    pub fn eval(&self, u: f64, v: f64) -> super::PatchPoint {
+        match self {
+            GregoryPatch::Quad(q) => q.eval(u, v),
+            GregoryPatch::Triangle(t) => t.eval(u, v),
+        }
     }
 }

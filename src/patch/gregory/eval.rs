@@ -1,7 +1,8 @@
 //! Gregory patch control points, assembly from per-vertex data, and CPU reference evaluation
 //! through the Bézier form with blended face points (Loop et al. 2009, §3.1 and §4.4).
 
-use super::vertex::{face_point, GregoryVertex};
+use super::point::GregoryPoint;
+use super::vertex::{face_point_cos, GregoryVertex};
 use crate::patch::basis::{bernstein, bernstein_deriv, eval_tensor};
 use glam::DVec3;
 
@@ -27,68 +28,100 @@ impl PatchPoint {
 }
 
 /// The 20 control points of a quad Gregory patch (paper Fig. 4a), indexed by patch corner.
+/// Generic over the point type: positions, or stencil weights ([`super::Weights`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct GregoryQuad {
+pub struct GregoryQuad<P = DVec3> {
     /// Corner points.
-    pub p: [DVec3; 4],
+    pub p: [P; 4],
     /// Edge point at corner `i` towards corner `i + 1`.
-    pub e_plus: [DVec3; 4],
+    pub e_plus: [P; 4],
     /// Edge point at corner `i` towards corner `i - 1`.
-    pub e_minus: [DVec3; 4],
+    pub e_minus: [P; 4],
     /// Face point at corner `i` next to the edge `i -> i + 1`.
-    pub f_plus: [DVec3; 4],
+    pub f_plus: [P; 4],
     /// Face point at corner `i` next to the edge `i -> i - 1`.
-    pub f_minus: [DVec3; 4],
+    pub f_minus: [P; 4],
 }
 
 /// The 15 control points of a triangular Gregory patch (paper Fig. 4b), indexed by corner.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct GregoryTriangle {
+pub struct GregoryTriangle<P = DVec3> {
     /// Corner points.
-    pub p: [DVec3; 3],
+    pub p: [P; 3],
     /// Edge point at corner `i` towards corner `i + 1`.
-    pub e_plus: [DVec3; 3],
+    pub e_plus: [P; 3],
     /// Edge point at corner `i` towards corner `i - 1`.
-    pub e_minus: [DVec3; 3],
+    pub e_minus: [P; 3],
     /// Face point at corner `i` next to the edge `i -> i + 1`.
-    pub f_plus: [DVec3; 3],
+    pub f_plus: [P; 3],
     /// Face point at corner `i` next to the edge `i -> i - 1`.
-    pub f_minus: [DVec3; 3],
+    pub f_minus: [P; 3],
 }
 
 /// One patch corner: the vertex data and the position of the patch's face in that vertex's
 /// ring (the face lies between ring edges `j` (towards the next corner) and `j + 1` (towards
 /// the previous corner)).
-#[derive(Debug, Clone, Copy)]
-pub struct CornerRef<'a> {
+#[derive(Debug)]
+pub struct CornerRef<'a, P = DVec3> {
     /// Per-vertex data of the corner's vertex.
-    pub vertex: &'a GregoryVertex,
+    pub vertex: &'a GregoryVertex<P>,
     /// Index of the patch's face in the vertex's ring.
     pub j: usize,
 }
 
+impl<P> Clone for CornerRef<'_, P> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<P> Copy for CornerRef<'_, P> {}
+
+/// The five control-point arrays of a patch with `N` corners.
+type Parts<P, const N: usize> = ([P; N], [P; N], [P; N], [P; N], [P; N]);
+
 /// Corner, edge and face points for a patch with `N` corners; `d` is 3 for quads, 4 for
 /// triangles (§3.4).
-#[allow(clippy::type_complexity)]
-fn assemble<const N: usize>(
-    corners: &[CornerRef<'_>; N],
+fn assemble<P: GregoryPoint, const N: usize>(
+    corners: &[CornerRef<'_, P>; N],
     d: f64,
-) -> ([DVec3; N], [DVec3; N], [DVec3; N], [DVec3; N], [DVec3; N]) {
-    let p = corners.map(|c| c.vertex.p);
-    let e_plus = corners.map(|c| c.vertex.e[c.j]);
-    let e_minus = corners.map(|c| c.vertex.e[(c.j + 1) % c.vertex.n]);
-    let r_plus = corners.map(|c| c.vertex.r[c.j]);
-    // r_{j+1} points from the patch's face into the next face: negate to point inwards.
-    let r_minus = corners.map(|c| -c.vertex.r[(c.j + 1) % c.vertex.n]);
-    let n = corners.map(|c| c.vertex.n);
-    let mut f_plus = [DVec3::ZERO; N];
-    let mut f_minus = [DVec3::ZERO; N];
-    for i in 0..N {
+) -> Parts<P, N> {
+    let p: [P; N] = std::array::from_fn(|i| corners[i].vertex.p.clone());
+    let e_plus: [P; N] = std::array::from_fn(|i| {
+        let c = &corners[i];
+        c.vertex.e[c.j].clone()
+    });
+    let e_minus: [P; N] = std::array::from_fn(|i| {
+        let c = &corners[i];
+        c.vertex.e[(c.j + 1) % c.vertex.e.len()].clone()
+    });
+    let cos: [f64; N] = std::array::from_fn(|i| corners[i].vertex.cosine[corners[i].j]);
+    let f_plus = std::array::from_fn(|i| {
         let next = (i + 1) % N;
+        let c = &corners[i];
+        face_point_cos(
+            d,
+            cos[i],
+            cos[next],
+            &p[i],
+            &e_plus[i],
+            &e_minus[next],
+            &c.vertex.r_plus[c.j],
+        )
+    });
+    let f_minus = std::array::from_fn(|i| {
         let prev = (i + N - 1) % N;
-        f_plus[i] = face_point(d, n[i], n[next], p[i], e_plus[i], e_minus[next], r_plus[i]);
-        f_minus[i] = face_point(d, n[i], n[prev], p[i], e_minus[i], e_plus[prev], r_minus[i]);
-    }
+        let c = &corners[i];
+        face_point_cos(
+            d,
+            cos[i],
+            cos[prev],
+            &p[i],
+            &e_minus[i],
+            &e_plus[prev],
+            &c.vertex.r_minus[c.j],
+        )
+    });
     (p, e_plus, e_minus, f_plus, f_minus)
 }
 
@@ -102,9 +135,9 @@ fn blend(a: f64, x: DVec3, b: f64, y: DVec3) -> DVec3 {
     }
 }
 
-impl GregoryQuad {
+impl<P: GregoryPoint> GregoryQuad<P> {
     /// Builds the patch of a quad face from its four corners (in face order).
-    pub fn new(corners: &[CornerRef<'_>; 4]) -> GregoryQuad {
+    pub fn new(corners: &[CornerRef<'_, P>; 4]) -> GregoryQuad<P> {
         let (p, e_plus, e_minus, f_plus, f_minus) = assemble(corners, 3.0);
         GregoryQuad {
             p,
@@ -114,7 +147,9 @@ impl GregoryQuad {
             f_minus,
         }
     }
+}
 
+impl GregoryQuad {
     /// The bicubic Bézier control net at `(u, v)`, `b[4*j + i]` with `i` along u: the paper's
     /// matrix `G` (§3.1) with `F_i` blended from the face points.
     pub fn bezier_at(&self, u: f64, v: f64) -> [DVec3; 16] {
@@ -159,9 +194,9 @@ impl GregoryQuad {
     }
 }
 
-impl GregoryTriangle {
+impl<P: GregoryPoint> GregoryTriangle<P> {
     /// Builds the patch of a triangle from its three corners (in face order).
-    pub fn new(corners: &[CornerRef<'_>; 3]) -> GregoryTriangle {
+    pub fn new(corners: &[CornerRef<'_, P>; 3]) -> GregoryTriangle<P> {
         let (p, e_plus, e_minus, f_plus, f_minus) = assemble(corners, 4.0);
         GregoryTriangle {
             p,
@@ -171,7 +206,9 @@ impl GregoryTriangle {
             f_minus,
         }
     }
+}
 
+impl GregoryTriangle {
     /// Position and (approximate) derivatives at the point with barycentric weights
     /// `(1 - s - t, s, t)` of corners 0, 1, 2: `du = dT/ds`, `dv = dT/dt`, so that
     /// `du x dv` points outwards for a counter-clockwise face.

@@ -9,13 +9,34 @@
 //! - face points `f_plus[i]` (next to the edge `i -> i + 1`) and `f_minus[i]` (next to the edge
 //!   `i -> i - 1`), chosen for tangent-plane continuity across edges (eq. 6).
 //!
+//! Boundaries and infinitely sharp creases follow §4.6 ([`GregoryVertex::sectored`]). Faces
+//! touching darts, semi-sharp tags, cone points or one-face crease sectors, polygons with more
+//! than four sides and holes get no patch ([`NotGregory`]); the renderer keeps its exact CPU
+//! path for them.
+//!
+//! The construction is generic over [`GregoryPoint`]: run on positions it gives the patch, run on
+//! unit weight vectors ([`Weights`]) it gives the stencil form of §4.3.
+//!
 //! Corner `i` of a patch is corner `i` of its face; a quad patch uses the face's (u, v)
-//! (corners at (0,0), (1,0), (1,1), (0,1)).
+//! (corners at (0,0), (1,0), (1,1), (0,1)); a triangle patch uses barycentric
+//! `(1 - u - v, u, v)` of corners 0, 1, 2.
 
+pub mod accuracy;
 mod build;
 mod eval;
+mod point;
+pub mod stencil;
+pub mod table;
 mod vertex;
 
-pub use build::{gregory_patch, gregory_vertices, is_supported_vertex, vertex_ring, GregoryPatch};
+pub use build::{
+    check_face, check_vertex, gregory_patch, gregory_patch_at, gregory_patch_weights,
+    gregory_vertex, gregory_vertices, is_supported_vertex, vertex_ring, vertex_ring_with,
+    GregoryPatch, NotGregory,
+};
 pub use eval::{CornerRef, GregoryQuad, GregoryTriangle, PatchPoint};
-pub use vertex::{face_point, subdominant_eigenvalue, GregoryVertex, VertexRing};
+pub use point::{combine, GregoryPoint, Weights};
+pub use vertex::{
+    crease_tangent_weights, face_point, face_point_cos, sectors, subdominant_eigenvalue,
+    GregoryVertex, Sector, VertexKind, VertexRing,
+};

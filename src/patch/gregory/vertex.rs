@@ -1,36 +1,63 @@
 //! Per-vertex quantities of the Gregory construction: limit position, edge points and the
-//! transversal vectors `r` (Loop et al. 2009, §3.2-3.4, computed per vertex as in §4.1).
+//! transversal vectors `r` (Loop et al. 2009, §3.2-3.4 and §4.6, computed per vertex as in §4.1),
+//! generic over the point type so the same code yields positions and stencil weights.
 
+use super::point::{combine, GregoryPoint};
 use glam::DVec3;
 use std::f64::consts::PI;
 
 /// The split one-ring of a vertex (paper Fig. 5), in the crate's ring order: `m[i]` is the
 /// midpoint of the `i`-th incident edge, `c[i]` the centroid of the `i`-th incident face, which
-/// lies between edges `i` and `i + 1`, counter-clockwise seen from outside.
-#[derive(Debug, Clone, Default)]
-pub struct VertexRing {
+/// lies between edges `i` and `(i + 1) % m.len()`, counter-clockwise seen from outside. A
+/// boundary vertex has one more edge than faces (edges 0 and last are the boundary edges).
+#[derive(Debug, Clone)]
+pub struct VertexRing<P = DVec3> {
     /// The vertex itself.
-    pub v: DVec3,
+    pub v: P,
     /// Edge midpoints, one per incident edge.
-    pub m: Vec<DVec3>,
+    pub m: Vec<P>,
     /// Face centroids, one per incident face.
-    pub c: Vec<DVec3>,
+    pub c: Vec<P>,
+    /// Per incident edge: infinitely sharp (boundary edges included).
+    pub sharp: Vec<bool>,
+    /// The vertex follows the corner rule (infinitely sharp vertex or more than two sharp edges).
+    pub corner: bool,
 }
 
-/// Corner point, edge points and transversal vectors of one interior vertex.
+/// How the construction treats a vertex.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum VertexKind {
+    /// Interior, no sharp edge: §3.2-3.4.
+    Smooth,
+    /// Exactly two sharp edges (a boundary vertex, or a vertex on an infinitely sharp crease):
+    /// §4.6 with the 1:4:1 curve limit and the cross-boundary tangent.
+    Crease,
+    /// Corner rule: `p = v` (§4.6); each sector is bounded by two sharp edges.
+    Corner,
+}
+
+/// Corner point, edge points and transversal vectors of one vertex.
 ///
-/// `e[j]` is the edge point on incident edge `j`; `r[j]` the transversal vector across edge
-/// `j`, pointing from face `j - 1` into face `j`.
+/// `e[j]` is the edge point on incident edge `j`. For incident face `j` (between edges `j` and
+/// `j + 1`), `r_plus[j]` is the transversal vector across edge `j` and `r_minus[j]` the one
+/// across edge `j + 1`, both pointing into face `j` (the paper's `r_i^+`, `r_i^-`), and
+/// `cosine[j]` is `c = cos(2π/n)` of condition (1) for the sector holding face `j`.
 #[derive(Debug, Clone)]
-pub struct GregoryVertex {
+pub struct GregoryVertex<P = DVec3> {
+    /// Treatment of the vertex.
+    pub kind: VertexKind,
     /// Number of incident faces (the valence of an interior vertex).
     pub n: usize,
-    /// Limit position (§3.2).
-    pub p: DVec3,
-    /// Edge points `p + 2/3 λ q_j` (§3.3), one per incident edge.
-    pub e: Vec<DVec3>,
-    /// Transversal vectors `r_j` (§3.4), one per incident edge.
-    pub r: Vec<DVec3>,
+    /// Limit position (§3.2; §4.6 on creases and corners).
+    pub p: P,
+    /// Edge points, one per incident edge (§3.3; 2:1 on sharp edges, §4.6).
+    pub e: Vec<P>,
+    /// Transversal vectors across the face's first edge, one per incident face (§3.4).
+    pub r_plus: Vec<P>,
+    /// Transversal vectors across the face's second edge, one per incident face (§3.4).
+    pub r_minus: Vec<P>,
+    /// `cos(2π/n)` of the face's sector, one per incident face.
+    pub cosine: Vec<f64>,
 }
 
 /// `λ`, the subdominant eigenvalue of Catmull-Clark subdivision at valence `n` (§3.3).
@@ -41,7 +68,90 @@ pub fn subdominant_eigenvalue(n: usize) -> f64 {
     (5.0 + c2 + c1 * (18.0 + 2.0 * c2).sqrt()) / 16.0
 }
 
-impl GregoryVertex {
+/// A sector of a crease or corner vertex: `k` faces starting at sharp edge `start`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Sector {
+    /// First edge (sharp) of the sector in ring order.
+    pub start: usize,
+    /// Number of faces.
+    pub faces: usize,
+}
+
+/// The sectors of a ring with at least one sharp edge, in ring order.
+pub fn sectors(sharp: &[bool], face_count: usize) -> Vec<Sector> {
+    let ne = sharp.len();
+    let mut out = Vec::new();
+    for s in (0..ne).filter(|&s| sharp[s]) {
+        if s >= face_count {
+            continue; // the last edge of a boundary ring starts no sector
+        }
+        let mut k = 1;
+        while !sharp[(s + k) % ne] {
+            k += 1;
+        }
+        out.push(Sector { start: s, faces: k });
+    }
+    out
+}
+
+/// Weights of the cross-boundary tangent `T` of a crease sector with `k >= 2` faces, over the
+/// split ring (edge midpoints, face centroids) as §3.2-3.3 write interior stencils. Returns
+/// `(w_v, w_m[0..=k], w_c[0..k])`; the weights sum to 0.
+///
+/// `T` is the sine mode of the sector's subdivision matrix (the tangent stencil of Biermann et
+/// al. 2000, derived here for the standard Catmull-Clark crease rules): over a quad sector with
+/// edge neighbours `e_i` and diagonal vertices `f_i`, `θ = π/k`, `s_i = sin(iθ)`,
+/// `L = Σ_{i=1}^{k-1} s_i e_i + B Σ_i (s_i + s_{i+1}) f_i + γ (e_0 + e_k) + w v` is a left
+/// eigenvector with eigenvalue `μ = 1/4 + x`, where `32x² - 4(1+cosθ)x - (1+cosθ) = 0`,
+/// `B = 1/(16x)`, `γ = (s_1 (1/16 + B/4) - (1 + 2B) cot(θ/2)/8) / x` and `w` makes the sum 0.
+/// `T = 8μ/(3k) L`, scaled like the paper's `λ q` so that for `k = 2` it is exactly `∂/∂v`
+/// of the boundary B-spline patch.
+pub fn crease_tangent_weights(k: usize) -> (f64, Vec<f64>, Vec<f64>) {
+    let th = PI / k as f64;
+    let c = th.cos();
+    let x = (4.0 * (1.0 + c) + (16.0 * (1.0 + c) * (1.0 + c) + 128.0 * (1.0 + c)).sqrt()) / 64.0;
+    let mu = 0.25 + x;
+    let bb = 1.0 / (16.0 * x);
+    let sum_s = 1.0 / (0.5 * th).tan();
+    let gamma = (th.sin() * (1.0 / 16.0 + bb / 4.0) - (1.0 + 2.0 * bb) * sum_s / 8.0) / x;
+    let scale = 8.0 * mu / (3.0 * k as f64);
+    let a: Vec<f64> = (0..=k)
+        .map(|i| {
+            if i == 0 || i == k {
+                scale * gamma
+            } else {
+                scale * (i as f64 * th).sin()
+            }
+        })
+        .collect();
+    let b: Vec<f64> = (0..k)
+        .map(|i| scale * bb * ((i as f64 * th).sin() + ((i + 1) as f64 * th).sin()))
+        .collect();
+    // f_i = 4 c_i - v - e_i - e_{i+1}, e_i = 2 m_i - v.
+    let wm: Vec<f64> = (0..=k)
+        .map(|i| {
+            let bp = if i > 0 { b[i - 1] } else { 0.0 };
+            let bn = if i < k { b[i] } else { 0.0 };
+            2.0 * (a[i] - bp - bn)
+        })
+        .collect();
+    let wc: Vec<f64> = b.iter().map(|x| 4.0 * x).collect();
+    let wv = -(wm.iter().sum::<f64>() + wc.iter().sum::<f64>());
+    (wv, wm, wc)
+}
+
+impl<P: GregoryPoint> GregoryVertex<P> {
+    /// The construction for any supported ring: [`Self::interior`] when no edge is sharp,
+    /// otherwise [`Self::sectored`]. `None` for rings the construction does not cover (a
+    /// single sharp edge, or a crease sector with one face).
+    pub fn new(ring: &VertexRing<P>) -> Option<GregoryVertex<P>> {
+        if ring.sharp.iter().any(|&s| s) || ring.corner {
+            Self::sectored(ring)
+        } else {
+            Some(Self::interior(ring))
+        }
+    }
+
     /// The construction for a vertex whose faces close around it (no boundary, no crease).
     ///
     /// Limit position `p = (n-3)/(n+5) v + 4/(n(n+5)) Σ (m_i + c_i)` (§3.2, the stencil
@@ -49,48 +159,199 @@ impl GregoryVertex {
     /// `q_j = 2/n Σ_i ((1 - σ cos(π/n)) cos(2π(i-j)/n) m_i + 2σ cos((2π(i-j)+π)/n) c_i)` with
     /// `σ = (4 + cos²(π/n))^(-1/2)` and edge point `e_j = p + 2/3 λ q_j` (§3.3);
     /// `r_j = 1/3 (m_{j+1} - m_{j-1}) + 2/3 (c_j - c_{j-1})` (§3.4).
-    pub fn interior(ring: &VertexRing) -> GregoryVertex {
+    pub fn interior(ring: &VertexRing<P>) -> GregoryVertex<P> {
         let n = ring.m.len();
         debug_assert_eq!(ring.c.len(), n);
         let nf = n as f64;
-        let sum: DVec3 = ring.m.iter().zip(&ring.c).map(|(m, c)| *m + *c).sum();
-        let p = (nf - 3.0) / (nf + 5.0) * ring.v + 4.0 / (nf * (nf + 5.0)) * sum;
-
+        let mut p = combine(&[((nf - 3.0) / (nf + 5.0), &ring.v)]);
+        let w = 4.0 / (nf * (nf + 5.0));
+        for i in 0..n {
+            p.add_scaled(w, &ring.m[i]);
+            p.add_scaled(w, &ring.c[i]);
+        }
         let cos_pi_n = (PI / nf).cos();
         let sigma = 1.0 / (4.0 + cos_pi_n * cos_pi_n).sqrt();
-        let lambda = subdominant_eigenvalue(n);
+        let scale = (2.0 / 3.0) * subdominant_eigenvalue(n) * 2.0 / nf;
         let e = (0..n)
             .map(|j| {
-                let mut q = DVec3::ZERO;
+                let mut e = p.clone();
                 for i in 0..n {
                     let k = ((i + n - j) % n) as f64;
                     let wm = (1.0 - sigma * cos_pi_n) * (2.0 * PI * k / nf).cos();
                     let wc = 2.0 * sigma * ((2.0 * PI * k + PI) / nf).cos();
-                    q += wm * ring.m[i] + wc * ring.c[i];
+                    e.add_scaled(scale * wm, &ring.m[i]);
+                    e.add_scaled(scale * wc, &ring.c[i]);
                 }
-                q *= 2.0 / nf;
-                p + (2.0 / 3.0) * lambda * q
+                e
             })
             .collect();
-        let r = (0..n)
+        let r: Vec<P> = (0..n)
             .map(|j| {
                 let next = (j + 1) % n;
                 let prev = (j + n - 1) % n;
-                (ring.m[next] - ring.m[prev]) / 3.0 + 2.0 / 3.0 * (ring.c[j] - ring.c[prev])
+                combine(&[
+                    (1.0 / 3.0, &ring.m[next]),
+                    (-1.0 / 3.0, &ring.m[prev]),
+                    (2.0 / 3.0, &ring.c[j]),
+                    (-2.0 / 3.0, &ring.c[prev]),
+                ])
             })
             .collect();
-        GregoryVertex { n, p, e, r }
+        let r_minus = (0..n)
+            .map(|j| combine(&[(-1.0, &r[(j + 1) % n])]))
+            .collect();
+        GregoryVertex {
+            kind: VertexKind::Smooth,
+            n,
+            p,
+            e,
+            r_plus: r,
+            r_minus,
+            cosine: vec![(2.0 * PI / nf).cos(); n],
+        }
+    }
+
+    /// The construction at a boundary, crease or corner vertex (§4.6), sector by sector.
+    ///
+    /// - `p`: corner `v`; crease `(a + 4v + b)/6` of the two sharp-edge neighbours
+    ///   (`= (v + m_a + m_b)/3`).
+    /// - Sharp edge `j`: `e_j = (2v + w_j)/3 = (v + 2 m_j)/3` (the cubic B-spline curve).
+    /// - Inner edge at angle `θ = iα` of a sector with `k` faces starting at sharp edge `s` and
+    ///   ending at sharp edge `t`: corners (`α = π/(2k)`, the sector spans a right angle)
+    ///   `e = p + cosθ (e_s - p) + sinθ (e_t - p)`; creases (`α = π/k`)
+    ///   `e = p + cosθ (e_s - p) + sinθ T/3` with `T` from [`crease_tangent_weights`].
+    ///   These edge points form the affine `n`-gon of condition (1) with `cos(2π/n) = cos α`.
+    /// - `r` across inner edges as in §3.4; across a sharp edge, the ring reflected across it
+    ///   (`m_{s-1} → 2v - m_{s+1}`, `c_{s-1} → 2 m_s - c_s`, the phantom rule of boundary
+    ///   B-splines): `r = 2/3 (m_{s+1} - v) + 4/3 (c_s - m_s)`.
+    pub fn sectored(ring: &VertexRing<P>) -> Option<GregoryVertex<P>> {
+        let ne = ring.m.len();
+        let nf = ring.c.len();
+        let sharp_edges: Vec<usize> = (0..ne).filter(|&j| ring.sharp[j]).collect();
+        let kind = if ring.corner {
+            VertexKind::Corner
+        } else if sharp_edges.len() == 2 {
+            VertexKind::Crease
+        } else {
+            return None;
+        };
+        if sharp_edges.len() < 2 || nf == 0 {
+            return None;
+        }
+        let p = match kind {
+            VertexKind::Crease => {
+                let (a, b) = (sharp_edges[0], sharp_edges[1]);
+                combine(&[
+                    (1.0 / 3.0, &ring.v),
+                    (1.0 / 3.0, &ring.m[a]),
+                    (1.0 / 3.0, &ring.m[b]),
+                ])
+            }
+            _ => ring.v.clone(),
+        };
+        let mut e: Vec<P> = vec![P::zero(); ne];
+        for &j in &sharp_edges {
+            e[j] = combine(&[(1.0 / 3.0, &ring.v), (2.0 / 3.0, &ring.m[j])]);
+        }
+        let mut r_plus = vec![P::zero(); nf];
+        let mut r_minus = vec![P::zero(); nf];
+        let mut cosine = vec![0.0; nf];
+        for sec in sectors(&ring.sharp, nf) {
+            let (s, k) = (sec.start, sec.faces);
+            let t = (s + k) % ne;
+            let edge = |i: usize| (s + i) % ne;
+            let face = |i: usize| (s + i) % ne;
+            let alpha = match kind {
+                VertexKind::Corner => PI / (2.0 * k as f64),
+                // A one-face crease sector is not covered (its faces fail `check_vertex`).
+                _ if k < 2 => continue,
+                _ => PI / k as f64,
+            };
+            let ds = combine(&[(1.0, &e[s]), (-1.0, &p)]);
+            let second = match kind {
+                VertexKind::Corner => combine(&[(1.0, &e[t]), (-1.0, &p)]),
+                _ => {
+                    let (wv, wm, wc) = crease_tangent_weights(k);
+                    let mut tan = combine(&[(wv / 3.0, &ring.v)]);
+                    for (i, w) in wm.iter().enumerate() {
+                        tan.add_scaled(w / 3.0, &ring.m[edge(i)]);
+                    }
+                    for (i, w) in wc.iter().enumerate() {
+                        tan.add_scaled(w / 3.0, &ring.c[face(i)]);
+                    }
+                    tan
+                }
+            };
+            for i in 1..k {
+                let (sn, cs) = (i as f64 * alpha).sin_cos();
+                e[edge(i)] = combine(&[(1.0, &p), (cs, &ds), (sn, &second)]);
+            }
+            for i in 0..k {
+                cosine[face(i)] = alpha.cos();
+            }
+            // Transversal vectors: inner edges (§3.4), then the two reflected sharp sides.
+            for i in 1..k {
+                let r = combine(&[
+                    (1.0 / 3.0, &ring.m[edge(i + 1)]),
+                    (-1.0 / 3.0, &ring.m[edge(i - 1)]),
+                    (2.0 / 3.0, &ring.c[face(i)]),
+                    (-2.0 / 3.0, &ring.c[face(i - 1)]),
+                ]);
+                r_minus[face(i - 1)] = combine(&[(-1.0, &r)]);
+                r_plus[face(i)] = r;
+            }
+            r_plus[face(0)] = combine(&[
+                (2.0 / 3.0, &ring.m[edge(1)]),
+                (-2.0 / 3.0, &ring.v),
+                (4.0 / 3.0, &ring.c[face(0)]),
+                (-4.0 / 3.0, &ring.m[s]),
+            ]);
+            r_minus[face(k - 1)] = combine(&[
+                (2.0 / 3.0, &ring.m[edge(k - 1)]),
+                (-2.0 / 3.0, &ring.v),
+                (4.0 / 3.0, &ring.c[face(k - 1)]),
+                (-4.0 / 3.0, &ring.m[t]),
+            ]);
+        }
+        Some(GregoryVertex {
+            kind,
+            n: nf,
+            p,
+            e,
+            r_plus,
+            r_minus,
+            cosine,
+        })
     }
 }
 
 /// Face point next to the edge from corner `a` to corner `b` of a patch (eq. 6, re-derived from
 /// conditions (1) and (3)):
-/// `f = (c_b p_a + (d - 2 c_a - c_b) e_ab + 2 c_a e_ba + r) / d`, where `c_x = cos(2π/n_x)`,
-/// `e_ab` is the edge point at `a` towards `b`, `e_ba` the one at `b` towards `a`, `r` the
-/// transversal vector at `a` across the edge pointing into the patch, and `d` is 3 for quads and
-/// 4 for triangles. (The printed eq. 6 shows `v` and `e_0^-` where the derivation from
-/// condition (3) gives `p_a` and the edge point at the far end; with `n = 4` both reduce to
-/// `e_ab + r/3`, the B-spline case.)
+/// `f = (c_b p_a + (d - 2 c_a - c_b) e_ab + 2 c_a e_ba + r) / d`, where `c_x = cos(2π/n_x)` (of
+/// the sector holding the patch at a crease or corner vertex), `e_ab` is the edge point at `a`
+/// towards `b`, `e_ba` the one at `b` towards `a`, `r` the transversal vector at `a` across the
+/// edge pointing into the patch, and `d` is 3 for quads and 4 for triangles. (The printed eq. 6
+/// shows `v` and `e_0^-` where the derivation from condition (3) gives `p_a` and the edge point
+/// at the far end; with `n = 4` both reduce to `e_ab + r/3`, the B-spline case.)
+pub fn face_point_cos<P: GregoryPoint>(
+    d: f64,
+    c_a: f64,
+    c_b: f64,
+    p_a: &P,
+    e_ab: &P,
+    e_ba: &P,
+    r: &P,
+) -> P {
+    combine(&[
+        (c_b / d, p_a),
+        ((d - 2.0 * c_a - c_b) / d, e_ab),
+        (2.0 * c_a / d, e_ba),
+        (1.0 / d, r),
+    ])
+}
+
+/// [`face_point_cos`] for interior vertices of valences `n_a`, `n_b` (`c = cos(2π/n)`), on
+/// positions; bitwise equal to what the patch assembly computes for smooth corners.
 pub fn face_point(
     d: f64,
     n_a: usize,
@@ -100,7 +361,6 @@ pub fn face_point(
     e_ba: DVec3,
     r: DVec3,
 ) -> DVec3 {
-    let ca = (2.0 * PI / n_a as f64).cos();
-    let cb = (2.0 * PI / n_b as f64).cos();
-    (cb * p_a + (d - 2.0 * ca - cb) * e_ab + 2.0 * ca * e_ba + r) / d
+    let c = |n: usize| (2.0 * PI / n as f64).cos();
+    face_point_cos(d, c(n_a), c(n_b), &p_a, &e_ab, &e_ba, &r)
 }

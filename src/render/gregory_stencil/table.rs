@@ -196,7 +196,7 @@ fn neighbour_face_points(
     let (nx, ny) = (gx.n, gy.n);
     if g == f {
         // Own face points next to edge x -> y: f_plus at x, f_minus at y.
-        let fx = face_point(d, nx, ny, gx.p, gx.e[jx], gy.e[(jy + 1) % ny], gx.r[jx]);
+        let fx = face_point(d, nx, ny, gx.p, gx.e[jx], gy.e[(jy + 1) % ny], gx.r_plus[jx]);
         let fy = face_point(
             d,
             ny,
@@ -204,7 +204,7 @@ fn neighbour_face_points(
             gy.p,
             gy.e[(jy + 1) % ny],
             gx.e[jx],
-            -gy.r[(jy + 1) % ny],
+            gy.r_minus[jy],
         );
         return [fx, fy];
     }
@@ -216,9 +216,9 @@ fn neighbour_face_points(
         gx.p,
         gx.e[(jx + 1) % nx],
         gy.e[jy],
-        -gx.r[(jx + 1) % nx],
+        gx.r_minus[jx],
     );
-    let fy = face_point(d, ny, nx, gy.p, gy.e[jy], gx.e[(jx + 1) % nx], gy.r[jy]);
+    let fy = face_point(d, ny, nx, gy.p, gy.e[jy], gx.e[(jx + 1) % nx], gy.r_plus[jy]);
     [fx, fy]
 }
 

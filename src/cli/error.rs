@@ -1,0 +1,79 @@
+//! `tessera error`: accuracy of a patch scheme against the exact Catmull-Clark limit surface.
+
+use clap::{Args, ValueEnum};
+use tessera::mesh::ObjOptions;
+use tessera::patch::gregory::accuracy::{measure, AccuracyOptions, AccuracyReport};
+
+/// Patch schemes whose accuracy can be measured.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ErrorScheme {
+    /// Gregory patches built and evaluated on the CPU (the reference construction).
+    GregoryCpu,
+}
+
+/// Arguments of `tessera error`.
+#[derive(Args)]
+pub struct ErrorArgs {
+    /// Control mesh: an OBJ file with OpenSubdiv tags, or `embedded:NAME`.
+    pub mesh: String,
+    /// Patch scheme to measure.
+    #[arg(long, value_enum, default_value = "gregory-cpu")]
+    pub scheme: ErrorScheme,
+    /// Samples per face: an (N+1) x (N+1) grid on quads, the barycentric grid on triangles.
+    #[arg(long, default_value_t = 8)]
+    pub grid: usize,
+    /// Also sample regular faces (drawn as exact B-splines, so their error is ~0).
+    #[arg(long)]
+    pub include_regular: bool,
+    /// The file's faces are wound clockwise seen from outside: reverse them.
+    #[arg(long)]
+    pub left_handed: bool,
+}
+
+/// The printed report.
+pub fn format_report(mesh: &str, scheme: &str, r: &AccuracyReport) -> String {
+    format!(
+        "mesh {mesh}\nscheme {scheme}\nfaces sampled {} ({} triangles), regular {}, without Gregory patch {}{}\n\
+         samples {}\nbbox diagonal {:.6e}\n\
+         distance / diagonal: rms {:.3e} max {:.3e}\n\
+         equal (u,v) on quads / diagonal: rms {:.3e} max {:.3e}\n\
+         normal angle (rad): rms {:.3e} max {:.3e}\n",
+        r.faces,
+        r.triangles,
+        r.regular,
+        r.unsupported,
+        r.first_unsupported
+            .map(|e| format!(" (first: {e})"))
+            .unwrap_or_default(),
+        r.samples,
+        r.diagonal,
+        r.rms_distance,
+        r.max_distance,
+        r.rms_uv,
+        r.max_uv,
+        r.rms_normal,
+        r.max_normal
+    )
+}
+
+/// Runs the subcommand.
+pub fn run(args: ErrorArgs) -> tessera::Result<()> {
+    if args.grid == 0 {
+        return Err(tessera::Error::Invalid("--grid must be at least 1".into()));
+    }
+    let options = ObjOptions {
+        left_handed: args.left_handed,
+    };
+    let mesh = tessera::assets::load_mesh(&args.mesh, &options)?;
+    let report = match args.scheme {
+        ErrorScheme::GregoryCpu => measure(
+            &mesh,
+            &AccuracyOptions {
+                grid: args.grid,
+                include_regular: args.include_regular,
+            },
+        )?,
+    };
+    print!("{}", format_report(&args.mesh, "gregory-cpu", &report));
+    Ok(())
+}

@@ -1,0 +1,261 @@
+//! Accuracy of the CPU Gregory construction against the exact Catmull-Clark limit
+//! ([`LimitEvaluator`]), the measurement behind the paper's Table 3.
+//!
+//! Every face that gets a Gregory patch (and, unless asked otherwise, is not a regular B-spline
+//! face) is sampled on a grid: quads at `(i/N, j/N)`, triangles at barycentric `(i/N, j/N)`
+//! with `i + j <= N`. Each sample is compared with the exact surface
+//! - by distance: the closest exact point, found from dense exact samples of the face and every
+//!   face sharing a vertex with it, refined by Gauss-Newton projection steps;
+//! - for quads also at equal `(u, v)` (a Gregory triangle is not parameterised like the three
+//!   quads Catmull-Clark makes of a triangle, so triangles are measured by distance only);
+//! - normals: the angle between the patch's (§4.4) normal and the exact normal at the closest
+//!   point.
+//!
+//! Distances are reported as fractions of the control mesh's bounding-box diagonal.
+
+use super::build::{check_face, gregory_patch, gregory_vertices, GregoryPatch};
+use crate::patch::regular::RegularPatch;
+use crate::subdiv::eval::{GridSample, LimitEvaluator, LimitSample};
+use crate::topology::Topology;
+use crate::{ControlMesh, Result};
+use glam::DVec3;
+use rayon::prelude::*;
+
+/// What to sample.
+#[derive(Debug, Clone, Copy)]
+pub struct AccuracyOptions {
+    /// Grid resolution `N` per face.
+    pub grid: usize,
+    /// Also sample regular faces (which the renderer draws as exact B-splines).
+    pub include_regular: bool,
+}
+
+impl Default for AccuracyOptions {
+    fn default() -> Self {
+        AccuracyOptions {
+            grid: 8,
+            include_regular: false,
+        }
+    }
+}
+
+/// Error figures of one mesh.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct AccuracyReport {
+    /// Faces sampled.
+    pub faces: usize,
+    /// Of which triangles.
+    pub triangles: usize,
+    /// Non-regular faces with a limit surface but no Gregory patch (not sampled).
+    pub unsupported: usize,
+    /// The first such face and why (see [`super::NotGregory`]).
+    pub first_unsupported: Option<super::NotGregory>,
+    /// Regular faces (sampled only with `include_regular`).
+    pub regular: usize,
+    /// Samples taken.
+    pub samples: usize,
+    /// Bounding-box diagonal of the control mesh.
+    pub diagonal: f64,
+    /// RMS distance to the exact surface / diagonal.
+    pub rms_distance: f64,
+    /// Maximum distance / diagonal.
+    pub max_distance: f64,
+    /// RMS error at equal `(u, v)` over quad samples / diagonal (0 without quads).
+    pub rms_uv: f64,
+    /// Maximum error at equal `(u, v)` / diagonal.
+    pub max_uv: f64,
+    /// RMS angle between patch and exact normals at the closest point (radians).
+    pub rms_normal: f64,
+    /// Maximum normal angle (radians).
+    pub max_normal: f64,
+}
+
+/// Per-sample errors of one face: (distance, uv error or None, normal angle).
+type FaceErrors = Vec<(f64, Option<f64>, f64)>;
+
+/// One exact sample with its location.
+#[derive(Clone, Copy)]
+struct Located {
+    face: usize,
+    sub: usize,
+    u: f64,
+    v: f64,
+    sample: LimitSample,
+}
+
+/// Gauss-Newton projection of `x` onto the exact surface starting from `start`, within its
+/// (sub-)face, `[0, 1]^2` clamped.
+fn project(ev: &LimitEvaluator, x: DVec3, start: Located) -> Result<Located> {
+    let mut best = start;
+    let mut d_best = (best.sample.position - x).length_squared();
+    let mut cur = start;
+    for _ in 0..6 {
+        let s = cur.sample;
+        let r = x - s.position;
+        let (a, b, c) = (s.du.dot(s.du), s.du.dot(s.dv), s.dv.dot(s.dv));
+        let det = a * c - b * b;
+        if det.abs() < 1e-300 {
+            break;
+        }
+        let (ru, rv) = (s.du.dot(r), s.dv.dot(r));
+        let du = (c * ru - b * rv) / det;
+        let dv = (a * rv - b * ru) / det;
+        let u = (cur.u + du).clamp(0.0, 1.0);
+        let v = (cur.v + dv).clamp(0.0, 1.0);
+        if (u - cur.u).abs() < 1e-13 && (v - cur.v).abs() < 1e-13 {
+            break;
+        }
+        let sample = ev.eval(cur.face, cur.sub, u, v)?;
+        cur = Located {
+            u,
+            v,
+            sample,
+            ..cur
+        };
+        let d = (sample.position - x).length_squared();
+        if d < d_best {
+            d_best = d;
+            best = cur;
+        }
+    }
+    Ok(best)
+}
+
+/// Parameter points of a face's sample grid: `(u, v)` for quads, barycentric `(s, t)` for
+/// triangles.
+fn sample_params(n: usize, triangle: bool) -> Vec<(f64, f64)> {
+    let nf = n as f64;
+    (0..=n)
+        .flat_map(|j| {
+            let last = if triangle { n - j } else { n };
+            (0..=last).map(move |i| (i as f64 / nf, j as f64 / nf))
+        })
+        .collect()
+}
+
+/// Measures the Gregory construction of `mesh` against its exact limit surface.
+pub fn measure(mesh: &ControlMesh, options: &AccuracyOptions) -> Result<AccuracyReport> {
+    let grid = options.grid.max(1);
+    let topo = Topology::new(mesh)?;
+    let ev = LimitEvaluator::new(mesh)?;
+    let positions = mesh.positions();
+    let verts = gregory_vertices(&topo, positions);
+    let mut report = AccuracyReport {
+        diagonal: mesh.bbox_diagonal(),
+        ..Default::default()
+    };
+    let mut chosen = Vec::new();
+    for f in 0..topo.face_count() as u32 {
+        if !topo.has_limit_surface(f) {
+            continue;
+        }
+        if RegularPatch::gather(&topo, f).is_some() {
+            report.regular += 1;
+            if !options.include_regular {
+                continue;
+            }
+        }
+        match check_face(&topo, f) {
+            Ok(()) => chosen.push(f),
+            Err(e) => {
+                report.unsupported += 1;
+                report.first_unsupported.get_or_insert(e);
+            }
+        }
+    }
+    // Dense exact samples of every face, for the closest-point search.
+    let dense: Vec<Option<Vec<GridSample>>> = ev.eval_all_grids(2 * grid)?;
+    let errors: Vec<FaceErrors> = chosen
+        .par_iter()
+        .map(|&f| face_errors(&topo, &ev, &verts, &dense, f, grid))
+        .collect::<Result<_>>()?;
+    report.faces = chosen.len();
+    report.triangles = chosen.iter().filter(|&&f| topo.face_size(f) == 3).count();
+    let (mut sd, mut suv, mut sn, mut nuv) = (0.0, 0.0, 0.0, 0usize);
+    for (d, uv, a) in errors.iter().flatten() {
+        report.samples += 1;
+        sd += d * d;
+        sn += a * a;
+        report.max_distance = report.max_distance.max(*d);
+        report.max_normal = report.max_normal.max(*a);
+        if let Some(e) = uv {
+            suv += e * e;
+            nuv += 1;
+            report.max_uv = report.max_uv.max(*e);
+        }
+    }
+    let diag = report.diagonal.max(f64::MIN_POSITIVE);
+    let count = report.samples.max(1) as f64;
+    report.rms_distance = (sd / count).sqrt() / diag;
+    report.max_distance /= diag;
+    report.rms_uv = (suv / nuv.max(1) as f64).sqrt() / diag;
+    report.max_uv /= diag;
+    report.rms_normal = (sn / count).sqrt();
+    Ok(report)
+}
+
+/// Samples one face and measures every sample.
+fn face_errors(
+    topo: &Topology,
+    ev: &LimitEvaluator,
+    verts: &[Option<super::GregoryVertex<DVec3>>],
+    dense: &[Option<Vec<GridSample>>],
+    f: u32,
+    grid: usize,
+) -> Result<FaceErrors> {
+    let patch = gregory_patch(topo, verts, f).map_err(|e| crate::Error::Invalid(e.to_string()))?;
+    let triangle = matches!(patch, GregoryPatch::Triangle(_));
+    let params = sample_params(grid, triangle);
+    let exact_uv = if triangle {
+        Vec::new()
+    } else {
+        ev.eval_points(f as usize, 0, &params)?
+    };
+    // Candidate exact samples: the face and every face sharing a vertex with it.
+    let mut near: Vec<u32> = topo
+        .face_vertices(f)
+        .iter()
+        .flat_map(|&v| topo.vertex_faces(v).iter().copied())
+        .collect();
+    near.sort_unstable();
+    near.dedup();
+    let candidates: Vec<Located> = near
+        .iter()
+        .filter_map(|&g| dense[g as usize].as_ref().map(|s| (g, s)))
+        .flat_map(|(g, s)| {
+            s.iter().map(move |x| Located {
+                face: g as usize,
+                sub: x.sub,
+                u: x.u,
+                v: x.v,
+                sample: x.sample,
+            })
+        })
+        .collect();
+    let mut out = Vec::with_capacity(params.len());
+    for (k, &(u, v)) in params.iter().enumerate() {
+        let g = patch.eval(u, v);
+        let x = g.position;
+        let start = candidates
+            .iter()
+            .min_by(|a, b| {
+                let da = (a.sample.position - x).length_squared();
+                let db = (b.sample.position - x).length_squared();
+                da.total_cmp(&db)
+            })
+            .copied()
+            .ok_or_else(|| crate::Error::Invalid(format!("face {f}: no exact samples")))?;
+        let close = project(ev, x, start)?;
+        let dist = (close.sample.position - x).length();
+        let angle = g.normal().angle_between(close.sample.normal);
+        // A zero normal (collinear derivatives) counts as the worst case, not as 0.
+        let angle = if angle.is_finite() {
+            angle
+        } else {
+            std::f64::consts::PI
+        };
+        let uv = (!triangle).then(|| (exact_uv[k].position - x).length());
+        out.push((dist, uv, angle));
+    }
+    Ok(out)
+}

@@ -1,0 +1,428 @@
+//! Gregory patches at boundaries and infinitely sharp creases (Loop et al. 2009, §4.6):
+//! reproduction of boundary- and corner-regular B-spline patches, boundary curves equal to the
+//! cubic B-spline of the boundary polygon, continuity across interior edges, and corner
+//! tangent planes equal to the exact limit tangent planes.
+
+use glam::DVec3;
+use tessera::mesh::{
+    BoundaryInterpolation, ControlMesh, ControlMeshDesc, Crease, ObjOptions, INFINITE_SHARPNESS,
+};
+use tessera::patch::gregory::{
+    check_face, gregory_patch, gregory_vertices, GregoryPatch, PatchPoint,
+};
+use tessera::patch::RegularPatch;
+use tessera::subdiv::eval::LimitEvaluator;
+use tessera::topology::Topology;
+
+const OSD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd");
+
+/// Uniform cubic B-spline basis written out independently of the crate's basis module.
+fn bspline_basis(t: f64) -> [f64; 4] {
+    [
+        (1.0 - t).powi(3) / 6.0,
+        (3.0 * t.powi(3) - 6.0 * t * t + 4.0) / 6.0,
+        (-3.0 * t.powi(3) + 3.0 * t * t + 3.0 * t + 1.0) / 6.0,
+        t.powi(3) / 6.0,
+    ]
+}
+
+fn osd(name: &str) -> ControlMesh {
+    ControlMesh::from_obj_file(format!("{OSD}/{name}.obj"), &ObjOptions::default()).unwrap()
+}
+
+/// The same mesh with another boundary interpolation rule.
+fn with_boundary(mesh: &ControlMesh, boundary: BoundaryInterpolation) -> ControlMesh {
+    let mut options = mesh.options();
+    options.boundary = boundary;
+    let desc = ControlMeshDesc {
+        positions: mesh.positions().to_vec(),
+        face_sizes: (0..mesh.face_count())
+            .map(|f| mesh.face_size(f) as u32)
+            .collect(),
+        face_vertices: mesh.face_vertices().to_vec(),
+        creases: mesh.creases().to_vec(),
+        corners: mesh.corners().to_vec(),
+        holes: (0..mesh.face_count() as u32)
+            .filter(|&f| mesh.is_hole(f as usize))
+            .collect(),
+        options,
+        left_handed: false,
+    };
+    ControlMesh::new(desc).unwrap()
+}
+
+/// An open `n x m` quad grid with bumps; optionally an infinitely sharp crease along row `j = c`.
+fn grid(n: usize, m: usize, crease_row: Option<usize>) -> ControlMesh {
+    let idx = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+    let mut positions = Vec::new();
+    for j in 0..=m {
+        for i in 0..=n {
+            let z = 0.3 * (((5 * i + 3 * j) % 7) as f64 / 7.0) + 0.05 * (i * j) as f64;
+            positions.push(DVec3::new(i as f64 + 0.1 * (j % 2) as f64, j as f64, z));
+        }
+    }
+    let mut face_vertices = Vec::new();
+    for j in 0..m {
+        for i in 0..n {
+            face_vertices.extend([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)]);
+        }
+    }
+    let creases = crease_row
+        .map(|c| {
+            (0..n)
+                .map(|i| Crease {
+                    v0: idx(i, c),
+                    v1: idx(i + 1, c),
+                    sharpness: INFINITE_SHARPNESS,
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    let desc = ControlMeshDesc {
+        positions,
+        face_sizes: vec![4; n * m],
+        face_vertices,
+        creases,
+        ..Default::default()
+    };
+    ControlMesh::new(desc).unwrap()
+}
+
+/// An open fan around a boundary vertex with `k` quads (an extraordinary boundary vertex),
+/// ringed by one more row of quads, plus a triangle.
+fn open_fan(k: usize) -> ControlMesh {
+    // Vertex 0 at the centre; spokes 1..=k+1 at angles iπ/k; outer ring 2 per spoke gap.
+    let mut positions = vec![DVec3::new(0.0, 0.0, 0.2)];
+    let spokes = k + 1;
+    for i in 0..spokes {
+        let a = std::f64::consts::PI * i as f64 / k as f64;
+        positions.push(DVec3::new(a.cos(), a.sin(), 0.1 * (i % 2) as f64));
+    }
+    // Diagonal vertices between spokes i and i+1, and outer spoke extensions.
+    let diag0 = positions.len();
+    for i in 0..k {
+        let a = std::f64::consts::PI * (i as f64 + 0.5) / k as f64;
+        positions.push(DVec3::new(1.5 * a.cos(), 1.5 * a.sin(), -0.15));
+    }
+    let outer0 = positions.len();
+    for i in 0..spokes {
+        let a = std::f64::consts::PI * i as f64 / k as f64;
+        positions.push(DVec3::new(2.2 * a.cos(), 2.2 * a.sin(), 0.05 * i as f64));
+    }
+    let mut faces: Vec<Vec<u32>> = Vec::new();
+    for i in 0..k {
+        faces.push(vec![0, 1 + i as u32, (diag0 + i) as u32, 2 + i as u32]);
+        // Outer quads: spoke i -> outer i -> (diag i) ... split as two quads around the diagonal.
+        faces.push(vec![
+            1 + i as u32,
+            (outer0 + i) as u32,
+            (outer0 + i + 1) as u32,
+            (diag0 + i) as u32,
+        ]);
+        faces.push(vec![
+            (diag0 + i) as u32,
+            (outer0 + i + 1) as u32,
+            2 + i as u32,
+        ]);
+    }
+    let desc = ControlMeshDesc {
+        positions,
+        face_sizes: faces.iter().map(|f| f.len() as u32).collect(),
+        face_vertices: faces.concat(),
+        ..Default::default()
+    };
+    ControlMesh::new(desc).unwrap()
+}
+
+fn patches(mesh: &ControlMesh) -> (Topology, Vec<Option<GregoryPatch>>) {
+    let topo = Topology::new(mesh).unwrap();
+    let verts = gregory_vertices(&topo, mesh.positions());
+    let p = (0..topo.face_count() as u32)
+        .map(|f| gregory_patch(&topo, &verts, f).ok())
+        .collect();
+    (topo, p)
+}
+
+#[test]
+fn boundary_corner_and_crease_regular_faces_reproduce_the_bspline() {
+    for mesh in [grid(5, 4, None), grid(5, 5, Some(2))] {
+        let (topo, patches) = patches(&mesh);
+        let mut checked = 0;
+        for f in 0..topo.face_count() as u32 {
+            let Some(reg) = RegularPatch::gather(&topo, f) else {
+                continue;
+            };
+            let p = patches[f as usize]
+                .as_ref()
+                .unwrap_or_else(|| panic!("face {f}: regular face without Gregory patch"));
+            for s in 0..=6 {
+                for t in 0..=6 {
+                    let (u, v) = (s as f64 / 6.0, t as f64 / 6.0);
+                    let a = reg.eval(mesh.positions(), u, v);
+                    let b = p.eval(u, v);
+                    assert!(
+                        (a.position - b.position).length() < 1e-12
+                            && (a.du - b.du).length() < 1e-11
+                            && (a.dv - b.dv).length() < 1e-11,
+                        "face {f} (mask {}) at ({u},{v}): {:?} vs {:?}",
+                        reg.boundary_mask,
+                        a,
+                        b
+                    );
+                }
+            }
+            checked += 1;
+        }
+        assert_eq!(
+            checked,
+            topo.face_count(),
+            "every grid face is (boundary-)regular"
+        );
+    }
+}
+
+/// Evaluates patch `p` at `t` along its edge `k` (from corner k to corner k+1).
+fn eval_on_edge(p: &GregoryPatch, k: usize, t: f64) -> PatchPoint {
+    let (u, v) = match p {
+        GregoryPatch::Quad(_) => match k {
+            0 => (t, 0.0),
+            1 => (1.0, t),
+            2 => (1.0 - t, 1.0),
+            _ => (0.0, 1.0 - t),
+        },
+        GregoryPatch::Triangle(_) => match k {
+            0 => (t, 0.0),
+            1 => (1.0 - t, t),
+            _ => (0.0, 1.0 - t),
+        },
+    };
+    p.eval(u, v)
+}
+
+fn is_sharp(topo: &Topology, e: u32) -> bool {
+    topo.edge_sharpness(e) >= INFINITE_SHARPNESS
+}
+
+/// The control point before `a` on the sharp polygon through `a` and `b` (edge `a-b` sharp):
+/// the far end of `a`'s other sharp edge, or the mirror `2a - b` at a corner.
+fn before(topo: &Topology, pos: &[DVec3], a: u32, b: u32) -> DVec3 {
+    let sharp: Vec<u32> = topo
+        .vertex_edges(a)
+        .iter()
+        .copied()
+        .filter(|&e| is_sharp(topo, e))
+        .collect();
+    let corner = topo.vertex_sharpness(a) >= INFINITE_SHARPNESS || sharp.len() != 2;
+    if corner {
+        return 2.0 * pos[a as usize] - pos[b as usize];
+    }
+    let other = sharp
+        .iter()
+        .map(|&e| topo.other_vertex(e, a))
+        .find(|&w| w != b)
+        .unwrap();
+    pos[other as usize]
+}
+
+/// Along every sharp edge of every Gregory face, the patch equals the cubic B-spline of the
+/// sharp polygon (the exact Catmull-Clark boundary / crease curve).
+fn check_sharp_curves(mesh: &ControlMesh) -> usize {
+    let (topo, patches) = patches(mesh);
+    let pos = mesh.positions();
+    let mut checked = 0;
+    for f in 0..topo.face_count() as u32 {
+        let Some(p) = &patches[f as usize] else {
+            continue;
+        };
+        let fv = topo.face_vertices(f);
+        for (k, &e) in topo.face_edges(f).iter().enumerate() {
+            if !is_sharp(&topo, e) {
+                continue;
+            }
+            let (a, b) = (fv[k], fv[(k + 1) % fv.len()]);
+            let cv = [
+                before(&topo, pos, a, b),
+                pos[a as usize],
+                pos[b as usize],
+                before(&topo, pos, b, a),
+            ];
+            for s in 0..=8 {
+                let t = s as f64 / 8.0;
+                let w = bspline_basis(t);
+                let expected: DVec3 = (0..4).map(|i| w[i] * cv[i]).sum();
+                let got = eval_on_edge(p, k, t).position;
+                assert!(
+                    (got - expected).length() < 1e-12,
+                    "face {f} sharp edge {k} at {t}: {got} vs {expected}"
+                );
+                checked += 1;
+            }
+        }
+    }
+    checked
+}
+
+/// Position and tangent-plane continuity across every non-sharp edge between two Gregory faces.
+fn check_continuity(mesh: &ControlMesh) -> usize {
+    let (topo, patches) = patches(mesh);
+    let mut checked = 0;
+    for e in 0..topo.edge_count() as u32 {
+        let faces = topo.edge_faces(e);
+        if faces.len() != 2 || is_sharp(&topo, e) {
+            continue;
+        }
+        let (Some(pa), Some(pb)) = (&patches[faces[0] as usize], &patches[faces[1] as usize])
+        else {
+            continue;
+        };
+        let locals = topo.edge_face_locals(e);
+        for s in 0..=8 {
+            let t = s as f64 / 8.0;
+            let a = eval_on_edge(pa, locals[0] as usize, t);
+            let b = eval_on_edge(pb, locals[1] as usize, 1.0 - t);
+            assert!(
+                (a.position - b.position).length() < 1e-12,
+                "edge {e} at t={t}: positions differ"
+            );
+            if s == 0 || s == 8 {
+                continue; // corner normals are checked against the exact limit separately
+            }
+            let angle = a.normal().angle_between(b.normal());
+            assert!(
+                angle < 1e-7,
+                "edge {e} at t={t}: normals differ by {angle} rad"
+            );
+            checked += 1;
+        }
+    }
+    checked
+}
+
+/// At every corner of every Gregory face the patch normal is the exact limit normal.
+fn check_corner_normals(mesh: &ControlMesh) -> usize {
+    let (topo, patches) = patches(mesh);
+    let ev = LimitEvaluator::new(mesh).unwrap();
+    let mut checked = 0;
+    for f in 0..topo.face_count() as u32 {
+        let Some(p) = &patches[f as usize] else {
+            continue;
+        };
+        let n = topo.face_size(f);
+        for k in 0..n {
+            let got = eval_on_edge(p, k, 0.0);
+            let exact = if n == 4 {
+                let (u, v) = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)][k];
+                ev.eval(f as usize, 0, u, v).unwrap()
+            } else {
+                ev.eval(f as usize, k, 0.0, 0.0).unwrap()
+            };
+            assert!(
+                (got.position - exact.position).length() < 1e-12,
+                "face {f} corner {k}: position {} vs {}",
+                got.position,
+                exact.position
+            );
+            let angle = got.normal().angle_between(exact.normal);
+            // The exact masks at sectors come from an iterative eigen-solve (~1e-8 rad).
+            assert!(
+                angle < 1e-6,
+                "face {f} corner {k}: normal off by {angle} rad"
+            );
+            checked += 1;
+        }
+    }
+    checked
+}
+
+fn test_meshes() -> Vec<(String, ControlMesh)> {
+    let mut out = vec![
+        (
+            "catmark_tent (edge-and-corner)".to_string(),
+            with_boundary(&osd("catmark_tent"), BoundaryInterpolation::EdgeAndCorner),
+        ),
+        ("open fan k=3".into(), open_fan(3)),
+        ("open fan k=5".into(), open_fan(5)),
+        ("grid with crease".into(), grid(4, 4, Some(2))),
+        ("catmark_inf_crease0".into(), osd("catmark_inf_crease0")),
+        ("catmark_inf_crease1".into(), osd("catmark_inf_crease1")),
+        ("catmark_cube_corner4".into(), osd("catmark_cube_corner4")),
+        ("catmark_smoothtris0".into(), osd("catmark_smoothtris0")),
+        ("catmark_nonquads".into(), osd("catmark_nonquads")),
+        (
+            "catmark_cubes_infsharp".into(),
+            osd("catmark_cubes_infsharp"),
+        ),
+        (
+            "catmark_pyramid_creases1".into(),
+            osd("catmark_pyramid_creases1"),
+        ),
+        (
+            "catmark_torus_creases0".into(),
+            osd("catmark_torus_creases0"),
+        ),
+        (
+            "embedded:open".into(),
+            tessera::assets::load_mesh("embedded:open", &ObjOptions::default()).unwrap(),
+        ),
+    ];
+    for i in 0..9 {
+        let name = format!("catmark_gregory_test{i}");
+        // Some of these are non-manifold on purpose; the mesh loader refuses those.
+        let path = format!("{OSD}/{name}.obj");
+        if let Ok(mesh) = ControlMesh::from_obj_file(&path, &ObjOptions::default()) {
+            out.push((name, mesh));
+        }
+    }
+    out
+}
+
+#[test]
+fn boundary_and_crease_curves_are_the_cubic_bspline_of_the_sharp_polygon() {
+    let mut total = 0;
+    for (name, mesh) in test_meshes() {
+        let n = check_sharp_curves(&mesh);
+        eprintln!("{name}: {n} sharp-curve samples");
+        total += n;
+    }
+    assert!(total > 500);
+}
+
+#[test]
+fn patches_join_with_tangent_plane_continuity_next_to_boundaries_and_creases() {
+    let mut total = 0;
+    for (name, mesh) in test_meshes() {
+        let n = check_continuity(&mesh);
+        eprintln!("{name}: {n} interior-edge samples");
+        total += n;
+    }
+    assert!(total > 500);
+}
+
+#[test]
+fn corner_points_and_normals_equal_the_exact_limit() {
+    let mut total = 0;
+    for (name, mesh) in test_meshes() {
+        let n = check_corner_normals(&mesh);
+        eprintln!("{name}: {n} corners");
+        total += n;
+    }
+    assert!(total > 100);
+}
+
+#[test]
+fn unsupported_faces_are_named() {
+    // The edge-only tent: its four corner faces lie alone in crease sectors.
+    let mesh = osd("catmark_tent");
+    let topo = Topology::new(&mesh).unwrap();
+    let refused: Vec<String> = (0..topo.face_count() as u32)
+        .filter_map(|f| check_face(&topo, f).err().map(|e| e.to_string()))
+        .collect();
+    assert_eq!(refused.len(), 4, "{refused:?}");
+    assert!(refused.iter().all(|r| r.contains("crease sector")));
+    // A dart and semi-sharp creases.
+    let mesh = osd("catmark_gregory_test3");
+    let topo = Topology::new(&mesh).unwrap();
+    assert!((0..topo.face_count() as u32).any(|f| check_face(&topo, f)
+        .err()
+        .is_some_and(|e| e.to_string().contains("semi-sharp"))));
+}
