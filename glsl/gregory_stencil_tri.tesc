@@ -3,4 +3,5 @@
 #define GREGORY_TRI
 #include "common/frame.glsl"
 #include "common/tess_factors.glsl"
+#include "common/gregory.glsl"
 #include "common/gregory_stencil.glsl"

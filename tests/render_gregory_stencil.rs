@@ -519,3 +519,43 @@ fn rings_over_the_patch_size_limit_go_to_the_cpu_path() {
     assert!(img.pixels().filter(|p| **p != bg).count() > 1000);
     render_common::assert_validation_clean(&ctx);
 }
+
+#[test]
+fn split_quads_meet_whole_triangles() {
+    let Some(ctx) = render_common::context() else {
+        return;
+    };
+    let mesh = prism();
+    for (level, max_patch) in [(12.0, 6.0), (12.0, 3.0), (10.0, 5.0), (24.0, 16.0)] {
+        let desc = RenderDesc {
+            tess: TessSettings {
+                level,
+                max_patch_level: max_patch,
+                ..TessSettings::default()
+            },
+            capture_capacity: Some(20000),
+            ..RenderDesc::default()
+        };
+        let opts = SessionOptions {
+            variant: GregoryVariant::Stencil,
+            with_regular: false,
+            width: 64,
+            height: 64,
+        };
+        let mut s = GregorySession::new(&ctx, &mesh, &desc, &opts).unwrap();
+        s.frame().unwrap();
+        let records = s.capture().unwrap();
+        let topo = Topology::new(&mesh).unwrap();
+        let r = Run {
+            topo,
+            positions: mesh.positions().to_vec(),
+            diag: mesh.bbox_diagonal(),
+            gregory: s.gregory_faces().iter().copied().collect(),
+            drawn: s.gregory_faces().iter().copied().collect(),
+            records,
+        };
+        let m = check_watertight(&r);
+        eprintln!("level {level} split at {max_patch}: {m} edge points bitwise equal");
+    }
+    render_common::assert_validation_clean(&ctx);
+}

@@ -7,7 +7,7 @@
 // bitwise equal. Output order: p0.., e_plus0.., e_minus0.., f_plus0.., f_minus0.. (as
 // GregoryQuad / GregoryTriangle); the next stencil rows are the neighbours' edge points g_eout,
 // then the neighbours' face points g_nbr (contract in common/gregory.glsl). Define GREGORY_TRI for triangles.
-// Needs frame.glsl and tess_factors.glsl.
+// Needs frame.glsl and tess_factors.glsl (and, for triangles, gregory.glsl).
 #ifndef TESSERA_GREGORY_STENCIL_GLSL
 #define TESSERA_GREGORY_STENCIL_GLSL
 
@@ -80,9 +80,11 @@ void main() {
 #ifdef GREGORY_TRI
         // Triangle domain: outer[i] is the edge where gl_TessCoord[i] == 0; barycentric weight
         // of corner i is gl_TessCoord[i], so outer[0] is edge 1-2, [1] edge 2-0, [2] edge 0-1.
-        float o0 = edge_tess_level(c.y, c.z);
-        float o1 = edge_tess_level(c.z, c.x);
-        float o2 = edge_tess_level(c.x, c.y);
+        // Triangles are drawn whole; with split quads their edges take the quads' full level
+        // (gregory_tri_edge_level, common/gregory.glsl).
+        float o0 = gregory_tri_edge_level(c.y, c.z);
+        float o1 = gregory_tri_edge_level(c.z, c.x);
+        float o2 = gregory_tri_edge_level(c.x, c.y);
         gl_TessLevelOuter[0] = o0;
         gl_TessLevelOuter[1] = o1;
         gl_TessLevelOuter[2] = o2;

@@ -386,11 +386,18 @@ impl StencilPatches {
                 );
                 dev.cmd_bind_vertex_buffers(cmd, 0, &[self.control_pos.raw()], &[0]);
                 dev.cmd_bind_index_buffer(cmd, self.indices.raw(), 0, vk::IndexType::UINT32);
-                // The shared triangle TES has no sub-domains: triangles are drawn whole.
-                let split = if g.triangle { 1 } else { self.split };
+                // Triangles are drawn whole (one draw per chunk) but told the quads' split, so
+                // their edge levels and edge parameters match the split quads
+                // (gregory_tri_edge_level / edge_ts in glsl/common/gregory.glsl).
+                let subs = if g.triangle {
+                    1
+                } else {
+                    self.split * self.split
+                };
+                let split = self.split;
                 for (first, n) in patch_draw_chunks(g.count, g.points, true) {
                     let base = g.first_record + first;
-                    for sub in 0..split * split {
+                    for sub in 0..subs {
                         let mut pc = [0u8; 12];
                         for (k, w) in [base, sub, split].iter().enumerate() {
                             pc[4 * k..4 * k + 4].copy_from_slice(&w.to_le_bytes());
