@@ -1,7 +1,7 @@
 //! CPU side of the stencil variant (Loop et al. 2009, §4.3): every Gregory control point of a
 //! face is a fixed linear combination of the face's one-ring vertices. The weights are found by
-//! running the crate's construction ([`GregoryVertex::interior`], [`GregoryQuad::new`],
-//! [`GregoryTriangle::new`]) on unit vectors (the construction is linear in the positions), the
+//! running the crate's one construction ([`gregory_patch_at`], interior, boundary and crease
+//! vertices per §3 and §4.6) on unit vectors (it is linear in the positions), the
 //! ring is sorted by global vertex id (the paper's "one global, consistent order"), and patches
 //! whose weight rows are identical share one connectivity type.
 
@@ -9,9 +9,7 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use crate::patch::gregory::{
-    face_point, vertex_ring, CornerRef, GregoryQuad, GregoryTriangle, GregoryVertex,
-};
+use crate::patch::gregory::{check_face, gregory_patch_at, GregoryPatch};
 use crate::patch::RegularPatch;
 use crate::topology::Topology;
 
@@ -108,118 +106,64 @@ pub fn face_ring(topo: &Topology, f: u32) -> Vec<u32> {
     ring
 }
 
-/// Why the interior construction cannot take corner `v` (or `None` when it can).
-fn unsupported(topo: &Topology, v: u32) -> Option<&'static str> {
-    if topo.is_boundary_vertex(v) {
-        Some("is on a boundary")
-    } else if topo.vertex_sharpness(v) != 0.0
-        || topo
-            .vertex_edges(v)
-            .iter()
-            .any(|&e| topo.edge_sharpness(e) != 0.0)
-    {
-        Some("has sharpness on it or an incident edge")
-    } else {
-        None
-    }
-}
-
-/// The rows of face `f` from `positions` (20 + 8 or 15 + 6 points, see [`StencilType`]).
-fn control_points(topo: &Topology, positions: &[DVec3], f: u32) -> Vec<DVec3> {
-    let fv = topo.face_vertices(f);
-    let verts: Vec<GregoryVertex> = fv
-        .iter()
-        .map(|&v| GregoryVertex::interior(&vertex_ring(topo, positions, v)))
-        .collect();
-    let refs: Vec<CornerRef<'_>> = fv
-        .iter()
-        .zip(&verts)
-        .map(|(&v, vertex)| CornerRef {
-            vertex,
-            j: topo
-                .vertex_faces(v)
-                .iter()
-                .position(|&g| g == f)
-                .expect("a face is in the ring of each of its corners"),
-        })
-        .collect();
-    let mut out = Vec::with_capacity(QUAD_POINTS + QUAD_EXTRA);
-    let n = refs.len();
-    let mut extra = Vec::with_capacity(4 * n);
-    for k in 0..n {
-        let (a, b) = (&refs[k], &refs[(k + 1) % n]);
-        extra.push(a.vertex.e[(a.j + a.vertex.n - 1) % a.vertex.n]);
-        extra.push(b.vertex.e[(b.j + 2) % b.vertex.n]);
-    }
-    for k in 0..n {
-        let (x, y) = (fv[k], fv[(k + 1) % n]);
-        let (a, b) = (&refs[k], &refs[(k + 1) % n]);
-        extra.extend(neighbour_face_points(topo, f, (x, a.vertex), (y, b.vertex)));
-    }
-    if n == 3 {
-        let t = GregoryTriangle::new(&[refs[0], refs[1], refs[2]]);
-        for a in [t.p, t.e_plus, t.e_minus, t.f_plus, t.f_minus] {
-            out.extend(a);
+/// Control points of a patch in row order: p.., e_plus.., e_minus.., f_plus.., f_minus...
+fn patch_rows(p: &GregoryPatch) -> Vec<DVec3> {
+    let mut out = Vec::with_capacity(QUAD_POINTS);
+    match p {
+        GregoryPatch::Quad(q) => {
+            for a in [q.p, q.e_plus, q.e_minus, q.f_plus, q.f_minus] {
+                out.extend(a);
+            }
         }
-    } else {
-        let q = GregoryQuad::new(&[refs[0], refs[1], refs[2], refs[3]]);
-        for a in [q.p, q.e_plus, q.e_minus, q.f_plus, q.f_minus] {
-            out.extend(a);
+        GregoryPatch::Triangle(t) => {
+            for a in [t.p, t.e_plus, t.e_minus, t.f_plus, t.f_minus] {
+                out.extend(a);
+            }
         }
     }
-    out.extend(extra);
     out
 }
 
-/// The face points of the face across edge `x -> y` of face `f` next to that edge, at `x` and at
-/// `y`, computed with exactly the arguments the neighbour's own construction passes to
-/// [`face_point`] (`assemble` in patch::gregory::eval), so the results are bitwise its own.
-/// Where the neighbour is not a triangle or quad (no Gregory patch), `f`'s own face points.
-fn neighbour_face_points(
-    topo: &Topology,
-    f: u32,
-    (x, gx): (u32, &GregoryVertex),
-    (y, gy): (u32, &GregoryVertex),
-) -> [DVec3; 2] {
-    let j_of = |v: u32, g: u32| topo.vertex_faces(v).iter().position(|&h| h == g);
-    let g = topo
-        .find_edge(x, y)
-        .and_then(|e| topo.edge_faces(e).iter().copied().find(|&h| h != f));
-    let (g, d) = match g.map(|g| (g, topo.face_size(g))) {
-        Some((g, 4)) => (g, 3.0),
-        Some((g, 3)) => (g, 4.0),
-        _ => (f, if topo.face_size(f) == 3 { 4.0 } else { 3.0 }),
-    };
-    let (Some(jx), Some(jy)) = (j_of(x, g), j_of(y, g)) else {
-        return [DVec3::ZERO; 2];
-    };
-    let (nx, ny) = (gx.n, gy.n);
-    if g == f {
-        // Own face points next to edge x -> y: f_plus at x, f_minus at y.
-        let fx = face_point(d, nx, ny, gx.p, gx.e[jx], gy.e[(jy + 1) % ny], gx.r_plus[jx]);
-        let fy = face_point(
-            d,
-            ny,
-            nx,
-            gy.p,
-            gy.e[(jy + 1) % ny],
-            gx.e[jx],
-            gy.r_minus[jy],
-        );
-        return [fx, fy];
+/// The rows of face `f` from `positions` (see [`StencilType`]): its own control points, then per
+/// edge k the neighbour patch's edge points and face points next to the edge, taken from the
+/// neighbour's own construction ([`gregory_patch_at`], the same function its own stencil runs),
+/// so they are bitwise its own values. Where the edge has no Gregory neighbour (boundary, a face
+/// without Gregory patch) the patch's own points stand in.
+fn control_points(topo: &Topology, positions: &[DVec3], f: u32) -> Vec<DVec3> {
+    let own =
+        patch_rows(&gregory_patch_at(topo, positions, f).expect("face checked by check_face"));
+    let fv = topo.face_vertices(f);
+    let n = fv.len();
+    let mut eout = Vec::with_capacity(2 * n);
+    let mut nbr = Vec::with_capacity(2 * n);
+    for k in 0..n {
+        let (x, y) = (fv[k], fv[(k + 1) % n]);
+        let across = topo
+            .find_edge(x, y)
+            .and_then(|e| topo.edge_faces(e).iter().copied().find(|&g| g != f));
+        let theirs = across.and_then(|g| {
+            let d = topo.face_vertices(g);
+            let m = d.len();
+            // In g the edge runs y -> x: corner k2 = y, k2 + 1 = x.
+            let k2 = (0..m).find(|&i| d[i] == y && d[(i + 1) % m] == x)?;
+            let r = patch_rows(&gregory_patch_at(topo, positions, g).ok()?);
+            let k2n = (k2 + 1) % m;
+            // e_plus at x, e_minus at y, f_minus at x, f_plus at y.
+            Some([r[m + k2n], r[2 * m + k2], r[4 * m + k2n], r[3 * m + k2]])
+        });
+        let [ex, ey, fx, fy] = theirs.unwrap_or([
+            own[2 * n + k],
+            own[n + (k + 1) % n],
+            own[3 * n + k],
+            own[4 * n + (k + 1) % n],
+        ]);
+        eout.extend([ex, ey]);
+        nbr.extend([fx, fy]);
     }
-    // In g the edge runs y -> x: f_minus at x (prev corner y), f_plus at y (next corner x).
-    let fx = face_point(
-        d,
-        nx,
-        ny,
-        gx.p,
-        gx.e[(jx + 1) % nx],
-        gy.e[jy],
-        gx.r_minus[jx],
-    );
-    let fy = face_point(d, ny, nx, gy.p, gy.e[jy], gx.e[(jx + 1) % nx], gy.r_plus[jy]);
-    [fx, fy]
+    let mut out = own;
+    out.extend(eout);
+    out.extend(nbr);
+    out
 }
 
 /// Weight rows of face `f` over `ring` (f64, `rows x ring.len()`), by linearity: ring vertices
@@ -270,13 +214,8 @@ impl StencilTable {
                 )));
                 continue;
             }
-            if let Some((v, why)) = fv
-                .iter()
-                .find_map(|&v| unsupported(topo, v).map(|why| (v, why)))
-            {
-                table.rejected.push(reject(format!(
-                    "face {f}: corner vertex {v} {why}, which the Gregory construction does not cover yet"
-                )));
+            if let Err(e) = check_face(topo, f) {
+                table.rejected.push(reject(e.to_string()));
                 continue;
             }
             let ring = face_ring(topo, f);
