@@ -89,11 +89,11 @@ void main() {
     if (u_edge && v_edge) {
         int k = (u == 0.0) ? (v == 0.0 ? 0 : 3) : (v == 0.0 ? 1 : 2);
         p = vertex_limit[info.corners[k]].xyz;
-        // The shared vertex normal only where no boundary/crease side of this patch meets the
-        // corner (there the limit normal may differ per sector; keep this patch's own).
-        uint sides = (k == 0) ? 9u : (k == 1) ? 3u : (k == 2) ? 6u : 12u;
-        if ((info.flags & sides) == 0u) {
-            nrm = vertex_normal[info.corners[k]].xyz;
+        // The shared vertex normal, unless the vertex has none (zero: several sectors, or no
+        // topology to tell; keep this patch's own).
+        vec3 vn = vertex_normal[info.corners[k]].xyz;
+        if (dot(vn, vn) > 0.0) {
+            nrm = vn;
         }
     } else if (u_edge || v_edge) {
         int e = (v == 0.0) ? 0 : (u == 1.0) ? 1 : (v == 1.0) ? 2 : 3;

@@ -40,7 +40,7 @@ void quad_edge(uint patch_index, GregoryPatchInfo info, int k, float x, int from
     float t, s;
     edge_ts(x, from_lo, t, s);
     if ((info.flags & (1u << uint(k))) != 0u) {
-        grid_edge(patch_index, k, t, s, pos, nrm);
+        grid_edge(patch_index, info.flags, k, t, s, pos, nrm);
         return;
     }
     bool nbr_quad = (info.flags & (1u << uint(8 + k))) == 0u;
@@ -88,8 +88,10 @@ void main() {
     if (u_edge && v_edge) {
         int k = (u == 0.0) ? (v == 0.0 ? 0 : 3) : (v == 0.0 ? 1 : 2);
         p = vertex_limit[info.corners[k]].xyz;
-        if ((info.flags & (1u << uint(16 + k))) == 0u) {
-            nrm = vertex_normal[info.corners[k]].xyz;
+        // Shared vertex normal; zero where the vertex has several sectors (own normal).
+        vec3 vn = vertex_normal[info.corners[k]].xyz;
+        if (dot(vn, vn) > 0.0) {
+            nrm = vn;
         }
     } else if (v == 0.0) {
         quad_edge(patch_index, info, 0, u, 0, p, nrm);

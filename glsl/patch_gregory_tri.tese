@@ -77,8 +77,10 @@ void main() {
     if (zeros >= 2) {
         int k = (w0 != 0.0) ? 0 : (w1 != 0.0 ? 1 : 2);
         p = vertex_limit[info.corners[k]].xyz;
-        if ((info.flags & (1u << uint(16 + k))) == 0u) {
-            nrm = vertex_normal[info.corners[k]].xyz;
+        // Shared vertex normal; zero where the vertex has several sectors (own normal).
+        vec3 vn = vertex_normal[info.corners[k]].xyz;
+        if (dot(vn, vn) > 0.0) {
+            nrm = vn;
         }
     } else if (w2 == 0.0) {
         tri_edge(info, 0, w1, p, nrm);

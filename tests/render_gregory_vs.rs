@@ -329,13 +329,16 @@ fn run(_name: &str, mesh: &ControlMesh, level: f32) -> Frame {
 
 #[test]
 fn gpu_matches_cpu_construction() {
-    for (name, mesh) in [
-        ("catmark_cube", osd("catmark_cube")),
-        ("mixed", embedded("mixed")),
-        ("catmark_gregory_test6", osd("catmark_gregory_test6")),
-    ] {
+    let mut with_patches = 0;
+    for (name, mesh) in boundary_and_closed_meshes() {
+        let name = name.as_str();
         let fr = run(name, &mesh, 6.0);
-        assert!(!fr.gregory.is_empty(), "{name}: no Gregory faces drawn");
+        if fr.gregory.is_empty() {
+            // creased: semi-sharp tags everywhere (not covered by the paper); tent: all regular;
+            // catmark_gregory_test7/8: one-face crease sectors everywhere.
+            continue;
+        }
+        with_patches += 1;
         let (pos, n_in, n_edge) = compare_with_cpu(&fr);
         eprintln!(
             "{name}: {} gregory patches ({} rejected), {} records: max pos err {pos:.2e} of diag, max normal angle interior {n_in:.2e} edge {n_edge:.2e}",
@@ -350,24 +353,57 @@ fn gpu_matches_cpu_construction() {
         assert!(n_in <= 1e-3, "{name}: interior normal angle {n_in:e}");
         assert!(n_edge <= 1e-3, "{name}: edge normal angle {n_edge:e}");
     }
+    assert!(
+        with_patches >= 9,
+        "only {with_patches} meshes had Gregory faces"
+    );
+}
+
+/// Closed meshes and meshes with boundaries, infinitely sharp creases and corners (§4.6).
+fn boundary_and_closed_meshes() -> Vec<(String, ControlMesh)> {
+    let mut v = vec![
+        ("catmark_cube".to_string(), osd("catmark_cube")),
+        ("mixed".to_string(), embedded("mixed")),
+        ("open".to_string(), embedded("open")),
+        ("creased".to_string(), embedded("creased")),
+        ("catmark_tent".to_string(), osd("catmark_tent")),
+        (
+            "catmark_cubes_infsharp".to_string(),
+            osd("catmark_cubes_infsharp"),
+        ),
+    ];
+    for k in 0..9 {
+        let name = format!("catmark_gregory_test{k}");
+        let path = format!("/work/shared/meshes/osd/{name}.obj");
+        if let Ok(m) = ControlMesh::from_obj_file(&path, &ObjOptions::default()) {
+            v.push((name, m));
+        }
+    }
+    v
 }
 
 #[test]
 fn watertight_bitwise() {
-    for (name, mesh) in [
-        ("catmark_cube", osd("catmark_cube")),
-        ("mixed", embedded("mixed")),
-        ("catmark_gregory_test6", osd("catmark_gregory_test6")),
-    ] {
+    let (mut total, mut total_mixed) = (0, 0);
+    for (name, mesh) in boundary_and_closed_meshes() {
+        let name = name.as_str();
         for level in [3.0, 6.0] {
             let fr = run(name, &mesh, level);
+            if fr.gregory.is_empty() {
+                continue;
+            }
             let (n, mixed) = check_watertight(&fr, name);
             eprintln!(
                 "{name} level {level}: {n} shared points bitwise equal ({mixed} Gregory/B-spline)"
             );
-            assert!(n > 0);
+            total += n;
+            total_mixed += mixed;
         }
     }
+    assert!(
+        total > 500 && total_mixed > 100,
+        "{total} / {total_mixed} shared points"
+    );
 }
 
 /// Both variants, fractional spacings, adaptive levels, and every catmark_gregory_test mesh
@@ -530,9 +566,12 @@ fn update_positions_equals_rebuild() {
         mesh.set_positions(&rest).unwrap();
         assert_eq!(animated.len(), fresh.len());
         assert_ne!(before, animated, "{scheme:?}: the surface moved");
+        let diff = animated.iter().zip(&fresh).position(|(a, b)| a != b);
         assert!(
-            animated == fresh,
-            "{scheme:?}: animated capture differs from a rebuilt renderer"
+            diff.is_none(),
+            "{scheme:?}: animated capture differs from a rebuilt renderer: {:?} vs {:?}",
+            diff.map(|i| animated[i]),
+            diff.map(|i| fresh[i])
         );
     }
     render_common::assert_validation_clean(&ctx);
@@ -710,7 +749,7 @@ fn valence_over_budget_falls_back() {
     assert!(ok.is_empty());
     assert_eq!(rejected.len(), n);
     assert!(
-        rejected[0].1.contains("vertex 0 has valence 24 > 20"),
+        rejected[0].1.contains("vertex 0 has 24 ring edges"),
         "{}",
         rejected[0].1
     );

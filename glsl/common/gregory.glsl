@@ -152,7 +152,8 @@ void grid_edge_rows(vec3 l[4], vec3 m[4], vec3 r[4], float t, float s, out vec3 
 
 /// Edge k of Gregory patch `patch_index` shared with a regular patch: [`grid_edge_rows`] on the
 /// grid ids of binding 7.
-void grid_edge(uint patch_index, int k, float t, float s, out vec3 pos, out vec3 nrm) {
+void grid_edge(uint patch_index, uint flags, int k, float t, float s, out vec3 pos,
+               out vec3 nrm) {
     uint base = patch_index * 48u + uint(k) * 12u;
     vec3 l[4];
     vec3 m[4];
@@ -161,6 +162,18 @@ void grid_edge(uint patch_index, int k, float t, float s, out vec3 pos, out vec3
         l[i] = control_point(grid_ids[base + uint(i)]);
         m[i] = control_point(grid_ids[base + 4u + uint(i)]);
         r[i] = control_point(grid_ids[base + 8u + uint(i)]);
+    }
+    // Phantom points of a boundary-regular neighbour, mirrored as patch_bspline.tesc does
+    // (2 a - b: the doubling is exact, so the result does not depend on contraction).
+    if ((flags & (1u << uint(20 + 2 * k))) != 0u) {
+        l[0] = 2.0 * l[1] - l[2];
+        m[0] = 2.0 * m[1] - m[2];
+        r[0] = 2.0 * r[1] - r[2];
+    }
+    if ((flags & (1u << uint(21 + 2 * k))) != 0u) {
+        l[3] = 2.0 * l[2] - l[1];
+        m[3] = 2.0 * m[2] - m[1];
+        r[3] = 2.0 * r[2] - r[1];
     }
     grid_edge_rows(l, m, r, t, s, pos, nrm);
 }

@@ -7,7 +7,7 @@ use glam::DVec3;
 
 use super::layout::{BSplinePatch, PATCH_EDGES};
 use crate::mesh::INFINITE_SHARPNESS;
-use crate::patch::gregory::{is_supported_vertex, vertex_ring, GregoryVertex};
+use crate::patch::gregory::{check_face, gregory_vertex};
 use crate::patch::RegularPatch;
 use crate::topology::Topology;
 
@@ -16,22 +16,11 @@ pub const GREGORY_PATCH_INFO_BYTES: usize = 32;
 /// Grid vertex ids per patch (4 edges x 3 rows x 4).
 pub const GRID_IDS_PER_PATCH: usize = 48;
 
-/// Why a face is not drawn as a GPU Gregory patch (the renderer keeps it on the CPU path).
+/// Why a face is not drawn as a GPU Gregory patch (the renderer keeps it on the CPU path):
+/// the construction's own limits ([`check_face`]: polygons, darts, semi-sharp tags, cone
+/// points, one-face crease sectors, wide corner sectors).
 pub fn gregory_face_problem(topo: &Topology, f: u32) -> Option<String> {
-    let n = topo.face_size(f);
-    if n != 3 && n != 4 {
-        return Some(format!(
-            "face {f} has {n} corners (Gregory patches: 3 or 4)"
-        ));
-    }
-    for &v in topo.face_vertices(f) {
-        if !is_supported_vertex(topo, v) {
-            return Some(format!(
-                "face {f}: vertex {v} is on a boundary or has sharpness (not covered by the GPU Gregory construction yet)"
-            ));
-        }
-    }
-    None
+    check_face(topo, f).err().map(|e| e.to_string())
 }
 
 /// Faces a Gregory scheme should draw: a limit surface, not (boundary-)regular, 3 or 4 corners
@@ -77,35 +66,39 @@ pub struct GregoryLayout {
     /// Index of the patch's face in each corner vertex's ring (paper Fig. 8).
     pub corner_ring: Vec<[u32; 4]>,
     /// Bit k: edge k (corner k -> k+1) is shared with a regular B-spline patch; bit 8+k: the
-    /// face across edge k is a triangle; bit 12+k: edge k is a boundary or infinitely sharp edge;
-    /// bit 16+k: corner k's vertex has two or more sectors (`glsl/common/gregory.glsl`).
+    /// face across edge k is a triangle; bit 12+k: edge k is a boundary or infinitely sharp edge, or its other face is
+    /// neither a Gregory patch of this layout nor a regular patch (one-sided normal);
+    /// bit 16+k: corner k's vertex has two or more sectors; bits 20+2k / 21+2k: the first /
+    /// last grid point of edge k is a mirrored phantom (`glsl/common/gregory.glsl`).
     pub flags: Vec<u32>,
     /// [`GRID_IDS_PER_PATCH`] ids per patch (zeros where the flag is off).
     pub grid_ids: Vec<u32>,
 }
 
-/// The 12 grid ids of the edge `a -> b` of Gregory face `f` shared with regular patch `p`, in the
-/// TES order: rows left / on / right of the direction from the smaller id, 4 along it.
-fn grid_of(p: &RegularPatch, a: u32, b: u32) -> Option<[u32; 12]> {
+/// The 12 grid ids of the edge `a -> b` of a Gregory face shared with regular patch `p`, in the
+/// TES order (rows left / on / right of the direction from the smaller id, 4 along it), and
+/// whether the first / last point along it is a phantom the TES mirrors (`2 x1 - x2`, as the
+/// B-spline TCS does). `None` if a phantom would lie in the rows themselves (cannot happen for
+/// an edge with a face on both sides).
+fn grid_of(p: &RegularPatch, a: u32, b: u32) -> Option<([u32; 12], bool, bool)> {
     let c = [p.cvs[5], p.cvs[6], p.cvs[10], p.cvs[9]];
     let pe = PATCH_EDGES
         .iter()
         .position(|&(s, t)| (c[s] == a && c[t] == b) || (c[s] == b && c[t] == a))?;
     let along_u = pe == 0 || pe == 2;
-    // Phantom points (mirrored on the GPU) cannot be named by an id. The grid uses the three
-    // rows nearest the edge, so only phantoms on the two sides across the edge's ends matter
-    // (boundary bits: 0 = v=0, 1 = u=1, 2 = v=1, 3 = u=0).
-    let across_ends = if along_u { 0b1010 } else { 0b0101 };
-    if p.boundary_mask & across_ends != 0 {
+    let off = usize::from(pe == 1 || pe == 2);
+    let m = p.boundary_mask;
+    // Boundary bits: 0 = v=0 (row 0), 1 = u=1 (column 3), 2 = v=1 (row 3), 3 = u=0 (column 0).
+    let (near_first, near_last, along_first, along_last) =
+        if along_u { (1, 4, 8, 2) } else { (8, 2, 1, 4) };
+    if (off == 0 && m & near_first != 0) || (off == 1 && m & near_last != 0) {
         return None;
     }
-    let off = usize::from(pe == 1 || pe == 2);
     let (s, t) = PATCH_EDGES[pe];
     let reversed = c[s] > c[t];
-    let (lo, hi) = (a.min(b), a.max(b));
+    let lo = a.min(b);
     // The Gregory face runs a -> b, so it lies left of lo -> hi exactly when a is lo.
     let gregory_left = a == lo;
-    let _ = hi;
     let outer = if off == 0 { 0 } else { 2 };
     let rows = if gregory_left {
         [outer, 1, 2 - outer]
@@ -113,18 +106,23 @@ fn grid_of(p: &RegularPatch, a: u32, b: u32) -> Option<[u32; 12]> {
         [2 - outer, 1, outer]
     };
     let mut out = [0u32; 12];
-    for (r, &m) in rows.iter().enumerate() {
+    for (r, &mm) in rows.iter().enumerate() {
         for k in 0..4 {
             let kk = if reversed { 3 - k } else { k };
             let idx = if along_u {
-                (m + off) * 4 + kk
+                (mm + off) * 4 + kk
             } else {
-                kk * 4 + m + off
+                kk * 4 + mm + off
             };
             out[r * 4 + k] = p.cvs[idx];
         }
     }
-    Some(out)
+    let (pf, pl) = (m & along_first != 0, m & along_last != 0);
+    Some(if reversed {
+        (out, pl, pf)
+    } else {
+        (out, pf, pl)
+    })
 }
 
 impl GregoryLayout {
@@ -143,6 +141,7 @@ impl GregoryLayout {
             .collect();
         let quad_count = quads.len() as u32;
         quads.extend(tris);
+        let drawn: std::collections::HashSet<u32> = quads.iter().copied().collect();
         let mut out = GregoryLayout {
             quad_count,
             ..Default::default()
@@ -169,15 +168,22 @@ impl GregoryLayout {
                     flags |= 1 << (8 + k);
                 }
                 let sharp_edge = topo.find_edge(a, b).is_none_or(|e| is_sharp_edge(topo, e));
-                if across.is_none() || sharp_edge {
+                // One-sided normal where nothing on the GPU shares the edge's normal: boundary,
+                // sharp edge, or a neighbour drawn another way (CPU path).
+                let gpu_neighbour = across
+                    .is_some_and(|g| drawn.contains(&g) || RegularPatch::gather(topo, g).is_some());
+                if sharp_edge || !gpu_neighbour {
                     flags |= 1 << (12 + k);
                 }
                 if sector_count(topo, a) >= 2 {
                     flags |= 1 << (16 + k);
                 }
                 let neighbour = across.and_then(|g| RegularPatch::gather(topo, g));
-                if let Some(grid) = neighbour.as_ref().and_then(|p| grid_of(p, a, b)) {
+                if let Some((grid, first, last)) = neighbour.as_ref().and_then(|p| grid_of(p, a, b))
+                {
                     flags |= 1 << k;
+                    flags |= u32::from(first) << (20 + 2 * k);
+                    flags |= u32::from(last) << (21 + 2 * k);
                     grids[12 * k..12 * k + 12].copy_from_slice(&grid);
                 }
             }
@@ -234,18 +240,35 @@ impl GregoryLayout {
     }
 }
 
-/// Limit position and unit limit normal of an interior smooth vertex (§3.2-3.3: the tangent
-/// plane of the limit tangents along ring edges 0 and 1; outward for counter-clockwise faces).
+/// Limit position and unit limit normal of a vertex the Gregory construction covers (§3.2-3.3,
+/// §4.6: the plane of the limit tangents along ring edges 0 and 1, outward for counter-clockwise
+/// faces; a boundary ring starts at a boundary edge). Vertices with several sectors have no
+/// single normal: patch corners there keep their own (flags bit 16+k). Uncovered vertices give
+/// the control position and +z.
 pub fn gregory_vertex_frame(topo: &Topology, positions: &[DVec3], v: u32) -> (DVec3, DVec3) {
-    let g = GregoryVertex::interior(&vertex_ring(topo, positions, v));
-    let n = (g.e[0] - g.p).cross(g.e[1] - g.p).normalize_or_zero();
-    (g.p, n)
+    let point = |i: u32| positions[i as usize];
+    match gregory_vertex(topo, v, &point) {
+        Some(g) if g.e.len() >= 2 => {
+            let n = (g.e[0] - g.p).cross(g.e[1] - g.p).normalize_or_zero();
+            (g.p, n)
+        }
+        _ => (positions[v as usize], DVec3::Z),
+    }
+}
+
+/// Whether every patch at vertex `v` has the same limit normal there (one sector: smooth
+/// interior or a boundary/crease vertex whose sharp edges do not split its faces; not a cone).
+pub fn single_normal_vertex(topo: &Topology, v: u32) -> bool {
+    sector_count(topo, v) <= 1
+        && (topo.is_boundary_vertex(v) || topo.vertex_sharpness(v) < INFINITE_SHARPNESS)
 }
 
 /// Per-vertex limit positions and normals every patch corner reads (`vertex_limit`, binding 2,
 /// and `vertex_normal`, binding 9): regular patch corners from the B-spline patch (first patch
 /// that has the vertex, as [`super::layout::vertex_limits`]), then the remaining corners of the
-/// Gregory patches from the Gregory construction. Other entries hold the control position and +z.
+/// Gregory patches from the Gregory construction. The normal is zero where the vertex has no
+/// single normal ([`single_normal_vertex`]): corners there keep their patch's own normal. Other
+/// entries hold the control position and a zero normal.
 pub fn vertex_frames(
     topo: &Topology,
     positions: &[DVec3],
@@ -253,7 +276,7 @@ pub fn vertex_frames(
     gregory: &GregoryLayout,
 ) -> (Vec<DVec3>, Vec<DVec3>) {
     let mut lim = positions.to_vec();
-    let mut nrm = vec![DVec3::Z; positions.len()];
+    let mut nrm = vec![DVec3::ZERO; positions.len()];
     let mut done = vec![false; positions.len()];
     for p in regular {
         let rp = RegularPatch {
@@ -270,7 +293,9 @@ pub fn vertex_frames(
                 done[vid] = true;
                 let s = rp.eval(positions, u, v);
                 lim[vid] = s.position;
-                nrm[vid] = s.normal;
+                if single_normal_vertex(topo, vid as u32) {
+                    nrm[vid] = s.normal;
+                }
             }
         }
     }
@@ -280,7 +305,9 @@ pub fn vertex_frames(
                 done[v as usize] = true;
                 let (p, n) = gregory_vertex_frame(topo, positions, v);
                 lim[v as usize] = p;
-                nrm[v as usize] = n;
+                if single_normal_vertex(topo, v) {
+                    nrm[v as usize] = n;
+                }
             }
         }
     }

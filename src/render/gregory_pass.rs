@@ -67,7 +67,9 @@ pub fn surface_vertex_frames(
         }
         None => {
             let mut lim = positions.to_vec();
-            let mut nrm = vec![DVec3::Z; positions.len()];
+            // No topology here: a corner with a boundary/crease side of its patch keeps its
+            // own normal (zero entry), as it may lie between sectors.
+            let mut nrm = vec![DVec3::ZERO; positions.len()];
             let mut done = vec![false; positions.len()];
             for p in regular {
                 let rp = RegularPatch {
@@ -84,7 +86,10 @@ pub fn surface_vertex_frames(
                         done[vid] = true;
                         let s = rp.eval(positions, u, v);
                         lim[vid] = s.position;
-                        nrm[vid] = s.normal;
+                        let sides = [9u8, 3, 6, 12][k];
+                        if p.boundary_mask & sides == 0 {
+                            nrm[vid] = s.normal;
+                        }
                     }
                 }
             }

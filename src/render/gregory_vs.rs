@@ -29,6 +29,7 @@ use crate::gpu::{
     DescriptorPool, GraphicsPipelineDesc, MemoryLocation, Pipeline, PushConstants, TargetFormat,
 };
 use crate::patch::gregory::is_supported_vertex;
+use crate::patch::gregory::table::GregoryVertexTable;
 use crate::topology::Topology;
 use crate::{Error, Result};
 
@@ -37,8 +38,26 @@ use crate::{Error, Result};
 pub struct VsBudget {
     /// vec4 output slots (31 or 15; selects the shader variant).
     pub slots: u32,
-    /// Largest vertex valence: `(4 * slots - 4) / 6`.
+    /// Largest valence of a smooth vertex: `(4 * slots - 4) / 6`.
     pub max_valence: usize,
+}
+
+impl VsBudget {
+    /// Largest number of ring edges of a boundary, crease or corner vertex (9 floats each):
+    /// `(4 * slots - 4) / 9`.
+    pub fn max_sectored_edges(&self) -> usize {
+        ((4 * self.slots - 4) / 9) as usize
+    }
+
+    /// Whether vertex `v`'s per-vertex data fits the varyings.
+    pub fn fits(&self, topo: &Topology, v: u32) -> bool {
+        let (ne, smooth) = vertex_need(topo, v);
+        if smooth {
+            ne <= self.max_valence
+        } else {
+            ne <= self.max_sectored_edges()
+        }
+    }
 }
 
 /// The budget the device allows, or `None` when even 15 slots do not fit.
@@ -64,8 +83,8 @@ pub fn vs_budget(ctx: &Context) -> Option<VsBudget> {
 }
 
 /// Splits candidate Gregory faces into those this variant draws and those it cannot, with the
-/// reason (boundary/crease vertex, valence over the budget, a ring face with more than 4 sides
-/// is fine).
+/// reason (the construction's limits, [`gregory_face_problem`], or a vertex over the varyings
+/// budget).
 pub fn select_faces(
     topo: &Topology,
     faces: &[u32],
@@ -81,14 +100,15 @@ pub fn select_faces(
         if let Some(&v) = topo
             .face_vertices(f)
             .iter()
-            .find(|&&v| topo.valence(v) > budget.max_valence)
+            .find(|&&v| !budget.fits(topo, v))
         {
             rejected.push((
                 f,
                 format!(
-                    "face {f}: vertex {v} has valence {} > {} (the two-stage variant's varyings budget)",
-                    topo.valence(v),
-                    budget.max_valence
+                    "face {f}: vertex {v} has {} ring edges, over the two-stage variant's varyings budget ({} smooth, {} at boundaries/creases)",
+                    topo.vertex_edges(v).len(),
+                    budget.max_valence,
+                    budget.max_sectored_edges()
                 ),
             ));
             continue;
@@ -98,40 +118,26 @@ pub fn select_faces(
     (ok, rejected)
 }
 
-/// Connectivity words (layout in `glsl/common/gregory_vs.glsl`: the per-vertex table of
-/// `patch::gregory::GregoryVertexTable`, offsets absolute): a header `(offset, ne, nf, kind)` per
-/// vertex, then per vertex its far edge vertices, sector words and face records. `kind` is
-/// smooth for interior vertices without sharpness ([`is_supported_vertex`]), none otherwise.
+/// Connectivity words (layout in `glsl/common/gregory_vs.glsl`): the per-vertex part of
+/// [`GregoryVertexTable`] (paper Fig. 7: header `(offset, ne, nf, kind)` per vertex, far edge
+/// vertices, sector words, face records) with the ring offsets made absolute.
 pub fn connectivity_words(topo: &Topology) -> Vec<u32> {
-    let nv = topo.vertex_count();
-    let mut words = vec![0u32; 4 * nv];
-    for v in 0..nv as u32 {
-        if !is_supported_vertex(topo, v) {
-            continue;
-        }
-        let edges = topo.vertex_edges(v);
-        let faces = topo.vertex_faces(v);
-        let (ne, nf) = (edges.len(), faces.len());
-        let h = 4 * v as usize;
-        let offset = words.len() as u32;
-        words[h..h + 4].copy_from_slice(&[offset, ne as u32, nf as u32, KIND_SMOOTH]);
-        let w: Vec<u32> = edges.iter().map(|&e| topo.other_vertex(e, v)).collect();
-        words.extend(&w);
-        words.extend(std::iter::repeat_n((nf as u32) << 16, nf));
-        for (i, &f) in faces.iter().enumerate() {
-            let fv = topo.face_vertices(f);
-            words.push(fv.len() as u32);
-            let k = fv.iter().position(|&x| x == w[i]).unwrap_or(0);
-            for s in 1..=fv.len().saturating_sub(3) {
-                words.push(fv[(k + s) % fv.len()]);
-            }
-        }
+    let t = GregoryVertexTable::new(topo, std::iter::empty());
+    let base = t.vertices.len() as u32;
+    let mut words = t.vertices;
+    for h in words.chunks_exact_mut(4) {
+        h[0] += base;
     }
+    words.extend(t.ring);
     words
 }
 
-/// `kind` of a smooth interior vertex in the connectivity header.
-pub const KIND_SMOOTH: u32 = 1;
+/// Ring edges of vertex `v` the varyings must hold, and whether it is smooth (6 floats per
+/// edge) or sectored (9).
+fn vertex_need(topo: &Topology, v: u32) -> (usize, bool) {
+    let smooth = is_supported_vertex(topo, v);
+    (topo.vertex_edges(v).len(), smooth)
+}
 
 /// The shared buffers the two-stage pass binds but does not own (the surface renderer's).
 #[derive(Clone, Copy)]
@@ -255,13 +261,12 @@ impl GregoryVsPatches {
         if let Some((f, v)) = layout.faces.iter().find_map(|&f| {
             topo.face_vertices(f)
                 .iter()
-                .find(|&&v| topo.valence(v) > budget.max_valence)
+                .find(|&&v| !budget.fits(topo, v))
                 .map(|&v| (f, v))
         }) {
             return Err(Error::Invalid(format!(
-                "gregory-vs: face {f}: vertex {v} has valence {} > {} (varyings budget)",
-                topo.valence(v),
-                budget.max_valence
+                "gregory-vs: face {f}: vertex {v} has {} ring edges, over the varyings budget",
+                topo.vertex_edges(v).len()
             )));
         }
         if positions.len() != topo.vertex_count() || normals.len() != positions.len() {
