@@ -471,6 +471,7 @@ fn golden_patch_type() {
     for (name, mesh) in [
         ("gregory_vs_mixed_patch_type", embedded("mixed")),
         ("gregory_vs_cube_patch_type", osd("catmark_cube")),
+        ("gregory_vs_open_patch_type", embedded("open")),
     ] {
         let (_, img) = render(&ctx, &mesh, 8.0);
         let path = dir.join(format!("{name}.png"));
