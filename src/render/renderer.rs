@@ -192,6 +192,17 @@ impl SurfaceRenderer {
             );
             desc_local.tess.max_patch_level = f32::INFINITY;
         }
+        // The two-stage variant's pass jumps ~13x in cost at (sub-)patch levels >= 15 on Mesa
+        // 22.3 lavapipe (catmark_car, 460 Gregory quads: level 14 71 ms, 15 941 ms; the stencil
+        // variant 63 / 72 ms), so its patches are split from level 15 on.
+        if surface
+            .gregory
+            .as_ref()
+            .is_some_and(|g| g.scheme == super::scheme::Scheme::GregoryVs)
+            && desc_local.tess.max_patch_level > 14.0
+        {
+            desc_local.tess.max_patch_level = 14.0;
+        }
         let desc = &desc_local;
         if desc.wireframe {
             ctx.require(&[crate::gpu::Feature::FillModeNonSolid])?;
