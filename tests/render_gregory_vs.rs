@@ -11,7 +11,7 @@ use tessera::gpu::Context;
 use tessera::mesh::{ControlMesh, ObjOptions};
 use tessera::patch::gregory::{gregory_patch, gregory_vertices, GregoryPatch};
 use tessera::render::gregory_layout::irregular_faces;
-use tessera::render::renderer::capture_capacity_for;
+use tessera::render::renderer::{capture_capacity_for, effective_tess};
 use tessera::render::{
     render_to_image, surface_for_scheme, BSplinePatch, CaptureRecord, ColorBy, OffscreenDesc,
     RenderDesc, Scheme, SchemeLimits, TessSettings,
@@ -80,7 +80,10 @@ fn render_scheme(
             // Adaptive levels reach the device limit (64): at most 66^2 points per patch.
             ((surface.patches.len() + gregory.len()) * 66 * 66) as u32
         } else {
-            capture_capacity_for(surface.patches.len() + gregory.len(), &tess)
+            capture_capacity_for(
+                surface.patches.len() + gregory.len(),
+                &effective_tess(&surface, &tess).0,
+            )
         }),
         ..RenderDesc::default()
     };

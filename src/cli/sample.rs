@@ -4,7 +4,7 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use clap::Args;
-use tessera::render::renderer::capture_capacity_for;
+use tessera::render::renderer::{capture_capacity_for, effective_tess};
 use tessera::render::{
     render_to_image, OffscreenDesc, RenderDesc, Scheme, SchemeLimits, SurfaceData, TessSettings,
 };
@@ -77,7 +77,7 @@ pub fn run(args: SampleArgs) -> Result<()> {
         tess,
         capture_capacity: Some(capture_capacity_for(
             surface.patches.len() + gregory_count,
-            &tess,
+            &effective_tess(&surface, &tess).0,
         )),
         ..RenderDesc::default()
     };

@@ -178,31 +178,12 @@ impl SurfaceRenderer {
         target: TargetFormat,
     ) -> Result<SurfaceRenderer> {
         surface.validate()?;
-        // Sub-patches with fractional spacing cannot meet a whole Gregory triangle's edge point
-        // for point; draw such surfaces unsplit (correct, slower at high levels on lavapipe).
         let mut desc_local = *desc;
-        let has_triangles = surface
-            .gregory
-            .as_ref()
-            .is_some_and(|g| g.faces.iter().any(|&f| g.topology.face_size(f) == 3));
-        if has_triangles && desc.tess.spacing != Spacing::Equal && desc.tess.split() > 1 {
-            eprintln!(
-                "note: fractional spacing with Gregory triangles: patches are not split into \
-                 sub-patches (--max-patch-level ignored)"
-            );
-            desc_local.tess.max_patch_level = f32::INFINITY;
+        let (tess, note) = effective_tess(surface, &desc.tess);
+        if let Some(n) = note {
+            eprintln!("note: {n}");
         }
-        // The two-stage variant's pass jumps ~13x in cost at (sub-)patch levels >= 15 on Mesa
-        // 22.3 lavapipe (catmark_car, 460 Gregory quads: level 14 71 ms, 15 941 ms; the stencil
-        // variant 63 / 72 ms), so its patches are split from level 15 on.
-        if surface
-            .gregory
-            .as_ref()
-            .is_some_and(|g| g.scheme == super::scheme::Scheme::GregoryVs)
-            && desc_local.tess.max_patch_level > 14.0
-        {
-            desc_local.tess.max_patch_level = 14.0;
-        }
+        desc_local.tess = tess;
         let desc = &desc_local;
         if desc.wireframe {
             ctx.require(&[crate::gpu::Feature::FillModeNonSolid])?;
@@ -667,6 +648,40 @@ impl SurfaceRenderer {
             .collect();
         Ok(recs)
     }
+}
+
+/// The tessellation settings a [`SurfaceRenderer`] actually uses for `surface` (and a note when
+/// they differ from `tess`): the two-stage Gregory variant splits patches from level 15 on (its
+/// pass jumps ~13x in cost at (sub-)patch levels >= 15 on Mesa 22.3 lavapipe: catmark_car, 460
+/// Gregory quads, level 14 71 ms, 15 941 ms; the stencil variant 63 / 72 ms); with fractional
+/// spacing and Gregory triangles nothing is split (sub-patch edges cannot meet a whole triangle's
+/// edge point for point). Size capture buffers with it ([`capture_capacity_for`]).
+pub fn effective_tess(
+    surface: &SurfaceData,
+    tess: &TessSettings,
+) -> (TessSettings, Option<&'static str>) {
+    let mut t = *tess;
+    let mut note = None;
+    if surface
+        .gregory
+        .as_ref()
+        .is_some_and(|g| g.scheme == super::scheme::Scheme::GregoryVs)
+        && t.max_patch_level > 14.0
+    {
+        t.max_patch_level = 14.0;
+    }
+    let has_triangles = surface
+        .gregory
+        .as_ref()
+        .is_some_and(|g| g.faces.iter().any(|&f| g.topology.face_size(f) == 3));
+    if has_triangles && t.spacing != Spacing::Equal && t.split() > 1 {
+        note = Some(
+            "fractional spacing with Gregory triangles: patches are not split into sub-patches \
+             (--max-patch-level ignored)",
+        );
+        t.max_patch_level = f32::INFINITY;
+    }
+    (t, note)
 }
 
 /// Capture capacity (records) sufficient for `tess` (uniform) over `patches` patches: per
