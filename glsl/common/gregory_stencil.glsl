@@ -1,8 +1,9 @@
 // Stencil variant of Gregory patches (Loop et al. 2009, §4.3): the TCS body shared by the quad
-// (20 points) and triangle (15 points) shaders. The input patch is the face's one-ring, sorted by
-// global vertex id and padded to the pipeline's patch size; invocation i computes control point i
-// as the weighted sum of the ring vertices whose weight is nonzero (mask bit set), in ascending
-// ring order, with `precise` so that no multiply-add is fused: a corner or edge point shared with
+// (20 points) and triangle (15 points) shaders. The input patch is the face's one-ring in the
+// canonical local order of its connectivity type, padded to the pipeline's patch size; invocation
+// i computes control point i as the weighted sum of the ring vertices whose weight is nonzero
+// (mask bit set), in ascending GLOBAL vertex id (per-patch slot order in the record), with
+// `precise` so that no multiply-add is fused: a corner or edge point shared with
 // a neighbouring patch gets the same nonzero terms in the same order on both sides and so is
 // bitwise equal. Output order: p0.., e_plus0.., e_minus0.., f_plus0.., f_minus0.. (as
 // GregoryQuad / GregoryTriangle); the next stencil rows are the neighbours' edge points g_eout,
@@ -32,6 +33,7 @@ struct StencilRecord {
     uint ring_len;   // ring vertices actually used (<= patch size)
     uint pad;
     uvec4 corners;   // corner vertex ids (w repeats corner 0 for triangles)
+    uvec4 order[2];  // ring slots in ascending global vertex id, one byte each, low byte first
 };
 
 layout(std430, set = 1, binding = 0) readonly buffer StencilWeights {
@@ -50,29 +52,30 @@ layout(location = 0) out vec3 g_cp[];
 layout(location = 1) patch out vec3 g_eout[GREGORY_EDGE_PAIRS];
 layout(location = GREGORY_NBR_LOCATION) patch out vec3 g_nbr[GREGORY_EDGE_PAIRS];
 
-/// Stencil row `row` of connectivity type `type_id` applied to the input ring: nonzero terms
-/// only, ascending ring order, no fused multiply-add.
-vec3 stencil_row(uint type_id, uint row) {
-    uint base = (type_id * STENCIL_ROWS + row) * STENCIL_COLS;
-    uint mask = stencil_masks[type_id * STENCIL_ROWS + row];
+/// Stencil row `row` of the patch's connectivity type applied to the input ring (canonical local
+/// order): nonzero terms only, in ascending global vertex id, no fused multiply-add.
+vec3 stencil_row(StencilRecord rec, uint row) {
+    uint base = (rec.type_id * STENCIL_ROWS + row) * STENCIL_COLS;
+    uint mask = stencil_masks[rec.type_id * STENCIL_ROWS + row];
     precise vec3 acc = vec3(0.0);
-    while (mask != 0u) {
-        int k = findLSB(mask);
-        mask &= mask - 1u;
-        precise vec3 term = stencil_weights[base + uint(k)] * v_pos[k];
-        acc = acc + term;
+    for (uint i = 0u; i < rec.ring_len; ++i) {
+        uint k = (rec.order[i >> 4u][(i >> 2u) & 3u] >> (8u * (i & 3u))) & 0xffu;
+        if ((mask & (1u << k)) != 0u) {
+            precise vec3 term = stencil_weights[base + k] * v_pos[k];
+            acc = acc + term;
+        }
     }
     return acc;
 }
 
 void main() {
     StencilRecord rec = stencil_records[chunk.patch_base + uint(gl_PrimitiveID)];
-    g_cp[gl_InvocationID] = stencil_row(rec.type_id, uint(gl_InvocationID));
+    g_cp[gl_InvocationID] = stencil_row(rec, uint(gl_InvocationID));
     if (gl_InvocationID < GREGORY_EDGE_PAIRS) {
-        g_eout[gl_InvocationID] = stencil_row(rec.type_id, uint(GREGORY_POINTS + gl_InvocationID));
+        g_eout[gl_InvocationID] = stencil_row(rec, uint(GREGORY_POINTS + gl_InvocationID));
     } else if (gl_InvocationID < 2 * GREGORY_EDGE_PAIRS) {
         int i = gl_InvocationID - GREGORY_EDGE_PAIRS;
-        g_nbr[i] = stencil_row(rec.type_id, uint(GREGORY_POINTS + gl_InvocationID));
+        g_nbr[i] = stencil_row(rec, uint(GREGORY_POINTS + gl_InvocationID));
     }
 
     if (gl_InvocationID == 0) {

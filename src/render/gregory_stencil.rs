@@ -10,6 +10,6 @@ pub use gpu::{frame_set_layout, StencilPatches, StencilPlan};
 pub use session::{GregoryFrameReport, GregorySession, GregoryVariant, SessionOptions};
 
 pub use table::{
-    face_ring, gregory_faces, Rejected, StencilPatch, StencilTable, StencilType, MAX_RING,
-    QUAD_POINTS, TRI_POINTS,
+    gregory_faces, Rejected, StencilPatch, StencilTable, StencilType, MAX_RING, QUAD_POINTS,
+    TRI_POINTS,
 };

@@ -27,7 +27,7 @@ pub const STENCIL_ROWS: usize = QUAD_POINTS + QUAD_EXTRA;
 /// Columns per stencil block (`maxTessellationPatchSize` guaranteed by Vulkan).
 pub const STENCIL_COLS: usize = 32;
 /// Bytes of one `StencilRecord`.
-pub const RECORD_BYTES: usize = 32;
+pub const RECORD_BYTES: usize = 64;
 /// Patch sizes the ring is padded to (one pipeline each).
 const PATCH_SIZES: [u32; 3] = [16, 24, 32];
 
@@ -101,6 +101,12 @@ fn buffers_words(
     for p in &table.patches {
         records.extend([p.face, p.type_id, p.ring.len() as u32, 0]);
         records.extend(p.corners);
+        // Summation order: ring slots by ascending global id, 4 slots per word (low byte first).
+        let mut order = [0u32; STENCIL_COLS / 4];
+        for (i, &k) in p.order.iter().enumerate() {
+            order[i / 4] |= u32::from(k) << (8 * (i % 4));
+        }
+        records.extend(order);
         indices.extend(p.ring.iter().copied());
         let pad = size(p.triangle) as usize - p.ring.len();
         indices.extend(std::iter::repeat_n(p.ring[0], pad));

@@ -2,13 +2,15 @@
 //! face is a fixed linear combination of the face's one-ring vertices. The weights are found by
 //! running the crate's one construction ([`gregory_patch_at`], interior, boundary and crease
 //! vertices per §3 and §4.6) on unit vectors (it is linear in the positions), the
-//! ring is sorted by global vertex id (the paper's "one global, consistent order"), and patches
-//! whose weight rows are identical share one connectivity type.
+//! ring is kept in the canonical local order of [`canonical_ring`] (so faces with the same local connectivity share
+//! one connectivity type, §4.3) and summed in ascending global vertex id (the paper's "one global,
+//! consistent order", §4.5).
 
 use std::collections::HashMap;
 
 use glam::DVec3;
 
+use crate::patch::gregory::stencil::canonical_ring;
 use crate::patch::gregory::{check_face, gregory_patch_at, GregoryPatch};
 use crate::patch::RegularPatch;
 use crate::topology::Topology;
@@ -35,8 +37,13 @@ pub struct StencilPatch {
     pub corners: [u32; 4],
     /// Whether the face is a triangle (15 points) or a quad (20 points).
     pub triangle: bool,
-    /// The face's one-ring (every vertex of every face touching a corner), ascending ids.
+    /// The face's one-ring (every vertex of every face touching a corner) in the canonical local
+    /// order of [`canonical_ring`]: the patch primitive's vertex list. Faces with the same local
+    /// connectivity get the same weights slot by slot, so they share a connectivity type (§4.3).
     pub ring: Vec<u32>,
+    /// Ring slots sorted by global vertex id: the order every weighted sum runs in, so a shared
+    /// corner or edge point gets the same nonzero terms in the same order in both patches (§4.5).
+    pub order: Vec<u8>,
     /// Index into [`StencilTable::types`].
     pub type_id: u32,
 }
@@ -90,20 +97,6 @@ pub fn gregory_faces(topo: &Topology) -> Vec<u32> {
                 && RegularPatch::gather(topo, f).is_none()
         })
         .collect()
-}
-
-/// The one-ring of face `f`: every vertex of every face incident to one of its corners, sorted
-/// by id, without repeats.
-pub fn face_ring(topo: &Topology, f: u32) -> Vec<u32> {
-    let mut ring: Vec<u32> = topo
-        .face_vertices(f)
-        .iter()
-        .flat_map(|&c| topo.vertex_faces(c).iter())
-        .flat_map(|&g| topo.face_vertices(g).iter().copied())
-        .collect();
-    ring.sort_unstable();
-    ring.dedup();
-    ring
 }
 
 /// Control points of a patch in row order: p.., e_plus.., e_minus.., f_plus.., f_minus...
@@ -218,7 +211,7 @@ impl StencilTable {
                 table.rejected.push(reject(e.to_string()));
                 continue;
             }
-            let ring = face_ring(topo, f);
+            let ring = canonical_ring(topo, f);
             if ring.len() > max_ring {
                 table.rejected.push(reject(format!(
                     "face {f}: one-ring of {} vertices exceeds the {max_ring}-vertex patch limit",
@@ -254,11 +247,14 @@ impl StencilTable {
             }
             let mut corners = [fv[0]; 4];
             corners[..fv.len()].copy_from_slice(fv);
+            let mut order: Vec<u8> = (0..ring.len() as u8).collect();
+            order.sort_unstable_by_key(|&k| ring[k as usize]);
             table.patches.push(StencilPatch {
                 face: f,
                 corners,
                 triangle,
                 ring,
+                order,
                 type_id,
             });
         }
@@ -266,17 +262,18 @@ impl StencilTable {
     }
 
     /// The control points of patch `i` from the f32 stencil, summed as the TCS does (ascending
-    /// ring order, zero weights skipped) but in f64.
+    /// global vertex id, zero weights skipped) but in f64.
     pub fn eval_points(&self, i: usize, positions: &[DVec3]) -> Vec<DVec3> {
         let p = &self.patches[i];
         let t = &self.types[p.type_id as usize];
         t.weights
             .chunks(t.ring_len)
             .map(|row| {
-                row.iter()
-                    .zip(&p.ring)
-                    .filter(|(w, _)| **w != 0.0)
-                    .map(|(&w, &v)| f64::from(w) * positions[v as usize])
+                p.order
+                    .iter()
+                    .map(|&k| (row[k as usize], p.ring[k as usize]))
+                    .filter(|(w, _)| *w != 0.0)
+                    .map(|(w, v)| f64::from(w) * positions[v as usize])
                     .sum()
             })
             .collect()
@@ -345,7 +342,9 @@ mod tests {
         let topo = Topology::new(&mesh).unwrap();
         let table = StencilTable::build(&topo, &gregory_faces(&topo), MAX_RING);
         for p in &table.patches {
-            assert!(p.ring.windows(2).all(|w| w[0] < w[1]));
+            let sorted: Vec<u32> = p.order.iter().map(|&k| p.ring[k as usize]).collect();
+            assert!(sorted.windows(2).all(|w| w[0] < w[1]));
+            assert_eq!(sorted.len(), p.ring.len());
             let t = &table.types[p.type_id as usize];
             for (row, m) in t.weights.chunks(t.ring_len).zip(&t.masks) {
                 for (k, w) in row.iter().enumerate() {
@@ -355,15 +354,15 @@ mod tests {
         }
     }
 
-    /// Weights of row `row` of patch `p` by vertex id (f32 bits).
+    /// Nonzero weights of row `row` of patch `p` as (vertex id, f32 bits) in the summation order.
     fn row_by_id(t: &StencilTable, p: &StencilPatch, row: usize) -> Vec<(u32, u32)> {
         let ty = &t.types[p.type_id as usize];
         let w = &ty.weights[row * ty.ring_len..(row + 1) * ty.ring_len];
-        p.ring
+        p.order
             .iter()
-            .zip(w)
-            .filter(|(_, w)| **w != 0.0)
-            .map(|(v, w)| (*v, w.to_bits()))
+            .map(|&k| (p.ring[k as usize], w[k as usize]))
+            .filter(|(_, w)| *w != 0.0)
+            .map(|(v, w)| (v, w.to_bits()))
             .collect()
     }
 
@@ -408,6 +407,34 @@ mod tests {
             }
         }
         assert_eq!(checked, 8 * (3 + 3 * 4 + 3 * 3));
+    }
+
+    #[test]
+    fn faces_with_the_same_connectivity_share_one_type() {
+        // A cube: every face has four valence-3 corners in an all-quad ring, so one type.
+        let positions = (0..8)
+            .map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, (i >> 2) as f64 * 1.3))
+            .collect();
+        let face_vertices = vec![
+            0, 2, 3, 1, 4, 5, 7, 6, 0, 1, 5, 4, 2, 6, 7, 3, 0, 4, 6, 2, 1, 3, 7, 5,
+        ];
+        let mesh = ControlMesh::new(ControlMeshDesc {
+            positions,
+            face_sizes: vec![4; 6],
+            face_vertices,
+            ..Default::default()
+        })
+        .unwrap();
+        let topo = Topology::new(&mesh).unwrap();
+        let t = StencilTable::build(&topo, &gregory_faces(&topo), MAX_RING);
+        assert_eq!(t.patches.len(), 6);
+        assert_eq!(t.types.len(), 1);
+        for (i, p) in t.patches.iter().enumerate() {
+            let direct = control_points(&topo, mesh.positions(), p.face);
+            for (a, b) in direct.iter().zip(&t.eval_points(i, mesh.positions())) {
+                assert!((*a - *b).length() < 1e-6);
+            }
+        }
     }
 
     #[test]
