@@ -49,7 +49,7 @@ fn median(v: &mut [f64]) -> f64 {
 
 /// Times `frames` frames (after one warm-up frame) of the Gregory pass of `mesh` with
 /// `variant` (plus its regular pass when `with_regular`) at each uniform level; sub-patch
-/// splitting above `max_patch_level` as the renderer does.
+/// splitting above `max_patch_level` (at most 14 for the two-stage variant) as the renderer does.
 #[allow(clippy::too_many_arguments)]
 pub fn bench_gregory(
     ctx: &Context,
@@ -65,6 +65,13 @@ pub fn bench_gregory(
         return Err(Error::Invalid("bench: at least one frame".into()));
     }
     let max = ctx.info().limits.max_tessellation_generation_level as f32;
+    // As the renderer draws them (renderer::effective_tess): the two-stage pass splits patches
+    // from level 15 on (its lavapipe cost cliff).
+    let max_patch_level = if variant == GregoryVariant::TwoStage {
+        max_patch_level.min(14.0)
+    } else {
+        max_patch_level
+    };
     let mut rows = Vec::new();
     for &level in levels {
         let desc = RenderDesc {
