@@ -53,9 +53,10 @@ void edge_term(float a, float b, vec3 x, vec3 y, out vec3 val, out vec3 da, out 
 }
 
 void main() {
-    float w0 = gl_TessCoord.x;
-    float w1 = gl_TessCoord.y;
-    float w2 = gl_TessCoord.z;
+    vec3 bary = tri_domain_point(gl_TessCoord);
+    float w0 = bary.x;
+    float w1 = bary.y;
+    float w2 = bary.z;
     vec3 f0 = gregory_blend(w2, FM(0), w1, FP(0));
     vec3 f1 = gregory_blend(w0, FM(1), w2, FP(1));
     vec3 f2 = gregory_blend(w1, FM(2), w0, FP(2));

@@ -409,6 +409,49 @@ fn watertight_bitwise() {
     );
 }
 
+/// Split levels: quads as sub-patches and triangles as sub-triangles; points a patch emits twice
+/// (on its inner sub-patch edges and corners) must be bitwise equal, and triangles must have such
+/// points (the sub-triangles exist and meet).
+#[test]
+fn sub_triangles_meet_bitwise() {
+    let ctx = render_common::context().unwrap();
+    let mesh = embedded("mixed");
+    let tess = TessSettings {
+        level: 24.0,
+        ..TessSettings::default()
+    };
+    let (fr, _) = render_scheme(&ctx, &mesh, tess, Scheme::GregoryVs);
+    let mut seen: HashMap<(u32, u32, u32), [u32; 6]> = HashMap::new();
+    let (mut repeats, mut tri_repeats) = (0, 0);
+    for r in &fr.records {
+        let key = (r.face, r.u.to_bits(), r.v.to_bits());
+        let bits = [
+            r.position[0].to_bits(),
+            r.position[1].to_bits(),
+            r.position[2].to_bits(),
+            r.normal[0].to_bits(),
+            r.normal[1].to_bits(),
+            r.normal[2].to_bits(),
+        ];
+        if let Some(old) = seen.insert(key, bits) {
+            assert_eq!(
+                old, bits,
+                "face {} at ({}, {}) differs between sub-patches",
+                r.face, r.u, r.v
+            );
+            repeats += 1;
+            if fr.topo.face_size(r.face) == 3 {
+                tri_repeats += 1;
+            }
+        }
+    }
+    assert!(
+        tri_repeats > 0 && repeats > tri_repeats,
+        "{repeats} / {tri_repeats}"
+    );
+    render_common::assert_validation_clean(&ctx);
+}
+
 /// Both variants, fractional spacings, adaptive levels, and every catmark_gregory_test mesh
 /// with faces the GPU construction takes.
 #[test]

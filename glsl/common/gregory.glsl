@@ -110,12 +110,74 @@ void edge_ts(float x, bool from_lo, out float t, out float s) {
     canonical_ts(x, from_lo, t, s);
 }
 
+/// Bit of chunk.sub_index: the triangle draw is split into chunk.split^2 sub-triangles (the
+/// sub-triangle index in the low bits); without it a split-level triangle is drawn whole.
+#define TRI_SUB_MODE 0x80000000u
+
+bool tri_sub_mode() {
+    return chunk.split > 1u && (chunk.sub_index & TRI_SUB_MODE) != 0u;
+}
+
+/// Corners, as (b1, b2) in units of 1/split, of sub-triangle `idx` of the split x split grid of
+/// the barycentric domain: per row j first the split - j upright ones, then the split - 1 - j
+/// inverted ones (upright rotated by 180 degrees: the orientation is kept).
+void tri_sub_corners(uint idx, uint n, out ivec2 c0, out ivec2 c1, out ivec2 c2) {
+    uint rem = idx;
+    c0 = ivec2(0);
+    c1 = ivec2(0);
+    c2 = ivec2(0);
+    for (uint j = 0u; j < n; ++j) {
+        uint up = n - j;
+        if (rem < up) {
+            c0 = ivec2(int(rem), int(j));
+            c1 = ivec2(int(rem) + 1, int(j));
+            c2 = ivec2(int(rem), int(j) + 1);
+            return;
+        }
+        rem -= up;
+        uint down = n - 1u - j;
+        if (rem < down) {
+            c0 = ivec2(int(rem) + 1, int(j) + 1);
+            c1 = ivec2(int(rem), int(j) + 1);
+            c2 = ivec2(int(rem) + 1, int(j));
+            return;
+        }
+        rem -= down;
+    }
+}
+
+/// Barycentric weights (of face corners 0, 1, 2) of this TES invocation's domain point. In
+/// sub-triangle mode, points on a sub-triangle edge are put on the lattice k / L of the full
+/// edge level L with integer arithmetic, so both sub-triangles (and a split quad across an outer
+/// edge) agree bitwise; inner points map affinely.
+vec3 tri_domain_point(vec3 tc) {
+    if (!tri_sub_mode()) {
+        return tc;
+    }
+    uint n = chunk.split;
+    float sub = ceil(clamp(frame.tess.x / float(n), 1.0, frame.tess.w));
+    ivec2 c0, c1, c2;
+    tri_sub_corners(chunk.sub_index & ~TRI_SUB_MODE, n, c0, c1, c2);
+    if (tc.x == 0.0 || tc.y == 0.0 || tc.z == 0.0) {
+        int ks = int(sub);
+        int k0 = int(round(tc.x * sub));
+        int k1 = int(round(tc.y * sub));
+        int k2 = ks - k0 - k1;
+        ivec2 b = c0 * k0 + c1 * k1 + c2 * k2;
+        int total = ks * int(n);
+        float l = float(total);
+        return vec3(float(total - b.x - b.y) / l, float(b.x) / l, float(b.y) / l);
+    }
+    vec2 b = (vec2(c0) * tc.x + vec2(c1) * tc.y + vec2(c2) * tc.z) / float(n);
+    return vec3(1.0 - b.x - b.y, b.x, b.y);
+}
+
 #ifdef TESSERA_TESS_FACTORS_GLSL
-/// Outer level of a triangle edge (triangles are drawn unsplit with the quads' split in
-/// chunk.split): uniform mode with sub-patches gives the split quads' full edge level.
+/// Outer level of a triangle edge. Sub-triangle mode: the sub-level (as the quads' sub-patches).
+/// Whole triangles with the quads' split in chunk.split: the split quads' full edge level.
 float gregory_tri_edge_level(uint a, uint b) {
     float l = edge_tess_level(a, b);
-    return chunk.split > 1u ? split_edge_level() : l;
+    return (chunk.split > 1u && !tri_sub_mode()) ? split_edge_level() : l;
 }
 #endif
 #endif

@@ -139,6 +139,10 @@ fn vertex_need(topo: &Topology, v: u32) -> (usize, bool) {
     (topo.vertex_edges(v).len(), smooth)
 }
 
+/// Flag of the `sub_index` push constant: draw a triangle as sub-triangles
+/// (`glsl/common/gregory.glsl` `TRI_SUB_MODE`).
+pub const TRI_SUB_MODE: u32 = 0x8000_0000;
+
 /// The shared buffers the two-stage pass binds but does not own (the surface renderer's).
 #[derive(Clone, Copy)]
 pub struct SharedBuffers<'a> {
@@ -434,7 +438,7 @@ impl GregoryVsPatches {
     }
 
     /// Records the Gregory patch draws (inside the caller's render pass): quads in sub-patch
-    /// splits like the regular patches, triangles whole (their edge levels match); chunked per
+    /// splits like the regular patches, triangles in as many sub-triangles; chunked per
     /// [`crate::gpu::patch_draw_chunks`], the chunk's first patch as push constant.
     pub fn record(&self, cmd: vk::CommandBuffer) {
         let dev = self.ctx.device();
@@ -479,13 +483,10 @@ impl GregoryVsPatches {
                 );
                 dev.cmd_bind_index_buffer(cmd, self.indices.raw(), 0, vk::IndexType::UINT32);
             }
-            // Triangles are drawn whole, with the quads' split in the push constants (their
-            // TCS/TES match the split quads' edges: gregory.glsl gregory_tri_edge_level).
-            let (split, subs) = if quad {
-                (self.split, self.split * self.split)
-            } else {
-                (self.split, 1)
-            };
+            // Triangles as split^2 sub-triangles (sub index | TRI_SUB_MODE, gregory.glsl
+            // tri_domain_point), their edges on the split quads' lattice.
+            let (split, subs) = (self.split, self.split * self.split);
+            let sub_flag = if quad { 0 } else { TRI_SUB_MODE };
             for (first, n) in patch_draw_chunks(count, points, true) {
                 let (base, first_index) = if quad {
                     (first, 4 * first)
@@ -493,7 +494,7 @@ impl GregoryVsPatches {
                     (quads + first, 4 * quads + 3 * first)
                 };
                 for sub in 0..subs {
-                    push(pipe, base, sub, split);
+                    push(pipe, base, sub | sub_flag, split);
                     // SAFETY: as above.
                     unsafe { dev.cmd_draw_indexed(cmd, n * points, 1, first_index, 0, 0) };
                 }
