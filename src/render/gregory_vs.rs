@@ -3,20 +3,23 @@
 //! Stage 1, the vertex shader (`glsl/gregory_vs.vert`), runs once per control vertex of the
 //! Gregory faces (indexed draw: the patch primitive is the face's 3 or 4 vertices) and computes
 //! from the vertex's one-ring — read from a connectivity storage buffer (the paper's Fig. 7
-//! textures) and the dynamic positions buffer — its limit position, one edge point and one
-//! transversal vector `r` per ring edge. Stage 2, the TCS (`glsl/gregory_vs_{quad,tri}.tesc`),
-//! picks each patch's corner and edge points with the per-patch ring offsets (Fig. 8) and builds
-//! the face points with eq. 6; the shared TES evaluates.
+//! textures: [`GregoryVertexTable`]) and the dynamic positions buffer — its limit position, one
+//! edge point per ring edge and the transversal vectors `r` (§3.2-3.4; at boundary, crease and
+//! corner vertices the sector rules of §4.6). Stage 2, the TCS (`glsl/gregory_vs_{quad,tri}.tesc`,
+//! one invocation per output control point), picks each patch's corner and edge points with the
+//! per-patch ring offsets (Fig. 8) and builds the face points with eq. 6; the shared TES
+//! (`glsl/patch_gregory_{quad,tri}.tese`) evaluates.
 //!
 //! The per-vertex results travel as vertex-shader outputs, not through a storage buffer: the
 //! TCS of a patch reads exactly its own corners' outputs, which the pipeline orders after the
 //! vertex stage, whereas storage writes of one vertex invocation are not guaranteed visible to
-//! another patch's TCS in the same draw. The price is the varyings budget: `4 + 6 n` floats
-//! for valence `n`, so the largest valence is `(components - 4) / 6` with `components` the
-//! smaller of `maxVertexOutputComponents` and `maxTessellationControlPerVertexInputComponents`
-//! minus one location for the built-ins (128 on lavapipe: 31 slots, valence 20; the variant for
-//! 64-component devices takes valence 9). Faces with a larger
-//! valence corner go to another path (the renderer says so on stderr).
+//! another patch's TCS in the same draw. The price is the varyings budget: `4 + 6 n` floats for
+//! a smooth vertex of valence `n`, `4 + 9 ne` for a boundary/crease/corner vertex with `ne` ring
+//! edges, within the smaller of `maxVertexOutputComponents` and
+//! `maxTessellationControlPerVertexInputComponents` minus one location for the built-ins (128 on
+//! lavapipe: 31 vec4 slots, smooth valence <= 20, sectored ring <= 13 edges; the variant for
+//! 64-component devices: 15 slots, 9 / 6). Faces with a corner over the budget stay on the CPU
+//! path (the renderer says so on stderr).
 
 use ash::vk;
 use glam::DVec3;
