@@ -374,6 +374,8 @@ fn boundary_and_closed_meshes() -> Vec<(String, ControlMesh)> {
             "catmark_cubes_infsharp".to_string(),
             osd("catmark_cubes_infsharp"),
         ),
+        // 460 Gregory quads: several chunked draws (gpu::patch_draw_chunks).
+        ("catmark_car".to_string(), osd("catmark_car")),
     ];
     for k in 0..9 {
         let name = format!("catmark_gregory_test{k}");
