@@ -868,3 +868,37 @@ fn gregory_patches_face_outwards() {
     assert!(a == b, "culling back faces changed the image");
     render_common::assert_validation_clean(&ctx);
 }
+
+/// `tessera error --scheme gregory-vs|gregory-stencil`: on a quad-only mesh the GPU patches are
+/// sampled at the CPU measurement's grid points (tess level = grid), so the figures equal the
+/// CPU construction's (patch::gregory::accuracy) up to f32 rounding.
+#[test]
+fn gpu_accuracy_equals_cpu_accuracy_on_quads() {
+    use tessera::patch::gregory::accuracy::{measure, AccuracyOptions};
+    use tessera::render::gpu_accuracy::measure_gpu;
+    let ctx = render_common::context().unwrap();
+    let mesh = osd("catmark_cube");
+    let cpu = measure(
+        &mesh,
+        &AccuracyOptions {
+            grid: 6,
+            include_regular: false,
+        },
+    )
+    .unwrap();
+    for scheme in [Scheme::GregoryVs, Scheme::GregoryStencil] {
+        let gpu = measure_gpu(&ctx, &mesh, scheme, 6).unwrap();
+        assert_eq!(gpu.faces, cpu.faces);
+        assert_eq!(gpu.samples, cpu.samples, "{scheme:?}");
+        for (g, c) in [
+            (gpu.rms_distance, cpu.rms_distance),
+            (gpu.max_distance, cpu.max_distance),
+            (gpu.rms_uv, cpu.rms_uv),
+            (gpu.max_uv, cpu.max_uv),
+        ] {
+            assert!((g - c).abs() <= 1e-6, "{scheme:?}: {g} vs {c}");
+        }
+        assert!((gpu.rms_normal - cpu.rms_normal).abs() <= 1e-4);
+    }
+    render_common::assert_validation_clean(&ctx);
+}

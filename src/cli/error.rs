@@ -4,11 +4,16 @@ use clap::{Args, ValueEnum};
 use tessera::mesh::ObjOptions;
 use tessera::patch::gregory::accuracy::{measure, AccuracyOptions, AccuracyReport};
 
-/// Patch schemes whose accuracy can be measured.
+/// Patch schemes whose accuracy can be measured (names as on the command line).
+#[allow(clippy::enum_variant_names)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum ErrorScheme {
     /// Gregory patches built and evaluated on the CPU (the reference construction).
     GregoryCpu,
+    /// The GPU two-stage variant: TES output of the real pipeline at level `--grid`.
+    GregoryVs,
+    /// The GPU stencil variant: TES output of the real pipeline at level `--grid`.
+    GregoryStencil,
 }
 
 /// Arguments of `tessera error`.
@@ -73,7 +78,23 @@ pub fn run(args: ErrorArgs) -> tessera::Result<()> {
                 include_regular: args.include_regular,
             },
         )?,
+        ErrorScheme::GregoryVs | ErrorScheme::GregoryStencil => {
+            let ctx = super::render::context(false)?;
+            let scheme = if args.scheme == ErrorScheme::GregoryVs {
+                tessera::render::Scheme::GregoryVs
+            } else {
+                tessera::render::Scheme::GregoryStencil
+            };
+            let r = tessera::render::gpu_accuracy::measure_gpu(&ctx, &mesh, scheme, args.grid)?;
+            super::render::check_validation(&ctx)?;
+            r
+        }
     };
-    print!("{}", format_report(&args.mesh, "gregory-cpu", &report));
+    let name = match args.scheme {
+        ErrorScheme::GregoryCpu => "gregory-cpu",
+        ErrorScheme::GregoryVs => "gregory-vs",
+        ErrorScheme::GregoryStencil => "gregory-stencil",
+    };
+    print!("{}", format_report(&args.mesh, name, &report));
     Ok(())
 }

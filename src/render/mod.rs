@@ -6,6 +6,7 @@ pub mod animate;
 pub mod camera;
 pub mod compare;
 pub mod fallback;
+pub mod gpu_accuracy;
 pub mod gregory_layout;
 pub mod gregory_pass;
 pub mod gregory_stencil;

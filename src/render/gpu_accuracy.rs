@@ -1,0 +1,196 @@
+//! Accuracy of the GPU Gregory variants against the exact Catmull-Clark limit: the real pipeline
+//! draws the mesh with a `--scheme`, the TES capture of every Gregory patch is measured as
+//! [`crate::patch::gregory::accuracy`] measures the CPU construction (distance to the closest
+//! exact point, equal-`(u, v)` error on quads, normal angle at the closest point), so the two
+//! reports compare directly (`tessera error --scheme gregory-vs|gregory-stencil`).
+
+use std::collections::HashSet;
+
+use glam::DVec3;
+
+use super::offscreen::{render_to_image, OffscreenDesc};
+use super::renderer::{capture_capacity_for, effective_tess, RenderDesc};
+use super::scheme::{plan_for_scheme, Scheme, SchemeLimits};
+use super::settings::TessSettings;
+use super::surface::SurfaceData;
+use crate::gpu::Context;
+use crate::patch::gregory::accuracy::AccuracyReport;
+use crate::patch::gregory::check_face;
+use crate::patch::RegularPatch;
+use crate::subdiv::eval::{GridSample, LimitEvaluator, LimitSample};
+use crate::topology::Topology;
+use crate::{ControlMesh, Error, Result};
+
+/// An exact sample and where it lies.
+#[derive(Clone, Copy)]
+struct At {
+    face: usize,
+    sub: usize,
+    u: f64,
+    v: f64,
+    s: LimitSample,
+}
+
+/// Gauss-Newton steps towards the exact point closest to `x`, within `start`'s (sub-)face.
+fn closest(ev: &LimitEvaluator, x: DVec3, start: At) -> Result<At> {
+    let (mut cur, mut best) = (start, start);
+    for _ in 0..6 {
+        let (du, dv) = (cur.s.du, cur.s.dv);
+        let r = x - cur.s.position;
+        let (a, b, c) = (du.dot(du), du.dot(dv), dv.dot(dv));
+        let det = a * c - b * b;
+        if det.abs() < 1e-300 {
+            break;
+        }
+        let (ru, rv) = (du.dot(r), dv.dot(r));
+        let u = (cur.u + (c * ru - b * rv) / det).clamp(0.0, 1.0);
+        let v = (cur.v + (a * rv - b * ru) / det).clamp(0.0, 1.0);
+        if (u - cur.u).abs() < 1e-13 && (v - cur.v).abs() < 1e-13 {
+            break;
+        }
+        cur = At {
+            u,
+            v,
+            s: ev.eval(cur.face, cur.sub, u, v)?,
+            ..cur
+        };
+        if (cur.s.position - x).length_squared() < (best.s.position - x).length_squared() {
+            best = cur;
+        }
+    }
+    Ok(best)
+}
+
+/// Draws `mesh` with `scheme` at uniform level `grid` and measures the captured points of every
+/// Gregory patch. Faces left to the CPU path count as unsupported.
+pub fn measure_gpu(
+    ctx: &Context,
+    mesh: &ControlMesh,
+    scheme: Scheme,
+    grid: usize,
+) -> Result<AccuracyReport> {
+    if scheme == Scheme::BsplineOnly {
+        return Err(Error::Invalid(
+            "bspline-only draws no Gregory patches to measure".into(),
+        ));
+    }
+    let topo = Topology::new(mesh)?;
+    let (plan, gregory) = plan_for_scheme(mesh, scheme, &SchemeLimits::from_context(ctx))?;
+    let faces: Vec<u32> = gregory.as_ref().map_or(Vec::new(), |g| g.faces.clone());
+    let mut report = AccuracyReport {
+        diagonal: mesh.bbox_diagonal(),
+        ..Default::default()
+    };
+    for f in 0..topo.face_count() as u32 {
+        if !topo.has_limit_surface(f) {
+            continue;
+        }
+        if RegularPatch::gather(&topo, f).is_some() {
+            report.regular += 1;
+        } else if !faces.contains(&f) {
+            report.unsupported += 1;
+            if let Err(e) = check_face(&topo, f) {
+                report.first_unsupported.get_or_insert(e);
+            }
+        }
+    }
+    report.faces = faces.len();
+    report.triangles = faces.iter().filter(|&&f| topo.face_size(f) == 3).count();
+    if faces.is_empty() {
+        return Ok(report);
+    }
+    let surface = SurfaceData {
+        positions: mesh.positions().to_vec(),
+        patches: plan.patches,
+        fallback_faces: Vec::new(),
+        skipped_faces: plan.skipped_faces,
+        gregory,
+        ..SurfaceData::default()
+    };
+    let tess = TessSettings {
+        level: grid.max(1) as f32,
+        max_patch_level: f32::INFINITY,
+        ..TessSettings::default()
+    };
+    let render = RenderDesc {
+        tess,
+        capture_capacity: Some(capture_capacity_for(
+            surface.patches.len() + faces.len(),
+            &effective_tess(&surface, &tess).0,
+        )),
+        ..RenderDesc::default()
+    };
+    let off = OffscreenDesc {
+        width: 64,
+        height: 64,
+        ..OffscreenDesc::default()
+    };
+    let records = render_to_image(ctx, &surface, &render, &off, false)?
+        .capture
+        .unwrap_or_default();
+    let ev = LimitEvaluator::new(mesh)?;
+    let dense: Vec<Option<Vec<GridSample>>> = ev.eval_all_grids(2 * grid.max(1))?;
+    let drawn: HashSet<u32> = faces.iter().copied().collect();
+    let (mut sd, mut suv, mut sn, mut nuv) = (0.0, 0.0, 0.0, 0usize);
+    for r in records.iter().filter(|r| drawn.contains(&r.face)) {
+        let x = DVec3::from(r.position.map(f64::from));
+        let n = DVec3::from(r.normal.map(f64::from));
+        let f = r.face;
+        let mut near: Vec<u32> = topo
+            .face_vertices(f)
+            .iter()
+            .flat_map(|&v| topo.vertex_faces(v).iter().copied())
+            .collect();
+        near.sort_unstable();
+        near.dedup();
+        let start = near
+            .iter()
+            .filter_map(|&g| dense[g as usize].as_ref().map(|s| (g, s)))
+            .flat_map(|(g, s)| {
+                s.iter().map(move |p| At {
+                    face: g as usize,
+                    sub: p.sub,
+                    u: p.u,
+                    v: p.v,
+                    s: p.sample,
+                })
+            })
+            .min_by(|a, b| {
+                (a.s.position - x)
+                    .length_squared()
+                    .total_cmp(&(b.s.position - x).length_squared())
+            })
+            .ok_or_else(|| Error::Invalid(format!("face {f}: no exact samples")))?;
+        let c = closest(&ev, x, start)?;
+        let d = (c.s.position - x).length();
+        let a = n.angle_between(c.s.normal);
+        let a = if a.is_finite() {
+            a
+        } else {
+            std::f64::consts::PI
+        };
+        report.samples += 1;
+        sd += d * d;
+        sn += a * a;
+        report.max_distance = report.max_distance.max(d);
+        report.max_normal = report.max_normal.max(a);
+        if topo.face_size(f) == 4 {
+            let e = (ev
+                .eval(f as usize, 0, f64::from(r.u), f64::from(r.v))?
+                .position
+                - x)
+                .length();
+            suv += e * e;
+            nuv += 1;
+            report.max_uv = report.max_uv.max(e);
+        }
+    }
+    let diag = report.diagonal.max(f64::MIN_POSITIVE);
+    let count = report.samples.max(1) as f64;
+    report.rms_distance = (sd / count).sqrt() / diag;
+    report.max_distance /= diag;
+    report.rms_uv = (suv / nuv.max(1) as f64).sqrt() / diag;
+    report.max_uv /= diag;
+    report.rms_normal = (sn / count).sqrt();
+    Ok(report)
+}
