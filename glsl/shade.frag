@@ -8,7 +8,20 @@ layout(location = 1) in vec3 t_normal;
 layout(location = 2) flat in uint t_class;
 layout(location = 0) out vec4 out_color;
 
+// Blue -> cyan -> green -> yellow -> red for t in [0, 1].
+vec3 heat_ramp(float t) {
+    vec3 c = vec3(clamp(1.5 - abs(4.0 * t - 3.0), 0.0, 1.0),
+                  clamp(1.5 - abs(4.0 * t - 2.0), 0.0, 1.0),
+                  clamp(1.5 - abs(4.0 * t - 1.0), 0.0, 1.0));
+    return c;
+}
+
 vec3 base_color() {
+    if (frame.flags.x == COLOR_ERROR) {
+        if (t_class >= CLASS_HEAT_BASE) return heat_ramp(float(t_class - CLASS_HEAT_BASE) / 1023.0);
+        if (t_class == CLASS_REGULAR) return heat_ramp(0.0);
+        return vec3(0.72, 0.74, 0.78);
+    }
     if (frame.flags.x != COLOR_PATCH_TYPE) return vec3(0.72, 0.74, 0.78);
     if (t_class == CLASS_REGULAR) return vec3(0.90, 0.68, 0.20);
     if (t_class == CLASS_TRIANGLE) return vec3(0.30, 0.72, 0.35);

@@ -10,11 +10,14 @@
 /// Colour modes (`Frame.flags.x`).
 #define COLOR_NONE 0u
 #define COLOR_PATCH_TYPE 1u
+#define COLOR_ERROR 2u
 
 /// Patch classes for colouring (per patch / per fallback vertex).
 #define CLASS_REGULAR 0u
 #define CLASS_IRREGULAR 1u
 #define CLASS_TRIANGLE 2u
+/// Error-map classes: CLASS_HEAT_BASE + e, e in 0..1023 (render::heatmap).
+#define CLASS_HEAT_BASE 16u
 
 layout(std140, set = 0, binding = 0) uniform Frame {
     mat4 view_proj;      // world -> clip (Vulkan clip space: y down, depth 0..1)

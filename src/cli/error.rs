@@ -33,6 +33,64 @@ pub struct ErrorArgs {
     /// The file's faces are wound clockwise seen from outside: reverse them.
     #[arg(long)]
     pub left_handed: bool,
+    /// Also write an error map (as the paper's Fig. 11): Gregory faces coloured from blue (exact)
+    /// to red (`--heatmap-scale` or more), regular faces blue, faces without a Gregory patch grey.
+    /// The map shows the CPU construction, which the GPU variants reproduce to < 1e-6.
+    #[arg(long)]
+    pub heatmap: Option<std::path::PathBuf>,
+    /// Distance shown as full red, as a fraction of the bbox diagonal (default: the largest error).
+    #[arg(long)]
+    pub heatmap_scale: Option<f64>,
+    /// Error-map image size WxH.
+    #[arg(long, default_value = "800x600")]
+    pub size: String,
+    /// World axis pointing up on screen in the error map: `z` or `y`.
+    #[arg(long, default_value = "z")]
+    pub up: String,
+}
+
+/// Renders the error map of `mesh` to `path`.
+fn write_heatmap(
+    mesh: &tessera::ControlMesh,
+    args: &ErrorArgs,
+    path: &std::path::Path,
+) -> tessera::Result<()> {
+    use tessera::render::{heatmap, render_to_image, ColorBy, OffscreenDesc, RenderDesc, UpAxis};
+    let (width, height) = super::render::parse_size(&args.size)?;
+    if let Some(s) = args.heatmap_scale {
+        if !(s.is_finite() && s > 0.0) {
+            return Err(tessera::Error::Invalid(format!(
+                "--heatmap-scale {s}: must be a positive fraction of the bbox diagonal"
+            )));
+        }
+    }
+    let scale = args.heatmap_scale.map(|s| s * mesh.bbox_diagonal());
+    let heat = heatmap::heat_surface(mesh, args.grid.max(2), 8, scale)?;
+    let ctx = super::render::context(false)?;
+    let mut render = RenderDesc {
+        color_by: ColorBy::Error,
+        ..RenderDesc::default()
+    };
+    render.tess.level = 8.0;
+    let desc = OffscreenDesc {
+        width,
+        height,
+        samples: 4,
+        up: UpAxis::parse(&args.up)?,
+        ..OffscreenDesc::default()
+    };
+    let out = render_to_image(&ctx, &heat.surface, &render, &desc, false)?;
+    super::render::check_validation(&ctx)?;
+    out.image
+        .save(path)
+        .map_err(|e| tessera::Error::Invalid(format!("cannot write {}: {e}", path.display())))?;
+    eprintln!(
+        "error map written to {} (full red = {:.3e} of the bbox diagonal; largest error {:.3e})",
+        path.display(),
+        heat.scale / mesh.bbox_diagonal(),
+        heat.max_distance / mesh.bbox_diagonal()
+    );
+    Ok(())
 }
 
 /// The printed report.
@@ -96,5 +154,8 @@ pub fn run(args: ErrorArgs) -> tessera::Result<()> {
         ErrorScheme::GregoryStencil => "gregory-stencil",
     };
     print!("{}", format_report(&args.mesh, name, &report));
+    if let Some(path) = &args.heatmap {
+        write_heatmap(&mesh, &args, path)?;
+    }
     Ok(())
 }

@@ -86,7 +86,9 @@ impl UpAxis {
         match text.trim() {
             "y" | "Y" => Ok(UpAxis::Y),
             "z" | "Z" => Ok(UpAxis::Z),
-            _ => Err(Error::Invalid(format!("up axis `{text}`: expected `y` or `z`"))),
+            _ => Err(Error::Invalid(format!(
+                "up axis `{text}`: expected `y` or `z`"
+            ))),
         }
     }
 }

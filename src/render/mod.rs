@@ -11,6 +11,7 @@ pub mod gregory_layout;
 pub mod gregory_pass;
 pub mod gregory_stencil;
 pub mod gregory_vs;
+pub mod heatmap;
 pub mod layout;
 pub mod offscreen;
 pub mod renderer;

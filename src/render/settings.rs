@@ -58,6 +58,9 @@ pub enum ColorBy {
     None,
     /// Regular patches gold, irregular purple, triangles green (Gregory-patch paper, Fig. 1).
     PatchType,
+    /// Error maps ([`super::heatmap`]): blue (exact) to red by the per-vertex error class;
+    /// regular patches blue, exact CPU faces grey.
+    Error,
 }
 
 /// Tessellation settings.
@@ -152,6 +155,7 @@ impl FrameUniforms {
         let color = match self.color_by {
             ColorBy::None => 0u32,
             ColorBy::PatchType => 1u32,
+            ColorBy::Error => 2u32,
         };
         out[128..132].copy_from_slice(&color.to_le_bytes());
         out

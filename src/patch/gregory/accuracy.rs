@@ -73,6 +73,32 @@ pub struct AccuracyReport {
 /// Per-sample errors of one face: (distance, uv error or None, normal angle).
 type FaceErrors = Vec<(f64, Option<f64>, f64)>;
 
+/// One sample of a Gregory face with its measured error, for error maps (paper Fig. 11).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeatSample {
+    /// Position on the Gregory patch.
+    pub position: DVec3,
+    /// The patch's unit normal (§4.4).
+    pub normal: DVec3,
+    /// Distance to the closest exact point, in model units.
+    pub distance: f64,
+}
+
+/// The samples of one Gregory face, in [`sample_params`] order: quads row by row
+/// (`(N+1)^2` samples, `i` along u inner), triangles row by row in `t` with `N + 1 - j` samples
+/// in row `j`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FaceHeat {
+    /// Base face.
+    pub face: u32,
+    /// Whether the face is a triangle (barycentric grid).
+    pub triangle: bool,
+    /// Grid resolution N.
+    pub grid: usize,
+    /// Samples.
+    pub samples: Vec<HeatSample>,
+}
+
 /// One exact sample with its location.
 #[derive(Clone, Copy)]
 struct Located {
@@ -167,7 +193,7 @@ pub fn measure(mesh: &ControlMesh, options: &AccuracyOptions) -> Result<Accuracy
     let dense: Vec<Option<Vec<GridSample>>> = ev.eval_all_grids(2 * grid)?;
     let errors: Vec<FaceErrors> = chosen
         .par_iter()
-        .map(|&f| face_errors(&topo, &ev, &verts, &dense, f, grid))
+        .map(|&f| face_errors(&topo, &ev, &verts, &dense, f, grid, None))
         .collect::<Result<_>>()?;
     report.faces = chosen.len();
     report.triangles = chosen.iter().filter(|&&f| topo.face_size(f) == 3).count();
@@ -202,6 +228,7 @@ fn face_errors(
     dense: &[Option<Vec<GridSample>>],
     f: u32,
     grid: usize,
+    mut heat: Option<&mut Vec<HeatSample>>,
 ) -> Result<FaceErrors> {
     let patch = gregory_patch(topo, verts, f).map_err(|e| crate::Error::Invalid(e.to_string()))?;
     let triangle = matches!(patch, GregoryPatch::Triangle(_));
@@ -256,6 +283,43 @@ fn face_errors(
         };
         let uv = (!triangle).then(|| (exact_uv[k].position - x).length());
         out.push((dist, uv, angle));
+        if let Some(h) = heat.as_deref_mut() {
+            h.push(HeatSample {
+                position: x,
+                normal: g.normal(),
+                distance: dist,
+            });
+        }
     }
     Ok(out)
+}
+
+/// Samples every Gregory face of `mesh` (as [`measure`] chooses them) with its distance to the
+/// exact surface, for an error map.
+pub fn heat_samples(mesh: &ControlMesh, options: &AccuracyOptions) -> Result<Vec<FaceHeat>> {
+    let grid = options.grid.max(1);
+    let topo = Topology::new(mesh)?;
+    let ev = LimitEvaluator::new(mesh)?;
+    let verts = gregory_vertices(&topo, mesh.positions());
+    let chosen: Vec<u32> = (0..topo.face_count() as u32)
+        .filter(|&f| {
+            topo.has_limit_surface(f)
+                && (options.include_regular || RegularPatch::gather(&topo, f).is_none())
+                && check_face(&topo, f).is_ok()
+        })
+        .collect();
+    let dense: Vec<Option<Vec<GridSample>>> = ev.eval_all_grids(2 * grid)?;
+    chosen
+        .par_iter()
+        .map(|&f| {
+            let mut samples = Vec::new();
+            face_errors(&topo, &ev, &verts, &dense, f, grid, Some(&mut samples))?;
+            Ok(FaceHeat {
+                face: f,
+                triangle: topo.face_size(f) == 3,
+                grid,
+                samples,
+            })
+        })
+        .collect()
 }
