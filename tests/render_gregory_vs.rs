@@ -24,7 +24,10 @@ const STRICT_MIXED: bool = true;
 
 fn osd(name: &str) -> ControlMesh {
     ControlMesh::from_obj_file(
-        format!("/work/shared/meshes/osd/{name}.obj"),
+        format!(
+            concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/{}.obj"),
+            name
+        ),
         &ObjOptions::default(),
     )
     .unwrap_or_else(|e| panic!("{name}: {e}"))
@@ -379,7 +382,10 @@ fn boundary_and_closed_meshes() -> Vec<(String, ControlMesh)> {
     ];
     for k in 0..9 {
         let name = format!("catmark_gregory_test{k}");
-        let path = format!("/work/shared/meshes/osd/{name}.obj");
+        let path = format!(
+            concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/{}.obj"),
+            name
+        );
         if let Ok(m) = ControlMesh::from_obj_file(&path, &ObjOptions::default()) {
             v.push((name, m));
         }
@@ -463,7 +469,10 @@ fn watertight_spacings_variants_meshes() {
     let mut meshes = vec![("mixed".to_string(), embedded("mixed"))];
     for k in 0..9 {
         let name = format!("catmark_gregory_test{k}");
-        let path = format!("/work/shared/meshes/osd/{name}.obj");
+        let path = format!(
+            concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/{}.obj"),
+            name
+        );
         // catmark_gregory_test4 is non-manifold, which the mesh layer rejects (typed error).
         if let Ok(m) = ControlMesh::from_obj_file(&path, &ObjOptions::default()) {
             meshes.push((name, m));
