@@ -56,7 +56,10 @@ void edge_point(uint flags, int e, float x, out vec3 pos, out vec3 nrm) {
     }
     float t, s;
     edge_ts(x, !reversed, t, s);
-    grid_edge_rows(l, m, r, t, s, pos, nrm);
+    // Boundary mask bit e: the row beyond edge e is this patch's own phantom (boundary or
+    // infinitely sharp crease).
+    bool sharp = ((flags >> uint(e)) & 1u) != 0u;
+    grid_edge_rows(l, m, r, sharp, t, s, pos, nrm);
 }
 
 void main() {

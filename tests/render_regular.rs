@@ -329,3 +329,80 @@ fn update_positions_moves_the_surface_and_msaa_renders() {
     assert_eq!(img.dimensions(), (64, 48));
     assert_validation_clean(&ctx);
 }
+
+/// An infinitely sharp crease between two rows of regular patches: both sides mirror their own
+/// phantom points, yet the crease curve (the cubic B-spline of the crease polygon, shared data)
+/// must come out bitwise identical from both sides.
+#[test]
+fn infinitely_sharp_crease_between_regular_patches_is_watertight() {
+    use glam::DVec3;
+    use tessera::mesh::{ControlMesh, ControlMeshDesc, Crease, INFINITE_SHARPNESS};
+    let Some(ctx) = context() else { return };
+    let n = 6u32;
+    let id = |i: u32, j: u32| j * (n + 1) + i;
+    let mut positions = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, y) = (f64::from(i) * 0.37, f64::from(j) * 0.41);
+            positions.push(DVec3::new(
+                x,
+                y,
+                // Rows of very different magnitude on the two sides of the crease, so that a
+                // side's own mirrored phantom (2a - b) does not cancel exactly.
+                0.2 * (1.3 * x).sin()
+                    + 0.15 * (0.9 * y).cos()
+                    + 0.03 * f64::from((i * 7 + j * 3) % 5)
+                    + if i == 3 { 1e-3 * y } else { 0.0 }
+                    + 3.1 * (f64::from(i) - 3.0).abs().powi(2) * if i > 3 { 17.3 } else { 0.011 },
+            ));
+        }
+    }
+    let mut face_vertices = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            face_vertices.extend([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    let creases = (0..n)
+        .map(|j| Crease {
+            v0: id(3, j),
+            v1: id(3, j + 1),
+            sharpness: INFINITE_SHARPNESS,
+        })
+        .collect();
+    let mesh = ControlMesh::new(ControlMeshDesc {
+        positions,
+        face_sizes: vec![4; (n * n) as usize],
+        face_vertices,
+        creases,
+        ..Default::default()
+    })
+    .unwrap();
+    let s = tessera::render::surface_from_mesh(&mesh, 4).unwrap();
+    // The crease is bounded by regular patches on both sides (rows away from the grid boundary).
+    let crease_faces = s
+        .patches
+        .iter()
+        .filter(|p| {
+            let c = p.corners();
+            c.iter().filter(|&&v| v % (n + 1) == 3).count() == 2
+        })
+        .count();
+    assert!(
+        crease_faces >= 8,
+        "{crease_faces} regular faces along the crease"
+    );
+    for level in [4.0, 5.0] {
+        let recs = capture(
+            &ctx,
+            &s,
+            TessSettings {
+                level,
+                ..TessSettings::default()
+            },
+        );
+        check_accuracy(&s, &recs);
+        assert!(check_watertight(&s, &recs) > 0);
+    }
+    assert_validation_clean(&ctx);
+}

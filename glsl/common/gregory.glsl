@@ -29,7 +29,9 @@
 
 #include "common/bspline.glsl"
 
-/// One Gregory patch. flags bit k (0..3): patch edge k (corner k -> k+1) is shared with a regular
+/// One Gregory patch. flags bit 4+k: patch edge k is a boundary or infinitely sharp edge shared with
+/// a regular patch (its curve is the cubic B-spline of the crease polygon, see grid_edge_rows).
+/// flags bit k (0..3): patch edge k (corner k -> k+1) is shared with a regular
 /// B-spline patch (evaluate it from the grid in binding 7); bit 8+k: the face across edge k is a
 /// triangle (else a quad); bit 12+k: edge k is a boundary or infinitely sharp edge (no
 /// neighbour term in its normal); bit 16+k: corner k's vertex has several sectors (crease or
@@ -194,12 +196,15 @@ vec4 bspline3_deriv(float t, float s) {
 /// from the smaller-id end. Position: the edge-curve B-spline points ((l + r) + 4 m) / 6;
 /// normal: cross(dC/dt, sum N_i (l_i - r_i)), the exact cross derivative of both patches. Used
 /// by the B-spline TES for all its edges and by the Gregory TES for edges it shares with one.
-void grid_edge_rows(vec3 l[4], vec3 m[4], vec3 r[4], float t, float s, out vec3 pos,
+void grid_edge_rows(vec3 l[4], vec3 m[4], vec3 r[4], bool sharp, float t, float s, out vec3 pos,
                     out vec3 nrm) {
     precise vec3 c[4];
     precise vec3 d[4];
     for (int i = 0; i < 4; ++i) {
-        c[i] = ((l[i] + r[i]) + 4.0 * m[i]) * (1.0 / 6.0);
+        // On a boundary or infinitely sharp edge one outer row is a side's own mirrored phantom
+        // (2a - b), which makes (l + r + 4m)/6 equal m only in exact arithmetic: use m itself, the
+        // crease polygon both sides share, so both sides get the same bits.
+        c[i] = sharp ? m[i] : ((l[i] + r[i]) + 4.0 * m[i]) * (1.0 / 6.0);
         d[i] = l[i] - r[i];
     }
     precise vec4 n = bspline3(t, s);
@@ -237,7 +242,8 @@ void grid_edge(uint patch_index, uint flags, int k, float t, float s, out vec3 p
         m[3] = 2.0 * m[2] - m[1];
         r[3] = 2.0 * r[2] - r[1];
     }
-    grid_edge_rows(l, m, r, t, s, pos, nrm);
+    bool sharp = (flags & (1u << uint(4 + k))) != 0u;
+    grid_edge_rows(l, m, r, sharp, t, s, pos, nrm);
 }
 
 /// Cross-edge derivative of a quad Gregory patch along one of its edges, pointing into the

@@ -65,7 +65,8 @@ pub struct GregoryLayout {
     pub corners: Vec<[u32; 4]>,
     /// Index of the patch's face in each corner vertex's ring (paper Fig. 8).
     pub corner_ring: Vec<[u32; 4]>,
-    /// Bit k: edge k (corner k -> k+1) is shared with a regular B-spline patch; bit 8+k: the
+    /// Bit k: edge k (corner k -> k+1) is shared with a regular B-spline patch; bit 4+k: that
+    /// shared edge is a boundary or infinitely sharp edge (curve from the crease polygon); bit 8+k: the
     /// face across edge k is a triangle; bit 12+k: edge k is a boundary or infinitely sharp edge, or its other face is
     /// neither a Gregory patch of this layout nor a regular patch (one-sided normal);
     /// bit 16+k: corner k's vertex has two or more sectors; bits 20+2k / 21+2k: the first /
@@ -182,6 +183,9 @@ impl GregoryLayout {
                 if let Some((grid, first, last)) = neighbour.as_ref().and_then(|p| grid_of(p, a, b))
                 {
                     flags |= 1 << k;
+                    if sharp_edge {
+                        flags |= 1 << (4 + k);
+                    }
                     flags |= u32::from(first) << (20 + 2 * k);
                     flags |= u32::from(last) << (21 + 2 * k);
                     grids[12 * k..12 * k + 12].copy_from_slice(&grid);
