@@ -56,6 +56,11 @@ fn benches(c: &mut Criterion) {
             black_box(l2.refine_topology())
         })
     });
+    // OpenSubdiv's default uniform refinement (fullTopologyInLastLevel = false): full topology
+    // for levels 1 and 2, face vertices only for level 3.
+    g.bench_function("refine_to_level3_last_level_face_vertices", |b| {
+        b.iter(|| black_box(big_level.uniform_face_vertices(3)))
+    });
     g.bench_function("stencil_table_level3", |b| {
         b.iter(|| black_box(StencilTable::from_level(&big_level, 3)))
     });

@@ -786,3 +786,28 @@ fn stencil_tables_take_appended_rows() {
     assert!(close(level1[n], (level1[0] + level1[5]) * 0.5, 1e-14));
     assert_eq!(level1[n + 1], mesh.positions()[3]);
 }
+
+/// The face-vertex-only last level of a uniform refinement equals the faces of the full one.
+#[test]
+fn face_vertices_only_last_level_matches_full_refinement() {
+    for name in ["catmark_nonquads", "catmark_car", "catmark_hole_test2"] {
+        let path = format!(
+            concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/{}.obj"),
+            name
+        );
+        let mesh = ControlMesh::from_obj_file(&path, &ObjOptions::default()).unwrap();
+        let base = Level::from_mesh(&mesh).unwrap();
+        let mut full = base.clone();
+        for depth in 1..=3 {
+            full = full.refine_topology();
+            let expected: Vec<u32> = (0..full.face_count() as u32)
+                .flat_map(|f| full.topology().face_vertices(f).to_vec())
+                .collect();
+            assert_eq!(
+                base.uniform_face_vertices(depth),
+                expected,
+                "{name} depth {depth}"
+            );
+        }
+    }
+}

@@ -23,6 +23,54 @@ impl Level {
         rayon::join(|| self.refine_topology(), || self.refine_matrix())
     }
 
+    /// Vertex indices of the child faces only (four per parent corner, in the order of
+    /// [`Level::refine_topology`]'s faces): all that drawing the last level of a uniform
+    /// refinement needs. OpenSubdiv's uniform refinement does the same by default
+    /// (`fullTopologyInLastLevel = false`).
+    pub fn refine_face_vertices(&self) -> Vec<u32> {
+        let t = &self.topo;
+        let (nf, ne, fv) = (t.face_count(), t.edge_count(), t.corner_count());
+        let mut face_verts = vec![0u32; 4 * fv];
+        let shared = Shared::new(&mut face_verts);
+        // SAFETY: every parent face writes only the four child slots of each of its corners.
+        for_chunks(nf, |lo, hi| {
+            let a = t.face_offsets[lo] as usize;
+            let b = t.face_offsets[hi] as usize;
+            let out = unsafe { shared.range(4 * a, 4 * b) };
+            for f in lo..hi {
+                let off = t.face_offsets[f] as usize;
+                let n = t.face_offsets[f + 1] as usize - off;
+                for k in 0..n {
+                    let h = off + k;
+                    let hp = if k == 0 { off + n - 1 } else { h - 1 };
+                    let i = 4 * (h - a);
+                    out[i..i + 4].copy_from_slice(&[
+                        (nf + ne) as u32 + t.face_verts[h],
+                        nf as u32 + t.face_edges[h],
+                        f as u32,
+                        nf as u32 + t.face_edges[hp],
+                    ]);
+                }
+            }
+        });
+        face_verts
+    }
+
+    /// Uniform refinement by `depth` levels keeping only the last level's face vertices
+    /// (quads, four indices each, into that level's vertices `[face | edge | vertex points]`):
+    /// full topology for the intermediate levels, [`Level::refine_face_vertices`] for the last.
+    pub fn uniform_face_vertices(&self, depth: u32) -> Vec<u32> {
+        if depth == 0 {
+            return self.topo.face_verts.clone();
+        }
+        let mut current: Option<Level> = None;
+        for _ in 1..depth {
+            let next = current.as_ref().unwrap_or(self).refine_topology();
+            current = Some(next);
+        }
+        current.as_ref().unwrap_or(self).refine_face_vertices()
+    }
+
     /// The child level only (topology, sharpness, holes, completeness).
     pub fn refine_topology(&self) -> Level {
         let t = &self.topo;
