@@ -223,21 +223,7 @@ fn draw_quad(
         }
         rt.end(dev, cmd);
         timer.end(cmd, t)?;
-        let barrier = vk::MemoryBarrier::default()
-            .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-            .dst_access_mask(vk::AccessFlags::HOST_READ);
-        // SAFETY: recording outside a render pass.
-        unsafe {
-            dev.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::TESSELLATION_EVALUATION_SHADER,
-                vk::PipelineStageFlags::HOST,
-                vk::DependencyFlags::empty(),
-                &[barrier],
-                &[],
-                &[],
-            );
-        }
+        tessera::gpu::tes_writes_to_host(dev, cmd);
         Ok(())
     })
     .expect("draw");
@@ -890,21 +876,7 @@ fn many_patches(
             }
         }
         rt.end(dev, cmd);
-        let barrier = vk::MemoryBarrier::default()
-            .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-            .dst_access_mask(vk::AccessFlags::HOST_READ);
-        // SAFETY: outside the render pass.
-        unsafe {
-            dev.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::TESSELLATION_EVALUATION_SHADER,
-                vk::PipelineStageFlags::HOST,
-                vk::DependencyFlags::empty(),
-                &[barrier],
-                &[],
-                &[],
-            );
-        }
+        tessera::gpu::tes_writes_to_host(dev, cmd);
         Ok(())
     })
     .expect("draw");

@@ -720,21 +720,7 @@ fn capture_with_budget(
         rt.begin(dev, cmd, [0.0; 4]);
         patches.record(cmd);
         rt.end(dev, cmd);
-        let barrier = vk::MemoryBarrier::default()
-            .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-            .dst_access_mask(vk::AccessFlags::HOST_READ);
-        // SAFETY: recording outside the render pass.
-        unsafe {
-            dev.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::TESSELLATION_EVALUATION_SHADER,
-                vk::PipelineStageFlags::HOST,
-                vk::DependencyFlags::empty(),
-                &[barrier],
-                &[],
-                &[],
-            );
-        }
+        tessera::gpu::tes_writes_to_host(dev, cmd);
         Ok(())
     })
     .unwrap();

@@ -111,3 +111,42 @@ impl Context {
         });
     }
 }
+
+/// Records a global memory barrier making `src` = (stage, access) writes visible to `dst` =
+/// (stage, access). `cmd` must be recording, outside a render pass.
+pub fn memory_barrier(
+    dev: &ash::Device,
+    cmd: vk::CommandBuffer,
+    src: (vk::PipelineStageFlags, vk::AccessFlags),
+    dst: (vk::PipelineStageFlags, vk::AccessFlags),
+) {
+    let barrier = vk::MemoryBarrier::default()
+        .src_access_mask(src.1)
+        .dst_access_mask(dst.1);
+    // SAFETY: the caller records into a valid command buffer outside a render pass.
+    unsafe {
+        dev.cmd_pipeline_barrier(
+            cmd,
+            src.0,
+            dst.0,
+            vk::DependencyFlags::empty(),
+            &[barrier],
+            &[],
+            &[],
+        );
+    }
+}
+
+/// The barrier between a draw whose tessellation evaluation shader wrote a storage buffer (TES
+/// capture) and the host reading that buffer.
+pub fn tes_writes_to_host(dev: &ash::Device, cmd: vk::CommandBuffer) {
+    memory_barrier(
+        dev,
+        cmd,
+        (
+            vk::PipelineStageFlags::TESSELLATION_EVALUATION_SHADER,
+            vk::AccessFlags::SHADER_WRITE,
+        ),
+        (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
+    );
+}

@@ -251,21 +251,19 @@ impl Context {
         self.submit_once(|dev, cmd| {
             let region = vk::BufferCopy::default().size(bytes.len() as u64);
             // SAFETY: both buffers are valid and large enough.
-            unsafe {
-                dev.cmd_copy_buffer(cmd, staging.raw(), dst.raw(), &[region]);
-                let barrier = vk::MemoryBarrier::default()
-                    .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
-                    .dst_access_mask(vk::AccessFlags::MEMORY_READ);
-                dev.cmd_pipeline_barrier(
-                    cmd,
+            unsafe { dev.cmd_copy_buffer(cmd, staging.raw(), dst.raw(), &[region]) };
+            super::memory_barrier(
+                dev,
+                cmd,
+                (
                     vk::PipelineStageFlags::TRANSFER,
+                    vk::AccessFlags::TRANSFER_WRITE,
+                ),
+                (
                     vk::PipelineStageFlags::ALL_COMMANDS,
-                    vk::DependencyFlags::empty(),
-                    &[barrier],
-                    &[],
-                    &[],
-                );
-            }
+                    vk::AccessFlags::MEMORY_READ,
+                ),
+            );
             Ok(())
         })?;
         Ok(dst)
@@ -289,22 +287,17 @@ impl Context {
         )?;
         self.submit_once(|dev, cmd| {
             let region = vk::BufferCopy::default().size(buffer.size());
-            let barrier = vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
-                .dst_access_mask(vk::AccessFlags::HOST_READ);
             // SAFETY: valid buffers of equal size.
-            unsafe {
-                dev.cmd_copy_buffer(cmd, buffer.raw(), staging.raw(), &[region]);
-                dev.cmd_pipeline_barrier(
-                    cmd,
+            unsafe { dev.cmd_copy_buffer(cmd, buffer.raw(), staging.raw(), &[region]) };
+            super::memory_barrier(
+                dev,
+                cmd,
+                (
                     vk::PipelineStageFlags::TRANSFER,
-                    vk::PipelineStageFlags::HOST,
-                    vk::DependencyFlags::empty(),
-                    &[barrier],
-                    &[],
-                    &[],
-                );
-            }
+                    vk::AccessFlags::TRANSFER_WRITE,
+                ),
+                (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
+            );
             Ok(())
         })?;
         staging.read()

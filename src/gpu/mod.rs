@@ -16,6 +16,7 @@ pub mod shaders;
 mod target;
 
 pub use ash::vk;
+pub use commands::{memory_barrier, tes_writes_to_host};
 pub use context::{validation_default, Context, ContextDesc};
 pub use debug::ValidationLog;
 pub use descriptors::{BufferBinding, DescriptorPool};

@@ -422,9 +422,6 @@ impl RenderTarget {
                     height: self.height,
                     depth: 1,
                 });
-            let barrier = vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
-                .dst_access_mask(vk::AccessFlags::HOST_READ);
             // SAFETY: the image is in TRANSFER_SRC_OPTIMAL after the render pass.
             unsafe {
                 dev.cmd_copy_image_to_buffer(
@@ -434,16 +431,16 @@ impl RenderTarget {
                     staging.raw(),
                     &[region],
                 );
-                dev.cmd_pipeline_barrier(
-                    cmd,
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::PipelineStageFlags::HOST,
-                    vk::DependencyFlags::empty(),
-                    &[barrier],
-                    &[],
-                    &[],
-                );
             }
+            super::memory_barrier(
+                dev,
+                cmd,
+                (
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::AccessFlags::TRANSFER_WRITE,
+                ),
+                (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
+            );
             Ok(())
         })?;
         let data: Vec<u8> = staging.read()?;

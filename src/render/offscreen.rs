@@ -8,7 +8,7 @@ use super::camera::{Camera, CameraSpec, UpAxis};
 use super::renderer::{CaptureRecord, RenderDesc, SurfaceRenderer};
 use super::settings::FrameUniforms;
 use super::surface::SurfaceData;
-use crate::gpu::{vk, Context, GpuTimer, PipelineStats, RenderTarget, StatsQuery};
+use crate::gpu::{tes_writes_to_host, Context, GpuTimer, PipelineStats, RenderTarget, StatsQuery};
 use crate::Result;
 
 /// Image size, samples, camera and background of an offscreen frame.
@@ -175,21 +175,7 @@ impl OffscreenSession {
             target.end(dev, cmd);
             if capture {
                 // Make the TES's storage writes visible to the host read-back.
-                let barrier = vk::MemoryBarrier::default()
-                    .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-                    .dst_access_mask(vk::AccessFlags::HOST_READ);
-                // SAFETY: cmd is recording outside a render pass.
-                unsafe {
-                    dev.cmd_pipeline_barrier(
-                        cmd,
-                        vk::PipelineStageFlags::TESSELLATION_EVALUATION_SHADER,
-                        vk::PipelineStageFlags::HOST,
-                        vk::DependencyFlags::empty(),
-                        &[barrier],
-                        &[],
-                        &[],
-                    );
-                }
+                tes_writes_to_host(dev, cmd);
             }
             Ok(())
         });

@@ -332,21 +332,7 @@ impl GregorySession {
                 timer.end(cmd, i)?;
             }
             target.end(dev, cmd);
-            let barrier = vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-                .dst_access_mask(vk::AccessFlags::HOST_READ);
-            // SAFETY: recording outside the render pass.
-            unsafe {
-                dev.cmd_pipeline_barrier(
-                    cmd,
-                    vk::PipelineStageFlags::TESSELLATION_EVALUATION_SHADER,
-                    vk::PipelineStageFlags::HOST,
-                    vk::DependencyFlags::empty(),
-                    &[barrier],
-                    &[],
-                    &[],
-                );
-            }
+            crate::gpu::tes_writes_to_host(dev, cmd);
             Ok(())
         })?;
         let passes = self.timer.results()?;
