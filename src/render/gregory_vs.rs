@@ -26,10 +26,11 @@ use glam::DVec3;
 
 use super::gregory_layout::{gregory_face_problem, GregoryLayout};
 use super::layout::vec3_bytes;
+use super::patch_pipeline::{patch_push_constants, push_patch_chunk};
 use super::renderer::RenderDesc;
 use crate::gpu::{
     patch_draw_chunks, Buffer, BufferBinding, Context, DescriptorBinding, DescriptorKind,
-    DescriptorPool, GraphicsPipelineDesc, MemoryLocation, Pipeline, PushConstants, TargetFormat,
+    DescriptorPool, GraphicsPipelineDesc, MemoryLocation, Pipeline, TargetFormat,
 };
 use crate::patch::gregory::is_supported_vertex;
 use crate::patch::gregory::table::GregoryVertexTable;
@@ -372,15 +373,7 @@ impl GregoryVsPatches {
     ) -> Result<Pipeline> {
         let suffix = if budget.slots == 31 { "" } else { "_16" };
         let shape = if quads { "quad" } else { "tri" };
-        let tese = format!(
-            "patch_gregory_{shape}_{}{}.tese",
-            desc.tess.spacing.shader_suffix(),
-            if desc.capture_capacity.is_some() {
-                "_capture"
-            } else {
-                ""
-            }
-        );
+        let tese = desc.tese_name(&format!("patch_gregory_{shape}"));
         let p = GraphicsPipelineDesc {
             label: format!("gregory-vs {shape} patches ({tese})"),
             vertex: format!("gregory_vs{suffix}.vert"),
@@ -391,25 +384,13 @@ impl GregoryVsPatches {
             vertex_attributes: vec![],
             topology: vk::PrimitiveTopology::PATCH_LIST,
             patch_control_points: if quads { 4 } else { 3 },
-            polygon_mode: if desc.wireframe {
-                vk::PolygonMode::LINE
-            } else {
-                vk::PolygonMode::FILL
-            },
-            cull_mode: if desc.cull_back_faces {
-                vk::CullModeFlags::BACK
-            } else {
-                vk::CullModeFlags::NONE
-            },
+            polygon_mode: desc.polygon_mode(),
+            cull_mode: desc.cull_mode(),
             front_face: vk::FrontFace::COUNTER_CLOCKWISE,
             depth_test: true,
             depth_write: true,
             set_layouts: vec![set_layout()],
-            push_constants: Some(PushConstants {
-                stages: vk::ShaderStageFlags::TESSELLATION_CONTROL
-                    | vk::ShaderStageFlags::TESSELLATION_EVALUATION,
-                size: 12,
-            }),
+            push_constants: Some(patch_push_constants()),
         };
         ctx.graphics_pipeline_for(&p, target)
     }
@@ -447,23 +428,6 @@ impl GregoryVsPatches {
         let dev = self.ctx.device();
         let quads = self.layout.quad_count;
         let tris = self.layout.patch_count() - quads;
-        let push = |pipe: &Pipeline, base: u32, sub: u32, split: u32| {
-            let mut pc = [0u8; 12];
-            for (k, w) in [base, sub, split].iter().enumerate() {
-                pc[4 * k..4 * k + 4].copy_from_slice(&w.to_le_bytes());
-            }
-            // SAFETY: recording; the range matches the pipeline layout.
-            unsafe {
-                dev.cmd_push_constants(
-                    cmd,
-                    pipe.layout,
-                    vk::ShaderStageFlags::TESSELLATION_CONTROL
-                        | vk::ShaderStageFlags::TESSELLATION_EVALUATION,
-                    0,
-                    &pc,
-                );
-            }
-        };
         for (pipe, count, quad) in [
             (&self.quad_pipeline, quads, true),
             (&self.tri_pipeline, tris, false),
@@ -497,7 +461,7 @@ impl GregoryVsPatches {
                     (quads + first, 4 * quads + 3 * first)
                 };
                 for sub in 0..subs {
-                    push(pipe, base, sub | sub_flag, split);
+                    push_patch_chunk(dev, cmd, pipe.layout, base, sub | sub_flag, split);
                     // SAFETY: as above.
                     unsafe { dev.cmd_draw_indexed(cmd, n * points, 1, first_index, 0, 0) };
                 }

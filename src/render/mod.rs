@@ -14,6 +14,7 @@ pub mod gregory_vs;
 pub mod heatmap;
 pub mod layout;
 pub mod offscreen;
+mod patch_pipeline;
 pub mod renderer;
 pub mod scene;
 pub mod scheme;

@@ -8,12 +8,13 @@ use super::fallback::FallbackMesh;
 use super::gregory_pass::{surface_vertex_frames, GregoryPass, GregoryPassPlan};
 use super::gregory_vs::SharedBuffers;
 use super::layout::{self, BSplinePatch};
+use super::patch_pipeline::{patch_push_constants, position_input, push_patch_chunk};
 use super::settings::{ColorBy, FrameUniforms, Spacing, TessSettings, FRAME_UNIFORM_BYTES};
 use super::surface::SurfaceData;
 use crate::gpu::{
     patch_draw_chunks, Buffer, BufferBinding, Context, DescriptorBinding, DescriptorKind,
-    DescriptorPool, GraphicsPipelineDesc, MemoryLocation, Pipeline, PushConstants, TargetFormat,
-    VertexAttribute, VertexBinding,
+    DescriptorPool, GraphicsPipelineDesc, MemoryLocation, Pipeline, TargetFormat, VertexAttribute,
+    VertexBinding,
 };
 use crate::{Error, Result};
 
@@ -345,42 +346,17 @@ impl SurfaceRenderer {
         desc: &RenderDesc,
         target: TargetFormat,
     ) -> Result<(Pipeline, Pipeline)> {
-        let polygon_mode = if desc.wireframe {
-            vk::PolygonMode::LINE
-        } else {
-            vk::PolygonMode::FILL
-        };
-        let cull_mode = if desc.cull_back_faces {
-            vk::CullModeFlags::BACK
-        } else {
-            vk::CullModeFlags::NONE
-        };
-        let tese = format!(
-            "patch_bspline_{}{}.tese",
-            desc.tess.spacing.shader_suffix(),
-            if desc.capture_capacity.is_some() {
-                "_capture"
-            } else {
-                ""
-            }
-        );
+        let (polygon_mode, cull_mode) = (desc.polygon_mode(), desc.cull_mode());
+        let tese = desc.tese_name("patch_bspline");
+        let (vertex_bindings, vertex_attributes) = position_input();
         let patch = GraphicsPipelineDesc {
             label: format!("bspline patches ({tese})"),
             vertex: "patch_bspline.vert".into(),
             tess_control: Some("patch_bspline.tesc".into()),
             tess_eval: Some(tese),
             fragment: "shade.frag".into(),
-            vertex_bindings: vec![VertexBinding {
-                binding: 0,
-                stride: 12,
-                per_instance: false,
-            }],
-            vertex_attributes: vec![VertexAttribute {
-                location: 0,
-                binding: 0,
-                format: vk::Format::R32G32B32_SFLOAT,
-                offset: 0,
-            }],
+            vertex_bindings,
+            vertex_attributes,
             topology: vk::PrimitiveTopology::PATCH_LIST,
             patch_control_points: 16,
             polygon_mode,
@@ -389,11 +365,7 @@ impl SurfaceRenderer {
             depth_test: true,
             depth_write: true,
             set_layouts: vec![set_layout()],
-            push_constants: Some(PushConstants {
-                stages: vk::ShaderStageFlags::TESSELLATION_CONTROL
-                    | vk::ShaderStageFlags::TESSELLATION_EVALUATION,
-                size: 12,
-            }),
+            push_constants: Some(patch_push_constants()),
         };
         let fallback = GraphicsPipelineDesc {
             label: "cpu-evaluated triangles".into(),
@@ -562,18 +534,7 @@ impl SurfaceRenderer {
             let split = self.split;
             for (base, n) in patch_draw_chunks(self.patch_count, 16, true) {
                 for sub in 0..split * split {
-                    let mut pc = [0u8; 12];
-                    for (k, w) in [base, sub, split].iter().enumerate() {
-                        pc[4 * k..4 * k + 4].copy_from_slice(&w.to_le_bytes());
-                    }
-                    dev.cmd_push_constants(
-                        cmd,
-                        self.patch_pipeline.layout,
-                        vk::ShaderStageFlags::TESSELLATION_CONTROL
-                            | vk::ShaderStageFlags::TESSELLATION_EVALUATION,
-                        0,
-                        &pc,
-                    );
+                    push_patch_chunk(dev, cmd, self.patch_pipeline.layout, base, sub, split);
                     dev.cmd_draw_indexed(cmd, n * 16, 1, base * 16, 0, 0);
                 }
             }

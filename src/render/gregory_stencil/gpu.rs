@@ -12,12 +12,12 @@ use glam::DVec3;
 use super::table::{StencilTable, QUAD_EXTRA, QUAD_POINTS};
 use crate::gpu::{
     patch_draw_chunks, Buffer, BufferBinding, Context, DescriptorBinding, DescriptorKind,
-    DescriptorPool, GraphicsPipelineDesc, MemoryLocation, Pipeline, PushConstants, TargetFormat,
-    VertexAttribute, VertexBinding,
+    DescriptorPool, GraphicsPipelineDesc, MemoryLocation, Pipeline, TargetFormat,
 };
 use crate::render::gregory_layout::GregoryLayout;
 use crate::render::gregory_vs::SharedBuffers;
 use crate::render::layout::{vec3_bytes, vec4_bytes};
+use crate::render::patch_pipeline::{patch_push_constants, position_input, push_patch_chunk};
 use crate::render::renderer::RenderDesc;
 use crate::topology::Topology;
 use crate::{Error, Result};
@@ -374,8 +374,6 @@ impl StencilPatches {
     /// constant.
     pub fn record(&self, cmd: vk::CommandBuffer) {
         let dev = self.ctx.device();
-        let stages = vk::ShaderStageFlags::TESSELLATION_CONTROL
-            | vk::ShaderStageFlags::TESSELLATION_EVALUATION;
         for g in &self.groups {
             // SAFETY: cmd is recording inside a render pass compatible with the pipeline's
             // target format; every bound resource outlives the submission (owned by self or
@@ -404,11 +402,7 @@ impl StencilPatches {
                 for (first, n) in patch_draw_chunks(g.count, g.points, true) {
                     let base = g.first_record + first;
                     for sub in 0..subs {
-                        let mut pc = [0u8; 12];
-                        for (k, w) in [base, sub, split].iter().enumerate() {
-                            pc[4 * k..4 * k + 4].copy_from_slice(&w.to_le_bytes());
-                        }
-                        dev.cmd_push_constants(cmd, g.pipeline.layout, stages, 0, &pc);
+                        push_patch_chunk(dev, cmd, g.pipeline.layout, base, sub, split);
                         dev.cmd_draw_indexed(
                             cmd,
                             n * g.points,
@@ -426,19 +420,15 @@ impl StencilPatches {
 
 /// Shared TES of the Gregory patches (glsl/patch_gregory_{quad,tri}.tese and variants).
 fn tese_name(desc: &RenderDesc, triangle: bool) -> String {
-    format!(
-        "patch_gregory_{}_{}{}.tese",
-        if triangle { "tri" } else { "quad" },
-        desc.tess.spacing.shader_suffix(),
-        if desc.capture_capacity.is_some() {
-            "_capture"
-        } else {
-            ""
-        }
-    )
+    desc.tese_name(if triangle {
+        "patch_gregory_tri"
+    } else {
+        "patch_gregory_quad"
+    })
 }
 
 fn pipeline_desc(desc: &RenderDesc, triangle: bool, points: u32) -> GraphicsPipelineDesc {
+    let (vertex_bindings, vertex_attributes) = position_input();
     GraphicsPipelineDesc {
         label: format!(
             "gregory stencil {} patches, {points} ring points",
@@ -455,38 +445,17 @@ fn pipeline_desc(desc: &RenderDesc, triangle: bool, points: u32) -> GraphicsPipe
         ),
         tess_eval: Some(tese_name(desc, triangle)),
         fragment: "shade.frag".into(),
-        vertex_bindings: vec![VertexBinding {
-            binding: 0,
-            stride: 12,
-            per_instance: false,
-        }],
-        vertex_attributes: vec![VertexAttribute {
-            location: 0,
-            binding: 0,
-            format: vk::Format::R32G32B32_SFLOAT,
-            offset: 0,
-        }],
+        vertex_bindings,
+        vertex_attributes,
         topology: vk::PrimitiveTopology::PATCH_LIST,
         patch_control_points: points,
-        polygon_mode: if desc.wireframe {
-            vk::PolygonMode::LINE
-        } else {
-            vk::PolygonMode::FILL
-        },
-        cull_mode: if desc.cull_back_faces {
-            vk::CullModeFlags::BACK
-        } else {
-            vk::CullModeFlags::NONE
-        },
+        polygon_mode: desc.polygon_mode(),
+        cull_mode: desc.cull_mode(),
         front_face: vk::FrontFace::COUNTER_CLOCKWISE,
         depth_test: true,
         depth_write: true,
         set_layouts: vec![frame_set_layout(), stencil_set_layout()],
-        push_constants: Some(PushConstants {
-            stages: vk::ShaderStageFlags::TESSELLATION_CONTROL
-                | vk::ShaderStageFlags::TESSELLATION_EVALUATION,
-            size: 12,
-        }),
+        push_constants: Some(patch_push_constants()),
     }
 }
 

@@ -1,0 +1,92 @@
+//! What every tessellated patch pipeline shares (regular B-spline, Gregory two-stage and
+//! stencil): raster state from [`RenderDesc`], the evaluation-shader variant name, the
+//! push-constant block of a draw chunk and the position vertex input.
+
+use ash::vk;
+
+use super::renderer::RenderDesc;
+use crate::gpu::{PushConstants, VertexAttribute, VertexBinding};
+
+/// Shader stages that read the patch push constants.
+fn patch_push_stages() -> vk::ShaderStageFlags {
+    vk::ShaderStageFlags::TESSELLATION_CONTROL | vk::ShaderStageFlags::TESSELLATION_EVALUATION
+}
+
+impl RenderDesc {
+    /// `LINE` for wireframe, else `FILL`.
+    pub(crate) fn polygon_mode(&self) -> vk::PolygonMode {
+        if self.wireframe {
+            vk::PolygonMode::LINE
+        } else {
+            vk::PolygonMode::FILL
+        }
+    }
+
+    /// `BACK` when back faces are culled, else `NONE`.
+    pub(crate) fn cull_mode(&self) -> vk::CullModeFlags {
+        if self.cull_back_faces {
+            vk::CullModeFlags::BACK
+        } else {
+            vk::CullModeFlags::NONE
+        }
+    }
+
+    /// The evaluation-shader variant `{stem}_{spacing}[_capture].tese` (glsl/variants.txt).
+    pub(crate) fn tese_name(&self, stem: &str) -> String {
+        format!(
+            "{stem}_{}{}.tese",
+            self.tess.spacing.shader_suffix(),
+            if self.capture_capacity.is_some() {
+                "_capture"
+            } else {
+                ""
+            }
+        )
+    }
+}
+
+/// The push-constant range of every patch pipeline: three `u32` (first patch of the draw chunk,
+/// sub-patch index, split).
+pub(crate) fn patch_push_constants() -> PushConstants {
+    PushConstants {
+        stages: patch_push_stages(),
+        size: 12,
+    }
+}
+
+/// Records the push constants of one draw chunk: first patch `base` (gl_PrimitiveID restarts
+/// per draw), sub-patch index `sub`, sub-patches per side `split`.
+pub(crate) fn push_patch_chunk(
+    dev: &ash::Device,
+    cmd: vk::CommandBuffer,
+    layout: vk::PipelineLayout,
+    base: u32,
+    sub: u32,
+    split: u32,
+) {
+    let mut pc = [0u8; 12];
+    for (k, w) in [base, sub, split].iter().enumerate() {
+        pc[4 * k..4 * k + 4].copy_from_slice(&w.to_le_bytes());
+    }
+    // SAFETY: the caller records into a valid command buffer with a pipeline of `layout`
+    // bound, whose push-constant range is [`patch_push_constants`].
+    unsafe { dev.cmd_push_constants(cmd, layout, patch_push_stages(), 0, &pc) };
+}
+
+/// Vertex input of pipelines that read control positions from binding 0 (tightly packed f32
+/// xyz) at location 0.
+pub(crate) fn position_input() -> (Vec<VertexBinding>, Vec<VertexAttribute>) {
+    (
+        vec![VertexBinding {
+            binding: 0,
+            stride: 12,
+            per_instance: false,
+        }],
+        vec![VertexAttribute {
+            location: 0,
+            binding: 0,
+            format: vk::Format::R32G32B32_SFLOAT,
+            offset: 0,
+        }],
+    )
+}
