@@ -2,7 +2,9 @@
 
 use clap::{Args, ValueEnum};
 use tessera::mesh::ObjOptions;
-use tessera::patch::gregory::accuracy::{measure, AccuracyOptions, AccuracyReport};
+use tessera::patch::gregory::accuracy::{
+    measure, measure_with_samples, AccuracyOptions, AccuracyReport, FaceHeat,
+};
 
 /// Patch schemes whose accuracy can be measured (names as on the command line).
 #[allow(clippy::enum_variant_names)]
@@ -49,11 +51,20 @@ pub struct ErrorArgs {
     pub up: String,
 }
 
+/// Samples per face side of the error map.
+fn heatmap_grid(args: &ErrorArgs) -> usize {
+    args.grid.max(2)
+}
+
 /// Renders the error map of `mesh` to `path`.
+///
+/// `samples`: the CPU construction's samples when the report already measured exactly the map's
+/// faces on the map's grid (so they are not measured twice).
 fn write_heatmap(
     mesh: &tessera::ControlMesh,
     args: &ErrorArgs,
     path: &std::path::Path,
+    samples: Option<&[FaceHeat]>,
 ) -> tessera::Result<()> {
     use tessera::render::{heatmap, render_to_image, ColorBy, OffscreenDesc, RenderDesc, UpAxis};
     let (width, height) = super::render::parse_size(&args.size)?;
@@ -65,7 +76,10 @@ fn write_heatmap(
         }
     }
     let scale = args.heatmap_scale.map(|s| s * mesh.bbox_diagonal());
-    let heat = heatmap::heat_surface(mesh, args.grid.max(2), 8, scale)?;
+    let heat = match samples {
+        Some(samples) => heatmap::heat_surface_from_samples(mesh, samples, 8, scale)?,
+        None => heatmap::heat_surface(mesh, heatmap_grid(args), 8, scale)?,
+    };
     let ctx = super::render::context(false)?;
     let mut render = RenderDesc {
         color_by: ColorBy::Error,
@@ -128,14 +142,24 @@ pub fn run(args: ErrorArgs) -> tessera::Result<()> {
         left_handed: args.left_handed,
     };
     let mesh = tessera::assets::load_mesh(&args.mesh, &options)?;
+    // The map shows the Gregory faces on a grid of at least 2; the CPU report's samples are
+    // reused when they are exactly those.
+    let reuse = args.heatmap.is_some() && !args.include_regular && heatmap_grid(&args) == args.grid;
+    let mut samples = None;
     let report = match args.scheme {
-        ErrorScheme::GregoryCpu => measure(
-            &mesh,
-            &AccuracyOptions {
+        ErrorScheme::GregoryCpu => {
+            let options = AccuracyOptions {
                 grid: args.grid,
                 include_regular: args.include_regular,
-            },
-        )?,
+            };
+            if reuse {
+                let (report, heat) = measure_with_samples(&mesh, &options)?;
+                samples = Some(heat);
+                report
+            } else {
+                measure(&mesh, &options)?
+            }
+        }
         ErrorScheme::GregoryVs | ErrorScheme::GregoryStencil => {
             let ctx = super::render::context(false)?;
             let scheme = if args.scheme == ErrorScheme::GregoryVs {
@@ -155,7 +179,7 @@ pub fn run(args: ErrorArgs) -> tessera::Result<()> {
     };
     print!("{}", format_report(&args.mesh, name, &report));
     if let Some(path) = &args.heatmap {
-        write_heatmap(&mesh, &args, path)?;
+        write_heatmap(&mesh, &args, path, samples.as_deref())?;
     }
     Ok(())
 }

@@ -57,6 +57,17 @@ pub fn heat_surface(
             include_regular: false,
         },
     )?;
+    heat_surface_from_samples(mesh, &heat, level, scale)
+}
+
+/// [`heat_surface`] from samples already measured (e.g. by
+/// [`crate::patch::gregory::accuracy::measure_with_samples`]).
+pub fn heat_surface_from_samples(
+    mesh: &ControlMesh,
+    heat: &[FaceHeat],
+    level: u32,
+    scale: Option<f64>,
+) -> Result<HeatSurface> {
     let max_distance = heat
         .iter()
         .flat_map(|f| f.samples.iter().map(|s| s.distance))
@@ -65,7 +76,7 @@ pub fn heat_surface(
     let topo = Topology::new(mesh)?;
     let mut plan = SurfacePlan::new(&topo);
     let mut is_heat = vec![false; topo.face_count()];
-    for f in &heat {
+    for f in heat {
         is_heat[f.face as usize] = true;
     }
     plan.fallback_faces.retain(|f| !is_heat[f.face as usize]);
@@ -74,7 +85,7 @@ pub fn heat_surface(
         f.class = PatchClass::Irregular;
     }
     let mut fallback = cpu_faces(mesh, &plan.fallback_faces, level)?;
-    for f in &heat {
+    for f in heat {
         append_face(&mut fallback, f, scale);
     }
     Ok(HeatSurface {

@@ -161,6 +161,29 @@ fn sample_params(n: usize, triangle: bool) -> Vec<(f64, f64)> {
 
 /// Measures the Gregory construction of `mesh` against its exact limit surface.
 pub fn measure(mesh: &ControlMesh, options: &AccuracyOptions) -> Result<AccuracyReport> {
+    Ok(sample(mesh, options, false)?.0)
+}
+
+/// [`measure`], also returning every sample with its error (for error maps).
+pub fn measure_with_samples(
+    mesh: &ControlMesh,
+    options: &AccuracyOptions,
+) -> Result<(AccuracyReport, Vec<FaceHeat>)> {
+    sample(mesh, options, true)
+}
+
+/// Samples every Gregory face of `mesh` (as [`measure`] chooses them) with its distance to the
+/// exact surface, for an error map.
+pub fn heat_samples(mesh: &ControlMesh, options: &AccuracyOptions) -> Result<Vec<FaceHeat>> {
+    Ok(sample(mesh, options, true)?.1)
+}
+
+/// Chooses the faces, samples them and summarises the errors; keeps the samples when asked.
+fn sample(
+    mesh: &ControlMesh,
+    options: &AccuracyOptions,
+    keep_samples: bool,
+) -> Result<(AccuracyReport, Vec<FaceHeat>)> {
     let grid = options.grid.max(1);
     let topo = Topology::new(mesh)?;
     let ev = LimitEvaluator::new(mesh)?;
@@ -191,14 +214,25 @@ pub fn measure(mesh: &ControlMesh, options: &AccuracyOptions) -> Result<Accuracy
     }
     // Dense exact samples of every face, for the closest-point search.
     let dense: Vec<Option<Vec<GridSample>>> = ev.eval_all_grids(2 * grid)?;
-    let errors: Vec<FaceErrors> = chosen
+    let sampled: Vec<(FaceErrors, FaceHeat)> = chosen
         .par_iter()
-        .map(|&f| face_errors(&topo, &ev, &verts, &dense, f, grid, None))
+        .map(|&f| {
+            let mut samples = Vec::new();
+            let heat = keep_samples.then_some(&mut samples);
+            let errors = face_errors(&topo, &ev, &verts, &dense, f, grid, heat)?;
+            let face = FaceHeat {
+                face: f,
+                triangle: topo.face_size(f) == 3,
+                grid,
+                samples,
+            };
+            Ok((errors, face))
+        })
         .collect::<Result<_>>()?;
     report.faces = chosen.len();
     report.triangles = chosen.iter().filter(|&&f| topo.face_size(f) == 3).count();
     let (mut sd, mut suv, mut sn, mut nuv) = (0.0, 0.0, 0.0, 0usize);
-    for (d, uv, a) in errors.iter().flatten() {
+    for (d, uv, a) in sampled.iter().flat_map(|(e, _)| e) {
         report.samples += 1;
         sd += d * d;
         sn += a * a;
@@ -217,7 +251,12 @@ pub fn measure(mesh: &ControlMesh, options: &AccuracyOptions) -> Result<Accuracy
     report.rms_uv = (suv / nuv.max(1) as f64).sqrt() / diag;
     report.max_uv /= diag;
     report.rms_normal = (sn / count).sqrt();
-    Ok(report)
+    let faces = if keep_samples {
+        sampled.into_iter().map(|(_, h)| h).collect()
+    } else {
+        Vec::new()
+    };
+    Ok((report, faces))
 }
 
 /// Samples one face and measures every sample.
@@ -292,34 +331,4 @@ fn face_errors(
         }
     }
     Ok(out)
-}
-
-/// Samples every Gregory face of `mesh` (as [`measure`] chooses them) with its distance to the
-/// exact surface, for an error map.
-pub fn heat_samples(mesh: &ControlMesh, options: &AccuracyOptions) -> Result<Vec<FaceHeat>> {
-    let grid = options.grid.max(1);
-    let topo = Topology::new(mesh)?;
-    let ev = LimitEvaluator::new(mesh)?;
-    let verts = gregory_vertices(&topo, mesh.positions());
-    let chosen: Vec<u32> = (0..topo.face_count() as u32)
-        .filter(|&f| {
-            topo.has_limit_surface(f)
-                && (options.include_regular || RegularPatch::gather(&topo, f).is_none())
-                && check_face(&topo, f).is_ok()
-        })
-        .collect();
-    let dense: Vec<Option<Vec<GridSample>>> = ev.eval_all_grids(2 * grid)?;
-    chosen
-        .par_iter()
-        .map(|&f| {
-            let mut samples = Vec::new();
-            face_errors(&topo, &ev, &verts, &dense, f, grid, Some(&mut samples))?;
-            Ok(FaceHeat {
-                face: f,
-                triangle: topo.face_size(f) == 3,
-                grid,
-                samples,
-            })
-        })
-        .collect()
 }
