@@ -29,7 +29,7 @@ impl Level {
     /// (`fullTopologyInLastLevel = false`).
     pub fn refine_face_vertices(&self) -> Vec<u32> {
         let t = &self.topo;
-        let (nf, ne, fv) = (t.face_count(), t.edge_count(), t.corner_count());
+        let (nf, fv) = (t.face_count(), t.corner_count());
         let mut face_verts = vec![0u32; 4 * fv];
         let shared = Shared::new(&mut face_verts);
         // SAFETY: every parent face writes only the four child slots of each of its corners.
@@ -44,12 +44,7 @@ impl Level {
                     let h = off + k;
                     let hp = if k == 0 { off + n - 1 } else { h - 1 };
                     let i = 4 * (h - a);
-                    out[i..i + 4].copy_from_slice(&[
-                        (nf + ne) as u32 + t.face_verts[h],
-                        nf as u32 + t.face_edges[h],
-                        f as u32,
-                        nf as u32 + t.face_edges[hp],
-                    ]);
+                    out[i..i + 4].copy_from_slice(&child_face(t, f, h, hp));
                 }
             }
         });
@@ -163,7 +158,7 @@ impl Level {
                     let v = t.face_verts[h];
                     let (ek, ekm) = (t.face_edges[h], t.face_edges[hp]);
                     let i = h - a;
-                    fvs[4 * i..4 * i + 4].copy_from_slice(&[vp(v), ep(ek), f as u32, ep(ekm)]);
+                    fvs[4 * i..4 * i + 4].copy_from_slice(&child_face(t, f, h, hp));
                     fes[4 * i..4 * i + 4].copy_from_slice(&[
                         half(ek, v),
                         h as u32,
@@ -349,6 +344,18 @@ fn child_no_limit(t: &Topology) -> Vec<bool> {
 
 /// `(k + 1) % n` for `k < n`, without a division.
 #[inline]
+/// The child quad of corner `h` (previous corner `hp`) of parent face `f`: (vertex point of the
+/// corner, edge point of its edge, face point, edge point of the previous edge).
+fn child_face(t: &Topology, f: usize, h: usize, hp: usize) -> [u32; 4] {
+    let (nf, ne) = (t.face_count() as u32, t.edge_count() as u32);
+    [
+        nf + ne + t.face_verts[h],
+        nf + t.face_edges[h],
+        f as u32,
+        nf + t.face_edges[hp],
+    ]
+}
+
 fn next_corner(k: u32, n: u32) -> u32 {
     if k + 1 == n {
         0
