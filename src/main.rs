@@ -10,6 +10,12 @@ mod cli;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// More diagnostics on stderr (repeat for more).
+    #[arg(short, long, global = true, action = clap::ArgAction::Count)]
+    verbose: u8,
+    /// Only errors on stderr.
+    #[arg(short, long, global = true, conflicts_with = "verbose")]
+    quiet: bool,
 }
 
 #[derive(Subcommand)]
@@ -32,6 +38,7 @@ enum Command {
 
 fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
+    cli::logger::install(cli.verbose, cli.quiet);
     let result = match cli.command {
         Command::Info(args) => cli::info::run(args),
         Command::Limit(args) => cli::limit::run(args),

@@ -9,8 +9,8 @@ use std::collections::{HashMap, HashSet};
 use glam::DVec3;
 use tessera::mesh::{ControlMesh, ControlMeshDesc, ObjOptions};
 use tessera::patch::gregory::{gregory_patch_at, GregoryPatch};
-use tessera::render::gregory_stencil::{GregorySession, GregoryVariant, SessionOptions};
-use tessera::render::renderer::CaptureRecord;
+use tessera::render::session::{GregorySession, GregoryVariant, SessionOptions};
+use tessera::render::CaptureRecord;
 use tessera::render::{
     compare_images, render_to_image, surface_for_scheme, ColorBy, CompareThreshold, OffscreenDesc,
     RenderDesc, Scheme, SchemeLimits, TessSettings,
@@ -493,9 +493,9 @@ fn rings_over_the_patch_size_limit_go_to_the_cpu_path() {
     );
     let surface = surface_for_scheme(&mesh, 6, Scheme::GregoryStencil, &limits).unwrap();
     // The fan triangles have one-rings of n + 2 > 32 vertices: CPU path; the band quads fit.
-    let gregory = surface.gregory.as_ref().unwrap();
-    assert_eq!(gregory.faces.len(), n as usize);
-    assert!(gregory.faces.iter().all(|&f| f % 3 == 2), "only band quads");
+    let gregory = surface.irregular_gpu_faces();
+    assert_eq!(gregory.len(), n as usize);
+    assert!(gregory.iter().all(|&f| f % 3 == 2), "only band quads");
     assert_eq!(surface.fallback_faces.len(), 2 * n as usize);
     let desc = RenderDesc {
         tess: TessSettings {

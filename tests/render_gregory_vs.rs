@@ -10,11 +10,11 @@ use glam::DVec3;
 use tessera::gpu::Context;
 use tessera::mesh::{ControlMesh, ObjOptions};
 use tessera::patch::gregory::{gregory_patch, gregory_vertices, GregoryPatch};
-use tessera::render::gregory_layout::irregular_faces;
-use tessera::render::renderer::{capture_capacity_for, effective_tess};
+use tessera::render::schemes::gregory::irregular_faces;
+use tessera::render::{capture_capacity_for, resolve_tess};
 use tessera::render::{
-    render_to_image, surface_for_scheme, BSplinePatch, CaptureRecord, ColorBy, OffscreenDesc,
-    RenderDesc, Scheme, SchemeLimits, TessSettings,
+    render_to_image, surface_for_scheme, CaptureRecord, ColorBy, OffscreenDesc, RenderDesc, Scheme,
+    SchemeLimits, TessSettings,
 };
 use tessera::topology::Topology;
 
@@ -45,7 +45,7 @@ fn embedded(name: &str) -> ControlMesh {
 struct Frame {
     topo: Topology,
     positions: Vec<DVec3>,
-    regular: Vec<BSplinePatch>,
+    regular: Vec<tessera::patch::RegularPatch>,
     gregory: Vec<u32>,
     rejected: usize,
     records: Vec<CaptureRecord>,
@@ -71,22 +71,16 @@ fn render_scheme(
     let surface =
         surface_for_scheme(mesh, level as u32, scheme, &SchemeLimits::from_context(ctx)).unwrap();
     let topo = Topology::new(mesh).unwrap();
-    let gregory = surface
-        .gregory
-        .as_ref()
-        .map_or(Vec::new(), |g| g.faces.clone());
+    let gregory = surface.irregular_gpu_faces();
     let rejected = irregular_faces(&topo).len() - gregory.len();
     let desc = RenderDesc {
         tess,
         color_by: ColorBy::PatchType,
         capture_capacity: Some(if tess.mode == tessera::render::TessMode::Adaptive {
             // Adaptive levels reach the device limit (64): at most 66^2 points per patch.
-            ((surface.patches.len() + gregory.len()) * 66 * 66) as u32
+            (surface.patch_count() * 66 * 66) as u32
         } else {
-            capture_capacity_for(
-                surface.patches.len() + gregory.len(),
-                &effective_tess(&surface, &tess).0,
-            )
+            capture_capacity_for(surface.patch_count(), &resolve_tess(ctx, &surface, &tess))
         }),
         ..RenderDesc::default()
     };
@@ -109,7 +103,7 @@ fn render_scheme(
         Frame {
             topo,
             positions: surface.positions.clone(),
-            regular: surface.patches.clone(),
+            regular: surface.regular_patches().to_vec(),
             gregory,
             rejected,
             records,
@@ -590,7 +584,7 @@ fn update_positions_equals_rebuild() {
     };
     for scheme in [Scheme::GregoryVs, Scheme::GregoryStencil] {
         let surface = surface_for_scheme(&mesh, 5, scheme, &limits).unwrap();
-        let n = surface.patches.len() + surface.gregory.as_ref().unwrap().faces.len();
+        let n = surface.patch_count();
         let desc = RenderDesc {
             tess,
             capture_capacity: Some(capture_capacity_for(n, &tess)),
@@ -640,106 +634,40 @@ fn update_positions_equals_rebuild() {
 fn capture_with_budget(
     ctx: &Context,
     mesh: &ControlMesh,
-    budget: tessera::render::gregory_vs::VsBudget,
+    budget: tessera::render::schemes::gregory_vs::VsBudget,
 ) -> Vec<CaptureRecord> {
-    use tessera::gpu::{vk, Buffer, MemoryLocation, RenderTarget};
-    use tessera::render::gregory_layout::{vertex_frames, GregoryLayout};
-    use tessera::render::gregory_vs::{select_faces, GregoryVsPatches, SharedBuffers};
-    use tessera::render::layout::vec4_bytes;
-    use tessera::render::settings::FRAME_UNIFORM_BYTES;
-    use tessera::render::{Camera, CameraSpec, FrameUniforms};
+    use std::sync::Arc;
+    use tessera::render::schemes::gregory_vs::{select_faces, GregoryVsTables};
+    use tessera::render::SurfaceData;
 
-    let topo = Topology::new(mesh).unwrap();
-    let positions = mesh.positions().to_vec();
+    let topo = Arc::new(Topology::new(mesh).unwrap());
     let (faces, _) = select_faces(&topo, &irregular_faces(&topo), budget);
-    let layout = GregoryLayout::new(&topo, &faces);
-    let (limits, normals) = vertex_frames(&topo, &positions, &[], &layout);
     let tess = TessSettings {
         level: 5.0,
         ..TessSettings::default()
     };
     let desc = RenderDesc {
         tess,
+        color_by: ColorBy::PatchType,
         capture_capacity: Some(capture_capacity_for(faces.len(), &tess)),
         ..RenderDesc::default()
     };
-    let cap = desc.capture_capacity.unwrap();
-    let rt = RenderTarget::new(ctx, 64, 64, 1).unwrap();
-    let host = |size: usize, usage, loc, name: &str| {
-        Buffer::new(ctx, size as u64, usage, loc, name).unwrap()
+    // Only the Gregory part: its corners' frames come from the Gregory construction.
+    let surface = SurfaceData {
+        positions: mesh.positions().to_vec(),
+        topology: Some(topo.clone()),
+        parts: vec![Arc::new(GregoryVsTables::new(topo, &faces, budget))],
+        ..SurfaceData::default()
     };
-    let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-    let mut frame = host(
-        FRAME_UNIFORM_BYTES,
-        vk::BufferUsageFlags::UNIFORM_BUFFER,
-        MemoryLocation::CpuToGpu,
-        "frame",
-    );
-    let mut lim = host(
-        16 * limits.len(),
-        storage,
-        MemoryLocation::CpuToGpu,
-        "limits",
-    );
-    lim.write(0, &vec4_bytes(&limits)).unwrap();
-    let mut capture = host(
-        16 + 36 * cap as usize,
-        storage,
-        MemoryLocation::GpuToCpu,
-        "capture",
-    );
-    capture.write(0, &[0u32, cap, 0, 0]).unwrap();
-    let patches = GregoryVsPatches::with_budget(
-        ctx,
-        &topo,
-        layout,
-        &positions,
-        &normals,
-        SharedBuffers {
-            frame: &frame,
-            vertex_limits: &lim,
-            capture: &capture,
-        },
-        &desc,
-        rt.format(),
-        budget,
-    )
-    .unwrap();
-    let cam = Camera::frame(CameraSpec::Auto, -DVec3::ONE, DVec3::ONE, 1.0);
-    let uniforms = FrameUniforms {
-        view_proj: cam.view_proj(),
-        eye: cam.eye.as_vec3(),
-        viewport: [64.0, 64.0],
-        tess,
-        max_level: 64.0,
-        light_dir: glam::Vec3::Z,
-        color_by: ColorBy::PatchType,
+    let off = OffscreenDesc {
+        width: 64,
+        height: 64,
+        ..OffscreenDesc::default()
     };
-    frame.write(0, &uniforms.to_bytes()).unwrap();
-    ctx.submit_once(|dev, cmd| {
-        rt.begin(dev, cmd, [0.0; 4]);
-        patches.record(cmd);
-        rt.end(dev, cmd);
-        tessera::gpu::tes_writes_to_host(dev, cmd);
-        Ok(())
-    })
-    .unwrap();
-    let words: Vec<u32> = capture.read().unwrap();
-    let n = words[0] as usize;
-    assert!(n <= cap as usize);
-    let mut recs: Vec<CaptureRecord> = (0..n)
-        .map(|k| {
-            let r = &words[4 + 9 * k..13 + 9 * k];
-            let f = f32::from_bits;
-            CaptureRecord {
-                face: r[0],
-                u: f(r[1]),
-                v: f(r[2]),
-                position: [f(r[3]), f(r[4]), f(r[5])],
-                normal: [f(r[6]), f(r[7]), f(r[8])],
-            }
-        })
-        .collect();
+    let mut recs = render_to_image(ctx, &surface, &desc, &off, false)
+        .unwrap()
+        .capture
+        .unwrap();
     recs.sort_by(|a, b| {
         (a.face, a.u.to_bits(), a.v.to_bits()).cmp(&(b.face, b.u.to_bits(), b.v.to_bits()))
     });
@@ -750,7 +678,7 @@ fn capture_with_budget(
 /// surface of the 31-slot one on a mesh within its valence 9; larger valences are refused.
 #[test]
 fn small_varyings_budget_variant() {
-    use tessera::render::gregory_vs::{vs_budget, VsBudget};
+    use tessera::render::schemes::gregory_vs::{vs_budget, VsBudget};
     let ctx = render_common::context().unwrap();
     let big = vs_budget(&ctx).unwrap();
     assert_eq!(big.max_valence, 20, "lavapipe: 128 components");
@@ -771,7 +699,7 @@ fn small_varyings_budget_variant() {
 /// the renderer draws them from the CPU path.
 #[test]
 fn valence_over_budget_falls_back() {
-    use tessera::render::gregory_vs::{select_faces, vs_budget};
+    use tessera::render::schemes::gregory_vs::{select_faces, vs_budget};
     let n = 24;
     let mut obj = String::from("v 0 0 1\n");
     for k in 0..n {
@@ -793,9 +721,11 @@ fn valence_over_budget_falls_back() {
     assert!(ok.is_empty());
     assert_eq!(rejected.len(), n);
     assert!(
-        rejected[0].1.contains("vertex 0 has 24 ring edges"),
+        rejected[0]
+            .to_string()
+            .contains("vertex 0 has 24 ring edges"),
         "{}",
-        rejected[0].1
+        rejected[0]
     );
     let surface = surface_for_scheme(
         &mesh,
@@ -804,7 +734,7 @@ fn valence_over_budget_falls_back() {
         &SchemeLimits::from_context(&ctx),
     )
     .unwrap();
-    assert!(surface.gregory.is_none());
+    assert!(surface.irregular_gpu_faces().is_empty());
     assert_eq!(surface.fallback_faces.len(), n + 1);
     let out = render_to_image(
         &ctx,
@@ -870,7 +800,7 @@ fn gregory_patches_face_outwards() {
 #[test]
 fn gpu_accuracy_equals_cpu_accuracy_on_quads() {
     use tessera::patch::gregory::accuracy::{measure, AccuracyOptions};
-    use tessera::render::gpu_accuracy::measure_gpu;
+    use tessera::render::accuracy::measure_gpu;
     let ctx = render_common::context().unwrap();
     let mesh = osd("catmark_cube");
     let cpu = measure(

@@ -10,7 +10,7 @@ use std::process::Command;
 use glam::DVec3;
 use render_common::{assert_validation_clean, context};
 use tessera::assets::EmbeddedMesh;
-use tessera::render::renderer::capture_capacity_for;
+use tessera::render::capture_capacity_for;
 use tessera::render::{
     render_to_image, surface_from_mesh, CaptureRecord, OffscreenDesc, RenderDesc, SurfaceData,
     TessSettings,
@@ -35,7 +35,7 @@ fn capture(ctx: &tessera::gpu::Context, s: &SurfaceData, level: f32) -> Vec<Capt
     };
     let render = RenderDesc {
         tess,
-        capture_capacity: Some(capture_capacity_for(s.patches.len(), &tess)),
+        capture_capacity: Some(capture_capacity_for(s.regular_patches().len(), &tess)),
         ..RenderDesc::default()
     };
     let desc = OffscreenDesc {
@@ -54,12 +54,12 @@ fn regular_faces_match_the_exact_limit() {
     let Some(ctx) = context() else { return };
     for (name, mesh) in meshes() {
         let s = surface_from_mesh(&mesh, 1).unwrap();
-        if s.patches.is_empty() {
+        if s.regular_patches().is_empty() {
             continue;
         }
         let ev = LimitEvaluator::new(&mesh).unwrap();
         let recs = capture(&ctx, &s, 5.0);
-        assert_eq!(recs.len(), s.patches.len() * 36, "{name}");
+        assert_eq!(recs.len(), s.regular_patches().len() * 36, "{name}");
         let diag = mesh.bbox_diagonal();
         let mut worst = 0.0f64;
         for r in &recs {
@@ -83,8 +83,11 @@ fn regular_faces_match_the_exact_limit() {
             "{name}: worst error {worst} of the bbox diagonal"
         );
         // Watertight between regular patches: both sides of a shared edge emit the same bits.
-        let corners: HashMap<u32, [u32; 4]> =
-            s.patches.iter().map(|p| (p.face, p.corners())).collect();
+        let corners: HashMap<u32, [u32; 4]> = s
+            .regular_patches()
+            .iter()
+            .map(|p| (p.face, p.corners()))
+            .collect();
         let mut sides: HashMap<(u32, u32), PointsByFace> = HashMap::new();
         for r in &recs {
             let c = corners[&r.face];
@@ -146,7 +149,7 @@ fn sample_command_writes_exact_limit_points() {
     let text = std::fs::read_to_string(&out).unwrap();
     let _ = std::fs::remove_file(&out);
     let lines: Vec<&str> = text.lines().collect();
-    assert_eq!(lines.len(), s.patches.len() * 16);
+    assert_eq!(lines.len(), s.regular_patches().len() * 16);
     let diag = mesh.bbox_diagonal();
     for l in lines {
         let f: Vec<&str> = l.split_whitespace().collect();

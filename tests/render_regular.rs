@@ -6,7 +6,7 @@ mod render_common;
 use std::collections::HashMap;
 
 use render_common::{assert_validation_clean, context, eval_patch, open_grid, torus};
-use tessera::render::renderer::capture_capacity_for;
+use tessera::render::capture_capacity_for;
 use tessera::render::{
     render_to_image, CaptureRecord, OffscreenDesc, OffscreenSession, RenderDesc, Spacing,
     SurfaceData, TessMode, TessSettings,
@@ -15,7 +15,7 @@ use tessera::render::{
 fn capture(ctx: &tessera::gpu::Context, s: &SurfaceData, tess: TessSettings) -> Vec<CaptureRecord> {
     let cap = if tess.mode == TessMode::Adaptive {
         capture_capacity_for(
-            s.patches.len(),
+            s.regular_patches().len(),
             &TessSettings {
                 level: 64.0,
                 spacing: Spacing::FractionalEven,
@@ -24,7 +24,7 @@ fn capture(ctx: &tessera::gpu::Context, s: &SurfaceData, tess: TessSettings) -> 
             },
         )
     } else {
-        capture_capacity_for(s.patches.len(), &tess)
+        capture_capacity_for(s.regular_patches().len(), &tess)
     };
     let render = RenderDesc {
         tess,
@@ -40,7 +40,10 @@ fn capture(ctx: &tessera::gpu::Context, s: &SurfaceData, tess: TessSettings) -> 
     let recs = out.capture.expect("capture");
     let stats = out.report.expect("report").patch_stats;
     let split = u64::from(tess.split());
-    assert_eq!(stats.tcs_patches, s.patches.len() as u64 * split * split);
+    assert_eq!(
+        stats.tcs_patches,
+        s.regular_patches().len() as u64 * split * split
+    );
     assert_eq!(
         stats.tes_invocations,
         recs.len() as u64,
@@ -54,14 +57,14 @@ fn check_accuracy(s: &SurfaceData, recs: &[CaptureRecord]) {
     let (lo, hi) = s.bounding_box();
     let diag = (hi - lo).length();
     let by_face: HashMap<u32, usize> = s
-        .patches
+        .regular_patches()
         .iter()
         .enumerate()
         .map(|(k, p)| (p.face, k))
         .collect();
     let mut worst = 0.0f64;
     for r in recs {
-        let p = &s.patches[by_face[&r.face]];
+        let p = &s.regular_patches()[by_face[&r.face]];
         let (pos, n) = eval_patch(p, &s.positions, f64::from(r.u), f64::from(r.v));
         let g = glam::DVec3::from(r.position.map(f64::from));
         let gn = glam::DVec3::from(r.normal.map(f64::from));
@@ -87,7 +90,7 @@ type EdgeKey = (u32, u32);
 /// bit patterns. Returns the number of shared edges checked.
 fn check_watertight(s: &SurfaceData, recs: &[CaptureRecord]) -> usize {
     let by_face: HashMap<u32, usize> = s
-        .patches
+        .regular_patches()
         .iter()
         .enumerate()
         .map(|(k, p)| (p.face, k))
@@ -95,7 +98,7 @@ fn check_watertight(s: &SurfaceData, recs: &[CaptureRecord]) -> usize {
     // (edge key, face) -> sorted bit patterns
     let mut sets: HashMap<(EdgeKey, u32), Vec<[u32; 3]>> = HashMap::new();
     for r in recs {
-        let c = s.patches[by_face[&r.face]].corners();
+        let c = s.regular_patches()[by_face[&r.face]].corners();
         let mut edges = Vec::new();
         if r.v == 0.0 {
             edges.push((c[0], c[1]));
@@ -155,10 +158,10 @@ fn torus_uniform_matches_cpu_and_is_watertight() {
         },
     );
     // Equal spacing, level 5: a (5+1)^2 grid of domain points per quad patch.
-    assert_eq!(recs.len(), s.patches.len() * 36);
+    assert_eq!(recs.len(), s.regular_patches().len() * 36);
     check_accuracy(&s, &recs);
     // Torus: every edge is shared; 2 * faces edges.
-    assert_eq!(check_watertight(&s, &recs), 2 * s.patches.len());
+    assert_eq!(check_watertight(&s, &recs), 2 * s.regular_patches().len());
     assert_validation_clean(&ctx);
 }
 
@@ -252,7 +255,7 @@ fn split_patches_cover_the_same_surface() {
     };
     assert_eq!(tess.split(), 2);
     let recs = capture(&ctx, &s, tess);
-    assert_eq!(recs.len(), s.patches.len() * 4 * 16);
+    assert_eq!(recs.len(), s.regular_patches().len() * 4 * 16);
     // Same face (u, v) set as one patch at level 6: k/6 for k in 0..=6 (as f32).
     let mut uv: Vec<(u32, u32)> = recs
         .iter()
@@ -263,7 +266,7 @@ fn split_patches_cover_the_same_surface() {
     uv.dedup();
     assert_eq!(uv.len(), 49);
     check_accuracy(&s, &recs);
-    assert_eq!(check_watertight(&s, &recs), 2 * s.patches.len());
+    assert_eq!(check_watertight(&s, &recs), 2 * s.regular_patches().len());
     assert_validation_clean(&ctx);
 }
 
@@ -282,7 +285,7 @@ fn update_positions_moves_the_surface_and_msaa_renders() {
     };
     let render = RenderDesc {
         tess,
-        capture_capacity: Some(capture_capacity_for(s.patches.len(), &tess)),
+        capture_capacity: Some(capture_capacity_for(s.regular_patches().len(), &tess)),
         ..RenderDesc::default()
     };
     let desc = OffscreenDesc {
@@ -381,7 +384,7 @@ fn infinitely_sharp_crease_between_regular_patches_is_watertight() {
     let s = tessera::render::surface_from_mesh(&mesh, 4).unwrap();
     // The crease is bounded by regular patches on both sides (rows away from the grid boundary).
     let crease_faces = s
-        .patches
+        .regular_patches()
         .iter()
         .filter(|p| {
             let c = p.corners();

@@ -36,7 +36,7 @@ pub fn run(
         let fallback = if surface.fallback_faces.is_empty() {
             None
         } else {
-            Some(tessera::render::scheme::cpu_faces(
+            Some(tessera::render::cpu_faces(
                 &mesh,
                 &surface.fallback_faces,
                 level,
@@ -46,7 +46,7 @@ pub fn run(
             .renderer_mut()
             .update_positions(&moved, fallback.as_ref())?;
         if let Some(r) = session.frame()? {
-            ms.push(r.passes.first().map_or(0.0, |p| p.1));
+            ms.push(r.patch_ms());
         }
         images.push(session.image()?);
     }

@@ -1,7 +1,9 @@
 //! `tessera bench`: GPU time per frame of the tessellation pipeline at several levels.
 
 use clap::Args;
-use tessera::render::{OffscreenDesc, OffscreenSession, RenderDesc, TessSettings};
+use tessera::render::{
+    OffscreenDesc, OffscreenSession, RenderDesc, Scheme, TessSettings, CPU_PATH_LABEL,
+};
 use tessera::{Error, Result};
 
 use super::render::{
@@ -24,8 +26,8 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 16.0)]
     pub max_patch_level: f32,
     /// GPU scheme for non-regular faces (see `tessera render --help`).
-    #[arg(long, default_value = "gregory-stencil", value_parser = ["gregory-stencil", "gregory-vs", "bspline-only"])]
-    pub scheme: String,
+    #[arg(long, value_enum, default_value_t = Scheme::default())]
+    pub scheme: Scheme,
     /// Animate: before every timed frame, twist the control positions (as `render --animate`)
     /// and hand them to the renderer (`update_positions`: vertex limit frames and CPU-path faces
     /// recomputed on the CPU, every GPU patch rebuilt on the GPU); adds the CPU milliseconds of
@@ -103,7 +105,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let rest = mesh.positions().to_vec();
     for &req in &levels {
         let level = clamp_level(&ctx, req)?;
-        let surface = surface_for(&ctx, &mesh, level, &args.scheme)?;
+        let surface = surface_for(&ctx, &mesh, level, args.scheme)?;
         if req == levels[0] {
             report_fallback(&surface);
         }
@@ -138,7 +140,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 let fallback = if surface.fallback_faces.is_empty() {
                     None
                 } else {
-                    Some(tessera::render::scheme::cpu_faces(
+                    Some(tessera::render::cpu_faces(
                         &moving,
                         &surface.fallback_faces,
                         level.ceil() as u32,
@@ -152,8 +154,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
             let r = session
                 .frame()?
                 .ok_or_else(|| Error::Invalid("bench: no timings returned".into()))?;
-            let p = r.passes.first().map_or(0.0, |x| x.1);
-            let c = r.passes.get(1).map_or(0.0, |x| x.1);
+            let p = r.patch_ms();
+            let c = r.ms(CPU_PATH_LABEL);
             patch.push(p);
             cpu.push(c);
             total.push(p + c);
@@ -162,7 +164,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         println!(
             "{:>6} {:>9} {:>12} {:>14.3} {:>14.3} {:>14.3}{}",
             level,
-            surface.patches.len() + surface.gregory.as_ref().map_or(0, |g| g.faces.len()),
+            surface.patch_count(),
             tes,
             median(&mut patch),
             median(&mut cpu),

@@ -4,7 +4,7 @@
 
 use tessera::gpu::Context;
 use tessera::mesh::ControlMesh;
-use tessera::render::gregory_stencil::bench_paths;
+use tessera::render::bench::bench_paths;
 use tessera::Result;
 
 /// Prints the comparison table for `levels`.

@@ -1,21 +1,48 @@
 //! `tessera error`: accuracy of a patch scheme against the exact Catmull-Clark limit surface.
 
+use std::sync::OnceLock;
+
+use clap::builder::PossibleValue;
 use clap::{Args, ValueEnum};
 use tessera::mesh::ObjOptions;
 use tessera::patch::gregory::accuracy::{
     measure, measure_with_samples, AccuracyOptions, AccuracyReport, FaceHeat,
 };
+use tessera::render::Scheme;
 
-/// Patch schemes whose accuracy can be measured (names as on the command line).
-#[allow(clippy::enum_variant_names)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+/// What `tessera error` measures: the CPU Gregory construction, or a GPU scheme's TES output
+/// (every `--scheme` of the other subcommands, same names).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ErrorScheme {
     /// Gregory patches built and evaluated on the CPU (the reference construction).
     GregoryCpu,
-    /// The GPU two-stage variant: TES output of the real pipeline at level `--grid`.
-    GregoryVs,
-    /// The GPU stencil variant: TES output of the real pipeline at level `--grid`.
-    GregoryStencil,
+    /// The TES output of the real pipeline with this scheme at level `--grid`.
+    Gpu(Scheme),
+}
+
+impl ValueEnum for ErrorScheme {
+    fn value_variants<'a>() -> &'a [Self] {
+        static ALL: OnceLock<Vec<ErrorScheme>> = OnceLock::new();
+        ALL.get_or_init(|| {
+            std::iter::once(ErrorScheme::GregoryCpu)
+                .chain(
+                    Scheme::value_variants()
+                        .iter()
+                        .map(|&s| ErrorScheme::Gpu(s)),
+                )
+                .collect()
+        })
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        match self {
+            ErrorScheme::GregoryCpu => Some(
+                PossibleValue::new("gregory-cpu")
+                    .help("Gregory patches built and evaluated on the CPU (the reference)"),
+            ),
+            ErrorScheme::Gpu(s) => s.to_possible_value(),
+        }
+    }
 }
 
 /// Arguments of `tessera error`.
@@ -160,22 +187,16 @@ pub fn run(args: ErrorArgs) -> tessera::Result<()> {
                 measure(&mesh, &options)?
             }
         }
-        ErrorScheme::GregoryVs | ErrorScheme::GregoryStencil => {
+        ErrorScheme::Gpu(scheme) => {
             let ctx = super::render::context(false)?;
-            let scheme = if args.scheme == ErrorScheme::GregoryVs {
-                tessera::render::Scheme::GregoryVs
-            } else {
-                tessera::render::Scheme::GregoryStencil
-            };
-            let r = tessera::render::gpu_accuracy::measure_gpu(&ctx, &mesh, scheme, args.grid)?;
+            let r = tessera::render::accuracy::measure_gpu(&ctx, &mesh, scheme, args.grid)?;
             super::render::check_validation(&ctx)?;
             r
         }
     };
     let name = match args.scheme {
         ErrorScheme::GregoryCpu => "gregory-cpu",
-        ErrorScheme::GregoryVs => "gregory-vs",
-        ErrorScheme::GregoryStencil => "gregory-stencil",
+        ErrorScheme::Gpu(s) => s.name(),
     };
     print!("{}", format_report(&args.mesh, name, &report));
     if let Some(path) = &args.heatmap {

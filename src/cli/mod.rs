@@ -6,5 +6,6 @@ pub mod bench_gregory;
 pub mod error;
 pub mod info;
 pub mod limit;
+pub mod logger;
 pub mod render;
 pub mod sample;

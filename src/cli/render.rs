@@ -6,7 +6,7 @@ use clap::Args;
 use tessera::gpu::{Context, ContextDesc};
 use tessera::mesh::ObjOptions;
 use tessera::render::{
-    render_to_image, CameraSpec, ColorBy, FrameReport, OffscreenDesc, RenderDesc, Spacing,
+    render_to_image, CameraSpec, ColorBy, FrameReport, OffscreenDesc, RenderDesc, Scheme, Spacing,
     SurfaceData, TessMode, TessSettings, UpAxis,
 };
 use tessera::{ControlMesh, Error, Result};
@@ -59,8 +59,8 @@ pub struct RenderArgs {
     /// shader, face points in the TCS, §4.1-4.2) or `bspline-only`. Faces a scheme cannot take
     /// (polygons, boundary/crease vertices for now, too large rings or valences) are drawn from
     /// the exact CPU reference, with a message.
-    #[arg(long, default_value = "gregory-stencil", value_parser = ["gregory-stencil", "gregory-vs", "bspline-only"])]
-    pub scheme: String,
+    #[arg(long, value_enum, default_value_t = Scheme::default())]
+    pub scheme: Scheme,
     /// Draw triangle edges only.
     #[arg(long)]
     pub wireframe: bool,
@@ -122,7 +122,7 @@ pub fn check_validation(ctx: &Context) -> Result<()> {
         return Ok(());
     }
     for m in ctx.validation_messages() {
-        eprintln!("validation: {m}");
+        log::error!("validation: {m}");
     }
     Err(Error::Invalid(format!(
         "the Vulkan validation layer reported {n} error(s)"
@@ -138,7 +138,7 @@ pub fn clamp_level(ctx: &Context, level: f32) -> Result<f32> {
     }
     let max = ctx.info().limits.max_tessellation_generation_level as f32;
     if level > max {
-        eprintln!("note: --tess {level} clamped to the device limit {max}");
+        log::warn!("--tess {level} clamped to the device limit {max}");
         return Ok(max);
     }
     Ok(level)
@@ -158,26 +158,32 @@ pub fn surface_for(
     ctx: &Context,
     mesh: &ControlMesh,
     level: f32,
-    scheme: &str,
+    scheme: Scheme,
 ) -> Result<SurfaceData> {
     tessera::render::surface_for_scheme(
         mesh,
         level.ceil() as u32,
-        tessera::render::Scheme::parse(scheme)?,
+        scheme,
         &tessera::render::SchemeLimits::from_context(ctx),
     )
 }
 
-/// Prints the CPU-fallback face counts of a surface.
+/// Says how many faces each pass draws and how many stay on the CPU path.
 pub fn report_fallback(surface: &SurfaceData) {
-    let gregory = surface.gregory.as_ref().map_or(0, |g| g.faces.len());
     if !surface.fallback_faces.is_empty() {
-        eprintln!(
-            "{} face(s) drawn from the CPU reference (no GPU patch for them), {} on the GPU as \
-             B-spline patches, {} as Gregory patches",
+        let parts: Vec<String> = surface
+            .parts
+            .iter()
+            .map(|p| format!("{} by {}", p.faces().len(), p.pass_name()))
+            .collect();
+        log::warn!(
+            "{} face(s) drawn from the CPU reference (no GPU patch for them); on the GPU: {}",
             surface.fallback_faces.len(),
-            surface.patches.len(),
-            gregory
+            if parts.is_empty() {
+                "none".to_string()
+            } else {
+                parts.join(", ")
+            }
         );
     }
 }
@@ -225,7 +231,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     if !(tess.pixels_per_edge.is_finite() && tess.pixels_per_edge > 0.0) {
         return Err(Error::Invalid("--pixels-per-edge must be positive".into()));
     }
-    let surface = surface_for(&ctx, &mesh, level, &args.scheme)?;
+    let surface = surface_for(&ctx, &mesh, level, args.scheme)?;
     report_fallback(&surface);
     let render = RenderDesc {
         tess,

@@ -4,9 +4,9 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use clap::Args;
-use tessera::render::renderer::{capture_capacity_for, effective_tess};
 use tessera::render::{
-    render_to_image, OffscreenDesc, RenderDesc, Scheme, SchemeLimits, SurfaceData, TessSettings,
+    capture_capacity_for, plan_for_scheme, render_to_image, resolve_tess, OffscreenDesc,
+    RenderDesc, Scheme, SchemeLimits, TessSettings,
 };
 use tessera::{Error, Result};
 
@@ -32,8 +32,8 @@ pub struct SampleArgs {
     #[arg(long)]
     pub out: PathBuf,
     /// GPU scheme for non-regular faces (see `tessera render --help`).
-    #[arg(long, default_value = "gregory-stencil", value_parser = ["gregory-stencil", "gregory-vs", "bspline-only"])]
-    pub scheme: String,
+    #[arg(long, value_enum, default_value_t = Scheme::default())]
+    pub scheme: Scheme,
     /// Enable the Khronos validation layer (always on in debug builds).
     #[arg(long)]
     pub validation: bool,
@@ -48,27 +48,15 @@ pub fn run(args: SampleArgs) -> Result<()> {
     let ctx = context(args.validation)?;
     let level = clamp_level(&ctx, args.tess)?;
     // Only the GPU patches are captured; the other faces are counted, not evaluated.
-    let (plan, gregory) = tessera::render::scheme::plan_for_scheme(
-        &mesh,
-        Scheme::parse(&args.scheme)?,
-        &SchemeLimits::from_context(&ctx),
-    )?;
-    let gregory_count = gregory.as_ref().map_or(0, |g| g.faces.len());
-    let surface = SurfaceData {
-        positions: mesh.positions().to_vec(),
-        patches: plan.patches,
-        fallback_faces: plan.fallback_faces,
-        skipped_faces: plan.skipped_faces,
-        gregory,
-        ..SurfaceData::default()
-    };
-    eprintln!(
+    let mut surface = plan_for_scheme(&mesh, args.scheme, &SchemeLimits::from_context(&ctx))?;
+    log::info!(
         "{} face(s) captured from the GPU, {} drawn another way (CPU fallback, not in the file), \
          {} without limit surface",
-        surface.patches.len() + gregory_count,
+        surface.parts.iter().map(|p| p.faces().len()).sum::<usize>(),
         surface.fallback_faces.len(),
         surface.skipped_faces
     );
+    surface.fallback_faces.clear();
     let tess = TessSettings {
         level,
         ..TessSettings::default()
@@ -76,8 +64,8 @@ pub fn run(args: SampleArgs) -> Result<()> {
     let render = RenderDesc {
         tess,
         capture_capacity: Some(capture_capacity_for(
-            surface.patches.len() + gregory_count,
-            &effective_tess(&surface, &tess).0,
+            surface.patch_count(),
+            &resolve_tess(&ctx, &surface, &tess),
         )),
         ..RenderDesc::default()
     };

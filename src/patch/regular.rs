@@ -212,6 +212,17 @@ impl RegularPatch {
         p
     }
 
+    /// Vertex ids of the face corners (u,v) = (0,0), (1,0), (1,1), (0,1) (cvs 5, 6, 10, 9).
+    pub fn corners(&self) -> [u32; 4] {
+        [self.cvs[5], self.cvs[6], self.cvs[10], self.cvs[9]]
+    }
+
+    /// Limit positions of the four face corners ([`Self::eval`] at the domain corners).
+    pub fn corner_limits(&self, positions: &[DVec3]) -> [DVec3; 4] {
+        [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+            .map(|(u, v)| self.eval(positions, u, v).position)
+    }
+
     /// Evaluates position, partial derivatives and unit normal at `(u, v)` in `[0, 1]^2`.
     pub fn eval(&self, positions: &[DVec3], u: f64, v: f64) -> LimitSample {
         let p = self.control_points(positions);

@@ -6,8 +6,8 @@
 use glam::DVec3;
 
 use super::fallback::{FallbackMesh, PatchClass};
-use super::scene::SurfacePlan;
-use super::scheme::cpu_faces;
+use super::plan::{cpu_faces, plan_for_scheme};
+use super::schemes::{Scheme, SchemeLimits};
 use super::surface::SurfaceData;
 use crate::patch::gregory::accuracy::{heat_samples, AccuracyOptions, FaceHeat};
 use crate::topology::Topology;
@@ -74,7 +74,7 @@ pub fn heat_surface_from_samples(
         .fold(0.0f64, f64::max);
     let scale = scale.unwrap_or(max_distance);
     let topo = Topology::new(mesh)?;
-    let mut plan = SurfacePlan::new(&topo);
+    let mut plan = surface_from_mesh_plan(mesh)?;
     let mut is_heat = vec![false; topo.face_count()];
     for f in heat {
         is_heat[f.face as usize] = true;
@@ -88,18 +88,17 @@ pub fn heat_surface_from_samples(
     for f in heat {
         append_face(&mut fallback, f, scale);
     }
+    plan.fallback = fallback;
     Ok(HeatSurface {
-        surface: SurfaceData {
-            positions: mesh.positions().to_vec(),
-            patches: plan.patches,
-            fallback_faces: plan.fallback_faces,
-            fallback,
-            skipped_faces: plan.skipped_faces,
-            gregory: None,
-        },
+        surface: plan,
         scale,
         max_distance,
     })
+}
+
+/// The B-spline-only plan of `mesh` (no CPU evaluation; needs no device).
+fn surface_from_mesh_plan(mesh: &ControlMesh) -> Result<SurfaceData> {
+    plan_for_scheme(mesh, Scheme::BsplineOnly, &SchemeLimits::NO_DEVICE)
 }
 
 /// Appends the triangulated sample grid of one face, counter-clockwise in the face's

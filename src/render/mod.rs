@@ -1,33 +1,38 @@
 //! Rendering of subdivision surfaces through the Vulkan tessellation stages (on top of
-//! [`crate::gpu`]): regular faces as bicubic B-spline patches evaluated by TCS/TES, every other
-//! face with a limit surface (for now) as triangles evaluated by the CPU reference.
+//! [`crate::gpu`]). A surface is planned per scheme ([`schemes`]: one folder per scheme, one
+//! registry line each) into parts drawn by GPU passes over shared machinery ([`pass`]); faces no
+//! pass takes are evaluated exactly on the CPU ([`fallback`], drawn by [`cpu_path`]).
 
+pub mod accuracy;
 pub mod animate;
+pub mod bench;
 pub mod camera;
 pub mod compare;
+pub mod cpu_path;
 pub mod fallback;
-pub mod gpu_accuracy;
-pub mod gregory_layout;
-pub mod gregory_pass;
-pub mod gregory_stencil;
-pub mod gregory_vs;
 pub mod heatmap;
-pub mod layout;
 pub mod offscreen;
-mod patch_pipeline;
+pub mod pass;
+pub mod plan;
 pub mod renderer;
-pub mod scene;
-pub mod scheme;
+pub mod schemes;
+pub mod session;
 pub mod settings;
 pub mod surface;
 
 pub use camera::{Camera, CameraSpec, UpAxis};
 pub use compare::{compare_images, CompareReport, CompareThreshold};
 pub use fallback::{FallbackFace, FallbackMesh, PatchClass};
-pub use layout::BSplinePatch;
-pub use offscreen::{render_to_image, FrameReport, OffscreenDesc, OffscreenSession, RenderOutput};
-pub use renderer::{CaptureRecord, RenderDesc, SurfaceRenderer};
-pub use scene::{surface_from_mesh, surface_with, SurfacePlan};
-pub use scheme::{surface_for_scheme, GregorySurface, Scheme, SchemeLimits};
+pub use offscreen::{
+    render_to_image, FrameReport, OffscreenDesc, OffscreenSession, RenderOutput, CPU_PATH_LABEL,
+};
+pub use pass::{capture_capacity_for, CaptureRecord};
+pub use plan::{
+    cpu_faces, plan_for_scheme, plan_passes, surface_for_scheme, surface_from_mesh, surface_with,
+};
+pub use renderer::{resolve_tess, RenderDesc, SurfaceRenderer};
+pub use schemes::{
+    PassTables, PatchPass, PatchScheme, Refusal, RefusalReason, Scheme, SchemeLimits,
+};
 pub use settings::{ColorBy, FrameUniforms, Spacing, TessMode, TessSettings};
 pub use surface::SurfaceData;

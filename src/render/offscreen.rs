@@ -5,7 +5,8 @@ use glam::DVec3;
 use image::RgbaImage;
 
 use super::camera::{Camera, CameraSpec, UpAxis};
-use super::renderer::{CaptureRecord, RenderDesc, SurfaceRenderer};
+use super::pass::CaptureRecord;
+use super::renderer::{RenderDesc, SurfaceRenderer};
 use super::settings::FrameUniforms;
 use super::surface::SurfaceData;
 use crate::gpu::{tes_writes_to_host, Context, GpuTimer, PipelineStats, RenderTarget, StatsQuery};
@@ -41,13 +42,68 @@ impl Default for OffscreenDesc {
     }
 }
 
+/// Label of the CPU-evaluated triangles in [`FrameReport::passes`].
+pub const CPU_PATH_LABEL: &str = "cpu-evaluated triangles";
+
 /// GPU timings and statistics of one frame.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct FrameReport {
-    /// `(pass, milliseconds)` from timestamp queries.
+    /// `(pass, milliseconds)` from timestamp queries: each patch pass by its label, then
+    /// [`CPU_PATH_LABEL`]. On lavapipe, timestamps inside one render pass do not attribute work
+    /// to passes reliably: time a pass alone in a frame of its own when it matters.
     pub passes: Vec<(String, f64)>,
-    /// Pipeline statistics of the regular-patch pass.
+    /// Pipeline statistics of every patch pass together.
     pub patch_stats: PipelineStats,
+    /// Pipeline statistics of each patch pass.
+    pub pass_stats: Vec<(String, PipelineStats)>,
+}
+
+impl FrameReport {
+    /// Milliseconds of the passes labelled `label` (0 when absent).
+    pub fn ms(&self, label: &str) -> f64 {
+        self.passes
+            .iter()
+            .filter(|(l, _)| l == label)
+            .map(|(_, ms)| ms)
+            .sum()
+    }
+
+    /// Milliseconds of every tessellated pass.
+    pub fn patch_ms(&self) -> f64 {
+        self.passes
+            .iter()
+            .filter(|(l, _)| l != CPU_PATH_LABEL)
+            .map(|(_, ms)| ms)
+            .sum()
+    }
+
+    /// Statistics of the passes labelled `label`.
+    pub fn stats(&self, label: &str) -> PipelineStats {
+        self.pass_stats
+            .iter()
+            .filter(|(l, _)| l == label)
+            .fold(PipelineStats::default(), |a, (_, s)| add_stats(a, s))
+    }
+}
+
+fn add_stats(a: PipelineStats, b: &PipelineStats) -> PipelineStats {
+    PipelineStats {
+        input_vertices: a.input_vertices + b.input_vertices,
+        input_primitives: a.input_primitives + b.input_primitives,
+        vertex_invocations: a.vertex_invocations + b.vertex_invocations,
+        tcs_patches: a.tcs_patches + b.tcs_patches,
+        tes_invocations: a.tes_invocations + b.tes_invocations,
+        clipping_invocations: a.clipping_invocations + b.clipping_invocations,
+        clipping_primitives: a.clipping_primitives + b.clipping_primitives,
+        fragment_invocations: a.fragment_invocations + b.fragment_invocations,
+    }
+}
+
+/// Timestamp and statistics queries of a session: one timer slot and one statistics query per
+/// patch pass, one timer slot for the CPU path.
+struct Queries {
+    timer: GpuTimer,
+    stats: Vec<StatsQuery>,
 }
 
 /// A render target and a surface renderer, reusable across frames (benchmarks, animation).
@@ -57,8 +113,7 @@ pub struct OffscreenSession {
     renderer: SurfaceRenderer,
     desc: OffscreenDesc,
     camera: Camera,
-    timer: Option<GpuTimer>,
-    stats: Option<StatsQuery>,
+    queries: Option<Queries>,
 }
 
 /// Direction towards the key light: above, slightly left of and in front of the camera.
@@ -85,19 +140,18 @@ impl OffscreenSession {
         let (lo, hi) = surface.bounding_box();
         let aspect = f64::from(desc.width) / f64::from(desc.height.max(1));
         // Fit the drawn surface (patch corner limits and CPU-evaluated points, subsampled).
-        let mut points: Vec<DVec3> = surface
-            .patches
-            .iter()
-            .flat_map(|p| p.corner_limits(&surface.positions))
-            .collect();
-        let step = (surface.fallback.positions.len() / 4096).max(1);
-        points.extend(surface.fallback.positions.iter().step_by(step));
-        points.extend(surface.gregory_points());
+        let points = surface.framing_points(&surface.vertex_frames(&surface.positions));
         let camera = Camera::frame_oriented(desc.camera, desc.up, lo, hi, &points, aspect);
-        let (timer, stats) = if timings {
-            (Some(GpuTimer::new(ctx, 2)?), Some(StatsQuery::new(ctx)?))
+        let queries = if timings {
+            let n = renderer.passes().len() as u32;
+            Some(Queries {
+                timer: GpuTimer::new(ctx, n + 1)?,
+                stats: (0..n)
+                    .map(|_| StatsQuery::new(ctx))
+                    .collect::<Result<_>>()?,
+            })
         } else {
-            (None, None)
+            None
         };
         Ok(OffscreenSession {
             ctx: ctx.clone(),
@@ -105,8 +159,7 @@ impl OffscreenSession {
             renderer,
             desc: *desc,
             camera,
-            timer,
-            stats,
+            queries,
         })
     }
 
@@ -115,9 +168,19 @@ impl OffscreenSession {
         &mut self.renderer
     }
 
+    /// The renderer.
+    pub fn renderer(&self) -> &SurfaceRenderer {
+        &self.renderer
+    }
+
     /// The placed camera.
     pub fn camera(&self) -> &Camera {
         &self.camera
+    }
+
+    /// Places the camera explicitly.
+    pub fn set_camera(&mut self, camera: Camera) {
+        self.camera = camera;
     }
 
     /// Renders one frame and waits for it. Returns timings when the session has queries.
@@ -127,8 +190,6 @@ impl OffscreenSession {
             view_proj: self.camera.view_proj(),
             eye: self.camera.eye.as_vec3(),
             viewport: [self.desc.width as f32, self.desc.height as f32],
-            tess: r.tess,
-            max_level: self.ctx.info().limits.max_tessellation_generation_level as f32,
             light_dir: key_light(&self.camera).as_vec3(),
             color_by: r.color_by,
         };
@@ -140,37 +201,36 @@ impl OffscreenSession {
         let renderer = &self.renderer;
         let clear = self.desc.clear;
         let capture = r.capture_capacity.is_some();
-        let mut timer = self.timer.take();
-        let stats = self.stats.take();
+        let mut queries = self.queries.take();
         let result = self.ctx.submit_once(|dev, cmd| {
-            if let Some(t) = timer.as_mut() {
-                t.reset(cmd);
+            if let Some(q) = queries.as_mut() {
+                q.timer.reset(cmd);
+                q.stats.iter().for_each(|s| s.reset(cmd));
             }
-            if let Some(s) = &stats {
-                s.reset(cmd);
-            }
+            renderer.record_compute(cmd);
             target.begin(dev, cmd, clear);
-            let pass = match timer.as_mut() {
-                Some(t) => Some(t.begin(cmd, "patches (tessellated)")?),
-                None => None,
-            };
-            if let Some(s) = &stats {
-                s.begin(cmd);
+            for (k, pass) in renderer.passes().iter().enumerate() {
+                let slot = match queries.as_mut() {
+                    Some(q) => {
+                        let i = q.timer.begin(cmd, pass.label())?;
+                        q.stats[k].begin(cmd);
+                        Some(i)
+                    }
+                    None => None,
+                };
+                pass.record(cmd);
+                if let (Some(q), Some(i)) = (queries.as_mut(), slot) {
+                    q.stats[k].end(cmd);
+                    q.timer.end(cmd, i)?;
+                }
             }
-            renderer.record_patches(cmd);
-            if let Some(s) = &stats {
-                s.end(cmd);
-            }
-            if let (Some(t), Some(i)) = (timer.as_mut(), pass) {
-                t.end(cmd, i)?;
-            }
-            let pass = match timer.as_mut() {
-                Some(t) => Some(t.begin(cmd, "cpu-evaluated triangles")?),
+            let slot = match queries.as_mut() {
+                Some(q) => Some(q.timer.begin(cmd, CPU_PATH_LABEL)?),
                 None => None,
             };
             renderer.record_fallback(cmd);
-            if let (Some(t), Some(i)) = (timer.as_mut(), pass) {
-                t.end(cmd, i)?;
+            if let (Some(q), Some(i)) = (queries.as_mut(), slot) {
+                q.timer.end(cmd, i)?;
             }
             target.end(dev, cmd);
             if capture {
@@ -179,15 +239,25 @@ impl OffscreenSession {
             }
             Ok(())
         });
-        let report = match (&timer, &stats) {
-            (Some(t), Some(s)) if result.is_ok() => Some(FrameReport {
-                passes: t.results()?,
-                patch_stats: s.results()?,
-            }),
+        let report = match &queries {
+            Some(q) if result.is_ok() => {
+                let pass_stats = renderer
+                    .passes()
+                    .iter()
+                    .zip(&q.stats)
+                    .map(|(p, s)| Ok((p.label().to_string(), s.results()?)))
+                    .collect::<Result<Vec<_>>>()?;
+                Some(FrameReport {
+                    passes: q.timer.results()?,
+                    patch_stats: pass_stats
+                        .iter()
+                        .fold(PipelineStats::default(), |a, (_, s)| add_stats(a, s)),
+                    pass_stats,
+                })
+            }
             _ => None,
         };
-        self.timer = timer;
-        self.stats = stats;
+        self.queries = queries;
         result?;
         Ok(report)
     }

@@ -3,6 +3,7 @@
 
 use glam::{Mat4, Vec3};
 
+use super::schemes::PatchLevelLimit;
 use crate::{Error, Result};
 
 /// How tessellation levels are chosen.
@@ -66,7 +67,7 @@ pub enum ColorBy {
 /// Tessellation settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TessSettings {
-    /// Uniform level (clamped to `1..=maxTessellationGenerationLevel`).
+    /// Uniform level (clamped to `1..=maxTessellationGenerationLevel` by [`Self::resolve`]).
     pub level: f32,
     /// Uniform or screen-space adaptive.
     pub mode: TessMode,
@@ -110,7 +111,32 @@ impl Default for TessSettings {
     }
 }
 
-/// Everything a frame's uniform block holds.
+impl TessSettings {
+    /// The settings a surface is drawn with, resolved once (the renderer does this when it is
+    /// created, [`crate::render::SurfaceRenderer::tess`]): the level clamped to
+    /// `1..=device_max_level`; the largest patch level lowered to what every pass draws well
+    /// ([`PatchLevelLimit`]); splitting off when a pass cannot be split with this spacing.
+    pub fn resolve(&self, device_max_level: f32, limits: &[PatchLevelLimit]) -> TessSettings {
+        let mut t = *self;
+        t.level = t.level.clamp(1.0, device_max_level.max(1.0));
+        for l in limits {
+            t.max_patch_level = t.max_patch_level.min(l.max_patch_level);
+        }
+        if t.split() > 1 && limits.iter().any(|l| !l.splittable) {
+            log::info!(
+                "patches are drawn whole at level {}: a pass cannot be split with {:?} spacing \
+                 (max patch level ignored)",
+                t.level,
+                t.spacing
+            );
+            t.max_patch_level = f32::INFINITY;
+        }
+        t
+    }
+}
+
+/// The per-frame part of the uniform block the caller sets (camera, light, viewport); the
+/// renderer adds the tessellation settings it resolved.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrameUniforms {
     /// World -> Vulkan clip space.
@@ -119,10 +145,6 @@ pub struct FrameUniforms {
     pub eye: Vec3,
     /// Framebuffer size in pixels.
     pub viewport: [f32; 2],
-    /// Tessellation settings.
-    pub tess: TessSettings,
-    /// Device limit `maxTessellationGenerationLevel`.
-    pub max_level: f32,
     /// Direction towards the key light (world; normalised by the shader).
     pub light_dir: Vec3,
     /// Colouring.
@@ -133,20 +155,21 @@ pub struct FrameUniforms {
 pub const FRAME_UNIFORM_BYTES: usize = 144;
 
 impl FrameUniforms {
-    /// The std140 bytes of the `Frame` block.
-    pub fn to_bytes(&self) -> [u8; FRAME_UNIFORM_BYTES] {
+    /// The std140 bytes of the `Frame` block with the resolved tessellation settings `tess` and
+    /// the device's `maxTessellationGenerationLevel` `max_level`.
+    pub fn to_bytes(&self, tess: &TessSettings, max_level: f32) -> [u8; FRAME_UNIFORM_BYTES] {
         let mut f = [0f32; 32];
         f[..16].copy_from_slice(&self.view_proj.to_cols_array());
         f[16..19].copy_from_slice(&self.eye.to_array());
         f[20] = self.viewport[0];
         f[21] = self.viewport[1];
-        f[24] = self.tess.level;
-        f[25] = match self.tess.mode {
+        f[24] = tess.level;
+        f[25] = match tess.mode {
             TessMode::Uniform => 0.0,
             TessMode::Adaptive => 1.0,
         };
-        f[26] = self.tess.pixels_per_edge;
-        f[27] = self.max_level;
+        f[26] = tess.pixels_per_edge;
+        f[27] = max_level;
         f[28..31].copy_from_slice(&self.light_dir.to_array());
         let mut out = [0u8; FRAME_UNIFORM_BYTES];
         for (k, v) in f.iter().enumerate() {
@@ -172,18 +195,17 @@ mod tests {
             view_proj: Mat4::from_cols_array(&std::array::from_fn(|k| k as f32)),
             eye: Vec3::new(1.0, 2.0, 3.0),
             viewport: [640.0, 480.0],
-            tess: TessSettings {
-                level: 5.0,
-                mode: TessMode::Adaptive,
-                pixels_per_edge: 4.0,
-                spacing: Spacing::Equal,
-                max_patch_level: 16.0,
-            },
-            max_level: 64.0,
             light_dir: Vec3::new(0.0, 1.0, 0.0),
             color_by: ColorBy::PatchType,
         };
-        let b = u.to_bytes();
+        let tess = TessSettings {
+            level: 5.0,
+            mode: TessMode::Adaptive,
+            pixels_per_edge: 4.0,
+            spacing: Spacing::Equal,
+            max_patch_level: 16.0,
+        };
+        let b = u.to_bytes(&tess, 64.0);
         let f = |o: usize| f32::from_le_bytes(b[o..o + 4].try_into().unwrap());
         assert_eq!(f(4 * 15), 15.0);
         assert_eq!(f(64), 1.0);

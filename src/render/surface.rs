@@ -1,83 +1,130 @@
-//! What the renderer draws: control positions, the regular B-spline patches, and the faces
-//! evaluated on the CPU, gathered from a control mesh or given directly.
+//! What the renderer draws: control positions, the parts drawn by each pass (their CPU tables),
+//! and the faces evaluated on the exact CPU path.
+
+use std::sync::Arc;
 
 use glam::DVec3;
 
 use super::fallback::{FallbackFace, FallbackMesh};
-use super::gregory_layout::gregory_vertex_frame;
-use super::layout::BSplinePatch;
-use super::scheme::GregorySurface;
+use super::pass::{NormalRule, VertexFrames};
+use super::schemes::bspline::BSplineTables;
+use super::schemes::{PassTables, Refusal};
+use crate::patch::RegularPatch;
+use crate::topology::Topology;
 
 /// A surface ready for the GPU.
 #[derive(Debug, Clone, Default)]
 pub struct SurfaceData {
     /// Control-vertex positions (f64; converted to f32 on upload).
     pub positions: Vec<DVec3>,
-    /// Regular faces as bicubic B-spline patches (tessellated on the GPU).
-    pub patches: Vec<BSplinePatch>,
-    /// Faces with a limit surface but no GPU scheme yet (evaluated on the CPU).
+    /// Topology the parts were planned on (`None` for patches given directly).
+    pub topology: Option<Arc<Topology>>,
+    /// One entry per pass, in draw order: its CPU tables.
+    pub parts: Vec<Arc<dyn PassTables>>,
+    /// Faces with a limit surface that no pass takes (evaluated on the CPU).
     pub fallback_faces: Vec<FallbackFace>,
     /// The CPU-evaluated triangles of `fallback_faces` at the current tessellation level.
     pub fallback: FallbackMesh,
     /// Faces that are not drawn at all (holes, faces without a limit surface).
     pub skipped_faces: usize,
-    /// Faces drawn as GPU Gregory patches and the variant (`--scheme`); `None`: none.
-    pub gregory: Option<GregorySurface>,
+    /// Why each fallback face was refused by each pass that was offered it.
+    pub refusals: Vec<Refusal>,
 }
 
 impl SurfaceData {
-    /// Bounding box `(min, max)` of the limit corners of the patches and the fallback triangles
-    /// (what is drawn, up to the bulge of patch interiors); `(0, 0)` when empty.
-    pub fn bounding_box(&self) -> (DVec3, DVec3) {
-        let mut lo = DVec3::splat(f64::INFINITY);
-        let mut hi = DVec3::splat(f64::NEG_INFINITY);
-        for p in &self.patches {
-            for q in p.corner_limits(&self.positions) {
-                lo = lo.min(q);
-                hi = hi.max(q);
-            }
+    /// A surface of regular B-spline patches given directly (no topology), e.g. synthetic
+    /// test grids.
+    pub fn from_regular_patches(positions: Vec<DVec3>, patches: Vec<RegularPatch>) -> SurfaceData {
+        let parts: Vec<Arc<dyn PassTables>> = if patches.is_empty() {
+            Vec::new()
+        } else {
+            vec![Arc::new(BSplineTables::new(patches))]
+        };
+        SurfaceData {
+            positions,
+            parts,
+            ..SurfaceData::default()
         }
-        for q in self.fallback.positions.iter().chain(&self.gregory_points()) {
-            lo = lo.min(*q);
-            hi = hi.max(*q);
+    }
+
+    /// The part drawn by the pass named `pass` (e.g. `"bspline"`, `"gregory-vs"`).
+    pub fn part(&self, pass: &str) -> Option<&Arc<dyn PassTables>> {
+        self.parts.iter().find(|p| p.pass_name() == pass)
+    }
+
+    /// The part of type `T` (typed access to a scheme's tables).
+    pub fn tables<T: PassTables>(&self) -> Option<&T> {
+        self.parts
+            .iter()
+            .find_map(|p| p.as_any().downcast_ref::<T>())
+    }
+
+    /// The regular B-spline patches (empty when the surface has none).
+    pub fn regular_patches(&self) -> &[RegularPatch] {
+        self.tables::<BSplineTables>()
+            .map_or(&[], |t| t.patches.as_slice())
+    }
+
+    /// Faces drawn by passes other than the B-spline pass, in draw order.
+    pub fn irregular_gpu_faces(&self) -> Vec<u32> {
+        self.parts
+            .iter()
+            .filter(|p| p.as_any().downcast_ref::<BSplineTables>().is_none())
+            .flat_map(|p| p.faces().iter().copied())
+            .collect()
+    }
+
+    /// Patches drawn through the tessellation stages, over every pass.
+    pub fn patch_count(&self) -> usize {
+        self.parts.iter().map(|p| p.patch_count()).sum()
+    }
+
+    /// Per-vertex limit frames of `positions` (the corners of every part, first part first).
+    pub fn vertex_frames(&self, positions: &[DVec3]) -> VertexFrames {
+        let mut frames = VertexFrames::new(positions);
+        let rule = match &self.topology {
+            Some(t) => NormalRule::Topology(t),
+            None => NormalRule::PatchSides,
+        };
+        for p in &self.parts {
+            p.corner_frames(positions, rule, &mut frames);
         }
+        frames
+    }
+
+    /// Points to frame the camera on: patch corner limits and the CPU-evaluated points
+    /// (subsampled).
+    pub fn framing_points(&self, frames: &VertexFrames) -> Vec<DVec3> {
+        let mut points: Vec<DVec3> = self
+            .parts
+            .iter()
+            .flat_map(|p| p.framing_points(frames))
+            .collect();
+        let step = (self.fallback.positions.len() / 4096).max(1);
+        points.extend(self.fallback.positions.iter().step_by(step));
+        points
+    }
+
+    /// Bounding box `(min, max)` of `points`; `(0, 0)` when empty.
+    pub fn bounding_box_of(points: &[DVec3]) -> (DVec3, DVec3) {
+        let lo = points.iter().fold(DVec3::INFINITY, |a, &b| a.min(b));
+        let hi = points.iter().fold(DVec3::NEG_INFINITY, |a, &b| a.max(b));
         if lo.x > hi.x {
             return (DVec3::ZERO, DVec3::ZERO);
         }
         (lo, hi)
     }
 
-    /// Limit positions of the corners of the Gregory faces (camera framing).
-    pub fn gregory_points(&self) -> Vec<DVec3> {
-        match &self.gregory {
-            Some(g) => {
-                let mut vs: Vec<u32> = g
-                    .faces
-                    .iter()
-                    .flat_map(|&f| g.topology.face_vertices(f).iter().copied())
-                    .filter(|&v| (v as usize) < self.positions.len())
-                    .collect();
-                vs.sort_unstable();
-                vs.dedup();
-                vs.into_iter()
-                    .map(|v| gregory_vertex_frame(&g.topology, &self.positions, v).0)
-                    .collect()
-            }
-            None => Vec::new(),
-        }
-    }
-
-    /// Checks that every patch control vertex exists.
-    pub fn validate(&self) -> crate::Result<()> {
-        let n = self.positions.len();
-        for p in &self.patches {
-            if let Some(v) = p.cvs.iter().find(|v| **v as usize >= n) {
-                return Err(crate::Error::Invalid(format!(
-                    "patch of face {} uses vertex {v}, mesh has {n} vertices",
-                    p.face
-                )));
-            }
-        }
-        Ok(())
+    /// Bounding box of the patch corner limits and the CPU-evaluated points (what is drawn, up
+    /// to the bulge of patch interiors); `(0, 0)` when empty.
+    pub fn bounding_box(&self) -> (DVec3, DVec3) {
+        let frames = self.vertex_frames(&self.positions);
+        let mut points: Vec<DVec3> = self
+            .parts
+            .iter()
+            .flat_map(|p| p.framing_points(&frames))
+            .collect();
+        points.extend(self.fallback.positions.iter().copied());
+        Self::bounding_box_of(&points)
     }
 }

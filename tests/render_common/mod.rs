@@ -4,7 +4,8 @@
 
 use glam::DVec3;
 use tessera::gpu::{Context, ContextDesc};
-use tessera::render::{BSplinePatch, SurfaceData};
+use tessera::patch::RegularPatch;
+use tessera::render::SurfaceData;
 
 /// A validation-enabled context, or `None` when there is no device and
 /// `TESSERA_ALLOW_NO_GPU=1` (any other failure panics loudly).
@@ -70,18 +71,14 @@ pub fn torus(nu: u32, nv: u32, big_r: f64, small_r: f64) -> SurfaceData {
                     cvs[(4 * b + a) as usize] = vid(i - 1 + a, j - 1 + b);
                 }
             }
-            patches.push(BSplinePatch {
+            patches.push(RegularPatch {
                 face: (i + i64::from(nu) * j) as u32,
                 cvs,
                 boundary_mask: 0,
             });
         }
     }
-    SurfaceData {
-        positions,
-        patches,
-        ..SurfaceData::default()
-    }
+    SurfaceData::from_regular_patches(positions, patches)
 }
 
 /// Open, curved `nu x nv` quad grid: boundary vertices have valence 3 (corners 2), so every face
@@ -127,18 +124,14 @@ pub fn open_grid(nu: u32, nv: u32) -> SurfaceData {
             if i == 0 {
                 mask |= 8;
             }
-            patches.push(BSplinePatch {
+            patches.push(RegularPatch {
                 face: (i + i64::from(nu) * j) as u32,
                 cvs,
                 boundary_mask: mask,
             });
         }
     }
-    SurfaceData {
-        positions,
-        patches,
-        ..SurfaceData::default()
-    }
+    SurfaceData::from_regular_patches(positions, patches)
 }
 
 /// Uniform cubic B-spline basis and derivative (direct polynomial form, not via Bezier).
@@ -162,7 +155,7 @@ fn bspline(t: f64) -> ([f64; 4], [f64; 4]) {
 
 /// Independent CPU reference: position and unit normal of a patch at (u, v), phantoms mirrored
 /// by the api.md rule (columns first, then rows).
-pub fn eval_patch(p: &BSplinePatch, positions: &[DVec3], u: f64, v: f64) -> (DVec3, DVec3) {
+pub fn eval_patch(p: &RegularPatch, positions: &[DVec3], u: f64, v: f64) -> (DVec3, DVec3) {
     let mut c = [[DVec3::ZERO; 4]; 4];
     for j in 0..4 {
         for i in 0..4 {

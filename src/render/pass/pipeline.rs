@@ -4,8 +4,12 @@
 
 use ash::vk;
 
-use super::renderer::RenderDesc;
-use crate::gpu::{PushConstants, VertexAttribute, VertexBinding};
+use crate::gpu::{
+    Context, DescriptorBinding, GraphicsPipelineDesc, Pipeline, PushConstants, TargetFormat,
+    VertexAttribute, VertexBinding,
+};
+use crate::render::renderer::RenderDesc;
+use crate::Result;
 
 /// Shader stages that read the patch push constants.
 fn patch_push_stages() -> vk::ShaderStageFlags {
@@ -89,4 +93,58 @@ pub(crate) fn position_input() -> (Vec<VertexBinding>, Vec<VertexAttribute>) {
             offset: 0,
         }],
     )
+}
+
+/// The stages and inputs of one patch pipeline; everything else comes from the [`RenderDesc`].
+pub(crate) struct PatchShaders {
+    /// Debug label.
+    pub label: String,
+    /// Vertex shader.
+    pub vertex: String,
+    /// Tessellation control shader.
+    pub tess_control: String,
+    /// Evaluation-shader stem; the spacing × capture variant is picked from the description.
+    pub tess_eval_stem: &'static str,
+    /// Control points per patch.
+    pub points: u32,
+    /// Whether the vertex stage reads control positions from vertex binding 0.
+    pub position_input: bool,
+    /// Descriptor set layouts, set 0 first.
+    pub set_layouts: Vec<Vec<DescriptorBinding>>,
+}
+
+/// Creates (or fetches from the context's cache) a patch pipeline: `PATCH_LIST`, the raster
+/// state of `desc`, depth test and write, counter-clockwise front faces, the shared fragment
+/// shader and the patch push constants.
+pub(crate) fn patch_pipeline(
+    ctx: &Context,
+    desc: &RenderDesc,
+    target: TargetFormat,
+    s: PatchShaders,
+) -> Result<Pipeline> {
+    let tese = desc.tese_name(s.tess_eval_stem);
+    let (vertex_bindings, vertex_attributes) = if s.position_input {
+        position_input()
+    } else {
+        (Vec::new(), Vec::new())
+    };
+    let p = GraphicsPipelineDesc {
+        label: format!("{} ({tese})", s.label),
+        vertex: s.vertex,
+        tess_control: Some(s.tess_control),
+        tess_eval: Some(tese),
+        fragment: "shade.frag".into(),
+        vertex_bindings,
+        vertex_attributes,
+        topology: vk::PrimitiveTopology::PATCH_LIST,
+        patch_control_points: s.points,
+        polygon_mode: desc.polygon_mode(),
+        cull_mode: desc.cull_mode(),
+        front_face: vk::FrontFace::COUNTER_CLOCKWISE,
+        depth_test: true,
+        depth_write: true,
+        set_layouts: s.set_layouts,
+        push_constants: Some(patch_push_constants()),
+    };
+    ctx.graphics_pipeline_for(&p, target)
 }

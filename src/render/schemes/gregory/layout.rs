@@ -1,14 +1,14 @@
-//! Per-patch data of Gregory patches that the shared TES reads (`glsl/common/gregory.glsl`),
+//! Per-patch data of Gregory patches that the shared TES reads (`glsl/gregory/`),
 //! the same for both GPU construction variants: patch records (face, flags, corner ids), the
 //! 12-point B-spline grids of edges shared with regular patches, and per-vertex limit positions
 //! and normals for the patch corners (§4.5: watertight corners and edges).
 
 use glam::DVec3;
 
-use super::layout::{BSplinePatch, PATCH_EDGES};
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::patch::gregory::{check_face, gregory_vertex};
 use crate::patch::RegularPatch;
+use crate::render::schemes::bspline::PATCH_EDGES;
 use crate::topology::Topology;
 
 /// Bytes of one `GregoryPatchInfo` record.
@@ -265,55 +265,4 @@ pub fn gregory_vertex_frame(topo: &Topology, positions: &[DVec3], v: u32) -> (DV
 pub fn single_normal_vertex(topo: &Topology, v: u32) -> bool {
     sector_count(topo, v) <= 1
         && (topo.is_boundary_vertex(v) || topo.vertex_sharpness(v) < INFINITE_SHARPNESS)
-}
-
-/// Per-vertex limit positions and normals every patch corner reads (`vertex_limit`, binding 2,
-/// and `vertex_normal`, binding 9): regular patch corners from the B-spline patch (first patch
-/// that has the vertex, as [`super::layout::vertex_limits`]), then the remaining corners of the
-/// Gregory patches from the Gregory construction. The normal is zero where the vertex has no
-/// single normal ([`single_normal_vertex`]): corners there keep their patch's own normal. Other
-/// entries hold the control position and a zero normal.
-pub fn vertex_frames(
-    topo: &Topology,
-    positions: &[DVec3],
-    regular: &[BSplinePatch],
-    gregory: &GregoryLayout,
-) -> (Vec<DVec3>, Vec<DVec3>) {
-    let mut lim = positions.to_vec();
-    let mut nrm = vec![DVec3::ZERO; positions.len()];
-    let mut done = vec![false; positions.len()];
-    for p in regular {
-        let rp = RegularPatch {
-            face: p.face,
-            cvs: p.cvs,
-            boundary_mask: p.boundary_mask,
-        };
-        for (k, (u, v)) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
-            .into_iter()
-            .enumerate()
-        {
-            let vid = p.corners()[k] as usize;
-            if !done[vid] {
-                done[vid] = true;
-                let s = rp.eval(positions, u, v);
-                lim[vid] = s.position;
-                if single_normal_vertex(topo, vid as u32) {
-                    nrm[vid] = s.normal;
-                }
-            }
-        }
-    }
-    for c in &gregory.corners {
-        for &v in c {
-            if !done[v as usize] {
-                done[v as usize] = true;
-                let (p, n) = gregory_vertex_frame(topo, positions, v);
-                lim[v as usize] = p;
-                if single_normal_vertex(topo, v) {
-                    nrm[v as usize] = n;
-                }
-            }
-        }
-    }
-    (lim, nrm)
 }

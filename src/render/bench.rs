@@ -9,10 +9,11 @@ use super::session::{GregorySession, GregoryVariant, SessionOptions};
 use crate::gpu::Context;
 use crate::mesh::ControlMesh;
 use crate::render::fallback::{FallbackFace, PatchClass};
+use crate::render::offscreen::CPU_PATH_LABEL;
 use crate::render::offscreen::{OffscreenDesc, OffscreenSession};
+use crate::render::plan::{cpu_faces, plan_for_scheme};
 use crate::render::renderer::RenderDesc;
-use crate::render::scene::SurfacePlan;
-use crate::render::scheme::cpu_faces;
+use crate::render::schemes::{Scheme, SchemeLimits};
 use crate::render::settings::TessSettings;
 use crate::render::surface::SurfaceData;
 use crate::topology::Topology;
@@ -49,7 +50,8 @@ fn median(v: &mut [f64]) -> f64 {
 
 /// Times `frames` frames (after one warm-up frame) of the Gregory pass of `mesh` with
 /// `variant` (plus its regular pass when `with_regular`) at each uniform level; sub-patch
-/// splitting above `max_patch_level` (at most 14 for the two-stage variant) as the renderer does.
+/// splitting above `max_patch_level`, lowered to the pass's own limit as the renderer does
+/// ([`crate::render::TessSettings::resolve`]).
 #[allow(clippy::too_many_arguments)]
 pub fn bench_gregory(
     ctx: &Context,
@@ -65,13 +67,6 @@ pub fn bench_gregory(
         return Err(Error::Invalid("bench: at least one frame".into()));
     }
     let max = ctx.info().limits.max_tessellation_generation_level as f32;
-    // As the renderer draws them (renderer::effective_tess): the two-stage pass splits patches
-    // from level 15 on (its lavapipe cost cliff).
-    let max_patch_level = if variant == GregoryVariant::TwoStage {
-        max_patch_level.min(14.0)
-    } else {
-        max_patch_level
-    };
     let mut rows = Vec::new();
     for &level in levels {
         let desc = RenderDesc {
@@ -144,12 +139,7 @@ fn timed_frames(session: &mut OffscreenSession, frames: u32, label: &str) -> Res
         let r = session
             .frame()?
             .ok_or_else(|| Error::Invalid("bench: no timings returned".into()))?;
-        v.push(
-            r.passes
-                .iter()
-                .find(|(l, _)| l == label)
-                .map_or(0.0, |(_, ms)| *ms),
-        );
+        v.push(r.ms(label));
     }
     Ok(median(&mut v))
 }
@@ -165,7 +155,9 @@ pub fn bench_paths(
     max_patch_level: f32,
 ) -> Result<Vec<PathsBenchRow>> {
     let topo = Topology::new(mesh)?;
-    let regular = SurfacePlan::new(&topo).patches;
+    let mut regular = plan_for_scheme(mesh, Scheme::BsplineOnly, &SchemeLimits::from_context(ctx))?;
+    regular.fallback_faces.clear();
+    let regular_patches = regular.regular_patches().len();
     let off = OffscreenDesc {
         width: size.0,
         height: size.1,
@@ -235,17 +227,12 @@ pub fn bench_paths(
             ..SurfaceData::default()
         };
         let mut cpu = OffscreenSession::new(ctx, &cpu_surface, &render, &off, true)?;
-        let cpu_draw_ms = timed_frames(&mut cpu, frames, "cpu-evaluated triangles")?;
-        let regular_ms = if regular.is_empty() {
+        let cpu_draw_ms = timed_frames(&mut cpu, frames, CPU_PATH_LABEL)?;
+        let regular_ms = if regular_patches == 0 {
             0.0
         } else {
-            let reg_surface = SurfaceData {
-                positions: mesh.positions().to_vec(),
-                patches: regular.clone(),
-                ..SurfaceData::default()
-            };
-            let mut reg = OffscreenSession::new(ctx, &reg_surface, &render, &off, true)?;
-            timed_frames(&mut reg, frames, "patches (tessellated)")?
+            let mut reg = OffscreenSession::new(ctx, &regular, &render, &off, true)?;
+            timed_frames(&mut reg, frames, "bspline patches")?
         };
         rows.push(PathsBenchRow {
             level: s.level,
@@ -256,7 +243,7 @@ pub fn bench_paths(
             two_stage_ms: t.gregory_ms,
             cpu_eval_ms,
             cpu_draw_ms,
-            regular_patches: regular.len(),
+            regular_patches,
             regular_ms,
         });
     }

@@ -9,10 +9,12 @@ use std::collections::HashSet;
 use glam::DVec3;
 
 use super::offscreen::{render_to_image, OffscreenDesc};
-use super::renderer::{capture_capacity_for, effective_tess, RenderDesc};
-use super::scheme::{plan_for_scheme, Scheme, SchemeLimits};
+use super::pass::capture_capacity_for;
+use super::plan::plan_for_scheme;
+use super::renderer::{resolve_tess, RenderDesc};
+use super::schemes::bspline::BSPLINE;
+use super::schemes::{PatchScheme, Scheme, SchemeLimits};
 use super::settings::TessSettings;
-use super::surface::SurfaceData;
 use crate::gpu::Context;
 use crate::patch::gregory::accuracy::AccuracyReport;
 use crate::patch::gregory::check_face;
@@ -69,14 +71,14 @@ pub fn measure_gpu(
     scheme: Scheme,
     grid: usize,
 ) -> Result<AccuracyReport> {
-    if scheme == Scheme::BsplineOnly {
-        return Err(Error::Invalid(
-            "bspline-only draws no Gregory patches to measure".into(),
-        ));
+    if scheme.passes().iter().all(|p| p.name() == BSPLINE.name()) {
+        return Err(Error::Invalid(format!(
+            "{scheme} draws no Gregory patches to measure"
+        )));
     }
     let topo = Topology::new(mesh)?;
-    let (plan, gregory) = plan_for_scheme(mesh, scheme, &SchemeLimits::from_context(ctx))?;
-    let faces: Vec<u32> = gregory.as_ref().map_or(Vec::new(), |g| g.faces.clone());
+    let mut surface = plan_for_scheme(mesh, scheme, &SchemeLimits::from_context(ctx))?;
+    let faces: Vec<u32> = surface.irregular_gpu_faces();
     let mut report = AccuracyReport {
         diagonal: mesh.bbox_diagonal(),
         ..Default::default()
@@ -99,14 +101,7 @@ pub fn measure_gpu(
     if faces.is_empty() {
         return Ok(report);
     }
-    let surface = SurfaceData {
-        positions: mesh.positions().to_vec(),
-        patches: plan.patches,
-        fallback_faces: Vec::new(),
-        skipped_faces: plan.skipped_faces,
-        gregory,
-        ..SurfaceData::default()
-    };
+    surface.fallback_faces.clear();
     let tess = TessSettings {
         level: grid.max(1) as f32,
         max_patch_level: f32::INFINITY,
@@ -115,8 +110,8 @@ pub fn measure_gpu(
     let render = RenderDesc {
         tess,
         capture_capacity: Some(capture_capacity_for(
-            surface.patches.len() + faces.len(),
-            &effective_tess(&surface, &tess).0,
+            surface.patch_count(),
+            &resolve_tess(ctx, &surface, &tess),
         )),
         ..RenderDesc::default()
     };

@@ -1,0 +1,83 @@
+//! TES capture: every evaluation-shader invocation appends one record (`glsl/common/capture.glsl`)
+//! to a host-readable buffer shared by all passes of a surface.
+
+use ash::vk;
+
+use crate::gpu::{Buffer, Context, MemoryLocation};
+use crate::render::settings::{Spacing, TessSettings};
+use crate::{Error, Result};
+
+/// Bytes of one capture record (`CaptureRecord` in `glsl/common/capture.glsl`): face, u, v,
+/// position, normal.
+pub const CAPTURE_RECORD_BYTES: usize = 36;
+/// Bytes before the first capture record (count, capacity, two pad words).
+pub const CAPTURE_HEADER_BYTES: usize = 16;
+
+/// One captured TES invocation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CaptureRecord {
+    /// Base-mesh face.
+    pub face: u32,
+    /// Face parameter u (see the scheme's [`crate::render::schemes::CaptureLayout`]).
+    pub u: f32,
+    /// Face parameter v.
+    pub v: f32,
+    /// Position.
+    pub position: [f32; 3],
+    /// Unit normal.
+    pub normal: [f32; 3],
+}
+
+/// The capture buffer for `capacity` records (a minimal one when capture is off), its header
+/// written: count 0, capacity.
+pub fn capture_buffer(ctx: &Context, capacity: u32) -> Result<Buffer> {
+    let mut bytes = vec![0u8; CAPTURE_HEADER_BYTES + CAPTURE_RECORD_BYTES * capacity as usize];
+    bytes[4..8].copy_from_slice(&capacity.to_le_bytes());
+    let mut b = Buffer::new(
+        ctx,
+        bytes.len() as u64,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::GpuToCpu,
+        "tes capture",
+    )?;
+    b.write(0, &bytes)?;
+    Ok(b)
+}
+
+/// Resets the record count (host write, between frames).
+pub fn reset_capture(buffer: &mut Buffer) -> Result<()> {
+    buffer.write(0, &[0u32])
+}
+
+/// Decodes the records of a capture buffer's words; errors on overflow.
+pub fn decode_capture(words: &[u32], capacity: u32) -> Result<Vec<CaptureRecord>> {
+    let count = words[0];
+    if count > capacity {
+        return Err(Error::Invalid(format!(
+            "TES capture overflow: {count} invocations, capacity {capacity}"
+        )));
+    }
+    let f = f32::from_bits;
+    Ok(words[CAPTURE_HEADER_BYTES / 4..]
+        .chunks_exact(CAPTURE_RECORD_BYTES / 4)
+        .take(count as usize)
+        .map(|r| CaptureRecord {
+            face: r[0],
+            u: f(r[1]),
+            v: f(r[2]),
+            position: [f(r[3]), f(r[4]), f(r[5])],
+            normal: [f(r[6]), f(r[7]), f(r[8])],
+        })
+        .collect())
+}
+
+/// Capture capacity (records) sufficient for `tess` (uniform) over `patches` patches: per
+/// (sub-)patch at most `(ceil(level / split) + 2)^2` domain points. Pass the settings the
+/// renderer resolved ([`crate::render::SurfaceRenderer::tess`] or
+/// [`crate::render::resolve_tess`]).
+pub fn capture_capacity_for(patches: usize, tess: &TessSettings) -> u32 {
+    let split = u64::from(tess.split());
+    let sub = tess.level.max(1.0) / split as f32;
+    let n = (sub.ceil() as u64) + if tess.spacing == Spacing::Equal { 1 } else { 2 };
+    (patches as u64 * split * split * n * n).min(u64::from(u32::MAX / 64)) as u32
+}

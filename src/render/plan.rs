@@ -1,0 +1,139 @@
+//! From a control mesh to [`SurfaceData`]: the faces with a limit surface are offered to the
+//! scheme's passes in registry order ([`crate::render::schemes::REGISTRY`]); each takes what it
+//! can and refuses the rest with a typed reason; what no pass takes is evaluated exactly on the
+//! CPU ([`LimitEvaluator`]) on a grid matching the tessellation level.
+
+use std::sync::Arc;
+
+use glam::DVec3;
+
+use super::fallback::{self, FallbackFace, FallbackMesh, PatchClass};
+use super::schemes::{PatchScheme, Scheme, SchemeLimits};
+use super::surface::SurfaceData;
+use crate::mesh::ControlMesh;
+use crate::subdiv::eval::LimitEvaluator;
+use crate::topology::Topology;
+use crate::Result;
+
+/// Plans the faces of `mesh` for `passes` (no CPU evaluation yet): the parts, the faces left to
+/// the CPU path (`fallback` empty) and every refusal. Refusals of faces that no pass takes are
+/// logged (count and the first reasons).
+pub fn plan_passes(
+    mesh: &ControlMesh,
+    passes: &[&dyn PatchScheme],
+    limits: &SchemeLimits,
+) -> Result<SurfaceData> {
+    let topo = Arc::new(Topology::new(mesh)?);
+    let mut surface = SurfaceData {
+        positions: mesh.positions().to_vec(),
+        topology: Some(topo.clone()),
+        ..SurfaceData::default()
+    };
+    let mut candidates = Vec::new();
+    for f in 0..topo.face_count() as u32 {
+        if topo.has_limit_surface(f) {
+            candidates.push(f);
+        } else {
+            surface.skipped_faces += 1;
+        }
+    }
+    for (k, pass) in passes.iter().enumerate() {
+        let plan = pass.plan(&topo, &candidates, limits);
+        if let Some(t) = plan.tables {
+            surface.parts.push(t);
+        }
+        candidates = plan.refused.iter().map(|r| r.face).collect();
+        candidates.sort_unstable();
+        // The first pass's refusals are the faces offered to the next (not failures).
+        if k > 0 {
+            log_refusals(pass.name(), &plan.refused, &candidates);
+        }
+        surface.refusals.extend(plan.refused);
+    }
+    surface.fallback_faces = candidates
+        .iter()
+        .map(|&face| {
+            let corners = topo.face_size(face) as u32;
+            FallbackFace {
+                face,
+                corners,
+                class: if corners == 3 {
+                    PatchClass::Triangle
+                } else {
+                    PatchClass::Irregular
+                },
+            }
+        })
+        .collect();
+    Ok(surface)
+}
+
+fn log_refusals(pass: &str, refused: &[super::schemes::Refusal], left: &[u32]) {
+    if refused.is_empty() {
+        return;
+    }
+    log::info!(
+        "{pass}: {} faces stay on the exact CPU path, e.g.: {}",
+        left.len(),
+        refused
+            .iter()
+            .take(3)
+            .map(|r| r.to_string())
+            .collect::<Vec<_>>()
+            .join("; ")
+    );
+}
+
+/// Which face is drawn how under `scheme`: [`plan_passes`] with the scheme's passes.
+pub fn plan_for_scheme(
+    mesh: &ControlMesh,
+    scheme: Scheme,
+    limits: &SchemeLimits,
+) -> Result<SurfaceData> {
+    plan_passes(mesh, scheme.passes(), limits)
+}
+
+/// Builds the surface of `mesh` for `scheme`: the faces its passes take as GPU patches, every
+/// other face with a limit surface evaluated exactly on the CPU on a grid matching `level`.
+pub fn surface_for_scheme(
+    mesh: &ControlMesh,
+    level: u32,
+    scheme: Scheme,
+    limits: &SchemeLimits,
+) -> Result<SurfaceData> {
+    let mut surface = plan_for_scheme(mesh, scheme, limits)?;
+    surface.fallback = cpu_faces(mesh, &surface.fallback_faces, level)?;
+    Ok(surface)
+}
+
+/// Builds the surface of `mesh` with only regular faces on the GPU (`bspline-only`) and the
+/// others evaluated exactly on the CPU at `level`. Needs no device.
+pub fn surface_from_mesh(mesh: &ControlMesh, level: u32) -> Result<SurfaceData> {
+    surface_for_scheme(mesh, level, Scheme::BsplineOnly, &SchemeLimits::NO_DEVICE)
+}
+
+/// As [`surface_from_mesh`], with the CPU-evaluated faces sampled at tessellation `level`
+/// through `eval(face, sub, &[(u, v)]) -> [(position, unit normal)]`.
+pub fn surface_with<F>(mesh: &ControlMesh, level: u32, eval: F) -> Result<SurfaceData>
+where
+    F: Fn(u32, u32, &[(f64, f64)]) -> Result<Vec<(DVec3, DVec3)>> + Sync,
+{
+    let mut surface = plan_for_scheme(mesh, Scheme::BsplineOnly, &SchemeLimits::NO_DEVICE)?;
+    surface.fallback = fallback::tessellate(&surface.fallback_faces, level, eval)?;
+    Ok(surface)
+}
+
+/// The CPU-evaluated triangles of `faces` at `level` (exact limit, [`LimitEvaluator`]).
+pub fn cpu_faces(mesh: &ControlMesh, faces: &[FallbackFace], level: u32) -> Result<FallbackMesh> {
+    if faces.is_empty() {
+        return Ok(FallbackMesh::default());
+    }
+    let ev = LimitEvaluator::new(mesh)?;
+    fallback::tessellate(faces, level, |f, sub, uv| {
+        Ok(ev
+            .eval_points(f as usize, sub as usize, uv)?
+            .into_iter()
+            .map(|s| (s.position, s.normal))
+            .collect())
+    })
+}
