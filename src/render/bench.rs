@@ -8,7 +8,7 @@ use std::time::Instant;
 use super::session::{GregorySession, GregoryVariant, SessionOptions};
 use crate::gpu::Context;
 use crate::mesh::ControlMesh;
-use crate::render::fallback::{FallbackFace, PatchClass};
+use crate::render::fallback::FallbackFace;
 use crate::render::offscreen::CPU_PATH_LABEL;
 use crate::render::offscreen::{OffscreenDesc, OffscreenSession};
 use crate::render::plan::{cpu_faces, plan_for_scheme};
@@ -165,26 +165,22 @@ pub fn bench_paths(
     };
     let mut rows = Vec::new();
     for &level in levels {
-        let stencil = bench_gregory(
-            ctx,
-            mesh,
-            GregoryVariant::Stencil,
-            false,
-            &[level],
-            frames,
-            size,
-            max_patch_level,
-        )?;
-        let two = bench_gregory(
-            ctx,
-            mesh,
-            GregoryVariant::TwoStage,
-            false,
-            &[level],
-            frames,
-            size,
-            max_patch_level,
-        )?;
+        let alone = |variant| {
+            bench_gregory(
+                ctx,
+                mesh,
+                variant,
+                false,
+                &[level],
+                frames,
+                size,
+                max_patch_level,
+            )
+        };
+        let (stencil, two) = (
+            alone(GregoryVariant::Stencil)?,
+            alone(GregoryVariant::TwoStage)?,
+        );
         let (s, t) = (&stencil[0], &two[0]);
         let render = RenderDesc {
             tess: TessSettings {
@@ -204,18 +200,7 @@ pub fn bench_paths(
         let faces: Vec<FallbackFace> = GregorySession::new(ctx, mesh, &render, &opts)?
             .gregory_faces()
             .iter()
-            .map(|&f| {
-                let corners = topo.face_size(f) as u32;
-                FallbackFace {
-                    face: f,
-                    corners,
-                    class: if corners == 3 {
-                        PatchClass::Triangle
-                    } else {
-                        PatchClass::Irregular
-                    },
-                }
-            })
+            .map(|&f| FallbackFace::new(f, topo.face_size(f) as u32))
             .collect();
         let t0 = Instant::now();
         let fallback = cpu_faces(mesh, &faces, s.level.ceil() as u32)?;

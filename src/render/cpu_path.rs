@@ -6,7 +6,7 @@ use ash::vk;
 use super::fallback::FallbackMesh;
 use super::pass::shared::set0_layout;
 use super::pass::upload::{device_buffer, host_buffer, u32_bytes};
-use super::pass::SharedResources;
+use super::pass::{bind_draw_state, SharedResources};
 use super::renderer::RenderDesc;
 use crate::gpu::{
     Buffer, Context, DescriptorPool, GraphicsPipelineDesc, Pipeline, TargetFormat, VertexAttribute,
@@ -142,21 +142,16 @@ impl CpuPathPass {
             return;
         }
         let dev = self.ctx.device();
-        // SAFETY: cmd records inside a render pass of the pipeline's format; every bound
-        // resource lives as long as self.
-        unsafe {
-            dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
-            dev.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.pipeline.layout,
-                0,
-                &[self.set],
-                &[],
-            );
-            dev.cmd_bind_vertex_buffers(cmd, 0, &[self.vertices.raw()], &[0]);
-            dev.cmd_bind_index_buffer(cmd, self.indices.raw(), 0, vk::IndexType::UINT32);
-            dev.cmd_draw_indexed(cmd, self.index_count, 1, 0, 0, 0);
-        }
+        bind_draw_state(
+            dev,
+            cmd,
+            &self.pipeline,
+            &[self.set],
+            Some(self.vertices.raw()),
+            self.indices.raw(),
+        );
+        // SAFETY: inside the caller's render pass with this pass's state bound; the indices lie
+        // in the bound index buffer.
+        unsafe { dev.cmd_draw_indexed(cmd, self.index_count, 1, 0, 0, 0) };
     }
 }

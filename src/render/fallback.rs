@@ -27,6 +27,21 @@ pub struct FallbackFace {
     pub class: PatchClass,
 }
 
+impl FallbackFace {
+    /// Face `face` with `corners` corners, coloured as a triangle or an irregular face.
+    pub fn new(face: u32, corners: u32) -> FallbackFace {
+        FallbackFace {
+            face,
+            corners,
+            class: if corners == 3 {
+                PatchClass::Triangle
+            } else {
+                PatchClass::Irregular
+            },
+        }
+    }
+}
+
 /// Triangles evaluated on the CPU.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct FallbackMesh {

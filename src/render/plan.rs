@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::fallback::{self, FallbackFace, FallbackMesh, PatchClass};
+use super::fallback::{self, FallbackFace, FallbackMesh};
 use super::schemes::{PatchScheme, Scheme, SchemeLimits};
 use super::surface::SurfaceData;
 use crate::mesh::ControlMesh;
@@ -52,18 +52,7 @@ pub fn plan_passes(
     }
     surface.fallback_faces = candidates
         .iter()
-        .map(|&face| {
-            let corners = topo.face_size(face) as u32;
-            FallbackFace {
-                face,
-                corners,
-                class: if corners == 3 {
-                    PatchClass::Triangle
-                } else {
-                    PatchClass::Irregular
-                },
-            }
-        })
+        .map(|&face| FallbackFace::new(face, topo.face_size(face) as u32))
         .collect();
     Ok(surface)
 }

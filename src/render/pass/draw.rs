@@ -5,7 +5,36 @@
 use ash::vk;
 
 use super::pipeline::push_patch_chunk;
-use crate::gpu::patch_draw_chunks;
+use crate::gpu::{patch_draw_chunks, Pipeline};
+
+/// Binds `pipeline` with `sets` (from set 0), the vertex buffer `vertices` at binding 0 (when
+/// the pipeline reads vertex input) and the u32 index buffer `indices`.
+pub fn bind_draw_state(
+    dev: &ash::Device,
+    cmd: vk::CommandBuffer,
+    pipeline: &Pipeline,
+    sets: &[vk::DescriptorSet],
+    vertices: Option<vk::Buffer>,
+    indices: vk::Buffer,
+) {
+    // SAFETY: the caller records into a command buffer inside a render pass compatible with the
+    // pipeline's target format, and keeps every bound object alive until the submission ends.
+    unsafe {
+        dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw);
+        dev.cmd_bind_descriptor_sets(
+            cmd,
+            vk::PipelineBindPoint::GRAPHICS,
+            pipeline.layout,
+            0,
+            sets,
+            &[],
+        );
+        if let Some(v) = vertices {
+            dev.cmd_bind_vertex_buffers(cmd, 0, &[v], &[0]);
+        }
+        dev.cmd_bind_index_buffer(cmd, indices, 0, vk::IndexType::UINT32);
+    }
+}
 
 /// A run of patches of one pipeline in the bound index buffer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

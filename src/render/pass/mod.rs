@@ -13,6 +13,6 @@ pub mod upload;
 pub use capture::{
     capture_capacity_for, CaptureRecord, CAPTURE_HEADER_BYTES, CAPTURE_RECORD_BYTES,
 };
-pub use draw::{record_patch_draws, PatchDraws};
+pub use draw::{bind_draw_state, record_patch_draws, PatchDraws};
 pub use frames::{NormalRule, VertexFrames};
 pub use shared::SharedResources;

@@ -23,7 +23,9 @@ use crate::patch::RegularPatch;
 use crate::render::pass::pipeline::{patch_pipeline, PatchShaders};
 use crate::render::pass::shared::set0_layout;
 use crate::render::pass::upload::device_buffer;
-use crate::render::pass::{record_patch_draws, NormalRule, PatchDraws, VertexFrames};
+use crate::render::pass::{
+    bind_draw_state, record_patch_draws, NormalRule, PatchDraws, VertexFrames,
+};
 use crate::render::schemes::gregory::single_normal_vertex;
 use crate::topology::Topology;
 use crate::Result;
@@ -262,22 +264,14 @@ impl PatchPass for BSplinePass {
 
     fn record(&self, cmd: vk::CommandBuffer) {
         let dev = self.ctx.device();
-        // SAFETY: cmd is recording inside a render pass compatible with the pipeline's format;
-        // every bound resource lives as long as self (the positions as long as the renderer
-        // that owns self).
-        unsafe {
-            dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
-            dev.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.pipeline.layout,
-                0,
-                &[self.set],
-                &[],
-            );
-            dev.cmd_bind_vertex_buffers(cmd, 0, &[self.positions], &[0]);
-            dev.cmd_bind_index_buffer(cmd, self.indices.raw(), 0, vk::IndexType::UINT32);
-        }
+        bind_draw_state(
+            dev,
+            cmd,
+            &self.pipeline,
+            &[self.set],
+            Some(self.positions),
+            self.indices.raw(),
+        );
         let draws = PatchDraws {
             first_patch: 0,
             first_index: 0,

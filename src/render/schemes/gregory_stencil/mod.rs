@@ -25,7 +25,9 @@ use crate::patch::gregory::stencil::canonical_ring;
 use crate::render::pass::pipeline::{patch_pipeline, PatchShaders};
 use crate::render::pass::shared::set0_layout;
 use crate::render::pass::upload::{device_buffer, f32_bytes, u32_bytes};
-use crate::render::pass::{record_patch_draws, NormalRule, PatchDraws, VertexFrames};
+use crate::render::pass::{
+    bind_draw_state, record_patch_draws, NormalRule, PatchDraws, VertexFrames,
+};
 use crate::render::settings::Spacing;
 use crate::topology::Topology;
 use crate::{Error, Result};
@@ -328,22 +330,14 @@ impl PatchPass for GregoryStencilPass {
     fn record(&self, cmd: vk::CommandBuffer) {
         let dev = self.ctx.device();
         for g in &self.groups {
-            // SAFETY: cmd is recording inside a render pass compatible with the pipeline's
-            // target format; every bound resource outlives the submission (owned by self or
-            // the renderer).
-            unsafe {
-                dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, g.pipeline.raw);
-                dev.cmd_bind_descriptor_sets(
-                    cmd,
-                    vk::PipelineBindPoint::GRAPHICS,
-                    g.pipeline.layout,
-                    0,
-                    &[self.set0, self.set1],
-                    &[],
-                );
-                dev.cmd_bind_vertex_buffers(cmd, 0, &[self.positions], &[0]);
-                dev.cmd_bind_index_buffer(cmd, self.indices.raw(), 0, vk::IndexType::UINT32);
-            }
+            bind_draw_state(
+                dev,
+                cmd,
+                &g.pipeline,
+                &[self.set0, self.set1],
+                Some(self.positions),
+                self.indices.raw(),
+            );
             let draws = PatchDraws {
                 first_patch: g.first_record,
                 first_index: g.first_index,

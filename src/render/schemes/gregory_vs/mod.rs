@@ -38,7 +38,9 @@ use crate::patch::gregory::table::GregoryVertexTable;
 use crate::render::pass::pipeline::{patch_pipeline, PatchShaders};
 use crate::render::pass::shared::set0_layout;
 use crate::render::pass::upload::{host_buffer, u32_bytes};
-use crate::render::pass::{record_patch_draws, NormalRule, PatchDraws, VertexFrames};
+use crate::render::pass::{
+    bind_draw_state, record_patch_draws, NormalRule, PatchDraws, VertexFrames,
+};
 use crate::render::settings::Spacing;
 use crate::topology::Topology;
 use crate::{Error, Result};
@@ -428,20 +430,7 @@ impl PatchPass for GregoryVsPass {
             if draws.count == 0 {
                 continue;
             }
-            // SAFETY: cmd records inside a render pass of the pipeline's format; every bound
-            // resource lives as long as self.
-            unsafe {
-                dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipe.raw);
-                dev.cmd_bind_descriptor_sets(
-                    cmd,
-                    vk::PipelineBindPoint::GRAPHICS,
-                    pipe.layout,
-                    0,
-                    &[self.set],
-                    &[],
-                );
-                dev.cmd_bind_index_buffer(cmd, self.indices.raw(), 0, vk::IndexType::UINT32);
-            }
+            bind_draw_state(dev, cmd, pipe, &[self.set], None, self.indices.raw());
             record_patch_draws(dev, cmd, pipe.layout, &draws, self.split);
         }
     }
