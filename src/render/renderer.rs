@@ -8,38 +8,11 @@ use super::cpu_path::CpuPathPass;
 use super::fallback::FallbackMesh;
 use super::pass::{CaptureRecord, SharedResources, VertexFrames};
 use super::schemes::{PassContext, PatchPass};
-use super::settings::{ColorBy, FrameUniforms, TessSettings};
+pub use super::settings::RenderDesc;
+use super::settings::{FrameUniforms, TessSettings};
 use super::surface::SurfaceData;
 use crate::gpu::{Context, Feature, TargetFormat};
 use crate::{Error, Result};
-
-/// How a surface is drawn.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RenderDesc {
-    /// Tessellation levels, mode and spacing (resolved against the device and the passes when
-    /// the renderer is created: [`SurfaceRenderer::tess`]).
-    pub tess: TessSettings,
-    /// Draw triangle edges only (polygon mode LINE).
-    pub wireframe: bool,
-    /// Surface colouring.
-    pub color_by: ColorBy,
-    /// Cull back faces (closed surfaces only; open ones show both sides otherwise).
-    pub cull_back_faces: bool,
-    /// Record every TES invocation into the capture buffer (`Some(capacity)` in records).
-    pub capture_capacity: Option<u32>,
-}
-
-impl Default for RenderDesc {
-    fn default() -> Self {
-        RenderDesc {
-            tess: TessSettings::default(),
-            wireframe: false,
-            color_by: ColorBy::None,
-            cull_back_faces: false,
-            capture_capacity: None,
-        }
-    }
-}
 
 /// The tessellation settings a [`SurfaceRenderer`] for `surface` on `ctx`'s device uses for the
 /// requested `tess` ([`TessSettings::resolve`] against the device's largest level and every

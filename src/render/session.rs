@@ -78,7 +78,9 @@ impl GregorySession {
         opts: &SessionOptions,
     ) -> Result<GregorySession> {
         let limits = SchemeLimits::from_context(ctx);
-        if opts.variant == GregoryVariant::TwoStage && limits.vs.is_none() {
+        if opts.variant == GregoryVariant::TwoStage
+            && gregory_vs::VsBudget::for_limits(&limits).is_none()
+        {
             return Err(Error::Invalid(
                 "the device cannot run the two-stage Gregory variant".into(),
             ));

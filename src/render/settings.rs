@@ -3,7 +3,6 @@
 
 use glam::{Mat4, Vec3};
 
-use super::schemes::PatchLevelLimit;
 use crate::{Error, Result};
 
 /// How tessellation levels are chosen.
@@ -132,6 +131,53 @@ impl TessSettings {
             t.max_patch_level = f32::INFINITY;
         }
         t
+    }
+}
+
+/// How far a pass can be tessellated per (sub-)patch (a pass's
+/// [`crate::render::schemes::PassTables::patch_level_limit`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PatchLevelLimit {
+    /// Largest (sub-)patch level drawn well; higher uniform levels are split into sub-patches.
+    pub max_patch_level: f32,
+    /// Whether patches may be split at all (false: drawn whole whatever the level).
+    pub splittable: bool,
+}
+
+impl Default for PatchLevelLimit {
+    fn default() -> Self {
+        PatchLevelLimit {
+            max_patch_level: f32::INFINITY,
+            splittable: true,
+        }
+    }
+}
+
+/// How a surface is drawn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RenderDesc {
+    /// Tessellation levels, mode and spacing (resolved against the device and the passes when
+    /// the renderer is created: [`crate::render::SurfaceRenderer::tess`]).
+    pub tess: TessSettings,
+    /// Draw triangle edges only (polygon mode LINE).
+    pub wireframe: bool,
+    /// Surface colouring.
+    pub color_by: ColorBy,
+    /// Cull back faces (closed surfaces only; open ones show both sides otherwise).
+    pub cull_back_faces: bool,
+    /// Record every TES invocation into the capture buffer (`Some(capacity)` in records).
+    pub capture_capacity: Option<u32>,
+}
+
+impl Default for RenderDesc {
+    fn default() -> Self {
+        RenderDesc {
+            tess: TessSettings::default(),
+            wireframe: false,
+            color_by: ColorBy::None,
+            cull_back_faces: false,
+            capture_capacity: None,
+        }
     }
 }
 

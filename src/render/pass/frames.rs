@@ -4,6 +4,7 @@
 
 use glam::DVec3;
 
+use crate::mesh::INFINITE_SHARPNESS;
 use crate::topology::Topology;
 
 /// When a corner vertex gets one shared normal (written to the frame) rather than each patch
@@ -11,7 +12,7 @@ use crate::topology::Topology;
 #[derive(Debug, Clone, Copy)]
 pub enum NormalRule<'a> {
     /// The surface's topology is known: shared where the vertex has one sector
-    /// ([`crate::render::schemes::gregory::single_normal_vertex`]).
+    /// ([`single_normal_vertex`]).
     Topology(&'a Topology),
     /// Patches given without topology: shared unless the patch has a boundary or crease side at
     /// the corner (such a corner may lie between sectors).
@@ -55,4 +56,30 @@ impl VertexFrames {
             }
         }
     }
+}
+
+/// Boundary or infinitely sharp edge.
+pub fn is_sharp_edge(topo: &Topology, e: u32) -> bool {
+    topo.is_boundary_edge(e) || topo.edge_sharpness(e) >= INFINITE_SHARPNESS
+}
+
+/// Number of sectors the sharp edges split vertex `v`'s ring into (0 for a smooth vertex).
+pub fn sector_count(topo: &Topology, v: u32) -> usize {
+    let sharp = topo
+        .vertex_edges(v)
+        .iter()
+        .filter(|&&e| is_sharp_edge(topo, e))
+        .count();
+    if topo.is_boundary_vertex(v) {
+        sharp.saturating_sub(1)
+    } else {
+        sharp
+    }
+}
+
+/// Whether every patch at vertex `v` has the same limit normal there (one sector: smooth
+/// interior or a boundary/crease vertex whose sharp edges do not split its faces; not a cone).
+pub fn single_normal_vertex(topo: &Topology, v: u32) -> bool {
+    sector_count(topo, v) <= 1
+        && (topo.is_boundary_vertex(v) || topo.vertex_sharpness(v) < INFINITE_SHARPNESS)
 }

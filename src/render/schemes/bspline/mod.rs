@@ -15,18 +15,18 @@ use std::sync::Arc;
 use ash::vk;
 use glam::DVec3;
 
-use super::{
+use super::traits::{
     PassContext, PassPlan, PassTables, PatchPass, PatchScheme, Refusal, RefusalReason, SchemeLimits,
 };
 use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool, Pipeline};
 use crate::patch::RegularPatch;
+use crate::render::pass::frames::single_normal_vertex;
 use crate::render::pass::pipeline::{patch_pipeline, PatchShaders};
 use crate::render::pass::shared::set0_layout;
 use crate::render::pass::upload::device_buffer;
 use crate::render::pass::{
     bind_draw_state, record_patch_draws, NormalRule, PatchDraws, VertexFrames,
 };
-use crate::render::schemes::gregory::single_normal_vertex;
 use crate::topology::Topology;
 use crate::Result;
 

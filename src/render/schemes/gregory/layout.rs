@@ -5,9 +5,9 @@
 
 use glam::DVec3;
 
-use crate::mesh::INFINITE_SHARPNESS;
 use crate::patch::gregory::{check_face, gregory_vertex};
 use crate::patch::RegularPatch;
+use crate::render::pass::frames::{is_sharp_edge, sector_count};
 use crate::render::schemes::bspline::PATCH_EDGES;
 use crate::topology::Topology;
 
@@ -33,25 +33,6 @@ pub fn irregular_faces(topo: &Topology) -> Vec<u32> {
                 && RegularPatch::gather(topo, f).is_none()
         })
         .collect()
-}
-
-/// Boundary or infinitely sharp edge.
-fn is_sharp_edge(topo: &Topology, e: u32) -> bool {
-    topo.is_boundary_edge(e) || topo.edge_sharpness(e) >= INFINITE_SHARPNESS
-}
-
-/// Number of sectors the sharp edges split vertex `v`'s ring into (0 for a smooth vertex).
-fn sector_count(topo: &Topology, v: u32) -> usize {
-    let sharp = topo
-        .vertex_edges(v)
-        .iter()
-        .filter(|&&e| is_sharp_edge(topo, e))
-        .count();
-    if topo.is_boundary_vertex(v) {
-        sharp.saturating_sub(1)
-    } else {
-        sharp
-    }
 }
 
 /// Shared TES data of a list of Gregory faces, in draw order: quads first, then triangles.
@@ -258,11 +239,4 @@ pub fn gregory_vertex_frame(topo: &Topology, positions: &[DVec3], v: u32) -> (DV
         }
         _ => (positions[v as usize], DVec3::Z),
     }
-}
-
-/// Whether every patch at vertex `v` has the same limit normal there (one sector: smooth
-/// interior or a boundary/crease vertex whose sharp edges do not split its faces; not a cone).
-pub fn single_normal_vertex(topo: &Topology, v: u32) -> bool {
-    sector_count(topo, v) <= 1
-        && (topo.is_boundary_vertex(v) || topo.vertex_sharpness(v) < INFINITE_SHARPNESS)
 }

@@ -8,17 +8,15 @@ pub mod layout;
 
 use glam::DVec3;
 
-pub use layout::{
-    gregory_face_problem, gregory_vertex_frame, irregular_faces, single_normal_vertex,
-    GregoryLayout,
-};
+pub use layout::{gregory_face_problem, gregory_vertex_frame, irregular_faces, GregoryLayout};
 
-use super::{PatchLevelLimit, Refusal, RefusalReason};
+use super::traits::{Refusal, RefusalReason};
 use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind};
 use crate::patch::gregory::check_face;
+use crate::render::pass::frames::single_normal_vertex;
 use crate::render::pass::upload::host_buffer;
 use crate::render::pass::VertexFrames;
-use crate::render::settings::Spacing;
+use crate::render::settings::{PatchLevelLimit, Spacing};
 use crate::topology::Topology;
 use crate::Result;
 

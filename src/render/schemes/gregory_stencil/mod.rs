@@ -14,9 +14,8 @@ use glam::DVec3;
 
 use self::table::{StencilTable, QUAD_EXTRA, QUAD_POINTS};
 use super::gregory::{self, GregoryLayout, GregoryTesBuffers};
-use super::{
-    PassContext, PassPlan, PassTables, PatchLevelLimit, PatchPass, PatchScheme, Refusal,
-    RefusalReason, SchemeLimits,
+use super::traits::{
+    PassContext, PassPlan, PassTables, PatchPass, PatchScheme, Refusal, RefusalReason, SchemeLimits,
 };
 use crate::gpu::{
     Buffer, BufferBinding, Context, DescriptorBinding, DescriptorKind, DescriptorPool, Pipeline,
@@ -28,7 +27,7 @@ use crate::render::pass::upload::{device_buffer, f32_bytes, u32_bytes};
 use crate::render::pass::{
     bind_draw_state, record_patch_draws, NormalRule, PatchDraws, VertexFrames,
 };
-use crate::render::settings::Spacing;
+use crate::render::settings::{PatchLevelLimit, Spacing};
 use crate::topology::Topology;
 use crate::{Error, Result};
 
@@ -193,8 +192,8 @@ impl PassTables for GregoryStencilTables {
         gregory::level_limit(&self.plan.layout, spacing, f32::INFINITY)
     }
 
-    fn capture_layout(&self) -> super::CaptureLayout {
-        super::CaptureLayout::FaceDomainOrBarycentric
+    fn capture_layout(&self) -> super::traits::CaptureLayout {
+        super::traits::CaptureLayout::FaceDomainOrBarycentric
     }
 
     fn create_pass(&self, pc: &PassContext<'_>) -> Result<Box<dyn PatchPass>> {

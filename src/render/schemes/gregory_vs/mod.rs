@@ -28,9 +28,8 @@ use ash::vk;
 use glam::DVec3;
 
 use super::gregory::{self, GregoryLayout, GregoryTesBuffers};
-use super::{
-    PassContext, PassPlan, PassTables, PatchLevelLimit, PatchPass, PatchScheme, Refusal,
-    RefusalReason, SchemeLimits,
+use super::traits::{
+    PassContext, PassPlan, PassTables, PatchPass, PatchScheme, Refusal, RefusalReason, SchemeLimits,
 };
 use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool, Pipeline};
 use crate::patch::gregory::is_supported_vertex;
@@ -41,7 +40,7 @@ use crate::render::pass::upload::{host_buffer, u32_bytes};
 use crate::render::pass::{
     bind_draw_state, record_patch_draws, NormalRule, PatchDraws, VertexFrames,
 };
-use crate::render::settings::Spacing;
+use crate::render::settings::{PatchLevelLimit, Spacing};
 use crate::topology::Topology;
 use crate::{Error, Result};
 
@@ -82,24 +81,21 @@ impl VsBudget {
 
 /// The budget the device allows, or `None` when even 15 slots do not fit.
 pub fn vs_budget(ctx: &Context) -> Option<VsBudget> {
-    // SAFETY: valid instance and physical device owned by the context.
-    let props = unsafe {
-        ctx.instance()
-            .get_physical_device_properties(ctx.physical_device())
-    };
-    let comps = props.limits.max_vertex_output_components.min(
-        props
-            .limits
-            .max_tessellation_control_per_vertex_input_components,
-    );
-    // One location of the budget is taken by the built-in per-vertex block.
-    [31u32, 15]
-        .into_iter()
-        .find(|&s| 4 * s + 4 <= comps)
-        .map(|slots| VsBudget {
-            slots,
-            max_valence: ((4 * slots - 4) / 6) as usize,
-        })
+    VsBudget::for_limits(&SchemeLimits::from_context(ctx))
+}
+
+impl VsBudget {
+    /// The largest budget `limits` allow (31 or 15 vec4 slots), `None` below 64 components.
+    pub fn for_limits(limits: &SchemeLimits) -> Option<VsBudget> {
+        // One location of the budget is taken by the built-in per-vertex block.
+        [31u32, 15]
+            .into_iter()
+            .find(|&s| 4 * s + 4 <= limits.max_vertex_varyings)
+            .map(|slots| VsBudget {
+                slots,
+                max_valence: ((4 * slots - 4) / 6) as usize,
+            })
+    }
 }
 
 /// Splits candidate faces into those this variant draws and typed refusals: the
@@ -166,7 +162,7 @@ impl PatchScheme for GregoryVsScheme {
     }
 
     fn plan(&self, topo: &Arc<Topology>, candidates: &[u32], limits: &SchemeLimits) -> PassPlan {
-        let Some(budget) = limits.vs else {
+        let Some(budget) = VsBudget::for_limits(limits) else {
             return PassPlan {
                 tables: None,
                 refused: candidates
@@ -241,8 +237,8 @@ impl PassTables for GregoryVsTables {
         gregory::level_limit(&self.layout, spacing, MAX_PATCH_LEVEL)
     }
 
-    fn capture_layout(&self) -> super::CaptureLayout {
-        super::CaptureLayout::FaceDomainOrBarycentric
+    fn capture_layout(&self) -> super::traits::CaptureLayout {
+        super::traits::CaptureLayout::FaceDomainOrBarycentric
     }
 
     fn create_pass(&self, pc: &PassContext<'_>) -> Result<Box<dyn PatchPass>> {

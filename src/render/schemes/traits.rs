@@ -1,0 +1,218 @@
+//! The contract between the renderer and a scheme: the three traits every pass implements, what
+//! planning yields (tables and typed refusals) and the device limits it plans against (module
+//! docs of [`super`]).
+
+use std::any::Any;
+use std::fmt;
+use std::sync::Arc;
+
+use ash::vk;
+use glam::DVec3;
+
+use crate::gpu::{Context, TargetFormat};
+use crate::patch::gregory::NotGregory;
+use crate::render::pass::{NormalRule, SharedResources, VertexFrames};
+use crate::render::settings::{PatchLevelLimit, RenderDesc, Spacing};
+use crate::topology::Topology;
+use crate::Result;
+
+/// Device limits schemes plan against.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SchemeLimits {
+    /// `maxTessellationPatchSize` (largest patch primitive, e.g. a stencil face's one-ring).
+    pub max_patch_size: u32,
+    /// Components a vertex may pass from the vertex to the tessellation-control stage: the
+    /// smaller of `maxVertexOutputComponents` and
+    /// `maxTessellationControlPerVertexInputComponents` (the two-stage Gregory variant's budget).
+    pub max_vertex_varyings: u32,
+}
+
+impl SchemeLimits {
+    /// No device: only passes that need no device limits take faces (planning without a GPU,
+    /// e.g. `bspline-only`).
+    pub const NO_DEVICE: SchemeLimits = SchemeLimits {
+        max_patch_size: 0,
+        max_vertex_varyings: 0,
+    };
+
+    /// The limits of `ctx`'s device.
+    pub fn from_context(ctx: &Context) -> SchemeLimits {
+        // SAFETY: valid instance and physical device owned by the context.
+        let props = unsafe {
+            ctx.instance()
+                .get_physical_device_properties(ctx.physical_device())
+        };
+        SchemeLimits {
+            max_patch_size: props.limits.max_tessellation_patch_size,
+            max_vertex_varyings: props.limits.max_vertex_output_components.min(
+                props
+                    .limits
+                    .max_tessellation_control_per_vertex_input_components,
+            ),
+        }
+    }
+}
+
+/// Why a pass does not take a face.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RefusalReason {
+    /// Not a regular quad (extraordinary vertex, not a quad, or a sharp feature the B-spline
+    /// patch cannot reproduce).
+    NotRegular,
+    /// The Gregory construction does not cover the face.
+    NotGregory(NotGregory),
+    /// The face's one-ring exceeds the largest patch primitive.
+    RingTooLarge {
+        /// One-ring size.
+        ring: usize,
+        /// Largest primitive (`maxTessellationPatchSize` or the layout's limit).
+        max: usize,
+    },
+    /// A corner's per-vertex data exceeds the two-stage variant's varyings.
+    VaryingsBudget {
+        /// The vertex.
+        vertex: u32,
+        /// Its ring edges.
+        edges: usize,
+        /// Smooth-vertex limit.
+        max_smooth: usize,
+        /// Boundary/crease-vertex limit.
+        max_sectored: usize,
+    },
+    /// The device cannot run the pass at all.
+    Device(String),
+}
+
+/// A face a pass does not take, and why (the caller reads it; the renderer logs a summary).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Refusal {
+    /// Base-mesh face.
+    pub face: u32,
+    /// The pass that refused it.
+    pub pass: &'static str,
+    /// Why.
+    pub reason: RefusalReason,
+}
+
+impl fmt::Display for Refusal {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let face = self.face;
+        match &self.reason {
+            RefusalReason::NotRegular => write!(f, "face {face}: not a regular patch"),
+            RefusalReason::NotGregory(e) => e.fmt(f),
+            RefusalReason::RingTooLarge { ring, max } => write!(
+                f,
+                "face {face}: one-ring of {ring} vertices exceeds the {max}-vertex stencil patch"
+            ),
+            RefusalReason::VaryingsBudget {
+                vertex,
+                edges,
+                max_smooth,
+                max_sectored,
+            } => write!(
+                f,
+                "face {face}: vertex {vertex} has {edges} ring edges, over the two-stage variant's varyings budget ({max_smooth} smooth, {max_sectored} at boundaries/creases)"
+            ),
+            RefusalReason::Device(why) => write!(f, "face {face}: {why}"),
+        }
+    }
+}
+
+/// What a pass's plan yields: its tables (none when it takes no face) and its refusals.
+pub struct PassPlan {
+    /// CPU tables of the accepted faces.
+    pub tables: Option<Arc<dyn PassTables>>,
+    /// The other candidates, each with the reason.
+    pub refused: Vec<Refusal>,
+}
+
+/// How the `u v` of a captured record relate to the base face (`tessera sample` docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CaptureLayout {
+    /// Every record in the base face's own quad domain (quads) — (0,0) at corner 0.
+    FaceDomain,
+    /// Quads in the face's domain; a triangle drawn whole as barycentric weights of corners 1
+    /// and 2.
+    FaceDomainOrBarycentric,
+}
+
+/// A pass as the registry lists it: which faces it takes, building its CPU tables.
+pub trait PatchScheme: Sync {
+    /// Short name (logs, refusals, timing labels).
+    fn name(&self) -> &'static str;
+
+    /// Takes what it can of `candidates` (faces of `topo` with a limit surface that no earlier
+    /// pass took): tables for the accepted faces, a typed refusal for each other.
+    fn plan(&self, topo: &Arc<Topology>, candidates: &[u32], limits: &SchemeLimits) -> PassPlan;
+}
+
+/// What a pass's GPU resources are created from.
+pub struct PassContext<'a> {
+    /// The device.
+    pub ctx: &'a Context,
+    /// Buffers and bindings shared by every pass of the surface.
+    pub shared: &'a SharedResources,
+    /// Control positions.
+    pub positions: &'a [DVec3],
+    /// Vertex limit frames.
+    pub frames: &'a VertexFrames,
+    /// Render description, its tessellation settings resolved ([`crate::render::resolve_tess`]).
+    pub desc: &'a RenderDesc,
+    /// Format of the render targets the pipelines draw into.
+    pub target: TargetFormat,
+}
+
+/// The CPU tables of one pass of one surface (built once per topology; pure data).
+pub trait PassTables: fmt::Debug + Send + Sync + Any {
+    /// Name of the pass (as its [`PatchScheme::name`]).
+    fn pass_name(&self) -> &'static str;
+
+    /// Base faces drawn, in draw order.
+    fn faces(&self) -> &[u32];
+
+    /// Patches drawn (a face may need several).
+    fn patch_count(&self) -> usize;
+
+    /// Writes the limit position and normal of each of its patch corners not yet written
+    /// (passes run in registry order: the first that has a vertex wins).
+    fn corner_frames(&self, positions: &[DVec3], rule: NormalRule<'_>, frames: &mut VertexFrames);
+
+    /// Limit points for camera framing (patch corners).
+    fn framing_points(&self, frames: &VertexFrames) -> Vec<DVec3>;
+
+    /// Largest usable patch level for `spacing`.
+    fn patch_level_limit(&self, _spacing: Spacing) -> PatchLevelLimit {
+        PatchLevelLimit::default()
+    }
+
+    /// How captured `u v` relate to the base face.
+    fn capture_layout(&self) -> CaptureLayout {
+        CaptureLayout::FaceDomain
+    }
+
+    /// Creates the GPU pass.
+    fn create_pass(&self, pc: &PassContext<'_>) -> Result<Box<dyn PatchPass>>;
+
+    /// `self` as [`Any`] (typed access for scheme-specific tools and tests).
+    fn as_any(&self) -> &dyn Any;
+}
+
+/// The GPU resources of one pass of one surface.
+pub trait PatchPass {
+    /// Timing label.
+    fn label(&self) -> &'static str;
+
+    /// Patches drawn.
+    fn patch_count(&self) -> u32;
+
+    /// Records work that must run before any draw of the frame, outside the render pass (e.g.
+    /// compute refinement of the control points). Default: none.
+    fn record_compute(&self, _cmd: vk::CommandBuffer) {}
+
+    /// Records the draws inside the caller's render pass.
+    fn record(&self, cmd: vk::CommandBuffer);
+
+    /// Animation: new control positions and their limit frames (same topology; the shared
+    /// buffers are already updated). Call while no frame using the pass is executing.
+    fn update_positions(&mut self, positions: &[DVec3], frames: &VertexFrames) -> Result<()>;
+}
