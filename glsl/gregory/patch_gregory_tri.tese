@@ -5,11 +5,11 @@
 // Domain: gl_TessCoord = barycentric weights (b0, b1, b2) of face corners 0, 1, 2; the captured
 // (u, v) are (b1, b2), the (s, t) of patch::gregory::GregoryTriangle::eval.
 // Defines: SPACING, CAPTURE.
-#include "common/frame.glsl"
-#include "common/bspline.glsl"
-#include "common/gregory.glsl"
+#include "frame.glsl"
+#include "bspline.glsl"
+#include "gregory.glsl"
 #ifdef CAPTURE
-#include "common/capture.glsl"
+#include "capture.glsl"
 #endif
 
 #ifndef SPACING

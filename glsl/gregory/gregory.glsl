@@ -27,7 +27,7 @@
 #ifndef TESSERA_GREGORY_GLSL
 #define TESSERA_GREGORY_GLSL
 
-#include "common/bspline.glsl"
+#include "bspline.glsl"
 
 /// One Gregory patch. flags bit 4+k: patch edge k is a boundary or infinitely sharp edge shared with
 /// a regular patch (its curve is the cubic B-spline of the crease polygon, see grid_edge_rows).

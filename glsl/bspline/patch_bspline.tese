@@ -7,11 +7,11 @@
 // running from the end vertex with the smaller id, rows combined symmetrically, precise
 // arithmetic: common/gregory.glsl grid_edge_rows).
 // Defines: SPACING (equal_spacing | fractional_odd_spacing | fractional_even_spacing), CAPTURE.
-#include "common/frame.glsl"
-#include "common/bspline.glsl"
-#include "common/gregory.glsl"
+#include "frame.glsl"
+#include "bspline.glsl"
+#include "gregory/gregory.glsl"
 #ifdef CAPTURE
-#include "common/capture.glsl"
+#include "capture.glsl"
 #endif
 
 #ifndef SPACING

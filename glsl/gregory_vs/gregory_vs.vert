@@ -5,8 +5,8 @@
 // corner vertices the sector-wise rules of §4.6 (as patch::gregory::GregoryVertex::sectored).
 // Packed into the varyings as documented in common/gregory_vs.glsl. Vertices beyond the
 // varyings budget are never drawn by this variant (the host falls back).
-#include "common/gregory.glsl"
-#include "common/gregory_vs.glsl"
+#include "gregory/gregory.glsl"
+#include "gregory_vs.glsl"
 
 layout(location = 0) out vec4 v_data[GVS_SLOTS];
 

@@ -3,9 +3,9 @@
 // Mirrors phantom points (columns first, then rows: 2a - b), writes the mirrored B-spline points
 // for the TES's shared-edge evaluation and the Bezier points for the interior, and sets the
 // tessellation levels from data the neighbouring patch shares (tess_factors.glsl).
-#include "common/frame.glsl"
-#include "common/bspline.glsl"
-#include "common/tess_factors.glsl"
+#include "frame.glsl"
+#include "bspline.glsl"
+#include "tess_factors.glsl"
 
 layout(vertices = 16) out;
 layout(location = 0) in vec3 v_pos[];

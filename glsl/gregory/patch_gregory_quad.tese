@@ -4,11 +4,11 @@
 // (§3.1, §4.4), position and derivatives (F frozen) for the normal. Corners and edges: the
 // watertight shared evaluation of common/gregory.glsl (§4.5).
 // Defines: SPACING (equal_spacing | fractional_odd_spacing | fractional_even_spacing), CAPTURE.
-#include "common/frame.glsl"
-#include "common/bspline.glsl"
-#include "common/gregory.glsl"
+#include "frame.glsl"
+#include "bspline.glsl"
+#include "gregory.glsl"
 #ifdef CAPTURE
-#include "common/capture.glsl"
+#include "capture.glsl"
 #endif
 
 #ifndef SPACING
