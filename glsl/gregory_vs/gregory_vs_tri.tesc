@@ -1,7 +1,7 @@
 #version 450
 // Two-stage Gregory construction, stage 2 (§4.2) for a triangle (15 control points): the patch primitive is the
 // face's 3 vertices with their per-vertex data from gregory_vs.vert; invocation k writes control
-// point k (order of common/gregory.glsl): corner points and edge points are picked from the
+// point k (order of gregory/gregory.glsl): corner points and edge points are picked from the
 // per-vertex data with the patch's ring offsets (Fig. 8), face points are built with eq. 6.
 #include "frame.glsl"
 #include "tess_factors.glsl"
