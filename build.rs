@@ -1,31 +1,57 @@
-//! Build script: compiles every shader in `glsl/` to SPIR-V with the vendored glslang and
-//! embeds the words in the binary through a generated lookup table (`$OUT_DIR/shaders.rs`).
+//! Build script: compiles the GLSL in `glsl/` to SPIR-V with the vendored glslang and embeds the
+//! words through generated lookup tables in `$OUT_DIR`.
 //!
-//! * Every `glsl/*.{vert,tesc,tese,frag,comp}` is compiled once without extra defines under
-//!   its file name (e.g. `bspline.tese`).
-//! * `glsl/variants.txt` adds macro variants, one per line:
-//!   `<output-name> <source-file> [NAME[=VALUE] ...]` (`#` starts a comment). The stage comes
-//!   from the source file's extension.
-//! * `#include "file.glsl"` is resolved here (relative to `glsl/`, each file at most once per
-//!   shader), so shader authors need no GLSL extension. Errors are reported as `file:line`.
+//! Layout (walked recursively; only stage files and `variants.txt` are picked up):
+//! * `glsl/common/`: includes shared by every scheme; `glsl/surface/`: the stages every scheme
+//!   shares; one folder per patch scheme (`bspline/`, `gregory/`, `gregory_vs/`,
+//!   `gregory_stencil/`) with its stages and includes.
+//! * `glsl/tests/`: test-only shaders. They go to `test_shaders.rs` (`TEST_SHADERS`), which
+//!   integration tests include and register with `Context::add_shaders`; every other module goes
+//!   to `shaders.rs` (`SHADERS`), embedded in the library by `src/gpu/shaders.rs`.
+//!
+//! Modules are named by file name alone (no folder), and a name two sources produce is an error:
+//! * every `.vert`, `.tesc`, `.frag`, `.comp` is compiled without extra defines under its name;
+//! * every `.tese` outside `glsl/tests/` (a scheme's evaluation shader) is compiled only as the six
+//!   variants `{stem}_{equal|odd|even}[_capture].tese` (defines in `SPACINGS`, plus `CAPTURE`);
+//!   a test `.tese` is compiled as is;
+//! * a folder's `variants.txt` adds macro variants of that folder's shaders, one per line:
+//!   `<output-name> <source-file> [NAME[=VALUE] ...]` (`#` starts a comment, bare `NAME` defines
+//!   it as 1). The stage comes from the source file's extension. Defines follow `#version`.
+//! * `#include "name.glsl"` is resolved here, first relative to the including file's folder, then
+//!   in `glsl/common/`, then relative to `glsl/` (so `"gregory/gregory.glsl"` reaches another
+//!   scheme's include). Each file is expanded at most once per shader, so shader authors need no
+//!   GLSL extension or include guards. Errors are reported as `glsl/<folder>/<file>:<line>`.
 //! * If `spirv-val` is on PATH, every module is also validated for Vulkan 1.2 (optional; set
 //!   `TESSERA_SPIRV_VAL=0` to skip, `=1` to require the tool).
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
 
 use glslang::{
     CompilerOptions, ShaderInput, ShaderSource, ShaderStage, SpirvVersion, Target, VulkanVersion,
 };
 
-const STAGE_EXTENSIONS: [&str; 5] = ["vert", "tesc", "tese", "frag", "comp"];
+/// Folder (under `glsl/`) of the test-only shaders.
+const TEST_DIR: &str = "tests";
+
+/// Spacing variants of every scheme's evaluation shader: name suffix and defines.
+const SPACINGS: [(&str, &[&str]); 3] = [
+    ("equal", &["SPACING=equal_spacing", "SPACING_EQUAL"]),
+    ("odd", &["SPACING=fractional_odd_spacing"]),
+    ("even", &["SPACING=fractional_even_spacing"]),
+];
 
 /// One SPIR-V module to produce.
 struct Variant {
     name: String,
+    /// Source path relative to `glsl/`, `/`-separated.
     source: String,
     defines: Vec<(String, Option<String>)>,
+    /// Where the defines come from, for error messages.
+    defined_in: String,
+    /// From `glsl/tests/`: goes to the test table.
+    test: bool,
 }
 
 /// Source text after include expansion, with a map from output line to (file, line).
@@ -42,17 +68,19 @@ fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-env-changed=TESSERA_SPIRV_VAL");
 
-    let variants = match collect_variants(&glsl) {
-        Ok(v) => v,
-        Err(e) => fail(&e),
-    };
+    let mut variants = Vec::new();
+    if let Err(e) = collect_variants(&glsl, "", &mut variants).and_then(|()| unique(&variants)) {
+        fail(&e);
+    }
 
     let mut errors = Vec::new();
-    let mut compiled: BTreeMap<String, Vec<u32>> = BTreeMap::new();
+    let mut shipped: BTreeMap<String, Vec<u32>> = BTreeMap::new();
+    let mut tests: BTreeMap<String, Vec<u32>> = BTreeMap::new();
     for v in &variants {
         match compile_variant(&glsl, v) {
             Ok(words) => {
-                compiled.insert(v.name.clone(), words);
+                let table = if v.test { &mut tests } else { &mut shipped };
+                table.insert(v.name.clone(), words);
             }
             Err(e) => errors.push(e),
         }
@@ -60,11 +88,35 @@ fn main() {
     if !errors.is_empty() {
         fail(&errors.join("\n"));
     }
-    validate_spirv(&out_dir, &compiled);
+    validate_spirv(&out_dir, shipped.iter().chain(&tests));
 
+    write_table(
+        &out_dir.join("shaders.rs"),
+        "SHADERS",
+        "Every embedded shader",
+        &shipped,
+    );
+    write_table(
+        &out_dir.join("test_shaders.rs"),
+        "TEST_SHADERS",
+        "Every test-only shader (glsl/tests/)",
+        &tests,
+    );
+}
+
+fn fail(msg: &str) -> ! {
+    for line in msg.lines() {
+        println!("cargo:warning={line}");
+    }
+    eprintln!("{msg}");
+    std::process::exit(1);
+}
+
+/// Writes `pub static {table}: &[(&str, &[u32])]`, sorted by name, to `path`.
+fn write_table(path: &Path, table: &str, doc: &str, modules: &BTreeMap<String, Vec<u32>>) {
     let mut rs = String::new();
     rs.push_str("// Generated by build.rs from glsl/. Do not edit.\n");
-    for (i, (name, words)) in compiled.iter().enumerate() {
+    for (i, (name, words)) in modules.iter().enumerate() {
         let _ = writeln!(rs, "// {name}");
         let _ = write!(rs, "static SPV_{i}: [u32; {}] = [", words.len());
         for (j, w) in words.iter().enumerate() {
@@ -75,24 +127,15 @@ fn main() {
         }
         rs.push_str("\n];\n");
     }
-    rs.push_str("/// Every embedded shader, sorted by name.\n");
-    rs.push_str("pub static SHADERS: &[(&str, &[u32])] = &[\n");
-    for (i, name) in compiled.keys().enumerate() {
+    let _ = writeln!(rs, "/// {doc}, sorted by name.");
+    let _ = writeln!(rs, "pub static {table}: &[(&str, &[u32])] = &[");
+    for (i, name) in modules.keys().enumerate() {
         let _ = writeln!(rs, "    ({name:?}, &SPV_{i}),");
     }
     rs.push_str("];\n");
-    let target = out_dir.join("shaders.rs");
-    if let Err(e) = std::fs::write(&target, rs) {
-        fail(&format!("cannot write {}: {e}", target.display()));
+    if let Err(e) = std::fs::write(path, rs) {
+        fail(&format!("cannot write {}: {e}", path.display()));
     }
-}
-
-fn fail(msg: &str) -> ! {
-    for line in msg.lines() {
-        println!("cargo:warning={line}");
-    }
-    eprintln!("{msg}");
-    std::process::exit(1);
 }
 
 fn stage_of(file: &str) -> Option<ShaderStage> {
@@ -107,80 +150,161 @@ fn stage_of(file: &str) -> Option<ShaderStage> {
     })
 }
 
-fn collect_variants(glsl: &Path) -> Result<Vec<Variant>, String> {
-    let mut out = Vec::new();
-    if !glsl.is_dir() {
-        return Ok(out);
+/// `a/b` for a folder `a` ("" at the top) and a name `b`.
+fn join_rel(dir: &str, name: &str) -> String {
+    if dir.is_empty() {
+        name.to_owned()
+    } else {
+        format!("{dir}/{name}")
     }
-    let mut files: Vec<String> = std::fs::read_dir(glsl)
-        .map_err(|e| format!("cannot list {}: {e}", glsl.display()))?
+}
+
+/// `NAME=VALUE` or `NAME` (defined as 1).
+fn parse_define(d: &str) -> (String, Option<String>) {
+    match d.split_once('=') {
+        Some((k, v)) => (k.to_owned(), Some(v.to_owned())),
+        None => (d.to_owned(), None),
+    }
+}
+
+/// Adds the modules of folder `dir` (relative to `glsl/`) and its subfolders, in name order.
+fn collect_variants(glsl: &Path, dir: &str, out: &mut Vec<Variant>) -> Result<(), String> {
+    let abs = glsl.join(dir);
+    let mut entries: Vec<(String, bool)> = std::fs::read_dir(&abs)
+        .map_err(|e| format!("cannot list {}: {e}", abs.display()))?
         .filter_map(|e| e.ok())
-        .filter_map(|e| e.file_name().to_str().map(str::to_owned))
-        .filter(|n| {
-            Path::new(n)
-                .extension()
-                .and_then(|x| x.to_str())
-                .is_some_and(|x| STAGE_EXTENSIONS.contains(&x))
+        .filter_map(|e| {
+            let is_dir = e.file_type().is_ok_and(|t| t.is_dir());
+            e.file_name().to_str().map(|n| (n.to_owned(), is_dir))
         })
         .collect();
-    files.sort();
-    for f in files {
-        out.push(Variant {
-            name: f.clone(),
-            source: f,
-            defines: Vec::new(),
-        });
-    }
-
-    let manifest = glsl.join("variants.txt");
-    if manifest.exists() {
-        let text = std::fs::read_to_string(&manifest)
-            .map_err(|e| format!("cannot read {}: {e}", manifest.display()))?;
-        for (i, raw) in text.lines().enumerate() {
-            let line = raw.split('#').next().unwrap_or("").trim();
-            if line.is_empty() {
-                continue;
-            }
-            let mut parts = line.split_whitespace();
-            let name = parts.next().unwrap_or_default().to_owned();
-            let Some(source) = parts.next().map(str::to_owned) else {
-                return Err(format!(
-                    "glsl/variants.txt:{}: expected `<output-name> <source-file> [DEFINE[=VALUE]...]`",
-                    i + 1
-                ));
-            };
-            if stage_of(&source).is_none() {
-                return Err(format!(
-                    "glsl/variants.txt:{}: source `{source}` has no shader-stage extension (.vert/.tesc/.tese/.frag/.comp)",
-                    i + 1
-                ));
-            }
-            if !glsl.join(&source).is_file() {
-                return Err(format!(
-                    "glsl/variants.txt:{}: source file glsl/{source} does not exist",
-                    i + 1
-                ));
-            }
-            if out.iter().any(|v: &Variant| v.name == name) {
-                return Err(format!(
-                    "glsl/variants.txt:{}: output name `{name}` is already used",
-                    i + 1
-                ));
-            }
-            let defines = parts
-                .map(|d| match d.split_once('=') {
-                    Some((k, v)) => (k.to_owned(), Some(v.to_owned())),
-                    None => (d.to_owned(), None),
-                })
-                .collect();
+    entries.sort();
+    let test = dir == TEST_DIR || dir.starts_with(&format!("{TEST_DIR}/"));
+    for (name, is_dir) in entries {
+        let rel = join_rel(dir, &name);
+        if is_dir {
+            collect_variants(glsl, &rel, out)?;
+        } else if name == "variants.txt" {
+            read_variants_txt(glsl, dir, test, out)?;
+        } else if let Some(stem) = name.strip_suffix(".tese").filter(|_| !test) {
+            out.extend(spacing_variants(stem, &rel));
+        } else if stage_of(&name).is_some() {
             out.push(Variant {
                 name,
-                source,
-                defines,
+                source: rel,
+                defines: Vec::new(),
+                defined_in: String::new(),
+                test,
             });
         }
     }
-    Ok(out)
+    Ok(())
+}
+
+/// The spacing x capture variants of the evaluation shader `source` (named `{stem}.tese`).
+fn spacing_variants<'a>(stem: &'a str, source: &'a str) -> impl Iterator<Item = Variant> + 'a {
+    SPACINGS.into_iter().flat_map(move |(spacing, defines)| {
+        [false, true].map(|capture| {
+            let mut defines: Vec<_> = defines.iter().map(|d| parse_define(d)).collect();
+            let mut name = format!("{stem}_{spacing}");
+            if capture {
+                defines.push(("CAPTURE".to_owned(), None));
+                name.push_str("_capture");
+            }
+            Variant {
+                name: name + ".tese",
+                source: source.to_owned(),
+                defines,
+                defined_in: "build.rs SPACINGS".to_owned(),
+                test: false,
+            }
+        })
+    })
+}
+
+/// Adds the macro variants listed in `glsl/{dir}/variants.txt` (format in the module docs).
+fn read_variants_txt(
+    glsl: &Path,
+    dir: &str,
+    test: bool,
+    out: &mut Vec<Variant>,
+) -> Result<(), String> {
+    let manifest = join_rel(dir, "variants.txt");
+    let text = std::fs::read_to_string(glsl.join(&manifest))
+        .map_err(|e| format!("cannot read glsl/{manifest}: {e}"))?;
+    for (i, raw) in text.lines().enumerate() {
+        let at = format!("glsl/{manifest}:{}", i + 1);
+        let line = raw.split('#').next().unwrap_or("").trim();
+        if line.is_empty() {
+            continue;
+        }
+        let mut parts = line.split_whitespace();
+        let name = parts.next().unwrap_or_default().to_owned();
+        let Some(source) = parts.next() else {
+            return Err(format!(
+                "{at}: expected `<output-name> <source-file> [DEFINE[=VALUE]...]`"
+            ));
+        };
+        if stage_of(source).is_none() {
+            return Err(format!(
+                "{at}: source `{source}` has no shader-stage extension (.vert/.tesc/.tese/.frag/.comp)"
+            ));
+        }
+        let source = join_rel(dir, source);
+        if !glsl.join(&source).is_file() {
+            return Err(format!("{at}: source file glsl/{source} does not exist"));
+        }
+        out.push(Variant {
+            name,
+            source,
+            defines: parts.map(parse_define).collect(),
+            defined_in: at,
+            test,
+        });
+    }
+    Ok(())
+}
+
+/// Fails when two variants (in either table) produce the same module name.
+fn unique(variants: &[Variant]) -> Result<(), String> {
+    let mut by_name: BTreeMap<&str, &Variant> = BTreeMap::new();
+    for v in variants {
+        if let Some(first) = by_name.insert(&v.name, v) {
+            let from = |v: &Variant| match v.defined_in.as_str() {
+                "" => format!("glsl/{}", v.source),
+                d => format!("glsl/{} ({d})", v.source),
+            };
+            return Err(format!(
+                "shader name `{}` is produced twice: by {} and by {} (module names carry no folder)",
+                v.name,
+                from(first),
+                from(v)
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Resolves `#include "name"` in `from` (both relative to `glsl/`): the including file's folder,
+/// then `common/`, then `glsl/` itself.
+fn resolve_include(glsl: &Path, from: &str, name: &str) -> Result<String, String> {
+    if !Path::new(name)
+        .components()
+        .all(|c| matches!(c, Component::Normal(_)))
+    {
+        return Err(format!(
+            "#include \"{name}\": use a name or folder/name below glsl/ (no `..`, no absolute path)"
+        ));
+    }
+    let dir = from.rsplit_once('/').map_or("", |(d, _)| d);
+    [
+        join_rel(dir, name),
+        join_rel("common", name),
+        name.to_owned(),
+    ]
+    .into_iter()
+    .find(|c| glsl.join(c).is_file())
+    .ok_or_else(|| format!("#include \"{name}\" not found in glsl/{dir}/, glsl/common/ or glsl/"))
 }
 
 /// Expands `#include "x"` recursively; each file is included at most once per shader.
@@ -199,20 +323,19 @@ fn expand(
     for (i, line) in text.lines().enumerate() {
         let t = line.trim_start();
         if let Some(rest) = t.strip_prefix("#include") {
+            let at = format!("glsl/{file}:{}", i + 1);
             let rest = rest.trim();
             let inner = rest
                 .strip_prefix('"')
                 .and_then(|r| r.strip_suffix('"'))
                 .ok_or_else(|| {
-                    format!(
-                        "glsl/{file}:{}: malformed #include (expected #include \"name.glsl\")",
-                        i + 1
-                    )
+                    format!("{at}: malformed #include (expected #include \"name.glsl\")")
                 })?;
-            if !seen.iter().any(|s| s == inner) {
-                seen.push(inner.to_owned());
-                expand(glsl, inner, seen, out, depth + 1)
-                    .map_err(|e| format!("{e}\n  included from glsl/{file}:{}", i + 1))?;
+            let resolved = resolve_include(glsl, file, inner).map_err(|e| format!("{at}: {e}"))?;
+            if !seen.contains(&resolved) {
+                seen.push(resolved.clone());
+                expand(glsl, &resolved, seen, out, depth + 1)
+                    .map_err(|e| format!("{e}\n  included from {at}"))?;
             }
             // Keep line numbering stable with an empty line.
             out.text.push('\n');
@@ -250,7 +373,7 @@ fn build_source(glsl: &Path, v: &Variant) -> Result<Expanded, String> {
     }
     for (k, val) in &v.defines {
         let _ = writeln!(out.text, "#define {k} {}", val.as_deref().unwrap_or("1"));
-        out.origin.push(("glsl/variants.txt".to_owned(), 0));
+        out.origin.push((v.defined_in.clone(), 0));
     }
     for (i, l) in lines.iter().enumerate().skip(version_at + 1) {
         out.text.push_str(l);
@@ -260,7 +383,8 @@ fn build_source(glsl: &Path, v: &Variant) -> Result<Expanded, String> {
     Ok(out)
 }
 
-/// Rewrites glslang's `ERROR: 0:LINE:` locations into `glsl/file:line:`.
+/// Rewrites glslang's `ERROR: 0:LINE:` locations into `glsl/file:line:` (a define line: where
+/// the variant's defines come from).
 fn map_log(log: &str, src: &Expanded, variant: &str) -> String {
     let mut out = String::new();
     for line in log.lines() {
@@ -273,7 +397,7 @@ fn map_log(log: &str, src: &Expanded, variant: &str) -> String {
                     if let Ok(n) = ln.trim().parse::<usize>() {
                         if let Some((f, l)) = n.checked_sub(1).and_then(|k| src.origin.get(k)) {
                             let loc = if *l == 0 {
-                                format!("glsl/variants.txt (defines of {variant})")
+                                format!("{f} (defines of {variant})")
                             } else {
                                 format!("glsl/{f}:{l}")
                             };
@@ -338,7 +462,7 @@ fn error_log(e: &glslang::error::GlslangError) -> String {
 }
 
 /// Runs `spirv-val` on every module when the tool exists (see the module docs).
-fn validate_spirv(out_dir: &Path, compiled: &BTreeMap<String, Vec<u32>>) {
+fn validate_spirv<'a>(out_dir: &Path, compiled: impl Iterator<Item = (&'a String, &'a Vec<u32>)>) {
     let mode = std::env::var("TESSERA_SPIRV_VAL").unwrap_or_default();
     if mode == "0" {
         return;

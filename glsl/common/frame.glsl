@@ -1,5 +1,6 @@
-// Per-frame uniforms and the storage buffers shared by the surface shaders (src/render/frame.rs
-// mirrors this layout byte for byte; keep them in sync).
+// Per-frame uniforms and the storage buffers shared by the surface shaders. Rust mirrors them byte
+// for byte (keep them in sync): `Frame` is FrameUniforms in src/render/settings.rs, `PatchInfo`
+// src/render/layout.rs.
 #ifndef TESSERA_FRAME_GLSL
 #define TESSERA_FRAME_GLSL
 
@@ -28,10 +29,11 @@ layout(std140, set = 0, binding = 0) uniform Frame {
     uvec4 flags;         // x: colour mode
 } frame;
 
-/// Per-draw constants (src/render/renderer.rs). Patches are drawn in chunks and gl_PrimitiveID
-/// restarts at 0 in every draw, so `patch_base` is the chunk's first patch. With uniform levels
-/// above the sub-patch limit every patch is drawn as split x split sub-patches of the domain,
-/// one draw per sub-patch index `sub_index` (row-major, `sub_index % split` along u).
+/// Per-draw constants (push_patch_chunk, src/render/patch_pipeline.rs). Patches are drawn in
+/// chunks and gl_PrimitiveID restarts at 0 in every draw, so `patch_base` is the chunk's first
+/// patch. With uniform levels above the sub-patch limit every patch is drawn as split x split
+/// sub-patches of the domain, one draw per sub-patch index `sub_index` (row-major,
+/// `sub_index % split` along u).
 layout(push_constant) uniform DrawChunk {
     uint patch_base;
     uint sub_index;
@@ -48,7 +50,7 @@ vec3 sub_domain() {
 /// Per-patch data of the regular B-spline patches (one entry per patch, indexed by gl_PrimitiveID).
 struct PatchInfo {
     uint face;           // base-mesh face id
-    uint flags;          // bits 0-3: boundary mask (api.md), bits 4-7: edge e runs from the larger vertex id
+    uint flags;          // bits 0-3: boundary mask (patch::RegularPatch), bits 4-7: edge e runs from the larger vertex id
     uint pad0;
     uint pad1;
     uvec4 corners;       // vertex ids of the face corners 0..3 (cvs 5, 6, 10, 9)

@@ -12,6 +12,7 @@ use super::debug::{self, SharedLog, ValidationLog};
 use super::device::{self, DeviceInfo, Feature};
 use super::error::GpuError;
 use super::pipeline::PipelineCache;
+use super::shaders::ShaderTable;
 use crate::Result;
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
@@ -70,6 +71,8 @@ pub(crate) struct Shared {
     pub pending: Mutex<Vec<(vk::Fence, vk::CommandBuffer)>>,
     pub allocator: ManuallyDrop<Mutex<Allocator>>,
     pub pipelines: Mutex<PipelineCache>,
+    /// Shader tables registered with [`Context::add_shaders`], searched after the embedded one.
+    pub added_shaders: Mutex<Vec<ShaderTable>>,
     pub info: DeviceInfo,
     pub timeout_ms: u64,
     pub validation: bool,
@@ -348,6 +351,7 @@ impl Context {
             pending: Mutex::new(Vec::new()),
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             pipelines: Mutex::new(PipelineCache::default()),
+            added_shaders: Mutex::new(Vec::new()),
             info,
             timeout_ms: desc.timeout_ms.max(1),
             validation: desc.validation,

@@ -92,12 +92,12 @@ pub enum GpuError {
     /// Memory allocation failed.
     #[error("GPU memory allocation failed: {0}")]
     Allocation(String),
-    /// A shader name is not embedded in the binary.
-    #[error("unknown shader \"{name}\"; embedded shaders: {available}")]
+    /// A shader name is neither embedded in the binary nor added to the context.
+    #[error("unknown shader \"{name}\"; known shaders: {available}")]
     UnknownShader {
         /// The requested name.
         name: String,
-        /// Comma-separated list of embedded names.
+        /// Comma-separated list of the known names (embedded, then added).
         available: String,
     },
     /// Invalid use of the GPU API (bad sizes, mismatched descriptions).

@@ -77,12 +77,13 @@ pub struct PushConstants {
     pub size: u32,
 }
 
-/// Everything that defines a graphics pipeline. Shader names refer to embedded shaders.
+/// Everything that defines a graphics pipeline. Shader names are looked up by
+/// [`Context::shader_module`] (embedded, then added with [`Context::add_shaders`]).
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct GraphicsPipelineDesc {
     /// Debug name.
     pub label: String,
-    /// Vertex shader, e.g. `"bspline.vert"`.
+    /// Vertex shader, e.g. `"patch_bspline.vert"`.
     pub vertex: String,
     /// Tessellation control shader (both tessellation stages or neither).
     pub tess_control: Option<String>,

@@ -1,15 +1,15 @@
 #version 450
-// Triangular Gregory patch evaluation (15 control points, layout in common/gregory.glsl): the
+// Triangular Gregory patch evaluation (15 control points, layout in gregory/gregory.glsl): the
 // cubic-boundary quartic of §3.1 with the face points blended (§4.4), position and derivatives
 // (F frozen) for the normal; corners and edges by the shared watertight rules (§4.5).
 // Domain: gl_TessCoord = barycentric weights (b0, b1, b2) of face corners 0, 1, 2; the captured
 // (u, v) are (b1, b2), the (s, t) of patch::gregory::GregoryTriangle::eval.
 // Defines: SPACING, CAPTURE.
-#include "common/frame.glsl"
-#include "common/bspline.glsl"
-#include "common/gregory.glsl"
+#include "frame.glsl"
+#include "bspline.glsl"
+#include "gregory.glsl"
 #ifdef CAPTURE
-#include "common/capture.glsl"
+#include "capture.glsl"
 #endif
 
 #ifndef SPACING

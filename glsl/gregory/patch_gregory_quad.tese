@@ -1,21 +1,21 @@
 #version 450
 // Quad Gregory patch evaluation (20 control points from either construction variant, layout in
-// common/gregory.glsl). Interior: the bicubic Bezier net with the face points blended at (u, v)
+// gregory/gregory.glsl). Interior: the bicubic Bezier net with the face points blended at (u, v)
 // (§3.1, §4.4), position and derivatives (F frozen) for the normal. Corners and edges: the
-// watertight shared evaluation of common/gregory.glsl (§4.5).
+// watertight shared evaluation of common/watertight.glsl and gregory/gregory.glsl (§4.5).
 // Defines: SPACING (equal_spacing | fractional_odd_spacing | fractional_even_spacing), CAPTURE.
-#include "common/frame.glsl"
-#include "common/bspline.glsl"
-#include "common/gregory.glsl"
+#include "frame.glsl"
+#include "bspline.glsl"
+#include "gregory.glsl"
 #ifdef CAPTURE
-#include "common/capture.glsl"
+#include "capture.glsl"
 #endif
 
 #ifndef SPACING
 #define SPACING equal_spacing
 #endif
 
-// As patch_bspline.tese: `cw` in Vulkan's upper-left domain is counter-clockwise in (u right, v up).
+// As bspline/patch_bspline.tese: `cw` in Vulkan's upper-left domain is counter-clockwise in (u right, v up).
 layout(quads, SPACING, cw) in;
 layout(location = 0) in vec3 g_cp[];
 layout(location = 1) patch in vec3 g_eout[8];

@@ -2,7 +2,7 @@
 // Lit material: key light + head light diffuse, Blinn specular, optional colour by patch type
 // (regular gold, irregular purple, triangle green, as in Fig. 1 of the Gregory-patch paper).
 // Normals come from the surface; back faces (the inside of open surfaces) use the flipped normal.
-#include "common/frame.glsl"
+#include "frame.glsl"
 layout(location = 0) in vec3 t_world;
 layout(location = 1) in vec3 t_normal;
 layout(location = 2) flat in uint t_class;

@@ -1,16 +1,16 @@
 #version 450
-// Two-stage Gregory construction, stage 2 (§4.2) for a quad (20 control points): the patch primitive is the
-// face's 4 vertices with their per-vertex data from gregory_vs.vert; invocation k writes control
-// point k (order of common/gregory.glsl): corner points and edge points are picked from the
+// Two-stage Gregory construction, stage 2 (§4.2) for a triangle (15 control points): the patch primitive is the
+// face's 3 vertices with their per-vertex data from gregory_vs.vert; invocation k writes control
+// point k (order of gregory/gregory.glsl): corner points and edge points are picked from the
 // per-vertex data with the patch's ring offsets (Fig. 8), face points are built with eq. 6.
-#include "common/frame.glsl"
-#include "common/tess_factors.glsl"
-#include "common/gregory.glsl"
-#include "common/gregory_vs.glsl"
+#include "frame.glsl"
+#include "tess_factors.glsl"
+#include "gregory/gregory.glsl"
+#include "gregory_vs.glsl"
 
-#define D_OWN 3.0
-#define NC 4
-layout(vertices = 20) out;
+#define D_OWN 4.0
+#define NC 3
+layout(vertices = 15) out;
 
 layout(location = 0) in vec4 v_data[][GVS_SLOTS];
 layout(location = 0) out vec3 g_cp[];
@@ -127,16 +127,13 @@ void main() {
     }
     if (id == 0) {
         uvec4 c = gpatches[patch_index].corners;
-        // Vulkan quad domain: outer[0] is the u=0 edge, [1] v=0, [2] u=1, [3] v=1.
-        float o0 = edge_tess_level(c.x, c.w);
-        float o1 = edge_tess_level(c.x, c.y);
-        float o2 = edge_tess_level(c.y, c.z);
-        float o3 = edge_tess_level(c.w, c.z);
+        // Triangle domain: outer[k] is the edge where barycentric coordinate k is 0.
+        float o0 = gregory_tri_edge_level(c.y, c.z);
+        float o1 = gregory_tri_edge_level(c.z, c.x);
+        float o2 = gregory_tri_edge_level(c.x, c.y);
         gl_TessLevelOuter[0] = o0;
         gl_TessLevelOuter[1] = o1;
         gl_TessLevelOuter[2] = o2;
-        gl_TessLevelOuter[3] = o3;
-        gl_TessLevelInner[0] = max(o1, o3);
-        gl_TessLevelInner[1] = max(o0, o2);
+        gl_TessLevelInner[0] = max(o0, max(o1, o2));
     }
 }

@@ -7,8 +7,8 @@
 // a neighbouring patch gets the same nonzero terms in the same order on both sides and so is
 // bitwise equal. Output order: p0.., e_plus0.., e_minus0.., f_plus0.., f_minus0.. (as
 // GregoryQuad / GregoryTriangle); the next stencil rows are the neighbours' edge points g_eout,
-// then the neighbours' face points g_nbr (contract in common/gregory.glsl). Define GREGORY_TRI for triangles.
-// Needs frame.glsl and tess_factors.glsl (and, for triangles, gregory.glsl).
+// then the neighbours' face points g_nbr (contract in gregory/gregory.glsl). Define GREGORY_TRI for triangles.
+// Needs frame.glsl and tess_factors.glsl (and, for triangles, gregory/gregory.glsl).
 #ifndef TESSERA_GREGORY_STENCIL_GLSL
 #define TESSERA_GREGORY_STENCIL_GLSL
 
@@ -84,7 +84,7 @@ void main() {
         // Triangle domain: outer[i] is the edge where gl_TessCoord[i] == 0; barycentric weight
         // of corner i is gl_TessCoord[i], so outer[0] is edge 1-2, [1] edge 2-0, [2] edge 0-1.
         // Triangles are drawn whole; with split quads their edges take the quads' full level
-        // (gregory_tri_edge_level, common/gregory.glsl).
+        // (gregory_tri_edge_level, gregory/gregory.glsl).
         float o0 = gregory_tri_edge_level(c.y, c.z);
         float o1 = gregory_tri_edge_level(c.z, c.x);
         float o2 = gregory_tri_edge_level(c.x, c.y);

@@ -3,10 +3,10 @@
 // connectivity buffer and the dynamic positions buffer, the limit position p (§3.2), one edge
 // point per ring edge (§3.3) and the transversal vectors r (§3.4); at boundary, crease and
 // corner vertices the sector-wise rules of §4.6 (as patch::gregory::GregoryVertex::sectored).
-// Packed into the varyings as documented in common/gregory_vs.glsl. Vertices beyond the
+// Packed into the varyings as documented in gregory_vs/gregory_vs.glsl. Vertices beyond the
 // varyings budget are never drawn by this variant (the host falls back).
-#include "common/gregory.glsl"
-#include "common/gregory_vs.glsl"
+#include "gregory/gregory.glsl"
+#include "gregory_vs.glsl"
 
 layout(location = 0) out vec4 v_data[GVS_SLOTS];
 

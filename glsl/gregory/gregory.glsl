@@ -3,7 +3,8 @@
 //
 // TCS -> TES contract (both variants):
 //   quads:     layout(vertices = 20) out vec3 g_cp[] at location 0: p0..3, e_plus0..3, e_minus0..3,
-//              f_plus0..3, f_minus0..3 (src/patch/gregory GregoryQuad fields, corner i = face corner i);
+//              f_plus0..3, f_minus0..3 (src/patch/gregory/eval.rs GregoryQuad fields; corner i =
+//              face corner i);
 //              layout(location = 1) patch out vec3 g_eout[8];
 //              layout(location = 9) patch out vec3 g_nbr[8].
 //   triangles: layout(vertices = 15), same order with 3 per kind; g_eout[6] at location 1,
@@ -16,18 +17,13 @@
 //                  the same arithmetic as the neighbour computes them for itself.
 // Per-patch record (binding 6), indexed by chunk.patch_base + gl_PrimitiveID.
 //
-// Watertightness (§4.5): a patch corner is put at vertex_limit[id] with normal vertex_normal[id]
-// (per-vertex data every patch type reads). A patch edge is evaluated from data both neighbours
-// hold bitwise equal, with the parameter running from the end with the smaller vertex id:
-// Gregory/Gregory edges as the boundary cubic (p, e, e, p) with normal cross(tangent, d_left -
-// d_right), d = both patches' cross-edge derivatives (each side computes both); edges shared
-// with a regular B-spline patch from the 12 B-spline points of the edge's grid, exactly as
-// glsl/patch_bspline.tese evaluates them. The edge arithmetic is `precise` (no contraction into
-// fused multiply-adds), so every shader that inlines it computes the same bits.
+// Watertightness (§4.5): corners and the canonical edge parameter follow common/watertight.glsl;
+// an edge shared with a regular B-spline patch is its grid_edge_rows on the edge's 12 grid points
+// (binding 7, grid_edge), exactly as bspline/patch_bspline.tese evaluates it. Gregory/Gregory
+// edges (shared_edge): the boundary cubic (p, e, e, p) with normal cross(tangent, d_left -
+// d_right), d = both patches' cross-edge derivatives (each side computes both), `precise` as well.
 #ifndef TESSERA_GREGORY_GLSL
 #define TESSERA_GREGORY_GLSL
-
-#include "common/bspline.glsl"
 
 /// One Gregory patch. flags bit 4+k: patch edge k is a boundary or infinitely sharp edge shared with
 /// a regular patch (its curve is the cubic B-spline of the crease polygon, see grid_edge_rows).
@@ -60,58 +56,13 @@ layout(std430, set = 0, binding = 8) readonly buffer ControlPositions {
     float control_pos[];
 };
 
-/// Unit limit normal per vertex (xyz), read at patch corners.
-layout(std430, set = 0, binding = 9) readonly buffer VertexNormals {
-    vec4 vertex_normal[];
-};
-
 vec3 control_point(uint v) {
     return vec3(control_pos[3u * v], control_pos[3u * v + 1u], control_pos[3u * v + 2u]);
 }
 
-/// Canonical edge parameters (t, s = 1 - t), t measured from the edge end with the smaller id,
-/// from a coordinate x measured from one end (`from_lo`: that end is the smaller id). Derived
-/// from max(x, 1 - x) only, as patch_bspline.tese does, so both sides agree when the tessellator
-/// gives them x and 1 - x.
-void canonical_ts(float x, bool from_lo, out float t, out float s) {
-    precise float w = max(x, 1.0 - x);
-    precise float l = 1.0 - w;
-    t = (x >= 0.5) ? w : l;
-    s = (x >= 0.5) ? l : w;
-    if (!from_lo) {
-        float tmp = t;
-        t = s;
-        s = tmp;
-    }
-}
+#include "watertight.glsl"
 
 #ifdef TESSERA_FRAME_GLSL
-/// Uniform mode with sub-patches (chunk.split > 1): the full edge level, the same for a split
-/// quad (split x the sub-patch level) and an unsplit triangle (whose TCS uses
-/// gregory_tri_edge_level).
-float split_edge_level() {
-    float sub = ceil(clamp(frame.tess.x / float(chunk.split), 1.0, frame.tess.w));
-    return sub * float(chunk.split);
-}
-
-/// Edge parameters in the canonical frame as canonical_ts, except with sub-patches and equal
-/// spacing: the tessellator's fixed-point coordinates of a sub-patch edge (origin + x * size)
-/// and of a whole triangle edge need not agree bitwise, so both snap to the lattice point k / L
-/// of the full edge level L and derive (t, s) from the integer k.
-void edge_ts(float x, bool from_lo, out float t, out float s) {
-#ifdef SPACING_EQUAL
-    if (chunk.split > 1u) {
-        float level = split_edge_level();
-        float k = round(x * level);
-        float k_lo = from_lo ? k : level - k;
-        t = k_lo / level;
-        s = (level - k_lo) / level;
-        return;
-    }
-#endif
-    canonical_ts(x, from_lo, t, s);
-}
-
 /// Bit of chunk.sub_index: the triangle draw is split into chunk.split^2 sub-triangles (the
 /// sub-triangle index in the low bits); without it a split-level triangle is drawn whole.
 #define TRI_SUB_MODE 0x80000000u
@@ -184,39 +135,6 @@ float gregory_tri_edge_level(uint a, uint b) {
 #endif
 #endif
 
-/// Derivative of bspline3(t, s) with respect to t.
-vec4 bspline3_deriv(float t, float s) {
-    float d1t = (-12.0 * t + 9.0 * t * t) * (1.0 / 6.0);
-    float d1s = (-12.0 * s + 9.0 * s * s) * (1.0 / 6.0);
-    return vec4(-0.5 * s * s, d1t, -d1s, 0.5 * t * t);
-}
-
-/// Limit curve and normal of an edge of a regular (B-spline) patch from its 12-point grid in the
-/// canonical frame: rows l (left of the direction from the smaller id), m (on the edge), r, each
-/// from the smaller-id end. Position: the edge-curve B-spline points ((l + r) + 4 m) / 6;
-/// normal: cross(dC/dt, sum N_i (l_i - r_i)), the exact cross derivative of both patches. Used
-/// by the B-spline TES for all its edges and by the Gregory TES for edges it shares with one.
-void grid_edge_rows(vec3 l[4], vec3 m[4], vec3 r[4], bool sharp, float t, float s, out vec3 pos,
-                    out vec3 nrm) {
-    precise vec3 c[4];
-    precise vec3 d[4];
-    for (int i = 0; i < 4; ++i) {
-        // On a boundary or infinitely sharp edge one outer row is a side's own mirrored phantom
-        // (2a - b), which makes (l + r + 4m)/6 equal m only in exact arithmetic: use m itself, the
-        // crease polygon both sides share, so both sides get the same bits.
-        c[i] = sharp ? m[i] : ((l[i] + r[i]) + 4.0 * m[i]) * (1.0 / 6.0);
-        d[i] = l[i] - r[i];
-    }
-    precise vec4 n = bspline3(t, s);
-    precise vec3 p = ((n.x * c[0] + n.y * c[1]) + n.z * c[2]) + n.w * c[3];
-    precise vec4 dn = bspline3_deriv(t, s);
-    precise vec3 tangent = ((dn.x * c[0] + dn.y * c[1]) + dn.z * c[2]) + dn.w * c[3];
-    precise vec3 cross_dir = ((n.x * d[0] + n.y * d[1]) + n.z * d[2]) + n.w * d[3];
-    precise vec3 nn = normalize(cross(tangent, cross_dir));
-    pos = p;
-    nrm = nn;
-}
-
 /// Edge k of Gregory patch `patch_index` shared with a regular patch: [`grid_edge_rows`] on the
 /// grid ids of binding 7.
 void grid_edge(uint patch_index, uint flags, int k, float t, float s, out vec3 pos,
@@ -230,7 +148,7 @@ void grid_edge(uint patch_index, uint flags, int k, float t, float s, out vec3 p
         m[i] = control_point(grid_ids[base + 4u + uint(i)]);
         r[i] = control_point(grid_ids[base + 8u + uint(i)]);
     }
-    // Phantom points of a boundary-regular neighbour, mirrored as patch_bspline.tesc does
+    // Phantom points of a boundary-regular neighbour, mirrored as bspline/patch_bspline.tesc does
     // (2 a - b: the doubling is exact, so the result does not depend on contraction).
     if ((flags & (1u << uint(20 + 2 * k))) != 0u) {
         l[0] = 2.0 * l[1] - l[2];

@@ -5,13 +5,13 @@
 // shared vertex limit position and normal (bindings 2, 9); edge points evaluate the edge's limit
 // curve and normal from the 12 B-spline points both patches hold, in canonical order (parameter
 // running from the end vertex with the smaller id, rows combined symmetrically, precise
-// arithmetic: common/gregory.glsl grid_edge_rows).
+// arithmetic: common/watertight.glsl).
 // Defines: SPACING (equal_spacing | fractional_odd_spacing | fractional_even_spacing), CAPTURE.
-#include "common/frame.glsl"
-#include "common/bspline.glsl"
-#include "common/gregory.glsl"
+#include "frame.glsl"
+#include "bspline.glsl"
+#include "watertight.glsl"
 #ifdef CAPTURE
-#include "common/capture.glsl"
+#include "capture.glsl"
 #endif
 
 #ifndef SPACING
@@ -29,7 +29,7 @@ layout(location = 2) flat out uint t_class;
 
 /// Limit point and normal on patch edge e (0: v=0, 1: u=1, 2: v=1, 3: u=0) at local parameter x,
 /// computed from data and in an order that do not depend on which of the two patches (B-spline
-/// or Gregory) evaluates it: common/gregory.glsl grid_edge_rows in the canonical frame.
+/// or Gregory) evaluates it: grid_edge_rows (common/watertight.glsl) in the canonical frame.
 void edge_point(uint flags, int e, float x, out vec3 pos, out vec3 nrm) {
     bool along_u = (e == 0 || e == 2);
     int off = (e == 1 || e == 2) ? 1 : 0;

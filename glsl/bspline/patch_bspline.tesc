@@ -1,11 +1,11 @@
 #version 450
-// Regular bicubic B-spline patch (16 control vertices, api.md RegularPatch layout cvs[4*j + i]).
+// Regular bicubic B-spline patch (16 control vertices cvs[4*j + i], as patch::RegularPatch).
 // Mirrors phantom points (columns first, then rows: 2a - b), writes the mirrored B-spline points
 // for the TES's shared-edge evaluation and the Bezier points for the interior, and sets the
-// tessellation levels from data the neighbouring patch shares (tess_factors.glsl).
-#include "common/frame.glsl"
-#include "common/bspline.glsl"
-#include "common/tess_factors.glsl"
+// tessellation levels from data the neighbouring patch shares (common/tess_factors.glsl).
+#include "frame.glsl"
+#include "bspline.glsl"
+#include "tess_factors.glsl"
 
 layout(vertices = 16) out;
 layout(location = 0) in vec3 v_pos[];

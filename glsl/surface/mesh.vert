@@ -1,7 +1,7 @@
 #version 450
 // Triangles evaluated on the CPU (faces without a GPU patch scheme yet): world position, normal
 // and colour class per vertex.
-#include "common/frame.glsl"
+#include "frame.glsl"
 layout(location = 0) in vec3 in_pos;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in uint in_class;
