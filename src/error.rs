@@ -3,6 +3,10 @@
 
 use thiserror::Error;
 
+mod device;
+
+pub use device::{DeviceReport, GpuError, VkResultCode};
+
 /// Result alias used throughout the crate.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
@@ -166,7 +170,7 @@ pub enum Error {
         /// The operating system's message.
         message: String,
     },
-    /// Vulkan / device failure (see [`crate::gpu::GpuError`]).
+    /// Vulkan / device failure (see [`GpuError`]).
     #[error(transparent)]
-    Gpu(#[from] crate::gpu::GpuError),
+    Gpu(#[from] GpuError),
 }

@@ -1,5 +1,6 @@
-//! The binary's logger: library diagnostics (`log`) to stderr, `warning:`/`note:` prefixed,
-//! filtered by `-v` / `--quiet`.
+//! The binary's logger: the library's diagnostics (`log`: refusals, clamped settings, Vulkan
+//! validation messages) to stderr with an `error:`/`warning:`/`note:` prefix, filtered by `-v` /
+//! `--quiet`. The library itself never prints.
 
 use log::{Level, LevelFilter, Log, Metadata, Record};
 

@@ -115,14 +115,11 @@ pub fn context(validation: bool) -> Result<Context> {
     })
 }
 
-/// Fails if the validation layer reported errors, printing them.
+/// Fails if the validation layer reported errors (each was logged as it came).
 pub fn check_validation(ctx: &Context) -> Result<()> {
     let n = ctx.validation_errors();
     if n == 0 {
         return Ok(());
-    }
-    for m in ctx.validation_messages() {
-        log::error!("validation: {m}");
     }
     Err(Error::Invalid(format!(
         "the Vulkan validation layer reported {n} error(s)"

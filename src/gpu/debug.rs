@@ -1,4 +1,6 @@
-//! Debug-utils messenger: counts validation errors / warnings and keeps the messages.
+//! Debug-utils messenger: counts validation errors / warnings, keeps the messages (what
+//! [`super::Context::validation_messages`] returns) and forwards each one to the `log` crate
+//! (`error` / `warn` level); the library never prints.
 
 use std::ffi::{c_void, CStr};
 use std::sync::Mutex;
@@ -65,7 +67,12 @@ unsafe extern "system" fn callback(
     } else {
         ""
     };
-    eprintln!("[vulkan {tag}{kind}] {text}");
+    let level = if is_error {
+        log::Level::Error
+    } else {
+        log::Level::Warn
+    };
+    log::log!(level, "[vulkan {tag}{kind}] {text}");
     if let Ok(mut l) = log.lock() {
         if is_error {
             l.errors += 1;

@@ -25,7 +25,7 @@ pub use draw::{
     max_patches_per_draw, patch_draw_chunks, MAX_INDICES_PER_PATCH_DRAW,
     MAX_VERTICES_PER_PATCH_DRAW,
 };
-pub use error::{DeviceReport, GpuError};
+pub use error::{DeviceReport, GpuError, VkResultCode};
 pub use memory::{as_bytes, from_bytes, Buffer, Image, ImageDesc, MemoryLocation, Pod};
 pub use pipeline::{
     ComputePipelineDesc, DescriptorBinding, DescriptorKind, GraphicsPipelineDesc, Pipeline,

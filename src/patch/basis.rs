@@ -1,37 +1,13 @@
 //! Cubic basis functions shared by the patch schemes.
 //!
-//! Uniform cubic B-spline basis (de Boor; the Catmull-Clark regular case, Köbler 2013 §2.1)
-//! and cubic Bernstein basis, each with first derivatives, and the B-spline to Bézier change
-//! of basis.
+//! Uniform cubic B-spline basis (de Boor; the Catmull-Clark regular case, Köbler 2013 §2.1,
+//! defined in [`crate::subdiv::bspline`] and re-exported here) and cubic Bernstein basis, each
+//! with first derivatives, the bicubic tensor evaluation, and the B-spline to Bézier change of
+//! basis.
 
 use glam::DVec3;
 
-/// Uniform cubic B-spline basis values `B0..B3` at `t` in `[0, 1]`.
-///
-/// `B0 = (1-t)^3/6`, `B1 = (3t^3 - 6t^2 + 4)/6`, `B2 = (-3t^3 + 3t^2 + 3t + 1)/6`, `B3 = t^3/6`.
-pub fn bspline(t: f64) -> [f64; 4] {
-    let s = 1.0 - t;
-    let t2 = t * t;
-    let t3 = t2 * t;
-    [
-        s * s * s / 6.0,
-        (3.0 * t3 - 6.0 * t2 + 4.0) / 6.0,
-        (-3.0 * t3 + 3.0 * t2 + 3.0 * t + 1.0) / 6.0,
-        t3 / 6.0,
-    ]
-}
-
-/// First derivatives of [`bspline`] with respect to `t`.
-pub fn bspline_deriv(t: f64) -> [f64; 4] {
-    let s = 1.0 - t;
-    let t2 = t * t;
-    [
-        -0.5 * s * s,
-        1.5 * t2 - 2.0 * t,
-        -1.5 * t2 + t + 0.5,
-        0.5 * t2,
-    ]
-}
+pub use crate::subdiv::bspline::{bspline, bspline_deriv, eval_tensor};
 
 /// Cubic Bernstein basis values at `t`.
 pub fn bernstein(t: f64) -> [f64; 4] {
@@ -78,31 +54,6 @@ pub fn bspline_to_bezier(cvs: &[DVec3; 16]) -> [DVec3; 16] {
         }
     }
     out
-}
-
-/// Evaluates a bicubic tensor patch given basis values in u and v: returns `(P, dP/du, dP/dv)`.
-pub fn eval_tensor(
-    cvs: &[DVec3; 16],
-    bu: &[f64; 4],
-    du: &[f64; 4],
-    bv: &[f64; 4],
-    dv: &[f64; 4],
-) -> (DVec3, DVec3, DVec3) {
-    let mut p = DVec3::ZERO;
-    let mut pu = DVec3::ZERO;
-    let mut pv = DVec3::ZERO;
-    for j in 0..4 {
-        let mut row = DVec3::ZERO;
-        let mut row_u = DVec3::ZERO;
-        for i in 0..4 {
-            row += bu[i] * cvs[4 * j + i];
-            row_u += du[i] * cvs[4 * j + i];
-        }
-        p += bv[j] * row;
-        pu += bv[j] * row_u;
-        pv += dv[j] * row;
-    }
-    (p, pu, pv)
 }
 
 #[cfg(test)]

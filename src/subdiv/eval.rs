@@ -15,38 +15,13 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
+use super::bspline::{eval_bspline, RegularPatch};
 use super::limit;
 use super::Level;
 use crate::mesh::ControlMesh;
-use crate::patch::regular::{eval_bspline, RegularPatch};
 use crate::{Error, Result};
 
-/// A point of the limit surface with its partial derivatives and unit normal.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LimitSample {
-    /// Limit position.
-    pub position: DVec3,
-    /// dP/du. At an extraordinary vertex (where the parametric derivative degenerates) a
-    /// tangent along the face's u edge direction, arbitrarily scaled.
-    pub du: DVec3,
-    /// dP/dv (same caveat as `du`).
-    pub dv: DVec3,
-    /// `normalize(du x dv)`: outward for counter-clockwise faces.
-    pub normal: DVec3,
-}
-
-impl LimitSample {
-    /// Builds a sample from position and partials; the normal is `normalize(du x dv)` (zero if
-    /// the partials are parallel).
-    pub fn new(position: DVec3, du: DVec3, dv: DVec3) -> LimitSample {
-        LimitSample {
-            position,
-            du,
-            dv,
-            normal: du.cross(dv).normalize_or_zero(),
-        }
-    }
-}
+pub use super::bspline::LimitSample;
 
 /// One sample of [`LimitEvaluator::eval_grid`].
 #[derive(Debug, Clone, Copy, PartialEq)]

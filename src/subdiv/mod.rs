@@ -1,8 +1,10 @@
-//! Catmull-Clark subdivision: rules, refinement, limit masks, exact evaluation, stencil tables.
+//! Catmull-Clark subdivision: rules, refinement, limit masks, regular B-spline patches, exact
+//! evaluation, stencil tables.
 //!
 //! [`Level`] is the unit of refinement; [`Level::refine`] performs one uniform step and returns
 //! the child level with its [`SparseMatrix`]; [`StencilTable`] composes those matrices.
 
+pub mod bspline;
 pub mod eval;
 mod level;
 pub mod limit;

@@ -1,0 +1,417 @@
+//! Bicubic B-spline patches: the Catmull-Clark limit surface of a (boundary-)regular quad
+//! (Köbler 2013 §3.1), including quads next to boundaries and infinitely sharp creases, which use
+//! mirrored phantom control points. The uniform cubic B-spline basis (de Boor; Köbler 2013 §2.1)
+//! and [`LimitSample`], the result type of every limit evaluation, live here too: exact
+//! evaluation ([`super::eval`]) is built on them, and the patch schemes ([`crate::patch`]) build
+//! on this module, never the other way round.
+
+use glam::DVec3;
+
+use crate::mesh::INFINITE_SHARPNESS;
+use crate::topology::Topology;
+
+/// A point of the limit surface with its partial derivatives and unit normal.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LimitSample {
+    /// Limit position.
+    pub position: DVec3,
+    /// dP/du. At an extraordinary vertex (where the parametric derivative degenerates) a
+    /// tangent along the face's u edge direction, arbitrarily scaled.
+    pub du: DVec3,
+    /// dP/dv (same caveat as `du`).
+    pub dv: DVec3,
+    /// `normalize(du x dv)`: outward for counter-clockwise faces.
+    pub normal: DVec3,
+}
+
+impl LimitSample {
+    /// Builds a sample from position and partials; the normal is `normalize(du x dv)` (zero if
+    /// the partials are parallel).
+    pub fn new(position: DVec3, du: DVec3, dv: DVec3) -> LimitSample {
+        LimitSample {
+            position,
+            du,
+            dv,
+            normal: du.cross(dv).normalize_or_zero(),
+        }
+    }
+}
+
+/// The bicubic B-spline patch of a (boundary-)regular quad.
+///
+/// `cvs[4 * j + i]`: `i` along u, `j` along v; the face corners 0, 1, 2, 3 are `cvs[5]`,
+/// `cvs[6]`, `cvs[10]`, `cvs[9]`, so patch `(u, v)` equals face `(u, v)`.
+/// `boundary_mask` bit `e` is set when patch edge `e` lies on a boundary or infinitely sharp
+/// crease: bit 0 = `v = 0` side (row 0 phantom), bit 1 = `u = 1` (column 3 phantom), bit 2 =
+/// `v = 1` (row 3 phantom), bit 3 = `u = 0` (column 0 phantom). Phantom entries hold a valid
+/// vertex index and are ignored; [`RegularPatch::control_points`] mirrors them: columns first
+/// (`col0 = 2 col1 - col2`, `col3 = 2 col2 - col1`), then rows (`row0 = 2 row1 - row2`,
+/// `row3 = 2 row2 - row1`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RegularPatch {
+    /// The face this patch covers.
+    pub face: u32,
+    /// Control vertex indices (see the type docs).
+    pub cvs: [u32; 16],
+    /// Phantom sides (see the type docs).
+    pub boundary_mask: u8,
+}
+
+/// What a face corner looks like for the regular-patch test.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum CornerKind {
+    /// Interior, valence 4, all quads, no sharpness.
+    Smooth,
+    /// Crease rule, the face's sector between the two sharp edges has 2 faces.
+    Crease,
+    /// Corner rule, the face's sector has 1 face.
+    Corner,
+    /// Anything else.
+    Irregular,
+}
+
+fn is_inf(s: f32) -> bool {
+    s >= INFINITE_SHARPNESS
+}
+
+fn is_semi(s: f32) -> bool {
+    s > 0.0 && s < INFINITE_SHARPNESS
+}
+
+/// Classifies vertex `v` as seen from face `f` (one of its faces).
+fn corner_kind(topo: &Topology, v: u32, f: u32) -> CornerKind {
+    let faces = topo.vertex_faces(v);
+    let edges = topo.vertex_edges(v);
+    let vs = topo.vertex_sharpness(v);
+    if is_semi(vs) || faces.iter().any(|&g| topo.face_size(g) != 4) {
+        return CornerKind::Irregular;
+    }
+    let mut sharp = 0;
+    for &e in edges {
+        let s = topo.edge_sharpness(e);
+        if is_semi(s) {
+            return CornerKind::Irregular;
+        }
+        if is_inf(s) {
+            sharp += 1;
+        }
+    }
+    let boundary = topo.is_boundary_vertex(v);
+    if sharp == 0 && !is_inf(vs) {
+        return if !boundary && faces.len() == 4 && edges.len() == 4 {
+            CornerKind::Smooth
+        } else {
+            CornerKind::Irregular
+        };
+    }
+    let Some(i) = faces.iter().position(|&g| g == f) else {
+        return CornerKind::Irregular;
+    };
+    // Sector size around face i: walk both ways until a sharp edge.
+    let nf = faces.len();
+    let ne = edges.len();
+    let mut size = 1;
+    let mut j = i;
+    loop {
+        let e = edges[(j + 1) % ne];
+        if is_inf(topo.edge_sharpness(e)) || size > nf {
+            break;
+        }
+        j = (j + 1) % nf;
+        size += 1;
+    }
+    let mut j = i;
+    loop {
+        let e = edges[j];
+        if is_inf(topo.edge_sharpness(e)) || size > nf {
+            break;
+        }
+        j = (j + nf - 1) % nf;
+        size += 1;
+    }
+    let corner_rule = is_inf(vs) || sharp > 2;
+    match (sharp, corner_rule, size) {
+        (2, false, 2) => CornerKind::Crease,
+        (_, true, 1) if sharp >= 2 => CornerKind::Corner,
+        _ => CornerKind::Irregular,
+    }
+}
+
+/// Grid position `(i, j)` of face corner `k`.
+const CORNER_POS: [(i32, i32); 4] = [(1, 1), (2, 1), (2, 2), (1, 2)];
+/// Outward grid direction of face edge `k`.
+const OUT: [(i32, i32); 4] = [(0, -1), (1, 0), (0, 1), (-1, 0)];
+
+fn slot(p: (i32, i32)) -> usize {
+    (4 * p.1 + p.0) as usize
+}
+
+/// The neighbour across the edge that quad `f` runs `a -> b`: its index and its corners rotated
+/// to `[b, a, r2, r3]` (`r2` adjacent to `a`, `r3` adjacent to `b`).
+fn across(topo: &Topology, f: u32, a: u32, b: u32) -> Option<(u32, [u32; 4])> {
+    let e = topo.find_edge(a, b)?;
+    let g = *topo.edge_faces(e).iter().find(|&&g| g != f)?;
+    let gv = topo.face_vertices(g);
+    if gv.len() != 4 {
+        return None;
+    }
+    let s = gv.iter().position(|&x| x == b)?;
+    let r = [gv[s], gv[(s + 1) % 4], gv[(s + 2) % 4], gv[(s + 3) % 4]];
+    (r[1] == a).then_some((g, r))
+}
+
+impl RegularPatch {
+    /// Builds the patch of face `face`, or `None` when the face is not (boundary-)regular: every
+    /// corner must be smooth interior valence 4 (all quads, no sharpness), a crease vertex whose
+    /// sector containing the face has 2 faces, or a corner whose sector has 1 face, with no
+    /// semi-sharp edge or vertex at any corner. Holes and faces without limit surface give `None`.
+    pub fn gather(topo: &Topology, face: u32) -> Option<RegularPatch> {
+        if face as usize >= topo.face_count() || !topo.has_limit_surface(face) {
+            return None;
+        }
+        let fv = topo.face_vertices(face);
+        if fv.len() != 4 {
+            return None;
+        }
+        let c: [u32; 4] = [fv[0], fv[1], fv[2], fv[3]];
+        for &v in &c {
+            if corner_kind(topo, v, face) == CornerKind::Irregular {
+                return None;
+            }
+        }
+        let fe = topo.face_edges(face);
+        let mut mask = 0u8;
+        for (k, &e) in fe.iter().enumerate() {
+            if is_inf(topo.edge_sharpness(e)) {
+                mask |= 1 << k;
+            }
+        }
+        let mut cvs = [c[0]; 16];
+        for k in 0..4 {
+            cvs[slot(CORNER_POS[k])] = c[k];
+        }
+        let add = |p: (i32, i32), q: (i32, i32)| (p.0 + q.0, p.1 + q.1);
+        for k in 0..4 {
+            if mask & (1 << k) != 0 {
+                continue;
+            }
+            let (a, b) = (c[k], c[(k + 1) % 4]);
+            let (g, n) = across(topo, face, a, b)?;
+            cvs[slot(add(CORNER_POS[k], OUT[k]))] = n[2];
+            cvs[slot(add(CORNER_POS[(k + 1) % 4], OUT[k]))] = n[3];
+            let prev = (k + 3) % 4;
+            if mask & (1 << prev) == 0 {
+                // Diagonal face at corner k: the neighbour of `n` across its edge c_k -> n[2].
+                let (_, d) = across(topo, g, c[k], n[2])?;
+                cvs[slot(add(add(CORNER_POS[k], OUT[k]), OUT[prev]))] = d[3];
+            }
+        }
+        Some(RegularPatch {
+            face,
+            cvs,
+            boundary_mask: mask,
+        })
+    }
+
+    /// The 16 control points with phantom points filled in by the mirror rule (type docs).
+    pub fn control_points(&self, positions: &[DVec3]) -> [DVec3; 16] {
+        let mut p = [DVec3::ZERO; 16];
+        for (k, &i) in self.cvs.iter().enumerate() {
+            p[k] = positions[i as usize];
+        }
+        let m = self.boundary_mask;
+        for j in 0..4 {
+            let r = 4 * j;
+            if m & 8 != 0 {
+                p[r] = 2.0 * p[r + 1] - p[r + 2];
+            }
+            if m & 2 != 0 {
+                p[r + 3] = 2.0 * p[r + 2] - p[r + 1];
+            }
+        }
+        for i in 0..4 {
+            if m & 1 != 0 {
+                p[i] = 2.0 * p[4 + i] - p[8 + i];
+            }
+            if m & 4 != 0 {
+                p[12 + i] = 2.0 * p[8 + i] - p[4 + i];
+            }
+        }
+        p
+    }
+
+    /// Vertex ids of the face corners (u,v) = (0,0), (1,0), (1,1), (0,1) (cvs 5, 6, 10, 9).
+    pub fn corners(&self) -> [u32; 4] {
+        [self.cvs[5], self.cvs[6], self.cvs[10], self.cvs[9]]
+    }
+
+    /// Limit positions of the four face corners ([`Self::eval`] at the domain corners).
+    pub fn corner_limits(&self, positions: &[DVec3]) -> [DVec3; 4] {
+        [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+            .map(|(u, v)| self.eval(positions, u, v).position)
+    }
+
+    /// Evaluates position, partial derivatives and unit normal at `(u, v)` in `[0, 1]^2`.
+    pub fn eval(&self, positions: &[DVec3], u: f64, v: f64) -> LimitSample {
+        let p = self.control_points(positions);
+        eval_bspline(&p, u, v)
+    }
+}
+
+/// Evaluates a bicubic B-spline patch given its 16 control points.
+pub fn eval_bspline(p: &[DVec3; 16], u: f64, v: f64) -> LimitSample {
+    let (pos, du, dv) = eval_tensor(
+        p,
+        &bspline(u),
+        &bspline_deriv(u),
+        &bspline(v),
+        &bspline_deriv(v),
+    );
+    LimitSample::new(pos, du, dv)
+}
+
+/// Uniform cubic B-spline basis values `B0..B3` at `t` in `[0, 1]`.
+///
+/// `B0 = (1-t)^3/6`, `B1 = (3t^3 - 6t^2 + 4)/6`, `B2 = (-3t^3 + 3t^2 + 3t + 1)/6`, `B3 = t^3/6`.
+pub fn bspline(t: f64) -> [f64; 4] {
+    let s = 1.0 - t;
+    let t2 = t * t;
+    let t3 = t2 * t;
+    [
+        s * s * s / 6.0,
+        (3.0 * t3 - 6.0 * t2 + 4.0) / 6.0,
+        (-3.0 * t3 + 3.0 * t2 + 3.0 * t + 1.0) / 6.0,
+        t3 / 6.0,
+    ]
+}
+
+/// First derivatives of [`bspline`] with respect to `t`.
+pub fn bspline_deriv(t: f64) -> [f64; 4] {
+    let s = 1.0 - t;
+    let t2 = t * t;
+    [
+        -0.5 * s * s,
+        1.5 * t2 - 2.0 * t,
+        -1.5 * t2 + t + 0.5,
+        0.5 * t2,
+    ]
+}
+
+/// Evaluates a bicubic tensor patch given basis values in u and v: returns `(P, dP/du, dP/dv)`.
+pub fn eval_tensor(
+    cvs: &[DVec3; 16],
+    bu: &[f64; 4],
+    du: &[f64; 4],
+    bv: &[f64; 4],
+    dv: &[f64; 4],
+) -> (DVec3, DVec3, DVec3) {
+    let mut p = DVec3::ZERO;
+    let mut pu = DVec3::ZERO;
+    let mut pv = DVec3::ZERO;
+    for j in 0..4 {
+        let mut row = DVec3::ZERO;
+        let mut row_u = DVec3::ZERO;
+        for i in 0..4 {
+            row += bu[i] * cvs[4 * j + i];
+            row_u += du[i] * cvs[4 * j + i];
+        }
+        p += bv[j] * row;
+        pu += bv[j] * row_u;
+        pv += dv[j] * row;
+    }
+    (p, pu, pv)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{ControlMeshDesc, Crease};
+    use crate::ControlMesh;
+
+    /// A 4 x 4 quad grid; vertex (i, j) has index 5 j + i.
+    fn grid(creases: Vec<Crease>) -> Topology {
+        let mut d = ControlMeshDesc::default();
+        for j in 0..5 {
+            for i in 0..5 {
+                d.positions.push(DVec3::new(i as f64, j as f64, 0.0));
+            }
+        }
+        for j in 0..4u32 {
+            for i in 0..4u32 {
+                let v = 5 * j + i;
+                d.face_sizes.push(4);
+                d.face_vertices.extend([v, v + 1, v + 6, v + 5]);
+            }
+        }
+        d.creases = creases;
+        Topology::new(&ControlMesh::new(d).unwrap()).unwrap()
+    }
+
+    #[test]
+    fn gathers_interior_boundary_and_corner_faces() {
+        let t = grid(Vec::new());
+        // Interior face 5 (corner vertex 6): the 4 x 4 block starting at vertex 0.
+        let p = RegularPatch::gather(&t, 5).unwrap();
+        assert_eq!(p.boundary_mask, 0);
+        let expect: Vec<u32> = (0..4)
+            .flat_map(|j| (0..4).map(move |i| 5 * j + i))
+            .collect();
+        assert_eq!(p.cvs.to_vec(), expect);
+        // Bottom edge face 1: row 0 phantom; its real rows start at vertex 0.
+        let p = RegularPatch::gather(&t, 1).unwrap();
+        assert_eq!(p.boundary_mask, 0b0001);
+        assert_eq!(&p.cvs[4..], &[0, 1, 2, 3, 5, 6, 7, 8, 10, 11, 12, 13]);
+        // Corner face 0: v = 0 and u = 0 sides phantom.
+        assert_eq!(RegularPatch::gather(&t, 0).unwrap().boundary_mask, 0b1001);
+        // Top-right corner face 15: u = 1 and v = 1 sides.
+        assert_eq!(RegularPatch::gather(&t, 15).unwrap().boundary_mask, 0b0110);
+    }
+
+    #[test]
+    fn creases_decide_regularity() {
+        // Infinitely sharp crease along the row j = 2 through the whole grid: faces below it
+        // get a phantom row on their v = 1 side.
+        let row = |s: f32| {
+            (0..4)
+                .map(|i| Crease {
+                    v0: 10 + i,
+                    v1: 11 + i,
+                    sharpness: s,
+                })
+                .collect()
+        };
+        let t = grid(row(10.0));
+        assert_eq!(RegularPatch::gather(&t, 5).unwrap().boundary_mask, 0b0100);
+        assert_eq!(RegularPatch::gather(&t, 9).unwrap().boundary_mask, 0b0001);
+        // Semi-sharp: no patch next to it.
+        let t = grid(row(2.5));
+        assert!(RegularPatch::gather(&t, 5).is_none());
+        assert!(RegularPatch::gather(&t, 1).is_some());
+        // A dart (one sharp edge ending inside) makes its end vertex irregular.
+        let t = grid(vec![Crease {
+            v0: 11,
+            v1: 12,
+            sharpness: 10.0,
+        }]);
+        assert!(RegularPatch::gather(&t, 5).is_none());
+        assert!(RegularPatch::gather(&t, 0).is_some());
+    }
+
+    #[test]
+    fn phantoms_mirror_columns_then_rows() {
+        let t = grid(Vec::new());
+        let pos: Vec<DVec3> = (0..25)
+            .map(|k| DVec3::new((k % 5) as f64, (k / 5) as f64, ((k * 7) % 5) as f64))
+            .collect();
+        let p = RegularPatch::gather(&t, 0).unwrap();
+        let c = p.control_points(&pos);
+        let at = |i: usize, j: usize| c[4 * j + i];
+        assert_eq!(at(0, 1), 2.0 * at(1, 1) - at(2, 1));
+        assert_eq!(at(1, 0), 2.0 * at(1, 1) - at(1, 2));
+        // The corner phantom mirrors the mirrored column.
+        assert_eq!(at(0, 0), 2.0 * at(0, 1) - at(0, 2));
+        // The corner of the patch interpolates the mesh corner (corner rule).
+        let s = p.eval(&pos, 0.0, 0.0);
+        assert!((s.position - pos[0]).length() < 1e-12);
+    }
+}
