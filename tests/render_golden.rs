@@ -1,11 +1,11 @@
 //! Golden images: renders several meshes and modes offscreen and compares them with the PNGs in
-//! `tests/golden/` (tests/common/golden.rs: threshold, failure images,
-//! `TESSERA_UPDATE_GOLDEN=1`).
+//! `tests/golden/` by FLIP (tests/common/golden.rs: thresholds per golden, failure images,
+//! `TESSERA_UPDATE_GOLDEN=1`); and a wrong render is rejected.
 
 mod common;
 
 use common::capture::{image, offscreen, uniform};
-use common::golden::check_golden;
+use common::golden::{check_golden, verify};
 use common::gpu::{assert_validation_clean, context};
 use common::surfaces::{open_grid, torus};
 use image::RgbaImage;
@@ -66,6 +66,55 @@ fn golden_synthetic_regular() {
         "open_grid_adaptive_wireframe",
         &render(&ctx, &g, adaptive, cam),
     );
+    assert_validation_clean(&ctx);
+}
+
+/// The comparison rejects wrong renders of `torus_patch_type`: another camera, the neutral
+/// material instead of the patch-type colours, and (subtler: only the facets change) tessellation
+/// level 4 instead of 6. The failure names the actual render and the FLIP map, both written.
+#[test]
+fn golden_rejects_wrong_renders() {
+    let Some(ctx) = context() else { return };
+    let turned = CameraSpec::Orbit {
+        azimuth_deg: 5.0,
+        elevation_deg: 30.0,
+        distance: 9.0,
+    };
+    for (stem, wrong) in [
+        (
+            "perturbed_camera",
+            torus_shaded(&ctx, 6.0, ColorBy::PatchType, turned),
+        ),
+        (
+            "perturbed_colouring",
+            torus_shaded(&ctx, 6.0, ColorBy::None, CameraSpec::Auto),
+        ),
+        (
+            "perturbed_level4",
+            torus_shaded(&ctx, 4.0, ColorBy::PatchType, CameraSpec::Auto),
+        ),
+    ] {
+        let written = [".actual.png", ".flip.png"]
+            .map(|ext| common::out_dir("golden-failures").join(format!("{stem}{ext}")));
+        for path in &written {
+            let _ = std::fs::remove_file(path);
+        }
+        let msg = match verify("torus_patch_type", &wrong, stem) {
+            Ok(f) => panic!(
+                "{stem}: accepted (FLIP mean {}, percentile {})",
+                f.mean, f.at_percentile
+            ),
+            Err(msg) => msg,
+        };
+        for path in &written {
+            assert!(path.is_file(), "{} not written", path.display());
+            assert!(
+                msg.contains(&path.display().to_string()),
+                "{msg}\ndoes not name {}",
+                path.display()
+            );
+        }
+    }
     assert_validation_clean(&ctx);
 }
 
