@@ -2,20 +2,13 @@
 //! B-spline at valence 4, continuity of position and tangent plane across shared edges, and
 //! interpolation of the Catmull-Clark limit position at corners.
 
+mod common;
+
+use common::reference::{assert_meet_on_edge, bspline_basis};
 use glam::DVec3;
 use tessera::mesh::{ControlMesh, ControlMeshDesc};
-use tessera::patch::gregory::{gregory_patch, gregory_vertices, GregoryPatch, PatchPoint};
+use tessera::patch::gregory::{gregory_patch, gregory_vertices, GregoryPatch};
 use tessera::topology::Topology;
-
-/// Uniform cubic B-spline basis written out independently of the crate's basis module.
-fn bspline_basis(t: f64) -> [f64; 4] {
-    [
-        (1.0 - t).powi(3) / 6.0,
-        (3.0 * t.powi(3) - 6.0 * t * t + 4.0) / 6.0,
-        (-3.0 * t.powi(3) + 3.0 * t * t + 3.0 * t + 1.0) / 6.0,
-        t.powi(3) / 6.0,
-    ]
-}
 
 /// A torus grid of `n x m` quads (every vertex valence 4) with deterministic bumps.
 fn torus(n: usize, m: usize) -> (ControlMesh, impl Fn(usize, usize) -> u32) {
@@ -85,38 +78,6 @@ fn valence_four_reproduces_the_bicubic_bspline() {
     }
 }
 
-/// Point `t` along edge `k` of a quad (from corner k to corner k+1) in face (u, v).
-fn quad_edge_uv(k: usize, t: f64) -> (f64, f64) {
-    match k {
-        0 => (t, 0.0),
-        1 => (1.0, t),
-        2 => (1.0 - t, 1.0),
-        _ => (0.0, 1.0 - t),
-    }
-}
-
-/// Point `t` along edge `k` of a triangle in the patch's (s, t) coordinates.
-fn tri_edge_st(k: usize, t: f64) -> (f64, f64) {
-    match k {
-        0 => (t, 0.0),
-        1 => (1.0 - t, t),
-        _ => (0.0, 1.0 - t),
-    }
-}
-
-fn eval_on_edge(p: &GregoryPatch, k: usize, t: f64) -> PatchPoint {
-    match p {
-        GregoryPatch::Quad(q) => {
-            let (u, v) = quad_edge_uv(k, t);
-            q.eval(u, v)
-        }
-        GregoryPatch::Triangle(tri) => {
-            let (s, r) = tri_edge_st(k, t);
-            tri.eval(s, r)
-        }
-    }
-}
-
 /// Checks position and tangent-plane continuity along every edge shared by two patches.
 fn check_continuity(mesh: &ControlMesh) -> usize {
     let topo = Topology::new(mesh).unwrap();
@@ -132,16 +93,12 @@ fn check_continuity(mesh: &ControlMesh) -> usize {
         for s in 1..8 {
             let t = s as f64 / 8.0;
             // Face 0 runs along the edge as its edge k0 at t; face 1 runs the other way.
-            let a = eval_on_edge(&patches[faces[0] as usize], locals[0] as usize, t);
-            let b = eval_on_edge(&patches[faces[1] as usize], locals[1] as usize, 1.0 - t);
-            assert!(
-                (a.position - b.position).length() < 1e-12,
-                "edge {e} at t={t}: positions differ"
-            );
-            let angle = a.normal().angle_between(b.normal());
-            assert!(
-                angle < 1e-7,
-                "edge {e} at t={t}: normals differ by {angle} rad"
+            assert_meet_on_edge(
+                e,
+                (&patches[faces[0] as usize], locals[0] as usize),
+                (&patches[faces[1] as usize], locals[1] as usize),
+                t,
+                true,
             );
             checked += 1;
         }

@@ -1,16 +1,10 @@
 //! The accuracy measurement (`patch::gregory::accuracy`): exact patches measure as exact, the
 //! closest-point distance never exceeds the equal-(u,v) error, and the figures are finite.
 
-use tessera::mesh::{ControlMesh, ObjOptions};
-use tessera::patch::gregory::accuracy::{measure, AccuracyOptions};
+mod common;
 
-fn osd(name: &str) -> ControlMesh {
-    let path = format!(
-        "{}/../shared/meshes/osd/{name}.obj",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    ControlMesh::from_obj_file(path, &ObjOptions::default()).unwrap()
-}
+use common::meshes::osd;
+use tessera::patch::gregory::accuracy::{measure, AccuracyOptions};
 
 #[test]
 fn regular_faces_measure_as_exact() {

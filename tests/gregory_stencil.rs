@@ -2,21 +2,14 @@
 //! construction, shared points are bitwise equal in both neighbours (§4.5), too-large rings are
 //! refused by name.
 
+mod common;
+
+use common::meshes::mesh as load;
 use glam::DVec3;
-use tessera::mesh::{ControlMesh, ObjOptions};
+use tessera::mesh::ControlMesh;
 use tessera::patch::gregory::stencil::{gregory_stencil, NoStencil, StencilTable, MAX_RING};
 use tessera::patch::gregory::{gregory_patch_at, GregoryPatch};
 use tessera::topology::Topology;
-
-const OSD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd");
-
-fn load(spec: &str) -> ControlMesh {
-    if spec.starts_with("embedded:") {
-        tessera::assets::load_mesh(spec, &ObjOptions::default()).unwrap()
-    } else {
-        ControlMesh::from_obj_file(format!("{OSD}/{spec}.obj"), &ObjOptions::default()).unwrap()
-    }
-}
 
 const MESHES: [&str; 12] = [
     "catmark_cube",

@@ -3,9 +3,11 @@
 //! vertex shader and TCS will) reproduces the library's patches. It doubles as the porting
 //! template for the GLSL helper.
 
+mod common;
+
+use common::meshes::mesh as load;
 use glam::DVec3;
 use std::f64::consts::PI;
-use tessera::mesh::{ControlMesh, ObjOptions};
 use tessera::patch::gregory::table::{
     GregoryVertexTable, KIND_CORNER, KIND_CREASE, KIND_NONE, KIND_SMOOTH,
 };
@@ -194,18 +196,6 @@ fn tcs_stage(
         rows.extend([o.p, ep, em, fp, fm]);
     }
     rows
-}
-
-fn load(spec: &str) -> ControlMesh {
-    if spec.starts_with("embedded:") {
-        tessera::assets::load_mesh(spec, &ObjOptions::default()).unwrap()
-    } else {
-        let path = format!(
-            "{}/../shared/meshes/osd/{spec}.obj",
-            env!("CARGO_MANIFEST_DIR")
-        );
-        ControlMesh::from_obj_file(path, &ObjOptions::default()).unwrap()
-    }
 }
 
 #[test]

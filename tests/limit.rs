@@ -1,10 +1,12 @@
 //! Independent checks of the limit masks and the exact limit evaluator: hand-evaluated
 //! B-splines, the sharpness rules' linearity, symmetry, and convergence of uniform refinement.
 
+mod common;
+
+use common::meshes::{corpus_options, osd, osd_names, osd_path};
+use common::reference::bspline_basis;
 use glam::DVec3;
-use tessera::mesh::{
-    BoundaryInterpolation, ControlMeshDesc, Corner, Crease, ObjOptions, SchemeOptions,
-};
+use tessera::mesh::{BoundaryInterpolation, ControlMeshDesc, Corner, Crease, SchemeOptions};
 use tessera::subdiv::eval::LimitEvaluator;
 use tessera::subdiv::limit::{limit_normals, limit_positions, limit_stencil_tables};
 use tessera::subdiv::Level;
@@ -12,31 +14,16 @@ use tessera::{ControlMesh, Error};
 
 // ---------- helpers -------------------------------------------------------------------------
 
-/// Uniform cubic B-spline basis in matrix form `[t^3 t^2 t 1] M / 6` (written independently of
+/// The cubic B-spline curve of `p` at `t` (basis written independently of
 /// `tessera::patch::basis`).
-fn hand_basis(t: f64) -> [f64; 4] {
-    const M: [[f64; 4]; 4] = [
-        [-1.0, 3.0, -3.0, 1.0],
-        [3.0, -6.0, 3.0, 0.0],
-        [-3.0, 0.0, 3.0, 0.0],
-        [1.0, 4.0, 1.0, 0.0],
-    ];
-    let p = [t * t * t, t * t, t, 1.0];
-    let mut b = [0.0; 4];
-    for (i, bi) in b.iter_mut().enumerate() {
-        *bi = (0..4).map(|r| p[r] * M[r][i]).sum::<f64>() / 6.0;
-    }
-    b
-}
-
 fn hand_curve(p: [DVec3; 4], t: f64) -> DVec3 {
-    let b = hand_basis(t);
+    let b = bspline_basis(t);
     (0..4).map(|i| b[i] * p[i]).sum()
 }
 
 fn hand_patch(p: &[[DVec3; 4]; 4], u: f64, v: f64) -> DVec3 {
-    let bu = hand_basis(u);
-    let bv = hand_basis(v);
+    let bu = bspline_basis(u);
+    let bv = bspline_basis(v);
     let mut s = DVec3::ZERO;
     for (j, row) in p.iter().enumerate() {
         for (i, x) in row.iter().enumerate() {
@@ -69,14 +56,6 @@ fn grid_desc(w: usize, h: usize, z: impl Fn(usize, usize) -> f64) -> ControlMesh
 fn bumpy(i: usize, j: usize) -> f64 {
     let (x, y) = (i as f64, j as f64);
     (0.7 * x).sin() + 0.5 * (1.3 * y).cos() + 0.1 * x * y
-}
-
-fn osd(name: &str) -> ControlMesh {
-    let path = format!(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/{}.obj"),
-        name
-    );
-    ControlMesh::from_obj_file(&path, &ObjOptions::default()).expect("mesh loads")
 }
 
 /// Uniform refinement `levels` times: every level (base first) and the last level's positions.
@@ -591,21 +570,10 @@ fn semi_sharp_and_corner_tags_converge() {
 
 #[test]
 fn every_osd_mesh_evaluates() {
-    let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd"));
-    let mut names: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "obj"))
-        .collect();
-    names.sort();
     let mut evaluated = 0;
     let mut skipped = Vec::new();
-    for path in names {
-        let name = path.file_stem().unwrap().to_string_lossy().to_string();
-        let options = ObjOptions {
-            left_handed: name == "catmark_lefthanded",
-        };
-        let mesh = match ControlMesh::from_obj_file(&path, &options) {
+    for name in osd_names() {
+        let mesh = match ControlMesh::from_obj_file(osd_path(&name), &corpus_options(&name)) {
             Ok(m) => m,
             Err(e) => {
                 // Only non-manifold files may be refused (`nonman_*` also holds faces that repeat a vertex).
@@ -852,20 +820,11 @@ fn evaluator_refuses_bad_queries() {
 #[test]
 fn command_line_writes_one_line_per_sample() {
     let bin = env!("CARGO_BIN_EXE_tessera");
-    let dir = std::env::temp_dir().join(format!("tessera-limit-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let out = dir.join("nonquads.txt");
+    let out = common::out_dir("limit").join("nonquads.txt");
     let status = std::process::Command::new(bin)
-        .args([
-            "limit",
-            concat!(
-                env!("CARGO_MANIFEST_DIR"),
-                "/../shared/meshes/osd/catmark_nonquads.obj"
-            ),
-            "--grid",
-            "3",
-            "--out",
-        ])
+        .arg("limit")
+        .arg(osd_path("catmark_nonquads"))
+        .args(["--grid", "3", "--out"])
         .arg(&out)
         .status()
         .unwrap();
@@ -914,15 +873,9 @@ fn command_line_writes_one_line_per_sample() {
     }
     // Hole faces print nothing.
     let output = std::process::Command::new(bin)
-        .args([
-            "limit",
-            concat!(
-                env!("CARGO_MANIFEST_DIR"),
-                "/../shared/meshes/osd/catmark_hole_test1.obj"
-            ),
-            "--grid",
-            "1",
-        ])
+        .arg("limit")
+        .arg(osd_path("catmark_hole_test1"))
+        .args(["--grid", "1"])
         .output()
         .unwrap();
     assert!(output.status.success());
@@ -931,16 +884,11 @@ fn command_line_writes_one_line_per_sample() {
     assert_eq!(text.lines().count(), 5 * 4);
     // Bad input: a non-zero exit with the typed error.
     let output = std::process::Command::new(bin)
-        .args([
-            "limit",
-            concat!(
-                env!("CARGO_MANIFEST_DIR"),
-                "/../shared/meshes/osd/catmark_fan.obj"
-            ),
-        ])
+        .arg("limit")
+        .arg(osd_path("catmark_fan"))
         .output()
         .unwrap();
     assert!(!output.status.success());
     assert!(String::from_utf8_lossy(&output.stderr).contains("non-manifold edge"));
-    std::fs::remove_dir_all(&dir).ok();
+    std::fs::remove_file(&out).ok();
 }

@@ -1,6 +1,9 @@
 //! Mesh input: validation errors (variant and named element), the OBJ reader with tags, its
 //! robustness against malformed files, and the OpenSubdiv regression corpus.
 
+mod common;
+
+use common::meshes::{corpus_options, osd_dir, osd_names, osd_path};
 use glam::DVec3;
 use tessera::error::TagKind;
 use tessera::mesh::{
@@ -628,7 +631,7 @@ fn malformed_files_give_typed_errors() {
     let junk: Vec<u8> = (0..2000u32)
         .map(|i| (i.wrapping_mul(2654435761) >> 13) as u8)
         .collect();
-    let path = std::env::temp_dir().join(format!("tessera_junk_{}.obj", std::process::id()));
+    let path = common::out_dir("mesh_input").join("junk.obj");
     std::fs::write(&path, &junk).unwrap();
     let r = ControlMesh::from_obj_file(&path, &ObjOptions::default());
     std::fs::remove_file(&path).ok();
@@ -656,10 +659,6 @@ fn ignored_statements_warn() {
 
 // ---------------------------------------------------------------------------------------------
 // The OpenSubdiv regression corpus
-
-fn osd_dir() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes/osd")
-}
 
 /// Files refused, and why. Derived from the files themselves, independently of this crate:
 /// SOURCE.md's non-manifold-edge column (edges used by > 2 faces), and a separate per-vertex
@@ -690,21 +689,11 @@ const REFUSED: &[(&str, &str)] = &[
 
 #[test]
 fn osd_corpus_loads_exactly_the_manifold_files() {
-    let mut names: Vec<String> = std::fs::read_dir(osd_dir())
-        .unwrap()
-        .filter_map(|e| {
-            let name = e.ok()?.file_name().into_string().ok()?;
-            name.strip_suffix(".obj").map(str::to_string)
-        })
-        .collect();
-    names.sort();
+    let names = osd_names();
     assert_eq!(names.len(), 82);
     let mut loaded = 0;
     for name in &names {
-        let options = ObjOptions {
-            left_handed: name == "catmark_lefthanded",
-        };
-        let result = ControlMesh::from_obj_file(osd_dir().join(format!("{name}.obj")), &options);
+        let result = ControlMesh::from_obj_file(osd_path(name), &corpus_options(name));
         match REFUSED.iter().find(|r| r.0 == name) {
             Some((_, why)) => {
                 let e = result.expect_err(name);
@@ -730,11 +719,7 @@ fn osd_corpus_loads_exactly_the_manifold_files() {
 #[test]
 fn osd_specific_files() {
     let load = |name: &str, left_handed: bool| {
-        ControlMesh::from_obj_file(
-            osd_dir().join(format!("{name}.obj")),
-            &ObjOptions { left_handed },
-        )
-        .unwrap()
+        ControlMesh::from_obj_file(osd_path(name), &ObjOptions { left_handed }).unwrap()
     };
     // Counts from SOURCE.md.
     let car = load("catmark_car", false);
@@ -878,7 +863,7 @@ fn load_mesh_spec() {
         load_mesh("embedded:teapot", &o),
         Err(Error::Invalid(_))
     ));
-    let car = osd_dir().join("catmark_cube.obj");
+    let car = osd_path("catmark_cube");
     assert_eq!(
         load_mesh(car.to_str().unwrap(), &o).unwrap().face_count(),
         6
@@ -934,12 +919,12 @@ fn info_on_the_embedded_default_mesh() {
 
 #[test]
 fn info_refuses_bad_input_with_the_typed_error() {
-    let fan = osd_dir().join("catmark_fan.obj");
+    let fan = osd_path("catmark_fan");
     let (ok, out, err) = run_info(&[fan.to_str().unwrap()]);
     assert!(!ok);
     assert!(out.is_empty());
     assert!(err.contains("non-manifold edge 7-8"), "{err}");
-    let path = std::env::temp_dir().join(format!("tessera_bad_{}.obj", std::process::id()));
+    let path = common::out_dir("mesh_input").join("bad.obj");
     std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n").unwrap();
     let (ok, _, err) = run_info(&[path.to_str().unwrap()]);
     std::fs::remove_file(&path).ok();

@@ -1,6 +1,9 @@
 //! Refinement checks against independent values: hand-computed B-spline masks, crease rules,
 //! counting identities and the OpenSubdiv regression meshes.
 
+mod common;
+
+use common::meshes::{corpus_options, osd, osd_names, osd_path};
 use glam::DVec3;
 use tessera::mesh::{
     BoundaryInterpolation, ControlMeshDesc, Crease, CreaseMethod, ObjOptions, INFINITE_SHARPNESS,
@@ -139,11 +142,7 @@ fn check_rings(t: &Topology) {
 
 #[test]
 fn cube_refines_with_consistent_counts() {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../shared/meshes/osd/catmark_cube.obj"
-    ))
-    .unwrap();
+    let text = std::fs::read_to_string(osd_path("catmark_cube")).unwrap();
     let mesh = ControlMesh::from_obj_str(&text, "cube", &ObjOptions::default()).unwrap();
     let mut level = Level::from_mesh(&mesh).unwrap();
     for _ in 0..3 {
@@ -188,20 +187,8 @@ const NON_MANIFOLD: &[&str] = &[
 
 fn osd_meshes() -> Vec<(String, ControlMesh)> {
     let mut out = Vec::new();
-    let mut names: Vec<_> =
-        std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd"))
-            .unwrap()
-            .filter_map(|e| e.ok())
-            .map(|e| e.path())
-            .filter(|p| p.extension().is_some_and(|x| x == "obj"))
-            .collect();
-    names.sort();
-    for path in names {
-        let name = path.file_stem().unwrap().to_string_lossy().to_string();
-        let opts = ObjOptions {
-            left_handed: name == "catmark_lefthanded",
-        };
-        match ControlMesh::from_obj_file(&path, &opts) {
+    for name in osd_names() {
+        match ControlMesh::from_obj_file(osd_path(&name), &corpus_options(&name)) {
             Ok(m) => out.push((name, m)),
             Err(e) => {
                 eprintln!("refused {name}: {e}");
@@ -254,11 +241,7 @@ fn closed_osd_meshes_have_the_euler_characteristic_of_their_genus() {
         ("catmark_pyramid", 2),
         ("catmark_torus", 0),
     ] {
-        let path = format!(
-            concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/{}.obj"),
-            name
-        );
-        let mesh = ControlMesh::from_obj_file(&path, &ObjOptions::default()).unwrap();
+        let mesh = osd(name);
         let t = Topology::new(&mesh).unwrap();
         assert!((0..t.edge_count() as u32).all(|e| !t.is_boundary_edge(e)));
         let e = t.vertex_count() as i64 + t.face_count() as i64 - chi;
@@ -572,11 +555,7 @@ fn check_extraction(mesh: &ControlMesh, seed: u32, rings: usize) -> usize {
 
 #[test]
 fn extraction_refines_like_the_whole_mesh_where_complete() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../shared/meshes/osd/catmark_chaikin1.obj"
-    );
-    let mesh = ControlMesh::from_obj_file(path, &ObjOptions::default()).unwrap();
+    let mesh = osd("catmark_chaikin1");
     let checked = check_extraction(&mesh, 3, 2);
     assert!(checked > 100, "only {checked} complete vertices");
 }
@@ -610,11 +589,7 @@ fn stencil_tables_match_direct_refinement() {
         "catmark_cubes_semisharp",
         "catmark_hole_test3",
     ] {
-        let path = format!(
-            concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/{}.obj"),
-            name
-        );
-        let mesh = ControlMesh::from_obj_file(&path, &ObjOptions::default()).unwrap();
+        let mesh = osd(name);
         let mut level = Level::from_mesh(&mesh).unwrap();
         let mut pos = mesh.positions().to_vec();
         for depth in 0..=3u32 {
@@ -638,11 +613,7 @@ fn stencil_tables_match_direct_refinement() {
 
 #[test]
 fn refined_level_round_trips_through_a_control_mesh() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../shared/meshes/osd/catmark_car.obj"
-    );
-    let mesh = ControlMesh::from_obj_file(path, &ObjOptions::default()).unwrap();
+    let mesh = osd("catmark_car");
     let level = Level::from_mesh(&mesh).unwrap();
     let (child, m) = level.refine();
     let pos = m.apply_vec(mesh.positions());
@@ -769,11 +740,7 @@ fn dart_ends_use_the_smooth_vertex_rule() {
 #[test]
 fn stencil_tables_take_appended_rows() {
     use tessera::subdiv::{SparseMatrix, StencilTable};
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../shared/meshes/osd/catmark_nonquads.obj"
-    );
-    let mesh = ControlMesh::from_obj_file(path, &ObjOptions::default()).unwrap();
+    let mesh = osd("catmark_nonquads");
     let mut table = StencilTable::refined(&mesh, 1).unwrap();
     let n = table.len();
     // A row over the level-1 vertices: the mean of child vertices 0 and 5.
@@ -791,11 +758,7 @@ fn stencil_tables_take_appended_rows() {
 #[test]
 fn face_vertices_only_last_level_matches_full_refinement() {
     for name in ["catmark_nonquads", "catmark_car", "catmark_hole_test2"] {
-        let path = format!(
-            concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/{}.obj"),
-            name
-        );
-        let mesh = ControlMesh::from_obj_file(&path, &ObjOptions::default()).unwrap();
+        let mesh = osd(name);
         let base = Level::from_mesh(&mesh).unwrap();
         let mut full = base.clone();
         for depth in 1..=3 {

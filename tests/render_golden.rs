@@ -1,98 +1,35 @@
 //! Golden images: renders several meshes and modes offscreen and compares them with the PNGs in
-//! `tests/golden/` (per-pixel tolerance + maximum fraction of differing pixels, see
-//! [`THRESHOLD`]). On mismatch the actual and difference images are written to
-//! `target/golden-failures/` and named in the failure. `TESSERA_UPDATE_GOLDEN=1` rewrites the
-//! goldens instead of comparing (look at them before committing).
+//! `tests/golden/` by FLIP (tests/common/golden.rs: thresholds per golden, failure images,
+//! `TESSERA_UPDATE_GOLDEN=1`); and a wrong render is rejected.
 
-mod render_common;
+mod common;
 
-use std::path::PathBuf;
-
+use common::capture::{image, offscreen, uniform};
+use common::golden::{check_golden, verify};
+use common::gpu::{assert_validation_clean, context};
+use common::surfaces::{open_grid, torus};
 use image::RgbaImage;
-use render_common::{assert_validation_clean, context, open_grid, torus};
 use tessera::gpu::Context;
 use tessera::render::{
-    compare_images, render_to_image, CameraSpec, ColorBy, CompareThreshold, OffscreenDesc,
-    RenderDesc, Spacing, SurfaceData, TessMode, TessSettings,
+    CameraSpec, ColorBy, OffscreenDesc, RenderDesc, Spacing, SurfaceData, TessMode, TessSettings,
 };
-
-/// A pixel differs when a channel differs by more than 32/255; at most 1% may differ
-/// (rasterisation differences along silhouettes between drivers).
-const THRESHOLD: CompareThreshold = CompareThreshold {
-    channel_tolerance: 32,
-    max_differing_fraction: 0.01,
-};
-
-const W: u32 = 256;
-const H: u32 = 192;
-
-fn golden_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden")
-}
-
-fn failure_dir() -> PathBuf {
-    // CARGO_TARGET_TMPDIR is <target>/tmp.
-    PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .parent()
-        .map(|p| p.join("golden-failures"))
-        .unwrap_or_else(|| PathBuf::from("target/golden-failures"))
-}
-
-/// Compares `actual` with `tests/golden/<name>.png` (or rewrites it).
-fn check_golden(name: &str, actual: &RgbaImage) {
-    let path = golden_dir().join(format!("{name}.png"));
-    if std::env::var("TESSERA_UPDATE_GOLDEN").as_deref() == Ok("1") {
-        std::fs::create_dir_all(golden_dir()).unwrap();
-        actual.save(&path).unwrap();
-        eprintln!("updated {}", path.display());
-        return;
-    }
-    let expected = match image::open(&path) {
-        Ok(i) => i.to_rgba8(),
-        Err(e) => panic!(
-            "golden {} unreadable ({e}); run with TESSERA_UPDATE_GOLDEN=1 to create it",
-            path.display()
-        ),
-    };
-    let report = compare_images(&expected, actual, &THRESHOLD).unwrap();
-    if !report.passes(&THRESHOLD) {
-        let dir = failure_dir();
-        std::fs::create_dir_all(&dir).unwrap();
-        let a = dir.join(format!("{name}.actual.png"));
-        let d = dir.join(format!("{name}.diff.png"));
-        actual.save(&a).unwrap();
-        report.diff_image.save(&d).unwrap();
-        panic!(
-            "golden {name}: {} of {} pixels ({:.3}%) differ by more than {} (max diff {}), allowed \
-             {:.3}%\n  expected: {}\n  actual:   {}\n  diff:     {}",
-            report.differing,
-            report.total,
-            100.0 * report.differing_fraction(),
-            THRESHOLD.channel_tolerance,
-            report.max_channel_diff,
-            100.0 * THRESHOLD.max_differing_fraction,
-            path.display(),
-            a.display(),
-            d.display()
-        );
-    }
-}
 
 fn render(ctx: &Context, s: &SurfaceData, r: RenderDesc, camera: CameraSpec) -> RgbaImage {
-    let desc = OffscreenDesc {
-        width: W,
-        height: H,
+    let off = OffscreenDesc {
         camera,
-        ..OffscreenDesc::default()
+        ..offscreen(256, 192)
     };
-    render_to_image(ctx, s, &r, &desc, false).unwrap().image
+    image(ctx, s, &r, &off)
 }
 
-fn level(level: f32) -> TessSettings {
-    TessSettings {
-        level,
-        ..TessSettings::default()
-    }
+/// The torus of `torus_patch_type` shaded at `level`, coloured by `color_by`.
+fn torus_shaded(ctx: &Context, level: f32, color_by: ColorBy, camera: CameraSpec) -> RgbaImage {
+    let shaded = RenderDesc {
+        tess: uniform(level),
+        color_by,
+        ..RenderDesc::default()
+    };
+    render(ctx, &torus(12, 8, 2.0, 0.7), shaded, camera)
 }
 
 #[test]
@@ -100,17 +37,12 @@ fn golden_synthetic_regular() {
     let Some(ctx) = context() else { return };
     let t = torus(12, 8, 2.0, 0.7);
     let g = open_grid(6, 5);
-    let shaded = RenderDesc {
-        tess: level(6.0),
-        color_by: ColorBy::PatchType,
-        ..RenderDesc::default()
-    };
     check_golden(
         "torus_patch_type",
-        &render(&ctx, &t, shaded, CameraSpec::Auto),
+        &torus_shaded(&ctx, 6.0, ColorBy::PatchType, CameraSpec::Auto),
     );
     let wire = RenderDesc {
-        tess: level(3.0),
+        tess: uniform(3.0),
         wireframe: true,
         ..RenderDesc::default()
     };
@@ -137,6 +69,55 @@ fn golden_synthetic_regular() {
     assert_validation_clean(&ctx);
 }
 
+/// The comparison rejects wrong renders of `torus_patch_type`: another camera, the neutral
+/// material instead of the patch-type colours, and (subtler: only the facets change) tessellation
+/// level 4 instead of 6. The failure names the actual render and the FLIP map, both written.
+#[test]
+fn golden_rejects_wrong_renders() {
+    let Some(ctx) = context() else { return };
+    let turned = CameraSpec::Orbit {
+        azimuth_deg: 5.0,
+        elevation_deg: 30.0,
+        distance: 9.0,
+    };
+    for (stem, wrong) in [
+        (
+            "perturbed_camera",
+            torus_shaded(&ctx, 6.0, ColorBy::PatchType, turned),
+        ),
+        (
+            "perturbed_colouring",
+            torus_shaded(&ctx, 6.0, ColorBy::None, CameraSpec::Auto),
+        ),
+        (
+            "perturbed_level4",
+            torus_shaded(&ctx, 4.0, ColorBy::PatchType, CameraSpec::Auto),
+        ),
+    ] {
+        let written = [".actual.png", ".flip.png"]
+            .map(|ext| common::out_dir("golden-failures").join(format!("{stem}{ext}")));
+        for path in &written {
+            let _ = std::fs::remove_file(path);
+        }
+        let msg = match verify("torus_patch_type", &wrong, stem) {
+            Ok(f) => panic!(
+                "{stem}: accepted (FLIP mean {}, percentile {})",
+                f.mean, f.at_percentile
+            ),
+            Err(msg) => msg,
+        };
+        for path in &written {
+            assert!(path.is_file(), "{} not written", path.display());
+            assert!(
+                msg.contains(&path.display().to_string()),
+                "{msg}\ndoes not name {}",
+                path.display()
+            );
+        }
+    }
+    assert_validation_clean(&ctx);
+}
+
 #[test]
 fn golden_embedded_meshes() {
     use tessera::assets::EmbeddedMesh;
@@ -144,41 +125,28 @@ fn golden_embedded_meshes() {
     let Some(ctx) = context() else { return };
     let load = |m: EmbeddedMesh, lvl: u32| surface_from_mesh(&m.load().unwrap(), lvl).unwrap();
     let shaded = |l: f32, color_by| RenderDesc {
-        tess: level(l),
+        tess: uniform(l),
         color_by,
         ..RenderDesc::default()
     };
     let mixed = load(EmbeddedMesh::Mixed, 6);
-    check_golden(
-        "mixed_patch_type",
-        &render(
-            &ctx,
-            &mixed,
-            shaded(6.0, ColorBy::PatchType),
-            CameraSpec::Auto,
-        ),
-    );
-    check_golden(
-        "open_shaded",
-        &render(
-            &ctx,
-            &load(EmbeddedMesh::Open, 6),
-            shaded(6.0, ColorBy::None),
-            CameraSpec::Auto,
-        ),
-    );
-    check_golden(
-        "creased_patch_type",
-        &render(
-            &ctx,
+    for (name, surface, color_by) in [
+        ("mixed_patch_type", &mixed, ColorBy::PatchType),
+        ("open_shaded", &load(EmbeddedMesh::Open, 6), ColorBy::None),
+        (
+            "creased_patch_type",
             &load(EmbeddedMesh::Creased, 6),
-            shaded(6.0, ColorBy::PatchType),
-            CameraSpec::Auto,
+            ColorBy::PatchType,
         ),
-    );
+    ] {
+        check_golden(
+            name,
+            &render(&ctx, surface, shaded(6.0, color_by), CameraSpec::Auto),
+        );
+    }
     let mixed4 = load(EmbeddedMesh::Mixed, 4);
     let wire = RenderDesc {
-        tess: level(4.0),
+        tess: uniform(4.0),
         wireframe: true,
         ..RenderDesc::default()
     };

@@ -2,28 +2,25 @@
 //! CPU construction and evaluation, bitwise watertight positions and normals along every shared
 //! Gregory/Gregory edge, validation-clean.
 
-mod render_common;
+mod common;
 
 use std::collections::{HashMap, HashSet};
 
+use common::capture::{
+    gregory_session_capture, image, offscreen, param_key, patch_type_image, uniform,
+};
+use common::golden::check_golden;
+use common::gpu::{assert_validation_clean, context};
+use common::meshes::{embedded, osd};
+use common::watertight::{boundary, point_bits, Boundary, EdgePoints};
 use glam::DVec3;
-use tessera::mesh::{ControlMesh, ControlMeshDesc, ObjOptions};
+use tessera::mesh::{ControlMesh, ControlMeshDesc};
 use tessera::patch::gregory::{gregory_patch_at, GregoryPatch};
-use tessera::render::session::{GregorySession, GregoryVariant, SessionOptions};
-use tessera::render::CaptureRecord;
+use tessera::render::session::GregoryVariant;
 use tessera::render::{
-    compare_images, render_to_image, surface_for_scheme, ColorBy, CompareThreshold, OffscreenDesc,
-    RenderDesc, Scheme, SchemeLimits, TessSettings,
+    surface_for_scheme, CaptureRecord, ColorBy, RenderDesc, Scheme, SchemeLimits, TessSettings,
 };
 use tessera::topology::Topology;
-
-fn osd(name: &str) -> ControlMesh {
-    let path = format!(
-        "{}/../shared/meshes/osd/{name}.obj",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    ControlMesh::from_obj_file(&path, &ObjOptions::default()).unwrap()
-}
 
 /// A closed mixed mesh: a triangular prism whose bottom is a fan of three triangles (valences
 /// 3 and 4 with triangles in the rings), written for this test.
@@ -58,6 +55,25 @@ struct Run {
     records: Vec<CaptureRecord>,
 }
 
+impl Run {
+    /// The capture of `mesh` with the faces the session drew as Gregory patches and `drawn`.
+    fn new(
+        mesh: &ControlMesh,
+        records: Vec<CaptureRecord>,
+        gregory: &[u32],
+        drawn: HashSet<u32>,
+    ) -> Run {
+        Run {
+            topo: Topology::new(mesh).unwrap(),
+            positions: mesh.positions().to_vec(),
+            diag: mesh.bbox_diagonal(),
+            gregory: gregory.iter().copied().collect(),
+            drawn,
+            records,
+        }
+    }
+}
+
 /// Draws the Gregory faces of `mesh` (with `variant`; plus its regular faces when
 /// `with_regular`) at uniform `level` and captures the TES output.
 fn run_with(
@@ -66,56 +82,24 @@ fn run_with(
     variant: GregoryVariant,
     with_regular: bool,
 ) -> Option<Run> {
-    let ctx = render_common::context()?;
-    let topo = Topology::new(mesh).unwrap();
+    let ctx = context()?;
+    let faces = Topology::new(mesh).unwrap().face_count();
     let desc = RenderDesc {
-        tess: TessSettings {
-            level,
-            ..TessSettings::default()
-        },
-        capture_capacity: Some(topo.face_count() as u32 * 400),
+        tess: uniform(level),
+        capture_capacity: Some(faces as u32 * 400),
         ..RenderDesc::default()
     };
-    let opts = SessionOptions {
-        variant,
-        with_regular,
-        width: 128,
-        height: 128,
-    };
-    let mut s = GregorySession::new(&ctx, mesh, &desc, &opts).unwrap();
-    s.frame().unwrap();
-    let records = s.capture().unwrap();
-    render_common::assert_validation_clean(&ctx);
-    let gregory: HashSet<u32> = s.gregory_faces().iter().copied().collect();
-    assert!(!gregory.is_empty());
-    let drawn: HashSet<u32> = records.iter().map(|r| r.face).collect();
-    assert!(gregory.is_subset(&drawn));
-    Some(Run {
-        topo,
-        positions: mesh.positions().to_vec(),
-        diag: mesh.bbox_diagonal(),
-        gregory,
-        drawn,
-        records,
-    })
+    let c = gregory_session_capture(&ctx, mesh, &desc, variant, with_regular, 128);
+    assert_validation_clean(&ctx);
+    let drawn: HashSet<u32> = c.records.iter().map(|r| r.face).collect();
+    let r = Run::new(mesh, c.records, &c.gregory, drawn);
+    assert!(!r.gregory.is_empty());
+    assert!(r.gregory.is_subset(&r.drawn));
+    Some(r)
 }
 
 fn run(mesh: &ControlMesh, level: f32) -> Option<Run> {
     run_with(mesh, level, GregoryVariant::Stencil, false)
-}
-
-/// Which face edge (corner k -> k+1) a captured point lies on, if any (corners excluded).
-fn edge_of(triangle: bool, r: &CaptureRecord) -> Option<usize> {
-    let (u, v) = (r.u, r.v);
-    if triangle {
-        // (u, v) are the barycentric weights of corners 1 and 2.
-        let w0 = 1.0 - u - v;
-        let on = [v == 0.0, w0.abs() < 1e-6, u == 0.0];
-        (on.iter().filter(|x| **x).count() == 1).then(|| on.iter().position(|x| *x).unwrap())
-    } else {
-        let on = [v == 0.0, u == 1.0, v == 1.0, u == 0.0];
-        (on.iter().filter(|x| **x).count() == 1).then(|| on.iter().position(|x| *x).unwrap())
-    }
 }
 
 /// GPU position == CPU Gregory patch at the captured parameter within 1e-5 of the bbox
@@ -129,9 +113,9 @@ fn check_against_cpu(r: &Run, normal_tol: f64) -> (f64, f64, f64) {
             .entry(rec.face)
             .or_insert_with(|| gregory_patch_at(&r.topo, &r.positions, rec.face).unwrap());
         let (u, v) = (f64::from(rec.u), f64::from(rec.v));
-        let (pt, tri) = match patch {
-            GregoryPatch::Quad(q) => (q.eval(u, v), false),
-            GregoryPatch::Triangle(t) => (t.eval(u, v), true),
+        let (pt, corners) = match patch {
+            GregoryPatch::Quad(q) => (q.eval(u, v), 4),
+            GregoryPatch::Triangle(t) => (t.eval(u, v), 3),
         };
         let gp = DVec3::from(rec.position.map(f64::from));
         let gn = DVec3::from(rec.normal.map(f64::from));
@@ -144,7 +128,7 @@ fn check_against_cpu(r: &Run, normal_tol: f64) -> (f64, f64, f64) {
         );
         max_p = max_p.max(err);
         let angle = gn.angle_between(pt.normal());
-        if edge_of(tri, rec).is_none() && u > 0.0 && v > 0.0 && (tri || (u < 1.0 && v < 1.0)) {
+        if boundary(corners, rec.u, rec.v) == Boundary::Interior {
             assert!(
                 angle <= normal_tol,
                 "face {} at ({u}, {v}): normal off by {angle} rad",
@@ -158,58 +142,25 @@ fn check_against_cpu(r: &Run, normal_tol: f64) -> (f64, f64, f64) {
     (max_p, max_n, max_edge_n)
 }
 
-/// A captured point on a face edge: face, position and normal bits.
-type EdgePoint = (u32, [u32; 6]);
-
-/// Along every edge shared by two drawn faces, every point one side emits has a point on the
-/// other side with bitwise equal position and normal. Returns the number of matched points.
+/// Along every edge shared by two drawn faces, every point one side emits (corners left out)
+/// has a point on the other side with bitwise equal position and normal. Returns the number of
+/// matched points.
 fn check_watertight(r: &Run) -> usize {
-    let mut on_edge: HashMap<(u32, u32), Vec<EdgePoint>> = HashMap::new();
+    let mut points = EdgePoints::new();
     for rec in &r.records {
         let fv = r.topo.face_vertices(rec.face);
-        let Some(k) = edge_of(fv.len() == 3, rec) else {
-            continue;
-        };
-        let (a, b) = (fv[k], fv[(k + 1) % fv.len()]);
-        let bits = [
-            rec.position[0].to_bits(),
-            rec.position[1].to_bits(),
-            rec.position[2].to_bits(),
-            rec.normal[0].to_bits(),
-            rec.normal[1].to_bits(),
-            rec.normal[2].to_bits(),
-        ];
-        on_edge
-            .entry((a.min(b), a.max(b)))
-            .or_default()
-            .push((rec.face, bits));
-    }
-    let mut matched = 0;
-    let mut edges = 0;
-    for ((a, b), pts) in &on_edge {
-        let e = r.topo.find_edge(*a, *b).unwrap();
-        let faces = r.topo.edge_faces(e);
-        if faces.len() != 2 || !faces.iter().all(|f| r.drawn.contains(f)) {
-            continue;
+        if let Boundary::Edge { from, to, .. } = boundary(fv.len(), rec.u, rec.v) {
+            points.add(fv[from], fv[to], rec.face, point_bits(rec));
         }
-        edges += 1;
-        let side = |f: u32| -> HashSet<[u32; 6]> {
-            pts.iter()
-                .filter(|(g, _)| *g == f)
-                .map(|(_, b)| *b)
-                .collect()
-        };
-        let (s0, s1) = (side(faces[0]), side(faces[1]));
-        assert!(!s0.is_empty(), "edge {a}-{b}: no points captured");
-        assert_eq!(
-            s0, s1,
-            "edge {a}-{b} (faces {} / {}): points differ bitwise",
-            faces[0], faces[1]
-        );
-        matched += s0.len();
     }
-    assert!(edges > 0, "no shared edge checked");
-    matched
+    let both_drawn = |(a, b), _: &[u32]| {
+        let faces = r.topo.edge_faces(r.topo.find_edge(a, b).unwrap());
+        (faces.len() == 2 && faces.iter().all(|f| r.drawn.contains(f)))
+            .then(|| [faces[0], faces[1]])
+    };
+    let compared = points.assert_equal_sides("Gregory stencil capture", both_drawn);
+    assert!(compared.edges > 0, "no shared edge checked");
+    compared.points
 }
 
 fn gpu_matches_cpu_and_is_watertight(mesh: &ControlMesh, name: &str) {
@@ -286,10 +237,7 @@ fn car_with_regular_patches_is_watertight() {
 
 /// Captured points keyed by (face, u bits, v bits).
 fn by_param(r: &Run) -> HashMap<(u32, u32, u32), &CaptureRecord> {
-    r.records
-        .iter()
-        .map(|x| ((x.face, x.u.to_bits(), x.v.to_bits()), x))
-        .collect()
+    r.records.iter().map(|x| (param_key(x), x)).collect()
 }
 
 #[test]
@@ -338,54 +286,15 @@ fn stencil_and_two_stage_variants_agree() {
     }
 }
 
-fn embedded(name: &str) -> ControlMesh {
-    tessera::assets::EmbeddedMesh::from_name(name)
-        .unwrap()
-        .load()
-        .unwrap()
-}
-
-/// Renders `mesh` through the integrated renderer with `scheme`, coloured by patch type.
-fn patch_type_image(
-    ctx: &tessera::gpu::Context,
-    mesh: &ControlMesh,
-    scheme: Scheme,
-) -> image::RgbaImage {
-    let surface = surface_for_scheme(mesh, 8, scheme, &SchemeLimits::from_context(ctx)).unwrap();
-    let desc = RenderDesc {
-        tess: TessSettings {
-            level: 8.0,
-            ..TessSettings::default()
-        },
-        color_by: ColorBy::PatchType,
-        ..RenderDesc::default()
-    };
-    let off = OffscreenDesc {
-        width: 256,
-        height: 256,
-        ..OffscreenDesc::default()
-    };
-    render_to_image(ctx, &surface, &desc, &off, false)
-        .unwrap()
-        .image
-}
-
 /// Golden images coloured by patch type (regular gold, irregular quad purple, triangle green,
 /// the paper's Fig. 1) drawn with gregory-stencil: quad-only (catmark_cube), mixed tri/quad
 /// (embedded `mixed`), boundary (embedded `open`, whose boundary faces stay on the exact CPU
 /// path until the boundary construction lands); the boundary mesh also with gregory-vs
 /// (its mixed and cube goldens are in tests/render_gregory_vs.rs). `TESSERA_UPDATE_GOLDEN=1`
-/// rewrites them (look at them before committing).
+/// rewrites them (tests/common/golden.rs).
 #[test]
 fn golden_patch_type() {
-    let Some(ctx) = render_common::context() else {
-        return;
-    };
-    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
-    let threshold = CompareThreshold {
-        channel_tolerance: 32,
-        max_differing_fraction: 0.01,
-    };
+    let Some(ctx) = context() else { return };
     for (name, mesh, scheme) in [
         (
             "gregory_stencil_cube_patch_type",
@@ -408,44 +317,9 @@ fn golden_patch_type() {
             Scheme::GregoryVs,
         ),
     ] {
-        let img = patch_type_image(&ctx, &mesh, scheme);
-        let path = dir.join(format!("{name}.png"));
-        if std::env::var("TESSERA_UPDATE_GOLDEN").as_deref() == Ok("1") {
-            img.save(&path).unwrap();
-            eprintln!("updated {}", path.display());
-            continue;
-        }
-        let expected = image::open(&path)
-            .unwrap_or_else(|e| {
-                panic!(
-                    "{}: {e} (TESSERA_UPDATE_GOLDEN=1 creates it)",
-                    path.display()
-                )
-            })
-            .to_rgba8();
-        let report = compare_images(&expected, &img, &threshold).unwrap();
-        if !report.passes(&threshold) {
-            let out = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-                .parent()
-                .unwrap()
-                .join("golden-failures");
-            std::fs::create_dir_all(&out).unwrap();
-            let a = out.join(format!("{name}.actual.png"));
-            let d = out.join(format!("{name}.diff.png"));
-            img.save(&a).unwrap();
-            report.diff_image.save(&d).unwrap();
-            panic!(
-                "golden {name}: {} of {} pixels differ (max {}); expected {}, actual {}, diff {}",
-                report.differing,
-                report.total,
-                report.max_channel_diff,
-                path.display(),
-                a.display(),
-                d.display()
-            );
-        }
+        check_golden(name, &patch_type_image(&ctx, &mesh, scheme));
     }
-    render_common::assert_validation_clean(&ctx);
+    assert_validation_clean(&ctx);
 }
 
 /// A closed spindle: apex fans of `n` triangles at both ends and a band of `n` quads between two
@@ -481,9 +355,7 @@ fn spindle(n: u32) -> ControlMesh {
 
 #[test]
 fn rings_over_the_patch_size_limit_go_to_the_cpu_path() {
-    let Some(ctx) = render_common::context() else {
-        return;
-    };
+    let Some(ctx) = context() else { return };
     let n = 40;
     let mesh = spindle(n);
     let limits = SchemeLimits::from_context(&ctx);
@@ -498,32 +370,20 @@ fn rings_over_the_patch_size_limit_go_to_the_cpu_path() {
     assert!(gregory.iter().all(|&f| f % 3 == 2), "only band quads");
     assert_eq!(surface.fallback_faces.len(), 2 * n as usize);
     let desc = RenderDesc {
-        tess: TessSettings {
-            level: 6.0,
-            ..TessSettings::default()
-        },
+        tess: uniform(6.0),
         color_by: ColorBy::PatchType,
         ..RenderDesc::default()
     };
-    let off = OffscreenDesc {
-        width: 128,
-        height: 128,
-        ..OffscreenDesc::default()
-    };
-    let img = render_to_image(&ctx, &surface, &desc, &off, false)
-        .unwrap()
-        .image;
+    let img = image(&ctx, &surface, &desc, &offscreen(128, 128));
     // Something was drawn (the background is uniform).
     let bg = *img.get_pixel(0, 0);
     assert!(img.pixels().filter(|p| **p != bg).count() > 1000);
-    render_common::assert_validation_clean(&ctx);
+    assert_validation_clean(&ctx);
 }
 
 #[test]
 fn split_quads_meet_whole_triangles() {
-    let Some(ctx) = render_common::context() else {
-        return;
-    };
+    let Some(ctx) = context() else { return };
     let mesh = prism();
     for (level, max_patch) in [(12.0, 6.0), (12.0, 3.0), (10.0, 5.0), (24.0, 16.0)] {
         let desc = RenderDesc {
@@ -535,28 +395,13 @@ fn split_quads_meet_whole_triangles() {
             capture_capacity: Some(20000),
             ..RenderDesc::default()
         };
-        let opts = SessionOptions {
-            variant: GregoryVariant::Stencil,
-            with_regular: false,
-            width: 64,
-            height: 64,
-        };
-        let mut s = GregorySession::new(&ctx, &mesh, &desc, &opts).unwrap();
-        s.frame().unwrap();
-        let records = s.capture().unwrap();
-        let topo = Topology::new(&mesh).unwrap();
-        let r = Run {
-            topo,
-            positions: mesh.positions().to_vec(),
-            diag: mesh.bbox_diagonal(),
-            gregory: s.gregory_faces().iter().copied().collect(),
-            drawn: s.gregory_faces().iter().copied().collect(),
-            records,
-        };
+        let c = gregory_session_capture(&ctx, &mesh, &desc, GregoryVariant::Stencil, false, 64);
+        let drawn = c.gregory.iter().copied().collect();
+        let r = Run::new(&mesh, c.records, &c.gregory, drawn);
         let m = check_watertight(&r);
         eprintln!("level {level} split at {max_patch}: {m} edge points bitwise equal");
     }
-    render_common::assert_validation_clean(&ctx);
+    assert_validation_clean(&ctx);
 }
 
 #[test]

@@ -2,19 +2,26 @@
 //! bitwise watertight positions and normals along every shared edge and at every shared corner
 //! (Gregory/Gregory and Gregory/B-spline), validation-clean.
 
-mod render_common;
+mod common;
 
 use std::collections::{HashMap, HashSet};
 
+use common::capture::{
+    capture, gregory_faces, gregory_vs_capture_with_budget, image, offscreen, param_key,
+    patch_type_image, scheme_surface, sorted, uniform, Animation,
+};
+use common::golden::check_golden;
+use common::gpu::{assert_validation_clean, context};
+use common::meshes::{embedded, gregory_test_meshes, osd};
+use common::watertight::{boundary, point_bits, Boundary};
 use glam::DVec3;
 use tessera::gpu::Context;
 use tessera::mesh::{ControlMesh, ObjOptions};
 use tessera::patch::gregory::{gregory_patch, gregory_vertices, GregoryPatch};
+use tessera::patch::RegularPatch;
 use tessera::render::schemes::gregory::irregular_faces;
-use tessera::render::{capture_capacity_for, resolve_tess};
 use tessera::render::{
-    render_to_image, surface_for_scheme, CaptureRecord, ColorBy, OffscreenDesc, RenderDesc, Scheme,
-    SchemeLimits, TessSettings,
+    CameraSpec, CaptureRecord, ColorBy, OffscreenDesc, RenderDesc, Scheme, TessSettings,
 };
 use tessera::topology::Topology;
 
@@ -22,95 +29,42 @@ use tessera::topology::Topology;
 /// shared edge/corner rules of glsl/common/gregory.glsl).
 const STRICT_MIXED: bool = true;
 
-fn osd(name: &str) -> ControlMesh {
-    ControlMesh::from_obj_file(
-        format!(
-            concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/{}.obj"),
-            name
-        ),
-        &ObjOptions::default(),
-    )
-    .unwrap_or_else(|e| panic!("{name}: {e}"))
-}
-
-fn embedded(name: &str) -> ControlMesh {
-    tessera::assets::EmbeddedMesh::from_name(name)
-        .unwrap()
-        .load()
-        .unwrap()
-}
-
 /// One frame: regular faces through the B-spline renderer, the Gregory faces the two-stage
 /// variant accepts through it; both captured.
 struct Frame {
     topo: Topology,
     positions: Vec<DVec3>,
-    regular: Vec<tessera::patch::RegularPatch>,
+    regular: Vec<RegularPatch>,
     gregory: Vec<u32>,
     rejected: usize,
     records: Vec<CaptureRecord>,
     gregory_records: usize,
 }
 
-fn render(ctx: &Context, mesh: &ControlMesh, level: f32) -> (Frame, image::RgbaImage) {
-    let tess = TessSettings {
-        level,
-        ..TessSettings::default()
-    };
-    render_scheme(ctx, mesh, tess, Scheme::GregoryVs)
-}
-
-/// Renders `mesh` through the integrated renderer ([`SurfaceRenderer`]) with `scheme`.
-fn render_scheme(
-    ctx: &Context,
-    mesh: &ControlMesh,
-    tess: TessSettings,
-    scheme: Scheme,
-) -> (Frame, image::RgbaImage) {
-    let level = tess.level;
-    let surface =
-        surface_for_scheme(mesh, level as u32, scheme, &SchemeLimits::from_context(ctx)).unwrap();
+/// Renders `mesh` through the integrated renderer with `scheme`, coloured by patch type, and
+/// captures it.
+fn render_scheme(ctx: &Context, mesh: &ControlMesh, tess: TessSettings, scheme: Scheme) -> Frame {
+    let surface = scheme_surface(ctx, mesh, tess.level as u32, scheme);
     let topo = Topology::new(mesh).unwrap();
-    let gregory = surface.irregular_gpu_faces();
+    let gregory = gregory_faces(&surface).to_vec();
     let rejected = irregular_faces(&topo).len() - gregory.len();
     let desc = RenderDesc {
         tess,
         color_by: ColorBy::PatchType,
-        capture_capacity: Some(if tess.mode == tessera::render::TessMode::Adaptive {
-            // Adaptive levels reach the device limit (64): at most 66^2 points per patch.
-            (surface.patch_count() * 66 * 66) as u32
-        } else {
-            capture_capacity_for(surface.patch_count(), &resolve_tess(ctx, &surface, &tess))
-        }),
         ..RenderDesc::default()
     };
-    let out = render_to_image(
-        ctx,
-        &surface,
-        &desc,
-        &OffscreenDesc {
-            width: 256,
-            height: 256,
-            ..OffscreenDesc::default()
-        },
-        false,
-    )
-    .unwrap();
-    let records = out.capture.unwrap();
+    let records = capture(ctx, &surface, &desc, &offscreen(256, 256), false).records;
     let set: HashSet<u32> = gregory.iter().copied().collect();
     let gregory_records = records.iter().filter(|r| set.contains(&r.face)).count();
-    (
-        Frame {
-            topo,
-            positions: surface.positions.clone(),
-            regular: surface.regular_patches().to_vec(),
-            gregory,
-            rejected,
-            records,
-            gregory_records,
-        },
-        out.image,
-    )
+    Frame {
+        topo,
+        positions: surface.positions.clone(),
+        regular: surface.regular_patches().to_vec(),
+        gregory,
+        rejected,
+        records,
+        gregory_records,
+    }
 }
 
 fn bbox_diagonal(points: &[DVec3]) -> f64 {
@@ -137,13 +91,11 @@ fn compare_with_cpu(fr: &Frame) -> (f64, f64, f64) {
     let set: HashSet<u32> = fr.gregory.iter().copied().collect();
     for r in fr.records.iter().filter(|r| set.contains(&r.face)) {
         let (u, v) = (f64::from(r.u), f64::from(r.v));
-        let (pp, on_edge) = match patches[&r.face] {
-            GregoryPatch::Quad(q) => (q.eval(u, v), u == 0.0 || v == 0.0 || u == 1.0 || v == 1.0),
-            GregoryPatch::Triangle(t) => (
-                t.eval(u, v),
-                u == 0.0 || v == 0.0 || (r.u + r.v) >= 1.0 - 1e-6,
-            ),
+        let (pp, corners) = match patches[&r.face] {
+            GregoryPatch::Quad(q) => (q.eval(u, v), 4),
+            GregoryPatch::Triangle(t) => (t.eval(u, v), 3),
         };
+        let on_edge = boundary(corners, r.u, r.v) != Boundary::Interior;
         let p = DVec3::from(r.position.map(f64::from));
         let n = DVec3::from(r.normal.map(f64::from));
         pos_err = pos_err.max((p - pp.position).length() / diag);
@@ -164,99 +116,43 @@ type SharedPoint = (u32, bool, [u32; 6]);
 
 /// Key of a captured point on a face edge or corner: the vertex ids and the parameter from the
 /// smaller id (rounded), or the vertex for corners.
-fn edge_key(corners: &[u32], u: f32, v: f32, quad: bool) -> Option<EdgeKey> {
+fn edge_key(corners: &[u32], u: f32, v: f32) -> Option<EdgeKey> {
     let q = |x: f32| (f64::from(x) * 1e3).round() as i64;
-    let along = |a: u32, b: u32, x: f32| {
-        if a < b {
-            (a, b, q(x))
-        } else {
-            (b, a, q(1.0 - x))
-        }
-    };
-    if quad {
-        let c = corners;
-        let ue = u == 0.0 || u == 1.0;
-        let ve = v == 0.0 || v == 1.0;
-        if ue && ve {
-            let k = if u == 0.0 {
-                if v == 0.0 {
-                    0
-                } else {
-                    3
-                }
-            } else if v == 0.0 {
-                1
+    match boundary(corners.len(), u, v) {
+        Boundary::Interior => None,
+        Boundary::Corner(k) => Some((corners[k], corners[k], 0)),
+        Boundary::Edge { from, to, t } => {
+            let (a, b) = (corners[from], corners[to]);
+            Some(if a < b {
+                (a, b, q(t))
             } else {
-                2
-            };
-            return Some((c[k], c[k], 0));
+                (b, a, q(1.0 - t))
+            })
         }
-        if v == 0.0 {
-            return Some(along(c[0], c[1], u));
-        }
-        if u == 1.0 {
-            return Some(along(c[1], c[2], v));
-        }
-        if v == 1.0 {
-            return Some(along(c[3], c[2], u));
-        }
-        if u == 0.0 {
-            return Some(along(c[0], c[3], v));
-        }
-        None
-    } else {
-        let (w1, w2) = (u, v);
-        let w0_zero = f64::from(w1) + f64::from(w2) >= 1.0 - 1e-6;
-        let zeros = usize::from(w1 == 0.0) + usize::from(w2 == 0.0) + usize::from(w0_zero);
-        if zeros >= 2 {
-            let k = if w1 == 0.0 && w2 == 0.0 {
-                0
-            } else if w1 != 0.0 {
-                1
-            } else {
-                2
-            };
-            return Some((corners[k], corners[k], 0));
-        }
-        if w2 == 0.0 {
-            return Some(along(corners[0], corners[1], w1));
-        }
-        if w0_zero {
-            return Some(along(corners[1], corners[2], w2));
-        }
-        if w1 == 0.0 {
-            return Some(along(corners[2], corners[0], 1.0 - w2));
-        }
-        None
     }
 }
 
 /// Checks bitwise equality of positions and normals at every shared edge/corner point; returns
 /// (points compared across faces, Gregory/B-spline comparisons).
 fn check_watertight(fr: &Frame, name: &str) -> (usize, usize) {
-    let corners_of: HashMap<u32, (Vec<u32>, bool, bool)> = fr
+    let corners_of: HashMap<u32, (Vec<u32>, bool)> = fr
         .regular
         .iter()
-        .map(|p| (p.face, (p.corners().to_vec(), true, true)))
-        .chain(fr.gregory.iter().map(|&f| {
-            let fv = fr.topo.face_vertices(f).to_vec();
-            let quad = fv.len() == 4;
-            (f, (fv, quad, false))
-        }))
+        .map(|p| (p.face, (p.corners().to_vec(), true)))
+        .chain(
+            fr.gregory
+                .iter()
+                .map(|&f| (f, (fr.topo.face_vertices(f).to_vec(), false))),
+        )
         .collect();
     let mut groups: HashMap<EdgeKey, Vec<SharedPoint>> = HashMap::new();
     for r in &fr.records {
-        let (c, quad, regular) = &corners_of[&r.face];
-        if let Some(k) = edge_key(c, r.u, r.v, *quad) {
-            let bits = [
-                r.position[0].to_bits(),
-                r.position[1].to_bits(),
-                r.position[2].to_bits(),
-                r.normal[0].to_bits(),
-                r.normal[1].to_bits(),
-                r.normal[2].to_bits(),
-            ];
-            groups.entry(k).or_default().push((r.face, *regular, bits));
+        let (c, regular) = &corners_of[&r.face];
+        if let Some(k) = edge_key(c, r.u, r.v) {
+            groups
+                .entry(k)
+                .or_default()
+                .push((r.face, *regular, point_bits(r)));
         }
     }
     let (mut compared, mut mixed) = (0, 0);
@@ -320,19 +216,20 @@ fn check_watertight(fr: &Frame, name: &str) -> (usize, usize) {
     (compared, mixed)
 }
 
-fn run(_name: &str, mesh: &ControlMesh, level: f32) -> Frame {
-    let ctx = render_common::context().unwrap();
-    let (fr, _) = render(&ctx, mesh, level);
-    render_common::assert_validation_clean(&ctx);
-    fr
+/// `mesh` through gregory-vs at uniform `level` on a fresh context, validation-clean; `None`
+/// without a device (the skip rule).
+fn run(mesh: &ControlMesh, level: f32) -> Option<Frame> {
+    let ctx = context()?;
+    let fr = render_scheme(&ctx, mesh, uniform(level), Scheme::GregoryVs);
+    assert_validation_clean(&ctx);
+    Some(fr)
 }
 
 #[test]
 fn gpu_matches_cpu_construction() {
     let mut with_patches = 0;
     for (name, mesh) in boundary_and_closed_meshes() {
-        let name = name.as_str();
-        let fr = run(name, &mesh, 6.0);
+        let Some(fr) = run(&mesh, 6.0) else { return };
         if fr.gregory.is_empty() {
             // creased: semi-sharp tags everywhere (not covered by the paper); tent: all regular;
             // catmark_gregory_test7/8: one-face crease sectors everywhere.
@@ -374,16 +271,7 @@ fn boundary_and_closed_meshes() -> Vec<(String, ControlMesh)> {
         // 460 Gregory quads: several chunked draws (gpu::patch_draw_chunks).
         ("catmark_car".to_string(), osd("catmark_car")),
     ];
-    for k in 0..9 {
-        let name = format!("catmark_gregory_test{k}");
-        let path = format!(
-            concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/{}.obj"),
-            name
-        );
-        if let Ok(m) = ControlMesh::from_obj_file(&path, &ObjOptions::default()) {
-            v.push((name, m));
-        }
-    }
+    v.extend(gregory_test_meshes());
     v
 }
 
@@ -391,13 +279,12 @@ fn boundary_and_closed_meshes() -> Vec<(String, ControlMesh)> {
 fn watertight_bitwise() {
     let (mut total, mut total_mixed) = (0, 0);
     for (name, mesh) in boundary_and_closed_meshes() {
-        let name = name.as_str();
         for level in [3.0, 6.0] {
-            let fr = run(name, &mesh, level);
+            let Some(fr) = run(&mesh, level) else { return };
             if fr.gregory.is_empty() {
                 continue;
             }
-            let (n, mixed) = check_watertight(&fr, name);
+            let (n, mixed) = check_watertight(&fr, &name);
             eprintln!(
                 "{name} level {level}: {n} shared points bitwise equal ({mixed} Gregory/B-spline)"
             );
@@ -416,26 +303,13 @@ fn watertight_bitwise() {
 /// points (the sub-triangles exist and meet).
 #[test]
 fn sub_triangles_meet_bitwise() {
-    let ctx = render_common::context().unwrap();
-    let mesh = embedded("mixed");
-    let tess = TessSettings {
-        level: 24.0,
-        ..TessSettings::default()
-    };
-    let (fr, _) = render_scheme(&ctx, &mesh, tess, Scheme::GregoryVs);
+    let Some(ctx) = context() else { return };
+    let fr = render_scheme(&ctx, &embedded("mixed"), uniform(24.0), Scheme::GregoryVs);
     let mut seen: HashMap<(u32, u32, u32), [u32; 6]> = HashMap::new();
     let (mut repeats, mut tri_repeats) = (0, 0);
     for r in &fr.records {
-        let key = (r.face, r.u.to_bits(), r.v.to_bits());
-        let bits = [
-            r.position[0].to_bits(),
-            r.position[1].to_bits(),
-            r.position[2].to_bits(),
-            r.normal[0].to_bits(),
-            r.normal[1].to_bits(),
-            r.normal[2].to_bits(),
-        ];
-        if let Some(old) = seen.insert(key, bits) {
+        let bits = point_bits(r);
+        if let Some(old) = seen.insert(param_key(r), bits) {
             assert_eq!(
                 old, bits,
                 "face {} at ({}, {}) differs between sub-patches",
@@ -451,7 +325,7 @@ fn sub_triangles_meet_bitwise() {
         tri_repeats > 0 && repeats > tri_repeats,
         "{repeats} / {tri_repeats}"
     );
-    render_common::assert_validation_clean(&ctx);
+    assert_validation_clean(&ctx);
 }
 
 /// Both variants, fractional spacings, adaptive levels, and every catmark_gregory_test mesh
@@ -459,19 +333,9 @@ fn sub_triangles_meet_bitwise() {
 #[test]
 fn watertight_spacings_variants_meshes() {
     use tessera::render::{Spacing, TessMode};
-    let ctx = render_common::context().unwrap();
+    let Some(ctx) = context() else { return };
     let mut meshes = vec![("mixed".to_string(), embedded("mixed"))];
-    for k in 0..9 {
-        let name = format!("catmark_gregory_test{k}");
-        let path = format!(
-            concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/{}.obj"),
-            name
-        );
-        // catmark_gregory_test4 is non-manifold, which the mesh layer rejects (typed error).
-        if let Ok(m) = ControlMesh::from_obj_file(&path, &ObjOptions::default()) {
-            meshes.push((name, m));
-        }
-    }
+    meshes.extend(gregory_test_meshes());
     let settings = [
         (5.5, Spacing::FractionalOdd, TessMode::Uniform),
         (6.5, Spacing::FractionalEven, TessMode::Uniform),
@@ -495,7 +359,7 @@ fn watertight_spacings_variants_meshes() {
                     pixels_per_edge: 6.0,
                     ..TessSettings::default()
                 };
-                let (fr, _) = render_scheme(&ctx, mesh, tess, scheme);
+                let fr = render_scheme(&ctx, mesh, tess, scheme);
                 if fr.gregory.is_empty() {
                     continue;
                 }
@@ -506,60 +370,23 @@ fn watertight_spacings_variants_meshes() {
             }
         }
     }
-    render_common::assert_validation_clean(&ctx);
+    assert_validation_clean(&ctx);
 }
 
 /// Golden images coloured by patch type (regular gold, irregular quad purple, triangle green;
-/// the paper's Fig. 1) drawn with gregory-vs. `TESSERA_UPDATE_GOLDEN=1` rewrites them.
+/// the paper's Fig. 1) drawn with gregory-vs. `TESSERA_UPDATE_GOLDEN=1` rewrites them
+/// (tests/common/golden.rs).
 #[test]
 fn golden_patch_type() {
-    let ctx = render_common::context().unwrap();
-    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
-    let threshold = tessera::render::CompareThreshold {
-        channel_tolerance: 32,
-        max_differing_fraction: 0.01,
-    };
+    let Some(ctx) = context() else { return };
     for (name, mesh) in [
         ("gregory_vs_mixed_patch_type", embedded("mixed")),
         ("gregory_vs_cube_patch_type", osd("catmark_cube")),
         ("gregory_vs_open_patch_type", embedded("open")),
     ] {
-        let (_, img) = render(&ctx, &mesh, 8.0);
-        let path = dir.join(format!("{name}.png"));
-        if std::env::var("TESSERA_UPDATE_GOLDEN").as_deref() == Ok("1") {
-            img.save(&path).unwrap();
-            continue;
-        }
-        let expected = image::open(&path)
-            .unwrap_or_else(|e| {
-                panic!(
-                    "{}: {e} (TESSERA_UPDATE_GOLDEN=1 creates it)",
-                    path.display()
-                )
-            })
-            .to_rgba8();
-        let report = tessera::render::compare_images(&expected, &img, &threshold).unwrap();
-        if !report.passes(&threshold) {
-            let out = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-                .parent()
-                .unwrap()
-                .join("golden-failures");
-            std::fs::create_dir_all(&out).unwrap();
-            let a = out.join(format!("{name}.actual.png"));
-            let d = out.join(format!("{name}.diff.png"));
-            img.save(&a).unwrap();
-            report.diff_image.save(&d).unwrap();
-            panic!(
-                "golden {name}: {} of {} pixels differ (max {}); actual {}, diff {}",
-                report.differing,
-                report.total,
-                report.max_channel_diff,
-                a.display(),
-                d.display()
-            );
-        }
+        check_golden(name, &patch_type_image(&ctx, &mesh, Scheme::GregoryVs));
     }
-    render_common::assert_validation_clean(&ctx);
+    assert_validation_clean(&ctx);
 }
 
 /// Animation through the library API: updating the control positions of an existing renderer
@@ -568,53 +395,28 @@ fn golden_patch_type() {
 #[test]
 fn update_positions_equals_rebuild() {
     use tessera::render::animate::twist;
-    use tessera::render::OffscreenSession;
-    let ctx = render_common::context().unwrap();
+    let Some(ctx) = context() else { return };
     let mut mesh = embedded("mixed");
-    let limits = SchemeLimits::from_context(&ctx);
-    let tess = TessSettings {
-        level: 5.0,
-        ..TessSettings::default()
+    let render = RenderDesc {
+        tess: uniform(5.0),
+        ..RenderDesc::default()
     };
-    let sort = |mut v: Vec<CaptureRecord>| {
-        v.sort_by(|a, b| {
-            (a.face, a.u.to_bits(), a.v.to_bits()).cmp(&(b.face, b.u.to_bits(), b.v.to_bits()))
-        });
-        v
+    let off = OffscreenDesc {
+        camera: CameraSpec::parse("30,20,8").unwrap(),
+        ..offscreen(128, 128)
     };
     for scheme in [Scheme::GregoryVs, Scheme::GregoryStencil] {
-        let surface = surface_for_scheme(&mesh, 5, scheme, &limits).unwrap();
-        let n = surface.patch_count();
-        let desc = RenderDesc {
-            tess,
-            capture_capacity: Some(capture_capacity_for(n, &tess)),
-            ..RenderDesc::default()
-        };
-        let off = OffscreenDesc {
-            width: 128,
-            height: 128,
-            camera: tessera::render::CameraSpec::parse("30,20,8").unwrap(),
-            ..OffscreenDesc::default()
-        };
-        let mut session = OffscreenSession::new(&ctx, &surface, &desc, &off, false).unwrap();
-        session.frame().unwrap();
-        let before = sort(session.capture().unwrap());
+        let surface = scheme_surface(&ctx, &mesh, 5, scheme);
+        assert!(!gregory_faces(&surface).is_empty(), "{scheme:?}");
+        let mut animation = Animation::new(&ctx, &surface, &render, &off);
+        let before = sorted(animation.frame());
         let rest = mesh.positions().to_vec();
         let moved = twist(&rest, DVec3::Z, 1.2, 0.25);
-        session
-            .renderer_mut()
-            .update_positions(&moved, None)
-            .unwrap();
-        session.frame().unwrap();
-        let animated = sort(session.capture().unwrap());
+        animation.move_to(&moved).unwrap();
+        let animated = sorted(animation.frame());
         mesh.set_positions(&moved).unwrap();
-        let fresh_surface = surface_for_scheme(&mesh, 5, scheme, &limits).unwrap();
-        let fresh = sort(
-            render_to_image(&ctx, &fresh_surface, &desc, &off, false)
-                .unwrap()
-                .capture
-                .unwrap(),
-        );
+        let fresh_surface = scheme_surface(&ctx, &mesh, 5, scheme);
+        let fresh = sorted(capture(&ctx, &fresh_surface, &render, &off, false).records);
         mesh.set_positions(&rest).unwrap();
         assert_eq!(animated.len(), fresh.len());
         assert_ne!(before, animated, "{scheme:?}: the surface moved");
@@ -626,52 +428,7 @@ fn update_positions_equals_rebuild() {
             diff.map(|i| fresh[i])
         );
     }
-    render_common::assert_validation_clean(&ctx);
-}
-
-/// Renders only the Gregory faces of `mesh` through [`GregoryVsPatches::with_budget`] and
-/// returns the sorted capture.
-fn capture_with_budget(
-    ctx: &Context,
-    mesh: &ControlMesh,
-    budget: tessera::render::schemes::gregory_vs::VsBudget,
-) -> Vec<CaptureRecord> {
-    use std::sync::Arc;
-    use tessera::render::schemes::gregory_vs::{select_faces, GregoryVsTables};
-    use tessera::render::SurfaceData;
-
-    let topo = Arc::new(Topology::new(mesh).unwrap());
-    let (faces, _) = select_faces(&topo, &irregular_faces(&topo), budget);
-    let tess = TessSettings {
-        level: 5.0,
-        ..TessSettings::default()
-    };
-    let desc = RenderDesc {
-        tess,
-        color_by: ColorBy::PatchType,
-        capture_capacity: Some(capture_capacity_for(faces.len(), &tess)),
-        ..RenderDesc::default()
-    };
-    // Only the Gregory part: its corners' frames come from the Gregory construction.
-    let surface = SurfaceData {
-        positions: mesh.positions().to_vec(),
-        topology: Some(topo.clone()),
-        parts: vec![Arc::new(GregoryVsTables::new(topo, &faces, budget))],
-        ..SurfaceData::default()
-    };
-    let off = OffscreenDesc {
-        width: 64,
-        height: 64,
-        ..OffscreenDesc::default()
-    };
-    let mut recs = render_to_image(ctx, &surface, &desc, &off, false)
-        .unwrap()
-        .capture
-        .unwrap();
-    recs.sort_by(|a, b| {
-        (a.face, a.u.to_bits(), a.v.to_bits()).cmp(&(b.face, b.u.to_bits(), b.v.to_bits()))
-    });
-    recs
+    assert_validation_clean(&ctx);
 }
 
 /// The 15-slot shader variant (for devices with 64 varyings components) gives bitwise the
@@ -679,7 +436,7 @@ fn capture_with_budget(
 #[test]
 fn small_varyings_budget_variant() {
     use tessera::render::schemes::gregory_vs::{vs_budget, VsBudget};
-    let ctx = render_common::context().unwrap();
+    let Some(ctx) = context() else { return };
     let big = vs_budget(&ctx).unwrap();
     assert_eq!(big.max_valence, 20, "lavapipe: 128 components");
     let small = VsBudget {
@@ -687,11 +444,11 @@ fn small_varyings_budget_variant() {
         max_valence: 9,
     };
     let mesh = embedded("mixed");
-    let a = capture_with_budget(&ctx, &mesh, big);
-    let b = capture_with_budget(&ctx, &mesh, small);
+    let a = gregory_vs_capture_with_budget(&ctx, &mesh, big);
+    let b = gregory_vs_capture_with_budget(&ctx, &mesh, small);
     assert!(!a.is_empty());
     assert!(a == b, "15-slot and 31-slot captures differ");
-    render_common::assert_validation_clean(&ctx);
+    assert_validation_clean(&ctx);
 }
 
 /// A vertex of valence 24 (a closed fan: apex, 24 triangles, a 24-gon base) exceeds the
@@ -715,7 +472,7 @@ fn valence_over_budget_falls_back() {
     }
     obj += "\n";
     let mesh = ControlMesh::from_obj_str(&obj, "fan", &ObjOptions::default()).unwrap();
-    let ctx = render_common::context().unwrap();
+    let Some(ctx) = context() else { return };
     let topo = Topology::new(&mesh).unwrap();
     let (ok, rejected) = select_faces(&topo, &irregular_faces(&topo), vs_budget(&ctx).unwrap());
     assert!(ok.is_empty());
@@ -727,62 +484,29 @@ fn valence_over_budget_falls_back() {
         "{}",
         rejected[0]
     );
-    let surface = surface_for_scheme(
-        &mesh,
-        4,
-        Scheme::GregoryVs,
-        &SchemeLimits::from_context(&ctx),
-    )
-    .unwrap();
+    let surface = scheme_surface(&ctx, &mesh, 4, Scheme::GregoryVs);
     assert!(surface.irregular_gpu_faces().is_empty());
     assert_eq!(surface.fallback_faces.len(), n + 1);
-    let out = render_to_image(
-        &ctx,
-        &surface,
-        &RenderDesc::default(),
-        &OffscreenDesc {
-            width: 64,
-            height: 64,
-            ..OffscreenDesc::default()
-        },
-        false,
-    )
-    .unwrap();
-    assert!(out.image.pixels().any(|p| p[0] > 60), "the fan is drawn");
-    render_common::assert_validation_clean(&ctx);
+    let img = image(&ctx, &surface, &RenderDesc::default(), &offscreen(64, 64));
+    assert!(img.pixels().any(|p| p[0] > 60), "the fan is drawn");
+    assert_validation_clean(&ctx);
 }
 
 /// Winding: on a closed mesh, culling back faces changes nothing when every Gregory patch (quad
 /// and triangle TES) emits counter-clockwise (front-facing) triangles seen from outside.
 #[test]
 fn gregory_patches_face_outwards() {
-    let ctx = render_common::context().unwrap();
+    let Some(ctx) = context() else { return };
     let mesh = embedded("mixed");
-    let surface = surface_for_scheme(
-        &mesh,
-        6,
-        Scheme::GregoryVs,
-        &SchemeLimits::from_context(&ctx),
-    )
-    .unwrap();
-    let off = OffscreenDesc {
-        width: 128,
-        height: 128,
-        ..OffscreenDesc::default()
-    };
+    let surface = scheme_surface(&ctx, &mesh, 6, Scheme::GregoryVs);
     let img = |cull| {
         let desc = RenderDesc {
-            tess: TessSettings {
-                level: 6.0,
-                ..TessSettings::default()
-            },
+            tess: uniform(6.0),
             cull_back_faces: cull,
             color_by: ColorBy::PatchType,
             ..RenderDesc::default()
         };
-        render_to_image(&ctx, &surface, &desc, &off, false)
-            .unwrap()
-            .image
+        image(&ctx, &surface, &desc, &offscreen(128, 128))
     };
     let (a, b) = (img(false), img(true));
     let green = a.pixels().filter(|p| p[1] > p[0] && p[1] > p[2]).count();
@@ -791,7 +515,7 @@ fn gregory_patches_face_outwards() {
         "triangle patches visible ({green} green pixels)"
     );
     assert!(a == b, "culling back faces changed the image");
-    render_common::assert_validation_clean(&ctx);
+    assert_validation_clean(&ctx);
 }
 
 /// `tessera error --scheme gregory-vs|gregory-stencil`: on a quad-only mesh the GPU patches are
@@ -801,7 +525,7 @@ fn gregory_patches_face_outwards() {
 fn gpu_accuracy_equals_cpu_accuracy_on_quads() {
     use tessera::patch::gregory::accuracy::{measure, AccuracyOptions};
     use tessera::render::accuracy::measure_gpu;
-    let ctx = render_common::context().unwrap();
+    let Some(ctx) = context() else { return };
     let mesh = osd("catmark_cube");
     let cpu = measure(
         &mesh,
@@ -825,5 +549,5 @@ fn gpu_accuracy_equals_cpu_accuracy_on_quads() {
         }
         assert!((gpu.rms_normal - cpu.rms_normal).abs() <= 1e-4);
     }
-    render_common::assert_validation_clean(&ctx);
+    assert_validation_clean(&ctx);
 }

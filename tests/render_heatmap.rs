@@ -1,16 +1,16 @@
 //! `tessera error --heatmap`: the error map (paper Fig. 11) is rendered through the real
 //! pipeline, validation-clean, with the colours the errors call for.
 
-mod render_common;
+mod common;
 
+use common::capture::{image, offscreen};
+use common::gpu::{assert_validation_clean, context};
 use tessera::render::heatmap::{heat_surface, HEAT_CLASS_BASE, HEAT_STEPS};
-use tessera::render::{render_to_image, ColorBy, OffscreenDesc, RenderDesc};
+use tessera::render::{ColorBy, RenderDesc};
 
 #[test]
 fn error_map_shows_exact_faces_blue_and_the_worst_error_red() {
-    let Some(ctx) = render_common::context() else {
-        return;
-    };
+    let Some(ctx) = context() else { return };
     let mesh = tessera::assets::EmbeddedMesh::Mixed.load().unwrap();
     let heat = heat_surface(&mesh, 6, 6, None).unwrap();
     assert!(heat
@@ -22,20 +22,8 @@ fn error_map_shows_exact_faces_blue_and_the_worst_error_red() {
         color_by: ColorBy::Error,
         ..RenderDesc::default()
     };
-    let desc = OffscreenDesc {
-        width: 160,
-        height: 120,
-        ..OffscreenDesc::default()
-    };
-    let img = render_to_image(&ctx, &heat.surface, &render, &desc, false)
-        .unwrap()
-        .image;
-    assert_eq!(
-        ctx.validation_errors(),
-        0,
-        "{:?}",
-        ctx.validation_messages()
-    );
+    let img = image(&ctx, &heat.surface, &render, &offscreen(160, 120));
+    assert_validation_clean(&ctx);
     // Mostly-blue pixels (exact or nearly) and some red-dominated ones (the worst errors).
     let blue = img.pixels().filter(|p| p[2] > 120 && p[0] < 60).count();
     let red = img.pixels().filter(|p| p[0] > 120 && p[2] < 60).count();
@@ -45,10 +33,10 @@ fn error_map_shows_exact_faces_blue_and_the_worst_error_red() {
 
 #[test]
 fn error_cli_writes_the_map() {
-    if render_common::context().is_none() {
+    if context().is_none() {
         return;
     }
-    let out = std::env::temp_dir().join(format!("tessera_heat_{}.png", std::process::id()));
+    let out = common::out_dir("render_heatmap").join("heat.png");
     let status = std::process::Command::new(env!("CARGO_BIN_EXE_tessera"))
         .args([
             "error",

@@ -2,51 +2,24 @@
 //! the regular faces against the exact CPU limit (`LimitEvaluator`), watertightness between
 //! regular patches, and the `render` / `sample` commands end to end.
 
-mod render_common;
+mod common;
 
-use std::collections::HashMap;
 use std::process::Command;
 
+use common::capture::{capture, offscreen, uniform};
+use common::gpu::{assert_validation_clean, context};
+use common::watertight::assert_regular_watertight;
 use glam::DVec3;
-use render_common::{assert_validation_clean, context};
 use tessera::assets::EmbeddedMesh;
-use tessera::render::capture_capacity_for;
-use tessera::render::{
-    render_to_image, surface_from_mesh, CaptureRecord, OffscreenDesc, RenderDesc, SurfaceData,
-    TessSettings,
-};
+use tessera::render::{surface_from_mesh, RenderDesc};
 use tessera::subdiv::eval::LimitEvaluator;
 use tessera::ControlMesh;
-
-/// Bit patterns of the edge points each face emitted.
-type PointsByFace = HashMap<u32, Vec<[u32; 3]>>;
 
 fn meshes() -> Vec<(String, ControlMesh)> {
     EmbeddedMesh::ALL
         .iter()
         .map(|m| (format!("embedded:{}", m.name()), m.load().unwrap()))
         .collect()
-}
-
-fn capture(ctx: &tessera::gpu::Context, s: &SurfaceData, level: f32) -> Vec<CaptureRecord> {
-    let tess = TessSettings {
-        level,
-        ..TessSettings::default()
-    };
-    let render = RenderDesc {
-        tess,
-        capture_capacity: Some(capture_capacity_for(s.regular_patches().len(), &tess)),
-        ..RenderDesc::default()
-    };
-    let desc = OffscreenDesc {
-        width: 64,
-        height: 64,
-        ..OffscreenDesc::default()
-    };
-    render_to_image(ctx, s, &render, &desc, false)
-        .unwrap()
-        .capture
-        .unwrap()
 }
 
 #[test]
@@ -58,7 +31,11 @@ fn regular_faces_match_the_exact_limit() {
             continue;
         }
         let ev = LimitEvaluator::new(&mesh).unwrap();
-        let recs = capture(&ctx, &s, 5.0);
+        let render = RenderDesc {
+            tess: uniform(5.0),
+            ..RenderDesc::default()
+        };
+        let recs = capture(&ctx, &s, &render, &offscreen(64, 64), false).records;
         assert_eq!(recs.len(), s.regular_patches().len() * 36, "{name}");
         let diag = mesh.bbox_diagonal();
         let mut worst = 0.0f64;
@@ -83,40 +60,7 @@ fn regular_faces_match_the_exact_limit() {
             "{name}: worst error {worst} of the bbox diagonal"
         );
         // Watertight between regular patches: both sides of a shared edge emit the same bits.
-        let corners: HashMap<u32, [u32; 4]> = s
-            .regular_patches()
-            .iter()
-            .map(|p| (p.face, p.corners()))
-            .collect();
-        let mut sides: HashMap<(u32, u32), PointsByFace> = HashMap::new();
-        for r in &recs {
-            let c = corners[&r.face];
-            for (on, a, b) in [
-                (r.v == 0.0, c[0], c[1]),
-                (r.u == 1.0, c[1], c[2]),
-                (r.v == 1.0, c[3], c[2]),
-                (r.u == 0.0, c[0], c[3]),
-            ] {
-                if on {
-                    sides
-                        .entry((a.min(b), a.max(b)))
-                        .or_default()
-                        .entry(r.face)
-                        .or_default()
-                        .push(r.position.map(f32::to_bits));
-                }
-            }
-        }
-        for (edge, by_face) in sides {
-            if by_face.len() == 2 {
-                let mut sets: Vec<Vec<[u32; 3]>> = by_face.into_values().collect();
-                for s in &mut sets {
-                    s.sort_unstable();
-                    s.dedup();
-                }
-                assert_eq!(sets[0], sets[1], "{name}: edge {edge:?} not watertight");
-            }
-        }
+        assert_regular_watertight(&name, &s, &recs);
     }
     assert_validation_clean(&ctx);
 }
@@ -126,7 +70,7 @@ fn sample_command_writes_exact_limit_points() {
     if context().is_none() {
         return;
     }
-    let out = std::env::temp_dir().join(format!("tessera_sample_{}.txt", std::process::id()));
+    let out = common::out_dir("render_mesh").join("sample.txt");
     let res = Command::new(env!("CARGO_BIN_EXE_tessera"))
         .args([
             "sample",
@@ -167,7 +111,7 @@ fn render_command_writes_a_png() {
     if context().is_none() {
         return;
     }
-    let out = std::env::temp_dir().join(format!("tessera_render_{}.png", std::process::id()));
+    let out = common::out_dir("render_mesh").join("render.png");
     let res = Command::new(env!("CARGO_BIN_EXE_tessera"))
         .args([
             "render",

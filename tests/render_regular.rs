@@ -1,44 +1,31 @@
 //! GPU regular-patch pipeline on synthetic all-regular meshes: TES capture against an independent
 //! CPU B-spline evaluation, bitwise watertightness of shared edges, winding, validation.
 
-mod render_common;
+mod common;
 
 use std::collections::HashMap;
 
-use render_common::{assert_validation_clean, context, eval_patch, open_grid, torus};
-use tessera::render::capture_capacity_for;
+use common::capture::{capture, image, offscreen, param_key, uniform, Animation};
+use common::gpu::{assert_validation_clean, context};
+use common::surfaces::{eval_patch, open_grid, torus};
+use common::watertight::assert_regular_watertight;
 use tessera::render::{
-    render_to_image, CaptureRecord, OffscreenDesc, OffscreenSession, RenderDesc, Spacing,
-    SurfaceData, TessMode, TessSettings,
+    CaptureRecord, OffscreenDesc, RenderDesc, Spacing, SurfaceData, TessMode, TessSettings,
 };
 
-fn capture(ctx: &tessera::gpu::Context, s: &SurfaceData, tess: TessSettings) -> Vec<CaptureRecord> {
-    let cap = if tess.mode == TessMode::Adaptive {
-        capture_capacity_for(
-            s.regular_patches().len(),
-            &TessSettings {
-                level: 64.0,
-                spacing: Spacing::FractionalEven,
-                max_patch_level: f32::INFINITY,
-                ..tess
-            },
-        )
-    } else {
-        capture_capacity_for(s.regular_patches().len(), &tess)
-    };
+/// Captures `s` at `tess` (96 x 96) and checks the pipeline statistics: one TCS invocation per
+/// (sub-)patch, one record per TES invocation.
+fn capture_checked(
+    ctx: &tessera::gpu::Context,
+    s: &SurfaceData,
+    tess: TessSettings,
+) -> Vec<CaptureRecord> {
     let render = RenderDesc {
         tess,
-        capture_capacity: Some(cap),
         ..RenderDesc::default()
     };
-    let desc = OffscreenDesc {
-        width: 96,
-        height: 96,
-        ..OffscreenDesc::default()
-    };
-    let out = render_to_image(ctx, s, &render, &desc, true).expect("render");
-    let recs = out.capture.expect("capture");
-    let stats = out.report.expect("report").patch_stats;
+    let c = capture(ctx, s, &render, &offscreen(96, 96), true);
+    let stats = c.stats.expect("statistics");
     let split = u64::from(tess.split());
     assert_eq!(
         stats.tcs_patches,
@@ -46,10 +33,10 @@ fn capture(ctx: &tessera::gpu::Context, s: &SurfaceData, tess: TessSettings) -> 
     );
     assert_eq!(
         stats.tes_invocations,
-        recs.len() as u64,
+        c.records.len() as u64,
         "one record per TES invocation"
     );
-    recs
+    c.records
 }
 
 /// Every record matches the CPU limit within 1e-5 of the bbox diagonal (normals within 1e-3).
@@ -83,64 +70,9 @@ fn check_accuracy(s: &SurfaceData, recs: &[CaptureRecord]) {
     );
 }
 
-/// A mesh edge as (smaller vertex id, larger vertex id).
-type EdgeKey = (u32, u32);
-
-/// Groups edge points by mesh edge; both faces of every interior edge must emit the same set of
-/// bit patterns. Returns the number of shared edges checked.
+/// Both faces of every interior edge emit the same position bits; the number of shared edges.
 fn check_watertight(s: &SurfaceData, recs: &[CaptureRecord]) -> usize {
-    let by_face: HashMap<u32, usize> = s
-        .regular_patches()
-        .iter()
-        .enumerate()
-        .map(|(k, p)| (p.face, k))
-        .collect();
-    // (edge key, face) -> sorted bit patterns
-    let mut sets: HashMap<(EdgeKey, u32), Vec<[u32; 3]>> = HashMap::new();
-    for r in recs {
-        let c = s.regular_patches()[by_face[&r.face]].corners();
-        let mut edges = Vec::new();
-        if r.v == 0.0 {
-            edges.push((c[0], c[1]));
-        }
-        if r.u == 1.0 {
-            edges.push((c[1], c[2]));
-        }
-        if r.v == 1.0 {
-            edges.push((c[3], c[2]));
-        }
-        if r.u == 0.0 {
-            edges.push((c[0], c[3]));
-        }
-        for (a, b) in edges {
-            let key = (a.min(b), a.max(b));
-            sets.entry((key, r.face))
-                .or_default()
-                .push(r.position.map(f32::to_bits));
-        }
-    }
-    let mut per_edge: HashMap<(u32, u32), Vec<Vec<[u32; 3]>>> = HashMap::new();
-    for ((key, _face), mut pts) in sets {
-        pts.sort_unstable();
-        pts.dedup();
-        per_edge.entry(key).or_default().push(pts);
-    }
-    let mut shared = 0;
-    for (key, sides) in per_edge {
-        if sides.len() == 2 {
-            shared += 1;
-            assert_eq!(
-                sides[0].len(),
-                sides[1].len(),
-                "edge {key:?}: point counts differ"
-            );
-            assert!(
-                sides[0] == sides[1],
-                "edge {key:?}: positions not bitwise identical"
-            );
-        }
-    }
-    shared
+    assert_regular_watertight("regular patches", s, recs)
 }
 
 #[test]
@@ -149,14 +81,7 @@ fn torus_uniform_matches_cpu_and_is_watertight() {
     // 160 patches: more than one draw chunk (64 patches, gpu::patch_draw_chunks), the last partial.
     let s = torus(16, 10, 2.0, 0.7);
     let level = 5.0;
-    let recs = capture(
-        &ctx,
-        &s,
-        TessSettings {
-            level,
-            ..TessSettings::default()
-        },
-    );
+    let recs = capture_checked(&ctx, &s, uniform(level));
     // Equal spacing, level 5: a (5+1)^2 grid of domain points per quad patch.
     assert_eq!(recs.len(), s.regular_patches().len() * 36);
     check_accuracy(&s, &recs);
@@ -202,7 +127,7 @@ fn open_grid_fractional_and_adaptive_are_watertight() {
             ..TessSettings::default()
         },
     ] {
-        let recs = capture(&ctx, &s, tess);
+        let recs = capture_checked(&ctx, &s, tess);
         check_accuracy(&s, &recs);
         assert_eq!(check_watertight(&s, &recs), interior_edges, "{tess:?}");
     }
@@ -215,20 +140,12 @@ fn front_faces_are_outside() {
     // the picture when the TES winding and the front-face convention agree.
     let Some(ctx) = context() else { return };
     let s = torus(8, 6, 2.0, 0.7);
-    let desc = OffscreenDesc {
-        width: 128,
-        height: 96,
-        ..OffscreenDesc::default()
-    };
+    let desc = offscreen(128, 96);
     let mut render = RenderDesc::default();
     render.tess.level = 4.0;
-    let a = render_to_image(&ctx, &s, &render, &desc, false)
-        .unwrap()
-        .image;
+    let a = image(&ctx, &s, &render, &desc);
     render.cull_back_faces = true;
-    let b = render_to_image(&ctx, &s, &render, &desc, false)
-        .unwrap()
-        .image;
+    let b = image(&ctx, &s, &render, &desc);
     let bg = a.get_pixel(0, 0).0;
     let covered = a.pixels().filter(|p| p.0 != bg).count();
     assert!(
@@ -254,7 +171,7 @@ fn split_patches_cover_the_same_surface() {
         ..TessSettings::default()
     };
     assert_eq!(tess.split(), 2);
-    let recs = capture(&ctx, &s, tess);
+    let recs = capture_checked(&ctx, &s, tess);
     assert_eq!(recs.len(), s.regular_patches().len() * 4 * 16);
     // Same face (u, v) set as one patch at level 6: k/6 for k in 0..=6 (as f32).
     let mut uv: Vec<(u32, u32)> = recs
@@ -274,42 +191,29 @@ fn split_patches_cover_the_same_surface() {
 fn update_positions_moves_the_surface_and_msaa_renders() {
     let Some(ctx) = context() else { return };
     let s = torus(8, 6, 2.0, 0.7);
-    let tess = TessSettings {
-        level: 3.0,
-        ..TessSettings::default()
-    };
     let samples = if ctx.info().limits.supports_samples(4) {
         4
     } else {
         1
     };
     let render = RenderDesc {
-        tess,
-        capture_capacity: Some(capture_capacity_for(s.regular_patches().len(), &tess)),
+        tess: uniform(3.0),
         ..RenderDesc::default()
     };
     let desc = OffscreenDesc {
-        width: 64,
-        height: 48,
         samples,
-        ..OffscreenDesc::default()
+        ..offscreen(64, 48)
     };
-    let mut session = OffscreenSession::new(&ctx, &s, &render, &desc, false).unwrap();
-    session.frame().unwrap();
-    let before = session.capture().unwrap();
+    let mut animation = Animation::new(&ctx, &s, &render, &desc);
+    let before = animation.frame();
     // Animate: translate every control vertex; the limit surface translates with it.
     let shift = glam::DVec3::new(0.5, -1.0, 2.0);
     let moved: Vec<_> = s.positions.iter().map(|p| *p + shift).collect();
-    session
-        .renderer_mut()
-        .update_positions(&moved, None)
-        .unwrap();
-    session.frame().unwrap();
-    let after = session.capture().unwrap();
+    animation.move_to(&moved).unwrap();
+    let after = animation.frame();
     assert_eq!(before.len(), after.len());
-    let key = |r: &CaptureRecord| (r.face, r.u.to_bits(), r.v.to_bits());
-    let mut a: Vec<_> = before.iter().map(|r| (key(r), r.position)).collect();
-    let mut b: Vec<_> = after.iter().map(|r| (key(r), r.position)).collect();
+    let mut a: Vec<_> = before.iter().map(|r| (param_key(r), r.position)).collect();
+    let mut b: Vec<_> = after.iter().map(|r| (param_key(r), r.position)).collect();
     a.sort_by_key(|x| x.0);
     b.sort_by_key(|x| x.0);
     for ((ka, pa), (kb, pb)) in a.iter().zip(&b) {
@@ -324,11 +228,8 @@ fn update_positions_moves_the_surface_and_msaa_renders() {
     let mut s2 = s.clone();
     s2.positions = moved;
     check_accuracy(&s2, &after);
-    assert!(session
-        .renderer_mut()
-        .update_positions(&s.positions[1..], None)
-        .is_err());
-    let img = session.image().unwrap();
+    assert!(animation.move_to(&s.positions[1..]).is_err());
+    let img = animation.image();
     assert_eq!(img.dimensions(), (64, 48));
     assert_validation_clean(&ctx);
 }
@@ -396,14 +297,7 @@ fn infinitely_sharp_crease_between_regular_patches_is_watertight() {
         "{crease_faces} regular faces along the crease"
     );
     for level in [4.0, 5.0] {
-        let recs = capture(
-            &ctx,
-            &s,
-            TessSettings {
-                level,
-                ..TessSettings::default()
-            },
-        );
+        let recs = capture_checked(&ctx, &s, uniform(level));
         check_accuracy(&s, &recs);
         assert!(check_watertight(&s, &recs) > 0);
     }

@@ -7,7 +7,6 @@ pub mod accuracy;
 pub mod animate;
 pub mod bench;
 pub mod camera;
-pub mod compare;
 pub mod cpu_path;
 pub mod fallback;
 pub mod heatmap;
@@ -21,7 +20,6 @@ pub mod settings;
 pub mod surface;
 
 pub use camera::{Camera, CameraSpec, UpAxis};
-pub use compare::{compare_images, CompareReport, CompareThreshold};
 pub use fallback::{FallbackFace, FallbackMesh, PatchClass};
 pub use offscreen::{
     render_to_image, FrameReport, OffscreenDesc, OffscreenSession, RenderOutput, CPU_PATH_LABEL,
@@ -30,7 +28,7 @@ pub use pass::{capture_capacity_for, CaptureRecord};
 pub use plan::{
     cpu_faces, plan_for_scheme, plan_passes, surface_for_scheme, surface_from_mesh, surface_with,
 };
-pub use renderer::{resolve_tess, RenderDesc, SurfaceRenderer};
+pub use renderer::{resolve_tess, resolve_tess_for, RenderDesc, SurfaceRenderer};
 pub use schemes::{
     PassTables, PatchPass, PatchScheme, Refusal, RefusalReason, Scheme, SchemeLimits,
 };

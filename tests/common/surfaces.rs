@@ -1,44 +1,11 @@
-//! Shared helpers of the render tests: context creation (loud failure without a device),
-//! synthetic all-regular meshes and an independent CPU B-spline reference.
-#![allow(dead_code)]
+//! Synthetic all-regular surfaces built directly as B-spline patches, and their independent
+//! CPU evaluation.
 
 use glam::DVec3;
-use tessera::gpu::{Context, ContextDesc};
 use tessera::patch::RegularPatch;
 use tessera::render::SurfaceData;
 
-/// A validation-enabled context, or `None` when there is no device and
-/// `TESSERA_ALLOW_NO_GPU=1` (any other failure panics loudly).
-pub fn context() -> Option<Context> {
-    let desc = ContextDesc {
-        validation: true,
-        ..ContextDesc::default()
-    };
-    match Context::new(&desc) {
-        Ok(c) => Some(c),
-        Err(e) => {
-            if std::env::var("TESSERA_ALLOW_NO_GPU").as_deref() == Ok("1") {
-                eprintln!("skipping: no usable Vulkan device ({e}); TESSERA_ALLOW_NO_GPU=1");
-                None
-            } else {
-                panic!(
-                    "no usable Vulkan device: {e}\n(set TESSERA_ALLOW_NO_GPU=1 to skip GPU tests)"
-                );
-            }
-        }
-    }
-}
-
-/// Fails the test if the validation layer reported any error.
-pub fn assert_validation_clean(ctx: &Context) {
-    let n = ctx.validation_errors();
-    assert_eq!(
-        n,
-        0,
-        "validation errors:\n{}",
-        ctx.validation_messages().join("\n")
-    );
-}
+use super::reference::bspline_with_derivative;
 
 /// Torus with `nu x nv` quads (every vertex valence 4): every face is a regular patch.
 /// Vertex (i, j) = i + nu * j; faces counter-clockwise seen from outside.
@@ -62,23 +29,7 @@ pub fn torus(nu: u32, nv: u32, big_r: f64, small_r: f64) -> SurfaceData {
         let (nu, nv) = (i64::from(nu), i64::from(nv));
         (i.rem_euclid(nu) + nu * j.rem_euclid(nv)) as u32
     };
-    let mut patches = Vec::new();
-    for j in 0..i64::from(nv) {
-        for i in 0..i64::from(nu) {
-            let mut cvs = [0u32; 16];
-            for b in 0..4 {
-                for a in 0..4 {
-                    cvs[(4 * b + a) as usize] = vid(i - 1 + a, j - 1 + b);
-                }
-            }
-            patches.push(RegularPatch {
-                face: (i + i64::from(nu) * j) as u32,
-                cvs,
-                boundary_mask: 0,
-            });
-        }
-    }
-    SurfaceData::from_regular_patches(positions, patches)
+    SurfaceData::from_regular_patches(positions, grid_patches(nu, nv, vid, |_, _| 0))
 }
 
 /// Open, curved `nu x nv` quad grid: boundary vertices have valence 3 (corners 2), so every face
@@ -102,6 +53,24 @@ pub fn open_grid(nu: u32, nv: u32) -> SurfaceData {
     let vid = |i: i64, j: i64| -> u32 {
         (i.clamp(0, i64::from(nu)) + w * j.clamp(0, i64::from(nv))) as u32
     };
+    let mask = |i: i64, j: i64| {
+        u8::from(j == 0)
+            | u8::from(i == i64::from(nu) - 1) << 1
+            | u8::from(j == i64::from(nv) - 1) << 2
+            | u8::from(i == 0) << 3
+    };
+    SurfaceData::from_regular_patches(positions, grid_patches(nu, nv, vid, mask))
+}
+
+/// One patch per face `(i, j)` of an `nu x nv` grid, face id `i + nu * j`: the 4x4 control
+/// vertices `vid(i - 1 + a, j - 1 + b)` and the boundary mask `mask(i, j)` (bit 0: v = 0 edge,
+/// 1: u = 1, 2: v = 1, 3: u = 0).
+fn grid_patches(
+    nu: u32,
+    nv: u32,
+    vid: impl Fn(i64, i64) -> u32,
+    mask: impl Fn(i64, i64) -> u8,
+) -> Vec<RegularPatch> {
     let mut patches = Vec::new();
     for j in 0..i64::from(nv) {
         for i in 0..i64::from(nu) {
@@ -111,46 +80,14 @@ pub fn open_grid(nu: u32, nv: u32) -> SurfaceData {
                     cvs[(4 * b + a) as usize] = vid(i - 1 + a, j - 1 + b);
                 }
             }
-            let mut mask = 0u8;
-            if j == 0 {
-                mask |= 1;
-            }
-            if i == i64::from(nu) - 1 {
-                mask |= 2;
-            }
-            if j == i64::from(nv) - 1 {
-                mask |= 4;
-            }
-            if i == 0 {
-                mask |= 8;
-            }
             patches.push(RegularPatch {
                 face: (i + i64::from(nu) * j) as u32,
                 cvs,
-                boundary_mask: mask,
+                boundary_mask: mask(i, j),
             });
         }
     }
-    SurfaceData::from_regular_patches(positions, patches)
-}
-
-/// Uniform cubic B-spline basis and derivative (direct polynomial form, not via Bezier).
-fn bspline(t: f64) -> ([f64; 4], [f64; 4]) {
-    let s = 1.0 - t;
-    (
-        [
-            s * s * s / 6.0,
-            (3.0 * t * t * t - 6.0 * t * t + 4.0) / 6.0,
-            (-3.0 * t * t * t + 3.0 * t * t + 3.0 * t + 1.0) / 6.0,
-            t * t * t / 6.0,
-        ],
-        [
-            -s * s / 2.0,
-            (9.0 * t * t - 12.0 * t) / 6.0,
-            (-9.0 * t * t + 6.0 * t + 3.0) / 6.0,
-            t * t / 2.0,
-        ],
-    )
+    patches
 }
 
 /// Independent CPU reference: position and unit normal of a patch at (u, v), phantoms mirrored
@@ -177,8 +114,8 @@ pub fn eval_patch(p: &RegularPatch, positions: &[DVec3], u: f64, v: f64) -> (DVe
     if m & 4 != 0 {
         c[3] = std::array::from_fn(|i| 2.0 * c[2][i] - c[1][i]);
     }
-    let (bu, dbu) = bspline(u);
-    let (bv, dbv) = bspline(v);
+    let (bu, dbu) = bspline_with_derivative(u);
+    let (bv, dbv) = bspline_with_derivative(v);
     let (mut pos, mut du, mut dv) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
     for j in 0..4 {
         for i in 0..4 {

@@ -1,0 +1,74 @@
+//! The meshes the tests load: the OpenSubdiv regression shapes in `shared/meshes/osd` beside the
+//! checkout, and the embedded meshes.
+
+use std::path::PathBuf;
+
+use tessera::assets::EmbeddedMesh;
+use tessera::mesh::{ControlMesh, ObjOptions};
+
+/// `<checkout>/../shared/meshes/osd`.
+pub fn osd_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes/osd")
+}
+
+/// The OBJ file of shape `name` (without `.obj`).
+pub fn osd_path(name: &str) -> PathBuf {
+    osd_dir().join(format!("{name}.obj"))
+}
+
+/// Every shape's name (without `.obj`), sorted.
+pub fn osd_names() -> Vec<String> {
+    let dir = osd_dir();
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .filter_map(|e| {
+            let name = e.ok()?.file_name().into_string().ok()?;
+            name.strip_suffix(".obj").map(str::to_string)
+        })
+        .collect();
+    names.sort();
+    names
+}
+
+/// The options a shape of the corpus is meant to be read with (`catmark_lefthanded` is
+/// left-handed).
+pub fn corpus_options(name: &str) -> ObjOptions {
+    ObjOptions {
+        left_handed: name == "catmark_lefthanded",
+    }
+}
+
+/// Shape `name` with the default options, or the loader's error.
+pub fn try_osd(name: &str) -> tessera::Result<ControlMesh> {
+    ControlMesh::from_obj_file(osd_path(name), &ObjOptions::default())
+}
+
+/// Shape `name` with the default options (panics naming the shape).
+pub fn osd(name: &str) -> ControlMesh {
+    try_osd(name).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// Embedded mesh `name` (`mixed`, `open`, `creased`).
+pub fn embedded(name: &str) -> ControlMesh {
+    EmbeddedMesh::from_name(name)
+        .unwrap_or_else(|| panic!("no embedded mesh {name}"))
+        .load()
+        .unwrap()
+}
+
+/// `embedded:NAME` or the name of a shape of the corpus.
+pub fn mesh(spec: &str) -> ControlMesh {
+    match spec.strip_prefix("embedded:") {
+        Some(name) => embedded(name),
+        None => osd(spec),
+    }
+}
+
+/// `catmark_gregory_test0` to `8` with their names, leaving out the ones the mesh layer refuses
+/// (`catmark_gregory_test4` is non-manifold on purpose: a typed error).
+pub fn gregory_test_meshes() -> Vec<(String, ControlMesh)> {
+    (0..9)
+        .map(|k| format!("catmark_gregory_test{k}"))
+        .filter_map(|name| try_osd(&name).ok().map(|m| (name, m)))
+        .collect()
+}

@@ -1,0 +1,209 @@
+//! Bitwise watertightness: the points two patches emit on their shared edge must be the same
+//! bits on both sides. Where a captured point lies on its face's boundary, the bits compared,
+//! and the shared-edge check.
+
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::fmt::Debug;
+
+use tessera::render::{CaptureRecord, SurfaceData};
+
+/// Where a domain point lies on a face with `n` corners: a quad's (u, v), or a triangle's
+/// barycentric weights (u, v) of corners 1 and 2.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Boundary {
+    /// Inside the face.
+    Interior,
+    /// At corner `k`.
+    Corner(usize),
+    /// On the edge between corners `from` and `to` (adjacent), at parameter `t` from `from`.
+    Edge { from: usize, to: usize, t: f32 },
+}
+
+impl Boundary {
+    /// The edges (pairs of adjacent corners) the point lies on: two at a corner.
+    pub fn edges(self, n: usize) -> Vec<(usize, usize)> {
+        match self {
+            Boundary::Interior => Vec::new(),
+            Boundary::Corner(k) => vec![((k + n - 1) % n, k), (k, (k + 1) % n)],
+            Boundary::Edge { from, to, .. } => vec![(from, to)],
+        }
+    }
+}
+
+/// Classifies domain point (u, v) of a quad (`n == 4`) or triangle (`n == 3`); a triangle's
+/// third weight counts as zero within 1e-6.
+pub fn boundary(n: usize, u: f32, v: f32) -> Boundary {
+    if n == 4 {
+        let (ue, ve) = (u == 0.0 || u == 1.0, v == 0.0 || v == 1.0);
+        if ue && ve {
+            return Boundary::Corner(match (u == 0.0, v == 0.0) {
+                (true, true) => 0,
+                (false, true) => 1,
+                (false, false) => 2,
+                (true, false) => 3,
+            });
+        }
+        if v == 0.0 {
+            Boundary::Edge {
+                from: 0,
+                to: 1,
+                t: u,
+            }
+        } else if u == 1.0 {
+            Boundary::Edge {
+                from: 1,
+                to: 2,
+                t: v,
+            }
+        } else if v == 1.0 {
+            Boundary::Edge {
+                from: 3,
+                to: 2,
+                t: u,
+            }
+        } else if u == 0.0 {
+            Boundary::Edge {
+                from: 0,
+                to: 3,
+                t: v,
+            }
+        } else {
+            Boundary::Interior
+        }
+    } else {
+        let w0_zero = (1.0 - f64::from(u) - f64::from(v)).abs() < 1e-6;
+        let zeros = usize::from(u == 0.0) + usize::from(v == 0.0) + usize::from(w0_zero);
+        if zeros >= 2 {
+            return Boundary::Corner(if u == 0.0 && v == 0.0 {
+                0
+            } else if u != 0.0 {
+                1
+            } else {
+                2
+            });
+        }
+        if v == 0.0 {
+            Boundary::Edge {
+                from: 0,
+                to: 1,
+                t: u,
+            }
+        } else if w0_zero {
+            Boundary::Edge {
+                from: 1,
+                to: 2,
+                t: v,
+            }
+        } else if u == 0.0 {
+            Boundary::Edge {
+                from: 2,
+                to: 0,
+                t: 1.0 - v,
+            }
+        } else {
+            Boundary::Interior
+        }
+    }
+}
+
+/// Bit patterns of a record's position.
+pub fn position_bits(r: &CaptureRecord) -> [u32; 3] {
+    r.position.map(f32::to_bits)
+}
+
+/// Bit patterns of a record's position and normal.
+pub fn point_bits(r: &CaptureRecord) -> [u32; 6] {
+    let [p0, p1, p2] = position_bits(r);
+    let [n0, n1, n2] = r.normal.map(f32::to_bits);
+    [p0, p1, p2, n0, n1, n2]
+}
+
+/// The distinct bit patterns `B` each face emitted on each mesh edge.
+pub struct EdgePoints<B> {
+    edges: HashMap<(u32, u32), BTreeMap<u32, BTreeSet<B>>>,
+}
+
+/// What [`EdgePoints::assert_equal_sides`] compared.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Compared {
+    /// Edges whose two sides were compared.
+    pub edges: usize,
+    /// Points found bitwise equal on both sides.
+    pub points: usize,
+}
+
+impl<B: Ord + Debug> EdgePoints<B> {
+    /// No points yet.
+    pub fn new() -> Self {
+        EdgePoints {
+            edges: HashMap::new(),
+        }
+    }
+
+    /// Face `face` emitted `bits` on the edge between vertices `a` and `b`.
+    pub fn add(&mut self, a: u32, b: u32, face: u32, bits: B) {
+        self.edges
+            .entry((a.min(b), a.max(b)))
+            .or_default()
+            .entry(face)
+            .or_default()
+            .insert(bits);
+    }
+
+    /// For every edge for which `sides(edge, faces that emitted points on it)` names two faces:
+    /// the first emitted points, and both emitted the same set of bit patterns.
+    pub fn assert_equal_sides(
+        &self,
+        what: &str,
+        sides: impl Fn((u32, u32), &[u32]) -> Option<[u32; 2]>,
+    ) -> Compared {
+        let empty = BTreeSet::new();
+        let mut compared = Compared {
+            edges: 0,
+            points: 0,
+        };
+        for (&(a, b), by_face) in &self.edges {
+            let emitting: Vec<u32> = by_face.keys().copied().collect();
+            let Some([f0, f1]) = sides((a, b), &emitting) else {
+                continue;
+            };
+            let (s0, s1) = (
+                by_face.get(&f0).unwrap_or(&empty),
+                by_face.get(&f1).unwrap_or(&empty),
+            );
+            assert!(!s0.is_empty(), "{what}: edge {a}-{b}: no points captured");
+            assert!(
+                s0 == s1,
+                "{what}: edge {a}-{b} (faces {f0} / {f1}): {} and {} points, not bitwise equal",
+                s0.len(),
+                s1.len()
+            );
+            compared.edges += 1;
+            compared.points += s0.len();
+        }
+        compared
+    }
+}
+
+/// The B-spline patches of `surface` against each other: on every edge two patches emitted
+/// points on, both emitted the same position bits. Returns the number of such edges.
+pub fn assert_regular_watertight(
+    what: &str,
+    surface: &SurfaceData,
+    records: &[CaptureRecord],
+) -> usize {
+    let corners: HashMap<u32, [u32; 4]> = surface
+        .regular_patches()
+        .iter()
+        .map(|p| (p.face, p.corners()))
+        .collect();
+    let mut points = EdgePoints::new();
+    for r in records {
+        let c = corners[&r.face];
+        for (i, j) in boundary(4, r.u, r.v).edges(4) {
+            points.add(c[i], c[j], r.face, position_bits(r));
+        }
+    }
+    let both = |_, faces: &[u32]| <[u32; 2]>::try_from(faces).ok();
+    points.assert_equal_sides(what, both).edges
+}
