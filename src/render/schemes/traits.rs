@@ -136,6 +136,9 @@ pub enum CaptureLayout {
     FaceDomainOrBarycentric,
 }
 
+/// A patch evaluated on the CPU: `(u, v)` to position and unit normal.
+pub type ReferencePatch = Box<dyn Fn(f64, f64) -> (DVec3, DVec3) + Send + Sync>;
+
 /// A pass as the registry lists it: which faces it takes, building its CPU tables.
 pub trait PatchScheme: Sync {
     /// Short name (logs, refusals, timing labels).
@@ -189,6 +192,11 @@ pub trait PassTables: fmt::Debug + Send + Sync + Any {
     fn capture_layout(&self) -> CaptureLayout {
         CaptureLayout::FaceDomain
     }
+
+    /// The CPU reference of the patch this pass draws for `face` (the construction the GPU
+    /// reproduces, from `crate::patch`): position and unit normal at a captured `(u, v)` (see
+    /// [`Self::capture_layout`]). `None` when the pass does not draw `face`.
+    fn reference(&self, positions: &[DVec3], face: u32) -> Option<ReferencePatch>;
 
     /// Creates the GPU pass.
     fn create_pass(&self, pc: &PassContext<'_>) -> Result<Box<dyn PatchPass>>;

@@ -16,10 +16,12 @@ use ash::vk;
 use glam::DVec3;
 
 use super::traits::{
-    PassContext, PassPlan, PassTables, PatchPass, PatchScheme, Refusal, RefusalReason, SchemeLimits,
+    PassContext, PassPlan, PassTables, PatchPass, PatchScheme, ReferencePatch, Refusal,
+    RefusalReason, SchemeLimits,
 };
 use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool, Pipeline};
 use crate::patch::RegularPatch;
+use crate::subdiv::bspline::eval_bspline;
 use crate::render::pass::frames::single_normal_vertex;
 use crate::render::pass::pipeline::{patch_pipeline, PatchShaders};
 use crate::render::pass::shared::set0_layout;
@@ -163,6 +165,15 @@ impl PassTables for BSplineTables {
             .flat_map(|p| p.corners())
             .map(|v| frames.limits[v as usize])
             .collect()
+    }
+
+    fn reference(&self, positions: &[DVec3], face: u32) -> Option<ReferencePatch> {
+        let p = self.patches.iter().find(|p| p.face == face)?;
+        let cp = p.control_points(positions);
+        Some(Box::new(move |u, v| {
+            let s = eval_bspline(&cp, u, v);
+            (s.position, s.normal)
+        }))
     }
 
     fn create_pass(&self, pc: &PassContext<'_>) -> Result<Box<dyn PatchPass>> {

@@ -10,9 +10,9 @@ use glam::DVec3;
 
 pub use layout::{gregory_face_problem, gregory_vertex_frame, irregular_faces, GregoryLayout};
 
-use super::traits::{Refusal, RefusalReason};
+use super::traits::{ReferencePatch, Refusal, RefusalReason};
 use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind};
-use crate::patch::gregory::check_face;
+use crate::patch::gregory::{check_face, gregory_patch_at, GregoryPatch};
 use crate::render::pass::frames::single_normal_vertex;
 use crate::render::pass::upload::host_buffer;
 use crate::render::pass::VertexFrames;
@@ -67,6 +67,27 @@ pub fn corner_frames(
             frames.set(v, p, n, single_normal_vertex(topo, v));
         }
     }
+}
+
+/// The CPU construction of the Gregory patch of `face` ([`gregory_patch_at`], §3-4), when
+/// `layout` draws it.
+pub fn reference(
+    topo: &Topology,
+    layout: &GregoryLayout,
+    positions: &[DVec3],
+    face: u32,
+) -> Option<ReferencePatch> {
+    if !layout.faces.contains(&face) {
+        return None;
+    }
+    let patch = gregory_patch_at(topo, positions, face).ok()?;
+    Some(Box::new(move |u, v| {
+        let p = match &patch {
+            GregoryPatch::Quad(q) => q.eval(u, v),
+            GregoryPatch::Triangle(t) => t.eval(u, v),
+        };
+        (p.position, p.normal())
+    }))
 }
 
 /// Limit positions of the Gregory corners (camera framing).

@@ -15,7 +15,7 @@ use glam::DVec3;
 use self::table::{StencilTable, QUAD_EXTRA, QUAD_POINTS};
 use super::gregory::{self, GregoryLayout, GregoryTesBuffers};
 use super::traits::{
-    PassContext, PassPlan, PassTables, PatchPass, PatchScheme, Refusal, RefusalReason, SchemeLimits,
+    PassContext, PassPlan, PassTables, PatchPass, PatchScheme, ReferencePatch, Refusal, RefusalReason, SchemeLimits,
 };
 use crate::gpu::{
     Buffer, BufferBinding, Context, DescriptorBinding, DescriptorKind, DescriptorPool, Pipeline,
@@ -194,6 +194,10 @@ impl PassTables for GregoryStencilTables {
 
     fn capture_layout(&self) -> super::traits::CaptureLayout {
         super::traits::CaptureLayout::FaceDomainOrBarycentric
+    }
+
+    fn reference(&self, positions: &[DVec3], face: u32) -> Option<ReferencePatch> {
+        gregory::reference(&self.topology, &self.plan.layout, positions, face)
     }
 
     fn create_pass(&self, pc: &PassContext<'_>) -> Result<Box<dyn PatchPass>> {

@@ -29,7 +29,7 @@ use glam::DVec3;
 
 use super::gregory::{self, GregoryLayout, GregoryTesBuffers};
 use super::traits::{
-    PassContext, PassPlan, PassTables, PatchPass, PatchScheme, Refusal, RefusalReason, SchemeLimits,
+    PassContext, PassPlan, PassTables, PatchPass, PatchScheme, ReferencePatch, Refusal, RefusalReason, SchemeLimits,
 };
 use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool, Pipeline};
 use crate::patch::gregory::is_supported_vertex;
@@ -239,6 +239,10 @@ impl PassTables for GregoryVsTables {
 
     fn capture_layout(&self) -> super::traits::CaptureLayout {
         super::traits::CaptureLayout::FaceDomainOrBarycentric
+    }
+
+    fn reference(&self, positions: &[DVec3], face: u32) -> Option<ReferencePatch> {
+        gregory::reference(&self.topology, &self.layout, positions, face)
     }
 
     fn create_pass(&self, pc: &PassContext<'_>) -> Result<Box<dyn PatchPass>> {
