@@ -302,11 +302,6 @@ fn golden_patch_type() {
             Scheme::GregoryStencil,
         ),
         (
-            "gregory_stencil_mixed_patch_type",
-            embedded("mixed"),
-            Scheme::GregoryStencil,
-        ),
-        (
             "gregory_stencil_open_patch_type",
             embedded("open"),
             Scheme::GregoryStencil,

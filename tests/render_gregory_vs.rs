@@ -380,7 +380,6 @@ fn watertight_spacings_variants_meshes() {
 fn golden_patch_type() {
     let Some(ctx) = context() else { return };
     for (name, mesh) in [
-        ("gregory_vs_mixed_patch_type", embedded("mixed")),
         ("gregory_vs_cube_patch_type", osd("catmark_cube")),
         ("gregory_vs_open_patch_type", embedded("open")),
     ] {

@@ -182,6 +182,12 @@ pub fn report_fallback(surface: &SurfaceData) {
                 parts.join(", ")
             }
         );
+        // The last pass's reasons: what no pass could take.
+        if let Some(last) = surface.refusals.last().map(|r| r.pass) {
+            for r in surface.refusals.iter().filter(|r| r.pass == last).take(3) {
+                log::info!("  {r}");
+            }
+        }
     }
 }
 

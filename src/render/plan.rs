@@ -16,8 +16,8 @@ use crate::topology::Topology;
 use crate::Result;
 
 /// Plans the faces of `mesh` for `passes` (no CPU evaluation yet): the parts, the faces left to
-/// the CPU path (`fallback` empty) and every refusal. Refusals of faces that no pass takes are
-/// logged (count and the first reasons).
+/// the CPU path (`fallback` empty) and every refusal (`SurfaceData::refusals`; the refusals of
+/// the passes after the first are also logged at debug level, count and the first reasons).
 pub fn plan_passes(
     mesh: &ControlMesh,
     passes: &[&dyn PatchScheme],
@@ -61,7 +61,7 @@ fn log_refusals(pass: &str, refused: &[super::schemes::Refusal], left: &[u32]) {
     if refused.is_empty() {
         return;
     }
-    log::info!(
+    log::debug!(
         "{pass}: {} faces stay on the exact CPU path, e.g.: {}",
         left.len(),
         refused

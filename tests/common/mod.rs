@@ -2,12 +2,13 @@
 //! rule ([`gpu`]), the OpenSubdiv meshes beside the checkout ([`meshes`]), synthetic surfaces
 //! and independent CPU references ([`surfaces`], [`reference`]), drawing with TES capture
 //! ([`capture`]), the bitwise watertightness check ([`watertight`]) and golden images compared
-//! with FLIP ([`golden`]).
+//! with FLIP ([`golden`]), and the checks every scheme passes ([`conformance`]).
 //!
 //! Every test crate compiles the whole module and uses a part of it.
 #![allow(dead_code)]
 
 pub mod capture;
+pub mod conformance;
 pub mod golden;
 pub mod gpu;
 pub mod meshes;

@@ -21,7 +21,6 @@ use super::traits::{
 };
 use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool, Pipeline};
 use crate::patch::RegularPatch;
-use crate::subdiv::bspline::eval_bspline;
 use crate::render::pass::frames::single_normal_vertex;
 use crate::render::pass::pipeline::{patch_pipeline, PatchShaders};
 use crate::render::pass::shared::set0_layout;
@@ -29,6 +28,7 @@ use crate::render::pass::upload::device_buffer;
 use crate::render::pass::{
     bind_draw_state, record_patch_draws, NormalRule, PatchDraws, VertexFrames,
 };
+use crate::subdiv::bspline::eval_bspline;
 use crate::topology::Topology;
 use crate::Result;
 

@@ -15,7 +15,8 @@ use glam::DVec3;
 use self::table::{StencilTable, QUAD_EXTRA, QUAD_POINTS};
 use super::gregory::{self, GregoryLayout, GregoryTesBuffers};
 use super::traits::{
-    PassContext, PassPlan, PassTables, PatchPass, PatchScheme, ReferencePatch, Refusal, RefusalReason, SchemeLimits,
+    PassContext, PassPlan, PassTables, PatchPass, PatchScheme, ReferencePatch, Refusal,
+    RefusalReason, SchemeLimits,
 };
 use crate::gpu::{
     Buffer, BufferBinding, Context, DescriptorBinding, DescriptorKind, DescriptorPool, Pipeline,

@@ -29,7 +29,8 @@ use glam::DVec3;
 
 use super::gregory::{self, GregoryLayout, GregoryTesBuffers};
 use super::traits::{
-    PassContext, PassPlan, PassTables, PatchPass, PatchScheme, ReferencePatch, Refusal, RefusalReason, SchemeLimits,
+    PassContext, PassPlan, PassTables, PatchPass, PatchScheme, ReferencePatch, Refusal,
+    RefusalReason, SchemeLimits,
 };
 use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool, Pipeline};
 use crate::patch::gregory::is_supported_vertex;
