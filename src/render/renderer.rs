@@ -1,17 +1,20 @@
 //! [`SurfaceRenderer`]: the GPU passes of one surface over shared buffers, recorded into the
 //! caller's command buffer (compute pre-passes before its render pass, draws inside it).
 
+use std::sync::Arc;
+
 use ash::vk;
 use glam::DVec3;
 
 use super::cpu_path::CpuPathPass;
 use super::fallback::FallbackMesh;
 use super::pass::{CaptureRecord, SharedResources, VertexFrames};
-use super::schemes::{PassContext, PatchPass};
+use super::schemes::{PassContext, PassTables, PatchPass};
 pub use super::settings::RenderDesc;
 use super::settings::{FrameUniforms, TessSettings};
-use super::surface::SurfaceData;
+use super::surface::{vertex_frames, SurfaceData};
 use crate::gpu::{Context, Feature, TargetFormat};
+use crate::topology::Topology;
 use crate::{Error, Result};
 
 /// The tessellation settings a [`SurfaceRenderer`] for `surface` on `ctx`'s device uses for the
@@ -44,7 +47,8 @@ pub fn resolve_tess_for(
 pub struct SurfaceRenderer {
     ctx: Context,
     desc: RenderDesc,
-    surface: SurfaceData,
+    topology: Option<Arc<Topology>>,
+    parts: Vec<Arc<dyn PassTables>>,
     shared: SharedResources,
     passes: Vec<Box<dyn PatchPass>>,
     cpu_path: CpuPathPass,
@@ -89,7 +93,8 @@ impl SurfaceRenderer {
         Ok(SurfaceRenderer {
             ctx: ctx.clone(),
             desc,
-            surface: surface.clone(),
+            topology: surface.topology.clone(),
+            parts: surface.parts.clone(),
             shared,
             passes,
             cpu_path,
@@ -106,9 +111,9 @@ impl SurfaceRenderer {
         &self.desc.tess
     }
 
-    /// The surface drawn.
-    pub fn surface(&self) -> &SurfaceData {
-        &self.surface
+    /// The CPU tables of the passes, in draw order.
+    pub fn parts(&self) -> &[Arc<dyn PassTables>] {
+        &self.parts
     }
 
     /// The passes, in draw order.
@@ -147,7 +152,7 @@ impl SurfaceRenderer {
                 "update_positions: vertex {i} has a non-finite coordinate"
             )));
         }
-        let frames: VertexFrames = self.surface.vertex_frames(positions);
+        let frames: VertexFrames = vertex_frames(self.topology.as_deref(), &self.parts, positions);
         self.shared.update(positions, &frames)?;
         for p in &mut self.passes {
             p.update_positions(positions, &frames)?;

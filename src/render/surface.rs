@@ -12,6 +12,24 @@ use super::schemes::{PassTables, Refusal};
 use crate::patch::RegularPatch;
 use crate::topology::Topology;
 
+/// Per-vertex limit frames of `positions` for `parts` (first part first), the normal rule from
+/// the topology when known.
+pub fn vertex_frames(
+    topology: Option<&Topology>,
+    parts: &[Arc<dyn PassTables>],
+    positions: &[DVec3],
+) -> VertexFrames {
+    let mut frames = VertexFrames::new(positions);
+    let rule = match topology {
+        Some(t) => NormalRule::Topology(t),
+        None => NormalRule::PatchSides,
+    };
+    for p in parts {
+        p.corner_frames(positions, rule, &mut frames);
+    }
+    frames
+}
+
 /// A surface ready for the GPU.
 #[derive(Debug, Clone, Default)]
 pub struct SurfaceData {
@@ -81,15 +99,7 @@ impl SurfaceData {
 
     /// Per-vertex limit frames of `positions` (the corners of every part, first part first).
     pub fn vertex_frames(&self, positions: &[DVec3]) -> VertexFrames {
-        let mut frames = VertexFrames::new(positions);
-        let rule = match &self.topology {
-            Some(t) => NormalRule::Topology(t),
-            None => NormalRule::PatchSides,
-        };
-        for p in &self.parts {
-            p.corner_frames(positions, rule, &mut frames);
-        }
-        frames
+        vertex_frames(self.topology.as_deref(), &self.parts, positions)
     }
 
     /// Points to frame the camera on: patch corner limits and the CPU-evaluated points
