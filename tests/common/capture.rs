@@ -8,6 +8,7 @@ use glam::DVec3;
 use image::RgbaImage;
 use tessera::gpu::{vk, Buffer, Context, MemoryLocation, PipelineStats};
 use tessera::mesh::ControlMesh;
+use tessera::render::pass::capture::decode_capture;
 use tessera::render::renderer::resolve_tess_for;
 use tessera::render::schemes::gregory::irregular_faces;
 use tessera::render::schemes::gregory_vs::{select_faces, GregoryVsTables, VsBudget};
@@ -266,22 +267,12 @@ impl CaptureBuffer {
         (words[0], words[4..4 + kept * self.record_words].to_vec())
     }
 
-    /// The records as [`CaptureRecord`]s (the renderer's layout); fails on overflow.
+    /// The records as [`CaptureRecord`]s (the renderer's layout, decoded by the library's
+    /// [`decode_capture`]); fails on overflow.
     pub fn records(&self) -> Vec<CaptureRecord> {
         assert_eq!(self.record_words, RECORD_WORDS);
-        let (count, words) = self.read();
-        assert!(count <= self.capacity, "capture overflow: {count}");
-        let f = f32::from_bits;
-        words
-            .chunks(RECORD_WORDS)
-            .map(|r| CaptureRecord {
-                face: r[0],
-                u: f(r[1]),
-                v: f(r[2]),
-                position: [f(r[3]), f(r[4]), f(r[5])],
-                normal: [f(r[6]), f(r[7]), f(r[8])],
-            })
-            .collect()
+        let words: Vec<u32> = self.buffer.read().expect("read capture");
+        decode_capture(&words, self.capacity).expect("capture within capacity")
     }
 }
 
