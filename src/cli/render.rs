@@ -126,7 +126,9 @@ pub fn check_validation(ctx: &Context) -> Result<()> {
     )))
 }
 
-/// Clamps a requested level to the device limit, saying so on stderr.
+/// Checks a requested level and says when the device limit will clamp it (the one clamp is
+/// [`TessSettings::resolve`], which the renderer applies; the CPU path's grid uses the same
+/// value).
 pub fn clamp_level(ctx: &Context, level: f32) -> Result<f32> {
     if !level.is_finite() || level < 1.0 {
         return Err(Error::Invalid(format!(
@@ -134,11 +136,16 @@ pub fn clamp_level(ctx: &Context, level: f32) -> Result<f32> {
         )));
     }
     let max = ctx.info().limits.max_tessellation_generation_level as f32;
-    if level > max {
-        log::warn!("--tess {level} clamped to the device limit {max}");
-        return Ok(max);
+    let clamped = TessSettings {
+        level,
+        ..TessSettings::default()
     }
-    Ok(level)
+    .resolve(max, &[])
+    .level;
+    if clamped != level {
+        log::warn!("--tess {level} clamped to the device limit {max}");
+    }
+    Ok(clamped)
 }
 
 /// `--max-patch-level`: 0 (or less) disables splitting.

@@ -91,7 +91,7 @@ fn grid_patches(
 }
 
 /// Independent CPU reference: position and unit normal of a patch at (u, v), phantoms mirrored
-/// by the api.md rule (columns first, then rows).
+/// as `RegularPatch::control_points` documents (columns first, then rows).
 pub fn eval_patch(p: &RegularPatch, positions: &[DVec3], u: f64, v: f64) -> (DVec3, DVec3) {
     let mut c = [[DVec3::ZERO; 4]; 4];
     for j in 0..4 {
