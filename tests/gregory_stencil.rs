@@ -4,7 +4,8 @@
 
 use glam::DVec3;
 use tessera::mesh::{ControlMesh, ObjOptions};
-use tessera::patch::gregory::stencil::{gregory_stencil, NoStencil, StencilTable, MAX_RING};
+use tessera::patch::gregory::stencil::{gregory_stencil, NoStencil, MAX_RING};
+use tessera::patch::gregory::stencil_table::GregoryStencilTable as StencilTable;
 use tessera::patch::gregory::{gregory_patch_at, GregoryPatch};
 use tessera::topology::Topology;
 

@@ -9,10 +9,12 @@ use ash::vk;
 
 use glam::DVec3;
 
-use super::table::{StencilTable, QUAD_EXTRA, QUAD_POINTS};
 use crate::gpu::{
     patch_draw_chunks, Buffer, BufferBinding, Context, DescriptorBinding, DescriptorKind,
     DescriptorPool, GraphicsPipelineDesc, MemoryLocation, Pipeline, TargetFormat,
+};
+use crate::patch::gregory::stencil_table::{
+    GregoryStencilTable as StencilTable, QUAD_EXTRA, QUAD_POINTS,
 };
 use crate::render::gregory_layout::GregoryLayout;
 use crate::render::gregory_vs::SharedBuffers;

@@ -9,11 +9,11 @@ use glam::DVec3;
 use image::RgbaImage;
 
 use super::gpu::{StencilPatches, StencilPlan};
-use super::table::gregory_faces;
 use crate::gpu::{
     Buffer, Context, GpuTimer, MemoryLocation, PipelineStats, RenderTarget, StatsQuery,
 };
 use crate::mesh::ControlMesh;
+use crate::patch::gregory::gregory_faces;
 use crate::render::camera::{Camera, CameraSpec};
 use crate::render::gregory_layout::{vertex_frames, GregoryLayout};
 use crate::render::gregory_vs::{select_faces, vs_budget, GregoryVsPatches, SharedBuffers};
