@@ -7,7 +7,8 @@ mod common;
 use common::meshes::mesh as load;
 use glam::DVec3;
 use tessera::mesh::ControlMesh;
-use tessera::patch::gregory::stencil::{gregory_stencil, NoStencil, StencilTable, MAX_RING};
+use tessera::patch::gregory::stencil::{gregory_stencil, NoStencil, MAX_RING};
+use tessera::patch::gregory::stencil_table::GregoryStencilTable as StencilTable;
 use tessera::patch::gregory::{gregory_patch_at, GregoryPatch};
 use tessera::topology::Topology;
 

@@ -1,7 +1,9 @@
 //! Patch schemes: CPU construction and reference evaluation, one module per scheme.
 //!
 //! - [`basis`]: cubic B-spline and Bernstein bases, B-spline to Bézier conversion.
-//! - [`regular`]: bicubic B-spline patches of regular (and boundary-regular) quads.
+//! - [`regular`]: bicubic B-spline patches of regular (and boundary-regular) quads (defined in
+//!   [`crate::subdiv::bspline`], which exact evaluation builds on).
+//! - [`gregory`]: Gregory patches of the other triangles and quads, with their stencil forms.
 
 pub mod basis;
 pub mod gregory;

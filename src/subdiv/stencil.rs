@@ -1,6 +1,8 @@
 //! Stencil tables: refined vertices as sparse weighted sums of the base (control) vertices, the
 //! composition of the per-level refinement matrices (OpenSubdiv's `Far::StencilTable` idea).
 //! Topology is fixed, positions change every frame: `apply` is all that runs per frame.
+//! (The Gregory patch stencils over one face's one-ring are `patch::gregory::stencil` and
+//! `patch::gregory::stencil_table`.)
 
 use super::level::Level;
 use super::sparse::SparseMatrix;

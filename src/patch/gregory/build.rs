@@ -5,6 +5,7 @@ use super::eval::{CornerRef, GregoryQuad, GregoryTriangle};
 use super::point::{GregoryPoint, Weights};
 use super::vertex::{sectors, GregoryVertex, Sector, VertexRing};
 use crate::mesh::INFINITE_SHARPNESS;
+use crate::patch::regular::RegularPatch;
 use crate::topology::Topology;
 use glam::DVec3;
 use std::fmt;
@@ -43,6 +44,21 @@ pub enum NotGregory {
     /// there has no tangent plane spanned by the two sharp curves (its leading interior mode
     /// dominates), which the corner construction of §4.6 assumes.
     WideCornerSector { face: u32, vertex: u32 },
+}
+
+impl NotGregory {
+    /// The face without Gregory patch.
+    pub fn face(&self) -> u32 {
+        match *self {
+            NotGregory::NoSurface { face }
+            | NotGregory::Polygon { face, .. }
+            | NotGregory::SemiSharp { face, .. }
+            | NotGregory::Dart { face, .. }
+            | NotGregory::Cusp { face, .. }
+            | NotGregory::OneFaceCreaseSector { face, .. }
+            | NotGregory::WideCornerSector { face, .. } => face,
+        }
+    }
 }
 
 impl fmt::Display for NotGregory {
@@ -162,6 +178,19 @@ pub fn check_face(topo: &Topology, f: u32) -> Result<(), NotGregory> {
         });
     }
     fv.iter().try_for_each(|&v| check_vertex(topo, v, f))
+}
+
+/// Faces a Gregory scheme should draw: with a limit surface, not (boundary-)regular (those are
+/// B-spline patches, [`RegularPatch`]), three or four corners. Whether the construction covers
+/// them is [`check_face`].
+pub fn gregory_faces(topo: &Topology) -> Vec<u32> {
+    (0..topo.face_count() as u32)
+        .filter(|&f| {
+            topo.has_limit_surface(f)
+                && matches!(topo.face_size(f), 3 | 4)
+                && RegularPatch::gather(topo, f).is_none()
+        })
+        .collect()
 }
 
 /// The split one-ring of vertex `v` (paper Fig. 5) in the topology's ring order, from positions.
@@ -306,6 +335,25 @@ fn local_patch<P: GregoryPoint>(
         data.push(GregoryVertex::new(&vertex_ring_with(topo, v, point)));
     }
     assemble_face(topo, f, |k, _| data[k].as_ref())
+}
+
+impl<P> GregoryPatch<P> {
+    /// Number of corners: 4 for a quad, 3 for a triangle.
+    pub fn corner_count(&self) -> usize {
+        match self {
+            GregoryPatch::Quad(_) => 4,
+            GregoryPatch::Triangle(_) => 3,
+        }
+    }
+
+    /// The five kinds of control points, each indexed by corner: `[p, e_plus, e_minus, f_plus,
+    /// f_minus]` (the field names of [`GregoryQuad`]).
+    pub fn points(&self) -> [&[P]; 5] {
+        match self {
+            GregoryPatch::Quad(q) => [&q.p, &q.e_plus, &q.e_minus, &q.f_plus, &q.f_minus],
+            GregoryPatch::Triangle(t) => [&t.p, &t.e_plus, &t.e_minus, &t.f_plus, &t.f_minus],
+        }
+    }
 }
 
 impl GregoryPatch<DVec3> {

@@ -15,7 +15,10 @@
 //! path for them.
 //!
 //! The construction is generic over [`GregoryPoint`]: run on positions it gives the patch, run on
-//! unit weight vectors ([`Weights`]) it gives the stencil form of §4.3.
+//! unit weight vectors ([`Weights`]) it gives the stencil form of §4.3: one face's stencil in
+//! [`stencil`], the faces of a mesh grouped by connectivity type for the GPU stencil variant in
+//! [`stencil_table`]. [`table`] holds the flat per-vertex tables of the two-stage GPU variant
+//! (§4.1-4.2).
 //!
 //! Corner `i` of a patch is corner `i` of its face; a quad patch uses the face's (u, v)
 //! (corners at (0,0), (1,0), (1,1), (0,1)); a triangle patch uses barycentric
@@ -26,13 +29,14 @@ mod build;
 mod eval;
 mod point;
 pub mod stencil;
+pub mod stencil_table;
 pub mod table;
 mod vertex;
 
 pub use build::{
-    check_face, check_vertex, gregory_patch, gregory_patch_at, gregory_patch_weights,
-    gregory_vertex, gregory_vertices, is_supported_vertex, vertex_ring, vertex_ring_with,
-    GregoryPatch, NotGregory,
+    check_face, check_vertex, gregory_faces, gregory_patch, gregory_patch_at,
+    gregory_patch_weights, gregory_vertex, gregory_vertices, is_supported_vertex, vertex_ring,
+    vertex_ring_with, GregoryPatch, NotGregory,
 };
 pub use eval::{CornerRef, GregoryQuad, GregoryTriangle, PatchPoint};
 pub use point::{combine, GregoryPoint, Weights};

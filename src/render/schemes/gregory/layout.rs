@@ -5,6 +5,7 @@
 
 use glam::DVec3;
 
+pub use crate::patch::gregory::gregory_faces as irregular_faces;
 use crate::patch::gregory::{check_face, gregory_vertex};
 use crate::patch::RegularPatch;
 use crate::render::pass::frames::{is_sharp_edge, sector_count};
@@ -21,18 +22,6 @@ pub const GRID_IDS_PER_PATCH: usize = 48;
 /// points, one-face crease sectors, wide corner sectors).
 pub fn gregory_face_problem(topo: &Topology, f: u32) -> Option<String> {
     check_face(topo, f).err().map(|e| e.to_string())
-}
-
-/// Faces a Gregory scheme should draw: a limit surface, not (boundary-)regular, 3 or 4 corners
-/// (whether the construction covers them is [`gregory_face_problem`]).
-pub fn irregular_faces(topo: &Topology) -> Vec<u32> {
-    (0..topo.face_count() as u32)
-        .filter(|&f| {
-            topo.has_limit_surface(f)
-                && matches!(topo.face_size(f), 3 | 4)
-                && RegularPatch::gather(topo, f).is_none()
-        })
-        .collect()
 }
 
 /// Shared TES data of a list of Gregory faces, in draw order: quads first, then triangles.

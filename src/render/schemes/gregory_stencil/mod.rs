@@ -4,15 +4,12 @@
 //! ([`crate::render::pass::shared`]) and the shared Gregory TES tables ([`GregoryLayout`]); set 1
 //! the stencil data. Byte layouts mirror `glsl/gregory_stencil/`.
 
-pub mod table;
-
 use std::any::Any;
 use std::sync::Arc;
 
 use ash::vk;
 use glam::DVec3;
 
-use self::table::{StencilTable, QUAD_EXTRA, QUAD_POINTS};
 use super::gregory::{self, GregoryLayout, GregoryTesBuffers};
 use super::traits::{
     PassContext, PassPlan, PassTables, PatchPass, PatchScheme, ReferencePatch, Refusal,
@@ -21,7 +18,10 @@ use super::traits::{
 use crate::gpu::{
     Buffer, BufferBinding, Context, DescriptorBinding, DescriptorKind, DescriptorPool, Pipeline,
 };
-use crate::patch::gregory::stencil::canonical_ring;
+use crate::patch::gregory::stencil::{NoStencil, MAX_RING};
+use crate::patch::gregory::stencil_table::{
+    GregoryStencilTable as StencilTable, QUAD_EXTRA, QUAD_POINTS,
+};
 use crate::render::pass::pipeline::{patch_pipeline, PatchShaders};
 use crate::render::pass::shared::set0_layout;
 use crate::render::pass::upload::{device_buffer, f32_bytes, u32_bytes};
@@ -138,13 +138,18 @@ impl PatchScheme for GregoryStencilScheme {
     fn plan(&self, topo: &Arc<Topology>, candidates: &[u32], limits: &SchemeLimits) -> PassPlan {
         let (covered, mut refused) = gregory::covered_faces(self.name(), topo, candidates);
         let plan = StencilPlan::new(topo, &covered, limits.max_patch_size);
-        let max = (limits.max_patch_size as usize).min(table::MAX_RING);
-        refused.extend(plan.table.rejected.iter().map(|r| Refusal {
-            face: r.face,
+        refused.extend(plan.table.skipped.iter().map(|s| Refusal {
+            face: s.face(),
             pass: self.name(),
-            reason: RefusalReason::RingTooLarge {
-                ring: canonical_ring(topo, r.face).len(),
-                max,
+            reason: match *s {
+                NoStencil::NotGregory(e) => RefusalReason::NotGregory(e),
+                NoStencil::TooLarge { ring, .. } => RefusalReason::RingTooLarge {
+                    ring,
+                    max: MAX_RING,
+                },
+                NoStencil::OverLimit { ring, limit, .. } => {
+                    RefusalReason::RingTooLarge { ring, max: limit }
+                }
             },
         }));
         PassPlan {

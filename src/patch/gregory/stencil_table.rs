@@ -1,0 +1,524 @@
+//! The Gregory stencils of a mesh grouped by connectivity type: the CPU tables of the GPU stencil
+//! variant (Loop et al. 2009, §4.3). Every row is a fixed linear combination of the face's
+//! one-ring vertices, computed by the one construction on unit weight vectors (as
+//! [`super::stencil::GregoryStencil`]); the ring is kept in the canonical local order of
+//! [`super::stencil::canonical_ring`], so faces with the same local connectivity share one
+//! connectivity type (§4.3), and every weighted sum runs in ascending global vertex id (the
+//! paper's "one global, consistent order", §4.5), so a point two patches share gets bitwise
+//! equal values in both.
+
+use std::collections::HashMap;
+
+use glam::DVec3;
+
+use super::build::{gregory_patch, gregory_vertex, GregoryPatch, NotGregory};
+use super::point::{GregoryPoint, Weights};
+use super::stencil::{dense_rows, stencil_ring, NoStencil, MAX_RING, ROWS_PER_CORNER};
+use super::vertex::GregoryVertex;
+use crate::topology::Topology;
+
+/// Control points of a quad Gregory patch.
+pub const QUAD_POINTS: usize = 20;
+/// Control points of a triangular Gregory patch.
+pub const TRI_POINTS: usize = 15;
+/// Extra rows after a quad's control points: per patch edge k the neighbour's other edge points
+/// at both ends (`g_eout` of glsl/common/gregory.glsl), then the neighbour's face points next
+/// to edge k at both ends (`g_nbr`).
+pub const QUAD_EXTRA: usize = 16;
+/// Extra rows after a triangle's control points (6 + 6).
+pub const TRI_EXTRA: usize = 12;
+
+/// One face of a [`GregoryStencilTable`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct StencilPatch {
+    /// Base-mesh face.
+    pub face: u32,
+    /// Corner vertex ids in face order (4th entry repeats corner 0 for triangles).
+    pub corners: [u32; 4],
+    /// Whether the face is a triangle (15 points) or a quad (20 points).
+    pub triangle: bool,
+    /// The face's one-ring (every vertex of every face touching a corner) in the canonical local
+    /// order of [`super::stencil::canonical_ring`]: the patch primitive's vertex list. Faces
+    /// with the same local connectivity get the same weights slot by slot, so they share a
+    /// connectivity type (§4.3).
+    pub ring: Vec<u32>,
+    /// Ring slots sorted by global vertex id: the order every weighted sum runs in, so a shared
+    /// corner or edge point gets the same nonzero terms in the same order in both patches (§4.5).
+    pub order: Vec<u8>,
+    /// Index into [`GregoryStencilTable::types`].
+    pub type_id: u32,
+}
+
+/// One connectivity type: the weight rows shared by every patch of the type.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StencilType {
+    /// Triangle (15 control points) or quad (20).
+    pub triangle: bool,
+    /// Ring length (columns).
+    pub ring_len: usize,
+    /// `weights[row * ring_len + k]`: weight of ring vertex `k` in row `row`: the control points
+    /// p0.., e_plus0.., e_minus0.., f_plus0.., f_minus0.. (20 or 15), then for each patch edge
+    /// k (corner k -> k+1) the edge point of corner k's vertex on the ring edge beyond edge k
+    /// and that of corner k+1's vertex beyond edge k (8 or 6 rows: the neighbour patch's own
+    /// edge points there), then for each edge k the neighbour patch's face points next to edge
+    /// k at corner k and at corner k+1 (8 or 6 rows, eq. 6 with the neighbour's face size): the
+    /// shared TES builds symmetric edge normals from both patches' cross-edge derivatives.
+    pub weights: Vec<f32>,
+    /// Bit `k` of `masks[row]` set when the weight of ring vertex `k` in `row` is nonzero.
+    pub masks: Vec<u32>,
+}
+
+impl StencilType {
+    /// Number of corners (3 or 4).
+    pub fn corners(&self) -> usize {
+        if self.triangle {
+            3
+        } else {
+            4
+        }
+    }
+
+    /// The row of control point `point` given in [`super::stencil::GregoryStencil`] order
+    /// (`5 i + k`: corner `i`, kind `k`); the table stores the points kind by kind (`k n + i`).
+    pub fn point_row(&self, point: usize) -> usize {
+        let (i, k) = (point / ROWS_PER_CORNER, point % ROWS_PER_CORNER);
+        k * self.corners() + i
+    }
+}
+
+/// A face the table has no stencil for, with the reason as a message (the form `render`
+/// reports; [`GregoryStencilTable::skipped`] holds the same faces typed).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Rejected {
+    /// Base-mesh face.
+    pub face: u32,
+    /// Reason, naming the face.
+    pub reason: String,
+}
+
+impl From<&NoStencil> for Rejected {
+    fn from(e: &NoStencil) -> Rejected {
+        Rejected {
+            face: e.face(),
+            reason: e.to_string(),
+        }
+    }
+}
+
+/// Gregory stencils of a set of faces, grouped by connectivity type: what a GPU stencil buffer
+/// is made of.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct GregoryStencilTable {
+    /// Accepted faces, in input order.
+    pub patches: Vec<StencilPatch>,
+    /// Connectivity types.
+    pub types: Vec<StencilType>,
+    /// Faces without a stencil and why (no Gregory patch, ring too large), in input order.
+    pub skipped: Vec<NoStencil>,
+    /// The faces of `skipped` with their messages.
+    pub rejected: Vec<Rejected>,
+}
+
+/// The rows of face `f` in the table layout ([`StencilType::weights`]) from `patch(g)`, the
+/// Gregory patch of face `g` in any point type: its own control points, then per edge k the
+/// neighbour patch's edge points and face points next to the edge, taken from the neighbour's
+/// own construction (the rows its own stencil has), so they are bitwise its own values. Where
+/// the edge has no Gregory neighbour (boundary, a face without Gregory patch) the patch's own
+/// points stand in.
+fn table_rows<P: GregoryPoint>(
+    topo: &Topology,
+    f: u32,
+    patch: impl Fn(u32) -> Result<GregoryPatch<P>, NotGregory>,
+) -> Result<Vec<P>, NotGregory> {
+    let own = patch(f)?;
+    let [_, e_plus, e_minus, f_plus, f_minus] = own.points();
+    let fv = topo.face_vertices(f);
+    let n = fv.len();
+    let mut eout = Vec::with_capacity(2 * n);
+    let mut nbr = Vec::with_capacity(2 * n);
+    for k in 0..n {
+        let (x, y) = (fv[k], fv[(k + 1) % n]);
+        let across = topo
+            .find_edge(x, y)
+            .and_then(|e| topo.edge_faces(e).iter().copied().find(|&g| g != f));
+        let theirs = across.and_then(|g| {
+            let d = topo.face_vertices(g);
+            let m = d.len();
+            // In g the edge runs y -> x: corner k2 = y, k2 + 1 = x.
+            let k2 = (0..m).find(|&i| d[i] == y && d[(i + 1) % m] == x)?;
+            let k2n = (k2 + 1) % m;
+            let q = patch(g).ok()?;
+            let [_, ep, em, fp, fm] = q.points();
+            // e_plus at x, e_minus at y, f_minus at x, f_plus at y.
+            Some([
+                ep[k2n].clone(),
+                em[k2].clone(),
+                fm[k2n].clone(),
+                fp[k2].clone(),
+            ])
+        });
+        let [ex, ey, fx, fy] = theirs.unwrap_or_else(|| {
+            [
+                e_minus[k].clone(),
+                e_plus[(k + 1) % n].clone(),
+                f_plus[k].clone(),
+                f_minus[(k + 1) % n].clone(),
+            ]
+        });
+        eout.extend([ex, ey]);
+        nbr.extend([fx, fy]);
+    }
+    let mut rows: Vec<P> = own.points().into_iter().flatten().cloned().collect();
+    rows.extend(eout);
+    rows.extend(nbr);
+    Ok(rows)
+}
+
+/// Per-vertex data in weight space of every corner of `faces` and of their edge neighbours
+/// (what [`table_rows`] assembles their patches from), computed once per vertex: a
+/// high-valence vertex is shared by many faces and its data costs `O(valence^3)` here.
+fn corner_data(
+    topo: &Topology,
+    faces: impl Iterator<Item = u32>,
+) -> Vec<Option<GregoryVertex<Weights>>> {
+    let mut data: Vec<Option<GregoryVertex<Weights>>> =
+        (0..topo.vertex_count()).map(|_| None).collect();
+    let mut done = vec![false; topo.vertex_count()];
+    for f in faces {
+        for &e in topo.face_edges(f) {
+            for &g in topo.edge_faces(e) {
+                for &v in topo.face_vertices(g) {
+                    if !std::mem::replace(&mut done[v as usize], true) {
+                        data[v as usize] = gregory_vertex(topo, v, &Weights::unit);
+                    }
+                }
+            }
+        }
+    }
+    data
+}
+
+impl GregoryStencilTable {
+    /// [`Self::build`] for every face of `faces` with the full [`MAX_RING`] ring limit (regular
+    /// faces may be included: their Gregory patch reproduces the B-spline patch).
+    pub fn new(topo: &Topology, faces: impl IntoIterator<Item = u32>) -> GregoryStencilTable {
+        let faces: Vec<u32> = faces.into_iter().collect();
+        Self::build(topo, &faces, MAX_RING)
+    }
+
+    /// Builds the stencils of `faces`. Faces whose ring exceeds `max_ring` (at most
+    /// [`MAX_RING`]; pass the device's `maxTessellationPatchSize`) or that get no Gregory patch
+    /// ([`super::check_face`]) are listed in `skipped` and `rejected`.
+    pub fn build(topo: &Topology, faces: &[u32], max_ring: usize) -> GregoryStencilTable {
+        let mut table = GregoryStencilTable::default();
+        let mut accepted = Vec::with_capacity(faces.len());
+        for &f in faces {
+            match stencil_ring(topo, f, max_ring) {
+                Ok(ring) => accepted.push((f, ring)),
+                Err(e) => table.refuse(e),
+            }
+        }
+        let vertices = corner_data(topo, accepted.iter().map(|(f, _)| *f));
+        let mut types = HashMap::new();
+        for (f, ring) in accepted {
+            match table_rows(topo, f, |g| gregory_patch(topo, &vertices, g)) {
+                Ok(rows) => table.push(topo, f, ring, &rows, &mut types),
+                Err(e) => table.refuse(NoStencil::NotGregory(e)),
+            }
+        }
+        table
+    }
+
+    fn refuse(&mut self, e: NoStencil) {
+        self.rejected.push(Rejected::from(&e));
+        self.skipped.push(e);
+    }
+
+    /// Adds face `f` with its canonical `ring` and its `rows` (weights over control vertices),
+    /// sharing the type of an earlier face with bitwise equal f32 weights (`types`: weights key
+    /// to type id).
+    fn push(
+        &mut self,
+        topo: &Topology,
+        f: u32,
+        ring: Vec<u32>,
+        rows: &[Weights],
+        types: &mut HashMap<(bool, Vec<u32>), u32>,
+    ) {
+        let fv = topo.face_vertices(f);
+        let triangle = fv.len() == 3;
+        debug_assert_eq!(
+            rows.len(),
+            if triangle {
+                TRI_POINTS + TRI_EXTRA
+            } else {
+                QUAD_POINTS + QUAD_EXTRA
+            }
+        );
+        let l = ring.len();
+        let mut order: Vec<u8> = (0..l as u8).collect();
+        order.sort_unstable_by_key(|&k| ring[k as usize]);
+        let sorted: Vec<u32> = order.iter().map(|&k| ring[k as usize]).collect();
+        // Columns from ascending id back to the canonical slots; zero weights stored as +0.0 so
+        // the type key does not depend on the sign of a cancelled weight.
+        let mut w = vec![0f32; rows.len() * l];
+        for (r, row) in dense_rows(rows, &sorted).chunks(l).enumerate() {
+            for (&k, &x) in order.iter().zip(row) {
+                if x != 0.0 {
+                    w[r * l + k as usize] = x as f32;
+                }
+            }
+        }
+        let key = (triangle, w.iter().map(|x| x.to_bits()).collect::<Vec<_>>());
+        let next = self.types.len() as u32;
+        let type_id = *types.entry(key).or_insert(next);
+        if type_id == next {
+            let masks = w
+                .chunks(l)
+                .map(|row| {
+                    row.iter()
+                        .enumerate()
+                        .filter(|(_, x)| **x != 0.0)
+                        .fold(0u32, |m, (k, _)| m | (1 << k))
+                })
+                .collect();
+            self.types.push(StencilType {
+                triangle,
+                ring_len: l,
+                weights: w,
+                masks,
+            });
+        }
+        let mut corners = [fv[0]; 4];
+        corners[..fv.len()].copy_from_slice(fv);
+        self.patches.push(StencilPatch {
+            face: f,
+            corners,
+            triangle,
+            ring,
+            order,
+            type_id,
+        });
+    }
+
+    /// The nonzero terms `(weight, vertex)` of row `row` of `patch`, in summation order
+    /// (ascending global vertex id), as the TCS runs them.
+    fn terms<'a>(
+        &'a self,
+        patch: &'a StencilPatch,
+        row: usize,
+    ) -> impl Iterator<Item = (f32, u32)> + 'a {
+        let t = &self.types[patch.type_id as usize];
+        let w = &t.weights[row * t.ring_len..(row + 1) * t.ring_len];
+        patch
+            .order
+            .iter()
+            .map(move |&k| (w[k as usize], patch.ring[k as usize]))
+            .filter(|(w, _)| *w != 0.0)
+    }
+
+    /// Every row of patch `i` from the f32 stencil, summed as the TCS does (ascending global
+    /// vertex id, zero weights skipped) but in f64.
+    pub fn eval_points(&self, i: usize, positions: &[DVec3]) -> Vec<DVec3> {
+        let p = &self.patches[i];
+        let t = &self.types[p.type_id as usize];
+        (0..t.weights.len() / t.ring_len)
+            .map(|row| {
+                self.terms(p, row)
+                    .map(|(w, v)| f64::from(w) * positions[v as usize])
+                    .sum()
+            })
+            .collect()
+    }
+
+    /// Control point `point` of `patch` ([`StencilType::point_row`]) computed as the GPU does:
+    /// f32 products summed in the patch's global order, skipping zero weights, without fused
+    /// multiply-add.
+    pub fn eval_f32(&self, patch: &StencilPatch, point: usize, positions: &[[f32; 3]]) -> [f32; 3] {
+        let row = self.types[patch.type_id as usize].point_row(point);
+        let mut acc = [0f32; 3];
+        for (w, v) in self.terms(patch, row) {
+            let x = positions[v as usize];
+            for c in 0..3 {
+                acc[c] += w * x[c];
+            }
+        }
+        acc
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{ControlMesh, ControlMeshDesc};
+    use crate::patch::gregory::{gregory_faces, gregory_patch_at};
+
+    /// The rows of face `f` built directly from positions (what the stencil reproduces).
+    fn control_points(topo: &Topology, positions: &[DVec3], f: u32) -> Vec<DVec3> {
+        table_rows(topo, f, |g| gregory_patch_at(topo, positions, g)).unwrap()
+    }
+
+    /// A closed mixed mesh: a triangular prism with one end capped by a fan of triangles (so
+    /// valences 3, 4, 5 and tri/quad rings) and a slightly irregular shape.
+    fn prism() -> ControlMesh {
+        let positions = vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.1, 0.0),
+            DVec3::new(0.4, 0.9, 0.1),
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(1.1, 0.0, 1.2),
+            DVec3::new(0.5, 1.0, 1.0),
+            DVec3::new(0.5, 0.35, -0.4),
+        ];
+        let face_vertices = vec![
+            3, 4, 5, // top
+            0, 1, 4, 3, 1, 2, 5, 4, 2, 0, 3, 5, // sides
+            1, 0, 6, 2, 1, 6, 0, 2, 6, // bottom fan
+        ];
+        ControlMesh::new(ControlMeshDesc {
+            positions,
+            face_sizes: vec![3, 4, 4, 4, 3, 3, 3],
+            face_vertices,
+            ..Default::default()
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn stencil_reproduces_the_direct_construction() {
+        let mesh = prism();
+        let topo = Topology::new(&mesh).unwrap();
+        let faces = gregory_faces(&topo);
+        assert_eq!(faces.len(), 7);
+        let table = GregoryStencilTable::build(&topo, &faces, MAX_RING);
+        assert!(table.rejected.is_empty(), "{:?}", table.rejected);
+        let pos = mesh.positions();
+        for (i, p) in table.patches.iter().enumerate() {
+            let direct = control_points(&topo, pos, p.face);
+            let from_stencil = table.eval_points(i, pos);
+            for (a, b) in direct.iter().zip(&from_stencil) {
+                // f32 weights: relative rounding ~6e-8 of coordinates of size ~1.
+                assert!((*a - *b).length() < 1e-6, "face {}: {a} vs {b}", p.face);
+            }
+            // Affine: the weights of every row sum to 1 (up to f32 rounding).
+            let t = &table.types[p.type_id as usize];
+            for row in t.weights.chunks(t.ring_len) {
+                let s: f64 = row.iter().map(|&x| f64::from(x)).sum();
+                assert!((s - 1.0).abs() < 1e-6, "face {}: row sum {s}", p.face);
+            }
+        }
+    }
+
+    #[test]
+    fn ring_is_sorted_and_masks_match_weights() {
+        let mesh = prism();
+        let topo = Topology::new(&mesh).unwrap();
+        let table = GregoryStencilTable::build(&topo, &gregory_faces(&topo), MAX_RING);
+        for p in &table.patches {
+            let sorted: Vec<u32> = p.order.iter().map(|&k| p.ring[k as usize]).collect();
+            assert!(sorted.windows(2).all(|w| w[0] < w[1]));
+            assert_eq!(sorted.len(), p.ring.len());
+            let t = &table.types[p.type_id as usize];
+            for (row, m) in t.weights.chunks(t.ring_len).zip(&t.masks) {
+                for (k, w) in row.iter().enumerate() {
+                    assert_eq!(*w != 0.0, m & (1 << k) != 0);
+                }
+            }
+        }
+    }
+
+    /// Nonzero weights of row `row` of patch `p` as (vertex id, f32 bits) in the summation order.
+    fn row_by_id(t: &GregoryStencilTable, p: &StencilPatch, row: usize) -> Vec<(u32, u32)> {
+        let ty = &t.types[p.type_id as usize];
+        let w = &ty.weights[row * ty.ring_len..(row + 1) * ty.ring_len];
+        p.order
+            .iter()
+            .map(|&k| (p.ring[k as usize], w[k as usize]))
+            .filter(|(_, w)| *w != 0.0)
+            .map(|(v, w)| (v, w.to_bits()))
+            .collect()
+    }
+
+    #[test]
+    fn shared_rows_are_bitwise_equal_on_both_sides_of_every_edge() {
+        let mesh = prism();
+        let topo = Topology::new(&mesh).unwrap();
+        let t = GregoryStencilTable::build(&topo, &gregory_faces(&topo), MAX_RING);
+        let by_face: HashMap<u32, &StencilPatch> = t.patches.iter().map(|p| (p.face, p)).collect();
+        let mut checked = 0;
+        for a in &t.patches {
+            let c = topo.face_vertices(a.face);
+            let n = c.len();
+            for k in 0..n {
+                let (x, y) = (c[k], c[(k + 1) % n]);
+                let e = topo.find_edge(x, y).unwrap();
+                let g = *topo.edge_faces(e).iter().find(|&&g| g != a.face).unwrap();
+                let b = by_face[&g];
+                let d = topo.face_vertices(g);
+                let m = d.len();
+                let k2 = (0..m).find(|&i| d[i] == y && d[(i + 1) % m] == x).unwrap();
+                let k2n = (k2 + 1) % m;
+                let pairs = [
+                    (k, k2n),                        // p at x
+                    ((k + 1) % n, k2),               // p at y
+                    (n + k, 2 * m + k2n),            // e_plus[k] == e_minus[k2+1]
+                    (2 * n + (k + 1) % n, m + k2),   // e_minus[k+1] == e_plus[k2]
+                    (5 * n + 2 * k, m + k2n),        // other edge point at x == e_plus[k2+1]
+                    (5 * n + 2 * k + 1, 2 * m + k2), // other edge point at y == e_minus[k2]
+                    (7 * n + 2 * k, 4 * m + k2n),    // neighbour face point at x == f_minus[k2+1]
+                    (7 * n + 2 * k + 1, 3 * m + k2), // neighbour face point at y == f_plus[k2]
+                ];
+                for (ra, rb) in pairs {
+                    assert_eq!(
+                        row_by_id(&t, a, ra),
+                        row_by_id(&t, b, rb),
+                        "faces {} / {g}: rows {ra} / {rb}",
+                        a.face
+                    );
+                    checked += 1;
+                }
+            }
+        }
+        assert_eq!(checked, 8 * (3 + 3 * 4 + 3 * 3));
+    }
+
+    #[test]
+    fn faces_with_the_same_connectivity_share_one_type() {
+        // A cube: every face has four valence-3 corners in an all-quad ring, so one type.
+        let positions = (0..8)
+            .map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, (i >> 2) as f64 * 1.3))
+            .collect();
+        let face_vertices = vec![
+            0, 2, 3, 1, 4, 5, 7, 6, 0, 1, 5, 4, 2, 6, 7, 3, 0, 4, 6, 2, 1, 3, 7, 5,
+        ];
+        let mesh = ControlMesh::new(ControlMeshDesc {
+            positions,
+            face_sizes: vec![4; 6],
+            face_vertices,
+            ..Default::default()
+        })
+        .unwrap();
+        let topo = Topology::new(&mesh).unwrap();
+        let t = GregoryStencilTable::build(&topo, &gregory_faces(&topo), MAX_RING);
+        assert_eq!(t.patches.len(), 6);
+        assert_eq!(t.types.len(), 1);
+        for (i, p) in t.patches.iter().enumerate() {
+            let direct = control_points(&topo, mesh.positions(), p.face);
+            for (a, b) in direct.iter().zip(&t.eval_points(i, mesh.positions())) {
+                assert!((*a - *b).length() < 1e-6);
+            }
+        }
+    }
+
+    #[test]
+    fn small_patch_limit_rejects_with_a_message() {
+        let mesh = prism();
+        let topo = Topology::new(&mesh).unwrap();
+        let table = GregoryStencilTable::build(&topo, &gregory_faces(&topo), 4);
+        assert!(table.patches.is_empty());
+        assert_eq!(table.rejected.len(), 7);
+        assert!(table.rejected[0]
+            .reason
+            .contains("exceeds the 4-vertex patch limit"));
+    }
+}
