@@ -13,6 +13,7 @@ mod refine;
 pub mod rules;
 pub mod sparse;
 mod stencil;
+pub mod tables;
 
 pub use level::Level;
 pub use sparse::SparseMatrix;
