@@ -365,6 +365,90 @@ impl RefinementTables {
     }
 }
 
+/// Words per face record in the GPU layout: `dst, offset, count`.
+pub const FACE_WORDS: u32 = 3;
+/// Words per edge record: `dst, a, b, f0, f1, sharp (f32 bits)`.
+pub const EDGE_WORDS: u32 = 6;
+/// Words per vertex record: `dst, src, edge_count, face_count, offset, rules (rule0 | rule1 <<
+/// 8), weight (f32 bits), crease0, crease1`.
+pub const VERTEX_WORDS: u32 = 9;
+
+/// GPU code of a vertex rule: 0 smooth (and dart), 1 crease, 2 corner.
+pub fn rule_code(rule: VertexRule) -> u32 {
+    match rule {
+        VertexRule::Smooth | VertexRule::Dart => 0,
+        VertexRule::Crease => 1,
+        VertexRule::Corner => 2,
+    }
+}
+
+/// The records of one kernel dispatch: `count` records from word `first`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct KernelRange {
+    /// Word index of the first record.
+    pub first: u32,
+    /// Number of records (threads).
+    pub count: u32,
+}
+
+/// Every level's tables packed into one `uint[]` storage buffer (`glsl/adaptive/refine.glsl`):
+/// per level the index list, then the face, edge and vertex records, whose offsets are
+/// absolute word indices.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct GpuTables {
+    /// The buffer contents.
+    pub words: Vec<u32>,
+    /// Per level: the face, edge and vertex kernel ranges.
+    pub steps: Vec<[KernelRange; 3]>,
+}
+
+impl RefinementTables {
+    /// The GPU layout of every level (weights rounded to f32).
+    pub fn gpu_tables(&self) -> GpuTables {
+        let mut out = GpuTables::default();
+        for level in &self.levels {
+            let w = &mut out.words;
+            let base = w.len() as u32;
+            w.extend_from_slice(&level.indices);
+            let faces = KernelRange {
+                first: w.len() as u32,
+                count: level.faces.len() as u32,
+            };
+            for f in &level.faces {
+                w.extend([f.dst, base + f.offset, f.count]);
+            }
+            let edges = KernelRange {
+                first: w.len() as u32,
+                count: level.edges.len() as u32,
+            };
+            for e in &level.edges {
+                let [a, b] = e.ends;
+                let [f0, f1] = e.faces;
+                w.extend([e.dst, a, b, f0, f1, (e.sharp as f32).to_bits()]);
+            }
+            let vertices = KernelRange {
+                first: w.len() as u32,
+                count: level.vertices.len() as u32,
+            };
+            for v in &level.vertices {
+                w.extend([
+                    v.dst,
+                    v.src,
+                    v.edge_count,
+                    v.face_count,
+                    base + v.offset,
+                    rule_code(v.rules[0]) | rule_code(v.rules[1]) << 8,
+                    (v.weight as f32).to_bits(),
+                    v.crease[0],
+                    v.crease[1],
+                ]);
+            }
+            out.steps.push([faces, edges, vertices]);
+        }
+        out
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

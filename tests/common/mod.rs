@@ -11,6 +11,7 @@ pub mod capture;
 pub mod conformance;
 pub mod golden;
 pub mod gpu;
+pub mod levels;
 pub mod meshes;
 pub mod reference;
 pub mod surfaces;

@@ -17,6 +17,7 @@
 //! What the passes share (set-0 bindings, uploads, frames, the chunked draw loop, capture) is in
 //! [`crate::render::pass`].
 
+pub mod adaptive;
 pub mod bspline;
 pub mod gregory;
 pub mod gregory_stencil;

@@ -1,0 +1,33 @@
+//! A buffer holding every level of a uniform refinement (`subdiv::tables::RefinementTables`
+//! layout) measured against the crate's f64 refinement (`StencilTable::refined`).
+
+use glam::DVec3;
+use tessera::subdiv::tables::RefinementTables;
+use tessera::subdiv::StencilTable;
+use tessera::ControlMesh;
+
+/// The worst distance, relative to the bbox diagonal of `control`, between the refined levels
+/// `1..` of `buffer` (laid out as `tables` says) and the uniform refinement of `mesh` with its
+/// vertices at `control`.
+pub fn worst_level_error(
+    mesh: &ControlMesh,
+    control: &[DVec3],
+    tables: &RefinementTables,
+    buffer: &[DVec3],
+) -> f64 {
+    let lo = control.iter().fold(DVec3::MAX, |a, &p| a.min(p));
+    let hi = control.iter().fold(DVec3::MIN, |a, &p| a.max(p));
+    let diag = (hi - lo).length();
+    let mut worst = 0.0f64;
+    for l in 1..tables.level_offsets.len() {
+        let expect = StencilTable::refined(mesh, l as u32)
+            .unwrap()
+            .apply_vec(control);
+        let start = tables.level_offsets[l] as usize;
+        assert_eq!(expect.len(), tables.level_len(l) as usize, "level {l} size");
+        for (a, b) in buffer[start..start + expect.len()].iter().zip(&expect) {
+            worst = worst.max(a.distance(*b) / diag);
+        }
+    }
+    worst
+}
