@@ -76,3 +76,38 @@ fn gpu_refinement_equals_cpu_refinement() {
     }
     assert_validation_clean(&ctx);
 }
+
+/// GPU milliseconds of the whole refinement (timestamps) of the car at depths 1-4, median of 9
+/// runs. `cargo test --release --test adaptive_refine -- --ignored --nocapture`.
+#[test]
+#[ignore = "timing print, not a check"]
+fn gpu_refinement_timing() {
+    let Some(ctx) = context() else { return };
+    let m = mesh("catmark_car");
+    let level = Level::from_mesh(&m).unwrap();
+    for depth in 1..=4 {
+        let tables = RefinementTables::uniform(&level, depth).unwrap();
+        let refiner = GpuRefiner::new(&ctx, &tables, m.positions()).unwrap();
+        let mut timer = tessera::gpu::GpuTimer::new(&ctx, 1).unwrap();
+        let mut ms: Vec<f64> = (0..9)
+            .map(|_| {
+                ctx.submit_once(|dev, cmd| {
+                    timer.reset(cmd);
+                    let pass = timer.begin(cmd, "refine")?;
+                    refiner.record(dev, cmd);
+                    timer.end(cmd, pass)
+                })
+                .unwrap();
+                timer.results().unwrap()[0].1
+            })
+            .collect();
+        ms.sort_by(f64::total_cmp);
+        eprintln!(
+            "catmark_car depth {depth}: {} points, {:.3} ms (median GPU), {} KiB",
+            tables.total_vertices,
+            ms[4],
+            refiner.memory_bytes() / 1024
+        );
+    }
+    assert_validation_clean(&ctx);
+}

@@ -454,6 +454,59 @@ mod tests {
     use super::*;
     use crate::mesh::{ControlMesh, ControlMeshDesc};
 
+    /// A sparse placement (the children around one vertex only, packed after the parent)
+    /// gives the same points as the uniform refinement.
+    #[test]
+    fn sparse_placement_matches_uniform_refinement() {
+        let mesh = crate::assets::EmbeddedMesh::from_name("creased")
+            .unwrap()
+            .load()
+            .unwrap();
+        let level = Level::from_mesh(&mesh).unwrap();
+        let t = level.topology();
+        let uniform = level.refine_positions(mesh.positions());
+        let nv = level.vertex_count() as u32;
+        for v in 0..nv {
+            let mut next = nv;
+            let mut place = |items: &[u32]| -> Vec<(u32, u32)> {
+                items
+                    .iter()
+                    .map(|&i| {
+                        next += 1;
+                        (i, next - 1)
+                    })
+                    .collect()
+            };
+            let placement = ChildPlacement {
+                parent_offset: 0,
+                faces: place(t.vertex_faces(v)),
+                edges: place(t.vertex_edges(v)),
+                vertices: place(&[v]),
+            };
+            let tables = SubdivisionTables::new(&level, &placement).unwrap();
+            let mut buffer = mesh.positions().to_vec();
+            buffer.resize(next as usize, DVec3::ZERO);
+            tables.apply_cpu(&mut buffer);
+            let child = |(what, (i, dst)): (usize, &(u32, u32))| {
+                let expect = match what {
+                    0 => level.child_face_point(*i),
+                    1 => level.child_edge_point(*i),
+                    _ => level.child_vertex_point(*i),
+                };
+                (buffer[*dst as usize], uniform[expect as usize])
+            };
+            let lists = [&placement.faces, &placement.edges, &placement.vertices];
+            for (a, b) in lists
+                .iter()
+                .enumerate()
+                .flat_map(|(k, l)| l.iter().map(move |x| (k, x)))
+                .map(child)
+            {
+                assert!(a.distance(b) < 1e-12, "vertex {v}: {a} != {b}");
+            }
+        }
+    }
+
     #[test]
     fn placement_missing_face_point_is_an_error() {
         let d = ControlMeshDesc {
