@@ -6,8 +6,8 @@
 //! children a placement asks for, so a sparse (adaptive) child level uses the same tables as
 //! uniform refinement.
 //!
-//! - Face point: centroid of `count` parent vertices listed at `offset` in [`SubdivisionTables::
-//!   indices`] (n-gons in the first step included).
+//! - Face point: centroid of `count` parent vertices listed at `offset` in the flat index list
+//!   [`SubdivisionTables::indices`] (n-gons in the first step included).
 //! - Edge point: `s * (a + b) / 2 + (1 - s) * (a + b + f0 + f1) / 4` with `a, b` the parent end
 //!   vertices, `f0, f1` the two adjacent new face points and `s` the crease blend weight: the
 //!   edge sharpness clamped to `[0, 1]`, `1` on boundaries (`f0, f1` then unused, `f1` is
