@@ -237,9 +237,9 @@ impl Topology {
         self.options
     }
 
-    /// False for holes and, with [`crate::mesh::BoundaryInterpolation::None`], for faces touching a boundary
-    /// vertex of the base mesh and their descendants in refined levels (OpenSubdiv treats them
-    /// as holes).
+    /// False for holes and, with [`crate::mesh::BoundaryInterpolation::None`], for faces
+    /// touching a boundary vertex of the base mesh and their descendants in refined levels
+    /// (OpenSubdiv treats them as holes).
     pub fn has_limit_surface(&self, f: u32) -> bool {
         !self.is_hole(f) && (self.no_limit.is_empty() || !self.no_limit[f as usize])
     }
