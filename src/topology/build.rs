@@ -1,10 +1,83 @@
 //! Construction of the connectivity (edges, edge-face and ordered vertex one-rings) from flat
-//! face arrays, without hashing: half-edges are bucketed by their smaller end vertex.
+//! face arrays, without hashing: half-edges are bucketed by their smaller end vertex; and of the
+//! topology of a mesh, with its tags and boundary rule ([`Topology::new`]).
 
+use super::connectivity::{Topology, NONE};
 use super::par::{try_for_chunks, Shared};
-use super::{Topology, NONE};
-use crate::mesh::SchemeOptions;
+use crate::mesh::{BoundaryInterpolation, ControlMesh, SchemeOptions, INFINITE_SHARPNESS};
 use crate::{Error, Result};
+
+/// Clamps a tag sharpness to `[0, INFINITE_SHARPNESS]`.
+fn clamp_sharpness(s: f32) -> f32 {
+    s.clamp(0.0, INFINITE_SHARPNESS)
+}
+
+impl Topology {
+    /// Builds the topology of a validated mesh and applies its tags and boundary rule.
+    ///
+    /// Errors (never panics) on non-manifold edges or vertices, inconsistent winding, creases on
+    /// missing edges and invalid sharpness, naming the element.
+    pub fn new(mesh: &ControlMesh) -> Result<Topology> {
+        let mut t = build(
+            mesh.vertex_count(),
+            mesh.face_offsets().to_vec(),
+            mesh.face_vertices().to_vec(),
+            true,
+        )?;
+        t.options = mesh.options();
+        for c in mesh.creases() {
+            if c.sharpness.is_nan() || c.sharpness < 0.0 {
+                return Err(Error::Invalid(format!(
+                    "crease {}-{}: invalid sharpness {}",
+                    c.v0, c.v1, c.sharpness
+                )));
+            }
+            let e = t
+                .find_edge(c.v0, c.v1)
+                .ok_or_else(|| Error::Invalid(format!("crease {}-{}: no such edge", c.v0, c.v1)))?;
+            t.edge_sharpness[e as usize] = clamp_sharpness(c.sharpness);
+        }
+        for c in mesh.corners() {
+            if c.sharpness.is_nan() || c.sharpness < 0.0 || c.vertex >= t.num_vertices {
+                return Err(Error::Invalid(format!(
+                    "corner {}: invalid vertex or sharpness {}",
+                    c.vertex, c.sharpness
+                )));
+            }
+            t.vertex_sharpness[c.vertex as usize] = clamp_sharpness(c.sharpness);
+        }
+        for f in 0..t.face_count() {
+            t.holes[f] = mesh.is_hole(f);
+        }
+        t.apply_boundary_rule();
+        if t.options.boundary == BoundaryInterpolation::None {
+            let no_limit: Vec<bool> = (0..t.face_count() as u32)
+                .map(|f| t.face_vertices(f).iter().any(|&v| t.is_boundary_vertex(v)))
+                .collect();
+            if no_limit.iter().any(|&x| x) {
+                t.no_limit = no_limit;
+            }
+        }
+        Ok(t)
+    }
+
+    /// Boundary edges become infinitely sharp; with `EdgeAndCorner`, boundary vertices with a
+    /// single face become infinitely sharp corners.
+    fn apply_boundary_rule(&mut self) {
+        for e in 0..self.edge_count() {
+            if self.edge_faces[e][1] == NONE {
+                self.edge_sharpness[e] = INFINITE_SHARPNESS;
+            }
+        }
+        if self.options.boundary == BoundaryInterpolation::EdgeAndCorner {
+            for v in 0..self.vertex_count() {
+                if self.vertex_faces(v as u32).len() == 1 {
+                    self.vertex_sharpness[v] = INFINITE_SHARPNESS;
+                }
+            }
+        }
+    }
+}
 
 /// Builds the connectivity of `nv` vertices and the faces `face_offsets` / `face_verts`.
 ///

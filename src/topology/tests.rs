@@ -1,5 +1,7 @@
 use super::*;
-use crate::mesh::{ControlMeshDesc, Crease};
+use crate::mesh::{
+    BoundaryInterpolation, ControlMesh, ControlMeshDesc, Crease, INFINITE_SHARPNESS,
+};
 use glam::DVec3;
 
 /// An `n x m` grid of unit quads in the plane z = 0, counter-clockwise seen from +z.

@@ -86,25 +86,6 @@ impl StencilType {
     }
 }
 
-/// A face the table has no stencil for, with the reason as a message (the form `render`
-/// reports; [`GregoryStencilTable::skipped`] holds the same faces typed).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Rejected {
-    /// Base-mesh face.
-    pub face: u32,
-    /// Reason, naming the face.
-    pub reason: String,
-}
-
-impl From<&NoStencil> for Rejected {
-    fn from(e: &NoStencil) -> Rejected {
-        Rejected {
-            face: e.face(),
-            reason: e.to_string(),
-        }
-    }
-}
-
 /// Gregory stencils of a set of faces, grouped by connectivity type: what a GPU stencil buffer
 /// is made of.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -115,8 +96,6 @@ pub struct GregoryStencilTable {
     pub types: Vec<StencilType>,
     /// Faces without a stencil and why (no Gregory patch, ring too large), in input order.
     pub skipped: Vec<NoStencil>,
-    /// The faces of `skipped` with their messages.
-    pub rejected: Vec<Rejected>,
 }
 
 /// The rows of face `f` in the table layout ([`StencilType::weights`]) from `patch(g)`, the
@@ -208,14 +187,14 @@ impl GregoryStencilTable {
 
     /// Builds the stencils of `faces`. Faces whose ring exceeds `max_ring` (at most
     /// [`MAX_RING`]; pass the device's `maxTessellationPatchSize`) or that get no Gregory patch
-    /// ([`super::check_face`]) are listed in `skipped` and `rejected`.
+    /// ([`super::check_face`]) are listed in `skipped`.
     pub fn build(topo: &Topology, faces: &[u32], max_ring: usize) -> GregoryStencilTable {
         let mut table = GregoryStencilTable::default();
         let mut accepted = Vec::with_capacity(faces.len());
         for &f in faces {
             match stencil_ring(topo, f, max_ring) {
                 Ok(ring) => accepted.push((f, ring)),
-                Err(e) => table.refuse(e),
+                Err(e) => table.skipped.push(e),
             }
         }
         let vertices = corner_data(topo, accepted.iter().map(|(f, _)| *f));
@@ -223,15 +202,10 @@ impl GregoryStencilTable {
         for (f, ring) in accepted {
             match table_rows(topo, f, |g| gregory_patch(topo, &vertices, g)) {
                 Ok(rows) => table.push(topo, f, ring, &rows, &mut types),
-                Err(e) => table.refuse(NoStencil::NotGregory(e)),
+                Err(e) => table.skipped.push(NoStencil::NotGregory(e)),
             }
         }
         table
-    }
-
-    fn refuse(&mut self, e: NoStencil) {
-        self.rejected.push(Rejected::from(&e));
-        self.skipped.push(e);
     }
 
     /// Adds face `f` with its canonical `ring` and its `rows` (weights over control vertices),
@@ -391,7 +365,7 @@ mod tests {
         let faces = gregory_faces(&topo);
         assert_eq!(faces.len(), 7);
         let table = GregoryStencilTable::build(&topo, &faces, MAX_RING);
-        assert!(table.rejected.is_empty(), "{:?}", table.rejected);
+        assert!(table.skipped.is_empty(), "{:?}", table.skipped);
         let pos = mesh.positions();
         for (i, p) in table.patches.iter().enumerate() {
             let direct = control_points(&topo, pos, p.face);
@@ -516,9 +490,9 @@ mod tests {
         let topo = Topology::new(&mesh).unwrap();
         let table = GregoryStencilTable::build(&topo, &gregory_faces(&topo), 4);
         assert!(table.patches.is_empty());
-        assert_eq!(table.rejected.len(), 7);
-        assert!(table.rejected[0]
-            .reason
+        assert_eq!(table.skipped.len(), 7);
+        assert!(table.skipped[0]
+            .to_string()
             .contains("exceeds the 4-vertex patch limit"));
     }
 }
