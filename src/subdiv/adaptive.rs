@@ -11,9 +11,9 @@
 //! `l` is global vertex [`AdaptiveLevel::first_vertex`]` + i`, one buffer for every level
 //! (thesis §4.2).
 
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 
-use super::bspline::RegularPatch;
+use super::bspline::{is_regular_vertex, RegularPatch};
 use super::level::Level;
 use crate::topology::Topology;
 use crate::{Error, Result};
@@ -101,30 +101,6 @@ pub struct Refinement {
     pub child_faces: Vec<u32>,
 }
 
-impl Refinement {
-    /// The parent-level component producing child vertex `v`.
-    pub fn child_of(&self, v: u32) -> ChildOf {
-        let t = self.parent.topology();
-        let (nf, ne) = (t.face_count() as u32, t.edge_count() as u32);
-        let p = self.child_points[v as usize];
-        if p < nf {
-            ChildOf::Face(self.parent_faces[p as usize])
-        } else if p < nf + ne {
-            ChildOf::Edge(p - nf)
-        } else {
-            ChildOf::Vertex(self.parent_vertices[(p - nf - ne) as usize])
-        }
-    }
-
-    /// The level-`l` face and corner child face `c` comes from.
-    pub fn child_face_parent(&self, c: u32) -> (u32, usize) {
-        let h = self.child_faces[c as usize];
-        let offsets = self.parent.topology().face_offsets();
-        let sf = offsets.partition_point(|&o| o <= h) - 1;
-        (self.parent_faces[sf], (h - offsets[sf]) as usize)
-    }
-}
-
 /// One level of an [`AdaptiveRefinement`].
 #[derive(Debug, Clone)]
 pub struct AdaptiveLevel {
@@ -153,6 +129,46 @@ impl AdaptiveLevel {
     pub fn global(&self, v: u32) -> u32 {
         self.first_vertex + v
     }
+
+    /// The component of this level producing vertex `v` of the next level.
+    ///
+    /// # Panics
+    /// On the last level (no refinement).
+    pub fn child_of(&self, v: u32) -> ChildOf {
+        let r = self.step();
+        let t = r.parent.topology();
+        let (nf, ne) = (t.face_count() as u32, t.edge_count() as u32);
+        let p = r.child_points[v as usize];
+        if p < nf {
+            ChildOf::Face(r.parent_faces[p as usize])
+        } else if p < nf + ne {
+            let [a, b] = t.edge_vertices(p - nf);
+            let e = self
+                .topology()
+                .find_edge(r.parent_vertices[a as usize], r.parent_vertices[b as usize]);
+            ChildOf::Edge(e.expect("an edge of the refined sub-level is an edge of its level"))
+        } else {
+            ChildOf::Vertex(r.parent_vertices[(p - nf - ne) as usize])
+        }
+    }
+
+    /// The face of this level and the corner face `c` of the next level comes from.
+    ///
+    /// # Panics
+    /// On the last level (no refinement).
+    pub fn child_face_parent(&self, c: u32) -> (u32, usize) {
+        let r = self.step();
+        let h = r.child_faces[c as usize];
+        let offsets = r.parent.topology().face_offsets();
+        let sf = offsets.partition_point(|&o| o <= h) - 1;
+        (r.parent_faces[sf], (h - offsets[sf]) as usize)
+    }
+
+    fn step(&self) -> &Refinement {
+        self.refinement
+            .as_ref()
+            .expect("the last adaptive level has no refinement")
+    }
 }
 
 /// A mesh refined feature-adaptively to an isolation level (Köbler 2013 §3.3).
@@ -165,10 +181,16 @@ pub struct AdaptiveRefinement {
     pub isolation: u32,
 }
 
-/// Whether an own face at some level is a regular patch (`gather` succeeds: quad, valence-4 or
-/// boundary/crease/corner configurations, no semi-sharp edge or vertex at a corner; §3.3, §3.7).
+/// The patch of a face at some level when it is regular: `gather` succeeds (quad, valence-4 or
+/// boundary/crease/corner configurations, no semi-sharp edge or vertex at a corner; §3.3) and
+/// every corner is regular for all its faces, not only this one (§3.7, see
+/// [`is_regular_vertex`]).
 fn regular(topo: &Topology, f: u32) -> Option<RegularPatch> {
-    RegularPatch::gather(topo, f)
+    let p = RegularPatch::gather(topo, f)?;
+    p.corners()
+        .iter()
+        .all(|&v| is_regular_vertex(topo, v))
+        .then_some(p)
 }
 
 impl AdaptiveRefinement {
@@ -226,6 +248,25 @@ impl AdaptiveRefinement {
             levels.push(std::mem::replace(&mut current, next));
         }
         Ok(AdaptiveRefinement { levels, isolation })
+    }
+
+    /// Positions of every vertex of every level (the global vertex buffer) from the base mesh's
+    /// positions, by the uniform refinement matrices of the refined sub-levels.
+    pub fn refine_positions(&self, base: &[DVec3]) -> Vec<DVec3> {
+        let mut out = Vec::with_capacity(self.vertex_count());
+        out.extend_from_slice(base);
+        for lev in &self.levels {
+            let Some(r) = &lev.refinement else { break };
+            let first = lev.first_vertex as usize;
+            let sub: Vec<DVec3> = r
+                .parent_vertices
+                .iter()
+                .map(|&v| out[first + v as usize])
+                .collect();
+            let child = r.parent.refine_positions(&sub);
+            out.extend(r.child_points.iter().map(|&p| child[p as usize]));
+        }
+        out
     }
 
     /// Total number of vertices over all levels (the size of the global vertex buffer).
