@@ -5,6 +5,8 @@ use std::fmt::Write;
 
 use clap::Args;
 use tessera::mesh::{ControlMesh, ObjOptions, INFINITE_SHARPNESS};
+use tessera::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
+use tessera::subdiv::Level;
 use tessera::topology::{FaceClass, Topology};
 
 /// Arguments of `tessera info`.
@@ -16,6 +18,10 @@ pub struct InfoArgs {
     /// The file's faces are wound clockwise seen from outside: reverse them.
     #[arg(long)]
     pub left_handed: bool,
+    /// Also refine feature-adaptively to this isolation level (0-8) and print the patch
+    /// census: counts by type and level, and `patches total=N`.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=8))]
+    pub isolation: Option<u32>,
 }
 
 /// Runs the subcommand: prints the report, or returns the typed error of a bad mesh.
@@ -26,7 +32,51 @@ pub fn run(args: InfoArgs) -> tessera::Result<()> {
     let mesh = tessera::assets::load_mesh(&args.mesh, &options)?;
     let topo = Topology::new(&mesh)?;
     print!("{}", report(&args.mesh, &mesh, &topo));
+    if let Some(isolation) = args.isolation {
+        let base = Level::from_topology(topo);
+        let refinement = AdaptiveRefinement::new(&base, isolation)?;
+        print!(
+            "{}",
+            census_report(&refinement, &PatchCensus::new(&refinement))
+        );
+    }
     Ok(())
+}
+
+/// The census part of the report: one line per level with counts by type, totals by type, and
+/// the script-readable `patches total=N` (every drawn patch, end caps and transition patches
+/// included).
+fn census_report(refinement: &AdaptiveRefinement, census: &PatchCensus) -> String {
+    let mut out = String::new();
+    let w = &mut out;
+    let _ = writeln!(
+        w,
+        "adaptive isolation {}: {} levels, {} refined vertices",
+        refinement.isolation,
+        refinement.levels.len(),
+        refinement.vertex_count()
+    );
+    let counts = |by_type: &[usize; 4], transition: usize| {
+        let mut parts: Vec<String> = PatchType::ALL
+            .iter()
+            .map(|&k| format!("{}={}", k.name(), by_type[k as usize]))
+            .collect();
+        parts.push(format!("transition={transition}"));
+        parts.join(" ")
+    };
+    for (l, c) in census.levels.iter().enumerate() {
+        let _ = writeln!(
+            w,
+            "patches level {l}: total={} {}",
+            c.total(),
+            counts(&c.by_type, c.transition)
+        );
+    }
+    let by_type = PatchType::ALL.map(|k| census.count(k));
+    let transition = census.levels.iter().map(|c| c.transition).sum();
+    let _ = writeln!(w, "patches by type: {}", counts(&by_type, transition));
+    let _ = writeln!(w, "patches total={}", census.total());
+    out
 }
 
 /// `k: n, k: n, ...` of a histogram (or `none`).

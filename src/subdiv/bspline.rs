@@ -137,6 +137,16 @@ fn corner_kind(topo: &Topology, v: u32, f: u32) -> CornerKind {
     }
 }
 
+/// Whether vertex `v` is a regular corner of every face around it (smooth valence 4, or a
+/// crease/corner vertex whose every sector is the size a regular patch takes). Feature-adaptive
+/// refinement judges regularity per vertex so that neighbouring patch levels differ by at most
+/// one (Köbler 2013 §3.7): a crease vertex with sectors of 2 and 4 faces is irregular for both.
+pub(crate) fn is_regular_vertex(topo: &Topology, v: u32) -> bool {
+    topo.vertex_faces(v)
+        .iter()
+        .all(|&f| corner_kind(topo, v, f) != CornerKind::Irregular)
+}
+
 /// Grid position `(i, j)` of face corner `k`.
 const CORNER_POS: [(i32, i32); 4] = [(1, 1), (2, 1), (2, 2), (1, 2)];
 /// Outward grid direction of face edge `k`.

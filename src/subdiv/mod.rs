@@ -4,6 +4,7 @@
 //! [`Level`] is the unit of refinement; [`Level::refine`] performs one uniform step and returns
 //! the child level with its [`SparseMatrix`]; [`StencilTable`] composes those matrices.
 
+pub mod adaptive;
 pub mod bspline;
 pub mod eval;
 mod level;

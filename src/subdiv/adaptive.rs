@@ -1,0 +1,475 @@
+//! Feature-adaptive refinement (Köbler 2013 ch. 3, after Nießner, Loop, Meyer, DeRose 2012):
+//! refine only around faces that are not (boundary-)regular B-spline patches, up to an
+//! isolation level, and take a census of the patches every level draws.
+//!
+//! Each level is *sparse* (as OpenSubdiv's sparse selection): level `l + 1` holds the children
+//! of the faces refined at level `l` plus, for every other face touching a vertex of a refined
+//! face, its child at that corner — exactly the ring that gives each child of a refined face
+//! its 4x4 neighbourhood (§3.3). Refining level `l` is one uniform [`Level::refine`] of the
+//! sub-level made of the refined faces and that ring ([`Refinement::parent`]), keeping the child
+//! faces just described. Vertices are numbered globally level after level: vertex `i` of level
+//! `l` is global vertex [`AdaptiveLevel::first_vertex`]` + i`, one buffer for every level
+//! (thesis §4.2).
+
+use glam::{DVec2, DVec3};
+
+use super::bspline::{is_regular_vertex, RegularPatch};
+use super::level::Level;
+use crate::topology::Topology;
+use crate::{Error, Result};
+
+/// The largest isolation level accepted.
+pub const MAX_ISOLATION: u32 = 8;
+
+/// Where a face of some level lies in its base face's parameter domain (README,
+/// "Parameterisation"): face-local `(s, t)` maps to `origin + s u + t v`, in the base quad's
+/// `(u, v)` or, for other base faces, in sub-face [`Self::sub_face`]'s.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Domain {
+    /// The base face.
+    pub base_face: u32,
+    /// The sub-face of a non-quad base face (its corner), `None` for quads and for the
+    /// non-quad base face itself at level 0.
+    pub sub_face: Option<u32>,
+    /// Image of the face's corner 0.
+    pub origin: DVec2,
+    /// Image of the face's u axis (corner 0 to corner 1).
+    pub u: DVec2,
+    /// Image of the face's v axis (corner 0 to corner 3).
+    pub v: DVec2,
+}
+
+impl Domain {
+    /// The domain of child `k` (the quad at corner `k`) of a face with this domain and `n`
+    /// corners.
+    fn child(&self, k: usize, n: usize) -> Domain {
+        if n != 4 {
+            return Domain {
+                sub_face: Some(k as u32),
+                origin: DVec2::ZERO,
+                u: DVec2::X,
+                v: DVec2::Y,
+                ..*self
+            };
+        }
+        let corner = [
+            self.origin,
+            self.origin + self.u,
+            self.origin + self.u + self.v,
+            self.origin + self.v,
+        ];
+        let p = corner[k];
+        Domain {
+            origin: p,
+            u: 0.5 * (corner[(k + 1) % 4] - p),
+            v: 0.5 * (corner[(k + 3) % 4] - p),
+            ..*self
+        }
+    }
+}
+
+/// What produces a vertex of the child level: the face point, edge point or vertex point of a
+/// component of the parent level (parent level numbering).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ChildOf {
+    /// Face point of this parent face.
+    Face(u32),
+    /// Edge point of this parent edge.
+    Edge(u32),
+    /// Vertex point of this parent vertex.
+    Vertex(u32),
+}
+
+/// One sparse refinement step, level `l` to `l + 1`: what a table builder needs.
+///
+/// The child vertices are rows of `parent.refine()`'s matrix (columns: `parent` vertices), so
+/// `child = M[child_points] * positions_l[parent_vertices]`.
+#[derive(Debug, Clone)]
+pub struct Refinement {
+    /// The refined sub-level of level `l` (from [`Level::extract`]): the refined faces and their
+    /// ring.
+    pub parent: Level,
+    /// `parent` face to level-`l` face.
+    pub parent_faces: Vec<u32>,
+    /// `parent` vertex to level-`l` vertex.
+    pub parent_vertices: Vec<u32>,
+    /// Level-`l + 1` vertex to its index in `parent.refine()`'s child numbering
+    /// (`[face points | edge points | vertex points]`); increasing.
+    pub child_points: Vec<u32>,
+    /// Level-`l + 1` face to its index in `parent.refine()`'s child faces (the corner of
+    /// `parent` it comes from, as a flat corner index).
+    pub child_faces: Vec<u32>,
+}
+
+/// One level of an [`AdaptiveRefinement`].
+#[derive(Debug, Clone)]
+pub struct AdaptiveLevel {
+    /// The sparse topology of this level (the whole base mesh at level 0).
+    pub level: Level,
+    /// Global id of this level's vertex 0.
+    pub first_vertex: u32,
+    /// Per face: a face of this level proper (a child of a refined face; every face at level
+    /// 0). The other faces are the ring, drawn by coarser patches.
+    pub own: Vec<bool>,
+    /// Per face: refined into the next level.
+    pub refined: Vec<bool>,
+    /// Per face: its place in its base face.
+    pub domains: Vec<Domain>,
+    /// The step to the next level (`None` on the last level).
+    pub refinement: Option<Refinement>,
+}
+
+impl AdaptiveLevel {
+    /// The topology of this level.
+    pub fn topology(&self) -> &Topology {
+        self.level.topology()
+    }
+
+    /// Global id of local vertex `v`.
+    pub fn global(&self, v: u32) -> u32 {
+        self.first_vertex + v
+    }
+
+    /// The component of this level producing vertex `v` of the next level.
+    ///
+    /// # Panics
+    /// On the last level (no refinement).
+    pub fn child_of(&self, v: u32) -> ChildOf {
+        let r = self.step();
+        let t = r.parent.topology();
+        let (nf, ne) = (t.face_count() as u32, t.edge_count() as u32);
+        let p = r.child_points[v as usize];
+        if p < nf {
+            ChildOf::Face(r.parent_faces[p as usize])
+        } else if p < nf + ne {
+            let [a, b] = t.edge_vertices(p - nf);
+            let e = self
+                .topology()
+                .find_edge(r.parent_vertices[a as usize], r.parent_vertices[b as usize]);
+            ChildOf::Edge(e.expect("an edge of the refined sub-level is an edge of its level"))
+        } else {
+            ChildOf::Vertex(r.parent_vertices[(p - nf - ne) as usize])
+        }
+    }
+
+    /// The face of this level and the corner face `c` of the next level comes from.
+    ///
+    /// # Panics
+    /// On the last level (no refinement).
+    pub fn child_face_parent(&self, c: u32) -> (u32, usize) {
+        let r = self.step();
+        let h = r.child_faces[c as usize];
+        let offsets = r.parent.topology().face_offsets();
+        let sf = offsets.partition_point(|&o| o <= h) - 1;
+        (r.parent_faces[sf], (h - offsets[sf]) as usize)
+    }
+
+    fn step(&self) -> &Refinement {
+        self.refinement
+            .as_ref()
+            .expect("the last adaptive level has no refinement")
+    }
+}
+
+/// A mesh refined feature-adaptively to an isolation level (Köbler 2013 §3.3).
+#[derive(Debug, Clone)]
+pub struct AdaptiveRefinement {
+    /// Levels `0..=` the last one reached (at most the isolation level: refinement stops early
+    /// when every face is a patch).
+    pub levels: Vec<AdaptiveLevel>,
+    /// The isolation level asked for.
+    pub isolation: u32,
+}
+
+/// The patch of a face at some level when it is regular: `gather` succeeds (quad, valence-4 or
+/// boundary/crease/corner configurations, no semi-sharp edge or vertex at a corner; §3.3) and
+/// every corner is regular for all its faces, not only this one (§3.7, see
+/// [`is_regular_vertex`]).
+fn regular(topo: &Topology, f: u32) -> Option<RegularPatch> {
+    let p = RegularPatch::gather(topo, f)?;
+    p.corners()
+        .iter()
+        .all(|&v| is_regular_vertex(topo, v))
+        .then_some(p)
+}
+
+impl AdaptiveRefinement {
+    /// Refines `base` to `isolation` (`0..=MAX_ISOLATION`): at each level every own face with a
+    /// limit surface that is not a regular patch is refined (non-quads in the first step), and
+    /// the test is repeated on its children. Holes are never refined.
+    pub fn new(base: &Level, isolation: u32) -> Result<AdaptiveRefinement> {
+        if isolation > MAX_ISOLATION {
+            return Err(Error::Invalid(format!(
+                "isolation {isolation} out of range 0..={MAX_ISOLATION}"
+            )));
+        }
+        let nf = base.face_count();
+        let domains = (0..nf as u32)
+            .map(|f| Domain {
+                base_face: f,
+                sub_face: None,
+                origin: DVec2::ZERO,
+                u: DVec2::X,
+                v: DVec2::Y,
+            })
+            .collect();
+        let mut current = AdaptiveLevel {
+            level: base.clone(),
+            first_vertex: 0,
+            own: vec![true; nf],
+            refined: vec![false; nf],
+            domains,
+            refinement: None,
+        };
+        let mut levels = Vec::new();
+        for l in 0..=isolation {
+            if l < isolation {
+                let t = current.level.topology();
+                for (f, r) in current.refined.iter_mut().enumerate() {
+                    let f = f as u32;
+                    *r = current.own[f as usize]
+                        && t.has_limit_surface(f)
+                        && regular(t, f).is_none();
+                }
+            }
+            let any = current.refined.iter().any(|&r| r);
+            if !any {
+                levels.push(current);
+                break;
+            }
+            let next = refine_sparse(&mut current)?;
+            log::debug!(
+                "adaptive level {}: {} faces ({} own), {} vertices",
+                l + 1,
+                next.level.face_count(),
+                next.own.iter().filter(|&&o| o).count(),
+                next.level.vertex_count()
+            );
+            levels.push(std::mem::replace(&mut current, next));
+        }
+        Ok(AdaptiveRefinement { levels, isolation })
+    }
+
+    /// Positions of every vertex of every level (the global vertex buffer) from the base mesh's
+    /// positions, by the uniform refinement matrices of the refined sub-levels.
+    pub fn refine_positions(&self, base: &[DVec3]) -> Vec<DVec3> {
+        let mut out = Vec::with_capacity(self.vertex_count());
+        out.extend_from_slice(base);
+        for lev in &self.levels {
+            let Some(r) = &lev.refinement else { break };
+            let first = lev.first_vertex as usize;
+            let sub: Vec<DVec3> = r
+                .parent_vertices
+                .iter()
+                .map(|&v| out[first + v as usize])
+                .collect();
+            let child = r.parent.refine_positions(&sub);
+            out.extend(r.child_points.iter().map(|&p| child[p as usize]));
+        }
+        out
+    }
+
+    /// Total number of vertices over all levels (the size of the global vertex buffer).
+    pub fn vertex_count(&self) -> usize {
+        self.levels
+            .last()
+            .map_or(0, |l| l.first_vertex as usize + l.level.vertex_count())
+    }
+}
+
+/// Builds the level after `cur` from its `refined` faces, storing the step in `cur`.
+fn refine_sparse(cur: &mut AdaptiveLevel) -> Result<AdaptiveLevel> {
+    let t = cur.topology();
+    let mut selected = vec![false; t.vertex_count()];
+    for f in 0..t.face_count() as u32 {
+        if cur.refined[f as usize] {
+            for &v in t.face_vertices(f) {
+                selected[v as usize] = true;
+            }
+        }
+    }
+    let ring: Vec<u32> = (0..t.face_count() as u32)
+        .filter(|&f| t.face_vertices(f).iter().any(|&v| selected[v as usize]))
+        .collect();
+    let (parent, parent_vertices) = cur.level.try_extract(&ring)?;
+    let mut keep = Vec::new();
+    let mut own = Vec::new();
+    let mut domains = Vec::new();
+    for (i, &f) in ring.iter().enumerate() {
+        let r = cur.refined[f as usize];
+        let fv = t.face_vertices(f);
+        let off = parent.topology().face_offsets()[i];
+        for (k, &v) in fv.iter().enumerate() {
+            if r || selected[v as usize] {
+                keep.push(off + k as u32);
+                own.push(r);
+                domains.push(cur.domains[f as usize].child(k, fv.len()));
+            }
+        }
+    }
+    let (level, child_points) = parent.refine_topology().try_extract(&keep)?;
+    let next = AdaptiveLevel {
+        first_vertex: cur.first_vertex + t.vertex_count() as u32,
+        own,
+        refined: vec![false; level.face_count()],
+        domains,
+        refinement: None,
+        level,
+    };
+    cur.refinement = Some(Refinement {
+        parent,
+        parent_faces: ring,
+        parent_vertices,
+        child_points,
+        child_faces: keep,
+    });
+    Ok(next)
+}
+
+/// The kind of a drawn patch.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum PatchType {
+    /// Full regular B-spline patch, 16 real control vertices.
+    Regular,
+    /// Regular with phantom rows on real boundary edges only.
+    Boundary,
+    /// Regular with a phantom row on an interior infinitely sharp edge.
+    Crease,
+    /// Still irregular at the isolation level: a Gregory patch over that level's points.
+    EndCap,
+}
+
+impl PatchType {
+    /// Every type, in census order.
+    pub const ALL: [PatchType; 4] = [
+        PatchType::Regular,
+        PatchType::Boundary,
+        PatchType::Crease,
+        PatchType::EndCap,
+    ];
+
+    /// Lower-case name (`regular`, `boundary`, `crease`, `end-cap`).
+    pub fn name(self) -> &'static str {
+        match self {
+            PatchType::Regular => "regular",
+            PatchType::Boundary => "boundary",
+            PatchType::Crease => "crease",
+            PatchType::EndCap => "end-cap",
+        }
+    }
+}
+
+/// A drawn patch of an [`AdaptiveRefinement`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AdaptivePatch {
+    /// Its level.
+    pub level: u32,
+    /// The face (index in its level).
+    pub face: u32,
+    /// Its type.
+    pub kind: PatchType,
+    /// B-spline patches: control vertices as global ids, phantom mask (`None` for end caps).
+    pub bspline: Option<RegularPatch>,
+    /// Bit `k`: the neighbour across face edge `k` is one level finer (thesis §3.4).
+    pub transition: u8,
+}
+
+/// Patch counts of one level.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct LevelCensus {
+    /// Per [`PatchType`] (in [`PatchType::ALL`] order).
+    pub by_type: [usize; 4],
+    /// Of those, B-spline patches with a finer neighbour.
+    pub transition: usize,
+}
+
+impl LevelCensus {
+    /// All patches of the level.
+    pub fn total(&self) -> usize {
+        self.by_type.iter().sum()
+    }
+}
+
+/// The patches of an [`AdaptiveRefinement`] and their counts by type and level.
+#[derive(Debug, Clone)]
+pub struct PatchCensus {
+    /// Every drawn patch, level by level.
+    pub patches: Vec<AdaptivePatch>,
+    /// Counts per level.
+    pub levels: Vec<LevelCensus>,
+}
+
+impl PatchCensus {
+    /// Classifies every own face with a limit surface that is not refined: a B-spline patch
+    /// when [`RegularPatch::gather`] takes it, an end cap otherwise (only possible on the
+    /// isolation level).
+    pub fn new(refinement: &AdaptiveRefinement) -> PatchCensus {
+        let mut patches = Vec::new();
+        let mut levels = Vec::new();
+        for (l, lev) in refinement.levels.iter().enumerate() {
+            let t = lev.topology();
+            let mut census = LevelCensus::default();
+            for f in 0..t.face_count() as u32 {
+                let i = f as usize;
+                if !lev.own[i] || lev.refined[i] || !t.has_limit_surface(f) {
+                    continue;
+                }
+                let patch = classify(lev, f, l as u32);
+                census.by_type[patch.kind as usize] += 1;
+                census.transition += (patch.transition != 0) as usize;
+                patches.push(patch);
+            }
+            levels.push(census);
+        }
+        PatchCensus { patches, levels }
+    }
+
+    /// All patches.
+    pub fn total(&self) -> usize {
+        self.patches.len()
+    }
+
+    /// Patches of one type over all levels.
+    pub fn count(&self, kind: PatchType) -> usize {
+        self.levels.iter().map(|c| c.by_type[kind as usize]).sum()
+    }
+}
+
+/// The patch of own, unrefined face `f` of `lev`.
+fn classify(lev: &AdaptiveLevel, f: u32, level: u32) -> AdaptivePatch {
+    let t = lev.topology();
+    let Some(mut p) = regular(t, f) else {
+        return AdaptivePatch {
+            level,
+            face: f,
+            kind: PatchType::EndCap,
+            bspline: None,
+            transition: 0,
+        };
+    };
+    let edges = t.face_edges(f);
+    let crease = (0..4).any(|k| p.boundary_mask & (1 << k) != 0 && !t.is_boundary_edge(edges[k]));
+    let kind = match (p.boundary_mask, crease) {
+        (0, _) => PatchType::Regular,
+        (_, false) => PatchType::Boundary,
+        (_, true) => PatchType::Crease,
+    };
+    let mut transition = 0u8;
+    for k in 0..4 {
+        if t.adjacent_face(f, k)
+            .is_some_and(|g| lev.refined[g as usize])
+        {
+            transition |= 1 << k;
+        }
+    }
+    for c in &mut p.cvs {
+        *c = lev.global(*c);
+    }
+    AdaptivePatch {
+        level,
+        face: f,
+        kind,
+        bspline: Some(p),
+        transition,
+    }
+}

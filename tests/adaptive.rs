@@ -1,0 +1,321 @@
+//! Feature-adaptive refinement and its patch census (`subdiv::adaptive`), pure CPU: the
+//! invariants of Köbler 2013 §3.3-3.4 on every loadable OpenSubdiv shape, and the census against
+//! OpenSubdiv 3.5's `Far` patch table (Gregory-basis end caps, single-crease patches off).
+//!
+//! Measured totals (ours = OpenSubdiv's at every isolation):
+//!
+//! | isolation | 1 | 2 | 3 | 4 | 5 | 6 |
+//! |---|---|---|---|---|---|---|
+//! | `catmark_car` | 4,539 | 11,307 | 21,843 | 39,915 | 73,059 | 136,347 (1,240 end caps) |
+//! | `catmark_cube_creases1` | 24 | 96 | 300 | 768 | 1,764 | 1,836 |
+
+mod common;
+
+use std::collections::HashMap;
+
+use common::meshes::{mesh, osd, osd_names, try_osd};
+use tessera::subdiv::adaptive::{AdaptiveRefinement, ChildOf, PatchCensus, PatchType};
+use tessera::subdiv::Level;
+use tessera::topology::Topology;
+use tessera::ControlMesh;
+
+fn refine(m: &ControlMesh, isolation: u32) -> (AdaptiveRefinement, PatchCensus) {
+    let r = AdaptiveRefinement::new(&Level::from_mesh(m).unwrap(), isolation).unwrap();
+    let c = PatchCensus::new(&r);
+    (r, c)
+}
+
+/// Every loadable shape of the corpus with its name.
+fn corpus() -> Vec<(String, ControlMesh)> {
+    osd_names()
+        .into_iter()
+        .filter_map(|n| try_osd(&n).ok().map(|m| (n, m)))
+        .collect()
+}
+
+/// The face of `t` with corners `c` in this cyclic order, if any.
+fn find_face(t: &Topology, c: [u32; 4]) -> Option<u32> {
+    t.vertex_faces(c[0]).iter().copied().find(|&f| {
+        let fv = t.face_vertices(f);
+        fv.len() == 4 && (0..4).any(|s| (0..4).all(|k| fv[(s + k) % 4] == c[k]))
+    })
+}
+
+/// Every B-spline patch's real control vertices form a 4x4 grid of faces of its level, with
+/// its face in the middle and valence-4 interior corners.
+fn check_grids(name: &str, r: &AdaptiveRefinement, c: &PatchCensus) {
+    for p in &c.patches {
+        let Some(b) = p.bspline else { continue };
+        let lev = &r.levels[p.level as usize];
+        let t = lev.topology();
+        let local = |k: usize| b.cvs[k] - lev.first_vertex;
+        let m = b.boundary_mask;
+        let real_col = |i: usize| !(i == 0 && m & 8 != 0 || i == 3 && m & 2 != 0);
+        let real_row = |j: usize| !(j == 0 && m & 1 != 0 || j == 3 && m & 4 != 0);
+        for j in 0..3 {
+            for i in 0..3 {
+                if !(real_col(i) && real_col(i + 1) && real_row(j) && real_row(j + 1)) {
+                    continue;
+                }
+                let corners = [4 * j + i, 4 * j + i + 1, 4 * j + i + 5, 4 * j + i + 4].map(local);
+                let f = find_face(t, corners).unwrap_or_else(|| {
+                    panic!(
+                        "{name}: level {} patch {:?}: cell ({i},{j}) is not a face",
+                        p.level, b
+                    )
+                });
+                if (i, j) == (1, 1) {
+                    assert_eq!(f, p.face, "{name}");
+                }
+            }
+        }
+        for (k, slot) in [5usize, 6, 10, 9].into_iter().enumerate() {
+            let v = local(slot);
+            let prev = (k + 3) % 4;
+            if m & (1 << k) == 0 && m & (1 << prev) == 0 {
+                let sharp = t.vertex_edges(v).iter().any(|&e| t.edge_sharpness(e) > 0.0);
+                if !sharp {
+                    assert_eq!(t.valence(v), 4, "{name}: corner {k} of {:?}", b);
+                    assert!(!t.is_boundary_vertex(v), "{name}");
+                }
+            }
+        }
+    }
+}
+
+/// Each base face with a limit surface is tiled exactly once by its patches' domains (per
+/// sub-face for non-quads), on a grid at the finest level.
+fn check_tiling(name: &str, r: &AdaptiveRefinement, c: &PatchCensus) {
+    let depth = r.levels.len() as u32 - 1;
+    let n = 1usize << depth;
+    let base = r.levels[0].topology();
+    let mut cells: HashMap<(u32, u32), Vec<u8>> = HashMap::new();
+    for p in &c.patches {
+        let d = r.levels[p.level as usize].domains[p.face as usize];
+        let key = (d.base_face, d.sub_face.unwrap_or(u32::MAX));
+        let lo = d
+            .origin
+            .min(d.origin + d.u)
+            .min(d.origin + d.v)
+            .min(d.origin + d.u + d.v);
+        let size = (d.u.length() * n as f64).round() as usize;
+        // A non-quad's level-1 children are its whole sub-faces.
+        let depth_in_domain = p.level - d.sub_face.is_some() as u32;
+        assert_eq!(size, n >> depth_in_domain, "{name}: patch domain size");
+        let (i0, j0) = ((lo.x * n as f64) as usize, (lo.y * n as f64) as usize);
+        let grid = cells.entry(key).or_insert_with(|| vec![0; n * n]);
+        for j in j0..j0 + size {
+            for i in i0..i0 + size {
+                grid[j * n + i] += 1;
+            }
+        }
+    }
+    for f in 0..base.face_count() as u32 {
+        if !base.has_limit_surface(f) {
+            continue;
+        }
+        let subs: Vec<u32> = if base.face_size(f) == 4 || depth == 0 {
+            vec![u32::MAX]
+        } else {
+            (0..base.face_size(f) as u32).collect()
+        };
+        for s in subs {
+            let grid = cells
+                .get(&(f, s))
+                .unwrap_or_else(|| panic!("{name}: base face {f} sub {s} has no patch"));
+            assert!(
+                grid.iter().all(|&x| x == 1),
+                "{name}: base face {f} sub {s} not tiled exactly once"
+            );
+        }
+    }
+}
+
+/// Patches meeting across an edge differ by at most one level: a patch's finer neighbour's
+/// children along the edge are not refined again, and a coarser neighbour (a ring face) is a
+/// child of a face drawn one level up.
+fn check_level_steps(name: &str, r: &AdaptiveRefinement, c: &PatchCensus) {
+    // Level-l face -> its children at level l + 1.
+    let children: Vec<HashMap<u32, Vec<u32>>> = r.levels[..r.levels.len() - 1]
+        .iter()
+        .zip(&r.levels[1..])
+        .map(|(lev, next)| {
+            let mut m: HashMap<u32, Vec<u32>> = HashMap::new();
+            for cf in 0..next.level.face_count() as u32 {
+                m.entry(lev.child_face_parent(cf).0).or_default().push(cf);
+            }
+            m
+        })
+        .collect();
+    for p in &c.patches {
+        let l = p.level as usize;
+        let lev = &r.levels[l];
+        let t = lev.topology();
+        for k in 0..t.face_size(p.face) {
+            let Some(g) = t.adjacent_face(p.face, k) else {
+                continue;
+            };
+            let gi = g as usize;
+            if !t.has_limit_surface(g) {
+                continue; // holes draw nothing
+            }
+            if lev.refined[gi] {
+                assert_ne!(p.transition & (1 << k), 0, "{name}: transition bit");
+                let next = &r.levels[l + 1];
+                let [a, b] = t.edge_vertices(t.face_edges(p.face)[k]);
+                for &cf in &children[l][&g] {
+                    let (_, corner) = lev.child_face_parent(cf);
+                    let v = t.face_vertices(g)[corner];
+                    if v == a || v == b {
+                        assert!(
+                            !next.refined[cf as usize],
+                            "{name}: level {l} patch next to level {}",
+                            l + 2
+                        );
+                    }
+                }
+            } else if !lev.own[gi] {
+                let (parent, _) = r.levels[l - 1].child_face_parent(g);
+                assert!(
+                    r.levels[l - 1].own[parent as usize],
+                    "{name}: level {l} patch next to level < {}",
+                    l - 1
+                );
+            } else {
+                assert_eq!(p.transition & (1 << k), 0, "{name}");
+            }
+        }
+    }
+}
+
+/// Every kept vertex of every level equals the same vertex of the uniform refinement (1e-12
+/// relative to the bounding box).
+fn check_positions(name: &str, m: &ControlMesh, r: &AdaptiveRefinement) {
+    let all = r.refine_positions(m.positions());
+    let scale = m
+        .positions()
+        .iter()
+        .fold(1.0f64, |s, p| s.max(p.abs().max_element()));
+    let mut uniform = Level::from_mesh(m).unwrap();
+    let mut upos = m.positions().to_vec();
+    let mut vmap: Vec<u32> = (0..uniform.vertex_count() as u32).collect();
+    let mut fmap: Vec<u32> = (0..uniform.face_count() as u32).collect();
+    for (l, lev) in r.levels.iter().enumerate() {
+        for (v, &u) in vmap.iter().enumerate() {
+            let d = (all[lev.first_vertex as usize + v] - upos[u as usize]).length();
+            assert!(
+                d <= 1e-12 * scale,
+                "{name}: level {l} vertex {v} off by {d}"
+            );
+        }
+        if lev.refinement.is_none() {
+            break;
+        }
+        let next = &r.levels[l + 1];
+        let ut = uniform.topology();
+        let (nf, ne) = (ut.face_count() as u32, ut.edge_count() as u32);
+        let nvm = (0..next.level.vertex_count() as u32)
+            .map(|v| match lev.child_of(v) {
+                ChildOf::Face(f) => fmap[f as usize],
+                ChildOf::Edge(e) => {
+                    let [a, b] = lev.topology().edge_vertices(e);
+                    nf + ut.find_edge(vmap[a as usize], vmap[b as usize]).unwrap()
+                }
+                ChildOf::Vertex(u) => nf + ne + vmap[u as usize],
+            })
+            .collect();
+        let nfm = (0..next.level.face_count() as u32)
+            .map(|c| {
+                let (f, k) = lev.child_face_parent(c);
+                ut.face_offsets()[fmap[f as usize] as usize] + k as u32
+            })
+            .collect();
+        let (child, matrix) = uniform.refine();
+        upos = matrix.apply_vec(&upos);
+        uniform = child;
+        vmap = nvm;
+        fmap = nfm;
+    }
+}
+
+fn check_all(name: &str, m: &ControlMesh, isolation: u32) {
+    let (r, c) = refine(m, isolation);
+    check_grids(name, &r, &c);
+    check_tiling(name, &r, &c);
+    check_level_steps(name, &r, &c);
+    check_positions(name, m, &r);
+}
+
+#[test]
+fn invariants_on_the_corpus() {
+    for (name, m) in corpus() {
+        for isolation in [0, 1, 2] {
+            check_all(&name, &m, isolation);
+        }
+    }
+}
+
+#[test]
+fn invariants_at_higher_isolation() {
+    for name in [
+        "catmark_cube_creases1",
+        "catmark_nonquads",
+        "catmark_pyramid_creases1",
+        "catmark_hole_test2",
+        "catmark_chaikin1",
+        "catmark_edgenone",
+        "catmark_inf_crease0",
+        "embedded:mixed",
+        "embedded:creased",
+    ] {
+        check_all(name, &mesh(name), 4);
+    }
+    check_all("catmark_car", &osd("catmark_car"), 3);
+}
+
+#[test]
+fn census_within_opensubdiv() {
+    let figures = [
+        (
+            "catmark_car",
+            [4_539, 11_307, 21_843, 39_915, 73_059, 136_347],
+        ),
+        ("catmark_cube_creases1", [24, 96, 300, 768, 1_764, 1_836]),
+    ];
+    for (name, osd_totals) in figures {
+        let m = osd(name);
+        for (i, &limit) in osd_totals.iter().enumerate() {
+            let (_, c) = refine(&m, i as u32 + 1);
+            assert!(
+                c.total() <= limit,
+                "{name} isolation {}: {} > {limit}",
+                i + 1,
+                c.total()
+            );
+        }
+    }
+    let (_, c) = refine(&osd("catmark_car"), 6);
+    assert!(c.count(PatchType::EndCap) <= 1_240);
+}
+
+#[test]
+fn regular_meshes_stop_early_and_bad_isolation_is_an_error() {
+    let m = osd("catmark_torus");
+    let (r, c) = refine(&m, 5);
+    assert_eq!(r.levels.len(), 1);
+    assert_eq!(c.total(), m.face_count());
+    assert!(AdaptiveRefinement::new(&Level::from_mesh(&m).unwrap(), 9).is_err());
+}
+
+#[test]
+fn info_prints_the_census() {
+    let path = common::meshes::osd_path("catmark_cube_creases1");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_tessera"))
+        .args(["info", path.to_str().unwrap(), "--isolation", "3"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.lines().any(|l| l == "patches total=300"), "{text}");
+    assert!(text.contains("patches level 3: total="), "{text}");
+}
