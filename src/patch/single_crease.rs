@@ -48,8 +48,22 @@
 //! `1 - 2^-⌊s⌋` and `1 - 2^-⌈s⌉`, with `M_∞`, `M_∞̂ = (1-f) M_⌊s⌋ + f M_∞` and
 //! `M_ŝ = (1-f) M_⌊s⌋ + f M_⌈s⌉` ([`curve_segments`]; empty segments are dropped, so
 //! `0 < s < 1` has two).
+//!
+//! # Surface (§3, §4)
+//!
+//! `S(u, v)` is the tensor product of the curve case across the crease line with the smooth
+//! cubic B-spline along it: with one sharpness along a straight line of a regular grid, every
+//! DeRose rule (crease vertex `1/8, 3/4, 1/8` along the line, held across it; crease edge
+//! midpoint; fractional blends) is the 1-D crease rule across times the 1-D smooth rule along.
+//! [`SingleCreasePatch`] documents the eligibility rule and the mapping to the
+//! [`RegularPatch`](crate::subdiv::bspline::RegularPatch) `cvs` order.
 
 use glam::DVec3;
+
+use crate::mesh::INFINITE_SHARPNESS;
+use crate::patch::basis::bspline_to_bezier;
+use crate::subdiv::bspline::{eval_bspline, interior_grid, LimitSample};
+use crate::topology::Topology;
 
 /// A 4×4 matrix acting on four curve control points: `out[i] = Σ_k m[i][k] p[k]`.
 pub type Mat4 = [[f64; 4]; 4];
@@ -158,6 +172,201 @@ pub fn segment_at(segments: &[CurveSegment], t: f64) -> &CurveSegment {
 /// Applies `m` to four control points.
 pub fn apply(m: &Mat4, p: &[DVec3; 4]) -> [DVec3; 4] {
     std::array::from_fn(|i| (0..4).map(|k| m[i][k] * p[k]).sum())
+}
+
+/// The face edge the crease line runs along: `U0` the line `u = 0` (grid column 1), `U1`
+/// `u = 1` (column 2), `V0` `v = 0` (row 1), `V1` `v = 1` (row 2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum CreaseSide {
+    /// Crease along `u = 0`: cvs 1, 5, 9, 13.
+    U0,
+    /// Crease along `u = 1`: cvs 2, 6, 10, 14.
+    U1,
+    /// Crease along `v = 0`: cvs 4, 5, 6, 7.
+    V0,
+    /// Crease along `v = 1`: cvs 8, 9, 10, 11.
+    V1,
+}
+
+impl CreaseSide {
+    /// All four sides.
+    pub const ALL: [CreaseSide; 4] = [
+        CreaseSide::U0,
+        CreaseSide::U1,
+        CreaseSide::V0,
+        CreaseSide::V1,
+    ];
+
+    /// The `cvs` slot of the paper's point `P_k` of curve `r` (`r` along the crease, `k` across
+    /// it, the crease at `k = 2`): `U1` `4r + k`, `U0` `4r + 3 - k`, `V1` `4k + r`, `V0`
+    /// `4(3 - k) + r`.
+    pub fn slot(self, r: usize, k: usize) -> usize {
+        match self {
+            CreaseSide::U1 => 4 * r + k,
+            CreaseSide::U0 => 4 * r + 3 - k,
+            CreaseSide::V1 => 4 * k + r,
+            CreaseSide::V0 => 4 * (3 - k) + r,
+        }
+    }
+
+    /// The curve parameter `t` (0 away from the crease, 1 on it) at patch `(u, v)`.
+    pub fn t(self, u: f64, v: f64) -> f64 {
+        match self {
+            CreaseSide::U1 => u,
+            CreaseSide::U0 => 1.0 - u,
+            CreaseSide::V1 => v,
+            CreaseSide::V0 => 1.0 - v,
+        }
+    }
+
+    /// The three grid edges of the crease line as `cvs` slot pairs.
+    pub fn line(self) -> [(usize, usize); 3] {
+        std::array::from_fn(|r| (self.slot(r, 2), self.slot(r + 1, 2)))
+    }
+}
+
+/// A regular quad with one semi-sharp crease line (Nießner, Loop, Greiner 2012, §3).
+///
+/// **Eligibility** ([`SingleCreasePatch::gather`]). The limit over a quad depends on the rules of
+/// its 4 corners and of the 12 grid edges incident to them, which are exactly the four lines of
+/// the 4×4 net through the face's own edges (grid columns 1, 2 and rows 1, 2); a child edge's
+/// sharpness depends only on edges at its end vertex, also among these 12 (Chaikin too). So a face
+/// qualifies when (a) each corner is an interior valence-4 vertex with only quads around it and
+/// no vertex sharpness, and the 16-point net exists, and (b) of the 12 corner edges exactly the
+/// three of one [`CreaseSide`] line are sharp, all with the same `s`, `0 < s < 10`, the other nine
+/// smooth. Edges and vertices of the outer ring not incident to a corner (their sharpness,
+/// valence, boundary) do not influence the face and are ignored. Everything else (two lines, an
+/// L-shape, a crease ending inside the net, differing sharpness, an extraordinary or boundary
+/// corner, infinitely sharp edges) is refused.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SingleCreasePatch {
+    /// The face.
+    pub face: u32,
+    /// Control vertices in [`RegularPatch`](crate::subdiv::bspline::RegularPatch) order
+    /// (`cvs[4*j + i]`, `i` along u; corners 5, 6, 10, 9).
+    pub cvs: [u32; 16],
+    /// The face edge the crease line runs along.
+    pub side: CreaseSide,
+    /// Sharpness along the line, `0 < s < 10`.
+    pub sharpness: f32,
+}
+
+/// One Bézier control set of a [`SingleCreasePatch`]: the bicubic piece over the parameter range
+/// `range` across the crease (`u` for `U0`/`U1`, `v` for `V0`/`V1`) and `[0, 1]` along it, in
+/// Bézier form over that sub-rectangle (`points[4*j + i]`, `i` along u; local parameters
+/// `(x - range.0) / (range.1 - range.0)` across, the patch parameter along).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BezierSet {
+    /// Whether the sub-range is in `u` (`true`) or `v`.
+    pub across_u: bool,
+    /// Patch-parameter range across the crease.
+    pub range: (f64, f64),
+    /// The 16 Bézier control points.
+    pub points: [DVec3; 16],
+}
+
+impl SingleCreasePatch {
+    /// The single-crease patch of `face`, or `None` if the face is not eligible (type docs).
+    pub fn gather(topo: &Topology, face: u32) -> Option<SingleCreasePatch> {
+        let cvs = interior_grid(topo, face)?;
+        let sharp = |a: usize, b: usize| -> Option<f32> {
+            Some(topo.edge_sharpness(topo.find_edge(cvs[a], cvs[b])?))
+        };
+        let mut found = None;
+        for side in CreaseSide::ALL {
+            let s = side.line().map(|(a, b)| sharp(a, b));
+            let s = [s[0]?, s[1]?, s[2]?];
+            if s.iter().all(|&x| x == 0.0) {
+                continue;
+            }
+            if found.is_some() || s.iter().any(|&x| x != s[0]) || s[0] >= INFINITE_SHARPNESS {
+                return None;
+            }
+            found = Some((side, s[0]));
+        }
+        let (side, sharpness) = found?;
+        (sharpness > 0.0).then_some(SingleCreasePatch {
+            face,
+            cvs,
+            side,
+            sharpness,
+        })
+    }
+
+    /// The curve pieces across the crease ([`curve_segments`] of the sharpness).
+    pub fn segments(&self) -> Vec<CurveSegment> {
+        curve_segments(f64::from(self.sharpness))
+    }
+
+    /// The 16 B-spline control points (`cvs` order) of the polynomial piece `m`: every curve
+    /// across the crease transformed by `m` in the paper's frame.
+    pub fn piece_points(&self, positions: &[DVec3], m: &Mat4) -> [DVec3; 16] {
+        let mut out = [DVec3::ZERO; 16];
+        for r in 0..4 {
+            let p = std::array::from_fn(|k| positions[self.cvs[self.side.slot(r, k)] as usize]);
+            for (k, q) in apply(m, &p).into_iter().enumerate() {
+                out[self.side.slot(r, k)] = q;
+            }
+        }
+        out
+    }
+
+    /// Evaluates position, partial derivatives and unit normal at `(u, v)` in `[0, 1]^2`.
+    pub fn eval(&self, positions: &[DVec3], u: f64, v: f64) -> LimitSample {
+        let segs = self.segments();
+        let g = segment_at(&segs, self.side.t(u, v));
+        eval_bspline(&self.piece_points(positions, &g.m), u, v)
+    }
+
+    /// The two or three Bézier control sets of the pieces, in order of increasing patch
+    /// parameter across the crease (§4: what the GPU's control stage builds).
+    pub fn bezier_sets(&self, positions: &[DVec3]) -> Vec<BezierSet> {
+        let across_u = matches!(self.side, CreaseSide::U0 | CreaseSide::U1);
+        let reversed = matches!(self.side, CreaseSide::U0 | CreaseSide::V0);
+        let mut sets: Vec<BezierSet> = self
+            .segments()
+            .iter()
+            .map(|g| {
+                let range = if reversed {
+                    (1.0 - g.t1, 1.0 - g.t0)
+                } else {
+                    (g.t0, g.t1)
+                };
+                let full = bspline_to_bezier(&self.piece_points(positions, &g.m));
+                BezierSet {
+                    across_u,
+                    range,
+                    points: restrict(&full, across_u, range),
+                }
+            })
+            .collect();
+        sets.sort_by(|a, b| a.range.0.total_cmp(&b.range.0));
+        sets
+    }
+}
+
+/// Restricts a bicubic Bézier patch to `[a, b]` in `u` (or `v`) by blossoming each cubic across:
+/// the new points are the blossom values `(a,a,a), (a,a,b), (a,b,b), (b,b,b)`.
+fn restrict(p: &[DVec3; 16], across_u: bool, (a, b): (f64, f64)) -> [DVec3; 16] {
+    let idx = |line: usize, k: usize| if across_u { 4 * line + k } else { 4 * k + line };
+    let blossom = |c: [DVec3; 4], x: [f64; 3]| {
+        let mut c = c.to_vec();
+        for t in x {
+            c = c.windows(2).map(|w| w[0].lerp(w[1], t)).collect();
+        }
+        c[0]
+    };
+    let mut out = [DVec3::ZERO; 16];
+    for line in 0..4 {
+        let c = std::array::from_fn(|k| p[idx(line, k)]);
+        for (k, x) in [[a, a, a], [a, a, b], [a, b, b], [b, b, b]]
+            .into_iter()
+            .enumerate()
+        {
+            out[idx(line, k)] = blossom(c, x);
+        }
+    }
+    out
 }
 
 #[cfg(test)]
