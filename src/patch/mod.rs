@@ -3,10 +3,13 @@
 //! - [`basis`]: cubic B-spline and Bernstein bases, B-spline to Bézier conversion.
 //! - [`regular`]: bicubic B-spline patches of regular (and boundary-regular) quads (defined in
 //!   [`crate::subdiv::bspline`], which exact evaluation builds on).
+//! - [`single_crease`]: regular quads with one semi-sharp crease line, evaluated directly
+//!   (Nießner, Loop, Greiner 2012).
 //! - [`gregory`]: Gregory patches of the other triangles and quads, with their stencil forms.
 
 pub mod basis;
 pub mod gregory;
 pub mod regular;
+pub mod single_crease;
 
 pub use regular::RegularPatch;

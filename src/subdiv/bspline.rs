@@ -170,20 +170,67 @@ fn across(topo: &Topology, f: u32, a: u32, b: u32) -> Option<(u32, [u32; 4])> {
     (r[1] == a).then_some((g, r))
 }
 
+/// The 16 grid vertices around quad `face` (corners `c`, layout of [`RegularPatch::cvs`]); sides
+/// in `mask` are left phantom (holding `c[0]`). `None` when a needed neighbour is missing or not
+/// a quad.
+fn grid_cvs(topo: &Topology, face: u32, c: [u32; 4], mask: u8) -> Option<[u32; 16]> {
+    let mut cvs = [c[0]; 16];
+    for k in 0..4 {
+        cvs[slot(CORNER_POS[k])] = c[k];
+    }
+    let add = |p: (i32, i32), q: (i32, i32)| (p.0 + q.0, p.1 + q.1);
+    for k in 0..4 {
+        if mask & (1 << k) != 0 {
+            continue;
+        }
+        let (a, b) = (c[k], c[(k + 1) % 4]);
+        let (g, n) = across(topo, face, a, b)?;
+        cvs[slot(add(CORNER_POS[k], OUT[k]))] = n[2];
+        cvs[slot(add(CORNER_POS[(k + 1) % 4], OUT[k]))] = n[3];
+        let prev = (k + 3) % 4;
+        if mask & (1 << prev) == 0 {
+            // Diagonal face at corner k: the neighbour of `n` across its edge c_k -> n[2].
+            let (_, d) = across(topo, g, c[k], n[2])?;
+            cvs[slot(add(add(CORNER_POS[k], OUT[k]), OUT[prev]))] = d[3];
+        }
+    }
+    Some(cvs)
+}
+
+/// The corners of `face` if it is a quad with a limit surface.
+fn quad_corners(topo: &Topology, face: u32) -> Option<[u32; 4]> {
+    if face as usize >= topo.face_count() || !topo.has_limit_surface(face) {
+        return None;
+    }
+    let fv = topo.face_vertices(face);
+    (fv.len() == 4).then(|| [fv[0], fv[1], fv[2], fv[3]])
+}
+
+/// The 16 grid vertices of an interior quad whose corners are all interior valence-4 vertices
+/// with only quads around them and no vertex sharpness, whatever the edge sharpness (the
+/// single-crease patch gathers its net with this, [`crate::patch::single_crease`]).
+pub(crate) fn interior_grid(topo: &Topology, face: u32) -> Option<[u32; 16]> {
+    let c = quad_corners(topo, face)?;
+    let plain = |v: u32| {
+        !topo.is_boundary_vertex(v)
+            && topo.vertex_sharpness(v) == 0.0
+            && topo.vertex_faces(v).len() == 4
+            && topo.vertex_edges(v).len() == 4
+            && topo.vertex_faces(v).iter().all(|&g| topo.face_size(g) == 4)
+    };
+    if !c.iter().all(|&v| plain(v)) {
+        return None;
+    }
+    grid_cvs(topo, face, c, 0)
+}
+
 impl RegularPatch {
     /// Builds the patch of face `face`, or `None` when the face is not (boundary-)regular: every
     /// corner must be smooth interior valence 4 (all quads, no sharpness), a crease vertex whose
     /// sector containing the face has 2 faces, or a corner whose sector has 1 face, with no
     /// semi-sharp edge or vertex at any corner. Holes and faces without limit surface give `None`.
     pub fn gather(topo: &Topology, face: u32) -> Option<RegularPatch> {
-        if face as usize >= topo.face_count() || !topo.has_limit_surface(face) {
-            return None;
-        }
-        let fv = topo.face_vertices(face);
-        if fv.len() != 4 {
-            return None;
-        }
-        let c: [u32; 4] = [fv[0], fv[1], fv[2], fv[3]];
+        let c = quad_corners(topo, face)?;
         for &v in &c {
             if corner_kind(topo, v, face) == CornerKind::Irregular {
                 return None;
@@ -196,26 +243,7 @@ impl RegularPatch {
                 mask |= 1 << k;
             }
         }
-        let mut cvs = [c[0]; 16];
-        for k in 0..4 {
-            cvs[slot(CORNER_POS[k])] = c[k];
-        }
-        let add = |p: (i32, i32), q: (i32, i32)| (p.0 + q.0, p.1 + q.1);
-        for k in 0..4 {
-            if mask & (1 << k) != 0 {
-                continue;
-            }
-            let (a, b) = (c[k], c[(k + 1) % 4]);
-            let (g, n) = across(topo, face, a, b)?;
-            cvs[slot(add(CORNER_POS[k], OUT[k]))] = n[2];
-            cvs[slot(add(CORNER_POS[(k + 1) % 4], OUT[k]))] = n[3];
-            let prev = (k + 3) % 4;
-            if mask & (1 << prev) == 0 {
-                // Diagonal face at corner k: the neighbour of `n` across its edge c_k -> n[2].
-                let (_, d) = across(topo, g, c[k], n[2])?;
-                cvs[slot(add(add(CORNER_POS[k], OUT[k]), OUT[prev]))] = d[3];
-            }
-        }
+        let cvs = grid_cvs(topo, face, c, mask)?;
         Some(RegularPatch {
             face,
             cvs,

@@ -1,0 +1,230 @@
+//! Single-crease patches (Nießner, Loop, Greiner 2012) against the exact limit: every face
+//! `SingleCreasePatch::gather` accepts evaluates equal to `LimitEvaluator::eval`, and the
+//! eligibility rule refuses what the curve case does not cover.
+
+mod common;
+
+use common::meshes::osd;
+use glam::DVec3;
+use tessera::mesh::{ControlMeshDesc, Crease, INFINITE_SHARPNESS};
+use tessera::patch::basis::{bernstein, bernstein_deriv, eval_tensor};
+use tessera::patch::single_crease::{CreaseSide, SingleCreasePatch};
+use tessera::subdiv::eval::LimitEvaluator;
+use tessera::topology::Topology;
+use tessera::ControlMesh;
+
+const N: usize = 8;
+
+/// A grid edge `((i0, j0), (i1, j1))` with its sharpness.
+type Edge = ((usize, usize), (usize, usize), f32);
+
+fn idx(i: usize, j: usize) -> u32 {
+    (j * (N + 1) + i) as u32
+}
+
+/// An 8×8 grid of quads over a bumpy height field; `creases` lists `((i0, j0), (i1, j1), s)`.
+fn grid(creases: &[Edge]) -> ControlMesh {
+    let mut positions = Vec::new();
+    for j in 0..=N {
+        for i in 0..=N {
+            let (x, y) = (i as f64, j as f64);
+            let z = 0.7 * (0.9 * x).sin() * (0.6 * y).cos() + 0.05 * x * y;
+            positions.push(DVec3::new(
+                x + 0.1 * (1.3 * y).sin(),
+                y + 0.1 * (0.7 * x).cos(),
+                z,
+            ));
+        }
+    }
+    let mut face_vertices = Vec::new();
+    for j in 0..N {
+        for i in 0..N {
+            face_vertices.extend([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)]);
+        }
+    }
+    let creases = creases
+        .iter()
+        .map(|&((a, b), (c, d), sharpness)| Crease {
+            v0: idx(a, b),
+            v1: idx(c, d),
+            sharpness,
+        })
+        .collect();
+    ControlMesh::new(ControlMeshDesc {
+        positions,
+        face_sizes: vec![4; N * N],
+        face_vertices,
+        creases,
+        ..Default::default()
+    })
+    .unwrap()
+}
+
+/// The vertical line `i = 4` with sharpness `s(j)` on the edge from row `j` to `j + 1`.
+fn line(s: impl Fn(usize) -> f32) -> Vec<Edge> {
+    (0..N).map(|j| ((4, j), (4, j + 1), s(j))).collect()
+}
+
+fn face(i: usize, j: usize) -> u32 {
+    (j * N + i) as u32
+}
+
+fn accepted(mesh: &ControlMesh) -> Vec<SingleCreasePatch> {
+    let topo = Topology::new(mesh).unwrap();
+    (0..mesh.face_count() as u32)
+        .filter_map(|f| SingleCreasePatch::gather(&topo, f))
+        .collect()
+}
+
+/// Worst position error (relative to the bbox diagonal) and normal angle (rad) of every accepted
+/// patch against the exact limit on a 9×9 grid of `(u, v)`; also checks the Bézier sets.
+fn worst(mesh: &ControlMesh, patches: &[SingleCreasePatch]) -> (f64, f64) {
+    let eval = LimitEvaluator::new(mesh).unwrap();
+    let pos = mesh.positions();
+    let (lo, hi) = pos
+        .iter()
+        .fold((pos[0], pos[0]), |(a, b), &p| (a.min(p), b.max(p)));
+    let diag = (hi - lo).length();
+    let (mut dp, mut dn) = (0.0f64, 0.0f64);
+    for p in patches {
+        let sets = p.bezier_sets(pos);
+        assert!((2..=3).contains(&sets.len()));
+        let uv: Vec<(f64, f64)> = (0..81)
+            .map(|k| ((k % 9) as f64 / 8.0, (k / 9) as f64 / 8.0))
+            .collect();
+        let exact = eval.eval_points(p.face as usize, 0, &uv).unwrap();
+        for (&(u, v), e) in uv.iter().zip(&exact) {
+            let s = p.eval(pos, u, v);
+            dp = dp.max((s.position - e.position).length() / diag);
+            dn = dn.max(
+                s.normal
+                    .cross(e.normal)
+                    .length()
+                    .atan2(s.normal.dot(e.normal)),
+            );
+            let b = bezier_eval(&sets, u, v);
+            assert!(
+                (b - s.position).length() < 1e-9 * diag,
+                "Bézier set at {u}, {v}"
+            );
+        }
+    }
+    (dp, dn)
+}
+
+/// Evaluates the Bézier set covering `(u, v)` at its local parameters.
+fn bezier_eval(sets: &[tessera::patch::single_crease::BezierSet], u: f64, v: f64) -> DVec3 {
+    let x = if sets[0].across_u { u } else { v };
+    let set = sets
+        .iter()
+        .find(|s| x <= s.range.1)
+        .unwrap_or(&sets[sets.len() - 1]);
+    let l = (x - set.range.0) / (set.range.1 - set.range.0);
+    let (bu, bv) = if set.across_u { (l, v) } else { (u, l) };
+    let (p, _, _) = eval_tensor(
+        &set.points,
+        &bernstein(bu),
+        &bernstein_deriv(bu),
+        &bernstein(bv),
+        &bernstein_deriv(bv),
+    );
+    p
+}
+
+fn check(name: &str, mesh: &ControlMesh, patches: &[SingleCreasePatch]) {
+    let (dp, dn) = worst(mesh, patches);
+    println!(
+        "{name}: {} patches, position {dp:.2e} diag, normal {dn:.2e} rad",
+        patches.len()
+    );
+    assert!(dp <= 1e-9, "{name}: position {dp:e}");
+    assert!(dn <= 1e-7, "{name}: normal {dn:e}");
+}
+
+#[test]
+fn grid_with_one_crease_line_is_exact() {
+    for s in [0.3f32, 1.0, 1.7, 2.0, 2.5, 4.5, 9.9] {
+        let mesh = grid(&line(|_| s));
+        let patches = accepted(&mesh);
+        // Faces on both sides of the line, rows 1..=6 (the corners of rows 0 and 7 are on the
+        // boundary): crease on their u = 1 / u = 0 edge.
+        let mut expect: Vec<(u32, CreaseSide)> = (1..N - 1)
+            .flat_map(|j| [(face(3, j), CreaseSide::U1), (face(4, j), CreaseSide::U0)])
+            .collect();
+        expect.sort();
+        let mut got: Vec<(u32, CreaseSide)> = patches.iter().map(|p| (p.face, p.side)).collect();
+        got.sort();
+        assert_eq!(got, expect, "s = {s}");
+        assert!(patches.iter().all(|p| p.sharpness == s));
+        check(&format!("grid s = {s}"), &mesh, &patches);
+    }
+}
+
+#[test]
+fn crease_across_v_is_exact() {
+    // The same line along a row: the crease lies on the faces' v edges.
+    let cs: Vec<_> = (0..N).map(|i| ((i, 4), (i + 1, 4), 2.5f32)).collect();
+    let mesh = grid(&cs);
+    let patches = accepted(&mesh);
+    assert_eq!(patches.len(), 12);
+    assert!(patches
+        .iter()
+        .all(|p| matches!(p.side, CreaseSide::V0 | CreaseSide::V1)));
+    check("grid, row crease", &mesh, &patches);
+}
+
+#[test]
+fn varying_sharpness_along_the_line() {
+    let s = |j: usize| if j < 4 { 1.0 } else { 2.5 };
+    let mesh = grid(&line(s));
+    let topo = Topology::new(&mesh).unwrap();
+    for j in 1..N - 1 {
+        // Face row j sees line edges j - 1, j, j + 1.
+        let uniform = s(j - 1) == s(j) && s(j) == s(j + 1);
+        for i in [3, 4] {
+            let got = SingleCreasePatch::gather(&topo, face(i, j));
+            assert_eq!(got.is_some(), uniform, "face ({i}, {j})");
+        }
+    }
+    check("grid, varying sharpness", &mesh, &accepted(&mesh));
+}
+
+#[test]
+fn refusals() {
+    let refused = |cs: &[Edge], f: u32| {
+        let mesh = grid(cs);
+        SingleCreasePatch::gather(&Topology::new(&mesh).unwrap(), f).is_none()
+    };
+    let base = line(|_| 2.0);
+    // Two crease lines through one face (columns 3 and 4).
+    let mut two = base.clone();
+    two.extend((0..N).map(|j| ((3, j), (3, j + 1), 2.0)));
+    assert!(refused(&two, face(3, 3)));
+    // L-shape: the line plus a row edge at a corner.
+    let mut l = base.clone();
+    l.push(((3, 3), (4, 3), 2.0));
+    assert!(refused(&l, face(3, 3)));
+    // A crease ending inside the net (only two of the three line edges sharp).
+    let short: Vec<_> = base.iter().copied().filter(|e| e.0 .1 != 4).collect();
+    assert!(refused(&short, face(3, 3)));
+    // Infinitely sharp.
+    assert!(refused(&line(|_| INFINITE_SHARPNESS), face(3, 3)));
+    // No crease: a plain regular patch.
+    assert!(refused(&[], face(3, 3)));
+    // A boundary corner.
+    assert!(refused(&base, face(3, 0)));
+    // The crease on the outer ring only (column 4 seen from face column 2): not a feature of
+    // the face.
+    assert!(refused(&base, face(2, 3)));
+    // Sanity: the face itself is accepted.
+    assert!(!refused(&base, face(3, 3)));
+}
+
+#[test]
+fn osd_meshes() {
+    for name in ["catmark_single_crease", "catmark_cube_creases0"] {
+        let mesh = osd(name);
+        let patches = accepted(&mesh);
+        check(name, &mesh, &patches);
+    }
+}
