@@ -15,9 +15,7 @@ pub fn worst_level_error(
     tables: &RefinementTables,
     buffer: &[DVec3],
 ) -> f64 {
-    let lo = control.iter().fold(DVec3::MAX, |a, &p| a.min(p));
-    let hi = control.iter().fold(DVec3::MIN, |a, &p| a.max(p));
-    let diag = (hi - lo).length();
+    let diag = diagonal(control);
     let mut worst = 0.0f64;
     for l in 1..tables.level_offsets.len() {
         let expect = StencilTable::refined(mesh, l as u32)
@@ -30,4 +28,11 @@ pub fn worst_level_error(
         }
     }
     worst
+}
+
+/// The bbox diagonal of `points`.
+pub fn diagonal(points: &[DVec3]) -> f64 {
+    let lo = points.iter().fold(DVec3::MAX, |a, &p| a.min(p));
+    let hi = points.iter().fold(DVec3::MIN, |a, &p| a.max(p));
+    (hi - lo).length()
 }
