@@ -6,7 +6,7 @@
 mod common;
 
 use common::gpu::{assert_validation_clean, context};
-use common::levels::{diagonal, worst_level_error};
+use common::levels::{worst_adaptive_error, worst_level_error};
 use common::meshes::mesh;
 use glam::DVec3;
 use tessera::gpu::Context;
@@ -77,18 +77,6 @@ fn gpu_refinement_equals_cpu_refinement() {
         }
     }
     assert_validation_clean(&ctx);
-}
-
-/// Worst distance, relative to the bbox diagonal of `control`, between the GPU buffer and the
-/// f64 adaptive refinement, over every vertex of every level.
-fn worst_adaptive_error(refinement: &AdaptiveRefinement, control: &[DVec3], gpu: &[DVec3]) -> f64 {
-    let expect = refinement.refine_positions(control);
-    assert_eq!(gpu.len(), expect.len());
-    let diag = diagonal(control);
-    gpu.iter()
-        .zip(&expect)
-        .map(|(a, b)| a.distance(*b) / diag)
-        .fold(0.0, f64::max)
 }
 
 #[test]

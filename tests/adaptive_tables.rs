@@ -5,8 +5,7 @@
 
 mod common;
 
-use common::levels::diagonal;
-use common::levels::worst_level_error;
+use common::levels::{worst_adaptive_error, worst_level_error};
 use common::meshes::{corpus_options, mesh, osd_names, osd_path, try_osd};
 use tessera::subdiv::adaptive::AdaptiveRefinement;
 use tessera::subdiv::tables::RefinementTables;
@@ -43,14 +42,11 @@ fn tables_reproduce_the_refinement_on_the_shared_meshes() {
 fn adaptive_table_error(m: &ControlMesh, isolation: u32) -> f64 {
     let refinement = AdaptiveRefinement::new(&Level::from_mesh(m).unwrap(), isolation).unwrap();
     let tables = RefinementTables::adaptive(&refinement).unwrap();
-    let expect = refinement.refine_positions(m.positions());
-    assert_eq!(tables.total_vertices as usize, expect.len());
-    let diag = diagonal(m.positions());
-    let got = tables.refine_cpu(m.positions());
-    got.iter()
-        .zip(&expect)
-        .map(|(a, b)| a.distance(*b) / diag)
-        .fold(0.0, f64::max)
+    worst_adaptive_error(
+        &refinement,
+        m.positions(),
+        &tables.refine_cpu(m.positions()),
+    )
 }
 
 #[test]

@@ -2,6 +2,7 @@
 //! layout) measured against the crate's f64 refinement (`StencilTable::refined`).
 
 use glam::DVec3;
+use tessera::subdiv::adaptive::AdaptiveRefinement;
 use tessera::subdiv::tables::RefinementTables;
 use tessera::subdiv::StencilTable;
 use tessera::ControlMesh;
@@ -35,4 +36,21 @@ pub fn diagonal(points: &[DVec3]) -> f64 {
     let lo = points.iter().fold(DVec3::MAX, |a, &p| a.min(p));
     let hi = points.iter().fold(DVec3::MIN, |a, &p| a.max(p));
     (hi - lo).length()
+}
+
+/// The worst distance, relative to the bbox diagonal of `control`, between `buffer` (every
+/// vertex of every level, global numbering) and the f64 adaptive refinement of `control`.
+pub fn worst_adaptive_error(
+    refinement: &AdaptiveRefinement,
+    control: &[DVec3],
+    buffer: &[DVec3],
+) -> f64 {
+    let expect = refinement.refine_positions(control);
+    assert_eq!(buffer.len(), expect.len(), "refined vertex count");
+    let diag = diagonal(control);
+    buffer
+        .iter()
+        .zip(&expect)
+        .map(|(a, b)| a.distance(*b) / diag)
+        .fold(0.0, f64::max)
 }
