@@ -15,6 +15,7 @@ use std::collections::HashMap;
 
 use common::meshes::{mesh, osd, osd_names, try_osd};
 use tessera::subdiv::adaptive::{AdaptiveRefinement, ChildOf, PatchCensus, PatchType};
+use tessera::subdiv::tables::RefinementTables;
 use tessera::subdiv::Level;
 use tessera::topology::Topology;
 use tessera::ControlMesh;
@@ -318,4 +319,12 @@ fn info_prints_the_census() {
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.lines().any(|l| l == "patches total=300"), "{text}");
     assert!(text.contains("patches level 3: total="), "{text}");
+    let (r, _) = refine(&osd("catmark_cube_creases1"), 3);
+    let bytes = RefinementTables::adaptive(&r).unwrap().gpu_tables().bytes();
+    let vertices = format!("refined vertices={}", r.vertex_count());
+    assert!(text.lines().any(|l| l == vertices), "{text}");
+    assert!(
+        text.lines().any(|l| l == format!("table bytes={bytes}")),
+        "{text}"
+    );
 }

@@ -1,15 +1,17 @@
 //! The compute refinement of the adaptive scheme (`render::schemes::adaptive::refine`, Köbler
-//! 2013, section 4.3) on the GPU equals the CPU f64 refinement, uniform to depth 2 and 3, before
-//! and after new control points; validation clean.
+//! 2013, section 4.3) on the GPU equals the CPU f64 refinement, uniform to depth 2 and 3 and
+//! feature-adaptive (`RefinementTables::adaptive`), before and after new control points;
+//! validation clean.
 
 mod common;
 
 use common::gpu::{assert_validation_clean, context};
-use common::levels::worst_level_error;
+use common::levels::{worst_adaptive_error, worst_level_error};
 use common::meshes::mesh;
 use glam::DVec3;
 use tessera::gpu::Context;
 use tessera::render::schemes::adaptive::refine::GpuRefiner;
+use tessera::subdiv::adaptive::AdaptiveRefinement;
 use tessera::subdiv::tables::RefinementTables;
 use tessera::subdiv::Level;
 
@@ -73,6 +75,43 @@ fn gpu_refinement_equals_cpu_refinement() {
                 "{name} depth {depth} animated: {animated:e}"
             );
         }
+    }
+    assert_validation_clean(&ctx);
+}
+
+#[test]
+fn gpu_adaptive_refinement_equals_cpu_refinement() {
+    let Some(ctx) = context() else { return };
+    let cases = [
+        ("catmark_car", 2),
+        ("catmark_car", 4),
+        ("catmark_cube_creases1", 4),
+        ("catmark_pole64", 3),
+    ];
+    for (name, isolation) in cases {
+        let m = mesh(name);
+        let refinement =
+            AdaptiveRefinement::new(&Level::from_mesh(&m).unwrap(), isolation).unwrap();
+        let tables = RefinementTables::adaptive(&refinement).unwrap();
+        let mut refiner = GpuRefiner::new(&ctx, &tables, m.positions()).unwrap();
+        let worst = worst_adaptive_error(&refinement, m.positions(), &run(&ctx, &refiner));
+        let moved = deform(m.positions(), 0.3);
+        refiner.update_control_points(&moved).unwrap();
+        let animated = worst_adaptive_error(&refinement, &moved, &run(&ctx, &refiner));
+        eprintln!(
+            "{name} isolation {isolation}: {} points, {} table bytes, worst {worst:.2e}, \
+             animated {animated:.2e} of the diagonal",
+            tables.total_vertices,
+            tables.gpu_tables().bytes()
+        );
+        assert!(
+            worst <= TOLERANCE,
+            "{name} isolation {isolation}: {worst:e}"
+        );
+        assert!(
+            animated <= TOLERANCE,
+            "{name} isolation {isolation} animated: {animated:e}"
+        );
     }
     assert_validation_clean(&ctx);
 }

@@ -6,6 +6,7 @@ use std::fmt::Write;
 use clap::Args;
 use tessera::mesh::{ControlMesh, ObjOptions, INFINITE_SHARPNESS};
 use tessera::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
+use tessera::subdiv::tables::RefinementTables;
 use tessera::subdiv::Level;
 use tessera::topology::{FaceClass, Topology};
 
@@ -19,7 +20,8 @@ pub struct InfoArgs {
     #[arg(long)]
     pub left_handed: bool,
     /// Also refine feature-adaptively to this isolation level (0-8) and print the patch
-    /// census: counts by type and level, and `patches total=N`.
+    /// census: counts by type and level, `patches total=N`, the refined vertex count and the
+    /// size of the GPU subdivision tables.
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..=8))]
     pub isolation: Option<u32>,
 }
@@ -35,10 +37,13 @@ pub fn run(args: InfoArgs) -> tessera::Result<()> {
     if let Some(isolation) = args.isolation {
         let base = Level::from_topology(topo);
         let refinement = AdaptiveRefinement::new(&base, isolation)?;
+        let tables = RefinementTables::adaptive(&refinement)?;
         print!(
             "{}",
             census_report(&refinement, &PatchCensus::new(&refinement))
         );
+        println!("refined vertices={}", tables.total_vertices);
+        println!("table bytes={}", tables.gpu_tables().bytes());
     }
     Ok(())
 }

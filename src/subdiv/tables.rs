@@ -28,6 +28,7 @@
 //!
 //! [`SubdivisionTables::apply_cpu`] is the f64 reference of the kernels (`glsl/adaptive/`).
 
+use super::adaptive::{AdaptiveRefinement, ChildOf};
 use super::level::Level;
 use super::rules::{
     child_edge_sharpness, decrement, fractional_weight, vertex_rule, VertexMask, VertexRule,
@@ -344,6 +345,46 @@ impl RefinementTables {
         Ok(out)
     }
 
+    /// The tables of exactly the sparse levels of a feature-adaptive refinement (Köbler 2013
+    /// §3.3 levels, §4.2 tables), in its global vertex numbering: vertex `i` of level `l` is
+    /// buffer index `levels[l].first_vertex + i`, so [`Self::refine_cpu`] gives
+    /// [`AdaptiveRefinement::refine_positions`].
+    ///
+    /// Each step is built on the whole sparse level `l` (contiguous at `first_vertex`), placing
+    /// every vertex of level `l + 1` by [`AdaptiveLevel::child_of`](super::adaptive::AdaptiveLevel::child_of):
+    /// a kept child lies around a vertex of a refined face, whose ring is complete in level
+    /// `l`, so its face, edge and vertex points see the same neighbourhood as in the refined
+    /// sub-level.
+    pub fn adaptive(refinement: &AdaptiveRefinement) -> Result<RefinementTables> {
+        let mut out = RefinementTables {
+            level_offsets: refinement.levels.iter().map(|l| l.first_vertex).collect(),
+            total_vertices: refinement.vertex_count() as u32,
+            ..Default::default()
+        };
+        for (lev, next) in refinement.levels.iter().zip(&refinement.levels[1..]) {
+            let mut placement = ChildPlacement {
+                parent_offset: lev.first_vertex,
+                ..Default::default()
+            };
+            for i in 0..next.level.vertex_count() as u32 {
+                let dst = next.first_vertex + i;
+                match lev.child_of(i) {
+                    ChildOf::Face(f) => placement.faces.push((f, dst)),
+                    ChildOf::Edge(e) => placement.edges.push((e, dst)),
+                    ChildOf::Vertex(v) => placement.vertices.push((v, dst)),
+                }
+            }
+            out.levels
+                .push(SubdivisionTables::new(&lev.level, &placement)?);
+        }
+        log::debug!(
+            "adaptive tables: {} steps, {} vertices",
+            out.levels.len(),
+            out.total_vertices
+        );
+        Ok(out)
+    }
+
     /// Number of vertices of level `l`.
     pub fn level_len(&self, l: usize) -> u32 {
         let end = self
@@ -400,6 +441,13 @@ pub struct GpuTables {
     pub words: Vec<u32>,
     /// Per level: the face, edge and vertex kernel ranges.
     pub steps: Vec<[KernelRange; 3]>,
+}
+
+impl GpuTables {
+    /// Size of the table buffer in bytes.
+    pub fn bytes(&self) -> usize {
+        self.words.len() * std::mem::size_of::<u32>()
+    }
 }
 
 impl RefinementTables {

@@ -2,6 +2,7 @@
 //! layout) measured against the crate's f64 refinement (`StencilTable::refined`).
 
 use glam::DVec3;
+use tessera::subdiv::adaptive::AdaptiveRefinement;
 use tessera::subdiv::tables::RefinementTables;
 use tessera::subdiv::StencilTable;
 use tessera::ControlMesh;
@@ -15,9 +16,7 @@ pub fn worst_level_error(
     tables: &RefinementTables,
     buffer: &[DVec3],
 ) -> f64 {
-    let lo = control.iter().fold(DVec3::MAX, |a, &p| a.min(p));
-    let hi = control.iter().fold(DVec3::MIN, |a, &p| a.max(p));
-    let diag = (hi - lo).length();
+    let diag = diagonal(control);
     let mut worst = 0.0f64;
     for l in 1..tables.level_offsets.len() {
         let expect = StencilTable::refined(mesh, l as u32)
@@ -30,4 +29,28 @@ pub fn worst_level_error(
         }
     }
     worst
+}
+
+/// The bbox diagonal of `points`.
+pub fn diagonal(points: &[DVec3]) -> f64 {
+    let lo = points.iter().fold(DVec3::MAX, |a, &p| a.min(p));
+    let hi = points.iter().fold(DVec3::MIN, |a, &p| a.max(p));
+    (hi - lo).length()
+}
+
+/// The worst distance, relative to the bbox diagonal of `control`, between `buffer` (every
+/// vertex of every level, global numbering) and the f64 adaptive refinement of `control`.
+pub fn worst_adaptive_error(
+    refinement: &AdaptiveRefinement,
+    control: &[DVec3],
+    buffer: &[DVec3],
+) -> f64 {
+    let expect = refinement.refine_positions(control);
+    assert_eq!(buffer.len(), expect.len(), "refined vertex count");
+    let diag = diagonal(control);
+    buffer
+        .iter()
+        .zip(&expect)
+        .map(|(a, b)| a.distance(*b) / diag)
+        .fold(0.0, f64::max)
 }
