@@ -3,15 +3,12 @@
 
 mod common;
 
-use common::capture::{patch_type_image, uniform};
+use common::capture::uniform;
 use common::conformance::{
-    assert_animation_equals_rebuild, assert_gpu_equals_cpu, assert_matches_limit,
-    assert_watertight, draw,
+    animation_on, assert_matches_limit, draw, golden_patch_type, gpu_equals_cpu_on, watertight_on,
 };
-use common::golden::check_golden;
-use common::gpu::{assert_validation_clean, context};
-use common::meshes::{mesh, osd};
-use tessera::render::animate::twist;
+use common::gpu::context;
+use common::meshes::mesh;
 use tessera::render::Scheme;
 
 const SCHEME: Scheme = Scheme::BsplineOnly;
@@ -40,45 +37,30 @@ fn matches_the_exact_limit() {
 /// GPU == CPU construction (`patch::RegularPatch`) at every captured parameter.
 #[test]
 fn gpu_equals_cpu_construction() {
-    let Some(ctx) = context() else { return };
-    for name in ["embedded:open", "catmark_car"] {
-        let m = mesh(name);
-        let (surface, records) = draw(&ctx, &m, SCHEME, uniform(5.0));
-        assert_gpu_equals_cpu(name, &m, &surface, &records, 1e-6, 1e-3);
-    }
+    gpu_equals_cpu_on(SCHEME, &["embedded:open", "catmark_car"], 1e-6, 1e-3);
 }
 
 /// Bitwise watertight on every edge two patches share, whole and split (level 24 > 16).
 #[test]
 fn watertight() {
-    let Some(ctx) = context() else { return };
-    for (name, level) in [
-        ("embedded:open", 5.0),
-        ("catmark_car", 5.0),
-        ("catmark_car", 24.0),
-    ] {
-        let m = mesh(name);
-        let (surface, records) = draw(&ctx, &m, SCHEME, uniform(level));
-        assert_watertight(&format!("{name} level {level}"), &surface, &records);
-    }
+    watertight_on(
+        SCHEME,
+        &[
+            ("embedded:open", 5.0),
+            ("catmark_car", 5.0),
+            ("catmark_car", 24.0),
+        ],
+    );
 }
 
 /// Moving the control vertices equals rebuilding from the moved mesh, bitwise.
 #[test]
 fn animation_equals_rebuild() {
-    let Some(ctx) = context() else { return };
-    let m = osd("catmark_car");
-    let moved = twist(m.positions(), glam::DVec3::Z, 1.5, 0.3);
-    assert_animation_equals_rebuild(&ctx, "catmark_car", &m, SCHEME, &moved);
+    animation_on(SCHEME, "catmark_car");
 }
 
 /// Coloured by patch type (regular gold, CPU-path faces purple/green).
 #[test]
 fn golden() {
-    let Some(ctx) = context() else { return };
-    check_golden(
-        "bspline_only_mixed_patch_type",
-        &patch_type_image(&ctx, &mesh("embedded:mixed"), SCHEME),
-    );
-    assert_validation_clean(&ctx);
+    golden_patch_type(SCHEME, "bspline_only_mixed_patch_type");
 }

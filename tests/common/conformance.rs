@@ -15,8 +15,14 @@ use tessera::render::{CaptureRecord, PassTables, RenderDesc, Scheme, SurfaceData
 use tessera::subdiv::eval::LimitEvaluator;
 use tessera::topology::Topology;
 
-use super::capture::{capture, offscreen, scheme_surface, sorted, uniform, Animation};
-use super::gpu::assert_validation_clean;
+use tessera::render::animate::twist;
+
+use super::capture::{
+    capture, offscreen, patch_type_image, scheme_surface, sorted, uniform, Animation,
+};
+use super::golden::check_golden;
+use super::gpu::{assert_validation_clean, context};
+use super::meshes::mesh;
 use super::watertight::{boundary, point_bits, position_bits, Boundary, EdgePoints};
 
 /// The captured points of `mesh` drawn with `scheme` at `tess`, and the surface.
@@ -243,30 +249,66 @@ pub fn assert_animation_equals_rebuild(
     assert_validation_clean(ctx);
 }
 
+/// [`assert_gpu_equals_cpu`] on each of `meshes` drawn with `scheme` at uniform level 5.
+pub fn gpu_equals_cpu_on(scheme: Scheme, meshes: &[&str], pos_tol: f64, normal_tol: f64) {
+    let Some(ctx) = context() else { return };
+    for name in meshes {
+        let m = mesh(name);
+        let (surface, records) = draw(&ctx, &m, scheme, uniform(5.0));
+        assert_gpu_equals_cpu(name, &m, &surface, &records, pos_tol, normal_tol);
+    }
+}
+
+/// [`assert_watertight`] on each `(mesh, uniform level)`.
+pub fn watertight_on(scheme: Scheme, cases: &[(&str, f32)]) {
+    let Some(ctx) = context() else { return };
+    for &(name, level) in cases {
+        let m = mesh(name);
+        let (surface, records) = draw(&ctx, &m, scheme, uniform(level));
+        assert_watertight(&format!("{name} level {level}"), &surface, &records);
+    }
+}
+
+/// [`assert_animation_equals_rebuild`] with the control vertices of `name` twisted about z.
+pub fn animation_on(scheme: Scheme, name: &str) {
+    let Some(ctx) = context() else { return };
+    let m = mesh(name);
+    let moved = twist(m.positions(), DVec3::Z, 1.5, 0.3);
+    assert_animation_equals_rebuild(&ctx, name, &m, scheme, &moved);
+}
+
+/// The golden `golden`: embedded:mixed drawn with `scheme`, coloured by patch type.
+pub fn golden_patch_type(scheme: Scheme, golden: &str) {
+    let Some(ctx) = context() else { return };
+    check_golden(
+        golden,
+        &patch_type_image(&ctx, &mesh("embedded:mixed"), scheme),
+    );
+    assert_validation_clean(&ctx);
+}
+
 /// The conformance tests of a Gregory scheme (`gregory-vs`, `gregory-stencil`): one invocation
 /// per scheme file, `gregory_conformance!(Scheme::X, "golden name");`.
 #[macro_export]
 macro_rules! gregory_conformance {
     ($scheme:expr, $golden:literal) => {
-        use common::capture::{patch_type_image, uniform};
+        use common::capture::uniform;
         use common::conformance::{
-            assert_animation_equals_rebuild, assert_gpu_equals_cpu, assert_matches_limit,
-            assert_watertight, draw,
+            animation_on, assert_matches_limit, draw, golden_patch_type, gpu_equals_cpu_on,
+            watertight_on,
         };
-        use common::golden::check_golden;
         use common::gpu::{assert_validation_clean, context};
-        use common::meshes::{mesh, osd};
+        use common::meshes::mesh;
         use tessera::render::accuracy::measure_gpu;
-        use tessera::render::animate::twist;
         use tessera::render::Scheme;
 
         const SCHEME: Scheme = $scheme;
 
-        /// Regular faces exact (1e-6 of the diagonal, 1e-3 rad; measured 4.9e-8, 6.5e-7 rad); Gregory
-        /// faces no less accurate than measured against the exact limit by closest point at the TES
-        /// points of level 8 (`tessera error embedded:mixed --scheme gregory-* --grid 8`: RMS 6.32e-4,
-        /// max 6.76e-3 of the diagonal, RMS normal 2.14e-2 rad, before and after the scheme
-        /// architecture; the CPU construction's grid gives the README's 5.67e-4).
+        /// Regular faces exact (1e-6 of the diagonal, 1e-3 rad; measured 4.9e-8, 6.5e-7 rad);
+        /// Gregory faces no less accurate than measured against the exact limit by closest point
+        /// at the TES points of level 8 (`tessera error embedded:mixed --scheme gregory-* --grid
+        /// 8`: RMS 6.32e-4, max 6.76e-3 of the diagonal, RMS normal 2.14e-2 rad, before and after
+        /// the scheme architecture; the CPU construction's grid gives the README's 5.67e-4).
         #[test]
         fn accuracy_against_the_exact_limit() {
             let Some(ctx) = context() else { return };
@@ -285,54 +327,44 @@ macro_rules! gregory_conformance {
             assert_validation_clean(&ctx);
         }
 
-        /// GPU == CPU construction (`patch::gregory`, `patch::RegularPatch`) at every captured
+        /// GPU == CPU construction (`patch::gregory`, `RegularPatch`) at every captured
         /// parameter: 1e-6 of the diagonal, interior normals 1e-3 rad.
         #[test]
         fn gpu_equals_cpu_construction() {
-            let Some(ctx) = context() else { return };
-            for name in ["embedded:mixed", "embedded:open", "catmark_car"] {
-                let m = mesh(name);
-                let (surface, records) = draw(&ctx, &m, SCHEME, uniform(5.0));
-                assert_gpu_equals_cpu(name, &m, &surface, &records, 1e-6, 1e-3);
-            }
+            gpu_equals_cpu_on(
+                SCHEME,
+                &["embedded:mixed", "embedded:open", "catmark_car"],
+                1e-6,
+                1e-3,
+            );
         }
 
-        /// Bitwise watertight on every edge two GPU patches share (Gregory/Gregory, Gregory/B-spline,
-        /// B-spline/B-spline), whole and split into sub-patches (level 24).
+        /// Bitwise watertight on every edge two GPU patches share (Gregory/Gregory,
+        /// Gregory/B-spline, B-spline/B-spline), whole and split into sub-patches (level 24).
         #[test]
         fn watertight() {
-            let Some(ctx) = context() else { return };
-            for (name, level) in [
-                ("embedded:mixed", 5.0),
-                ("embedded:open", 7.0),
-                ("catmark_car", 5.0),
-                ("embedded:mixed", 24.0),
-            ] {
-                let m = mesh(name);
-                let (surface, records) = draw(&ctx, &m, SCHEME, uniform(level));
-                assert_watertight(&format!("{name} level {level}"), &surface, &records);
-            }
+            watertight_on(
+                SCHEME,
+                &[
+                    ("embedded:mixed", 5.0),
+                    ("embedded:open", 7.0),
+                    ("catmark_car", 5.0),
+                    ("embedded:mixed", 24.0),
+                ],
+            );
         }
 
         /// Moving the control vertices equals rebuilding from the moved mesh, bitwise.
         #[test]
         fn animation_equals_rebuild() {
-            let Some(ctx) = context() else { return };
-            let m = osd("catmark_car");
-            let moved = twist(m.positions(), glam::DVec3::Z, 1.5, 0.3);
-            assert_animation_equals_rebuild(&ctx, "catmark_car", &m, SCHEME, &moved);
+            animation_on(SCHEME, "catmark_car");
         }
 
-        /// Coloured by patch type (regular gold, Gregory quads purple, triangles green; the paper's
-        /// Fig. 1).
+        /// Coloured by patch type (regular gold, Gregory quads purple, triangles green; the
+        /// paper's Fig. 1).
         #[test]
         fn golden() {
-            let Some(ctx) = context() else { return };
-            check_golden(
-                $golden,
-                &patch_type_image(&ctx, &mesh("embedded:mixed"), SCHEME),
-            );
-            assert_validation_clean(&ctx);
+            golden_patch_type(SCHEME, $golden);
         }
     };
 }
