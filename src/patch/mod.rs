@@ -1,5 +1,7 @@
 //! Patch schemes: CPU construction and reference evaluation, one module per scheme.
 //!
+//! - [`adaptive`]: the patches of a feature-adaptive refinement (B-splines and Gregory end
+//!   caps at the isolation level) as one CPU surface.
 //! - [`basis`]: cubic B-spline and Bernstein bases, B-spline to Bézier conversion.
 //! - [`regular`]: bicubic B-spline patches of regular (and boundary-regular) quads (defined in
 //!   [`crate::subdiv::bspline`], which exact evaluation builds on).
@@ -7,6 +9,7 @@
 //!   (Nießner, Loop, Greiner 2012).
 //! - [`gregory`]: Gregory patches of the other triangles and quads, with their stencil forms.
 
+pub mod adaptive;
 pub mod basis;
 pub mod gregory;
 pub mod regular;
