@@ -16,52 +16,14 @@ use super::schemes::bspline::BSPLINE;
 use super::schemes::{PatchScheme, Scheme, SchemeLimits};
 use super::settings::TessSettings;
 use crate::gpu::Context;
-use crate::patch::gregory::accuracy::AccuracyReport;
+use crate::patch::gregory::accuracy::{
+    closest_exact, nearby_exact_samples, normal_angle, AccuracyReport,
+};
 use crate::patch::gregory::check_face;
 use crate::patch::RegularPatch;
-use crate::subdiv::eval::{GridSample, LimitEvaluator, LimitSample};
+use crate::subdiv::eval::{GridSample, LimitEvaluator};
 use crate::topology::Topology;
 use crate::{ControlMesh, Error, Result};
-
-/// An exact sample and where it lies.
-#[derive(Clone, Copy)]
-struct At {
-    face: usize,
-    sub: usize,
-    u: f64,
-    v: f64,
-    s: LimitSample,
-}
-
-/// Gauss-Newton steps towards the exact point closest to `x`, within `start`'s (sub-)face.
-fn closest(ev: &LimitEvaluator, x: DVec3, start: At) -> Result<At> {
-    let (mut cur, mut best) = (start, start);
-    for _ in 0..6 {
-        let (du, dv) = (cur.s.du, cur.s.dv);
-        let r = x - cur.s.position;
-        let (a, b, c) = (du.dot(du), du.dot(dv), dv.dot(dv));
-        let det = a * c - b * b;
-        if det.abs() < 1e-300 {
-            break;
-        }
-        let (ru, rv) = (du.dot(r), dv.dot(r));
-        let u = (cur.u + (c * ru - b * rv) / det).clamp(0.0, 1.0);
-        let v = (cur.v + (a * rv - b * ru) / det).clamp(0.0, 1.0);
-        if (u - cur.u).abs() < 1e-13 && (v - cur.v).abs() < 1e-13 {
-            break;
-        }
-        cur = At {
-            u,
-            v,
-            s: ev.eval(cur.face, cur.sub, u, v)?,
-            ..cur
-        };
-        if (cur.s.position - x).length_squared() < (best.s.position - x).length_squared() {
-            best = cur;
-        }
-    }
-    Ok(best)
-}
 
 /// Draws `mesh` with `scheme` at uniform level `grid` and measures the captured points of every
 /// Gregory patch. Faces left to the CPU path count as unsupported.
@@ -131,39 +93,10 @@ pub fn measure_gpu(
         let x = DVec3::from(r.position.map(f64::from));
         let n = DVec3::from(r.normal.map(f64::from));
         let f = r.face;
-        let mut near: Vec<u32> = topo
-            .face_vertices(f)
-            .iter()
-            .flat_map(|&v| topo.vertex_faces(v).iter().copied())
-            .collect();
-        near.sort_unstable();
-        near.dedup();
-        let start = near
-            .iter()
-            .filter_map(|&g| dense[g as usize].as_ref().map(|s| (g, s)))
-            .flat_map(|(g, s)| {
-                s.iter().map(move |p| At {
-                    face: g as usize,
-                    sub: p.sub,
-                    u: p.u,
-                    v: p.v,
-                    s: p.sample,
-                })
-            })
-            .min_by(|a, b| {
-                (a.s.position - x)
-                    .length_squared()
-                    .total_cmp(&(b.s.position - x).length_squared())
-            })
-            .ok_or_else(|| Error::Invalid(format!("face {f}: no exact samples")))?;
-        let c = closest(&ev, x, start)?;
-        let d = (c.s.position - x).length();
-        let a = n.angle_between(c.s.normal);
-        let a = if a.is_finite() {
-            a
-        } else {
-            std::f64::consts::PI
-        };
+        let candidates = nearby_exact_samples(&topo, &dense, f);
+        let c = closest_exact(&ev, x, &candidates, f)?;
+        let d = (c.sample.position - x).length();
+        let a = normal_angle(n, c.sample.normal);
         report.samples += 1;
         sd += d * d;
         sn += a * a;

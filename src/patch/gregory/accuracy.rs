@@ -100,13 +100,77 @@ pub struct FaceHeat {
 }
 
 /// One exact sample with its location.
-#[derive(Clone, Copy)]
-struct Located {
-    face: usize,
-    sub: usize,
-    u: f64,
-    v: f64,
-    sample: LimitSample,
+#[derive(Debug, Clone, Copy)]
+pub struct Located {
+    /// Face.
+    pub face: usize,
+    /// Sub-face (0 for quads).
+    pub sub: usize,
+    /// Parameter u.
+    pub u: f64,
+    /// Parameter v.
+    pub v: f64,
+    /// The exact sample there.
+    pub sample: LimitSample,
+}
+
+/// Candidate starting points for [`closest_exact`] near face `f`: the dense exact samples of the
+/// face and of every face sharing a vertex with it.
+pub fn nearby_exact_samples(
+    topo: &Topology,
+    dense: &[Option<Vec<GridSample>>],
+    f: u32,
+) -> Vec<Located> {
+    let mut near: Vec<u32> = topo
+        .face_vertices(f)
+        .iter()
+        .flat_map(|&v| topo.vertex_faces(v).iter().copied())
+        .collect();
+    near.sort_unstable();
+    near.dedup();
+    near.iter()
+        .filter_map(|&g| dense[g as usize].as_ref().map(|s| (g, s)))
+        .flat_map(|(g, s)| {
+            s.iter().map(move |x| Located {
+                face: g as usize,
+                sub: x.sub,
+                u: x.u,
+                v: x.v,
+                sample: x.sample,
+            })
+        })
+        .collect()
+}
+
+/// The exact point closest to `x`: the nearest of `candidates` (from [`nearby_exact_samples`]
+/// of face `f`), refined by [`project`].
+pub fn closest_exact(
+    ev: &LimitEvaluator,
+    x: DVec3,
+    candidates: &[Located],
+    f: u32,
+) -> Result<Located> {
+    let start = candidates
+        .iter()
+        .min_by(|a, b| {
+            let da = (a.sample.position - x).length_squared();
+            let db = (b.sample.position - x).length_squared();
+            da.total_cmp(&db)
+        })
+        .copied()
+        .ok_or_else(|| crate::Error::Invalid(format!("face {f}: no exact samples")))?;
+    project(ev, x, start)
+}
+
+/// Angle between two normals; a zero normal (collinear derivatives) counts as the worst case,
+/// π, not as 0.
+pub fn normal_angle(a: DVec3, b: DVec3) -> f64 {
+    let angle = a.angle_between(b);
+    if angle.is_finite() {
+        angle
+    } else {
+        std::f64::consts::PI
+    }
 }
 
 /// Gauss-Newton projection of `x` onto the exact surface starting from `start`, within its
@@ -277,49 +341,14 @@ fn face_errors(
     } else {
         ev.eval_points(f as usize, 0, &params)?
     };
-    // Candidate exact samples: the face and every face sharing a vertex with it.
-    let mut near: Vec<u32> = topo
-        .face_vertices(f)
-        .iter()
-        .flat_map(|&v| topo.vertex_faces(v).iter().copied())
-        .collect();
-    near.sort_unstable();
-    near.dedup();
-    let candidates: Vec<Located> = near
-        .iter()
-        .filter_map(|&g| dense[g as usize].as_ref().map(|s| (g, s)))
-        .flat_map(|(g, s)| {
-            s.iter().map(move |x| Located {
-                face: g as usize,
-                sub: x.sub,
-                u: x.u,
-                v: x.v,
-                sample: x.sample,
-            })
-        })
-        .collect();
+    let candidates = nearby_exact_samples(topo, dense, f);
     let mut out = Vec::with_capacity(params.len());
     for (k, &(u, v)) in params.iter().enumerate() {
         let g = patch.eval(u, v);
         let x = g.position;
-        let start = candidates
-            .iter()
-            .min_by(|a, b| {
-                let da = (a.sample.position - x).length_squared();
-                let db = (b.sample.position - x).length_squared();
-                da.total_cmp(&db)
-            })
-            .copied()
-            .ok_or_else(|| crate::Error::Invalid(format!("face {f}: no exact samples")))?;
-        let close = project(ev, x, start)?;
+        let close = closest_exact(ev, x, &candidates, f)?;
         let dist = (close.sample.position - x).length();
-        let angle = g.normal().angle_between(close.sample.normal);
-        // A zero normal (collinear derivatives) counts as the worst case, not as 0.
-        let angle = if angle.is_finite() {
-            angle
-        } else {
-            std::f64::consts::PI
-        };
+        let angle = normal_angle(g.normal(), close.sample.normal);
         let uv = (!triangle).then(|| (exact_uv[k].position - x).length());
         out.push((dist, uv, angle));
         if let Some(h) = heat.as_deref_mut() {
