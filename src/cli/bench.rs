@@ -1,6 +1,7 @@
 //! `tessera bench`: GPU time per frame of the tessellation pipeline at several levels.
 
 use clap::Args;
+use tessera::render::bench::median;
 use tessera::render::{
     OffscreenDesc, OffscreenSession, RenderDesc, Scheme, TessSettings, CPU_PATH_LABEL,
 };
@@ -47,16 +48,6 @@ pub struct BenchArgs {
     /// The file's faces are wound clockwise.
     #[arg(long)]
     pub left_handed: bool,
-}
-
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(|a, b| a.total_cmp(b));
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
 }
 
 /// Runs the subcommand.

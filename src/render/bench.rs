@@ -36,7 +36,8 @@ pub struct GregoryBenchRow {
     pub regular_ms: f64,
 }
 
-fn median(v: &mut [f64]) -> f64 {
+/// Median of `v` (sorted in place); 0 when empty.
+pub fn median(v: &mut [f64]) -> f64 {
     v.sort_by(|a, b| a.total_cmp(b));
     let n = v.len();
     if n == 0 {
