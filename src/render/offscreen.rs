@@ -137,10 +137,11 @@ impl OffscreenSession {
     ) -> Result<OffscreenSession> {
         let target = RenderTarget::new(ctx, desc.width, desc.height, desc.samples)?;
         let renderer = SurfaceRenderer::new(ctx, surface, render, target.format())?;
-        let (lo, hi) = surface.bounding_box();
+        let frames = surface.vertex_frames(&surface.positions);
+        let (lo, hi) = surface.bounding_box_with(&frames);
         let aspect = f64::from(desc.width) / f64::from(desc.height.max(1));
         // Fit the drawn surface (patch corner limits and CPU-evaluated points, subsampled).
-        let points = surface.framing_points(&surface.vertex_frames(&surface.positions));
+        let points = surface.framing_points(&frames);
         let camera = Camera::frame_oriented(desc.camera, desc.up, lo, hi, &points, aspect);
         let queries = if timings {
             let n = renderer.passes().len() as u32;

@@ -128,11 +128,15 @@ impl SurfaceData {
     /// Bounding box of the patch corner limits and the CPU-evaluated points (what is drawn, up
     /// to the bulge of patch interiors); `(0, 0)` when empty.
     pub fn bounding_box(&self) -> (DVec3, DVec3) {
-        let frames = self.vertex_frames(&self.positions);
+        self.bounding_box_with(&self.vertex_frames(&self.positions))
+    }
+
+    /// [`Self::bounding_box`] with the frames of [`Self::positions`] already computed.
+    pub fn bounding_box_with(&self, frames: &VertexFrames) -> (DVec3, DVec3) {
         let mut points: Vec<DVec3> = self
             .parts
             .iter()
-            .flat_map(|p| p.framing_points(&frames))
+            .flat_map(|p| p.framing_points(frames))
             .collect();
         points.extend(self.fallback.positions.iter().copied());
         Self::bounding_box_of(&points)
