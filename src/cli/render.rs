@@ -57,8 +57,8 @@ pub struct RenderArgs {
     /// (default: one Gregory patch per triangle/quad, control points as precomputed one-ring
     /// stencils in the TCS, paper §4.3), `gregory-vs` (two-stage: per-vertex data in the vertex
     /// shader, face points in the TCS, §4.1-4.2) or `bspline-only`. Faces a scheme cannot take
-    /// (polygons, boundary/crease vertices for now, too large rings or valences) are drawn from
-    /// the exact CPU reference, with a message.
+    /// (polygons, semi-sharp creases, darts, too large rings or valences) are drawn from the
+    /// exact CPU reference, with a message.
     #[arg(long, value_enum, default_value_t = Scheme::default())]
     pub scheme: Scheme,
     /// Draw triangle edges only.
