@@ -1,50 +1,15 @@
 #version 450
-// Regular bicubic B-spline patch (16 control vertices cvs[4*j + i], as patch::RegularPatch).
-// Mirrors phantom points (columns first, then rows: 2a - b), writes the mirrored B-spline points
-// for the TES's shared-edge evaluation and the Bezier points for the interior, and sets the
-// tessellation levels from data the neighbouring patch shares (common/tess_factors.glsl).
+// Regular bicubic B-spline patch: control points by bspline_tcs.glsl, tessellation levels from
+// data the neighbouring patch shares (common/tess_factors.glsl).
 #include "frame.glsl"
-#include "bspline.glsl"
 #include "tess_factors.glsl"
-
-layout(vertices = 16) out;
-layout(location = 0) in vec3 v_pos[];
-layout(location = 0) out vec3 c_bspline[];
-layout(location = 1) out vec3 c_bezier[];
+#include "bspline_tcs.glsl"
 
 void main() {
-    uint flags = patches[chunk.patch_base + uint(gl_PrimitiveID)].flags;
-    vec3 P[16];
-    for (int k = 0; k < 16; ++k) {
-        P[k] = v_pos[k];
-    }
-    // Phantom columns: bit 3 = u=0 side (column 0), bit 1 = u=1 side (column 3).
-    for (int j = 0; j < 4; ++j) {
-        if ((flags & 8u) != 0u) P[4 * j + 0] = 2.0 * P[4 * j + 1] - P[4 * j + 2];
-        if ((flags & 2u) != 0u) P[4 * j + 3] = 2.0 * P[4 * j + 2] - P[4 * j + 1];
-    }
-    // Phantom rows: bit 0 = v=0 side (row 0), bit 2 = v=1 side (row 3).
-    for (int i = 0; i < 4; ++i) {
-        if ((flags & 1u) != 0u) P[i] = 2.0 * P[4 + i] - P[8 + i];
-        if ((flags & 4u) != 0u) P[12 + i] = 2.0 * P[8 + i] - P[4 + i];
-    }
-
-    int id = gl_InvocationID;
-    int i = id % 4;
-    int j = id / 4;
-    c_bspline[gl_InvocationID] = P[id];
-    // Bezier point (i, j) = sum_b wj[b] * sum_a wi[a] * P[4b + a] (tensor-product change of basis).
-    vec4 wi = bspline_to_bezier_row(i);
-    vec4 wj = bspline_to_bezier_row(j);
-    vec3 acc = vec3(0.0);
-    for (int b = 0; b < 4; ++b) {
-        vec3 row = wi.x * P[4 * b] + wi.y * P[4 * b + 1] + wi.z * P[4 * b + 2] + wi.w * P[4 * b + 3];
-        acc += wj[b] * row;
-    }
-    c_bezier[gl_InvocationID] = acc;
-
-    if (id == 0) {
-        uvec4 c = patches[chunk.patch_base + uint(gl_PrimitiveID)].corners;
+    PatchInfo info = patches[chunk.patch_base + uint(gl_PrimitiveID)];
+    bspline_control_points(info.flags);
+    if (gl_InvocationID == 0) {
+        uvec4 c = info.corners;
         // Vulkan quad domain: outer[0] is the u=0 edge, [1] v=0, [2] u=1, [3] v=1.
         float o0 = edge_tess_level(c.x, c.w);
         float o1 = edge_tess_level(c.x, c.y);

@@ -1,15 +1,9 @@
 #version 450
-// Regular bicubic B-spline patch evaluation. Interior points: Bezier form (from the TCS) with
-// derivatives for the normal n = normalize(dP/du x dP/dv). Points on the patch boundary are made
-// bitwise identical (position and normal) to the neighbour's, B-spline or Gregory: corners read the
-// shared vertex limit position and normal (bindings 2, 9); edge points evaluate the edge's limit
-// curve and normal from the 12 B-spline points both patches hold, in canonical order (parameter
-// running from the end vertex with the smaller id, rows combined symmetrically, precise
-// arithmetic: common/watertight.glsl).
+// Regular bicubic B-spline patch evaluation (bspline_tes.glsl): interior from the Bezier points,
+// corners and edges by the shared watertight rules.
 // Defines: SPACING (equal_spacing | fractional_odd_spacing | fractional_even_spacing), CAPTURE.
 #include "frame.glsl"
-#include "bspline.glsl"
-#include "watertight.glsl"
+#include "bspline_tes.glsl"
 #ifdef CAPTURE
 #include "capture.glsl"
 #endif
@@ -21,46 +15,9 @@
 // Vulkan's default upper-left domain origin mirrors GL's: `cw` here gives triangles that are
 // counter-clockwise in the (u right, v up) parameter plane, i.e. seen from outside.
 layout(quads, SPACING, cw) in;
-layout(location = 0) in vec3 c_bspline[];
-layout(location = 1) in vec3 c_bezier[];
 layout(location = 0) out vec3 t_world;
 layout(location = 1) out vec3 t_normal;
 layout(location = 2) flat out uint t_class;
-
-/// Limit point and normal on patch edge e (0: v=0, 1: u=1, 2: v=1, 3: u=0) at local parameter x,
-/// computed from data and in an order that do not depend on which of the two patches (B-spline
-/// or Gregory) evaluates it: grid_edge_rows (common/watertight.glsl) in the canonical frame.
-void edge_point(uint flags, int e, float x, out vec3 pos, out vec3 nrm) {
-    bool along_u = (e == 0 || e == 2);
-    int off = (e == 1 || e == 2) ? 1 : 0;
-    bool reversed = ((flags >> (4 + e)) & 1u) != 0u;
-    // The face lies left of its edge in face order (corners 0->1, 1->2, 2->3, 3->0); the
-    // parameter runs with face order on edges 0 and 1. Left of the canonical direction (from the
-    // smaller id) is this patch's inner row exactly when the two directions agree.
-    bool face_order = (e == 0 || e == 1);
-    bool own_left = face_order != reversed;
-    int inner = (off == 0) ? 2 : 0;
-    int ml = own_left ? inner : 2 - inner;
-    int mr = 2 - ml;
-    vec3 l[4];
-    vec3 m[4];
-    vec3 r[4];
-    for (int k = 0; k < 4; ++k) {
-        int kk = reversed ? 3 - k : k;
-        int il = along_u ? (ml + off) * 4 + kk : kk * 4 + ml + off;
-        int im = along_u ? (1 + off) * 4 + kk : kk * 4 + 1 + off;
-        int ir = along_u ? (mr + off) * 4 + kk : kk * 4 + mr + off;
-        l[k] = c_bspline[il];
-        m[k] = c_bspline[im];
-        r[k] = c_bspline[ir];
-    }
-    float t, s;
-    edge_ts(x, !reversed, t, s);
-    // Boundary mask bit e: the row beyond edge e is this patch's own phantom (boundary or
-    // infinitely sharp crease).
-    bool sharp = ((flags >> uint(e)) & 1u) != 0u;
-    grid_edge_rows(l, m, r, sharp, t, s, pos, nrm);
-}
 
 void main() {
     // Face (u, v) of this domain point: sub-patch origin + local coordinate * size (exact, as
@@ -68,40 +25,17 @@ void main() {
     vec3 sd = sub_domain();
     float u = sd.x + gl_TessCoord.x * sd.z;
     float v = sd.y + gl_TessCoord.y * sd.z;
-    vec4 bu, dbu, bv, dbv;
-    bernstein3(u, 1.0 - u, bu, dbu);
-    bernstein3(v, 1.0 - v, bv, dbv);
-    vec3 p = vec3(0.0);
-    vec3 du = vec3(0.0);
-    vec3 dv = vec3(0.0);
-    for (int j = 0; j < 4; ++j) {
-        for (int i = 0; i < 4; ++i) {
-            vec3 cp = c_bezier[4 * j + i];
-            p += (bu[i] * bv[j]) * cp;
-            du += (dbu[i] * bv[j]) * cp;
-            dv += (bu[i] * dbv[j]) * cp;
-        }
-    }
-    vec3 nrm = cross(du, dv);
-    float len = length(nrm);
-    nrm = len > 0.0 ? nrm / len : vec3(0.0, 0.0, 1.0);
+    vec3 p;
+    vec3 nrm;
+    bspline_surface(u, v, p, nrm);
 
     PatchInfo info = patches[chunk.patch_base + uint(gl_PrimitiveID)];
     bool u_edge = (u == 0.0 || u == 1.0);
     bool v_edge = (v == 0.0 || v == 1.0);
     if (u_edge && v_edge) {
-        int k = (u == 0.0) ? (v == 0.0 ? 0 : 3) : (v == 0.0 ? 1 : 2);
-        p = vertex_limit[info.corners[k]].xyz;
-        // The shared vertex normal, unless the vertex has none (zero: several sectors, or no
-        // topology to tell; keep this patch's own).
-        vec3 vn = vertex_normal[info.corners[k]].xyz;
-        if (dot(vn, vn) > 0.0) {
-            nrm = vn;
-        }
+        shared_corner(info.corners[bspline_corner(u, v)], p, nrm);
     } else if (u_edge || v_edge) {
-        int e = (v == 0.0) ? 0 : (u == 1.0) ? 1 : (v == 1.0) ? 2 : 3;
-        float x = v_edge ? u : v;
-        edge_point(info.flags, e, x, p, nrm);
+        edge_point(info.flags, bspline_edge(u, v), v_edge ? u : v, p, nrm);
     }
 
     t_world = p;

@@ -51,14 +51,7 @@ layout(std430, set = 0, binding = 7) readonly buffer GregoryGrids {
     uint grid_ids[];
 };
 
-/// Control-vertex positions, xyz per vertex (the values the B-spline path reads as vertices).
-layout(std430, set = 0, binding = 8) readonly buffer ControlPositions {
-    float control_pos[];
-};
-
-vec3 control_point(uint v) {
-    return vec3(control_pos[3u * v], control_pos[3u * v + 1u], control_pos[3u * v + 2u]);
-}
+#include "control_points.glsl"
 
 #include "watertight.glsl"
 

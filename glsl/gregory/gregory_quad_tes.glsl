@@ -1,0 +1,125 @@
+// The TES body of the quad Gregory patch (20 control points from either construction variant,
+// layout in gregory/gregory.glsl), shared by the Gregory schemes and the adaptive scheme's end
+// caps. Interior: the bicubic Bezier net with the face points blended at (u, v) (§3.1, §4.4),
+// position and derivatives (F frozen) for the normal. Corners and edges: the watertight shared
+// evaluation of common/watertight.glsl and gregory/gregory.glsl (§4.5).
+// Hooks the stage file defines before including: GREGORY_CLASS(info) (colour class),
+// GREGORY_CAPTURE(info, u, v, p, n) (with CAPTURE), and optionally
+// GREGORY_EDGE_OVERRIDE(info, k, x, from_corner, pos, nrm) (true: edge k evaluated elsewhere).
+// Needs frame.glsl first; defines SPACING, CAPTURE as the stage file's.
+#ifndef TESSERA_GREGORY_QUAD_TES_GLSL
+#define TESSERA_GREGORY_QUAD_TES_GLSL
+
+#include "bspline.glsl"
+#include "gregory.glsl"
+#ifdef CAPTURE
+#include "capture.glsl"
+#endif
+
+#ifndef SPACING
+#define SPACING equal_spacing
+#endif
+
+// As bspline/patch_bspline.tese: `cw` in Vulkan's upper-left domain is counter-clockwise in (u right, v up).
+layout(quads, SPACING, cw) in;
+layout(location = 0) in vec3 g_cp[];
+layout(location = 1) patch in vec3 g_eout[8];
+layout(location = 9) patch in vec3 g_nbr[8];
+layout(location = 0) out vec3 t_world;
+layout(location = 1) out vec3 t_normal;
+layout(location = 2) flat out uint t_class;
+
+#define P(i) g_cp[(i)]
+#define EP(i) g_cp[4 + (i)]
+#define EM(i) g_cp[8 + (i)]
+#define FP(i) g_cp[12 + (i)]
+#define FM(i) g_cp[16 + (i)]
+
+/// Face edge k (corner k -> k+1) at coordinate x measured from corner `from_corner`.
+void quad_edge(uint patch_index, GregoryPatchInfo info, int k, float x, int from_corner,
+               inout vec3 pos, inout vec3 nrm) {
+#ifdef GREGORY_EDGE_OVERRIDE
+    if (GREGORY_EDGE_OVERRIDE(info, k, x, from_corner, pos, nrm)) {
+        return;
+    }
+#endif
+    int a = k;
+    int b = (k + 1) & 3;
+    bool a_is_lo = info.corners[a] < info.corners[b];
+    bool from_lo = (from_corner == a) == a_is_lo;
+    float t, s;
+    edge_ts(x, from_lo, t, s);
+    if ((info.flags & (1u << uint(k))) != 0u) {
+        grid_edge(patch_index, info.flags, k, t, s, pos, nrm);
+        return;
+    }
+    bool nbr_quad = (info.flags & (1u << uint(8 + k))) == 0u;
+    bool sharp = (info.flags & (1u << uint(12 + k))) != 0u;
+    shared_edge(true, nbr_quad, sharp, a_is_lo, t, s, P(a), EP(a), EM(b), P(b),
+                EM(a), FP(a), FM(b), EP(b),
+                g_eout[2 * k], g_nbr[2 * k], g_nbr[2 * k + 1], g_eout[2 * k + 1], pos, nrm);
+}
+
+void main() {
+    vec3 sd = sub_domain();
+    float u = sd.x + gl_TessCoord.x * sd.z;
+    float v = sd.y + gl_TessCoord.y * sd.z;
+    float su = 1.0 - u;
+    float sv = 1.0 - v;
+    vec3 f0 = gregory_blend(u, FP(0), v, FM(0));
+    vec3 f1 = gregory_blend(su, FM(1), v, FP(1));
+    vec3 f2 = gregory_blend(su, FP(2), sv, FM(2));
+    vec3 f3 = gregory_blend(u, FM(3), sv, FP(3));
+    // Bezier net b[4j + i], i along u (the paper's matrix G with the F points blended).
+    vec3 b[16] = vec3[16](P(0), EP(0), EM(1), P(1),
+                          EM(0), f0, f1, EP(1),
+                          EP(3), f3, f2, EM(2),
+                          P(3), EM(3), EP(2), P(2));
+    vec4 bu, dbu, bv, dbv;
+    bernstein3(u, su, bu, dbu);
+    bernstein3(v, sv, bv, dbv);
+    vec3 p = vec3(0.0);
+    vec3 du = vec3(0.0);
+    vec3 dv = vec3(0.0);
+    for (int j = 0; j < 4; ++j) {
+        for (int i = 0; i < 4; ++i) {
+            vec3 cp = b[4 * j + i];
+            p += (bu[i] * bv[j]) * cp;
+            du += (dbu[i] * bv[j]) * cp;
+            dv += (bu[i] * dbv[j]) * cp;
+        }
+    }
+    vec3 nrm = safe_normal(du, dv);
+
+    uint patch_index = chunk.patch_base + uint(gl_PrimitiveID);
+    GregoryPatchInfo info = gpatches[patch_index];
+    bool u_edge = (u == 0.0 || u == 1.0);
+    bool v_edge = (v == 0.0 || v == 1.0);
+    if (u_edge && v_edge) {
+        int k = (u == 0.0) ? (v == 0.0 ? 0 : 3) : (v == 0.0 ? 1 : 2);
+        p = vertex_limit[info.corners[k]].xyz;
+        // Shared vertex normal; zero where the vertex has several sectors (own normal).
+        vec3 vn = vertex_normal[info.corners[k]].xyz;
+        if (dot(vn, vn) > 0.0) {
+            nrm = vn;
+        }
+    } else if (v == 0.0) {
+        quad_edge(patch_index, info, 0, u, 0, p, nrm);
+    } else if (u == 1.0) {
+        quad_edge(patch_index, info, 1, v, 1, p, nrm);
+    } else if (v == 1.0) {
+        quad_edge(patch_index, info, 2, u, 3, p, nrm);
+    } else if (u == 0.0) {
+        quad_edge(patch_index, info, 3, v, 0, p, nrm);
+    }
+
+    t_world = p;
+    t_normal = nrm;
+    t_class = GREGORY_CLASS(info);
+    gl_Position = frame.view_proj * vec4(p, 1.0);
+#ifdef CAPTURE
+    GREGORY_CAPTURE(info, u, v, p, nrm);
+#endif
+}
+
+#endif
