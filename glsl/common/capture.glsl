@@ -1,7 +1,8 @@
 // Capture of TES output for `tessera sample` and the GPU-vs-CPU tests (compiled in with CAPTURE).
 // Each TES invocation takes a unique slot from an atomic counter and stores the base face id, the
-// face's (u, v), the position and the normal. Slots past `capacity` are counted but not written, so
-// the host can detect an undersized buffer.
+// face's (u, v), the position and the normal, then the sub-face (NO_SUB_FACE: the base face's own
+// domain) and a tag (0, or CAPTURE_TAGGED | level << 8 | patch kind, for the adaptive scheme).
+// Slots past `capacity` are counted but not written, so the host can detect an undersized buffer.
 #ifndef TESSERA_CAPTURE_GLSL
 #define TESSERA_CAPTURE_GLSL
 
@@ -10,7 +11,12 @@ struct CaptureRecord {
     float u, v;
     float px, py, pz;
     float nx, ny, nz;
+    uint sub_face;
+    uint tag;
 };
+
+#define NO_SUB_FACE 0xffffffffu
+#define CAPTURE_TAGGED 0x80000000u
 
 layout(std430, set = 0, binding = 3) buffer Capture {
     uint capture_count;
@@ -20,11 +26,16 @@ layout(std430, set = 0, binding = 3) buffer Capture {
     CaptureRecord capture_records[];
 };
 
-void capture_point(uint face, vec2 uv, vec3 p, vec3 n) {
+void capture_tagged(uint face, uint sub_face, vec2 uv, vec3 p, vec3 n, uint tag) {
     uint slot = atomicAdd(capture_count, 1u);
     if (slot < capture_capacity) {
-        capture_records[slot] = CaptureRecord(face, uv.x, uv.y, p.x, p.y, p.z, n.x, n.y, n.z);
+        capture_records[slot] =
+            CaptureRecord(face, uv.x, uv.y, p.x, p.y, p.z, n.x, n.y, n.z, sub_face, tag);
     }
+}
+
+void capture_point(uint face, vec2 uv, vec3 p, vec3 n) {
+    capture_tagged(face, NO_SUB_FACE, uv, p, n, 0u);
 }
 
 #endif

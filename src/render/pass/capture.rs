@@ -8,8 +8,12 @@ use crate::render::settings::{Spacing, TessSettings};
 use crate::{Error, Result};
 
 /// Bytes of one capture record (`CaptureRecord` in `glsl/common/capture.glsl`): face, u, v,
-/// position, normal.
-pub const CAPTURE_RECORD_BYTES: usize = 36;
+/// position, normal, sub-face, tag.
+pub const CAPTURE_RECORD_BYTES: usize = 44;
+/// `sub_face` word of a record in its base face's own domain.
+const NO_SUB_FACE: u32 = u32::MAX;
+/// Tag bit: the record carries a patch kind and level (`CAPTURE_TAGGED`).
+const CAPTURE_TAGGED: u32 = 0x8000_0000;
 /// Bytes before the first capture record (count, capacity, two pad words).
 pub const CAPTURE_HEADER_BYTES: usize = 16;
 
@@ -26,6 +30,21 @@ pub struct CaptureRecord {
     pub position: [f32; 3],
     /// Unit normal.
     pub normal: [f32; 3],
+    /// Sub-face `k` of a non-quad base face whose `(u, v)` the record is in (`f:k` in
+    /// `tessera sample`); `None` for the base face's own domain.
+    pub sub_face: Option<u32>,
+    /// The patch that produced the point, for schemes that tag it (the adaptive scheme).
+    pub patch: Option<CapturedPatch>,
+}
+
+/// The patch kind and level a capture record was tagged with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct CapturedPatch {
+    /// Kind code (`KIND_*` of `glsl/adaptive/adaptive.glsl`: the adaptive patch types, then
+    /// transition).
+    pub kind: u8,
+    /// Refinement level of the patch.
+    pub level: u8,
 }
 
 /// The capture buffer for `capacity` records (a minimal one when capture is off), its header
@@ -67,6 +86,11 @@ pub fn decode_capture(words: &[u32], capacity: u32) -> Result<Vec<CaptureRecord>
             v: f(r[2]),
             position: [f(r[3]), f(r[4]), f(r[5])],
             normal: [f(r[6]), f(r[7]), f(r[8])],
+            sub_face: (r[9] != NO_SUB_FACE).then_some(r[9]),
+            patch: (r[10] & CAPTURE_TAGGED != 0).then(|| CapturedPatch {
+                kind: (r[10] & 0xff) as u8,
+                level: ((r[10] >> 8) & 0xff) as u8,
+            }),
         })
         .collect())
 }
