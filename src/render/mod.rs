@@ -26,11 +26,12 @@ pub use offscreen::{
 };
 pub use pass::{capture_capacity_for, CaptureRecord};
 pub use plan::{
-    cpu_faces, plan_for_scheme, plan_passes, surface_for_scheme, surface_from_mesh, surface_with,
+    cpu_faces, plan_for_scheme, plan_for_scheme_with, plan_passes, surface_for_scheme,
+    surface_for_scheme_with, surface_from_mesh, surface_with,
 };
 pub use renderer::{resolve_tess, resolve_tess_for, RenderDesc, SurfaceRenderer};
 pub use schemes::{
-    PassTables, PatchPass, PatchScheme, Refusal, RefusalReason, Scheme, SchemeLimits,
+    PassTables, PatchPass, PatchScheme, PlanOptions, Refusal, RefusalReason, Scheme, SchemeLimits,
 };
 pub use settings::{ColorBy, FrameUniforms, Spacing, TessMode, TessSettings};
 pub use surface::SurfaceData;

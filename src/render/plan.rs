@@ -8,7 +8,7 @@ use std::sync::Arc;
 use glam::DVec3;
 
 use super::fallback::{self, FallbackFace, FallbackMesh};
-use super::schemes::{PatchScheme, Scheme, SchemeLimits};
+use super::schemes::{PatchScheme, PlanOptions, Refusal, Scheme, SchemeLimits};
 use super::surface::SurfaceData;
 use crate::mesh::ControlMesh;
 use crate::subdiv::eval::LimitEvaluator;
@@ -17,11 +17,13 @@ use crate::Result;
 
 /// Plans the faces of `mesh` for `passes` (no CPU evaluation yet): the parts, the faces left to
 /// the CPU path (`fallback` empty) and every refusal (`SurfaceData::refusals`; the refusals of
-/// the passes after the first are also logged at debug level, count and the first reasons).
+/// the passes after the first are also logged at debug level, count and the first reasons). A
+/// refusal of a pass that takes every face ([`PatchScheme::takes_every_face`]) is an error
+/// naming the faces.
 pub fn plan_passes(
     mesh: &ControlMesh,
     passes: &[&dyn PatchScheme],
-    limits: &SchemeLimits,
+    opts: &PlanOptions,
 ) -> Result<SurfaceData> {
     let topo = Arc::new(Topology::new(mesh)?);
     let mut surface = SurfaceData {
@@ -38,7 +40,10 @@ pub fn plan_passes(
         }
     }
     for (k, pass) in passes.iter().enumerate() {
-        let plan = pass.plan(&topo, &candidates, limits);
+        let plan = pass.plan(&topo, &candidates, opts);
+        if pass.takes_every_face() && !plan.refused.is_empty() {
+            return Err(refusal_error(pass.name(), &plan.refused));
+        }
         if let Some(t) = plan.tables {
             surface.parts.push(t);
         }
@@ -57,6 +62,16 @@ pub fn plan_passes(
     Ok(surface)
 }
 
+fn refusal_error(pass: &str, refused: &[Refusal]) -> crate::Error {
+    let first: Vec<String> = refused.iter().take(3).map(|r| r.to_string()).collect();
+    crate::Error::Invalid(format!(
+        "{pass}: {} faces cannot be drawn: {}{}",
+        refused.len(),
+        first.join("; "),
+        if refused.len() > 3 { "; ..." } else { "" }
+    ))
+}
+
 fn log_refusals(pass: &str, refused: &[super::schemes::Refusal], left: &[u32]) {
     if refused.is_empty() {
         return;
@@ -73,13 +88,23 @@ fn log_refusals(pass: &str, refused: &[super::schemes::Refusal], left: &[u32]) {
     );
 }
 
-/// Which face is drawn how under `scheme`: [`plan_passes`] with the scheme's passes.
+/// Which face is drawn how under `scheme`: [`plan_passes`] with the scheme's passes and the
+/// default [`PlanOptions`].
 pub fn plan_for_scheme(
     mesh: &ControlMesh,
     scheme: Scheme,
     limits: &SchemeLimits,
 ) -> Result<SurfaceData> {
-    plan_passes(mesh, scheme.passes(), limits)
+    plan_passes(mesh, scheme.passes(), &PlanOptions::new(*limits))
+}
+
+/// As [`plan_for_scheme`] with explicit options (e.g. the isolation level).
+pub fn plan_for_scheme_with(
+    mesh: &ControlMesh,
+    scheme: Scheme,
+    opts: &PlanOptions,
+) -> Result<SurfaceData> {
+    plan_passes(mesh, scheme.passes(), opts)
 }
 
 /// Builds the surface of `mesh` for `scheme`: the faces its passes take as GPU patches, every
@@ -90,7 +115,17 @@ pub fn surface_for_scheme(
     scheme: Scheme,
     limits: &SchemeLimits,
 ) -> Result<SurfaceData> {
-    let mut surface = plan_for_scheme(mesh, scheme, limits)?;
+    surface_for_scheme_with(mesh, level, scheme, &PlanOptions::new(*limits))
+}
+
+/// As [`surface_for_scheme`] with explicit options (e.g. the isolation level).
+pub fn surface_for_scheme_with(
+    mesh: &ControlMesh,
+    level: u32,
+    scheme: Scheme,
+    opts: &PlanOptions,
+) -> Result<SurfaceData> {
+    let mut surface = plan_for_scheme_with(mesh, scheme, opts)?;
     surface.fallback = cpu_faces(mesh, &surface.fallback_faces, level)?;
     Ok(surface)
 }

@@ -11,7 +11,9 @@ use super::offscreen::{OffscreenDesc, OffscreenSession};
 use super::pass::CaptureRecord;
 use super::plan::plan_passes;
 use super::renderer::RenderDesc;
-use super::schemes::{bspline, gregory_stencil, gregory_vs, PatchScheme, SchemeLimits};
+use super::schemes::{
+    bspline, gregory_stencil, gregory_vs, PatchScheme, PlanOptions, SchemeLimits,
+};
 use crate::gpu::{Context, PipelineStats};
 use crate::mesh::ControlMesh;
 use crate::{Error, Result};
@@ -88,7 +90,11 @@ impl GregorySession {
         let gregory = opts.variant.pass();
         // Regular faces go to the B-spline pass (dropped when not drawn), so the Gregory pass is
         // offered the irregular faces only.
-        let mut surface = plan_passes(mesh, &[&bspline::BSPLINE, gregory], &limits)?;
+        let mut surface = plan_passes(
+            mesh,
+            &[&bspline::BSPLINE, gregory],
+            &PlanOptions::new(limits),
+        )?;
         if !opts.with_regular {
             surface
                 .parts

@@ -117,7 +117,9 @@ impl SharedResources {
         })
     }
 
-    /// The descriptor writes of the shared bindings followed by `own`.
+    /// The descriptor writes of the shared bindings followed by `own`. A shared binding that
+    /// `own` also writes is left to `own` (a pass with its own control points or vertex frames,
+    /// e.g. the adaptive scheme's refined buffer and GPU-computed frames).
     pub fn bindings<'a>(&'a self, own: &[BufferBinding<'a>]) -> Vec<BufferBinding<'a>> {
         let sb = |binding, buffer| BufferBinding {
             binding,
@@ -135,6 +137,7 @@ impl SharedResources {
             sb(CONTROL_POSITIONS_BINDING, &self.positions),
             sb(VERTEX_NORMALS_BINDING, &self.vertex_normals),
         ];
+        v.retain(|b| own.iter().all(|o| o.binding != b.binding));
         v.extend_from_slice(own);
         v
     }

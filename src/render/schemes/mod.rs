@@ -29,8 +29,8 @@ use std::fmt;
 pub use crate::render::settings::PatchLevelLimit;
 use crate::Result;
 pub use traits::{
-    CaptureLayout, PassContext, PassPlan, PassTables, PatchPass, PatchScheme, ReferencePatch,
-    Refusal, RefusalReason, SchemeLimits,
+    CaptureLayout, PassContext, PassPlan, PassTables, PatchPass, PatchScheme, PlanOptions,
+    ReferencePatch, Refusal, RefusalReason, SchemeLimits,
 };
 
 /// The schemes a user picks (`--scheme`); what each draws is its [`REGISTRY`] line.

@@ -53,6 +53,34 @@ impl SchemeLimits {
     }
 }
 
+/// What passes plan against: the device's limits and the settings of schemes that refine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PlanOptions {
+    /// Device limits.
+    pub limits: SchemeLimits,
+    /// Isolation level of the feature-adaptive scheme (`--isolation`, `0..=`
+    /// [`crate::subdiv::adaptive::MAX_ISOLATION`]).
+    pub isolation: u32,
+}
+
+impl PlanOptions {
+    /// The feature-adaptive isolation level when none is given (the default).
+    pub const DEFAULT_ISOLATION: u32 = 3;
+
+    /// `limits` with the default settings.
+    pub fn new(limits: SchemeLimits) -> PlanOptions {
+        PlanOptions {
+            limits,
+            isolation: Self::DEFAULT_ISOLATION,
+        }
+    }
+
+    /// The same options with isolation level `isolation`.
+    pub fn with_isolation(self, isolation: u32) -> PlanOptions {
+        PlanOptions { isolation, ..self }
+    }
+}
+
 /// Why a pass does not take a face.
 #[derive(Debug, Clone, PartialEq)]
 pub enum RefusalReason {
@@ -81,6 +109,9 @@ pub enum RefusalReason {
     },
     /// The device cannot run the pass at all.
     Device(String),
+    /// The feature-adaptive scheme cannot build the face's patches (e.g. an end cap the Gregory
+    /// construction does not cover); the scheme takes every face or fails.
+    Adaptive(String),
 }
 
 /// A face a pass does not take, and why (the caller reads it; the renderer logs a summary).
@@ -113,7 +144,9 @@ impl fmt::Display for Refusal {
                 f,
                 "face {face}: vertex {vertex} has {edges} ring edges, over the two-stage variant's varyings budget ({max_smooth} smooth, {max_sectored} at boundaries/creases)"
             ),
-            RefusalReason::Device(why) => write!(f, "face {face}: {why}"),
+            RefusalReason::Device(why) | RefusalReason::Adaptive(why) => {
+                write!(f, "face {face}: {why}")
+            }
         }
     }
 }
@@ -146,7 +179,13 @@ pub trait PatchScheme: Sync {
 
     /// Takes what it can of `candidates` (faces of `topo` with a limit surface that no earlier
     /// pass took): tables for the accepted faces, a typed refusal for each other.
-    fn plan(&self, topo: &Arc<Topology>, candidates: &[u32], limits: &SchemeLimits) -> PassPlan;
+    fn plan(&self, topo: &Arc<Topology>, candidates: &[u32], opts: &PlanOptions) -> PassPlan;
+
+    /// Whether a refusal of this pass is an error rather than a face for the next pass or the
+    /// CPU path (a scheme that promises to draw every face).
+    fn takes_every_face(&self) -> bool {
+        false
+    }
 }
 
 /// What a pass's GPU resources are created from.

@@ -73,24 +73,9 @@ impl GpuRefiner {
             vk::BufferUsageFlags::TRANSFER_SRC,
             "adaptive control points",
         )?;
-        let storage = |binding| DescriptorBinding {
-            binding,
-            kind: DescriptorKind::StorageBuffer,
-            stages: vk::ShaderStageFlags::COMPUTE,
-        };
         let pipelines = KERNELS
             .iter()
-            .map(|shader| {
-                ctx.compute_pipeline(&ComputePipelineDesc {
-                    label: format!("adaptive {shader}"),
-                    shader: shader.to_string(),
-                    set_layouts: vec![vec![storage(0), storage(1)]],
-                    push_constants: Some(PushConstants {
-                        stages: vk::ShaderStageFlags::COMPUTE,
-                        size: 12,
-                    }),
-                })
-            })
+            .map(|shader| range_kernel(ctx, shader, 2))
             .collect::<Result<Vec<_>>>()?;
         let pool = DescriptorPool::new(ctx, 1, 2, 0)?;
         let set = pool.allocate(pipelines[0].set_layouts[0])?;
@@ -178,10 +163,10 @@ impl GpuRefiner {
         }
         let written = (S::COMPUTE_SHADER, A::SHADER_WRITE);
         for (l, step) in self.steps.iter().enumerate() {
-            self.dispatch(dev, cmd, 0, step[0]);
+            dispatch_range(dev, cmd, &self.pipelines[0], step[0].first, step[0].count);
             memory_barrier(dev, cmd, written, compute);
-            self.dispatch(dev, cmd, 1, step[1]);
-            self.dispatch(dev, cmd, 2, step[2]);
+            dispatch_range(dev, cmd, &self.pipelines[1], step[1].first, step[1].count);
+            dispatch_range(dev, cmd, &self.pipelines[2], step[2].first, step[2].count);
             if l + 1 < self.steps.len() {
                 memory_barrier(dev, cmd, written, compute);
             }
@@ -197,40 +182,6 @@ impl GpuRefiner {
         );
     }
 
-    /// One kernel over `range`, split into dispatches of at most [`MAX_GROUPS`] workgroups.
-    fn dispatch(
-        &self,
-        dev: &ash::Device,
-        cmd: vk::CommandBuffer,
-        kernel: usize,
-        range: KernelRange,
-    ) {
-        if range.count == 0 {
-            return;
-        }
-        let p = &self.pipelines[kernel];
-        // SAFETY: compute pipeline of this device; push constants within the declared range.
-        unsafe { dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.raw) };
-        let per_dispatch = MAX_GROUPS * GROUP_SIZE;
-        let mut start = 0u32;
-        while start < range.count {
-            let n = (range.count - start).min(per_dispatch);
-            let push = [range.first, range.count, start];
-            // SAFETY: 12 bytes of push constants, the range the pipeline layout declares.
-            unsafe {
-                dev.cmd_push_constants(
-                    cmd,
-                    p.layout,
-                    vk::ShaderStageFlags::COMPUTE,
-                    0,
-                    crate::gpu::as_bytes(&push),
-                );
-                dev.cmd_dispatch(cmd, n.div_ceil(GROUP_SIZE), 1, 1);
-            }
-            start += n;
-        }
-    }
-
     /// Reads the whole buffer back (after the work recorded by [`Self::record`] finished).
     pub fn read_points(&self, ctx: &Context) -> Result<Vec<DVec3>> {
         let floats: Vec<f32> = ctx.read_buffer(&self.points)?;
@@ -240,6 +191,61 @@ impl GpuRefiner {
             .map(|c| DVec3::new(c[0].into(), c[1].into(), c[2].into()))
             .collect())
     }
+}
+
+/// Records a kernel of `pipeline` (descriptor sets bound) over `count` items starting at `first`:
+/// push constants (first, count, first item of the dispatch), split into dispatches of at most
+/// [`MAX_GROUPS`] workgroups of [`GROUP_SIZE`] threads (the `Range` block of
+/// `glsl/adaptive/refine.glsl` and `stencil_rows.glsl`).
+pub(super) fn dispatch_range(
+    dev: &ash::Device,
+    cmd: vk::CommandBuffer,
+    pipeline: &Pipeline,
+    first: u32,
+    count: u32,
+) {
+    if count == 0 {
+        return;
+    }
+    // SAFETY: compute pipeline of this device; push constants within the declared range.
+    unsafe { dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw) };
+    let per_dispatch = MAX_GROUPS * GROUP_SIZE;
+    let mut start = 0u32;
+    while start < count {
+        let n = (count - start).min(per_dispatch);
+        let push = [first, count, start];
+        // SAFETY: 12 bytes of push constants, the range the pipeline layout declares.
+        unsafe {
+            dev.cmd_push_constants(
+                cmd,
+                pipeline.layout,
+                vk::ShaderStageFlags::COMPUTE,
+                0,
+                crate::gpu::as_bytes(&push),
+            );
+            dev.cmd_dispatch(cmd, n.div_ceil(GROUP_SIZE), 1, 1);
+        }
+        start += n;
+    }
+}
+
+/// A compute pipeline over set 0 `bindings` (storage buffers) with the 12-byte range push
+/// constants of [`dispatch_range`].
+pub(super) fn range_kernel(ctx: &Context, shader: &str, bindings: u32) -> Result<Pipeline> {
+    let storage = |binding| DescriptorBinding {
+        binding,
+        kind: DescriptorKind::StorageBuffer,
+        stages: vk::ShaderStageFlags::COMPUTE,
+    };
+    ctx.compute_pipeline(&ComputePipelineDesc {
+        label: format!("adaptive {shader}"),
+        shader: shader.to_string(),
+        set_layouts: vec![(0..bindings).map(storage).collect()],
+        push_constants: Some(PushConstants {
+            stages: vk::ShaderStageFlags::COMPUTE,
+            size: 12,
+        }),
+    })
 }
 
 fn check_count(expected: u32, got: usize) -> Result<()> {

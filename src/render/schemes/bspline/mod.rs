@@ -16,8 +16,8 @@ use ash::vk;
 use glam::DVec3;
 
 use super::traits::{
-    PassContext, PassPlan, PassTables, PatchPass, PatchScheme, ReferencePatch, Refusal,
-    RefusalReason, SchemeLimits,
+    PassContext, PassPlan, PassTables, PatchPass, PatchScheme, PlanOptions, ReferencePatch,
+    Refusal, RefusalReason,
 };
 use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool, Pipeline};
 use crate::patch::RegularPatch;
@@ -88,7 +88,7 @@ impl PatchScheme for BSplineScheme {
         "bspline"
     }
 
-    fn plan(&self, topo: &Arc<Topology>, candidates: &[u32], _: &SchemeLimits) -> PassPlan {
+    fn plan(&self, topo: &Arc<Topology>, candidates: &[u32], _: &PlanOptions) -> PassPlan {
         let mut patches = Vec::new();
         let mut refused = Vec::new();
         for &f in candidates {

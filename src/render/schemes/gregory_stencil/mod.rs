@@ -12,8 +12,8 @@ use glam::DVec3;
 
 use super::gregory::{self, GregoryLayout, GregoryTesBuffers};
 use super::traits::{
-    PassContext, PassPlan, PassTables, PatchPass, PatchScheme, ReferencePatch, Refusal,
-    RefusalReason, SchemeLimits,
+    PassContext, PassPlan, PassTables, PatchPass, PatchScheme, PlanOptions, ReferencePatch,
+    Refusal, RefusalReason,
 };
 use crate::gpu::{
     Buffer, BufferBinding, Context, DescriptorBinding, DescriptorKind, DescriptorPool, Pipeline,
@@ -135,7 +135,8 @@ impl PatchScheme for GregoryStencilScheme {
         "gregory-stencil"
     }
 
-    fn plan(&self, topo: &Arc<Topology>, candidates: &[u32], limits: &SchemeLimits) -> PassPlan {
+    fn plan(&self, topo: &Arc<Topology>, candidates: &[u32], opts: &PlanOptions) -> PassPlan {
+        let limits = &opts.limits;
         let (covered, mut refused) = gregory::covered_faces(self.name(), topo, candidates);
         let plan = StencilPlan::new(topo, &covered, limits.max_patch_size);
         refused.extend(plan.table.skipped.iter().map(|s| Refusal {

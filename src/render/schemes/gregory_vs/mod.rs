@@ -29,8 +29,8 @@ use glam::DVec3;
 
 use super::gregory::{self, GregoryLayout, GregoryTesBuffers};
 use super::traits::{
-    PassContext, PassPlan, PassTables, PatchPass, PatchScheme, ReferencePatch, Refusal,
-    RefusalReason, SchemeLimits,
+    PassContext, PassPlan, PassTables, PatchPass, PatchScheme, PlanOptions, ReferencePatch,
+    Refusal, RefusalReason, SchemeLimits,
 };
 use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool, Pipeline};
 use crate::patch::gregory::is_supported_vertex;
@@ -162,7 +162,8 @@ impl PatchScheme for GregoryVsScheme {
         "gregory-vs"
     }
 
-    fn plan(&self, topo: &Arc<Topology>, candidates: &[u32], limits: &SchemeLimits) -> PassPlan {
+    fn plan(&self, topo: &Arc<Topology>, candidates: &[u32], opts: &PlanOptions) -> PassPlan {
+        let limits = &opts.limits;
         let Some(budget) = VsBudget::for_limits(limits) else {
             return PassPlan {
                 tables: None,
