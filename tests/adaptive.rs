@@ -8,22 +8,40 @@
 //! |---|---|---|---|---|---|---|
 //! | `catmark_car` | 4,539 | 11,307 | 21,843 | 39,915 | 73,059 | 136,347 (1,240 end caps) |
 //! | `catmark_cube_creases1` | 24 | 96 | 300 | 768 | 1,764 | 1,836 |
+//!
+//! With single-crease patches (`AdaptiveOptions::single_crease`, OpenSubdiv's
+//! `useSingleCreasePatch`), `catmark_car` totals also equal OpenSubdiv's: 3,975 / 7,719 / 11,463
+//! / 15,207 / 18,951 / 22,695 at isolation 1-6 (a constant 3,744 per level past level 1).
 
 mod common;
 
 use std::collections::HashMap;
 
 use common::meshes::{mesh, osd, osd_names, try_osd};
-use tessera::subdiv::adaptive::{AdaptiveRefinement, ChildOf, PatchCensus, PatchType};
+use tessera::subdiv::adaptive::{
+    AdaptiveOptions, AdaptiveRefinement, ChildOf, PatchCensus, PatchType,
+};
 use tessera::subdiv::tables::RefinementTables;
 use tessera::subdiv::Level;
 use tessera::topology::Topology;
 use tessera::ControlMesh;
 
 fn refine(m: &ControlMesh, isolation: u32) -> (AdaptiveRefinement, PatchCensus) {
-    let r = AdaptiveRefinement::new(&Level::from_mesh(m).unwrap(), isolation).unwrap();
+    refine_with(m, AdaptiveOptions::new(isolation))
+}
+
+fn refine_with(m: &ControlMesh, options: AdaptiveOptions) -> (AdaptiveRefinement, PatchCensus) {
+    let r = AdaptiveRefinement::with_options(&Level::from_mesh(m).unwrap(), options).unwrap();
     let c = PatchCensus::new(&r);
     (r, c)
+}
+
+/// Single-crease patches on.
+fn single(isolation: u32) -> AdaptiveOptions {
+    AdaptiveOptions {
+        isolation,
+        single_crease: true,
+    }
 }
 
 /// Every loadable shape of the corpus with its name.
@@ -240,7 +258,11 @@ fn check_positions(name: &str, m: &ControlMesh, r: &AdaptiveRefinement) {
 }
 
 fn check_all(name: &str, m: &ControlMesh, isolation: u32) {
-    let (r, c) = refine(m, isolation);
+    check_all_with(name, m, AdaptiveOptions::new(isolation));
+}
+
+fn check_all_with(name: &str, m: &ControlMesh, options: AdaptiveOptions) {
+    let (r, c) = refine_with(m, options);
     check_grids(name, &r, &c);
     check_tiling(name, &r, &c);
     check_level_steps(name, &r, &c);
@@ -272,6 +294,64 @@ fn invariants_at_higher_isolation() {
         check_all(name, &mesh(name), 4);
     }
     check_all("catmark_car", &osd("catmark_car"), 3);
+}
+
+/// The same invariants with single-crease patches: in particular neighbouring patch levels
+/// still differ by at most one (Köbler 2013 §3.7), and every single-crease patch is a face of
+/// its level that `single_crease_line` takes, none of them an end cap.
+#[test]
+fn invariants_with_single_crease_patches() {
+    let mut seen = 0;
+    for (name, m) in corpus() {
+        for isolation in [0, 1, 2, 3] {
+            check_all_with(&name, &m, single(isolation));
+            let (r, c) = refine_with(&m, single(isolation));
+            for p in c
+                .patches
+                .iter()
+                .filter(|p| p.kind == PatchType::SingleCrease)
+            {
+                let lev = &r.levels[p.level as usize];
+                let line =
+                    tessera::subdiv::single_crease::single_crease_line(lev.topology(), p.face)
+                        .unwrap_or_else(|| panic!("{name}: not a single-crease face"));
+                let crease = p.crease.unwrap();
+                assert_eq!(crease.cvs, line.cvs.map(|v| lev.global(v)), "{name}");
+                assert_eq!(crease.cvs, p.bspline.unwrap().cvs, "{name}");
+                seen += 1;
+            }
+        }
+    }
+    assert!(seen > 1000, "{seen} single-crease patches");
+    for name in [
+        "catmark_cube_creases1",
+        "catmark_single_crease",
+        "embedded:creased",
+    ] {
+        check_all_with(name, &mesh(name), single(5));
+    }
+    check_all_with("catmark_car", &osd("catmark_car"), single(4));
+}
+
+/// `catmark_car` with single-crease patches: no more patches than OpenSubdiv's
+/// `useSingleCreasePatch` (measured: equal at every isolation), end caps and single-crease
+/// patches at each level, and without the option no single-crease patch at all.
+#[test]
+fn single_crease_census_within_opensubdiv() {
+    let m = osd("catmark_car");
+    let osd_totals = [3_975, 7_719, 11_463, 15_207, 18_951, 22_695];
+    for (i, &limit) in osd_totals.iter().enumerate() {
+        let isolation = i as u32 + 1;
+        let (_, c) = refine_with(&m, single(isolation));
+        assert!(
+            c.total() <= limit,
+            "catmark_car isolation {isolation} single-crease: {} > {limit}",
+            c.total()
+        );
+        assert!(c.count(PatchType::SingleCrease) > 0);
+        let (_, plain) = refine(&m, isolation);
+        assert_eq!(plain.count(PatchType::SingleCrease), 0);
+    }
 }
 
 #[test]

@@ -62,8 +62,8 @@ use glam::DVec3;
 
 use crate::patch::basis::bspline_to_bezier;
 use crate::subdiv::bspline::{eval_bspline, LimitSample};
-pub use crate::subdiv::single_crease::CreaseSide;
 use crate::subdiv::single_crease::single_crease_line;
+pub use crate::subdiv::single_crease::CreaseSide;
 use crate::topology::Topology;
 
 /// A 4×4 matrix acting on four curve control points: `out[i] = Σ_k m[i][k] p[k]`.
