@@ -247,7 +247,10 @@ fn adaptive_single_crease_patches_are_exact() {
         ("catmark_cube_creases0", 1..=4),
         ("catmark_cube_creases1", 1..=4),
         ("catmark_car", 1..=4),
+        ("catmark_torus_creases0", 1..=2),
+        ("catmark_tent_creases0", 2..=3),
     ];
+    let mut via_surface = 0;
     for (name, levels) in cases {
         let mesh = osd(name);
         let eval = LimitEvaluator::new(&mesh).unwrap();
@@ -261,16 +264,16 @@ fn adaptive_single_crease_patches_are_exact() {
             let r = AdaptiveRefinement::with_options(&Level::from_mesh(&mesh).unwrap(), options)
                 .unwrap();
             let surface = AdaptiveSurface::new(&r, mesh.positions());
-            if name == "catmark_single_crease" {
-                assert!(surface.is_ok(), "{name}: the surface path is tested");
-            }
-            let patches: Vec<(Domain, SingleCreasePatch)> = match surface {
+            via_surface += surface.is_ok() as usize;
+            // (domain, index in the surface, patch)
+            let patches: Vec<(Domain, Option<usize>, SingleCreasePatch)> = match &surface {
                 Ok(s) => s
                     .patches
                     .iter()
-                    .filter(|p| p.kind == PatchType::SingleCrease)
-                    .map(|p| match p.shape {
-                        PatchShape::SingleCrease(c) => (p.domain, c),
+                    .enumerate()
+                    .filter(|(_, p)| p.kind == PatchType::SingleCrease)
+                    .map(|(i, p)| match p.shape {
+                        PatchShape::SingleCrease(c) => (p.domain, Some(i), c),
                         _ => panic!("{name}: a single-crease patch of another shape"),
                     })
                     .collect(),
@@ -282,6 +285,7 @@ fn adaptive_single_crease_patches_are_exact() {
                         let d = r.levels[p.level as usize].domains[p.face as usize];
                         Some((
                             d,
+                            None,
                             SingleCreasePatch {
                                 face: p.face,
                                 cvs: c.cvs,
@@ -295,7 +299,7 @@ fn adaptive_single_crease_patches_are_exact() {
             total += patches.len();
             let positions = r.refine_positions(mesh.positions());
             let mut worst = 0.0f64;
-            for (d, p) in &patches {
+            for (d, i, p) in &patches {
                 let st: Vec<(f64, f64)> = (0..81)
                     .map(|k| ((k % 9) as f64 / 8.0, (k / 9) as f64 / 8.0))
                     .collect();
@@ -309,7 +313,10 @@ fn adaptive_single_crease_patches_are_exact() {
                 let sub = d.sub_face.unwrap_or(0) as usize;
                 let exact = eval.eval_points(d.base_face as usize, sub, &uv).unwrap();
                 for (&(a, b), e) in st.iter().zip(&exact) {
-                    let got = p.eval(&positions, a, b).position;
+                    let got = match (&surface, i) {
+                        (Ok(s), Some(i)) => s.eval_patch(*i, a, b).position,
+                        _ => p.eval(&positions, a, b).position,
+                    };
                     worst = worst.max((got - e.position).length() / diag);
                 }
             }
