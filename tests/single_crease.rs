@@ -283,16 +283,7 @@ fn adaptive_single_crease_patches_are_exact() {
                     .filter_map(|p| {
                         let c = p.crease?;
                         let d = r.levels[p.level as usize].domains[p.face as usize];
-                        Some((
-                            d,
-                            None,
-                            SingleCreasePatch {
-                                face: p.face,
-                                cvs: c.cvs,
-                                side: c.side,
-                                sharpness: c.sharpness,
-                            },
-                        ))
+                        Some((d, None, SingleCreasePatch::from_line(p.face, c)))
                     })
                     .collect(),
             };

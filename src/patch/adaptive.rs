@@ -171,12 +171,9 @@ impl AdaptiveSurface {
             .iter()
             .map(|p| {
                 let shape = match (p.bspline, p.crease) {
-                    (_, Some(c)) => PatchShape::SingleCrease(SingleCreasePatch {
-                        face: p.face,
-                        cvs: c.cvs,
-                        side: c.side,
-                        sharpness: c.sharpness,
-                    }),
+                    (_, Some(c)) => {
+                        PatchShape::SingleCrease(SingleCreasePatch::from_line(p.face, c))
+                    }
                     (Some(b), None) => PatchShape::BSpline(b),
                     (None, None) => return caps.next().expect("one end cap per end-cap patch"),
                 };

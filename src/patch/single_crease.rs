@@ -62,8 +62,8 @@ use glam::DVec3;
 
 use crate::patch::basis::bspline_to_bezier;
 use crate::subdiv::bspline::{eval_bspline, LimitSample};
-use crate::subdiv::single_crease::single_crease_line;
 pub use crate::subdiv::single_crease::CreaseSide;
+use crate::subdiv::single_crease::{single_crease_line, CreaseLine};
 use crate::topology::Topology;
 
 /// A 4×4 matrix acting on four curve control points: `out[i] = Σ_k m[i][k] p[k]`.
@@ -218,13 +218,18 @@ pub struct BezierSet {
 impl SingleCreasePatch {
     /// The single-crease patch of `face`, or `None` if the face is not eligible (type docs).
     pub fn gather(topo: &Topology, face: u32) -> Option<SingleCreasePatch> {
-        let line = single_crease_line(topo, face)?;
-        Some(SingleCreasePatch {
+        Some(Self::from_line(face, single_crease_line(topo, face)?))
+    }
+
+    /// The patch of `face` with the net and crease line `line` (from [`single_crease_line`],
+    /// its `cvs` in any numbering, e.g. the global ids of an adaptive refinement).
+    pub fn from_line(face: u32, line: CreaseLine) -> SingleCreasePatch {
+        SingleCreasePatch {
             face,
             cvs: line.cvs,
             side: line.side,
             sharpness: line.sharpness,
-        })
+        }
     }
 
     /// The curve pieces across the crease ([`curve_segments`] of the sharpness).
