@@ -8,22 +8,40 @@
 //! |---|---|---|---|---|---|---|
 //! | `catmark_car` | 4,539 | 11,307 | 21,843 | 39,915 | 73,059 | 136,347 (1,240 end caps) |
 //! | `catmark_cube_creases1` | 24 | 96 | 300 | 768 | 1,764 | 1,836 |
+//!
+//! With single-crease patches (`AdaptiveOptions::single_crease`, OpenSubdiv's
+//! `useSingleCreasePatch`), `catmark_car` totals also equal OpenSubdiv's: 3,975 / 7,719 / 11,463
+//! / 15,207 / 18,951 / 22,695 at isolation 1-6 (a constant 3,744 per level past level 1).
 
 mod common;
 
 use std::collections::HashMap;
 
 use common::meshes::{mesh, osd, osd_names, try_osd};
-use tessera::subdiv::adaptive::{AdaptiveRefinement, ChildOf, PatchCensus, PatchType};
+use tessera::subdiv::adaptive::{
+    AdaptiveOptions, AdaptiveRefinement, ChildOf, PatchCensus, PatchType,
+};
 use tessera::subdiv::tables::RefinementTables;
 use tessera::subdiv::Level;
 use tessera::topology::Topology;
 use tessera::ControlMesh;
 
 fn refine(m: &ControlMesh, isolation: u32) -> (AdaptiveRefinement, PatchCensus) {
-    let r = AdaptiveRefinement::new(&Level::from_mesh(m).unwrap(), isolation).unwrap();
+    refine_with(m, AdaptiveOptions::new(isolation))
+}
+
+fn refine_with(m: &ControlMesh, options: AdaptiveOptions) -> (AdaptiveRefinement, PatchCensus) {
+    let r = AdaptiveRefinement::with_options(&Level::from_mesh(m).unwrap(), options).unwrap();
     let c = PatchCensus::new(&r);
     (r, c)
+}
+
+/// Single-crease patches on.
+fn single(isolation: u32) -> AdaptiveOptions {
+    AdaptiveOptions {
+        isolation,
+        single_crease: true,
+    }
 }
 
 /// Every loadable shape of the corpus with its name.
@@ -240,7 +258,11 @@ fn check_positions(name: &str, m: &ControlMesh, r: &AdaptiveRefinement) {
 }
 
 fn check_all(name: &str, m: &ControlMesh, isolation: u32) {
-    let (r, c) = refine(m, isolation);
+    check_all_with(name, m, AdaptiveOptions::new(isolation));
+}
+
+fn check_all_with(name: &str, m: &ControlMesh, options: AdaptiveOptions) {
+    let (r, c) = refine_with(m, options);
     check_grids(name, &r, &c);
     check_tiling(name, &r, &c);
     check_level_steps(name, &r, &c);
@@ -272,6 +294,64 @@ fn invariants_at_higher_isolation() {
         check_all(name, &mesh(name), 4);
     }
     check_all("catmark_car", &osd("catmark_car"), 3);
+}
+
+/// The same invariants with single-crease patches: in particular neighbouring patch levels
+/// still differ by at most one (Köbler 2013 §3.7), and every single-crease patch is a face of
+/// its level that `single_crease_line` takes, none of them an end cap.
+#[test]
+fn invariants_with_single_crease_patches() {
+    let mut seen = 0;
+    for (name, m) in corpus() {
+        for isolation in [0, 1, 2, 3] {
+            check_all_with(&name, &m, single(isolation));
+            let (r, c) = refine_with(&m, single(isolation));
+            for p in c
+                .patches
+                .iter()
+                .filter(|p| p.kind == PatchType::SingleCrease)
+            {
+                let lev = &r.levels[p.level as usize];
+                let line =
+                    tessera::subdiv::single_crease::single_crease_line(lev.topology(), p.face)
+                        .unwrap_or_else(|| panic!("{name}: not a single-crease face"));
+                let crease = p.crease.unwrap();
+                assert_eq!(crease.cvs, line.cvs.map(|v| lev.global(v)), "{name}");
+                assert_eq!(crease.cvs, p.bspline.unwrap().cvs, "{name}");
+                seen += 1;
+            }
+        }
+    }
+    assert!(seen > 1000, "{seen} single-crease patches");
+    for name in [
+        "catmark_cube_creases1",
+        "catmark_single_crease",
+        "embedded:creased",
+    ] {
+        check_all_with(name, &mesh(name), single(5));
+    }
+    check_all_with("catmark_car", &osd("catmark_car"), single(4));
+}
+
+/// `catmark_car` with single-crease patches: no more patches than OpenSubdiv's
+/// `useSingleCreasePatch` (measured: equal at every isolation), end caps and single-crease
+/// patches at each level, and without the option no single-crease patch at all.
+#[test]
+fn single_crease_census_within_opensubdiv() {
+    let m = osd("catmark_car");
+    let osd_totals = [3_975, 7_719, 11_463, 15_207, 18_951, 22_695];
+    for (i, &limit) in osd_totals.iter().enumerate() {
+        let isolation = i as u32 + 1;
+        let (_, c) = refine_with(&m, single(isolation));
+        assert!(
+            c.total() <= limit,
+            "catmark_car isolation {isolation} single-crease: {} > {limit}",
+            c.total()
+        );
+        assert!(c.count(PatchType::SingleCrease) > 0);
+        let (_, plain) = refine(&m, isolation);
+        assert_eq!(plain.count(PatchType::SingleCrease), 0);
+    }
 }
 
 #[test]
@@ -325,6 +405,83 @@ fn info_prints_the_census() {
     assert!(text.lines().any(|l| l == vertices), "{text}");
     assert!(
         text.lines().any(|l| l == format!("table bytes={bytes}")),
+        "{text}"
+    );
+}
+
+/// Patch totals against a mesh-wide crease sharpness (`ControlMesh::set_crease_sharpness`) at
+/// isolation 8, so that no sharpness 1-7 is capped by the isolation level: with single-crease
+/// patches each unit of sharpness adds the same number of patches (only the crease ends are
+/// refined deeper), without them the increment doubles (the whole crease line is refined one
+/// level deeper). Measured on `catmark_single_crease`, s = 1..7: with 194, 302, ..., 842 (+108
+/// each); without 296, 728, 1,592, ..., 27,512 (+432, +864, ...).
+#[test]
+fn patch_count_is_linear_in_sharpness_with_single_crease_patches() {
+    let base = osd("catmark_single_crease");
+    let totals = |single_crease: bool| -> Vec<usize> {
+        (1..=7)
+            .map(|s| {
+                let mut m = base.clone();
+                assert!(m.set_crease_sharpness(s as f32).unwrap() > 0);
+                let options = AdaptiveOptions {
+                    isolation: 8,
+                    single_crease,
+                };
+                refine_with(&m, options).1.total()
+            })
+            .collect()
+    };
+    let steps = |t: Vec<usize>| -> Vec<usize> { t.windows(2).map(|w| w[1] - w[0]).collect() };
+    let linear = steps(totals(true));
+    assert!(
+        linear.iter().all(|&d| d == linear[0] && d > 0),
+        "{linear:?}"
+    );
+    let exponential = steps(totals(false));
+    assert!(
+        exponential.windows(2).all(|w| w[1] == 2 * w[0]),
+        "{exponential:?}"
+    );
+}
+
+#[test]
+fn crease_sharpness_override_sets_every_sharp_tag() {
+    let mut m = osd("catmark_single_crease");
+    let before: Vec<f32> = m.creases().iter().map(|c| c.sharpness).collect();
+    assert!(before
+        .iter()
+        .any(|&s| s >= tessera::mesh::INFINITE_SHARPNESS));
+    m.set_crease_sharpness(2.5).unwrap();
+    for (c, &s) in m.creases().iter().zip(&before) {
+        assert_eq!(c.sharpness, if s > 0.0 { 2.5 } else { 0.0 });
+    }
+    assert!(m.set_crease_sharpness(-1.0).is_err());
+    assert!(m.set_crease_sharpness(f32::NAN).is_err());
+}
+
+#[test]
+fn info_prints_single_crease_counts() {
+    let path = common::meshes::osd_path("catmark_car");
+    let run = |extra: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_tessera"))
+            .args(["info", path.to_str().unwrap(), "--isolation", "2"])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let text = run(&["--single-crease"]);
+    assert!(text.lines().any(|l| l == "patches total=7719"), "{text}");
+    let levels = text
+        .lines()
+        .filter(|l| l.starts_with("patches level") && l.contains(" single-crease="))
+        .count();
+    assert_eq!(levels, 3, "{text}");
+    assert!(!run(&[]).contains("single-crease="));
+    let text = run(&["--single-crease", "--crease-sharpness", "1"]);
+    assert!(
+        text.contains("creases: 314 (by sharpness: 1: 314)"),
         "{text}"
     );
 }

@@ -5,7 +5,7 @@ use std::fmt::Write;
 
 use clap::Args;
 use tessera::mesh::{ControlMesh, ObjOptions, INFINITE_SHARPNESS};
-use tessera::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
+use tessera::subdiv::adaptive::{AdaptiveOptions, AdaptiveRefinement, PatchCensus, PatchType};
 use tessera::subdiv::tables::RefinementTables;
 use tessera::subdiv::Level;
 use tessera::topology::{FaceClass, Topology};
@@ -24,6 +24,16 @@ pub struct InfoArgs {
     /// size of the GPU subdivision tables.
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..=8))]
     pub isolation: Option<u32>,
+    /// With --isolation: stop refining at single-crease patches (a regular quad whose only
+    /// feature is one semi-sharp crease line along one of its edges; Niessner, Loop, Greiner
+    /// 2012), and count them per level as `single-crease=N`. This is how OpenSubdiv counts with
+    /// `useSingleCreasePatch`.
+    #[arg(long, requires = "isolation")]
+    pub single_crease: bool,
+    /// Set every crease tag of sharpness > 0 (semi-sharp or infinitely sharp) to S before
+    /// anything else; tags of sharpness 0, boundary edges and corner tags are unchanged.
+    #[arg(long, value_name = "S")]
+    pub crease_sharpness: Option<f32>,
 }
 
 /// Runs the subcommand: prints the report, or returns the typed error of a bad mesh.
@@ -31,12 +41,21 @@ pub fn run(args: InfoArgs) -> tessera::Result<()> {
     let options = ObjOptions {
         left_handed: args.left_handed,
     };
-    let mesh = tessera::assets::load_mesh(&args.mesh, &options)?;
+    let mut mesh = tessera::assets::load_mesh(&args.mesh, &options)?;
+    if let Some(s) = args.crease_sharpness {
+        mesh.set_crease_sharpness(s)?;
+    }
     let topo = Topology::new(&mesh)?;
     print!("{}", report(&args.mesh, &mesh, &topo));
     if let Some(isolation) = args.isolation {
         let base = Level::from_topology(topo);
-        let refinement = AdaptiveRefinement::new(&base, isolation)?;
+        let refinement = AdaptiveRefinement::with_options(
+            &base,
+            AdaptiveOptions {
+                isolation,
+                single_crease: args.single_crease,
+            },
+        )?;
         let tables = RefinementTables::adaptive(&refinement)?;
         print!(
             "{}",
@@ -48,7 +67,8 @@ pub fn run(args: InfoArgs) -> tessera::Result<()> {
     Ok(())
 }
 
-/// The census part of the report: one line per level with counts by type, totals by type, and
+/// The census part of the report: one line per level with counts by type (`single-crease`
+/// only when the refinement uses single-crease patches), totals by type, and
 /// the script-readable `patches total=N` (every drawn patch, end caps and transition patches
 /// included).
 fn census_report(refinement: &AdaptiveRefinement, census: &PatchCensus) -> String {
@@ -61,9 +81,10 @@ fn census_report(refinement: &AdaptiveRefinement, census: &PatchCensus) -> Strin
         refinement.levels.len(),
         refinement.vertex_count()
     );
-    let counts = |by_type: &[usize; 4], transition: usize| {
+    let counts = |by_type: &[usize], transition: usize| {
         let mut parts: Vec<String> = PatchType::ALL
             .iter()
+            .filter(|&&k| k != PatchType::SingleCrease || refinement.single_crease)
             .map(|&k| format!("{}={}", k.name(), by_type[k as usize]))
             .collect();
         parts.push(format!("transition={transition}"));

@@ -157,4 +157,23 @@ impl ControlMesh {
         self.positions.copy_from_slice(positions);
         Ok(())
     }
+
+    /// Sets the sharpness of every crease tag with sharpness `> 0` (semi-sharp or infinitely
+    /// sharp) to `sharpness`, a mesh-wide override for experiments such as patch counts against
+    /// sharpness (Nießner, Loop, Greiner 2012 §3). Tags of sharpness 0, untagged edges (boundary
+    /// edges included: boundary interpolation is not a tag) and corner (vertex) tags are left
+    /// as they are. Returns how many tags changed value; errors on a negative or NaN sharpness.
+    pub fn set_crease_sharpness(&mut self, sharpness: f32) -> crate::Result<usize> {
+        if sharpness.is_nan() || sharpness < 0.0 {
+            return Err(crate::Error::Invalid(format!(
+                "crease sharpness {sharpness}: must be >= 0"
+            )));
+        }
+        let mut changed = 0;
+        for c in self.creases.iter_mut().filter(|c| c.sharpness > 0.0) {
+            changed += (c.sharpness != sharpness) as usize;
+            c.sharpness = sharpness;
+        }
+        Ok(changed)
+    }
 }

@@ -14,6 +14,7 @@ use thiserror::Error;
 
 use super::gregory::{gregory_patch_at, GregoryPatch, NotGregory};
 use super::regular::RegularPatch;
+use super::single_crease::SingleCreasePatch;
 use crate::subdiv::adaptive::{AdaptiveRefinement, Domain, PatchCensus, PatchType};
 
 /// Why an end cap could not be built.
@@ -65,6 +66,9 @@ pub enum PatchShape {
     BSpline(RegularPatch),
     /// An end cap.
     Gregory(Box<GregoryPatch>),
+    /// A single-crease patch (control vertices global ids), evaluated exactly with its full
+    /// sharpness.
+    SingleCrease(SingleCreasePatch),
 }
 
 /// One patch of an [`AdaptiveSurface`].
@@ -165,15 +169,21 @@ impl AdaptiveSurface {
         let patches = census
             .patches
             .iter()
-            .map(|p| match p.bspline {
-                Some(b) => SurfacePatch {
+            .map(|p| {
+                let shape = match (p.bspline, p.crease) {
+                    (_, Some(c)) => {
+                        PatchShape::SingleCrease(SingleCreasePatch::from_line(p.face, c))
+                    }
+                    (Some(b), None) => PatchShape::BSpline(b),
+                    (None, None) => return caps.next().expect("one end cap per end-cap patch"),
+                };
+                SurfacePatch {
                     level: p.level,
                     face: p.face,
                     kind: p.kind,
                     domain: refinement.levels[p.level as usize].domains[p.face as usize],
-                    shape: PatchShape::BSpline(b),
-                },
-                None => caps.next().expect("one end cap per end-cap patch"),
+                    shape,
+                }
             })
             .collect::<Vec<SurfacePatch>>();
         let mut by_base = vec![Vec::new(); refinement.levels[0].level.face_count()];
@@ -197,6 +207,10 @@ impl AdaptiveSurface {
             }
             PatchShape::Gregory(g) => {
                 let x = g.eval(s, t);
+                (x.position, x.du, x.dv)
+            }
+            PatchShape::SingleCrease(c) => {
+                let x = c.eval(&self.positions, s, t);
                 (x.position, x.du, x.dv)
             }
         };

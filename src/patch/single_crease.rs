@@ -60,9 +60,10 @@
 
 use glam::DVec3;
 
-use crate::mesh::INFINITE_SHARPNESS;
 use crate::patch::basis::bspline_to_bezier;
-use crate::subdiv::bspline::{eval_bspline, interior_grid, LimitSample};
+use crate::subdiv::bspline::{eval_bspline, LimitSample};
+pub use crate::subdiv::single_crease::CreaseSide;
+use crate::subdiv::single_crease::{single_crease_line, CreaseLine};
 use crate::topology::Topology;
 
 /// A 4×4 matrix acting on four curve control points: `out[i] = Σ_k m[i][k] p[k]`.
@@ -174,57 +175,6 @@ pub fn apply(m: &Mat4, p: &[DVec3; 4]) -> [DVec3; 4] {
     std::array::from_fn(|i| (0..4).map(|k| m[i][k] * p[k]).sum())
 }
 
-/// The face edge the crease line runs along: `U0` the line `u = 0` (grid column 1), `U1`
-/// `u = 1` (column 2), `V0` `v = 0` (row 1), `V1` `v = 1` (row 2).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum CreaseSide {
-    /// Crease along `u = 0`: cvs 1, 5, 9, 13.
-    U0,
-    /// Crease along `u = 1`: cvs 2, 6, 10, 14.
-    U1,
-    /// Crease along `v = 0`: cvs 4, 5, 6, 7.
-    V0,
-    /// Crease along `v = 1`: cvs 8, 9, 10, 11.
-    V1,
-}
-
-impl CreaseSide {
-    /// All four sides.
-    pub const ALL: [CreaseSide; 4] = [
-        CreaseSide::U0,
-        CreaseSide::U1,
-        CreaseSide::V0,
-        CreaseSide::V1,
-    ];
-
-    /// The `cvs` slot of the paper's point `P_k` of curve `r` (`r` along the crease, `k` across
-    /// it, the crease at `k = 2`): `U1` `4r + k`, `U0` `4r + 3 - k`, `V1` `4k + r`, `V0`
-    /// `4(3 - k) + r`.
-    pub fn slot(self, r: usize, k: usize) -> usize {
-        match self {
-            CreaseSide::U1 => 4 * r + k,
-            CreaseSide::U0 => 4 * r + 3 - k,
-            CreaseSide::V1 => 4 * k + r,
-            CreaseSide::V0 => 4 * (3 - k) + r,
-        }
-    }
-
-    /// The curve parameter `t` (0 away from the crease, 1 on it) at patch `(u, v)`.
-    pub fn t(self, u: f64, v: f64) -> f64 {
-        match self {
-            CreaseSide::U1 => u,
-            CreaseSide::U0 => 1.0 - u,
-            CreaseSide::V1 => v,
-            CreaseSide::V0 => 1.0 - v,
-        }
-    }
-
-    /// The three grid edges of the crease line as `cvs` slot pairs.
-    pub fn line(self) -> [(usize, usize); 3] {
-        std::array::from_fn(|r| (self.slot(r, 2), self.slot(r + 1, 2)))
-    }
-}
-
 /// A regular quad with one semi-sharp crease line (Nießner, Loop, Greiner 2012, §3).
 ///
 /// **Eligibility** ([`SingleCreasePatch::gather`]). The limit over a quad depends on the rules of
@@ -268,29 +218,18 @@ pub struct BezierSet {
 impl SingleCreasePatch {
     /// The single-crease patch of `face`, or `None` if the face is not eligible (type docs).
     pub fn gather(topo: &Topology, face: u32) -> Option<SingleCreasePatch> {
-        let cvs = interior_grid(topo, face)?;
-        let sharp = |a: usize, b: usize| -> Option<f32> {
-            Some(topo.edge_sharpness(topo.find_edge(cvs[a], cvs[b])?))
-        };
-        let mut found = None;
-        for side in CreaseSide::ALL {
-            let s = side.line().map(|(a, b)| sharp(a, b));
-            let s = [s[0]?, s[1]?, s[2]?];
-            if s.iter().all(|&x| x == 0.0) {
-                continue;
-            }
-            if found.is_some() || s.iter().any(|&x| x != s[0]) || s[0] >= INFINITE_SHARPNESS {
-                return None;
-            }
-            found = Some((side, s[0]));
-        }
-        let (side, sharpness) = found?;
-        (sharpness > 0.0).then_some(SingleCreasePatch {
+        Some(Self::from_line(face, single_crease_line(topo, face)?))
+    }
+
+    /// The patch of `face` with the net and crease line `line` (from [`single_crease_line`],
+    /// its `cvs` in any numbering, e.g. the global ids of an adaptive refinement).
+    pub fn from_line(face: u32, line: CreaseLine) -> SingleCreasePatch {
+        SingleCreasePatch {
             face,
-            cvs,
-            side,
-            sharpness,
-        })
+            cvs: line.cvs,
+            side: line.side,
+            sharpness: line.sharpness,
+        }
     }
 
     /// The curve pieces across the crease ([`curve_segments`] of the sharpness).

@@ -15,6 +15,7 @@ use glam::{DVec2, DVec3};
 
 use super::bspline::{is_regular_vertex, RegularPatch};
 use super::level::Level;
+use super::single_crease::{single_crease_line, CreaseLine};
 use crate::topology::Topology;
 use crate::{Error, Result};
 
@@ -171,6 +172,29 @@ impl AdaptiveLevel {
     }
 }
 
+/// How to refine feature-adaptively.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct AdaptiveOptions {
+    /// The isolation level, `0..=MAX_ISOLATION`.
+    pub isolation: u32,
+    /// Stop refining at single-crease patches (Nießner, Loop, Greiner 2012 §3; OpenSubdiv's
+    /// `useSingleCreasePatch`): a face whose only feature is one semi-sharp crease line along
+    /// one of its edges ([`single_crease_line`]) is drawn as a [`PatchType::SingleCrease`]
+    /// patch at the first level where it is one, instead of being refined `ceil(s)` levels
+    /// deep, so the patch count grows linearly, not exponentially, with the sharpness.
+    pub single_crease: bool,
+}
+
+impl AdaptiveOptions {
+    /// Isolation `isolation`, single-crease patches off.
+    pub fn new(isolation: u32) -> AdaptiveOptions {
+        AdaptiveOptions {
+            isolation,
+            single_crease: false,
+        }
+    }
+}
+
 /// A mesh refined feature-adaptively to an isolation level (Köbler 2013 §3.3).
 #[derive(Debug, Clone)]
 pub struct AdaptiveRefinement {
@@ -179,6 +203,8 @@ pub struct AdaptiveRefinement {
     pub levels: Vec<AdaptiveLevel>,
     /// The isolation level asked for.
     pub isolation: u32,
+    /// Whether single-crease faces end refinement ([`AdaptiveOptions::single_crease`]).
+    pub single_crease: bool,
 }
 
 /// The patch of a face at some level when it is regular: `gather` succeeds (quad, valence-4 or
@@ -196,8 +222,24 @@ fn regular(topo: &Topology, f: u32) -> Option<RegularPatch> {
 impl AdaptiveRefinement {
     /// Refines `base` to `isolation` (`0..=MAX_ISOLATION`): at each level every own face with a
     /// limit surface that is not a regular patch is refined (non-quads in the first step), and
-    /// the test is repeated on its children. Holes are never refined.
+    /// the test is repeated on its children. Holes are never refined. Single-crease patches
+    /// off ([`Self::with_options`]).
     pub fn new(base: &Level, isolation: u32) -> Result<AdaptiveRefinement> {
+        Self::with_options(base, AdaptiveOptions::new(isolation))
+    }
+
+    /// Refines `base` as [`Self::new`] does; with [`AdaptiveOptions::single_crease`] a face
+    /// that is a single-crease patch is not refined either.
+    ///
+    /// Levels of neighbouring patches still differ by at most one (Köbler 2013 §3.7): the
+    /// corners of a single-crease face are interior valence-4 vertices with all their edges
+    /// smooth or on the line, so the children next to it of a refined neighbour are regular or
+    /// single-crease again (tested on the corpus).
+    pub fn with_options(base: &Level, options: AdaptiveOptions) -> Result<AdaptiveRefinement> {
+        let AdaptiveOptions {
+            isolation,
+            single_crease,
+        } = options;
         if isolation > MAX_ISOLATION {
             return Err(Error::Invalid(format!(
                 "isolation {isolation} out of range 0..={MAX_ISOLATION}"
@@ -229,7 +271,8 @@ impl AdaptiveRefinement {
                     let f = f as u32;
                     *r = current.own[f as usize]
                         && t.has_limit_surface(f)
-                        && regular(t, f).is_none();
+                        && regular(t, f).is_none()
+                        && !(single_crease && single_crease_line(t, f).is_some());
                 }
             }
             let any = current.refined.iter().any(|&r| r);
@@ -247,7 +290,11 @@ impl AdaptiveRefinement {
             );
             levels.push(std::mem::replace(&mut current, next));
         }
-        Ok(AdaptiveRefinement { levels, isolation })
+        Ok(AdaptiveRefinement {
+            levels,
+            isolation,
+            single_crease,
+        })
     }
 
     /// Positions of every vertex of every level (the global vertex buffer) from the base mesh's
@@ -337,30 +384,35 @@ pub enum PatchType {
     Crease,
     /// Still irregular at the isolation level: a Gregory patch over that level's points.
     EndCap,
+    /// A regular quad with one semi-sharp crease line (Nießner, Loop, Greiner 2012 §3), only
+    /// with [`AdaptiveOptions::single_crease`].
+    SingleCrease,
 }
 
 impl PatchType {
     /// Every type, in census order.
-    pub const ALL: [PatchType; 4] = [
+    pub const ALL: [PatchType; 5] = [
         PatchType::Regular,
         PatchType::Boundary,
         PatchType::Crease,
         PatchType::EndCap,
+        PatchType::SingleCrease,
     ];
 
-    /// Lower-case name (`regular`, `boundary`, `crease`, `end-cap`).
+    /// Lower-case name (`regular`, `boundary`, `crease`, `end-cap`, `single-crease`).
     pub fn name(self) -> &'static str {
         match self {
             PatchType::Regular => "regular",
             PatchType::Boundary => "boundary",
             PatchType::Crease => "crease",
             PatchType::EndCap => "end-cap",
+            PatchType::SingleCrease => "single-crease",
         }
     }
 }
 
 /// A drawn patch of an [`AdaptiveRefinement`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AdaptivePatch {
     /// Its level.
     pub level: u32,
@@ -368,8 +420,11 @@ pub struct AdaptivePatch {
     pub face: u32,
     /// Its type.
     pub kind: PatchType,
-    /// B-spline patches: control vertices as global ids, phantom mask (`None` for end caps).
+    /// B-spline and single-crease patches: control vertices as global ids, phantom mask (no
+    /// phantoms for single-crease patches; `None` for end caps).
     pub bspline: Option<RegularPatch>,
+    /// Single-crease patches: the crease line (its `cvs` global ids, as `bspline`'s).
+    pub crease: Option<CreaseLine>,
     /// Bit `k`: the neighbour across face edge `k` is one level finer (thesis §3.4).
     pub transition: u8,
 }
@@ -378,7 +433,7 @@ pub struct AdaptivePatch {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct LevelCensus {
     /// Per [`PatchType`] (in [`PatchType::ALL`] order).
-    pub by_type: [usize; 4],
+    pub by_type: [usize; PatchType::ALL.len()],
     /// Of those, B-spline patches with a finer neighbour.
     pub transition: usize,
 }
@@ -401,8 +456,9 @@ pub struct PatchCensus {
 
 impl PatchCensus {
     /// Classifies every own face with a limit surface that is not refined: a B-spline patch
-    /// when [`RegularPatch::gather`] takes it, an end cap otherwise (only possible on the
-    /// isolation level).
+    /// when [`RegularPatch::gather`] takes it, else (with single-crease patches on) a
+    /// single-crease patch when [`single_crease_line`] takes it, an end cap otherwise (only
+    /// possible on the isolation level).
     pub fn new(refinement: &AdaptiveRefinement) -> PatchCensus {
         let mut patches = Vec::new();
         let mut levels = Vec::new();
@@ -414,7 +470,7 @@ impl PatchCensus {
                 if !lev.own[i] || lev.refined[i] || !t.has_limit_surface(f) {
                     continue;
                 }
-                let patch = classify(lev, f, l as u32);
+                let patch = classify(lev, f, l as u32, refinement.single_crease);
                 census.by_type[patch.kind as usize] += 1;
                 census.transition += (patch.transition != 0) as usize;
                 patches.push(patch);
@@ -436,23 +492,41 @@ impl PatchCensus {
 }
 
 /// The patch of own, unrefined face `f` of `lev`.
-fn classify(lev: &AdaptiveLevel, f: u32, level: u32) -> AdaptivePatch {
+///
+/// Single-crease patches keep their full sharpness, also where it exceeds the levels left to
+/// the isolation level: OpenSubdiv caps it at `isolation - level` (`patchTableFactory.cpp`,
+/// which then draws a single-crease face of the isolation level as a plain regular patch),
+/// which only changes the surface, not the count; uncapped, the patch is the exact limit.
+fn classify(lev: &AdaptiveLevel, f: u32, level: u32, single_crease: bool) -> AdaptivePatch {
     let t = lev.topology();
-    let Some(mut p) = regular(t, f) else {
+    let global = |cvs: &mut [u32; 16]| cvs.iter_mut().for_each(|c| *c = lev.global(*c));
+    let (mut p, kind, crease) = if let Some(p) = regular(t, f) {
+        let edges = t.face_edges(f);
+        let crease =
+            (0..4).any(|k| p.boundary_mask & (1 << k) != 0 && !t.is_boundary_edge(edges[k]));
+        let kind = match (p.boundary_mask, crease) {
+            (0, _) => PatchType::Regular,
+            (_, false) => PatchType::Boundary,
+            (_, true) => PatchType::Crease,
+        };
+        (p, kind, None)
+    } else if let Some(mut line) = single_crease.then(|| single_crease_line(t, f)).flatten() {
+        let p = RegularPatch {
+            face: f,
+            cvs: line.cvs,
+            boundary_mask: 0,
+        };
+        global(&mut line.cvs);
+        (p, PatchType::SingleCrease, Some(line))
+    } else {
         return AdaptivePatch {
             level,
             face: f,
             kind: PatchType::EndCap,
             bspline: None,
+            crease: None,
             transition: 0,
         };
-    };
-    let edges = t.face_edges(f);
-    let crease = (0..4).any(|k| p.boundary_mask & (1 << k) != 0 && !t.is_boundary_edge(edges[k]));
-    let kind = match (p.boundary_mask, crease) {
-        (0, _) => PatchType::Regular,
-        (_, false) => PatchType::Boundary,
-        (_, true) => PatchType::Crease,
     };
     let mut transition = 0u8;
     for k in 0..4 {
@@ -462,14 +536,13 @@ fn classify(lev: &AdaptiveLevel, f: u32, level: u32) -> AdaptivePatch {
             transition |= 1 << k;
         }
     }
-    for c in &mut p.cvs {
-        *c = lev.global(*c);
-    }
+    global(&mut p.cvs);
     AdaptivePatch {
         level,
         face: f,
         kind,
         bspline: Some(p),
+        crease,
         transition,
     }
 }

@@ -12,6 +12,7 @@ pub mod limit;
 mod points;
 mod refine;
 pub mod rules;
+pub mod single_crease;
 pub mod sparse;
 mod stencil;
 pub mod tables;

@@ -1,0 +1,102 @@
+//! Which faces are single-crease patches (Nießner, Loop, Greiner 2012, §3): the topological
+//! test shared by feature-adaptive refinement ([`super::adaptive`], which stops refining such a
+//! face when asked to) and the patch's evaluation ([`crate::patch::single_crease`]).
+
+use super::bspline::interior_grid;
+use crate::mesh::INFINITE_SHARPNESS;
+use crate::topology::Topology;
+
+/// The face edge the crease line runs along: `U0` the line `u = 0` (grid column 1), `U1`
+/// `u = 1` (column 2), `V0` `v = 0` (row 1), `V1` `v = 1` (row 2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum CreaseSide {
+    /// Crease along `u = 0`: cvs 1, 5, 9, 13.
+    U0,
+    /// Crease along `u = 1`: cvs 2, 6, 10, 14.
+    U1,
+    /// Crease along `v = 0`: cvs 4, 5, 6, 7.
+    V0,
+    /// Crease along `v = 1`: cvs 8, 9, 10, 11.
+    V1,
+}
+
+impl CreaseSide {
+    /// All four sides.
+    pub const ALL: [CreaseSide; 4] = [
+        CreaseSide::U0,
+        CreaseSide::U1,
+        CreaseSide::V0,
+        CreaseSide::V1,
+    ];
+
+    /// The `cvs` slot of the paper's point `P_k` of curve `r` (`r` along the crease, `k` across
+    /// it, the crease at `k = 2`): `U1` `4r + k`, `U0` `4r + 3 - k`, `V1` `4k + r`, `V0`
+    /// `4(3 - k) + r`.
+    pub fn slot(self, r: usize, k: usize) -> usize {
+        match self {
+            CreaseSide::U1 => 4 * r + k,
+            CreaseSide::U0 => 4 * r + 3 - k,
+            CreaseSide::V1 => 4 * k + r,
+            CreaseSide::V0 => 4 * (3 - k) + r,
+        }
+    }
+
+    /// The curve parameter `t` (0 away from the crease, 1 on it) at patch `(u, v)`.
+    pub fn t(self, u: f64, v: f64) -> f64 {
+        match self {
+            CreaseSide::U1 => u,
+            CreaseSide::U0 => 1.0 - u,
+            CreaseSide::V1 => v,
+            CreaseSide::V0 => 1.0 - v,
+        }
+    }
+
+    /// The three grid edges of the crease line as `cvs` slot pairs.
+    pub fn line(self) -> [(usize, usize); 3] {
+        std::array::from_fn(|r| (self.slot(r, 2), self.slot(r + 1, 2)))
+    }
+}
+
+/// The net and crease line of a single-crease face: what
+/// [`SingleCreasePatch`](crate::patch::single_crease::SingleCreasePatch) evaluates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CreaseLine {
+    /// Control vertices in [`RegularPatch`](super::bspline::RegularPatch) order (`cvs[4*j + i]`,
+    /// `i` along u; corners 5, 6, 10, 9), indices in the topology given.
+    pub cvs: [u32; 16],
+    /// The face edge the crease line runs along.
+    pub side: CreaseSide,
+    /// Sharpness along the line, `0 < s < 10`.
+    pub sharpness: f32,
+}
+
+/// The crease line of `face` if it is a single-crease patch: each corner an interior valence-4
+/// vertex with only quads around it and no vertex sharpness, the 16-point net complete, and of
+/// the 12 edges at the corners exactly the three of one [`CreaseSide`] line semi-sharp, all
+/// with the same `s`, the other nine smooth (the rule
+/// [`SingleCreasePatch`](crate::patch::single_crease::SingleCreasePatch) documents; OpenSubdiv's
+/// `Level::isSingleCreasePatch` for semi-sharp creases).
+pub fn single_crease_line(topo: &Topology, face: u32) -> Option<CreaseLine> {
+    let cvs = interior_grid(topo, face)?;
+    let sharp = |a: usize, b: usize| -> Option<f32> {
+        Some(topo.edge_sharpness(topo.find_edge(cvs[a], cvs[b])?))
+    };
+    let mut found = None;
+    for side in CreaseSide::ALL {
+        let s = side.line().map(|(a, b)| sharp(a, b));
+        let s = [s[0]?, s[1]?, s[2]?];
+        if s.iter().all(|&x| x == 0.0) {
+            continue;
+        }
+        if found.is_some() || s.iter().any(|&x| x != s[0]) || s[0] >= INFINITE_SHARPNESS {
+            return None;
+        }
+        found = Some((side, s[0]));
+    }
+    let (side, sharpness) = found?;
+    (sharpness > 0.0).then_some(CreaseLine {
+        cvs,
+        side,
+        sharpness,
+    })
+}
