@@ -27,35 +27,17 @@ layout(location = 0) out vec3 t_world;
 layout(location = 1) out vec3 t_normal;
 layout(location = 2) flat out uint t_class;
 
+#include "patch_edge_grid.glsl"
+
 /// Limit point and normal on patch edge e (0: v=0, 1: u=1, 2: v=1, 3: u=0) at local parameter x,
 /// computed from data and in an order that do not depend on which of the two patches (B-spline
 /// or Gregory) evaluates it: grid_edge_rows (common/watertight.glsl) in the canonical frame.
 void edge_point(uint flags, int e, float x, out vec3 pos, out vec3 nrm) {
-    bool along_u = (e == 0 || e == 2);
-    int off = (e == 1 || e == 2) ? 1 : 0;
-    bool reversed = ((flags >> (4 + e)) & 1u) != 0u;
-    // The face lies left of its edge in face order (corners 0->1, 1->2, 2->3, 3->0); the
-    // parameter runs with face order on edges 0 and 1. Left of the canonical direction (from the
-    // smaller id) is this patch's inner row exactly when the two directions agree.
-    bool face_order = (e == 0 || e == 1);
-    bool own_left = face_order != reversed;
-    int inner = (off == 0) ? 2 : 0;
-    int ml = own_left ? inner : 2 - inner;
-    int mr = 2 - ml;
     vec3 l[4];
     vec3 m[4];
     vec3 r[4];
-    for (int k = 0; k < 4; ++k) {
-        int kk = reversed ? 3 - k : k;
-        int il = along_u ? (ml + off) * 4 + kk : kk * 4 + ml + off;
-        int im = along_u ? (1 + off) * 4 + kk : kk * 4 + 1 + off;
-        int ir = along_u ? (mr + off) * 4 + kk : kk * 4 + mr + off;
-        l[k] = c_bspline[il];
-        m[k] = c_bspline[im];
-        r[k] = c_bspline[ir];
-    }
     float t, s;
-    edge_ts(x, !reversed, t, s);
+    patch_edge_grid(flags, e, x, l, m, r, t, s);
     // Boundary mask bit e: the row beyond edge e is this patch's own phantom (boundary or
     // infinitely sharp crease).
     bool sharp = ((flags >> uint(e)) & 1u) != 0u;
@@ -90,14 +72,7 @@ void main() {
     bool u_edge = (u == 0.0 || u == 1.0);
     bool v_edge = (v == 0.0 || v == 1.0);
     if (u_edge && v_edge) {
-        int k = (u == 0.0) ? (v == 0.0 ? 0 : 3) : (v == 0.0 ? 1 : 2);
-        p = vertex_limit[info.corners[k]].xyz;
-        // The shared vertex normal, unless the vertex has none (zero: several sectors, or no
-        // topology to tell; keep this patch's own).
-        vec3 vn = vertex_normal[info.corners[k]].xyz;
-        if (dot(vn, vn) > 0.0) {
-            nrm = vn;
-        }
+        quad_corner_point(info.corners, u, v, p, nrm);
     } else if (u_edge || v_edge) {
         int e = (v == 0.0) ? 0 : (u == 1.0) ? 1 : (v == 1.0) ? 2 : 3;
         float x = v_edge ? u : v;
