@@ -173,6 +173,11 @@ impl Animation {
             .update_positions(positions, None)
     }
 
+    /// New crease sharpness on the single-crease patches (`SurfaceRenderer::set_sharpness`).
+    pub fn set_sharpness(&mut self, creases: &[tessera::mesh::Crease]) -> tessera::Result<()> {
+        self.session.renderer_mut().set_sharpness(creases)
+    }
+
     /// The last frame's picture.
     pub fn image(&self) -> RgbaImage {
         self.session.image().expect("image")

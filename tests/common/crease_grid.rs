@@ -16,7 +16,7 @@ pub fn idx(i: usize, j: usize) -> u32 {
     (j * (N + 1) + i) as u32
 }
 
-/// Face `(i, j)` (both grids).
+/// Face `(i, j)` (both grids; on a split grid only before the split face).
 pub fn face(i: usize, j: usize) -> u32 {
     (j * N + i) as u32
 }
@@ -33,6 +33,12 @@ fn creases(list: &[Edge], vid: impl Fn(usize, usize) -> u32) -> Vec<Crease> {
 
 /// An 8×8 grid of quads over a bumpy height field; `creases` lists `((i0, j0), (i1, j1), s)`.
 pub fn grid(list: &[Edge]) -> ControlMesh {
+    grid_split(list, None)
+}
+
+/// [`grid`] with face `split` cut into two triangles along its diagonal from `(i + 1, j)` to
+/// `(i, j + 1)` (those two vertices get valence 5; the triangles come last).
+pub fn grid_split(list: &[Edge], split: Option<(usize, usize)>) -> ControlMesh {
     let mut positions = Vec::new();
     for j in 0..=N {
         for i in 0..=N {
@@ -46,14 +52,23 @@ pub fn grid(list: &[Edge]) -> ControlMesh {
         }
     }
     let mut face_vertices = Vec::new();
+    let mut face_sizes = Vec::new();
     for j in 0..N {
         for i in 0..N {
-            face_vertices.extend([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)]);
+            if split != Some((i, j)) {
+                face_vertices.extend([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)]);
+                face_sizes.push(4);
+            }
         }
+    }
+    if let Some((i, j)) = split {
+        face_vertices.extend([idx(i, j), idx(i + 1, j), idx(i, j + 1)]);
+        face_vertices.extend([idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)]);
+        face_sizes.extend([3, 3]);
     }
     ControlMesh::new(ControlMeshDesc {
         positions,
-        face_sizes: vec![4; N * N],
+        face_sizes,
         face_vertices,
         creases: creases(list, idx),
         ..Default::default()
