@@ -53,7 +53,7 @@ pub fn patch_capacity(patches: usize, tess: &TessSettings) -> u32 {
     }
 }
 
-/// The faces `surface` draws as GPU Gregory patches (every pass but the B-spline one).
+/// The faces `surface` draws as GPU Gregory patches (every pass but the exact ones).
 pub fn gregory_faces(surface: &SurfaceData) -> Vec<u32> {
     surface.irregular_gpu_faces()
 }

@@ -195,6 +195,12 @@ pub trait PassTables: fmt::Debug + Send + Sync + Any {
         PatchLevelLimit::default()
     }
 
+    /// Whether the patches equal the exact limit (B-spline, single-crease), rather than
+    /// approximate it (Gregory). Default: approximate.
+    fn exact(&self) -> bool {
+        false
+    }
+
     /// How captured `u v` relate to the base face.
     fn capture_layout(&self) -> CaptureLayout {
         CaptureLayout::FaceDomain

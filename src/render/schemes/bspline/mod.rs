@@ -147,6 +147,10 @@ impl PassTables for BSplineTables {
         self.patches.len()
     }
 
+    fn exact(&self) -> bool {
+        true
+    }
+
     fn corner_frames(&self, positions: &[DVec3], rule: NormalRule<'_>, frames: &mut VertexFrames) {
         for p in &self.patches {
             for (k, (u, v)) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]

@@ -270,6 +270,10 @@ impl PassTables for SingleCreaseTables {
         self.patches.len()
     }
 
+    fn exact(&self) -> bool {
+        true
+    }
+
     fn corner_frames(&self, positions: &[DVec3], rule: NormalRule<'_>, frames: &mut VertexFrames) {
         for p in &self.patches {
             for (slot, (u, v)) in [
