@@ -28,7 +28,7 @@ use crate::render::pass::upload::device_buffer;
 use crate::render::pass::{
     bind_draw_state, record_patch_draws, NormalRule, PatchDraws, VertexFrames,
 };
-use crate::subdiv::bspline::eval_bspline;
+use crate::subdiv::bspline::{eval_bspline, LimitSample};
 use crate::topology::Topology;
 use crate::Result;
 
@@ -86,6 +86,38 @@ pub fn patch_index_bytes(patches: &[RegularPatch]) -> Vec<u8> {
 /// 16 vertex ids per patch, as u32 indices.
 pub fn grid_index_bytes<'a>(cvs: impl Iterator<Item = &'a [u32; 16]>) -> Vec<u8> {
     cvs.flatten().flat_map(|v| v.to_le_bytes()).collect()
+}
+
+/// Writes the limit frames of the corners of a 16-point patch (`cvs` 5, 6, 10, 9 at `(u, v)` =
+/// (0, 0), (1, 0), (1, 1), (0, 1)) that no earlier patch wrote, from `eval(u, v)`; without
+/// topology corner `k` gets a shared normal when `sides_smooth(k)`.
+pub(crate) fn grid_corner_frames(
+    cvs: &[u32; 16],
+    rule: NormalRule<'_>,
+    frames: &mut VertexFrames,
+    eval: impl Fn(f64, f64) -> LimitSample,
+    sides_smooth: impl Fn(usize) -> bool,
+) {
+    for (k, (slot, (u, v))) in [
+        (5, (0.0, 0.0)),
+        (6, (1.0, 0.0)),
+        (10, (1.0, 1.0)),
+        (9, (0.0, 1.0)),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let vid = cvs[slot];
+        if frames.is_set(vid) {
+            continue;
+        }
+        let s = eval(u, v);
+        let shared = match rule {
+            NormalRule::Topology(topo) => single_normal_vertex(topo, vid),
+            NormalRule::PatchSides => sides_smooth(k),
+        };
+        frames.set(vid, s.position, s.normal, shared);
+    }
 }
 
 /// Takes the faces that are (boundary-/crease-)regular quads ([`RegularPatch::gather`]).
@@ -153,22 +185,16 @@ impl PassTables for BSplineTables {
 
     fn corner_frames(&self, positions: &[DVec3], rule: NormalRule<'_>, frames: &mut VertexFrames) {
         for p in &self.patches {
-            for (k, (u, v)) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
-                .into_iter()
-                .enumerate()
-            {
-                let vid = p.corners()[k];
-                if frames.is_set(vid) {
-                    continue;
-                }
-                let s = p.eval(positions, u, v);
-                let shared = match rule {
-                    NormalRule::Topology(topo) => single_normal_vertex(topo, vid),
+            grid_corner_frames(
+                &p.cvs,
+                rule,
+                frames,
+                |u, v| p.eval(positions, u, v),
+                |k| {
                     // The two patch sides meeting at corner k: bits of PATCH_EDGES.
-                    NormalRule::PatchSides => p.boundary_mask & [9u8, 3, 6, 12][k] == 0,
-                };
-                frames.set(vid, s.position, s.normal, shared);
-            }
+                    p.boundary_mask & [9u8, 3, 6, 12][k] == 0
+                },
+            );
         }
     }
 

@@ -26,7 +26,7 @@ use std::sync::Arc;
 use ash::vk;
 use glam::DVec3;
 
-use super::bspline::{gpu_flags, patch_record, GridPatchPass, GridPatchSpec};
+use super::bspline::{gpu_flags, grid_corner_frames, patch_record, GridPatchPass, GridPatchSpec};
 use super::traits::{
     PassContext, PassPlan, PassTables, PatchPass, PatchScheme, ReferencePatch, Refusal,
     RefusalReason, SchemeLimits,
@@ -35,7 +35,6 @@ use crate::gpu::{Buffer, BufferBinding, DescriptorKind};
 use crate::mesh::{Crease, INFINITE_SHARPNESS};
 use crate::patch::single_crease::{CreaseSide, SingleCreasePatch};
 use crate::patch::RegularPatch;
-use crate::render::pass::frames::single_normal_vertex;
 use crate::render::pass::upload::{f32_bytes, host_buffer};
 use crate::render::pass::{NormalRule, VertexFrames};
 use crate::topology::Topology;
@@ -276,25 +275,15 @@ impl PassTables for SingleCreaseTables {
 
     fn corner_frames(&self, positions: &[DVec3], rule: NormalRule<'_>, frames: &mut VertexFrames) {
         for p in &self.patches {
-            for (slot, (u, v)) in [
-                (5, (0.0, 0.0)),
-                (6, (1.0, 0.0)),
-                (10, (1.0, 1.0)),
-                (9, (0.0, 1.0)),
-            ] {
-                let vid = p.cvs[slot];
-                if frames.is_set(vid) {
-                    continue;
-                }
-                // The exact limit (§3): the crease vertices' frames are only written here.
-                let s = p.eval(positions, u, v);
-                let shared = match rule {
-                    NormalRule::Topology(topo) => single_normal_vertex(topo, vid),
-                    // A semi-sharp crease keeps one tangent plane.
-                    NormalRule::PatchSides => true,
-                };
-                frames.set(vid, s.position, s.normal, shared);
-            }
+            // The exact limit (§3): the crease vertices' frames are only written here; a
+            // semi-sharp crease keeps one tangent plane.
+            grid_corner_frames(
+                &p.cvs,
+                rule,
+                frames,
+                |u, v| p.eval(positions, u, v),
+                |_| true,
+            );
         }
     }
 
