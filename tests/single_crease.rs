@@ -4,9 +4,10 @@
 
 mod common;
 
+use common::crease_grid::{face, grid, line, Edge, N};
 use common::meshes::osd;
 use glam::DVec3;
-use tessera::mesh::{ControlMeshDesc, Crease, INFINITE_SHARPNESS};
+use tessera::mesh::INFINITE_SHARPNESS;
 use tessera::patch::adaptive::{AdaptiveSurface, PatchShape};
 use tessera::patch::basis::{bernstein, bernstein_deriv, eval_tensor};
 use tessera::patch::single_crease::{CreaseSide, SingleCreasePatch};
@@ -17,62 +18,6 @@ use tessera::subdiv::eval::LimitEvaluator;
 use tessera::subdiv::Level;
 use tessera::topology::Topology;
 use tessera::ControlMesh;
-
-const N: usize = 8;
-
-/// A grid edge `((i0, j0), (i1, j1))` with its sharpness.
-type Edge = ((usize, usize), (usize, usize), f32);
-
-fn idx(i: usize, j: usize) -> u32 {
-    (j * (N + 1) + i) as u32
-}
-
-/// An 8×8 grid of quads over a bumpy height field; `creases` lists `((i0, j0), (i1, j1), s)`.
-fn grid(creases: &[Edge]) -> ControlMesh {
-    let mut positions = Vec::new();
-    for j in 0..=N {
-        for i in 0..=N {
-            let (x, y) = (i as f64, j as f64);
-            let z = 0.7 * (0.9 * x).sin() * (0.6 * y).cos() + 0.05 * x * y;
-            positions.push(DVec3::new(
-                x + 0.1 * (1.3 * y).sin(),
-                y + 0.1 * (0.7 * x).cos(),
-                z,
-            ));
-        }
-    }
-    let mut face_vertices = Vec::new();
-    for j in 0..N {
-        for i in 0..N {
-            face_vertices.extend([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)]);
-        }
-    }
-    let creases = creases
-        .iter()
-        .map(|&((a, b), (c, d), sharpness)| Crease {
-            v0: idx(a, b),
-            v1: idx(c, d),
-            sharpness,
-        })
-        .collect();
-    ControlMesh::new(ControlMeshDesc {
-        positions,
-        face_sizes: vec![4; N * N],
-        face_vertices,
-        creases,
-        ..Default::default()
-    })
-    .unwrap()
-}
-
-/// The vertical line `i = 4` with sharpness `s(j)` on the edge from row `j` to `j + 1`.
-fn line(s: impl Fn(usize) -> f32) -> Vec<Edge> {
-    (0..N).map(|j| ((4, j), (4, j + 1), s(j))).collect()
-}
-
-fn face(i: usize, j: usize) -> u32 {
-    (j * N + i) as u32
-}
 
 fn accepted(mesh: &ControlMesh) -> Vec<SingleCreasePatch> {
     let topo = Topology::new(mesh).unwrap();

@@ -15,35 +15,17 @@
 layout(location = 0) in vec3 c_bspline[];
 layout(location = 1) in vec3 c_bezier[];
 
+#include "patch_edge_grid.glsl"
+
 /// Limit point and normal on patch edge e (0: v=0, 1: u=1, 2: v=1, 3: u=0) at the canonical
-/// parameters (t, s = 1 - t) measured from the edge end with the smaller id (`flags` bit 4+e:
-/// the edge runs from the larger id), computed from data and in an order that do not depend on
-/// which of the two patches (B-spline or Gregory) evaluates it: grid_edge_rows
-/// (common/watertight.glsl) in the canonical frame.
+/// parameters (t, s = 1 - t) measured from the edge end with the smaller id, computed from data
+/// and in an order that do not depend on which of the two patches (B-spline, single-crease or
+/// Gregory) evaluates it: grid_edge_rows (common/watertight.glsl) on patch_edge_rows.
 void edge_point_ts(uint flags, int e, float t, float s, out vec3 pos, out vec3 nrm) {
-    bool along_u = (e == 0 || e == 2);
-    int off = (e == 1 || e == 2) ? 1 : 0;
-    bool reversed = ((flags >> (4 + e)) & 1u) != 0u;
-    // The face lies left of its edge in face order (corners 0->1, 1->2, 2->3, 3->0); the
-    // parameter runs with face order on edges 0 and 1. Left of the canonical direction (from the
-    // smaller id) is this patch's inner row exactly when the two directions agree.
-    bool face_order = (e == 0 || e == 1);
-    bool own_left = face_order != reversed;
-    int inner = (off == 0) ? 2 : 0;
-    int ml = own_left ? inner : 2 - inner;
-    int mr = 2 - ml;
     vec3 l[4];
     vec3 m[4];
     vec3 r[4];
-    for (int k = 0; k < 4; ++k) {
-        int kk = reversed ? 3 - k : k;
-        int il = along_u ? (ml + off) * 4 + kk : kk * 4 + ml + off;
-        int im = along_u ? (1 + off) * 4 + kk : kk * 4 + 1 + off;
-        int ir = along_u ? (mr + off) * 4 + kk : kk * 4 + mr + off;
-        l[k] = c_bspline[il];
-        m[k] = c_bspline[im];
-        r[k] = c_bspline[ir];
-    }
+    patch_edge_rows(flags, e, l, m, r);
     // Boundary mask bit e: the row beyond edge e is this patch's own phantom (boundary or
     // infinitely sharp crease).
     bool sharp = ((flags >> uint(e)) & 1u) != 0u;
@@ -81,24 +63,9 @@ void bspline_surface(float u, float v, out vec3 pos, out vec3 nrm) {
     nrm = len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
 }
 
-/// Corner k (0: (0,0), 1: (1,0), 2: (1,1), 3: (0,1)) of the patch at (u, v) on both domain edges.
-int bspline_corner(float u, float v) {
-    return (u == 0.0) ? (v == 0.0 ? 0 : 3) : (v == 0.0 ? 1 : 2);
-}
-
 /// Patch edge (0: v=0, 1: u=1, 2: v=1, 3: u=0) of (u, v) on exactly one domain edge.
 int bspline_edge(float u, float v) {
     return (v == 0.0) ? 0 : (u == 1.0) ? 1 : (v == 1.0) ? 2 : 3;
-}
-
-/// The shared limit position of vertex `id`, and its normal unless the vertex has none (zero:
-/// several sectors, or no topology to tell; `nrm` keeps the patch's own).
-void shared_corner(uint id, inout vec3 pos, inout vec3 nrm) {
-    pos = vertex_limit[id].xyz;
-    vec3 vn = vertex_normal[id].xyz;
-    if (dot(vn, vn) > 0.0) {
-        nrm = vn;
-    }
 }
 
 #endif

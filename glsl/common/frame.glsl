@@ -17,6 +17,7 @@
 #define CLASS_REGULAR 0u
 #define CLASS_IRREGULAR 1u
 #define CLASS_TRIANGLE 2u
+#define CLASS_SINGLE_CREASE 3u
 /// Error-map classes: CLASS_HEAT_BASE + e, e in 0..1023 (render::heatmap).
 #define CLASS_HEAT_BASE 16u
 

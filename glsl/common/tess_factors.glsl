@@ -1,4 +1,4 @@
-// Tessellation factors from data both patches of an edge share (needs frame.glsl).
+// Tessellation factors from data both patches of an edge share (needs frame.glsl; TCS only).
 // Uniform: the requested level. Adaptive: the projected length, in pixels, of the chord between
 // the limit points of the edge's two end vertices, divided by the target pixels per edge. The end
 // vertices are taken in increasing vertex-id order so both neighbours run the same arithmetic.
@@ -25,6 +25,22 @@ float edge_tess_level(uint a, uint b) {
     vec2 q = to_pixels(vertex_limit[hi].xyz);
     float len = length(q - p);
     return clamp(len / max(frame.tess.z, 1e-3), 1.0, max_level);
+}
+
+/// Sets the levels of a quad patch with corner vertex ids c (TCS only): outer levels from the
+/// edges (Vulkan quad domain: outer[0] is the u=0 edge, [1] v=0, [2] u=1, [3] v=1), inner the
+/// larger of the opposite outer levels.
+void set_quad_tess_levels(uvec4 c) {
+    float o0 = edge_tess_level(c.x, c.w);
+    float o1 = edge_tess_level(c.x, c.y);
+    float o2 = edge_tess_level(c.y, c.z);
+    float o3 = edge_tess_level(c.w, c.z);
+    gl_TessLevelOuter[0] = o0;
+    gl_TessLevelOuter[1] = o1;
+    gl_TessLevelOuter[2] = o2;
+    gl_TessLevelOuter[3] = o3;
+    gl_TessLevelInner[0] = max(o1, o3);
+    gl_TessLevelInner[1] = max(o0, o2);
 }
 
 #endif

@@ -63,6 +63,23 @@ void edge_ts(float x, bool from_lo, out float t, out float s) {
 #endif
     canonical_ts(x, from_lo, t, s);
 }
+
+/// The shared limit position of vertex `id` and its shared normal, unless the vertex has none
+/// (zero: several sectors, or no topology to tell; keep the patch's own).
+void shared_corner(uint id, inout vec3 pos, inout vec3 nrm) {
+    pos = vertex_limit[id].xyz;
+    vec3 vn = vertex_normal[id].xyz;
+    if (dot(vn, vn) > 0.0) {
+        nrm = vn;
+    }
+}
+
+/// A quad patch's corner k (0: (0,0), 1: (1,0), 2: (1,1), 3: (0,1)) at (u, v) on a corner:
+/// shared_corner of its vertex.
+void quad_corner_point(uvec4 corners, float u, float v, inout vec3 pos, inout vec3 nrm) {
+    int k = (u == 0.0) ? (v == 0.0 ? 0 : 3) : (v == 0.0 ? 1 : 2);
+    shared_corner(corners[k], pos, nrm);
+}
 #endif
 
 /// Derivative of bspline3(t, s) with respect to t.
@@ -70,6 +87,21 @@ vec4 bspline3_deriv(float t, float s) {
     float d1t = (-12.0 * t + 9.0 * t * t) * (1.0 / 6.0);
     float d1s = (-12.0 * s + 9.0 * s * s) * (1.0 / 6.0);
     return vec4(-0.5 * s * s, d1t, -d1s, 0.5 * t * t);
+}
+
+/// Edge limit curve and normal from its B-spline points c (from the smaller-id end) and the
+/// cross-edge differences d (left minus right row, per point): position sum N_i c_i, normal
+/// cross(dC/dt, sum N_i d_i). The tail of grid_edge_rows and single_crease/single_crease.glsl's
+/// crease edge.
+void edge_curve(vec3 c[4], vec3 d[4], float t, float s, out vec3 pos, out vec3 nrm) {
+    precise vec4 n = bspline3(t, s);
+    precise vec3 p = ((n.x * c[0] + n.y * c[1]) + n.z * c[2]) + n.w * c[3];
+    precise vec4 dn = bspline3_deriv(t, s);
+    precise vec3 tangent = ((dn.x * c[0] + dn.y * c[1]) + dn.z * c[2]) + dn.w * c[3];
+    precise vec3 cross_dir = ((n.x * d[0] + n.y * d[1]) + n.z * d[2]) + n.w * d[3];
+    precise vec3 nn = normalize(cross(tangent, cross_dir));
+    pos = p;
+    nrm = nn;
 }
 
 /// Limit curve and normal of an edge of a regular (B-spline) patch from its 12-point grid in the
@@ -88,14 +120,7 @@ void grid_edge_rows(vec3 l[4], vec3 m[4], vec3 r[4], bool sharp, float t, float 
         c[i] = sharp ? m[i] : ((l[i] + r[i]) + 4.0 * m[i]) * (1.0 / 6.0);
         d[i] = l[i] - r[i];
     }
-    precise vec4 n = bspline3(t, s);
-    precise vec3 p = ((n.x * c[0] + n.y * c[1]) + n.z * c[2]) + n.w * c[3];
-    precise vec4 dn = bspline3_deriv(t, s);
-    precise vec3 tangent = ((dn.x * c[0] + dn.y * c[1]) + dn.z * c[2]) + dn.w * c[3];
-    precise vec3 cross_dir = ((n.x * d[0] + n.y * d[1]) + n.z * d[2]) + n.w * d[3];
-    precise vec3 nn = normalize(cross(tangent, cross_dir));
-    pos = p;
-    nrm = nn;
+    edge_curve(c, d, t, s, pos, nrm);
 }
 
 #endif

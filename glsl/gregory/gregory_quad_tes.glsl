@@ -96,13 +96,7 @@ void main() {
     bool u_edge = (u == 0.0 || u == 1.0);
     bool v_edge = (v == 0.0 || v == 1.0);
     if (u_edge && v_edge) {
-        int k = (u == 0.0) ? (v == 0.0 ? 0 : 3) : (v == 0.0 ? 1 : 2);
-        p = vertex_limit[info.corners[k]].xyz;
-        // Shared vertex normal; zero where the vertex has several sectors (own normal).
-        vec3 vn = vertex_normal[info.corners[k]].xyz;
-        if (dot(vn, vn) > 0.0) {
-            nrm = vn;
-        }
+        quad_corner_point(info.corners, u, v, p, nrm);
     } else if (v == 0.0) {
         quad_edge(patch_index, info, 0, u, 0, p, nrm);
     } else if (u == 1.0) {

@@ -93,17 +93,7 @@ void main() {
         gl_TessLevelOuter[2] = o2;
         gl_TessLevelInner[0] = max(o0, max(o1, o2));
 #else
-        // Quad domain: outer[0] is the u=0 edge, [1] v=0, [2] u=1, [3] v=1.
-        float o0 = edge_tess_level(c.x, c.w);
-        float o1 = edge_tess_level(c.x, c.y);
-        float o2 = edge_tess_level(c.y, c.z);
-        float o3 = edge_tess_level(c.w, c.z);
-        gl_TessLevelOuter[0] = o0;
-        gl_TessLevelOuter[1] = o1;
-        gl_TessLevelOuter[2] = o2;
-        gl_TessLevelOuter[3] = o3;
-        gl_TessLevelInner[0] = max(o1, o3);
-        gl_TessLevelInner[1] = max(o0, o2);
+        set_quad_tess_levels(c);
 #endif
     }
 }

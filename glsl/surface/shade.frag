@@ -1,6 +1,7 @@
 #version 450
 // Lit material: key light + head light diffuse, Blinn specular, optional colour by patch type
-// (regular gold, irregular purple, triangle green, as in Fig. 1 of the Gregory-patch paper).
+// (regular gold, irregular purple, triangle green, as in Fig. 1 of the Gregory-patch paper;
+// single-crease patches teal).
 // Normals come from the surface; back faces (the inside of open surfaces) use the flipped normal.
 #include "frame.glsl"
 layout(location = 0) in vec3 t_world;
@@ -25,6 +26,7 @@ vec3 base_color() {
     if (frame.flags.x != COLOR_PATCH_TYPE) return vec3(0.72, 0.74, 0.78);
     if (t_class == CLASS_REGULAR) return vec3(0.90, 0.68, 0.20);
     if (t_class == CLASS_TRIANGLE) return vec3(0.30, 0.72, 0.35);
+    if (t_class == CLASS_SINGLE_CREASE) return vec3(0.15, 0.62, 0.70);
     return vec3(0.58, 0.38, 0.80);
 }
 

@@ -56,9 +56,10 @@ pub struct RenderArgs {
     /// GPU scheme for the faces that are not regular B-spline patches: `gregory-stencil`
     /// (default: one Gregory patch per triangle/quad, control points as precomputed one-ring
     /// stencils in the TCS, paper §4.3), `gregory-vs` (two-stage: per-vertex data in the vertex
-    /// shader, face points in the TCS, §4.1-4.2) or `bspline-only`. Faces a scheme cannot take
-    /// (polygons, semi-sharp creases, darts, too large rings or valences) are drawn from the
-    /// exact CPU reference, with a message.
+    /// shader, face points in the TCS, §4.1-4.2) or `bspline-only`. Both Gregory schemes draw
+    /// regular quads with one semi-sharp crease line as exact single-crease patches (Nießner et
+    /// al. 2012). Faces a scheme cannot take (polygons, other semi-sharp creases, darts, too
+    /// large rings or valences) are drawn from the exact CPU reference, with a message.
     #[arg(long, value_enum, default_value_t = Scheme::default())]
     pub scheme: Scheme,
     /// Draw triangle edges only.

@@ -9,11 +9,13 @@ use glam::DVec3;
 use super::cpu_path::CpuPathPass;
 use super::fallback::FallbackMesh;
 use super::pass::{CaptureRecord, SharedResources, VertexFrames};
+use super::schemes::single_crease::SingleCreaseTables;
 use super::schemes::{PassContext, PassTables, PatchPass};
 pub use super::settings::RenderDesc;
 use super::settings::{FrameUniforms, TessSettings};
 use super::surface::{vertex_frames, SurfaceData};
 use crate::gpu::{Context, Feature, TargetFormat};
+use crate::mesh::Crease;
 use crate::topology::Topology;
 use crate::{Error, Result};
 
@@ -48,6 +50,7 @@ pub struct SurfaceRenderer {
     ctx: Context,
     desc: RenderDesc,
     topology: Option<Arc<Topology>>,
+    positions: Vec<DVec3>,
     parts: Vec<Arc<dyn PassTables>>,
     shared: SharedResources,
     passes: Vec<Box<dyn PatchPass>>,
@@ -94,6 +97,7 @@ impl SurfaceRenderer {
             ctx: ctx.clone(),
             desc,
             topology: surface.topology.clone(),
+            positions: surface.positions.clone(),
             parts: surface.parts.clone(),
             shared,
             passes,
@@ -160,6 +164,35 @@ impl SurfaceRenderer {
         if let Some(mesh) = fallback {
             self.cpu_path.update(mesh)?;
         }
+        self.positions = positions.to_vec();
+        Ok(())
+    }
+
+    /// Run-time crease sharpness: sets each edge (`v0`, `v1`) of `creases` to its `sharpness`
+    /// on the single-crease patches (their per-patch sharpness and the limit frames of their
+    /// corners), without re-planning. Errors, changing nothing, when the surface has no
+    /// single-crease patches or the change leaves what they cover
+    /// ([`SingleCreaseTables::with_sharpness`]: the new sharpness must be in `0 < s < 10`, every
+    /// face around the edge's end vertices a single-crease patch keeping one sharpness along its
+    /// crease line). Call only while no submitted frame that uses this renderer is executing.
+    pub fn set_sharpness(&mut self, creases: &[Crease]) -> Result<()> {
+        let Some((i, tables)) = self.parts.iter().enumerate().find_map(|(i, p)| {
+            p.as_any()
+                .downcast_ref::<SingleCreaseTables>()
+                .map(|t| (i, t))
+        }) else {
+            return Err(Error::Invalid(
+                "set_sharpness: the surface has no single-crease patches (plan it again with the \
+                 new creases)"
+                    .into(),
+            ));
+        };
+        let tables: Arc<dyn PassTables> = Arc::new(tables.with_sharpness(creases)?);
+        self.passes[i].update_tables(tables.as_ref())?;
+        self.parts[i] = tables;
+        let frames = vertex_frames(self.topology.as_deref(), &self.parts, &self.positions);
+        self.shared.update(&self.positions, &frames)?;
+        log::debug!("set_sharpness: {} crease edges changed", creases.len());
         Ok(())
     }
 

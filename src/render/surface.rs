@@ -83,11 +83,12 @@ impl SurfaceData {
             .map_or(&[], |t| t.patches.as_slice())
     }
 
-    /// Faces drawn by passes other than the B-spline pass, in draw order.
+    /// Faces drawn by the passes whose patches approximate the limit (the Gregory passes; not
+    /// the exact B-spline and single-crease passes, [`PassTables::exact`]), in draw order.
     pub fn irregular_gpu_faces(&self) -> Vec<u32> {
         self.parts
             .iter()
-            .filter(|p| p.as_any().downcast_ref::<BSplineTables>().is_none())
+            .filter(|p| !p.exact())
             .flat_map(|p| p.faces().iter().copied())
             .collect()
     }

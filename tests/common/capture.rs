@@ -53,7 +53,7 @@ pub fn patch_capacity(patches: usize, tess: &TessSettings) -> u32 {
     }
 }
 
-/// The faces `surface` draws as GPU Gregory patches (every pass but the B-spline one).
+/// The faces `surface` draws as GPU Gregory patches (every pass but the exact ones).
 pub fn gregory_faces(surface: &SurfaceData) -> Vec<u32> {
     surface.irregular_gpu_faces()
 }
@@ -171,6 +171,11 @@ impl Animation {
         self.session
             .renderer_mut()
             .update_positions(positions, None)
+    }
+
+    /// New crease sharpness on the single-crease patches (`SurfaceRenderer::set_sharpness`).
+    pub fn set_sharpness(&mut self, creases: &[tessera::mesh::Crease]) -> tessera::Result<()> {
+        self.session.renderer_mut().set_sharpness(creases)
     }
 
     /// The last frame's picture.

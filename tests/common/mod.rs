@@ -9,6 +9,7 @@
 
 pub mod capture;
 pub mod conformance;
+pub mod crease_grid;
 pub mod golden;
 pub mod gpu;
 pub mod levels;

@@ -22,6 +22,7 @@ pub mod bspline;
 pub mod gregory;
 pub mod gregory_stencil;
 pub mod gregory_vs;
+pub mod single_crease;
 pub mod traits;
 
 use std::fmt;
@@ -39,11 +40,14 @@ pub enum Scheme {
     /// Only regular faces on the GPU (bicubic B-splines); every other face from the exact CPU
     /// reference.
     BsplineOnly,
-    /// Regular faces as B-splines, irregular triangles and quads as Gregory patches built by the
-    /// two-stage construction: vertex shader + TCS (Loop et al. 2009, §4.1-4.2).
+    /// Regular faces as B-splines, regular quads with one semi-sharp crease line as
+    /// single-crease patches (Nießner et al. 2012), irregular triangles and quads as Gregory
+    /// patches built by the two-stage construction: vertex shader + TCS (Loop et al. 2009,
+    /// §4.1-4.2).
     GregoryVs,
-    /// Regular faces as B-splines, irregular triangles and quads as Gregory patches from
-    /// precomputed one-ring stencils in the TCS (§4.3).
+    /// Regular faces as B-splines, regular quads with one semi-sharp crease line as
+    /// single-crease patches (Nießner et al. 2012), irregular triangles and quads as Gregory
+    /// patches from precomputed one-ring stencils in the TCS (§4.3).
     #[default]
     GregoryStencil,
 }
@@ -68,12 +72,20 @@ pub static REGISTRY: [SchemeEntry; 3] = [
     SchemeEntry {
         scheme: Scheme::GregoryVs,
         name: "gregory-vs",
-        passes: &[&bspline::BSPLINE, &gregory_vs::GREGORY_VS],
+        passes: &[
+            &bspline::BSPLINE,
+            &single_crease::SINGLE_CREASE,
+            &gregory_vs::GREGORY_VS,
+        ],
     },
     SchemeEntry {
         scheme: Scheme::GregoryStencil,
         name: "gregory-stencil",
-        passes: &[&bspline::BSPLINE, &gregory_stencil::GREGORY_STENCIL],
+        passes: &[
+            &bspline::BSPLINE,
+            &single_crease::SINGLE_CREASE,
+            &gregory_stencil::GREGORY_STENCIL,
+        ],
     },
 ];
 

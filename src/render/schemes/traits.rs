@@ -87,6 +87,9 @@ pub enum RefusalReason {
     /// Not a regular quad (extraordinary vertex, not a quad, or a sharp feature the B-spline
     /// patch cannot reproduce).
     NotRegular,
+    /// Not a regular quad with one semi-sharp crease line
+    /// ([`crate::patch::single_crease::SingleCreasePatch`]).
+    NotSingleCrease,
     /// The Gregory construction does not cover the face.
     NotGregory(NotGregory),
     /// The face's one-ring exceeds the largest patch primitive.
@@ -130,6 +133,10 @@ impl fmt::Display for Refusal {
         let face = self.face;
         match &self.reason {
             RefusalReason::NotRegular => write!(f, "face {face}: not a regular patch"),
+            RefusalReason::NotSingleCrease => write!(
+                f,
+                "face {face}: not a regular quad with a single semi-sharp crease line"
+            ),
             RefusalReason::NotGregory(e) => e.fmt(f),
             RefusalReason::RingTooLarge { ring, max } => write!(
                 f,
@@ -227,6 +234,12 @@ pub trait PassTables: fmt::Debug + Send + Sync + Any {
         PatchLevelLimit::default()
     }
 
+    /// Whether the patches equal the exact limit (B-spline, single-crease), rather than
+    /// approximate it (Gregory). Default: approximate.
+    fn exact(&self) -> bool {
+        false
+    }
+
     /// How captured `u v` relate to the base face.
     fn capture_layout(&self) -> CaptureLayout {
         CaptureLayout::FaceDomain
@@ -262,4 +275,15 @@ pub trait PatchPass {
     /// Animation: new control positions and their limit frames (same topology; the shared
     /// buffers are already updated). Call while no frame using the pass is executing.
     fn update_positions(&mut self, positions: &[DVec3], frames: &VertexFrames) -> Result<()>;
+
+    /// Run-time data change of the same structure: `tables` (the same faces, e.g. new crease
+    /// sharpness, [`super::single_crease::SingleCreaseTables::with_sharpness`]) replaces the
+    /// tables the pass was created from. Call while no frame using the pass is executing.
+    /// Default: an error, the pass has no run-time data.
+    fn update_tables(&mut self, _tables: &dyn PassTables) -> Result<()> {
+        Err(crate::Error::Invalid(format!(
+            "{}: no run-time table changes (plan the surface again)",
+            self.label()
+        )))
+    }
 }

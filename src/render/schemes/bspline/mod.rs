@@ -28,7 +28,7 @@ use crate::render::pass::upload::device_buffer;
 use crate::render::pass::{
     bind_draw_state, record_patch_draws, NormalRule, PatchDraws, VertexFrames,
 };
-use crate::subdiv::bspline::eval_bspline;
+use crate::subdiv::bspline::{eval_bspline, LimitSample};
 use crate::topology::Topology;
 use crate::Result;
 
@@ -58,25 +58,66 @@ pub fn gpu_flags(p: &RegularPatch) -> u32 {
     flags
 }
 
-/// Per-patch GPU records (`PatchInfo`): face, flags, two pad words, corner vertex ids.
-pub fn patch_info_bytes(patches: &[RegularPatch]) -> Vec<u8> {
-    let mut out = Vec::with_capacity(patches.len() * PATCH_INFO_BYTES);
-    for p in patches {
-        let c = p.corners();
-        for w in [p.face, gpu_flags(p), 0, 0, c[0], c[1], c[2], c[3]] {
-            out.extend_from_slice(&w.to_le_bytes());
-        }
+/// One `PatchInfo` record: face, flags, two pad words, the corner vertex ids (cvs 5, 6, 10, 9).
+pub fn patch_record(face: u32, flags: u32, cvs: &[u32; 16]) -> [u8; PATCH_INFO_BYTES] {
+    let mut out = [0u8; PATCH_INFO_BYTES];
+    for (k, w) in [face, flags, 0, 0, cvs[5], cvs[6], cvs[10], cvs[9]]
+        .into_iter()
+        .enumerate()
+    {
+        out[4 * k..4 * k + 4].copy_from_slice(&w.to_le_bytes());
     }
     out
 }
 
-/// The index buffer of the patch draw: 16 vertex ids per patch.
-pub fn patch_index_bytes(patches: &[RegularPatch]) -> Vec<u8> {
+/// Per-patch GPU records (`PatchInfo`): face, flags, two pad words, corner vertex ids.
+pub fn patch_info_bytes(patches: &[RegularPatch]) -> Vec<u8> {
     patches
         .iter()
-        .flat_map(|p| p.cvs)
-        .flat_map(u32::to_le_bytes)
+        .flat_map(|p| patch_record(p.face, gpu_flags(p), &p.cvs))
         .collect()
+}
+
+/// The index buffer of the patch draw: 16 vertex ids per patch.
+pub fn patch_index_bytes(patches: &[RegularPatch]) -> Vec<u8> {
+    grid_index_bytes(patches.iter().map(|p| &p.cvs))
+}
+
+/// 16 vertex ids per patch, as u32 indices.
+pub fn grid_index_bytes<'a>(cvs: impl Iterator<Item = &'a [u32; 16]>) -> Vec<u8> {
+    cvs.flatten().flat_map(|v| v.to_le_bytes()).collect()
+}
+
+/// Writes the limit frames of the corners of a 16-point patch (`cvs` 5, 6, 10, 9 at `(u, v)` =
+/// (0, 0), (1, 0), (1, 1), (0, 1)) that no earlier patch wrote, from `eval(u, v)`; without
+/// topology corner `k` gets a shared normal when `sides_smooth(k)`.
+pub(crate) fn grid_corner_frames(
+    cvs: &[u32; 16],
+    rule: NormalRule<'_>,
+    frames: &mut VertexFrames,
+    eval: impl Fn(f64, f64) -> LimitSample,
+    sides_smooth: impl Fn(usize) -> bool,
+) {
+    for (k, (slot, (u, v))) in [
+        (5, (0.0, 0.0)),
+        (6, (1.0, 0.0)),
+        (10, (1.0, 1.0)),
+        (9, (0.0, 1.0)),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let vid = cvs[slot];
+        if frames.is_set(vid) {
+            continue;
+        }
+        let s = eval(u, v);
+        let shared = match rule {
+            NormalRule::Topology(topo) => single_normal_vertex(topo, vid),
+            NormalRule::PatchSides => sides_smooth(k),
+        };
+        frames.set(vid, s.position, s.normal, shared);
+    }
 }
 
 /// Takes the faces that are (boundary-/crease-)regular quads ([`RegularPatch::gather`]).
@@ -138,24 +179,22 @@ impl PassTables for BSplineTables {
         self.patches.len()
     }
 
+    fn exact(&self) -> bool {
+        true
+    }
+
     fn corner_frames(&self, positions: &[DVec3], rule: NormalRule<'_>, frames: &mut VertexFrames) {
         for p in &self.patches {
-            for (k, (u, v)) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
-                .into_iter()
-                .enumerate()
-            {
-                let vid = p.corners()[k];
-                if frames.is_set(vid) {
-                    continue;
-                }
-                let s = p.eval(positions, u, v);
-                let shared = match rule {
-                    NormalRule::Topology(topo) => single_normal_vertex(topo, vid),
+            grid_corner_frames(
+                &p.cvs,
+                rule,
+                frames,
+                |u, v| p.eval(positions, u, v),
+                |k| {
                     // The two patch sides meeting at corner k: bits of PATCH_EDGES.
-                    NormalRule::PatchSides => p.boundary_mask & [9u8, 3, 6, 12][k] == 0,
-                };
-                frames.set(vid, s.position, s.normal, shared);
-            }
+                    p.boundary_mask & [9u8, 3, 6, 12][k] == 0
+                },
+            );
         }
     }
 
@@ -177,7 +216,17 @@ impl PassTables for BSplineTables {
     }
 
     fn create_pass(&self, pc: &PassContext<'_>) -> Result<Box<dyn PatchPass>> {
-        Ok(Box::new(BSplinePass::new(pc, &self.patches)?))
+        Ok(Box::new(GridPatchPass::new(
+            pc,
+            GridPatchSpec {
+                label: "bspline patches",
+                tess_control: "patch_bspline.tesc",
+                tess_eval_stem: "patch_bspline",
+                patches: self.patches.iter().map(|p| (p.face, p.cvs)).collect(),
+                records: patch_info_bytes(&self.patches),
+                own: &[],
+            },
+        )?))
     }
 
     fn as_any(&self) -> &dyn Any {
@@ -185,9 +234,28 @@ impl PassTables for BSplineTables {
     }
 }
 
-/// GPU resources of the B-spline patches of one surface.
-pub struct BSplinePass {
+/// What a pass of 16-control-vertex patches (the B-spline pass, the single-crease pass) is drawn
+/// with: the index buffer holds each patch's 16 vertex ids, set 0 binding 1 its `PatchInfo`
+/// records, `own` further bindings of the pass; the vertex stage is `patch_bspline.vert`.
+pub(crate) struct GridPatchSpec<'a> {
+    /// Debug and timing label.
+    pub label: &'static str,
+    /// Tessellation control shader.
+    pub tess_control: &'static str,
+    /// Evaluation-shader stem.
+    pub tess_eval_stem: &'static str,
+    /// Face and 16 control-vertex ids per patch, in draw order.
+    pub patches: Vec<(u32, [u32; 16])>,
+    /// The `PatchInfo` records, one per patch.
+    pub records: Vec<u8>,
+    /// The pass's own set-0 bindings besides binding 1.
+    pub own: &'a [BufferBinding<'a>],
+}
+
+/// GPU resources of a pass of 16-control-vertex patches ([`GridPatchSpec`]).
+pub struct GridPatchPass {
     ctx: Context,
+    label: &'static str,
     count: u32,
     split: u32,
     positions: vk::Buffer,
@@ -198,61 +266,60 @@ pub struct BSplinePass {
     pipeline: Pipeline,
 }
 
-impl BSplinePass {
-    fn new(pc: &PassContext<'_>, patches: &[RegularPatch]) -> Result<BSplinePass> {
+impl GridPatchPass {
+    pub(crate) fn new(pc: &PassContext<'_>, spec: GridPatchSpec<'_>) -> Result<GridPatchPass> {
         let ctx = pc.ctx;
-        if let Some((p, v)) = patches.iter().find_map(|p| {
-            p.cvs
-                .iter()
+        if let Some((f, v)) = spec.patches.iter().find_map(|(f, cvs)| {
+            cvs.iter()
                 .find(|&&v| v as usize >= pc.positions.len())
-                .map(|&v| (p, v))
+                .map(|&v| (f, v))
         }) {
             return Err(crate::Error::Invalid(format!(
-                "patch of face {} uses vertex {v}, mesh has {} vertices",
-                p.face,
+                "patch of face {f} uses vertex {v}, mesh has {} vertices",
                 pc.positions.len()
             )));
         }
         let patch_info = device_buffer(
             ctx,
-            &patch_info_bytes(patches),
+            &spec.records,
             vk::BufferUsageFlags::STORAGE_BUFFER,
-            "bspline patch records",
+            &format!("{} records", spec.label),
         )?;
         let indices = device_buffer(
             ctx,
-            &patch_index_bytes(patches),
+            &grid_index_bytes(spec.patches.iter().map(|(_, cvs)| cvs)),
             vk::BufferUsageFlags::INDEX_BUFFER,
-            "bspline control-vertex indices",
+            &format!("{} control-vertex indices", spec.label),
         )?;
+        let mut own_bindings = vec![PATCH_INFO_BINDING];
+        own_bindings.extend(spec.own.iter().map(|b| b.binding));
         let pipeline = patch_pipeline(
             ctx,
             pc.desc,
             pc.target,
             PatchShaders {
-                label: "bspline patches".into(),
+                label: spec.label.into(),
                 vertex: "patch_bspline.vert".into(),
-                tess_control: "patch_bspline.tesc".into(),
-                tess_eval_stem: "patch_bspline",
+                tess_control: spec.tess_control.into(),
+                tess_eval_stem: spec.tess_eval_stem,
                 points: 16,
                 position_input: true,
-                set_layouts: vec![set0_layout(&[PATCH_INFO_BINDING])],
+                set_layouts: vec![set0_layout(&own_bindings)],
             },
         )?;
-        let pool = DescriptorPool::new(ctx, 1, 6, 1)?;
+        let pool = DescriptorPool::new(ctx, 1, 5 + own_bindings.len() as u32, 1)?;
         let set = pool.allocate(pipeline.set_layouts[0])?;
-        pc.shared.write_set0(
-            ctx,
-            set,
-            &[BufferBinding {
-                binding: PATCH_INFO_BINDING,
-                kind: DescriptorKind::StorageBuffer,
-                buffer: &patch_info,
-            }],
-        );
-        Ok(BSplinePass {
+        let mut own = vec![BufferBinding {
+            binding: PATCH_INFO_BINDING,
+            kind: DescriptorKind::StorageBuffer,
+            buffer: &patch_info,
+        }];
+        own.extend_from_slice(spec.own);
+        pc.shared.write_set0(ctx, set, &own);
+        Ok(GridPatchPass {
             ctx: ctx.clone(),
-            count: patches.len() as u32,
+            label: spec.label,
+            count: spec.patches.len() as u32,
             split: pc.desc.tess.split(),
             positions: pc.shared.positions(),
             _patch_info: patch_info,
@@ -264,9 +331,9 @@ impl BSplinePass {
     }
 }
 
-impl PatchPass for BSplinePass {
+impl PatchPass for GridPatchPass {
     fn label(&self) -> &'static str {
-        "bspline patches"
+        self.label
     }
 
     fn patch_count(&self) -> u32 {

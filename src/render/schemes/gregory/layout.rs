@@ -7,6 +7,7 @@ use glam::DVec3;
 
 pub use crate::patch::gregory::gregory_faces as irregular_faces;
 use crate::patch::gregory::{check_face, gregory_vertex};
+use crate::patch::single_crease::SingleCreasePatch;
 use crate::patch::RegularPatch;
 use crate::render::pass::frames::{is_sharp_edge, sector_count};
 use crate::render::schemes::bspline::PATCH_EDGES;
@@ -35,7 +36,8 @@ pub struct GregoryLayout {
     pub corners: Vec<[u32; 4]>,
     /// Index of the patch's face in each corner vertex's ring (paper Fig. 8).
     pub corner_ring: Vec<[u32; 4]>,
-    /// Bit k: edge k (corner k -> k+1) is shared with a regular B-spline patch; bit 4+k: that
+    /// Bit k: edge k (corner k -> k+1) is shared with a regular B-spline patch or a
+    /// single-crease patch (edge away from its crease, [`grid_neighbour`]); bit 4+k: that
     /// shared edge is a boundary or infinitely sharp edge (curve from the crease polygon); bit 8+k: the
     /// face across edge k is a triangle; bit 12+k: edge k is a boundary or infinitely sharp edge, or its other face is
     /// neither a Gregory patch of this layout nor a regular patch (one-sided normal);
@@ -96,6 +98,20 @@ fn grid_of(p: &RegularPatch, a: u32, b: u32) -> Option<([u32; 12], bool, bool)> 
     })
 }
 
+/// The 16-point grid of face `g` when it is drawn from one: a regular B-spline patch, or a
+/// single-crease patch, whose edges a Gregory face can share are those away from its crease
+/// (a Gregory corner has no semi-sharp edge), the B-spline grid curves of its unmodified points
+/// (`glsl/single_crease/single_crease.tese`).
+fn grid_neighbour(topo: &Topology, g: u32) -> Option<RegularPatch> {
+    RegularPatch::gather(topo, g).or_else(|| {
+        SingleCreasePatch::gather(topo, g).map(|p| RegularPatch {
+            face: g,
+            cvs: p.cvs,
+            boundary_mask: 0,
+        })
+    })
+}
+
 impl GregoryLayout {
     /// Tables for `faces` (each a triangle or quad with interior smooth vertices: check with
     /// [`gregory_face_problem`] first; others are skipped).
@@ -141,15 +157,15 @@ impl GregoryLayout {
                 let sharp_edge = topo.find_edge(a, b).is_none_or(|e| is_sharp_edge(topo, e));
                 // One-sided normal where nothing on the GPU shares the edge's normal: boundary,
                 // sharp edge, or a neighbour drawn another way (CPU path).
-                let gpu_neighbour = across
-                    .is_some_and(|g| drawn.contains(&g) || RegularPatch::gather(topo, g).is_some());
+                let neighbour = across.and_then(|g| grid_neighbour(topo, g));
+                let gpu_neighbour =
+                    across.is_some_and(|g| drawn.contains(&g)) || neighbour.is_some();
                 if sharp_edge || !gpu_neighbour {
                     flags |= 1 << (12 + k);
                 }
                 if sector_count(topo, a) >= 2 {
                     flags |= 1 << (16 + k);
                 }
-                let neighbour = across.and_then(|g| RegularPatch::gather(topo, g));
                 if let Some((grid, first, last)) = neighbour.as_ref().and_then(|p| grid_of(p, a, b))
                 {
                     flags |= 1 << k;
