@@ -14,7 +14,17 @@ use thiserror::Error;
 
 use super::gregory::{gregory_patch_at, GregoryPatch, NotGregory};
 use super::regular::RegularPatch;
-use crate::subdiv::adaptive::{AdaptiveRefinement, Domain, PatchCensus, PatchType};
+
+mod coarse;
+pub mod draw;
+pub mod records;
+pub mod rows;
+pub mod slots;
+
+use crate::subdiv::adaptive::{AdaptivePatch, AdaptiveRefinement, Domain, PatchCensus, PatchType};
+#[cfg(doc)]
+use crate::topology::Topology;
+pub use draw::{AdaptiveDrawTables, DrawTablesError};
 
 /// Why an end cap could not be built.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -110,6 +120,13 @@ pub struct AdaptiveSurface {
 /// Builds the end caps of `refinement` (`census` its [`PatchCensus`], `positions` its
 /// [`AdaptiveRefinement::refine_positions`]) in census order: for every end-cap face the Gregory
 /// patch of that face in its level's sparse topology.
+///
+/// Residual semi-sharpness (edges and vertices still semi-sharp on the isolation level) is
+/// treated as smooth, infinitely sharp tags are kept ([`Topology::without_semi_sharpness`]): as
+/// OpenSubdiv's Gregory-basis end caps, whose corner spans
+/// (`Far::PatchBuilder::GetIrregularPatchCornerSpans`, `far/patchBuilder.cpp`) and source
+/// patch corners are built from the infinitely sharp vertex tags only. The refined points keep
+/// the semi-sharp rules up to that level.
 pub fn end_caps(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
@@ -120,36 +137,56 @@ pub fn end_caps(
         .iter()
         .filter(|p| p.kind == PatchType::EndCap)
         .map(|p| {
+            check_end_cap(refinement, p)?;
             let lev = &refinement.levels[p.level as usize];
-            let domain = lev.domains[p.face as usize];
-            let error = |failure| EndCapError {
-                base_face: domain.base_face,
-                sub_face: domain.sub_face,
-                level: p.level,
-                face: p.face,
-                failure,
-            };
-            let t = lev.topology();
-            if let Some(&vertex) = t
-                .face_vertices(p.face)
-                .iter()
-                .find(|&&v| !lev.level.is_complete_vertex(v))
-            {
-                return Err(error(EndCapFailure::Incomplete { vertex }));
-            }
+            let t = lev.topology().without_semi_sharpness();
             let first = lev.first_vertex as usize;
             let local = &positions[first..first + lev.level.vertex_count()];
-            let patch =
-                gregory_patch_at(t, local, p.face).map_err(|e| error(EndCapFailure::Gregory(e)))?;
+            let patch = gregory_patch_at(&t, local, p.face)
+                .map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?;
             Ok(SurfacePatch {
                 level: p.level,
                 face: p.face,
                 kind: p.kind,
-                domain,
+                domain: lev.domains[p.face as usize],
                 shape: PatchShape::Gregory(Box::new(patch)),
             })
         })
         .collect()
+}
+
+/// The error of end cap `p` failing with `failure`, named by its base face.
+fn end_cap_error(
+    refinement: &AdaptiveRefinement,
+    p: &AdaptivePatch,
+    failure: EndCapFailure,
+) -> EndCapError {
+    let domain = refinement.levels[p.level as usize].domains[p.face as usize];
+    EndCapError {
+        base_face: domain.base_face,
+        sub_face: domain.sub_face,
+        level: p.level,
+        face: p.face,
+        failure,
+    }
+}
+
+/// Fails when a corner of end cap `p` has an incomplete one-ring in its sparse level.
+fn check_end_cap(refinement: &AdaptiveRefinement, p: &AdaptivePatch) -> Result<(), EndCapError> {
+    let lev = &refinement.levels[p.level as usize];
+    match lev
+        .topology()
+        .face_vertices(p.face)
+        .iter()
+        .find(|&&v| !lev.level.is_complete_vertex(v))
+    {
+        Some(&vertex) => Err(end_cap_error(
+            refinement,
+            p,
+            EndCapFailure::Incomplete { vertex },
+        )),
+        None => Ok(()),
+    }
 }
 
 impl AdaptiveSurface {
