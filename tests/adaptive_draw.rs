@@ -101,6 +101,9 @@ impl Case {
     }
 }
 
+/// A patch corner: its slot and base-face `(u, v)`.
+type Occurrence = (u32, (f64, f64));
+
 /// (a) Every slot row applied to the refined positions is the exact limit position (and, where
 /// the normal is shared, normal) at every patch corner with that slot.
 #[test]
@@ -111,7 +114,7 @@ fn slot_rows_are_the_exact_limit_frames() {
         let rows = &c.tables.rows;
         let pos = &c.surface.positions;
         // Occurrences grouped by (base face, sub-face): (slot, (u, v)).
-        let mut groups: BTreeMap<(u32, u32), Vec<(u32, (f64, f64))>> = BTreeMap::new();
+        let mut groups: BTreeMap<(u32, u32), Vec<Occurrence>> = BTreeMap::new();
         let mut skipped = 0;
         for (i, p) in c.surface.patches.iter().enumerate() {
             for (k, g) in c.corner_ids(i).into_iter().enumerate() {

@@ -6,7 +6,7 @@
 
 use std::collections::HashMap;
 
-use super::draw::DrawTablesError;
+use super::error::DrawTablesError;
 use super::records::CoarseEdge;
 use super::slots::{Slots, NONE};
 use crate::patch::edge_grid::edge_grid;
@@ -75,8 +75,12 @@ impl CoarseEdges {
             for k in (0..4).filter(|k| p.transition & (1 << k) != 0) {
                 let e = t.face_edges(p.face)[k];
                 let mid = mids[p.level as usize][e as usize];
-                let mid_slot = refinement.levels[p.level as usize + 1].global(mid);
-                let mid_slot = slot(mid_slot);
+                let next = &refinement.levels[p.level as usize + 1];
+                let mid_slot = if mid == NONE {
+                    NONE
+                } else {
+                    slot(next.global(mid))
+                };
                 out.mid_slots[i][k] = mid_slot;
                 // The finer face runs the edge c[k + 1] -> c[k].
                 let Some(grid) = edge_grid(&b, c[(k + 1) % 4], c[k], slot) else {

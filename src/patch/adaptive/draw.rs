@@ -11,15 +11,15 @@
 //! is face-edge numbering, edges 2 and 3 run against the face), end caps face order.
 
 use glam::DVec2;
-use thiserror::Error;
 
 use super::coarse::{patch_index, CoarseEdges};
+use super::error::DrawTablesError;
 use super::records::{
     words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
 };
 use super::rows::{bspline_corner_rows, gregory_corner_rows, SparseRows};
 use super::slots::{Slots, NONE};
-use super::{check_end_cap, end_cap_error, EndCapError, EndCapFailure};
+use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure};
 use crate::patch::edge_grid::PATCH_EDGES;
 use crate::patch::gregory::edge_flags::{edge_flags, Across};
 use crate::patch::gregory::stencil_table::sparse_face_rows;
@@ -30,27 +30,6 @@ use crate::topology::single_normal_vertex;
 /// Rows per end cap: 20 control points and 16 extra rows (quads), 15 + 12 then empty rows
 /// (triangles, isolation 0 only), in [`crate::patch::gregory::stencil_table`] order.
 pub const END_CAP_ROWS: usize = 36;
-
-/// Why the draw tables of a refinement cannot be built.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
-pub enum DrawTablesError {
-    /// An end cap without Gregory patch.
-    #[error(transparent)]
-    EndCap(#[from] EndCapError),
-    /// Two patches sharing an edge are more than one level apart (Köbler 2013 §3.7 rules this
-    /// out; the coarse-edge records assume it).
-    #[error("patch of base face {base_face} (level {level} face {face}): the patch across its edge {edge} is more than one level away")]
-    LevelGap {
-        /// Base face of the patch.
-        base_face: u32,
-        /// Its level.
-        level: u32,
-        /// Its face in the level.
-        face: u32,
-        /// Its face edge.
-        edge: u32,
-    },
-}
 
 /// The GPU draw data of an [`AdaptiveRefinement`] (topology only; positions are the global
 /// refined buffer of [`AdaptiveRefinement::refine_positions`]).

@@ -74,17 +74,7 @@ pub struct BSplineDraw {
 impl BSplineDraw {
     /// `face, flags, pad0 = record, pad1 = 0, corners`.
     pub fn words(&self) -> [u32; PATCH_INFO_WORDS] {
-        let c = self.corners;
-        [
-            self.base_face,
-            self.flags,
-            self.record,
-            0,
-            c[0],
-            c[1],
-            c[2],
-            c[3],
-        ]
+        info_words([self.base_face, self.flags, self.record, 0], self.corners)
     }
 }
 
@@ -128,17 +118,10 @@ pub struct EndCapDraw {
 impl EndCapDraw {
     /// `face, flags, pad0 = record, pad1 = first row, corners`.
     pub fn words(&self) -> [u32; PATCH_INFO_WORDS] {
-        let c = self.corners;
-        [
-            self.base_face,
-            self.flags,
-            self.record,
-            self.first_row,
-            c[0],
-            c[1],
-            c[2],
-            c[3],
-        ]
+        info_words(
+            [self.base_face, self.flags, self.record, self.first_row],
+            self.corners,
+        )
     }
 }
 
@@ -168,6 +151,14 @@ impl CoarseEdge {
         w[12..].copy_from_slice(&[self.lo_slot, self.hi_slot, self.mid_slot, self.flags]);
         w
     }
+}
+
+/// A `PatchInfo` record: four header words (face, flags, pad0, pad1), then the corners.
+fn info_words(head: [u32; 4], corners: [u32; 4]) -> [u32; PATCH_INFO_WORDS] {
+    let mut w = [0u32; PATCH_INFO_WORDS];
+    w[..4].copy_from_slice(&head);
+    w[4..].copy_from_slice(&corners);
+    w
 }
 
 /// Little-endian bytes of records' words.

@@ -38,7 +38,7 @@ pub fn origins(refinement: &AdaptiveRefinement) -> Vec<u32> {
 }
 
 /// The global corner ids of census patch `i` in face order.
-pub fn corners<'a>(
+fn corners<'a>(
     refinement: &'a AdaptiveRefinement,
     census: &'a PatchCensus,
     i: usize,

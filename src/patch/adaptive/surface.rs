@@ -1,0 +1,281 @@
+//! The CPU surface of an adaptive refinement: B-spline patches and Gregory end caps, evaluable
+//! at base-face parameters.
+
+use glam::{DVec2, DVec3};
+use thiserror::Error;
+
+use crate::patch::gregory::{gregory_patch_at, GregoryPatch, NotGregory};
+use crate::patch::regular::RegularPatch;
+
+use crate::subdiv::adaptive::{AdaptivePatch, AdaptiveRefinement, Domain, PatchCensus, PatchType};
+#[cfg(doc)]
+use crate::topology::Topology;
+
+/// Why an end cap could not be built.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EndCapFailure {
+    /// A corner vertex of the face has an incomplete one-ring in the sparse level (its ring was
+    /// cut by the sparse selection), so a patch built there would not be the mesh's.
+    Incomplete {
+        /// The corner vertex (index in the level).
+        vertex: u32,
+    },
+    /// The Gregory construction refuses the face (face and vertex indices in the level).
+    Gregory(NotGregory),
+}
+
+/// An end-cap face of an adaptive refinement without a Gregory patch, named by its base face.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
+#[error("end cap of base face {base_face}{} (level {level} face {face}): {}", sub_suffix(*.sub_face), failure_text(.failure))]
+pub struct EndCapError {
+    /// The base face the end cap lies in.
+    pub base_face: u32,
+    /// Its sub-face when the base face is not a quad.
+    pub sub_face: Option<u32>,
+    /// The level of the end cap.
+    pub level: u32,
+    /// The face of that level.
+    pub face: u32,
+    /// Why it has no patch.
+    pub failure: EndCapFailure,
+}
+
+fn sub_suffix(sub: Option<u32>) -> String {
+    sub.map(|k| format!(" sub-face {k}")).unwrap_or_default()
+}
+
+fn failure_text(f: &EndCapFailure) -> String {
+    match f {
+        EndCapFailure::Incomplete { vertex } => {
+            format!("corner vertex {vertex} has an incomplete one-ring")
+        }
+        EndCapFailure::Gregory(e) => e.to_string(),
+    }
+}
+
+/// The shape of one patch of the adaptive surface.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PatchShape {
+    /// A B-spline patch; control vertices are global ids into the refined buffer.
+    BSpline(RegularPatch),
+    /// An end cap.
+    Gregory(Box<GregoryPatch>),
+}
+
+/// One patch of an [`AdaptiveSurface`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfacePatch {
+    /// Its level.
+    pub level: u32,
+    /// Its face (index in the level).
+    pub face: u32,
+    /// Its type in the census.
+    pub kind: PatchType,
+    /// Its place in the base face.
+    pub domain: Domain,
+    /// Its control points.
+    pub shape: PatchShape,
+}
+
+/// A point of the adaptive surface with derivatives in the base face's (or sub-face's)
+/// `(u, v)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfacePoint {
+    /// Position.
+    pub position: DVec3,
+    /// dP/du (base parameters).
+    pub du: DVec3,
+    /// dP/dv (base parameters).
+    pub dv: DVec3,
+    /// Index of the patch in [`AdaptiveSurface::patches`].
+    pub patch: usize,
+}
+
+/// Every patch of an [`AdaptiveRefinement`] over its refined positions, evaluable on the CPU.
+#[derive(Debug, Clone)]
+pub struct AdaptiveSurface {
+    /// Every vertex of every level (global numbering, [`AdaptiveRefinement::refine_positions`]).
+    pub positions: Vec<DVec3>,
+    /// The patches in census order.
+    pub patches: Vec<SurfacePatch>,
+    /// Per base face: its patches (indices into `patches`).
+    by_base: Vec<Vec<u32>>,
+}
+
+/// Builds the end caps of `refinement` (`census` its [`PatchCensus`], `positions` its
+/// [`AdaptiveRefinement::refine_positions`]) in census order: for every end-cap face the Gregory
+/// patch of that face in its level's sparse topology.
+///
+/// Residual semi-sharpness (edges and vertices still semi-sharp on the isolation level) is
+/// treated as smooth, infinitely sharp tags are kept ([`Topology::without_semi_sharpness`]): as
+/// OpenSubdiv's Gregory-basis end caps, whose corner spans
+/// (`Far::PatchBuilder::GetIrregularPatchCornerSpans`, `far/patchBuilder.cpp`) and source
+/// patch corners are built from the infinitely sharp vertex tags only. The refined points keep
+/// the semi-sharp rules up to that level.
+pub fn end_caps(
+    refinement: &AdaptiveRefinement,
+    census: &PatchCensus,
+    positions: &[DVec3],
+) -> Result<Vec<SurfacePatch>, EndCapError> {
+    census
+        .patches
+        .iter()
+        .filter(|p| p.kind == PatchType::EndCap)
+        .map(|p| {
+            check_end_cap(refinement, p)?;
+            let lev = &refinement.levels[p.level as usize];
+            let t = lev.topology().without_semi_sharpness();
+            let first = lev.first_vertex as usize;
+            let local = &positions[first..first + lev.level.vertex_count()];
+            let patch = gregory_patch_at(&t, local, p.face)
+                .map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?;
+            Ok(SurfacePatch {
+                level: p.level,
+                face: p.face,
+                kind: p.kind,
+                domain: lev.domains[p.face as usize],
+                shape: PatchShape::Gregory(Box::new(patch)),
+            })
+        })
+        .collect()
+}
+
+/// The error of end cap `p` failing with `failure`, named by its base face.
+pub(super) fn end_cap_error(
+    refinement: &AdaptiveRefinement,
+    p: &AdaptivePatch,
+    failure: EndCapFailure,
+) -> EndCapError {
+    let domain = refinement.levels[p.level as usize].domains[p.face as usize];
+    EndCapError {
+        base_face: domain.base_face,
+        sub_face: domain.sub_face,
+        level: p.level,
+        face: p.face,
+        failure,
+    }
+}
+
+/// Fails when a corner of end cap `p` has an incomplete one-ring in its sparse level.
+pub(super) fn check_end_cap(
+    refinement: &AdaptiveRefinement,
+    p: &AdaptivePatch,
+) -> Result<(), EndCapError> {
+    let lev = &refinement.levels[p.level as usize];
+    match lev
+        .topology()
+        .face_vertices(p.face)
+        .iter()
+        .find(|&&v| !lev.level.is_complete_vertex(v))
+    {
+        Some(&vertex) => Err(end_cap_error(
+            refinement,
+            p,
+            EndCapFailure::Incomplete { vertex },
+        )),
+        None => Ok(()),
+    }
+}
+
+impl AdaptiveSurface {
+    /// The surface of `refinement` with base-mesh positions `base`: every census patch, end
+    /// caps built by [`end_caps`].
+    pub fn new(
+        refinement: &AdaptiveRefinement,
+        base: &[DVec3],
+    ) -> Result<AdaptiveSurface, EndCapError> {
+        let census = PatchCensus::new(refinement);
+        let positions = refinement.refine_positions(base);
+        let mut caps = end_caps(refinement, &census, &positions)?.into_iter();
+        let patches = census
+            .patches
+            .iter()
+            .map(|p| match p.bspline {
+                Some(b) => SurfacePatch {
+                    level: p.level,
+                    face: p.face,
+                    kind: p.kind,
+                    domain: refinement.levels[p.level as usize].domains[p.face as usize],
+                    shape: PatchShape::BSpline(b),
+                },
+                None => caps.next().expect("one end cap per end-cap patch"),
+            })
+            .collect::<Vec<SurfacePatch>>();
+        let mut by_base = vec![Vec::new(); refinement.levels[0].level.face_count()];
+        for (i, p) in patches.iter().enumerate() {
+            by_base[p.domain.base_face as usize].push(i as u32);
+        }
+        Ok(AdaptiveSurface {
+            positions,
+            patches,
+            by_base,
+        })
+    }
+
+    /// Evaluates patch `i` at its own `(s, t)`, derivatives mapped to base parameters.
+    pub fn eval_patch(&self, i: usize, s: f64, t: f64) -> SurfacePoint {
+        let p = &self.patches[i];
+        let (position, ds, dt) = match &p.shape {
+            PatchShape::BSpline(b) => {
+                let x = b.eval(&self.positions, s, t);
+                (x.position, x.du, x.dv)
+            }
+            PatchShape::Gregory(g) => {
+                let x = g.eval(s, t);
+                (x.position, x.du, x.dv)
+            }
+        };
+        // (s, t) -> origin + s U + t V: d/du = (ds, dt) J^-1 with J = [U V].
+        let (a, b) = (p.domain.u, p.domain.v);
+        let det = a.perp_dot(b);
+        let (su, tu) = (b.y / det, -a.y / det);
+        let (sv, tv) = (-b.x / det, a.x / det);
+        SurfacePoint {
+            position,
+            du: su * ds + tu * dt,
+            dv: sv * ds + tv * dt,
+            patch: i,
+        }
+    }
+
+    /// The patch of `base_face` (sub-face `sub_face` for non-quads, `None` for quads) whose
+    /// domain holds `(u, v)`, and the patch's own `(s, t)` there; the first in census order on
+    /// shared domain edges. `None` when no patch covers the point (holes, out of range).
+    pub fn locate(
+        &self,
+        base_face: u32,
+        sub_face: Option<u32>,
+        u: f64,
+        v: f64,
+    ) -> Option<(usize, f64, f64)> {
+        const EPS: f64 = 1e-12;
+        let x = DVec2::new(u, v);
+        let own = self.by_base.get(base_face as usize)?;
+        own.iter().find_map(|&i| {
+            let i = i as usize;
+            let d = &self.patches[i].domain;
+            if d.sub_face != sub_face {
+                return None;
+            }
+            let r = x - d.origin;
+            let det = d.u.perp_dot(d.v);
+            let s = r.perp_dot(d.v) / det;
+            let t = d.u.perp_dot(r) / det;
+            let inside = |c: f64| (-EPS..=1.0 + EPS).contains(&c);
+            (inside(s) && inside(t)).then(|| (i, s.clamp(0.0, 1.0), t.clamp(0.0, 1.0)))
+        })
+    }
+
+    /// Evaluates the surface at `(u, v)` of `base_face` (sub-face `sub_face` for non-quads):
+    /// [`Self::locate`] then [`Self::eval_patch`].
+    pub fn eval(
+        &self,
+        base_face: u32,
+        sub_face: Option<u32>,
+        u: f64,
+        v: f64,
+    ) -> Option<SurfacePoint> {
+        let (i, s, t) = self.locate(base_face, sub_face, u, v)?;
+        Some(self.eval_patch(i, s, t))
+    }
+}
