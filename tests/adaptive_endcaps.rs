@@ -13,8 +13,10 @@
 //! | `catmark_cube` | 1.8171 / 5.7936 | 0.7272 / 2.3562 | 0.2962 / 0.9639 | 0.1212 / 0.3950 |
 //! | `catmark_pole64` | 1.5838 / 8.7097 | 0.8685 / 5.6902 | 0.5607 / 3.7198 | 0.3648 / 2.4320 |
 //! | `catmark_nonquads` | 0.9221 / 4.3916 | 0.4576 / 2.3101 | 0.2388 / 1.2576 | 0.1291 / 0.6881 |
+//! | `catmark_car` | 0.7104 / 5.5947 | 0.3969 / 3.0770 | 0.2078 / 1.6280 | 0.0995 / 0.7881 |
+//! | `catmark_bishop` | 1.4196 / 11.0629 | 0.7159 / 7.9804 | 0.3712 / 5.2306 | 0.1773 / 3.0785 |
 //!
-//! `catmark_car` and `catmark_bishop` keep semi-sharp edges at the isolation level below 6: their
+//! The car and the bishop keep semi-sharp edges at the isolation level below 6: their
 //! end caps treat that residual semi-sharpness as smooth (OpenSubdiv's end caps do the same,
 //! `Far::PatchBuilder::GetIrregularPatchCornerSpans`), so their error there includes the missing
 //! crease and still falls with the level.
