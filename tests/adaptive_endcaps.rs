@@ -13,10 +13,13 @@
 //! | `catmark_cube` | 1.8171 / 5.7936 | 0.7272 / 2.3562 | 0.2962 / 0.9639 | 0.1212 / 0.3950 |
 //! | `catmark_pole64` | 1.5838 / 8.7097 | 0.8685 / 5.6902 | 0.5607 / 3.7198 | 0.3648 / 2.4320 |
 //! | `catmark_nonquads` | 0.9221 / 4.3916 | 0.4576 / 2.3101 | 0.2388 / 1.2576 | 0.1291 / 0.6881 |
+//! | `catmark_car` | 0.7104 / 5.5947 | 0.3969 / 3.0770 | 0.2078 / 1.6280 | 0.0995 / 0.7881 |
+//! | `catmark_bishop` | 1.4196 / 11.0629 | 0.7159 / 7.9804 | 0.3712 / 5.2306 | 0.1773 / 3.0785 |
 //!
-//! `catmark_car` and `catmark_bishop` are not in the table: below isolation 6 their end caps
-//! touch semi-sharp edges, which the Gregory construction refuses (a typed error, tested); at
-//! isolation 6 every end cap is built.
+//! The car and the bishop keep semi-sharp edges at the isolation level below 6: their
+//! end caps treat that residual semi-sharpness as smooth (OpenSubdiv's end caps do the same,
+//! `Far::PatchBuilder::GetIrregularPatchCornerSpans`), so their error there includes the missing
+//! crease and still falls with the level.
 
 mod common;
 
@@ -24,15 +27,21 @@ use std::collections::BTreeMap;
 
 use common::meshes::osd;
 use rayon::prelude::*;
-use tessera::patch::adaptive::{AdaptiveSurface, EndCapFailure, PatchShape, SurfacePatch};
-use tessera::patch::gregory::NotGregory;
+use tessera::patch::adaptive::{AdaptiveSurface, PatchShape, SurfacePatch};
 use tessera::subdiv::adaptive::{AdaptiveRefinement, PatchType};
 use tessera::subdiv::eval::LimitEvaluator;
 use tessera::subdiv::Level;
 use tessera::ControlMesh;
 
-/// The meshes whose end caps the Gregory construction takes at every isolation level.
-const MESHES: [&str; 3] = ["catmark_cube", "catmark_pole64", "catmark_nonquads"];
+/// The meshes measured (every end cap is built at every isolation level; residual semi-sharp
+/// edges of the car and bishop are smooth at the isolation level, as in OpenSubdiv).
+const MESHES: [&str; 5] = [
+    "catmark_cube",
+    "catmark_pole64",
+    "catmark_nonquads",
+    "catmark_car",
+    "catmark_bishop",
+];
 
 fn surface(m: &ControlMesh, isolation: u32) -> (AdaptiveRefinement, AdaptiveSurface) {
     let r = AdaptiveRefinement::new(&Level::from_mesh(m).unwrap(), isolation).unwrap();
@@ -102,8 +111,8 @@ fn is_end_cap(p: &SurfacePatch) -> bool {
 fn every_end_cap_is_built() {
     let cases = [
         ("catmark_cube", 1),
-        ("catmark_car", 6),
-        ("catmark_bishop", 6),
+        ("catmark_car", 1),
+        ("catmark_bishop", 1),
         ("catmark_pole64", 1),
         ("catmark_nonquads", 1),
     ];
@@ -126,35 +135,6 @@ fn every_end_cap_is_built() {
                 let got = s.eval(d.base_face, d.sub_face, c.x, c.y).unwrap();
                 assert_eq!(got.patch, i, "{name} iso {iso}: locate");
             }
-        }
-    }
-}
-
-/// Below isolation 6, `catmark_car` and `catmark_bishop` keep semi-sharp edges at the
-/// isolation level, which the Gregory construction does not cover: a typed error naming the
-/// base face, never a skipped patch.
-#[test]
-fn semi_sharp_end_caps_are_a_typed_error() {
-    for name in ["catmark_car", "catmark_bishop"] {
-        let m = osd(name);
-        for iso in 1..=3 {
-            let r = AdaptiveRefinement::new(&Level::from_mesh(&m).unwrap(), iso).unwrap();
-            let e = AdaptiveSurface::new(&r, m.positions()).unwrap_err();
-            assert!(
-                (e.base_face as usize) < m.face_count(),
-                "{name} iso {iso}: {e}"
-            );
-            assert_eq!(e.level, iso, "{name}: {e}");
-            assert!(
-                matches!(
-                    e.failure,
-                    EndCapFailure::Gregory(NotGregory::SemiSharp { .. })
-                ),
-                "{name} iso {iso}: {e}"
-            );
-            assert!(e
-                .to_string()
-                .contains(&format!("base face {}", e.base_face)));
         }
     }
 }

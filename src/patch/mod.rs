@@ -3,6 +3,7 @@
 //! - [`adaptive`]: the patches of a feature-adaptive refinement (B-splines and Gregory end
 //!   caps at the isolation level) as one CPU surface.
 //! - [`basis`]: cubic B-spline and Bernstein bases, B-spline to Bézier conversion.
+//! - [`edge_grid`]: the canonical 12-point grid of a B-spline patch edge (watertight edges).
 //! - [`regular`]: bicubic B-spline patches of regular (and boundary-regular) quads (defined in
 //!   [`crate::subdiv::bspline`], which exact evaluation builds on).
 //! - [`single_crease`]: regular quads with one semi-sharp crease line, evaluated directly
@@ -11,6 +12,7 @@
 
 pub mod adaptive;
 pub mod basis;
+pub mod edge_grid;
 pub mod gregory;
 pub mod regular;
 pub mod single_crease;

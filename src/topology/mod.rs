@@ -14,10 +14,12 @@
 mod build;
 mod connectivity;
 pub(crate) mod par;
+pub mod sectors;
 
 pub(crate) use build::build;
 pub(crate) use connectivity::NONE;
 pub use connectivity::{FaceClass, Topology};
+pub use sectors::{is_sharp_edge, sector_count, single_normal_vertex};
 
 #[cfg(test)]
 mod tests;

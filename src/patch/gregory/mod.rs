@@ -26,6 +26,7 @@
 
 pub mod accuracy;
 mod build;
+pub mod edge_flags;
 mod eval;
 mod point;
 pub mod stencil;

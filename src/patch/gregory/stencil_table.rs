@@ -177,6 +177,18 @@ fn corner_data(
     data
 }
 
+/// The rows of each face of `faces` in the table layout ([`StencilType::weights`]: control
+/// points, then the neighbours' edge and face points) as sparse weight vectors over `topo`'s
+/// vertices, ascending ids, f64: the weights [`GregoryStencilTable::build`] rounds to f32, without
+/// its ring-size limit (sparse rows have no fixed patch size).
+pub fn sparse_face_rows(topo: &Topology, faces: &[u32]) -> Vec<Result<Vec<Weights>, NotGregory>> {
+    let vertices = corner_data(topo, faces.iter().copied());
+    faces
+        .iter()
+        .map(|&f| table_rows(topo, f, |g| gregory_patch(topo, &vertices, g)))
+        .collect()
+}
+
 impl GregoryStencilTable {
     /// [`Self::build`] for every face of `faces` with the full [`MAX_RING`] ring limit (regular
     /// faces may be included: their Gregory patch reproduces the B-spline patch).

@@ -4,8 +4,8 @@
 
 use glam::DVec3;
 
-use crate::mesh::INFINITE_SHARPNESS;
 use crate::topology::Topology;
+pub use crate::topology::{is_sharp_edge, sector_count, single_normal_vertex};
 
 /// When a corner vertex gets one shared normal (written to the frame) rather than each patch
 /// keeping its own there (zero entry, the shaders' signal).
@@ -56,30 +56,4 @@ impl VertexFrames {
             }
         }
     }
-}
-
-/// Boundary or infinitely sharp edge.
-pub fn is_sharp_edge(topo: &Topology, e: u32) -> bool {
-    topo.is_boundary_edge(e) || topo.edge_sharpness(e) >= INFINITE_SHARPNESS
-}
-
-/// Number of sectors the sharp edges split vertex `v`'s ring into (0 for a smooth vertex).
-pub fn sector_count(topo: &Topology, v: u32) -> usize {
-    let sharp = topo
-        .vertex_edges(v)
-        .iter()
-        .filter(|&&e| is_sharp_edge(topo, e))
-        .count();
-    if topo.is_boundary_vertex(v) {
-        sharp.saturating_sub(1)
-    } else {
-        sharp
-    }
-}
-
-/// Whether every patch at vertex `v` has the same limit normal there (one sector: smooth
-/// interior or a boundary/crease vertex whose sharp edges do not split its faces; not a cone).
-pub fn single_normal_vertex(topo: &Topology, v: u32) -> bool {
-    sector_count(topo, v) <= 1
-        && (topo.is_boundary_vertex(v) || topo.vertex_sharpness(v) < INFINITE_SHARPNESS)
 }

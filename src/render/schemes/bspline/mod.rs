@@ -41,9 +41,7 @@ pub const PATCH_INFO_BYTES: usize = 32;
 /// Binding of the per-patch records in set 0.
 const PATCH_INFO_BINDING: u32 = 1;
 
-/// Patch edges as (start corner, end corner) in the order of the boundary bits, with corners
-/// indexed 0..3 = (0,0), (1,0), (1,1), (0,1); the edge parameter runs from start to end.
-pub const PATCH_EDGES: [(usize, usize); 4] = [(0, 1), (1, 2), (3, 2), (0, 3)];
+pub use crate::patch::edge_grid::PATCH_EDGES;
 
 /// The `flags` word of the GPU record: bits 0-3 boundary mask, bit 4+e set when edge e
 /// (see [`PATCH_EDGES`]) runs from the larger to the smaller vertex id.

@@ -1,21 +1,15 @@
-//! The patches of a feature-adaptive refinement ([`crate::subdiv::adaptive`]) as a CPU surface:
-//! B-spline patches (regular, boundary, crease) at the level where their face became regular,
-//! and end caps at the isolation level: the Gregory patch ([`super::gregory`]) of every face
-//! still irregular there, built over that level's refined points, so the inexact area shrinks
-//! by four per level (Köbler 2013 ch. 3; Nießner et al. 2012).
-//!
-//! Every patch keeps its face's [`Domain`], the map from the patch's own `(s, t)` to its base
-//! face's `(u, v)` (quads) or sub-face `(u, v)` (other faces), so the surface is evaluated at the
-//! same parameters as [`crate::subdiv::eval::LimitEvaluator`]. End caps of level 0 (isolation 0)
-//! on triangles use the Gregory triangle's own barycentric parameters.
+//! The CPU surface of an adaptive refinement: B-spline patches and Gregory end caps, evaluable
+//! at base-face parameters.
 
 use glam::{DVec2, DVec3};
 use thiserror::Error;
 
-use super::gregory::{gregory_patch_at, GregoryPatch, NotGregory};
-use super::regular::RegularPatch;
-use super::single_crease::SingleCreasePatch;
-use crate::subdiv::adaptive::{AdaptiveRefinement, Domain, PatchCensus, PatchType};
+use crate::patch::gregory::{gregory_patch_at, GregoryPatch, NotGregory};
+use crate::patch::regular::RegularPatch;
+use crate::patch::single_crease::SingleCreasePatch;
+use crate::subdiv::adaptive::{AdaptivePatch, AdaptiveRefinement, Domain, PatchCensus, PatchType};
+#[cfg(doc)]
+use crate::topology::Topology;
 
 /// Why an end cap could not be built.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -114,6 +108,13 @@ pub struct AdaptiveSurface {
 /// Builds the end caps of `refinement` (`census` its [`PatchCensus`], `positions` its
 /// [`AdaptiveRefinement::refine_positions`]) in census order: for every end-cap face the Gregory
 /// patch of that face in its level's sparse topology.
+///
+/// Residual semi-sharpness (edges and vertices still semi-sharp on the isolation level) is
+/// treated as smooth, infinitely sharp tags are kept ([`Topology::without_semi_sharpness`]): as
+/// OpenSubdiv's Gregory-basis end caps, whose corner spans
+/// (`Far::PatchBuilder::GetIrregularPatchCornerSpans`, `far/patchBuilder.cpp`) and source
+/// patch corners are built from the infinitely sharp vertex tags only. The refined points keep
+/// the semi-sharp rules up to that level.
 pub fn end_caps(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
@@ -124,36 +125,59 @@ pub fn end_caps(
         .iter()
         .filter(|p| p.kind == PatchType::EndCap)
         .map(|p| {
+            check_end_cap(refinement, p)?;
             let lev = &refinement.levels[p.level as usize];
-            let domain = lev.domains[p.face as usize];
-            let error = |failure| EndCapError {
-                base_face: domain.base_face,
-                sub_face: domain.sub_face,
-                level: p.level,
-                face: p.face,
-                failure,
-            };
-            let t = lev.topology();
-            if let Some(&vertex) = t
-                .face_vertices(p.face)
-                .iter()
-                .find(|&&v| !lev.level.is_complete_vertex(v))
-            {
-                return Err(error(EndCapFailure::Incomplete { vertex }));
-            }
+            let t = lev.topology().without_semi_sharpness();
             let first = lev.first_vertex as usize;
             let local = &positions[first..first + lev.level.vertex_count()];
-            let patch =
-                gregory_patch_at(t, local, p.face).map_err(|e| error(EndCapFailure::Gregory(e)))?;
+            let patch = gregory_patch_at(&t, local, p.face)
+                .map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?;
             Ok(SurfacePatch {
                 level: p.level,
                 face: p.face,
                 kind: p.kind,
-                domain,
+                domain: lev.domains[p.face as usize],
                 shape: PatchShape::Gregory(Box::new(patch)),
             })
         })
         .collect()
+}
+
+/// The error of end cap `p` failing with `failure`, named by its base face.
+pub(super) fn end_cap_error(
+    refinement: &AdaptiveRefinement,
+    p: &AdaptivePatch,
+    failure: EndCapFailure,
+) -> EndCapError {
+    let domain = refinement.levels[p.level as usize].domains[p.face as usize];
+    EndCapError {
+        base_face: domain.base_face,
+        sub_face: domain.sub_face,
+        level: p.level,
+        face: p.face,
+        failure,
+    }
+}
+
+/// Fails when a corner of end cap `p` has an incomplete one-ring in its sparse level.
+pub(super) fn check_end_cap(
+    refinement: &AdaptiveRefinement,
+    p: &AdaptivePatch,
+) -> Result<(), EndCapError> {
+    let lev = &refinement.levels[p.level as usize];
+    match lev
+        .topology()
+        .face_vertices(p.face)
+        .iter()
+        .find(|&&v| !lev.level.is_complete_vertex(v))
+    {
+        Some(&vertex) => Err(end_cap_error(
+            refinement,
+            p,
+            EndCapFailure::Incomplete { vertex },
+        )),
+        None => Ok(()),
+    }
 }
 
 impl AdaptiveSurface {

@@ -1,0 +1,166 @@
+//! Edges between patches of neighbouring levels (Köbler 2013 §3.4, transition patches): every
+//! edge of a B-spline patch with a one-level-finer neighbour becomes a [`CoarseEdge`] record
+//! holding the coarse patch's 12 canonical grid points; the two finer patches along its halves
+//! point to it, so both sides evaluate the one limit curve. Neighbouring patches differ by at
+//! most one level (§3.7, regularity judged per vertex): [`DrawTablesError::LevelGap`] otherwise.
+
+use std::collections::HashMap;
+
+use super::error::DrawTablesError;
+use super::records::CoarseEdge;
+use super::slots::{Slots, NONE};
+use crate::patch::edge_grid::edge_grid;
+use crate::subdiv::adaptive::{AdaptiveLevel, AdaptiveRefinement, ChildOf, PatchCensus};
+use crate::topology::is_sharp_edge;
+
+/// Per level, face to its census patch ([`NONE`] when the face is not drawn at that level).
+pub fn patch_index(refinement: &AdaptiveRefinement, census: &PatchCensus) -> Vec<Vec<u32>> {
+    let mut at: Vec<Vec<u32>> = refinement
+        .levels
+        .iter()
+        .map(|l| vec![NONE; l.level.face_count()])
+        .collect();
+    for (i, p) in census.patches.iter().enumerate() {
+        at[p.level as usize][p.face as usize] = i as u32;
+    }
+    at
+}
+
+/// Per edge of `lev`, the next level's vertex that is its edge point ([`NONE`] if not kept).
+fn edge_points(lev: &AdaptiveLevel, next: &AdaptiveLevel) -> Vec<u32> {
+    let mut out = vec![NONE; lev.topology().edge_count()];
+    for v in 0..next.level.vertex_count() as u32 {
+        if let ChildOf::Edge(e) = lev.child_of(v) {
+            out[e as usize] = v;
+        }
+    }
+    out
+}
+
+/// The coarse edges of a refinement and the finer patches' references to them.
+#[derive(Debug, Clone, Default)]
+pub struct CoarseEdges {
+    /// The records.
+    pub edges: Vec<CoarseEdge>,
+    /// Per census patch: slot of the midpoint of each transition edge (B-spline edge order).
+    pub mid_slots: Vec<[u32; 4]>,
+    /// (level, face, edge) of the coarse patch of each record.
+    owner: Vec<(u32, u32, u32)>,
+    /// (level, edge of that level) to record.
+    by_edge: HashMap<(u32, u32), u32>,
+    /// Finer patch edges pointing at each record.
+    refs: Vec<u8>,
+}
+
+impl CoarseEdges {
+    /// One record per transition edge of every transition B-spline patch, in census order.
+    pub fn new(refinement: &AdaptiveRefinement, census: &PatchCensus, slots: &Slots) -> Self {
+        let mut out = CoarseEdges {
+            mid_slots: vec![[NONE; 4]; census.patches.len()],
+            ..Default::default()
+        };
+        let mids: Vec<Vec<u32>> = refinement
+            .levels
+            .windows(2)
+            .map(|w| edge_points(&w[0], &w[1]))
+            .collect();
+        let slot = |g: u32| slots.of(g);
+        for (i, p) in census.patches.iter().enumerate() {
+            let Some(b) = p.bspline.filter(|_| p.transition != 0) else {
+                continue;
+            };
+            let lev = &refinement.levels[p.level as usize];
+            let t = lev.topology();
+            let c = b.corners();
+            for k in (0..4).filter(|k| p.transition & (1 << k) != 0) {
+                let e = t.face_edges(p.face)[k];
+                let mid = mids[p.level as usize][e as usize];
+                let next = &refinement.levels[p.level as usize + 1];
+                let mid_slot = if mid == NONE {
+                    NONE
+                } else {
+                    slot(next.global(mid))
+                };
+                out.mid_slots[i][k] = mid_slot;
+                // The finer face runs the edge c[k + 1] -> c[k].
+                let Some(grid) = edge_grid(&b, c[(k + 1) % 4], c[k], slot) else {
+                    continue;
+                };
+                let (lo, hi) = (
+                    slot(c[k]).min(slot(c[(k + 1) % 4])),
+                    slot(c[k]).max(slot(c[(k + 1) % 4])),
+                );
+                out.by_edge.insert((p.level, e), out.edges.len() as u32);
+                out.owner.push((p.level, p.face, k as u32));
+                out.refs.push(0);
+                out.edges.push(CoarseEdge {
+                    rows: grid.ids,
+                    lo_slot: lo,
+                    hi_slot: hi,
+                    mid_slot,
+                    flags: u32::from(is_sharp_edge(t, e))
+                        | u32::from(grid.first_phantom) << 1
+                        | u32::from(grid.last_phantom) << 2,
+                });
+            }
+        }
+        out
+    }
+
+    /// The record face edge `k` of face `f` of `level` lies on (its neighbour across is drawn
+    /// one level coarser), [`NONE`] when the neighbour is of the same level, finer, or not
+    /// drawn (boundary, hole, no limit surface).
+    pub fn lookup(
+        &mut self,
+        refinement: &AdaptiveRefinement,
+        level: u32,
+        f: u32,
+        k: usize,
+    ) -> Result<u32, DrawTablesError> {
+        let lev = &refinement.levels[level as usize];
+        let t = lev.topology();
+        let Some(h) = t.adjacent_face(f, k).filter(|&h| !lev.own[h as usize]) else {
+            return Ok(NONE);
+        };
+        let gap = || DrawTablesError::LevelGap {
+            base_face: lev.domains[f as usize].base_face,
+            level,
+            face: f,
+            edge: k as u32,
+        };
+        let Some(parent) = level.checked_sub(1).map(|l| &refinement.levels[l as usize]) else {
+            return Err(gap());
+        };
+        let (pf, _) = parent.child_face_parent(h);
+        if !parent.topology().has_limit_surface(pf) {
+            return Ok(NONE);
+        }
+        let fv = t.face_vertices(f);
+        let ends = [fv[k], fv[(k + 1) % fv.len()]].map(|v| parent.child_of(v));
+        let e = match ends {
+            [ChildOf::Vertex(_), ChildOf::Edge(e)] | [ChildOf::Edge(e), ChildOf::Vertex(_)] => e,
+            _ => return Err(gap()),
+        };
+        let r = *self.by_edge.get(&(level - 1, e)).ok_or_else(gap)?;
+        self.refs[r as usize] += 1;
+        Ok(r)
+    }
+
+    /// Checks that both halves of every record belong to drawn finer patches (the finer
+    /// neighbour was not refined further).
+    pub fn check_halves(&self, refinement: &AdaptiveRefinement) -> Result<(), DrawTablesError> {
+        match self.refs.iter().position(|&n| n != 2) {
+            None => Ok(()),
+            Some(r) => {
+                let (level, face, k) = self.owner[r];
+                let lev = &refinement.levels[level as usize];
+                Err(DrawTablesError::LevelGap {
+                    base_face: lev.domains[face as usize].base_face,
+                    level,
+                    face,
+                    edge: k,
+                })
+            }
+        }
+    }
+}

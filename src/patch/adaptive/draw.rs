@@ -1,0 +1,357 @@
+//! Everything the GPU draw of a feature-adaptive surface reads, as CPU data over the global
+//! refined vertex buffer (Köbler 2013 ch. 3-4): frame slots with their stencil rows, per-patch
+//! records, the B-spline patches (whole, or as transition fans, §3.4), the Gregory end caps
+//! (Loop et al. 2009) with their sparse stencil rows, and the coarse edges shared across levels.
+//!
+//! Watertightness (`glsl/common/watertight.glsl`) holds by slot: every GPU vertex id (corners,
+//! canonical edge directions, edge tessellation chords) is a slot, so a limit point that is a
+//! corner on several levels has one frame and one place in every canonical order.
+//!
+//! Patch edges: B-spline patches use [`crate::patch::edge_grid::PATCH_EDGES`] numbering (which
+//! is face-edge numbering, edges 2 and 3 run against the face), end caps face order.
+
+use glam::DVec2;
+
+use super::coarse::{patch_index, CoarseEdges};
+use super::error::DrawTablesError;
+use super::records::{
+    words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
+};
+use super::rows::{bspline_corner_rows, gregory_corner_rows, SparseRows};
+use super::slots::{Slots, NONE};
+use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure};
+use crate::patch::edge_grid::PATCH_EDGES;
+use crate::patch::gregory::edge_flags::{edge_flags, Across};
+use crate::patch::gregory::stencil_table::sparse_face_rows;
+use crate::patch::gregory::Weights;
+use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
+use crate::topology::single_normal_vertex;
+
+/// Rows per end cap: 20 control points and 16 extra rows (quads), 15 + 12 then empty rows
+/// (triangles, isolation 0 only), in [`crate::patch::gregory::stencil_table`] order.
+pub const END_CAP_ROWS: usize = 36;
+
+/// The GPU draw data of an [`AdaptiveRefinement`] (topology only; positions are the global
+/// refined buffer of [`AdaptiveRefinement::refine_positions`]).
+#[derive(Debug, Clone)]
+pub struct AdaptiveDrawTables {
+    /// Frame slots of the patch corners.
+    pub slots: Slots,
+    /// Per slot: the GPU writes `normalize(cross(du, dv))` (the vertex has one sector), else a
+    /// zero normal so each patch keeps its own.
+    pub shared_normal: Vec<bool>,
+    /// Rows `3 s .. 3 s + 2`: slot `s`'s limit position, du, dv (`cross(du, dv)` outward); then
+    /// [`END_CAP_ROWS`] rows per end cap from [`Self::end_cap_first_row`].
+    pub rows: SparseRows,
+    /// First end-cap row (`3 * slots`).
+    pub end_cap_first_row: u32,
+    /// One record per census patch, census order.
+    pub records: Vec<PatchRecord>,
+    /// B-spline patches without finer neighbour.
+    pub regular: Vec<BSplineDraw>,
+    /// B-spline patches with a finer neighbour.
+    pub transition: Vec<BSplineDraw>,
+    /// The fans of the transition patches.
+    pub triangles: Vec<TransitionTriangle>,
+    /// Gregory end caps.
+    pub end_caps: Vec<EndCapDraw>,
+    /// Edges of coarse patches with a finer neighbour.
+    pub coarse_edges: Vec<CoarseEdge>,
+}
+
+/// Rows of every end cap in census order over global ids (table layout, unpadded).
+fn end_cap_rows(
+    refinement: &AdaptiveRefinement,
+    census: &PatchCensus,
+) -> Result<Vec<Vec<Weights>>, EndCapError> {
+    let caps: Vec<_> = census
+        .patches
+        .iter()
+        .filter(|p| p.kind == PatchType::EndCap)
+        .collect();
+    let mut out = Vec::with_capacity(caps.len());
+    for group in caps.chunk_by(|a, b| a.level == b.level) {
+        let lev = &refinement.levels[group[0].level as usize];
+        for p in group {
+            check_end_cap(refinement, p)?;
+        }
+        let faces: Vec<u32> = group.iter().map(|p| p.face).collect();
+        let t = lev.topology().without_semi_sharpness();
+        for (p, rows) in group.iter().zip(sparse_face_rows(&t, &faces)) {
+            let rows = rows.map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?;
+            let global =
+                |w: Weights| Weights(w.0.into_iter().map(|(v, x)| (lev.global(v), x)).collect());
+            out.push(rows.into_iter().map(global).collect());
+        }
+    }
+    Ok(out)
+}
+
+/// Slot rows (position, du, dv) from the first census patch with the slot as a corner, and
+/// whether the slot's normal is shared.
+fn slot_rows(
+    refinement: &AdaptiveRefinement,
+    census: &PatchCensus,
+    slots: &Slots,
+    caps: &[Vec<Weights>],
+) -> (SparseRows, Vec<bool>) {
+    let mut frames: Vec<Option<[Weights; 3]>> = vec![None; slots.len()];
+    let mut shared = vec![false; slots.len()];
+    let mut cap = 0;
+    for p in &census.patches {
+        let lev = &refinement.levels[p.level as usize];
+        let fv = lev.topology().face_vertices(p.face);
+        for (k, &v) in fv.iter().enumerate() {
+            let s = slots.of(lev.global(v)) as usize;
+            if frames[s].is_some() {
+                continue;
+            }
+            frames[s] = Some(match &p.bspline {
+                Some(b) => bspline_corner_rows(b, k),
+                None => gregory_corner_rows(&caps[cap], fv.len(), k),
+            });
+            shared[s] = single_normal_vertex(lev.topology(), v);
+        }
+        cap += usize::from(p.bspline.is_none());
+    }
+    let mut rows = SparseRows::new();
+    for f in frames.iter().flatten() {
+        for r in f {
+            rows.push(r, 0);
+        }
+    }
+    (rows, shared)
+}
+
+impl AdaptiveDrawTables {
+    /// The draw tables of `refinement`.
+    pub fn new(refinement: &AdaptiveRefinement) -> Result<AdaptiveDrawTables, DrawTablesError> {
+        let census = PatchCensus::new(refinement);
+        let slots = Slots::new(refinement, &census);
+        let caps = end_cap_rows(refinement, &census)?;
+        let (mut rows, shared_normal) = slot_rows(refinement, &census, &slots, &caps);
+        let end_cap_first_row = rows.len() as u32;
+        for c in &caps {
+            for r in c {
+                rows.push(r, 0);
+            }
+            rows.push_empty(END_CAP_ROWS - c.len());
+        }
+        let mut coarse = CoarseEdges::new(refinement, &census, &slots);
+        let at = patch_index(refinement, &census);
+        let mut out = AdaptiveDrawTables {
+            slots,
+            shared_normal,
+            rows,
+            end_cap_first_row,
+            records: Vec::with_capacity(census.patches.len()),
+            regular: Vec::new(),
+            transition: Vec::new(),
+            triangles: Vec::new(),
+            end_caps: Vec::new(),
+            coarse_edges: Vec::new(),
+        };
+        for (i, p) in census.patches.iter().enumerate() {
+            let lev = &refinement.levels[p.level as usize];
+            if p.kind == PatchType::SingleCrease {
+                return Err(DrawTablesError::SingleCrease {
+                    base_face: lev.domains[p.face as usize].base_face,
+                    level: p.level,
+                });
+            }
+            let t = lev.topology();
+            let n = t.face_size(p.face);
+            let mut fine = [NONE; 4];
+            for (k, c) in fine.iter_mut().enumerate().take(n) {
+                *c = coarse.lookup(refinement, p.level, p.face, k)?;
+            }
+            let d = lev.domains[p.face as usize];
+            let f2 = |x: DVec2| [x.x as f32, x.y as f32];
+            out.records.push(PatchRecord {
+                base_face: d.base_face,
+                sub_face: d.sub_face.unwrap_or(NONE),
+                level: p.level,
+                kind: p.kind as u32,
+                domain: [f2(d.origin), f2(d.u), f2(d.v)],
+                transition: u32::from(p.transition),
+                mid_slots: coarse.mid_slots[i],
+                coarse: fine,
+            });
+            let slot = |v: u32| out.slots.of(v);
+            if let Some(b) = p.bspline {
+                let corners = b.corners().map(slot);
+                let mut flags = u32::from(b.boundary_mask & 0xf);
+                for (e, &(s, t)) in PATCH_EDGES.iter().enumerate() {
+                    flags |= u32::from(corners[s] > corners[t]) << (4 + e);
+                }
+                let draw = BSplineDraw {
+                    record: i as u32,
+                    base_face: d.base_face,
+                    patch: b,
+                    flags,
+                    corners,
+                };
+                if p.transition == 0 {
+                    out.regular.push(draw);
+                    continue;
+                }
+                let patch = out.transition.len() as u32;
+                for edge in 0..4 {
+                    let halves: &[u32] = if p.transition & (1 << edge) != 0 {
+                        &[1, 2]
+                    } else {
+                        &[0]
+                    };
+                    out.triangles
+                        .extend(halves.iter().map(|&half| TransitionTriangle {
+                            patch,
+                            edge,
+                            half,
+                        }));
+                }
+                out.transition.push(draw);
+                continue;
+            }
+            let across = |_, g: Option<u32>| match g {
+                Some(g) if !t.has_limit_surface(g) => Across::Nothing,
+                Some(g) if !lev.own[g as usize] => Across::Patch,
+                Some(g) => match at[p.level as usize][g as usize] {
+                    NONE => Across::Nothing,
+                    j => census.patches[j as usize]
+                        .bspline
+                        .map_or(Across::Patch, Across::BSpline),
+                },
+                None => Across::Nothing,
+            };
+            let ef = edge_flags(t, p.face, across, |v| lev.global(v), slot);
+            let fv = t.face_vertices(p.face);
+            let mut corners = [slot(lev.global(fv[0])); 4];
+            for (c, &v) in corners.iter_mut().zip(fv) {
+                *c = slot(lev.global(v));
+            }
+            let first_row = end_cap_first_row + (END_CAP_ROWS * out.end_caps.len()) as u32;
+            out.end_caps.push(EndCapDraw {
+                record: i as u32,
+                base_face: d.base_face,
+                flags: ef.flags,
+                first_row,
+                corners,
+                grid: ef.grids,
+            });
+        }
+        coarse.check_halves(refinement)?;
+        out.coarse_edges = coarse.edges;
+        log::debug!(
+            "adaptive draw tables: {} slots, {} rows, {} regular + {} transition ({} triangles) B-spline patches, {} end caps, {} coarse edges, {} bytes",
+            out.slots.len(),
+            out.rows.len(),
+            out.regular.len(),
+            out.transition.len(),
+            out.triangles.len(),
+            out.end_caps.len(),
+            out.coarse_edges.len(),
+            out.memory_bytes()
+        );
+        Ok(out)
+    }
+
+    /// Number of slots.
+    pub fn slot_count(&self) -> usize {
+        self.slots.len()
+    }
+
+    /// The slot of global vertex `g`, `None` when no patch corner is that point.
+    pub fn slot_of(&self, g: u32) -> Option<u32> {
+        self.slots
+            .of_vertex
+            .get(g as usize)
+            .copied()
+            .filter(|&s| s != NONE)
+    }
+
+    /// `PatchRecord`s, 80 bytes each, census order.
+    pub fn patch_record_bytes(&self) -> Vec<u8> {
+        words_bytes(self.records.iter().map(PatchRecord::words))
+    }
+
+    /// Per slot one u32: bit 0 set when the normal is shared.
+    pub fn slot_flag_bytes(&self) -> Vec<u8> {
+        words_bytes(self.shared_normal.iter().map(|&s| [u32::from(s)]))
+    }
+
+    /// `PatchInfo`s of the non-transition B-spline patches, 32 bytes each.
+    pub fn regular_info_bytes(&self) -> Vec<u8> {
+        words_bytes(self.regular.iter().map(BSplineDraw::words))
+    }
+
+    /// Index buffer of the non-transition B-spline patches: 16 control vertices each.
+    pub fn regular_index_bytes(&self) -> Vec<u8> {
+        words_bytes(self.regular.iter().map(|d| d.patch.cvs))
+    }
+
+    /// `PatchInfo`s of the transition patches, 32 bytes each.
+    pub fn transition_info_bytes(&self) -> Vec<u8> {
+        words_bytes(self.transition.iter().map(BSplineDraw::words))
+    }
+
+    /// Transition triangles, 16 bytes each.
+    pub fn triangle_bytes(&self) -> Vec<u8> {
+        words_bytes(self.triangles.iter().map(TransitionTriangle::words))
+    }
+
+    /// Index buffer of the transition triangles: their patch's 16 control vertices each.
+    pub fn triangle_index_bytes(&self) -> Vec<u8> {
+        words_bytes(
+            self.triangles
+                .iter()
+                .map(|t| self.transition[t.patch as usize].patch.cvs),
+        )
+    }
+
+    /// `GregoryPatchInfo`s of the end caps, 32 bytes each.
+    pub fn end_cap_info_bytes(&self) -> Vec<u8> {
+        words_bytes(self.end_caps.iter().map(EndCapDraw::words))
+    }
+
+    /// Grid ids of the end caps, 48 each.
+    pub fn end_cap_grid_bytes(&self) -> Vec<u8> {
+        words_bytes(self.end_caps.iter().map(|c| c.grid))
+    }
+
+    /// Coarse edges, 64 bytes each.
+    pub fn coarse_edge_bytes(&self) -> Vec<u8> {
+        words_bytes(self.coarse_edges.iter().map(CoarseEdge::words))
+    }
+
+    /// Row offsets (`rows + 1` u32).
+    pub fn row_offset_bytes(&self) -> Vec<u8> {
+        words_bytes(self.rows.offsets.iter().map(|&o| [o]))
+    }
+
+    /// Row term ids (u32).
+    pub fn row_id_bytes(&self) -> Vec<u8> {
+        words_bytes(self.rows.ids.iter().map(|&v| [v]))
+    }
+
+    /// Row term weights (f32).
+    pub fn row_weight_bytes(&self) -> Vec<u8> {
+        words_bytes(self.rows.weights.iter().map(|w| [w.to_bits()]))
+    }
+
+    /// Bytes of every GPU array together.
+    pub fn memory_bytes(&self) -> usize {
+        use super::records::{
+            COARSE_EDGE_WORDS, PATCH_INFO_WORDS, PATCH_RECORD_WORDS, TRIANGLE_WORDS,
+        };
+        let words = self.records.len() * PATCH_RECORD_WORDS
+            + self.shared_normal.len()
+            + (self.regular.len() + self.transition.len() + self.end_caps.len()) * PATCH_INFO_WORDS
+            + self.regular.len() * 16
+            + self.triangles.len() * (TRIANGLE_WORDS + 16)
+            + self.end_caps.len() * 48
+            + self.coarse_edges.len() * COARSE_EDGE_WORDS
+            + self.rows.offsets.len()
+            + 2 * self.rows.ids.len();
+        4 * words
+    }
+}

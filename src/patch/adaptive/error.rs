@@ -1,0 +1,35 @@
+//! Why the draw tables of an adaptive refinement cannot be built.
+
+use thiserror::Error;
+
+use super::surface::EndCapError;
+
+/// Why the draw tables of a refinement cannot be built.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
+pub enum DrawTablesError {
+    /// An end cap without Gregory patch.
+    #[error(transparent)]
+    EndCap(#[from] EndCapError),
+    /// Two patches sharing an edge are more than one level apart (Köbler 2013 §3.7 rules this
+    /// out; the coarse-edge records assume it).
+    #[error("patch of base face {base_face} (level {level} face {face}): the patch across its edge {edge} is more than one level away")]
+    LevelGap {
+        /// Base face of the patch.
+        base_face: u32,
+        /// Its level.
+        level: u32,
+        /// Its face in the level.
+        face: u32,
+        /// Its face edge.
+        edge: u32,
+    },
+    /// A single-crease patch (refinement with `single_crease` on): the draw tables have no
+    /// record for its crease data yet.
+    #[error("patch of base face {base_face} (level {level}): single-crease patches are not drawn by the adaptive tables; refine without single-crease patches")]
+    SingleCrease {
+        /// Base face of the patch.
+        base_face: u32,
+        /// Its level.
+        level: u32,
+    },
+}

@@ -1,0 +1,151 @@
+//! Sparse stencil rows over the global refined vertices (Köbler 2013 §4.2: one vertex buffer
+//! for every level): slot frames (limit position and two tangents) and end-cap control points.
+
+use glam::DVec3;
+
+use crate::patch::gregory::{GregoryPoint, Weights};
+use crate::patch::RegularPatch;
+use crate::subdiv::bspline::{bspline, bspline_deriv};
+
+/// Rows of sparse weights: row `r` is terms `offsets[r]..offsets[r + 1]` of `ids` / `weights`,
+/// ids ascending (the summation order, so a row two patches share sums to the same bits), zero
+/// weights dropped.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SparseRows {
+    /// `rows + 1` term offsets.
+    pub offsets: Vec<u32>,
+    /// Global refined vertex ids.
+    pub ids: Vec<u32>,
+    /// Weights as the GPU reads them (the f64 weights rounded).
+    pub weights: Vec<f32>,
+    /// The same weights before rounding (CPU references).
+    pub weights_f64: Vec<f64>,
+}
+
+impl SparseRows {
+    /// No rows yet.
+    pub fn new() -> SparseRows {
+        SparseRows {
+            offsets: vec![0],
+            ..Default::default()
+        }
+    }
+
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        self.offsets.len() - 1
+    }
+
+    /// Whether there is no row.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Appends a row of weights over local vertices, `first` added to every id (ascending
+    /// local ids stay ascending).
+    pub fn push(&mut self, row: &Weights, first: u32) {
+        for &(v, w) in &row.0 {
+            let w32 = w as f32;
+            if w32 != 0.0 {
+                self.ids.push(first + v);
+                self.weights.push(w32);
+                self.weights_f64.push(w);
+            }
+        }
+        self.offsets.push(self.ids.len() as u32);
+    }
+
+    /// Appends `n` empty rows.
+    pub fn push_empty(&mut self, n: usize) {
+        let end = self.ids.len() as u32;
+        self.offsets.extend(std::iter::repeat_n(end, n));
+    }
+
+    /// Terms `(id, f64 weight)` of row `r`.
+    pub fn row(&self, r: usize) -> impl Iterator<Item = (u32, f64)> + '_ {
+        let (a, b) = (self.offsets[r] as usize, self.offsets[r + 1] as usize);
+        self.ids[a..b]
+            .iter()
+            .copied()
+            .zip(self.weights_f64[a..b].iter().copied())
+    }
+
+    /// Row `r` applied to global positions with the f64 weights.
+    pub fn apply(&self, r: usize, positions: &[DVec3]) -> DVec3 {
+        self.row(r).map(|(v, w)| w * positions[v as usize]).sum()
+    }
+
+    /// Row `r` applied with the f32 weights (products and sums in f64).
+    pub fn apply_f32(&self, r: usize, positions: &[DVec3]) -> DVec3 {
+        let (a, b) = (self.offsets[r] as usize, self.offsets[r + 1] as usize);
+        self.ids[a..b]
+            .iter()
+            .zip(&self.weights[a..b])
+            .map(|(&v, &w)| f64::from(w) * positions[v as usize])
+            .sum()
+    }
+}
+
+/// Folds the weights of a patch's mirrored control points onto its real ones: the transpose of
+/// [`RegularPatch::control_points`] (columns mirrored first, then rows, each phantom `2a - b`).
+fn fold_phantoms(mut c: [f64; 16], mask: u8) -> [f64; 16] {
+    let fold = |c: &mut [f64; 16], phantom: usize, a: usize, b: usize| {
+        let w = std::mem::take(&mut c[phantom]);
+        c[a] += 2.0 * w;
+        c[b] -= w;
+    };
+    for i in 0..4 {
+        if mask & 1 != 0 {
+            fold(&mut c, i, 4 + i, 8 + i);
+        }
+        if mask & 4 != 0 {
+            fold(&mut c, 12 + i, 8 + i, 4 + i);
+        }
+    }
+    for r in (0..16).step_by(4) {
+        if mask & 8 != 0 {
+            fold(&mut c, r, r + 1, r + 2);
+        }
+        if mask & 2 != 0 {
+            fold(&mut c, r + 3, r + 2, r + 1);
+        }
+    }
+    c
+}
+
+/// Rows (position, d/du, d/dv) of B-spline patch `p` (global control vertices) at its face
+/// corner `k` (Köbler 2013 §3.1: the basis at the domain corner), phantoms folded in.
+pub fn bspline_corner_rows(p: &RegularPatch, k: usize) -> [Weights; 3] {
+    let (s, t) = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)][k];
+    let (bu, du, bv, dv) = (bspline(s), bspline_deriv(s), bspline(t), bspline_deriv(t));
+    let tensor = |a: [f64; 4], b: [f64; 4]| {
+        let mut c = [0.0; 16];
+        for (j, &y) in b.iter().enumerate() {
+            for (i, &x) in a.iter().enumerate() {
+                c[4 * j + i] = x * y;
+            }
+        }
+        let c = fold_phantoms(c, p.boundary_mask);
+        let mut w = Weights::zero();
+        for (&v, &x) in p.cvs.iter().zip(&c) {
+            w.add_scaled(x, &Weights::unit(v));
+        }
+        w
+    };
+    [tensor(bu, bv), tensor(du, bv), tensor(bu, dv)]
+}
+
+/// Rows (position, tangent towards corner `k + 1`, tangent towards corner `k - 1`) of a Gregory
+/// patch at corner `k` from its rows ([`crate::patch::gregory::stencil_table`] order: kind by
+/// kind, `n` corners): `p`, `3 (e+ - p)`, `3 (e- - p)` (Loop et al. 2009 §3.2-3.3), so
+/// `cross(du, dv)` is the outward normal of a counter-clockwise face.
+pub fn gregory_corner_rows(rows: &[Weights], n: usize, k: usize) -> [Weights; 3] {
+    let p = &rows[k];
+    let tangent = |e: &Weights| {
+        let mut w = Weights::zero();
+        w.add_scaled(3.0, e);
+        w.add_scaled(-3.0, p);
+        w
+    };
+    [p.clone(), tangent(&rows[n + k]), tangent(&rows[2 * n + k])]
+}

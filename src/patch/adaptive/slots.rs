@@ -1,0 +1,89 @@
+//! Frame slots: one dense index per limit point that is a patch corner, shared by the vertices
+//! of every level that are that point (a vertex point is the same limit point as its parent
+//! vertex, Köbler 2013 §3.5), so corners of patches of different levels read one frame.
+
+use crate::subdiv::adaptive::{AdaptiveRefinement, ChildOf, PatchCensus};
+
+/// No slot / no entry.
+pub const NONE: u32 = u32::MAX;
+
+/// The slot of every global vertex that is a patch corner.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Slots {
+    /// Per slot: the global id of its origin (the vertex of the coarsest level that is the
+    /// point), increasing.
+    pub origins: Vec<u32>,
+    /// Per global vertex: its slot, [`NONE`] when no patch has that point as a corner.
+    pub of_vertex: Vec<u32>,
+}
+
+/// Per global vertex: the global id of the coarsest vertex it is a vertex point of (itself
+/// unless it is `ChildOf::Vertex`).
+pub fn origins(refinement: &AdaptiveRefinement) -> Vec<u32> {
+    let mut origin: Vec<u32> = Vec::with_capacity(refinement.vertex_count());
+    for (l, lev) in refinement.levels.iter().enumerate() {
+        for v in 0..lev.level.vertex_count() as u32 {
+            let own = lev.global(v);
+            let o = match l.checked_sub(1).map(|p| &refinement.levels[p]) {
+                Some(parent) => match parent.child_of(v) {
+                    ChildOf::Vertex(p) => origin[parent.global(p) as usize],
+                    _ => own,
+                },
+                None => own,
+            };
+            origin.push(o);
+        }
+    }
+    origin
+}
+
+/// The global corner ids of census patch `i` in face order.
+fn corners<'a>(
+    refinement: &'a AdaptiveRefinement,
+    census: &'a PatchCensus,
+    i: usize,
+) -> impl Iterator<Item = u32> + 'a {
+    let p = &census.patches[i];
+    let lev = &refinement.levels[p.level as usize];
+    lev.topology()
+        .face_vertices(p.face)
+        .iter()
+        .map(move |&v| lev.global(v))
+}
+
+impl Slots {
+    /// Slots of every corner of every census patch, numbered by increasing origin id.
+    pub fn new(refinement: &AdaptiveRefinement, census: &PatchCensus) -> Slots {
+        let origin = origins(refinement);
+        let mut used = vec![false; origin.len()];
+        for i in 0..census.patches.len() {
+            for g in corners(refinement, census, i) {
+                used[origin[g as usize] as usize] = true;
+            }
+        }
+        let origins: Vec<u32> = (0..origin.len() as u32)
+            .filter(|&g| used[g as usize])
+            .collect();
+        let mut slot_of_origin = vec![NONE; origin.len()];
+        for (s, &o) in origins.iter().enumerate() {
+            slot_of_origin[o as usize] = s as u32;
+        }
+        let of_vertex = origin.iter().map(|&o| slot_of_origin[o as usize]).collect();
+        Slots { origins, of_vertex }
+    }
+
+    /// Number of slots.
+    pub fn len(&self) -> usize {
+        self.origins.len()
+    }
+
+    /// Whether there is no slot.
+    pub fn is_empty(&self) -> bool {
+        self.origins.is_empty()
+    }
+
+    /// The slot of global vertex `g` ([`NONE`] if it is no patch corner's point).
+    pub fn of(&self, g: u32) -> u32 {
+        self.of_vertex[g as usize]
+    }
+}

@@ -1,0 +1,78 @@
+//! The per-patch flags and shared-edge grids the Gregory TES reads (`glsl/gregory/gregory.glsl`,
+//! §4.5 watertight edges and corners), from topology alone, for any set of neighbouring patches.
+
+use super::super::edge_grid::edge_grid;
+use super::super::RegularPatch;
+use crate::topology::{is_sharp_edge, sector_count, Topology};
+
+/// Grid vertex ids per patch (4 edges x 3 rows x 4).
+pub const GRID_IDS_PER_PATCH: usize = 48;
+
+/// What is drawn across one edge of a Gregory patch.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Across {
+    /// Nothing on the GPU (boundary, hole, a face left to another path): one-sided normal.
+    Nothing,
+    /// A patch sharing the edge's normal without a B-spline grid (another Gregory patch, or a
+    /// coarser patch whose own record replaces the grid).
+    Patch,
+    /// A regular B-spline patch (control vertex ids in the id space of the flags' ids).
+    BSpline(RegularPatch),
+}
+
+/// Flags and grids of one Gregory patch.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct EdgeFlags {
+    /// Bit k: edge k (corner k -> k+1) is shared with a regular B-spline patch; bit 4+k: that
+    /// shared edge is a boundary or infinitely sharp edge; bit 8+k: the face across edge k is a
+    /// triangle; bit 12+k: edge k is a boundary or infinitely sharp edge, or nothing on the GPU
+    /// lies across it (one-sided normal); bit 16+k: corner k's vertex has two or more sectors;
+    /// bits 20+2k / 21+2k: the first / last grid point of edge k is a mirrored phantom.
+    pub flags: u32,
+    /// [`GRID_IDS_PER_PATCH`] ids (zeros where bit k is off).
+    pub grids: [u32; GRID_IDS_PER_PATCH],
+}
+
+/// The flags of face `f` of `topo`: `across(k, g)` classifies the face `g` across edge `k`
+/// (`None` on a boundary); `id` maps a vertex of `topo` to the id space of the B-spline
+/// patches' control vertices and `key` orders those ids for the canonical edge direction.
+pub fn edge_flags(
+    topo: &Topology,
+    f: u32,
+    across: impl Fn(usize, Option<u32>) -> Across,
+    id: impl Fn(u32) -> u32,
+    key: impl Fn(u32) -> u32,
+) -> EdgeFlags {
+    let fv = topo.face_vertices(f);
+    let n = fv.len();
+    let mut flags = 0u32;
+    let mut grids = [0u32; GRID_IDS_PER_PATCH];
+    for k in 0..n {
+        let (a, b) = (fv[k], fv[(k + 1) % n]);
+        let e = topo.find_edge(a, b);
+        let g = e.and_then(|e| topo.edge_faces(e).iter().copied().find(|&g| g != f));
+        if g.is_some_and(|g| topo.face_size(g) == 3) {
+            flags |= 1 << (8 + k);
+        }
+        let sharp = e.is_none_or(|e| is_sharp_edge(topo, e));
+        let other = across(k, g);
+        if sharp || other == Across::Nothing {
+            flags |= 1 << (12 + k);
+        }
+        if sector_count(topo, a) >= 2 {
+            flags |= 1 << (16 + k);
+        }
+        let Across::BSpline(p) = other else { continue };
+        let Some(grid) = edge_grid(&p, id(a), id(b), &key).filter(|g| !g.outer_phantom) else {
+            continue;
+        };
+        flags |= 1 << k;
+        if sharp {
+            flags |= 1 << (4 + k);
+        }
+        flags |= u32::from(grid.first_phantom) << (20 + 2 * k);
+        flags |= u32::from(grid.last_phantom) << (21 + 2 * k);
+        grids[12 * k..12 * k + 12].copy_from_slice(&grid.ids);
+    }
+    EdgeFlags { flags, grids }
+}

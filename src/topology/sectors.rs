@@ -1,0 +1,67 @@
+//! Sharp edges and sectors around a vertex (pure topology): how many limit normals meet at a
+//! vertex, and the smooth stand-in of a level with residual semi-sharp tags.
+
+use std::borrow::Cow;
+
+use super::Topology;
+use crate::mesh::INFINITE_SHARPNESS;
+
+/// Boundary or infinitely sharp edge.
+pub fn is_sharp_edge(topo: &Topology, e: u32) -> bool {
+    topo.is_boundary_edge(e) || topo.edge_sharpness(e) >= INFINITE_SHARPNESS
+}
+
+/// Number of sectors the sharp edges split vertex `v`'s ring into (0 for a smooth vertex).
+pub fn sector_count(topo: &Topology, v: u32) -> usize {
+    let sharp = topo
+        .vertex_edges(v)
+        .iter()
+        .filter(|&&e| is_sharp_edge(topo, e))
+        .count();
+    if topo.is_boundary_vertex(v) {
+        sharp.saturating_sub(1)
+    } else {
+        sharp
+    }
+}
+
+/// Whether every patch at vertex `v` has the same limit normal there (one sector: smooth
+/// interior or a boundary/crease vertex whose sharp edges do not split its faces; not a cone).
+pub fn single_normal_vertex(topo: &Topology, v: u32) -> bool {
+    sector_count(topo, v) <= 1
+        && (topo.is_boundary_vertex(v) || topo.vertex_sharpness(v) < INFINITE_SHARPNESS)
+}
+
+fn is_semi(s: f32) -> bool {
+    s > 0.0 && s < INFINITE_SHARPNESS
+}
+
+impl Topology {
+    /// Whether any edge or vertex carries a finite non-zero (semi-sharp) sharpness.
+    pub fn has_semi_sharpness(&self) -> bool {
+        self.edge_sharpness.iter().any(|&s| is_semi(s))
+            || self.vertex_sharpness.iter().any(|&s| is_semi(s))
+    }
+
+    /// This topology with every semi-sharp edge and vertex made smooth (sharpness 0), infinitely
+    /// sharp tags and boundaries kept; borrowed when there is nothing to clear. The last level
+    /// of a feature-adaptive refinement treats its residual semi-sharpness this way, as
+    /// OpenSubdiv's irregular (end-cap) patches do: `Far::PatchBuilder::
+    /// GetIrregularPatchCornerSpans` sharpens corner spans from the infinitely sharp tags only.
+    pub fn without_semi_sharpness(&self) -> Cow<'_, Topology> {
+        if !self.has_semi_sharpness() {
+            return Cow::Borrowed(self);
+        }
+        let mut t = self.clone();
+        for s in t
+            .edge_sharpness
+            .iter_mut()
+            .chain(t.vertex_sharpness.iter_mut())
+        {
+            if is_semi(*s) {
+                *s = 0.0;
+            }
+        }
+        Cow::Owned(t)
+    }
+}
