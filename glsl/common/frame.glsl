@@ -12,6 +12,7 @@
 #define COLOR_NONE 0u
 #define COLOR_PATCH_TYPE 1u
 #define COLOR_ERROR 2u
+#define COLOR_LEVEL 3u
 
 /// Patch classes for colouring (per patch / per fallback vertex).
 #define CLASS_REGULAR 0u
@@ -20,6 +21,8 @@
 #define CLASS_SINGLE_CREASE 3u
 /// Error-map classes: CLASS_HEAT_BASE + e, e in 0..1023 (render::heatmap).
 #define CLASS_HEAT_BASE 16u
+/// Adaptive-scheme classes: CLASS_ADAPTIVE + 16 kind + level (glsl/adaptive/adaptive.glsl).
+#define CLASS_ADAPTIVE 2048u
 
 layout(std140, set = 0, binding = 0) uniform Frame {
     mat4 view_proj;      // world -> clip (Vulkan clip space: y down, depth 0..1)

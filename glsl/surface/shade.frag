@@ -17,7 +17,20 @@ vec3 heat_ramp(float t) {
     return c;
 }
 
+// Adaptive patch kinds (adaptive/adaptive.glsl): regular, boundary, crease, end cap,
+// single-crease, transition.
+const vec3 KIND_COLORS[6] = vec3[6](vec3(0.90, 0.68, 0.20), vec3(0.95, 0.50, 0.15),
+                                   vec3(0.85, 0.25, 0.25), vec3(0.58, 0.38, 0.80),
+                                   vec3(0.20, 0.70, 0.70), vec3(0.30, 0.50, 0.90));
+
 vec3 base_color() {
+    if (t_class >= CLASS_ADAPTIVE) {
+        uint kind = min((t_class - CLASS_ADAPTIVE) / 16u, 5u);
+        uint level = (t_class - CLASS_ADAPTIVE) % 16u;
+        if (frame.flags.x == COLOR_LEVEL) return heat_ramp(float(min(level, 8u)) / 8.0);
+        if (frame.flags.x == COLOR_PATCH_TYPE) return KIND_COLORS[kind];
+        return vec3(0.72, 0.74, 0.78);
+    }
     if (frame.flags.x == COLOR_ERROR) {
         if (t_class >= CLASS_HEAT_BASE) return heat_ramp(float(t_class - CLASS_HEAT_BASE) / 1023.0);
         if (t_class == CLASS_REGULAR) return heat_ramp(0.0);

@@ -29,6 +29,11 @@ pub struct BenchArgs {
     /// GPU scheme for non-regular faces (see `tessera render --help`).
     #[arg(long, value_enum, default_value_t = Scheme::default())]
     pub scheme: Scheme,
+    /// Isolation level of `--scheme adaptive` (0-8): faces are refined around features until
+    /// they are regular or this level is reached (Köbler 2013 §3.3).
+    #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_ISOLATION,
+          value_parser = clap::value_parser!(u32).range(0..=8))]
+    pub isolation: u32,
     /// Animate: before every timed frame, twist the control positions (as `render --animate`)
     /// and hand them to the renderer (`update_positions`: vertex limit frames and CPU-path faces
     /// recomputed on the CPU, every GPU patch rebuilt on the GPU); adds the CPU milliseconds of
@@ -96,7 +101,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let rest = mesh.positions().to_vec();
     for &req in &levels {
         let level = clamp_level(&ctx, req)?;
-        let surface = surface_for(&ctx, &mesh, level, args.scheme)?;
+        let surface = surface_for(&ctx, &mesh, level, args.scheme, args.isolation)?;
         if req == levels[0] {
             report_fallback(&surface);
         }

@@ -62,6 +62,11 @@ pub struct RenderArgs {
     /// large rings or valences) are drawn from the exact CPU reference, with a message.
     #[arg(long, value_enum, default_value_t = Scheme::default())]
     pub scheme: Scheme,
+    /// Isolation level of `--scheme adaptive` (0-8): faces are refined around features until
+    /// they are regular or this level is reached (Köbler 2013 §3.3).
+    #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_ISOLATION,
+          value_parser = clap::value_parser!(u32).range(0..=8))]
+    pub isolation: u32,
     /// Draw triangle edges only.
     #[arg(long)]
     pub wireframe: bool,
@@ -69,8 +74,10 @@ pub struct RenderArgs {
     /// only the control positions, and write them to `--out` as a contact sheet.
     #[arg(long, default_value_t = 0)]
     pub animate: u32,
-    /// `patch-type`: regular gold, irregular purple, triangles green; `none`: one material.
-    #[arg(long, default_value = "none", value_parser = ["patch-type", "none"])]
+    /// `patch-type`: regular gold, irregular purple, triangles green (adaptive: regular gold,
+    /// boundary orange, crease red, end caps purple, single-crease teal, transition blue);
+    /// `level`: adaptive patches by refinement level, blue (0) to red (8); `none`: one material.
+    #[arg(long, default_value = "none", value_parser = ["patch-type", "level", "none"])]
     pub color_by: String,
     /// MSAA samples (1, 2, 4, 8; must be supported by the device).
     #[arg(long, default_value_t = 1)]
@@ -158,18 +165,25 @@ pub fn max_patch_level(arg: f32) -> f32 {
     }
 }
 
+/// Planning options on `ctx`'s device with `--isolation`.
+pub fn plan_options(ctx: &Context, isolation: u32) -> tessera::render::PlanOptions {
+    tessera::render::PlanOptions::new(tessera::render::SchemeLimits::from_context(ctx))
+        .with_isolation(isolation)
+}
+
 /// The surface of `mesh` for the `--scheme` named `scheme` on `ctx`'s device.
 pub fn surface_for(
     ctx: &Context,
     mesh: &ControlMesh,
     level: f32,
     scheme: Scheme,
+    isolation: u32,
 ) -> Result<SurfaceData> {
-    tessera::render::surface_for_scheme(
+    tessera::render::surface_for_scheme_with(
         mesh,
         level.ceil() as u32,
         scheme,
-        &tessera::render::SchemeLimits::from_context(ctx),
+        &plan_options(ctx, isolation),
     )
 }
 
@@ -242,15 +256,15 @@ pub fn run(args: RenderArgs) -> Result<()> {
     if !(tess.pixels_per_edge.is_finite() && tess.pixels_per_edge > 0.0) {
         return Err(Error::Invalid("--pixels-per-edge must be positive".into()));
     }
-    let surface = surface_for(&ctx, &mesh, level, args.scheme)?;
+    let surface = surface_for(&ctx, &mesh, level, args.scheme, args.isolation)?;
     report_fallback(&surface);
     let render = RenderDesc {
         tess,
         wireframe: args.wireframe,
-        color_by: if args.color_by == "patch-type" {
-            ColorBy::PatchType
-        } else {
-            ColorBy::None
+        color_by: match args.color_by.as_str() {
+            "patch-type" => ColorBy::PatchType,
+            "level" => ColorBy::Level,
+            _ => ColorBy::None,
         },
         ..RenderDesc::default()
     };

@@ -5,12 +5,12 @@ use std::path::PathBuf;
 
 use clap::Args;
 use tessera::render::{
-    capture_capacity_for, plan_for_scheme, render_to_image, resolve_tess, OffscreenDesc,
-    RenderDesc, Scheme, SchemeLimits, TessSettings,
+    capture_capacity_for, plan_for_scheme_with, render_to_image, resolve_tess, CaptureRecord,
+    OffscreenDesc, RenderDesc, Scheme, TessSettings,
 };
 use tessera::{Error, Result};
 
-use super::render::{check_validation, clamp_level, context, load};
+use super::render::{check_validation, clamp_level, context, load, plan_options};
 
 /// Arguments of `tessera sample`.
 ///
@@ -21,6 +21,9 @@ use super::render::{check_validation, clamp_level, context, load};
 /// Gregory patches (`--scheme gregory-*`): quads in the face's (u, v); a triangle's line holds
 /// (u, v) = the barycentric weights of its corners 1 and 2 (corner 0 has weight 1 - u - v),
 /// not Catmull-Clark's three-quad parameterisation of the triangle.
+/// `--scheme adaptive`: quads in the face's (u, v), other faces `f:k u v …` in sub-face k (as
+/// `tessera limit`), and two more columns: the patch type (regular, boundary, crease, gregory-quad
+/// for end caps, single-crease, transition) and its refinement level.
 #[derive(Args)]
 pub struct SampleArgs {
     /// Control mesh: an OBJ file or `embedded:NAME`.
@@ -34,6 +37,11 @@ pub struct SampleArgs {
     /// GPU scheme for non-regular faces (see `tessera render --help`).
     #[arg(long, value_enum, default_value_t = Scheme::default())]
     pub scheme: Scheme,
+    /// Isolation level of `--scheme adaptive` (0-8): faces are refined around features until
+    /// they are regular or this level is reached (Köbler 2013 §3.3).
+    #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_ISOLATION,
+          value_parser = clap::value_parser!(u32).range(0..=8))]
+    pub isolation: u32,
     /// Enable the Khronos validation layer (always on in debug builds).
     #[arg(long)]
     pub validation: bool,
@@ -48,7 +56,8 @@ pub fn run(args: SampleArgs) -> Result<()> {
     let ctx = context(args.validation)?;
     let level = clamp_level(&ctx, args.tess)?;
     // Only the GPU patches are captured; the other faces are counted, not evaluated.
-    let mut surface = plan_for_scheme(&mesh, args.scheme, &SchemeLimits::from_context(&ctx))?;
+    let mut surface =
+        plan_for_scheme_with(&mesh, args.scheme, &plan_options(&ctx, args.isolation))?;
     log::info!(
         "{} face(s) captured from the GPU, {} drawn another way (CPU fallback, not in the file), \
          {} without limit surface",
@@ -77,19 +86,13 @@ pub fn run(args: SampleArgs) -> Result<()> {
     let out = render_to_image(&ctx, &surface, &render, &desc, false)?;
     let mut recs = out.capture.unwrap_or_default();
     recs.sort_by(|a, b| {
-        (a.face, a.v, a.u)
-            .partial_cmp(&(b.face, b.v, b.u))
+        (a.face, a.sub_face, a.v, a.u)
+            .partial_cmp(&(b.face, b.sub_face, b.v, b.u))
             .unwrap_or(std::cmp::Ordering::Equal)
     });
     let mut text = String::with_capacity(recs.len() * 96);
     for r in &recs {
-        let [x, y, z] = r.position;
-        let [nx, ny, nz] = r.normal;
-        let _ = writeln!(
-            text,
-            "{} {:?} {:?} {:?} {:?} {:?} {:?} {:?} {:?}",
-            r.face, r.u, r.v, x, y, z, nx, ny, nz
-        );
+        write_record(&mut text, r);
     }
     std::fs::write(&args.out, text).map_err(|e| Error::Io {
         path: args.out.display().to_string(),
@@ -97,4 +100,29 @@ pub fn run(args: SampleArgs) -> Result<()> {
     })?;
     eprintln!("{} TES invocations written", recs.len());
     check_validation(&ctx)
+}
+
+/// One capture line: `f u v x y z nx ny nz` (`f:k` for sub-face k), then the patch type and level
+/// where the scheme tags them.
+fn write_record(text: &mut String, r: &CaptureRecord) {
+    let [x, y, z] = r.position;
+    let [nx, ny, nz] = r.normal;
+    let _ = match r.sub_face {
+        Some(k) => write!(text, "{}:{k}", r.face),
+        None => write!(text, "{}", r.face),
+    };
+    let _ = write!(
+        text,
+        " {:?} {:?} {:?} {:?} {:?} {:?} {:?} {:?}",
+        r.u, r.v, x, y, z, nx, ny, nz
+    );
+    if let Some(p) = r.patch {
+        let _ = write!(
+            text,
+            " {} {}",
+            tessera::render::schemes::adaptive::kind_name(p.kind),
+            p.level
+        );
+    }
+    text.push('\n');
 }

@@ -61,6 +61,9 @@ pub enum ColorBy {
     /// Error maps ([`super::heatmap`]): blue (exact) to red by the per-vertex error class;
     /// regular patches blue, exact CPU faces grey.
     Error,
+    /// Adaptive-scheme patches by refinement level (Köbler 2013, Fig. 5.1): level 0 blue to the
+    /// isolation level red; other schemes' patches neutral.
+    Level,
 }
 
 /// Tessellation settings.
@@ -225,6 +228,7 @@ impl FrameUniforms {
             ColorBy::None => 0u32,
             ColorBy::PatchType => 1u32,
             ColorBy::Error => 2u32,
+            ColorBy::Level => 3u32,
         };
         out[128..132].copy_from_slice(&color.to_le_bytes());
         out

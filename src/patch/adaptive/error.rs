@@ -33,3 +33,14 @@ pub enum DrawTablesError {
         level: u32,
     },
 }
+
+impl DrawTablesError {
+    /// The base face the error names.
+    pub fn base_face(&self) -> u32 {
+        match self {
+            DrawTablesError::EndCap(e) => e.base_face,
+            DrawTablesError::LevelGap { base_face, .. }
+            | DrawTablesError::SingleCrease { base_face, .. } => *base_face,
+        }
+    }
+}

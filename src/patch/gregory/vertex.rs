@@ -143,12 +143,15 @@ pub fn crease_tangent_weights(k: usize) -> (f64, Vec<f64>, Vec<f64>) {
 impl<P: GregoryPoint> GregoryVertex<P> {
     /// The construction for any supported ring: [`Self::interior`] when no edge is sharp,
     /// otherwise [`Self::sectored`]. `None` for rings the construction does not cover (a
-    /// single sharp edge, or a crease sector with one face).
+    /// single sharp edge, a crease sector with one face, or a ring that does not close: fewer
+    /// faces than edges without a sharp edge, e.g. next to a hole).
     pub fn new(ring: &VertexRing<P>) -> Option<GregoryVertex<P>> {
         if ring.sharp.iter().any(|&s| s) || ring.corner {
             Self::sectored(ring)
-        } else {
+        } else if ring.c.len() == ring.m.len() {
             Some(Self::interior(ring))
+        } else {
+            None
         }
     }
 

@@ -50,6 +50,10 @@ pub enum Scheme {
     /// patches from precomputed one-ring stencils in the TCS (§4.3).
     #[default]
     GregoryStencil,
+    /// Feature-adaptive subdivision (Köbler 2013, Nießner et al. 2012): refined on the GPU
+    /// around features to `--isolation`, every face drawn as exact B-spline patches of its
+    /// level, transition patches and Gregory end caps; nothing on the CPU path.
+    Adaptive,
 }
 
 /// One registry line: a user-facing scheme, its command-line name and its passes in order.
@@ -63,7 +67,7 @@ pub struct SchemeEntry {
 }
 
 /// Every scheme. Adding one: a [`Scheme`] variant and a line here.
-pub static REGISTRY: [SchemeEntry; 3] = [
+pub static REGISTRY: [SchemeEntry; 4] = [
     SchemeEntry {
         scheme: Scheme::BsplineOnly,
         name: "bspline-only",
@@ -87,14 +91,20 @@ pub static REGISTRY: [SchemeEntry; 3] = [
             &gregory_stencil::GREGORY_STENCIL,
         ],
     },
+    SchemeEntry {
+        scheme: Scheme::Adaptive,
+        name: "adaptive",
+        passes: &[&adaptive::ADAPTIVE],
+    },
 ];
 
 impl Scheme {
     /// Every scheme, in registry order.
-    pub const ALL: [Scheme; 3] = [
+    pub const ALL: [Scheme; 4] = [
         Scheme::BsplineOnly,
         Scheme::GregoryVs,
         Scheme::GregoryStencil,
+        Scheme::Adaptive,
     ];
 
     /// The registry line of this scheme.

@@ -174,6 +174,10 @@ pub enum CaptureLayout {
     /// Quads in the face's domain; a triangle drawn whole as barycentric weights of corners 1
     /// and 2.
     FaceDomainOrBarycentric,
+    /// Quads in the face's domain; other faces per sub-face (the record's `sub_face`; `f:k u v`
+    /// as `tessera limit` writes it), sub-face `k` with `(0, 0)` at corner `k`, as
+    /// [`crate::subdiv::eval::LimitEvaluator`] parameterises it.
+    SubFaces,
 }
 
 /// A patch evaluated on the CPU: `(u, v)` to position and unit normal.

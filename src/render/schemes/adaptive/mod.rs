@@ -1,4 +1,198 @@
-//! Feature-adaptive subdivision on the GPU (Köbler 2013, chapter 4; Nießner et al. 2012): for
-//! now the compute refinement that applies `subdiv::tables` level by level.
+//! Feature-adaptive subdivision on the GPU (`--scheme adaptive`; Köbler 2013 ch. 3-4, after
+//! Nießner, Loop, Meyer, DeRose 2012): every face of the mesh refined around its features to the
+//! isolation level by compute kernels, then drawn as exact B-spline patches at the level where
+//! it became regular, transition patches where a finer neighbour meets it, and Gregory end caps
+//! for what is still irregular at the isolation level. No face goes to the CPU path: a face the
+//! scheme cannot build is an error naming it.
+//!
+//! CPU side: [`crate::subdiv::adaptive`] (refinement, census), [`crate::subdiv::tables`]
+//! (kernels' tables), [`crate::patch::adaptive`] (patches, draw tables, CPU surface). GPU side:
+//! [`refine`] (refinement kernels), [`derive`] (corner frames and end-cap points), [`pass`]
+//! (draws).
 
+pub mod derive;
+pub mod pass;
 pub mod refine;
+
+use std::any::Any;
+use std::sync::Arc;
+
+use glam::DVec3;
+
+use super::traits::{
+    CaptureLayout, PassContext, PassPlan, PassTables, PatchPass, PatchScheme, PlanOptions,
+    ReferencePatch, Refusal, RefusalReason,
+};
+use crate::patch::adaptive::{AdaptiveDrawTables, AdaptiveSurface};
+use crate::render::pass::{NormalRule, VertexFrames};
+use crate::render::settings::{PatchLevelLimit, Spacing};
+use crate::subdiv::adaptive::AdaptiveRefinement;
+use crate::subdiv::tables::RefinementTables;
+use crate::subdiv::Level;
+use crate::topology::Topology;
+use crate::Result;
+
+/// The name of a captured patch kind (`KIND_*` of `glsl/adaptive/adaptive.glsl`: the
+/// [`crate::subdiv::adaptive::PatchType`] codes, end caps as `gregory-quad`, then
+/// `transition`), as `tessera sample` writes it.
+pub fn kind_name(kind: u8) -> &'static str {
+    match kind {
+        0 => "regular",
+        1 => "boundary",
+        2 => "crease",
+        3 => "gregory-quad",
+        4 => "single-crease",
+        5 => "transition",
+        _ => "unknown",
+    }
+}
+
+/// The adaptive scheme's only pass, in the registry.
+pub static ADAPTIVE: AdaptiveScheme = AdaptiveScheme;
+
+/// Takes every face with a limit surface (or fails naming one it cannot build).
+#[derive(Debug, Clone, Copy)]
+pub struct AdaptiveScheme;
+
+impl PatchScheme for AdaptiveScheme {
+    fn name(&self) -> &'static str {
+        "adaptive"
+    }
+
+    fn takes_every_face(&self) -> bool {
+        true
+    }
+
+    fn plan(&self, topo: &Arc<Topology>, candidates: &[u32], opts: &PlanOptions) -> PassPlan {
+        match AdaptiveTables::new(topo, candidates, opts.isolation) {
+            Ok(t) => PassPlan {
+                tables: Some(Arc::new(t)),
+                refused: Vec::new(),
+            },
+            Err((face, why)) => PassPlan {
+                tables: None,
+                refused: vec![Refusal {
+                    face,
+                    pass: self.name(),
+                    reason: RefusalReason::Adaptive(why),
+                }],
+            },
+        }
+    }
+}
+
+/// The CPU tables of the adaptive scheme for one topology.
+#[derive(Debug)]
+pub struct AdaptiveTables {
+    faces: Vec<u32>,
+    /// The refinement (levels, sparse topologies).
+    pub adaptive: AdaptiveRefinement,
+    /// The kernels' subdivision tables.
+    pub refinement: RefinementTables,
+    /// What the draws read.
+    pub draw: AdaptiveDrawTables,
+}
+
+impl AdaptiveTables {
+    /// Refines `topo` to `isolation` and builds the tables; on failure the face that cannot be
+    /// drawn and why.
+    pub fn new(
+        topo: &Arc<Topology>,
+        faces: &[u32],
+        isolation: u32,
+    ) -> std::result::Result<AdaptiveTables, (u32, String)> {
+        let first = faces.first().copied().unwrap_or(0);
+        let base = Level::from_topology((**topo).clone());
+        let adaptive =
+            AdaptiveRefinement::new(&base, isolation).map_err(|e| (first, e.to_string()))?;
+        let refinement =
+            RefinementTables::adaptive(&adaptive).map_err(|e| (first, e.to_string()))?;
+        let draw =
+            AdaptiveDrawTables::new(&adaptive).map_err(|e| (e.base_face(), e.to_string()))?;
+        Ok(AdaptiveTables {
+            faces: faces.to_vec(),
+            adaptive,
+            refinement,
+            draw,
+        })
+    }
+
+    /// Patch primitives drawn: regular and end-cap patches, one per transition triangle.
+    pub fn primitive_count(&self) -> usize {
+        self.draw.regular.len() + self.draw.triangles.len() + self.draw.end_caps.len()
+    }
+
+    /// The CPU surface of these tables over control `positions` (the reference the GPU
+    /// reproduces).
+    pub fn cpu_surface(&self, positions: &[DVec3]) -> Result<AdaptiveSurface> {
+        AdaptiveSurface::new(&self.adaptive, positions)
+            .map_err(|e| crate::Error::Invalid(e.to_string()))
+    }
+}
+
+impl PassTables for AdaptiveTables {
+    fn pass_name(&self) -> &'static str {
+        ADAPTIVE.name()
+    }
+
+    fn faces(&self) -> &[u32] {
+        &self.faces
+    }
+
+    fn patch_count(&self) -> usize {
+        self.primitive_count()
+    }
+
+    fn corner_frames(&self, _: &[DVec3], _: NormalRule<'_>, _: &mut VertexFrames) {
+        // The corner frames are computed on the GPU from the refined points every frame
+        // (derive.rs); the shared per-vertex frames are not read by this pass.
+    }
+
+    fn framing_points(&self, frames: &VertexFrames) -> Vec<DVec3> {
+        // The limit surface lies in the convex hull of the control points.
+        let topo = self.adaptive.levels[0].topology();
+        let mut points: Vec<DVec3> = self
+            .faces
+            .iter()
+            .flat_map(|&f| {
+                topo.face_vertices(f)
+                    .iter()
+                    .map(|&v| frames.limits[v as usize])
+            })
+            .collect();
+        points.dedup();
+        points
+    }
+
+    fn patch_level_limit(&self, _: Spacing) -> PatchLevelLimit {
+        // Levels scale down per patch level instead: patches are never split.
+        PatchLevelLimit {
+            max_patch_level: f32::INFINITY,
+            splittable: false,
+        }
+    }
+
+    fn capture_layout(&self) -> CaptureLayout {
+        CaptureLayout::SubFaces
+    }
+
+    fn reference(&self, positions: &[DVec3], face: u32) -> Option<ReferencePatch> {
+        let topo = self.adaptive.levels[0].topology();
+        if topo.face_size(face) != 4 {
+            return None;
+        }
+        let surface = self.cpu_surface(positions).ok()?;
+        Some(Box::new(move |u, v| match surface.eval(face, None, u, v) {
+            Some(p) => (p.position, p.du.cross(p.dv).normalize_or_zero()),
+            None => (DVec3::NAN, DVec3::ZERO),
+        }))
+    }
+
+    fn create_pass(&self, pc: &PassContext<'_>) -> Result<Box<dyn PatchPass>> {
+        Ok(Box::new(pass::AdaptivePass::new(pc, self)?))
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}

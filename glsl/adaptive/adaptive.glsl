@@ -1,0 +1,137 @@
+// What the patches of the adaptive scheme share (Köbler 2013, ch. 3): per-patch records and
+// coarse-edge records (src/patch/adaptive/draw.rs writes them byte for byte), tessellation
+// levels by patch level, the evaluation of an edge lying on a one-level-coarser patch (the
+// transition edges of §3.4, split in two halves as OpenSubdiv does) and the capture in base-face
+// parameters. Every vertex id here is a frame SLOT: the index of a limit point in vertex_limit /
+// vertex_normal (bindings 2 and 9, written by limit_frames.comp), the same for a vertex and its
+// vertex-point children at finer levels, so corners and canonical edge directions agree across
+// levels. Needs frame.glsl first.
+#ifndef TESSERA_ADAPTIVE_GLSL
+#define TESSERA_ADAPTIVE_GLSL
+
+#include "bspline.glsl"
+#include "watertight.glsl"
+#include "control_points.glsl"
+#ifdef CAPTURE
+#include "capture.glsl"
+#endif
+
+const uint NO_ENTRY = 0xffffffffu;
+
+/// Patch kinds as captured (subdiv::adaptive::PatchType 0-4; transition patches are B-spline
+/// patches drawn as a triangle fan).
+#define KIND_END_CAP 3u
+#define KIND_TRANSITION 5u
+
+/// One drawn patch (80 bytes): base face and sub-face (NO_ENTRY for quads), level, kind, the map
+/// of the patch domain into the base face (origin + s axis_u + t axis_v), transition mask (bit
+/// e: the neighbour across edge e is one level finer), the slot of each transition edge's
+/// midpoint, and per edge the coarse-edge record it lies on (NO_ENTRY: none).
+struct AdaptivePatch {
+    uint base_face;
+    uint sub_face;
+    uint level;
+    uint kind;
+    vec2 origin;
+    vec2 axis_u;
+    vec2 axis_v;
+    uint transition;
+    uint pad;
+    uvec4 mid;
+    uvec4 coarse;
+};
+
+layout(std430, set = 0, binding = 10) readonly buffer AdaptivePatches {
+    AdaptivePatch apatches[];
+};
+
+/// An edge of a coarse patch with finer patches along it (64 bytes): its 12 B-spline grid points
+/// (refined-buffer ids; rows left of / on / right of the direction from the smaller slot lo to
+/// hi, each from the lo end), the end and midpoint slots, flags (bit 0: boundary or infinitely
+/// sharp; bits 1, 2: the first / last point along the edge is a phantom, mirrored 2 x1 - x2 as
+/// the coarse patch's TCS does).
+struct CoarseEdge {
+    uint rows[12];
+    uint lo;
+    uint hi;
+    uint mid;
+    uint flags;
+};
+
+layout(std430, set = 0, binding = 11) readonly buffer CoarseEdges {
+    CoarseEdge coarse_edges[];
+};
+
+/// Parameters (t, s) on a coarse edge of the point at x on one of its halves: the half's own
+/// canonical parameters (canonical_ts; x measured from the half's lo end when `x_from_lo`), then
+/// halved onto the coarse edge (`first_half`: the half [lo, mid]). The coarse patch and the
+/// finer patch along the half call this with x and 1 - x and get the same bits.
+void coarse_half_ts(bool first_half, bool x_from_lo, float x, out float t, out float s) {
+    float th;
+    float sh;
+    canonical_ts(x, x_from_lo, th, sh);
+    precise float ht = 0.5 * th;
+    precise float hs = 0.5 * sh;
+    precise float tc = first_half ? ht : 0.5 + ht;
+    precise float sc = first_half ? 0.5 + hs : hs;
+    t = tc;
+    s = sc;
+}
+
+/// Point and normal of coarse edge `ce` at (t, s), from its record: the grid_edge_rows the coarse
+/// patch evaluates from its own (phantom-mirrored) B-spline points.
+void coarse_edge_point(CoarseEdge ce, float t, float s, out vec3 pos, out vec3 nrm) {
+    vec3 l[4];
+    vec3 m[4];
+    vec3 r[4];
+    for (int k = 0; k < 4; ++k) {
+        l[k] = control_point(ce.rows[k]);
+        m[k] = control_point(ce.rows[4 + k]);
+        r[k] = control_point(ce.rows[8 + k]);
+    }
+    if ((ce.flags & 2u) != 0u) {
+        l[0] = 2.0 * l[1] - l[2];
+        m[0] = 2.0 * m[1] - m[2];
+        r[0] = 2.0 * r[1] - r[2];
+    }
+    if ((ce.flags & 4u) != 0u) {
+        l[3] = 2.0 * l[2] - l[1];
+        m[3] = 2.0 * m[2] - m[1];
+        r[3] = 2.0 * r[2] - r[1];
+    }
+    grid_edge_rows(l, m, r, (ce.flags & 1u) != 0u, t, s, pos, nrm);
+}
+
+/// The finer patch's side of a transition edge: edge from slot a to slot b (one of them the
+/// coarse edge's midpoint) at x measured from a, evaluated from the coarse record `index`.
+/// Position always from the coarse edge; the normal too unless the edge is sharp (a crease:
+/// each side keeps its own).
+void fine_edge_point(uint index, uint a, uint b, float x, inout vec3 pos, inout vec3 nrm) {
+    CoarseEdge ce = coarse_edges[index];
+    bool first_half = (a == ce.lo || b == ce.lo);
+    bool x_from_lo = first_half ? (a == ce.lo) : (a == ce.mid);
+    float t;
+    float s;
+    coarse_half_ts(first_half, x_from_lo, x, t, s);
+    vec3 n;
+    coarse_edge_point(ce, t, s, pos, n);
+    if ((ce.flags & 1u) == 0u) {
+        nrm = n;
+    }
+}
+
+/// The colour class of a patch (shade.frag): kind and level.
+uint adaptive_class(uint kind, uint level) {
+    return CLASS_ADAPTIVE + kind * 16u + min(level, 15u);
+}
+
+#ifdef CAPTURE
+/// Captures a point of patch `ap` at its own (s, t) in its base face's (u, v) (or its sub-face's),
+/// tagged with the kind and level.
+void capture_adaptive(AdaptivePatch ap, uint kind, vec2 st, vec3 p, vec3 n) {
+    vec2 uv = ap.origin + st.x * ap.axis_u + st.y * ap.axis_v;
+    capture_tagged(ap.base_face, ap.sub_face, uv, p, n, CAPTURE_TAGGED | (ap.level << 8u) | kind);
+}
+#endif
+
+#endif

@@ -1,0 +1,25 @@
+// Tessellation levels of the adaptive scheme's patches (control stages only). Needs frame.glsl.
+#ifndef TESSERA_ADAPTIVE_LEVELS_GLSL
+#define TESSERA_ADAPTIVE_LEVELS_GLSL
+
+#include "tess_factors.glsl"
+
+/// Outer tessellation level of the edge between slots a and b of a level-`level` patch. Uniform
+/// mode: the requested level / 2^level, at least 1, so the density is the same at every level
+/// and both sides of an edge (same level) agree; screen-space mode: the chord rule of
+/// edge_tess_level (the chord itself halves with the level).
+float level_edge_tess(uint a, uint b, uint level) {
+    if (frame.tess.y != TESS_MODE_ADAPTIVE) {
+        return clamp(frame.tess.x / float(1u << level), 1.0, frame.tess.w);
+    }
+    return edge_tess_level(a, b);
+}
+
+/// Outer levels of the four corner-to-corner edges of a level-`level` patch, in B-spline edge
+/// order (v=0, u=1, v=1, u=0).
+vec4 patch_edge_levels(uvec4 c, uint level) {
+    return vec4(level_edge_tess(c.x, c.y, level), level_edge_tess(c.y, c.z, level),
+                level_edge_tess(c.w, c.z, level), level_edge_tess(c.x, c.w, level));
+}
+
+#endif

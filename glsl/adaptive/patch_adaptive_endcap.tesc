@@ -1,0 +1,40 @@
+#version 450
+// End cap (endcap.glsl): loads its 36 precomputed points; levels by patch level as every
+// adaptive patch (adaptive.glsl), from the corner slots.
+#include "frame.glsl"
+#include "adaptive.glsl"
+#include "adaptive_levels.glsl"
+#include "gregory/gregory.glsl"
+#include "endcap.glsl"
+
+layout(vertices = 20) out;
+layout(location = 0) out vec3 g_cp[];
+layout(location = 1) patch out vec3 g_eout[8];
+layout(location = 9) patch out vec3 g_nbr[8];
+
+void main() {
+    GregoryPatchInfo info = gpatches[chunk.patch_base + uint(gl_PrimitiveID)];
+    uint base = info.pad1;
+    int id = gl_InvocationID;
+    g_cp[gl_InvocationID] = endcap_points[base + uint(id)].xyz;
+    if (id < 8) {
+        g_eout[id] = endcap_points[base + 20u + uint(id)].xyz;
+    } else if (id < 16) {
+        g_nbr[id - 8] = endcap_points[base + 20u + uint(id)].xyz;
+    }
+    if (id == 0) {
+        uvec4 c = info.corners;
+        uint level = apatches[info.pad0].level;
+        // Quad domain: outer[0] is the u=0 edge, [1] v=0, [2] u=1, [3] v=1.
+        float o0 = level_edge_tess(c.x, c.w, level);
+        float o1 = level_edge_tess(c.x, c.y, level);
+        float o2 = level_edge_tess(c.y, c.z, level);
+        float o3 = level_edge_tess(c.w, c.z, level);
+        gl_TessLevelOuter[0] = o0;
+        gl_TessLevelOuter[1] = o1;
+        gl_TessLevelOuter[2] = o2;
+        gl_TessLevelOuter[3] = o3;
+        gl_TessLevelInner[0] = max(o1, o3);
+        gl_TessLevelInner[1] = max(o0, o2);
+    }
+}

@@ -1,0 +1,296 @@
+//! The GPU pass of `--scheme adaptive`: per frame, the refinement kernels
+//! ([`GpuRefiner`]) and the derived points ([`DerivedPoints`]: corner frames, end-cap control
+//! points) before the render pass; then three draws reading the refined buffer: B-spline
+//! patches of every level (`glsl/adaptive/patch_adaptive_bspline.*`), transition patches as
+//! triangle fans (`patch_adaptive_transition.*`) and Gregory end caps
+//! (`patch_adaptive_endcap.*`). One set 0 serves the three pipelines.
+
+use ash::vk;
+use glam::DVec3;
+
+use super::derive::DerivedPoints;
+use super::refine::GpuRefiner;
+use super::AdaptiveTables;
+use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool, Pipeline};
+use crate::patch::adaptive::AdaptiveDrawTables;
+use crate::render::pass::pipeline::{patch_pipeline, PatchShaders};
+use crate::render::pass::shared::{
+    set0_layout, CONTROL_POSITIONS_BINDING, VERTEX_LIMITS_BINDING, VERTEX_NORMALS_BINDING,
+};
+use crate::render::pass::upload::device_buffer;
+use crate::render::pass::{bind_draw_state, record_patch_draws, PatchDraws, VertexFrames};
+use crate::render::schemes::traits::PassContext;
+use crate::render::schemes::PatchPass;
+use crate::Result;
+
+/// The pass's own set-0 bindings (`glsl/common/frame.glsl`, `gregory/gregory.glsl`,
+/// `adaptive/*.glsl`): B-spline patch records, Gregory records, Gregory grids, adaptive patch
+/// records, coarse edges, transition triangles, end-cap points.
+const OWN_BINDINGS: [u32; 7] = [1, 6, 7, 10, 11, 12, 13];
+
+/// One pipeline's patches: index buffer (control points or one dummy index per patch) and
+/// counts.
+struct DrawGroup {
+    pipeline: Pipeline,
+    indices: Buffer,
+    count: u32,
+    points: u32,
+    vertices: Option<vk::Buffer>,
+}
+
+/// GPU resources of the adaptive scheme for one surface.
+pub struct AdaptivePass {
+    ctx: Context,
+    refiner: GpuRefiner,
+    derived: DerivedPoints,
+    _records: Vec<Buffer>,
+    groups: Vec<DrawGroup>,
+    _pool: DescriptorPool,
+    set: vk::DescriptorSet,
+    patches: u32,
+}
+
+/// `bytes` as a device-local storage or index buffer (16 zero bytes when empty: a binding needs
+/// a buffer).
+fn table_buffer(
+    ctx: &Context,
+    bytes: Vec<u8>,
+    usage: vk::BufferUsageFlags,
+    label: &str,
+) -> Result<Buffer> {
+    let bytes = if bytes.is_empty() {
+        vec![0u8; 16]
+    } else {
+        bytes
+    };
+    device_buffer(ctx, &bytes, usage, label)
+}
+
+/// The B-spline `PatchInfo` records of binding 1: regular patches, then transition patches.
+fn bspline_info_bytes(d: &AdaptiveDrawTables) -> Vec<u8> {
+    let mut bytes = d.regular_info_bytes();
+    bytes.extend(d.transition_info_bytes());
+    bytes
+}
+
+/// The transition triangles (binding 12) with their patch index into [`bspline_info_bytes`]
+/// (after the regular patches).
+fn triangle_bytes(d: &AdaptiveDrawTables) -> Vec<u8> {
+    let offset = d.regular.len() as u32;
+    rewrite_word(d.triangle_bytes(), 16, 0, |w| w + offset)
+}
+
+/// The end caps' `GregoryPatchInfo` records (binding 6) with `pad1` (word 3) the first of their
+/// points in the end-cap point buffer (rows counted from `end_cap_first_row`).
+fn end_cap_info_bytes(d: &AdaptiveDrawTables) -> Vec<u8> {
+    rewrite_word(d.end_cap_info_bytes(), 32, 3, |w| w - d.end_cap_first_row)
+}
+
+/// `bytes` with word `word` of every `stride`-byte record replaced by `f` of it.
+fn rewrite_word(mut bytes: Vec<u8>, stride: usize, word: usize, f: impl Fn(u32) -> u32) -> Vec<u8> {
+    for record in bytes.chunks_exact_mut(stride) {
+        let at = &mut record[4 * word..4 * word + 4];
+        let w = u32::from_le_bytes([at[0], at[1], at[2], at[3]]);
+        at.copy_from_slice(&f(w).to_le_bytes());
+    }
+    bytes
+}
+
+impl AdaptivePass {
+    /// Uploads the tables of `t` and creates the pipelines.
+    pub fn new(pc: &PassContext<'_>, t: &AdaptiveTables) -> Result<AdaptivePass> {
+        let ctx = pc.ctx;
+        let d = &t.draw;
+        let refiner = GpuRefiner::new(ctx, &t.refinement, pc.positions)?;
+        let derived = DerivedPoints::new(ctx, d, refiner.points())?;
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let index = vk::BufferUsageFlags::INDEX_BUFFER;
+        let records = vec![
+            table_buffer(
+                ctx,
+                bspline_info_bytes(d),
+                storage,
+                "adaptive b-spline records",
+            )?,
+            table_buffer(
+                ctx,
+                end_cap_info_bytes(d),
+                storage,
+                "adaptive end-cap records",
+            )?,
+            table_buffer(
+                ctx,
+                d.end_cap_grid_bytes(),
+                storage,
+                "adaptive end-cap grids",
+            )?,
+            table_buffer(
+                ctx,
+                d.patch_record_bytes(),
+                storage,
+                "adaptive patch records",
+            )?,
+            table_buffer(ctx, d.coarse_edge_bytes(), storage, "adaptive coarse edges")?,
+            table_buffer(ctx, triangle_bytes(d), storage, "adaptive transition fans")?,
+        ];
+        let layout = set0_layout(&OWN_BINDINGS);
+        let shaders =
+            |label: &str, vertex: &str, stem: &'static str, points, position_input| PatchShaders {
+                label: label.into(),
+                vertex: vertex.into(),
+                tess_control: format!("{stem}.tesc"),
+                tess_eval_stem: stem,
+                points,
+                position_input,
+                set_layouts: vec![layout.clone()],
+            };
+        let points = Some(refiner.points().raw());
+        let mut groups = Vec::new();
+        for (count, indices, s, vertices) in [
+            (
+                d.regular.len() as u32,
+                d.regular_index_bytes(),
+                shaders(
+                    "adaptive b-spline",
+                    "patch_bspline.vert",
+                    "patch_adaptive_bspline",
+                    16,
+                    true,
+                ),
+                points,
+            ),
+            (
+                d.triangles.len() as u32,
+                d.triangle_index_bytes(),
+                shaders(
+                    "adaptive transition",
+                    "patch_bspline.vert",
+                    "patch_adaptive_transition",
+                    16,
+                    true,
+                ),
+                points,
+            ),
+            (
+                d.end_caps.len() as u32,
+                vec![0u8; 4 * d.end_caps.len()],
+                shaders(
+                    "adaptive end caps",
+                    "patch_adaptive_endcap.vert",
+                    "patch_adaptive_endcap",
+                    1,
+                    false,
+                ),
+                None,
+            ),
+        ] {
+            if count == 0 {
+                continue;
+            }
+            let points = s.points;
+            groups.push(DrawGroup {
+                pipeline: patch_pipeline(ctx, pc.desc, pc.target, s)?,
+                indices: table_buffer(ctx, indices, index, "adaptive indices")?,
+                count,
+                points,
+                vertices,
+            });
+        }
+        let pool = DescriptorPool::new(ctx, 1, 16, 1)?;
+        let set = pool.allocate(match groups.first() {
+            Some(g) => g.pipeline.set_layouts[0],
+            None => {
+                return Err(crate::Error::Invalid(
+                    "adaptive scheme: no patch to draw".into(),
+                ))
+            }
+        })?;
+        let sb = |binding, buffer| BufferBinding {
+            binding,
+            kind: DescriptorKind::StorageBuffer,
+            buffer,
+        };
+        let mut own: Vec<BufferBinding<'_>> = OWN_BINDINGS[..6]
+            .iter()
+            .zip(&records)
+            .map(|(&b, buf)| sb(b, buf))
+            .collect();
+        own.push(sb(13, derived.end_cap_points()));
+        own.push(sb(CONTROL_POSITIONS_BINDING, refiner.points()));
+        own.push(sb(VERTEX_LIMITS_BINDING, derived.limits()));
+        own.push(sb(VERTEX_NORMALS_BINDING, derived.normals()));
+        pc.shared.write_set0(ctx, set, &own);
+        Ok(AdaptivePass {
+            ctx: ctx.clone(),
+            patches: t.primitive_count() as u32,
+            refiner,
+            derived,
+            _records: records,
+            groups,
+            _pool: pool,
+            set,
+        })
+    }
+
+    /// The refinement (tests read its points back).
+    pub fn refiner(&self) -> &GpuRefiner {
+        &self.refiner
+    }
+
+    /// The derived points (tests read the frames back).
+    pub fn derived(&self) -> &DerivedPoints {
+        &self.derived
+    }
+
+    /// Bytes of GPU memory held by the pass (tables, refined and derived points).
+    pub fn memory_bytes(&self) -> u64 {
+        self.refiner.memory_bytes()
+            + self.derived.memory_bytes()
+            + self._records.iter().map(Buffer::size).sum::<u64>()
+            + self.groups.iter().map(|g| g.indices.size()).sum::<u64>()
+    }
+}
+
+impl PatchPass for AdaptivePass {
+    fn label(&self) -> &'static str {
+        "adaptive patches"
+    }
+
+    fn patch_count(&self) -> u32 {
+        self.patches
+    }
+
+    fn record_compute(&self, cmd: vk::CommandBuffer) {
+        let dev = self.ctx.device();
+        self.refiner.record(dev, cmd);
+        self.derived.record(dev, cmd);
+    }
+
+    fn record(&self, cmd: vk::CommandBuffer) {
+        let dev = self.ctx.device();
+        for g in &self.groups {
+            bind_draw_state(
+                dev,
+                cmd,
+                &g.pipeline,
+                &[self.set],
+                g.vertices,
+                g.indices.raw(),
+            );
+            let draws = PatchDraws {
+                first_patch: 0,
+                first_index: 0,
+                count: g.count,
+                points: g.points,
+                sub_draws: 1,
+                sub_flag: 0,
+            };
+            record_patch_draws(dev, cmd, g.pipeline.layout, &draws, 1);
+        }
+    }
+
+    fn update_positions(&mut self, positions: &[DVec3], _: &VertexFrames) -> Result<()> {
+        // Only the control points cross the bus; refinement and frames run on the GPU.
+        self.refiner.update_control_points(positions)
+    }
+}

@@ -1,0 +1,379 @@
+//! Conformance of `--scheme adaptive` (feature-adaptive subdivision, Köbler 2013 / Nießner et
+//! al. 2012): every face of every loadable shared mesh on the GPU (no CPU path), B-spline and
+//! transition patches equal to the exact limit, end caps converging with the isolation level,
+//! the GPU corner frames equal to the CPU stencils, bitwise watertight seams between patches of
+//! any type and level, animation equal to a rebuild.
+
+mod common;
+
+use std::collections::HashMap;
+
+use glam::DVec3;
+use tessera::gpu::Context;
+use tessera::mesh::ControlMesh;
+use tessera::render::schemes::adaptive::derive::DerivedPoints;
+use tessera::render::schemes::adaptive::refine::GpuRefiner;
+use tessera::render::schemes::adaptive::{kind_name, AdaptiveTables};
+use tessera::render::{
+    surface_for_scheme_with, CaptureRecord, PlanOptions, RenderDesc, Scheme, SchemeLimits, Spacing,
+    SurfaceData, TessMode, TessSettings,
+};
+use tessera::subdiv::eval::LimitEvaluator;
+
+use common::capture::{capture, offscreen, uniform};
+use common::gpu::{assert_validation_clean, context};
+use common::meshes::{corpus_options, mesh, osd_names, osd_path};
+
+/// Kind code of end caps in the capture tag (`KIND_END_CAP`).
+const END_CAP: u8 = 3;
+
+fn adaptive_surface(ctx: &Context, m: &ControlMesh, isolation: u32, level: f32) -> SurfaceData {
+    try_adaptive_surface(ctx, m, isolation, level).unwrap()
+}
+
+fn try_adaptive_surface(
+    ctx: &Context,
+    m: &ControlMesh,
+    isolation: u32,
+    level: f32,
+) -> tessera::Result<SurfaceData> {
+    let opts = PlanOptions::new(SchemeLimits::from_context(ctx)).with_isolation(isolation);
+    surface_for_scheme_with(m, level.ceil() as u32, Scheme::Adaptive, &opts)
+}
+
+fn draw(
+    ctx: &Context,
+    m: &ControlMesh,
+    isolation: u32,
+    tess: TessSettings,
+) -> (SurfaceData, Vec<CaptureRecord>) {
+    let surface = adaptive_surface(ctx, m, isolation, tess.level);
+    let render = RenderDesc {
+        tess,
+        ..RenderDesc::default()
+    };
+    let records = capture(ctx, &surface, &render, &offscreen(96, 96), false).records;
+    assert_validation_clean(ctx);
+    (surface, records)
+}
+
+fn tables(surface: &SurfaceData) -> &AdaptiveTables {
+    surface.parts[0]
+        .as_any()
+        .downcast_ref::<AdaptiveTables>()
+        .expect("the adaptive scheme's tables")
+}
+
+/// Worst position error (fraction of the bbox diagonal) and normal angle per captured kind.
+fn errors_by_kind(m: &ControlMesh, records: &[CaptureRecord]) -> HashMap<u8, (f64, f64, usize)> {
+    let ev = LimitEvaluator::new(m).unwrap();
+    let diag = m.bbox_diagonal();
+    let mut out: HashMap<u8, (f64, f64, usize)> = HashMap::new();
+    for r in records {
+        let kind = r.patch.expect("adaptive records are tagged").kind;
+        let sub = r.sub_face.unwrap_or(0) as usize;
+        let exact = ev
+            .eval(r.face as usize, sub, f64::from(r.u), f64::from(r.v))
+            .unwrap();
+        let p = DVec3::from(r.position.map(f64::from));
+        let n = DVec3::from(r.normal.map(f64::from));
+        let d = (p - exact.position).length() / diag;
+        let a = n.angle_between(exact.normal);
+        let a = if a.is_finite() {
+            a
+        } else {
+            std::f64::consts::PI
+        };
+        let e = out.entry(kind).or_default();
+        e.0 = e.0.max(d);
+        e.1 = e.1.max(a);
+        e.2 += 1;
+    }
+    out
+}
+
+/// B-spline, boundary, crease and transition patches equal the exact limit at every TES point
+/// (f32 GPU arithmetic): ≤ 1e-6 of the diagonal, normals ≤ 1e-3 rad (the B-spline pass's bound:
+/// f32 cancellation in the derivatives of flat, large patches).
+#[test]
+fn exact_patches_match_the_limit() {
+    let Some(ctx) = context() else { return };
+    for (name, iso) in [
+        ("catmark_cube", 2),
+        ("catmark_cube_creases1", 2),
+        ("catmark_nonquads", 2),
+        ("catmark_car", 2),
+        ("catmark_pole64", 1),
+    ] {
+        let m = mesh(name);
+        let (surface, records) = draw(&ctx, &m, iso, uniform(4.0));
+        assert!(
+            surface.fallback_faces.is_empty(),
+            "{name}: faces on the CPU path"
+        );
+        let errs = errors_by_kind(&m, &records);
+        for (&kind, &(d, a, n)) in &errs {
+            eprintln!(
+                "{name} iso {iso}: {n} points of {}: max {d:.2e} of the diagonal, {a:.2e} rad",
+                kind_name(kind)
+            );
+            if kind != END_CAP {
+                assert!(
+                    d <= 1e-6 && a <= 1e-3,
+                    "{name}: {} off the limit",
+                    kind_name(kind)
+                );
+            }
+        }
+    }
+}
+
+/// End caps converge: the worst end-cap distance to the exact limit falls from isolation 1 to 3
+/// (uniform level 32: a level-l patch gets 32 / 2^l, so end caps are sampled inside too).
+#[test]
+fn end_caps_converge_with_isolation() {
+    let Some(ctx) = context() else { return };
+    for name in ["catmark_cube", "catmark_nonquads"] {
+        let m = mesh(name);
+        let worst: Vec<f64> = (1..=3)
+            .map(|iso| {
+                let (_, records) = draw(&ctx, &m, iso, uniform(32.0));
+                errors_by_kind(&m, &records)[&END_CAP].0
+            })
+            .collect();
+        eprintln!("{name}: end-cap max distance at isolation 1..3: {worst:?}");
+        assert!(
+            worst[1] < worst[0] && worst[2] < worst[1],
+            "{name}: {worst:?}"
+        );
+    }
+}
+
+/// The GPU corner frames (limit_frames.comp over the GPU refinement) equal the CPU stencil rows
+/// applied to the CPU refinement (f64): positions within 1e-6 of the diagonal, shared normals
+/// within 1e-3 rad (f32 tangent stencils on the car's small refined faces lose digits, as its
+/// B-spline patches' derivatives do: measured 1.6e-4 rad at isolation 3).
+#[test]
+fn gpu_frames_equal_cpu_rows() {
+    let Some(ctx) = context() else { return };
+    for (name, iso) in [
+        ("catmark_car", 3),
+        ("catmark_pole64", 2),
+        ("catmark_nonquads", 3),
+    ] {
+        let m = mesh(name);
+        let surface = adaptive_surface(&ctx, &m, iso, 2.0);
+        let t = tables(&surface);
+        let refiner = GpuRefiner::new(&ctx, &t.refinement, m.positions()).unwrap();
+        let derived = DerivedPoints::new(&ctx, &t.draw, refiner.points()).unwrap();
+        ctx.submit_once(|dev, cmd| {
+            refiner.record(dev, cmd);
+            derived.record(dev, cmd);
+            Ok(())
+        })
+        .unwrap();
+        let (limits, normals) = derived.read_frames(&ctx).unwrap();
+        let refined = t.adaptive.refine_positions(m.positions());
+        let diag = m.bbox_diagonal();
+        let (mut worst_p, mut worst_n) = (0.0f64, 0.0f64);
+        for s in 0..t.draw.slot_count() {
+            let p = t.draw.rows.apply(3 * s, &refined);
+            let g = DVec3::new(
+                limits[s][0].into(),
+                limits[s][1].into(),
+                limits[s][2].into(),
+            );
+            worst_p = worst_p.max((g - p).length() / diag);
+            if t.draw.shared_normal[s] {
+                let du = t.draw.rows.apply(3 * s + 1, &refined);
+                let dv = t.draw.rows.apply(3 * s + 2, &refined);
+                let n = DVec3::new(
+                    normals[s][0].into(),
+                    normals[s][1].into(),
+                    normals[s][2].into(),
+                );
+                worst_n = worst_n.max(n.angle_between(du.cross(dv)));
+            } else {
+                assert_eq!(normals[s], [0.0; 4], "{name}: slot {s} has several sectors");
+            }
+        }
+        eprintln!(
+            "{name} iso {iso}: {} slots, GPU frames vs CPU rows: {worst_p:.2e} of the diagonal, \
+             {worst_n:.2e} rad",
+            limits.len()
+        );
+        assert!(worst_p <= 1e-6 && worst_n <= 1e-3, "{name}");
+        assert_validation_clean(&ctx);
+    }
+}
+
+/// The shared meshes the scheme refuses today, each with a named face: end caps the Gregory
+/// construction does not cover (darts, infinitely sharp vertices with fewer than two sharp
+/// edges, crease sectors of one face) and end caps next to holes whose one-ring the sparse
+/// levels cut. Closing these is issue 8's remaining work; the list fails the test both ways.
+const KNOWN_GAPS: [&str; 15] = [
+    "catmark_cube_corner4",
+    "catmark_cube_creases2",
+    "catmark_cubes_infsharp",
+    "catmark_dart_edgeonly",
+    "catmark_edgeonly",
+    "catmark_fvar_project0",
+    "catmark_gregory_test6",
+    "catmark_gregory_test7",
+    "catmark_hole_test2",
+    "catmark_hole_test3",
+    "catmark_hole_test4",
+    "catmark_inf_crease0",
+    "catmark_inf_crease1",
+    "catmark_tent",
+    "catmark_val2_interior",
+];
+
+/// Every other loadable shared mesh draws with no face on the CPU path, validation clean; the
+/// known gaps fail with an error naming a face (never a panic or a silent fallback).
+#[test]
+fn every_shared_mesh_draws_on_the_gpu() {
+    let Some(ctx) = context() else { return };
+    let mut drawn = 0;
+    let mut failed = Vec::new();
+    let mut refused = Vec::new();
+    for name in osd_names() {
+        let Ok(m) = ControlMesh::from_obj_file(osd_path(&name), &corpus_options(&name)) else {
+            continue;
+        };
+        let surface = match try_adaptive_surface(&ctx, &m, 2, 2.0) {
+            Ok(s) => s,
+            Err(e) => {
+                let text = e.to_string();
+                if KNOWN_GAPS.contains(&name.as_str()) && text.contains("cannot be drawn: face ") {
+                    refused.push(name.clone());
+                } else {
+                    failed.push(format!("{name}: {text}"));
+                }
+                continue;
+            }
+        };
+        assert!(surface.fallback_faces.is_empty(), "{name}: CPU-path faces");
+        let render = RenderDesc {
+            tess: uniform(2.0),
+            ..RenderDesc::default()
+        };
+        let records = capture(&ctx, &surface, &render, &offscreen(64, 64), false).records;
+        assert_validation_clean(&ctx);
+        let topo = surface.topology.as_ref().unwrap();
+        let with_limit = (0..m.face_count() as u32)
+            .filter(|&f| topo.has_limit_surface(f))
+            .count();
+        assert!(
+            with_limit == 0 || !records.is_empty(),
+            "{name}: nothing drawn"
+        );
+        drawn += 1;
+    }
+    eprintln!(
+        "{drawn} shared meshes drawn with zero CPU faces, {} refused naming a face",
+        refused.len()
+    );
+    assert!(
+        failed.is_empty(),
+        "{} meshes refused:\n{}",
+        failed.len(),
+        failed.join("\n")
+    );
+    assert_eq!(
+        refused, KNOWN_GAPS,
+        "the known gaps changed: update KNOWN_GAPS and the README"
+    );
+}
+
+/// Points two patches emit at the same place are the same bits (any types and levels): every
+/// pair of records closer than 1e-6 of the diagonal has bitwise-equal positions, and normals
+/// bitwise equal or more than 0.01 rad apart (a crease). Uniform levels 1-8 and screen-space
+/// factors, every spacing.
+#[test]
+fn watertight_across_levels_and_types() {
+    let Some(ctx) = context() else { return };
+    let spaced = |level, spacing| TessSettings {
+        spacing,
+        ..uniform(level)
+    };
+    let screen = TessSettings {
+        mode: TessMode::Adaptive,
+        pixels_per_edge: 6.0,
+        ..uniform(8.0)
+    };
+    for (name, iso, screen_space) in [
+        ("catmark_car", 2, false),
+        ("catmark_cube_creases1", 3, true),
+        ("catmark_nonquads", 2, true),
+    ] {
+        let m = mesh(name);
+        let mut cases = vec![
+            uniform(1.0),
+            uniform(3.0),
+            uniform(8.0),
+            spaced(5.0, Spacing::FractionalOdd),
+            spaced(6.0, Spacing::FractionalEven),
+        ];
+        // Screen-space capture is sized for level 64 everywhere: small meshes only.
+        if screen_space {
+            cases.push(screen);
+        }
+        for tess in cases {
+            let (_, records) = draw(&ctx, &m, iso, tess);
+            let pairs = assert_coincident_points_equal(&m, &records);
+            eprintln!(
+                "{name} iso {iso} {:?} {:?} level {}: {pairs} coincident pairs bitwise equal",
+                tess.mode, tess.spacing, tess.level
+            );
+            assert!(pairs > 0);
+        }
+    }
+}
+
+/// Checks the coincident-point rule of [`watertight_across_levels_and_types`]; returns the
+/// number of coincident pairs.
+fn assert_coincident_points_equal(m: &ControlMesh, records: &[CaptureRecord]) -> usize {
+    // Bitwise-unequal copies of one point differ by a few ulp (~1e-7 of the diagonal); distinct
+    // domain points of fractional spacing can come within ~5e-6.
+    let eps = 1e-6 * m.bbox_diagonal();
+    let cell = |p: [f32; 3]| p.map(|c| (f64::from(c) / eps).floor() as i64);
+    let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+    for (i, r) in records.iter().enumerate() {
+        grid.entry(cell(r.position)).or_default().push(i);
+    }
+    let mut pairs = 0;
+    for (i, r) in records.iter().enumerate() {
+        let c = cell(r.position);
+        let p = DVec3::from(r.position.map(f64::from));
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let Some(list) = grid.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) else {
+                        continue;
+                    };
+                    for &j in list.iter().filter(|&&j| j > i) {
+                        let q = &records[j];
+                        if (DVec3::from(q.position.map(f64::from)) - p).length() > eps {
+                            continue;
+                        }
+                        let same_pos = r.position.map(f32::to_bits) == q.position.map(f32::to_bits);
+                        assert!(same_pos, "positions differ: {r:?} vs {q:?}");
+                        let (a, b) = (
+                            DVec3::from(r.normal.map(f64::from)),
+                            DVec3::from(q.normal.map(f64::from)),
+                        );
+                        let same_n = r.normal.map(f32::to_bits) == q.normal.map(f32::to_bits);
+                        assert!(
+                            same_n || a.angle_between(b) > 0.01,
+                            "normals differ by {:.2e} rad: {r:?} vs {q:?}",
+                            a.angle_between(b)
+                        );
+                        pairs += 1;
+                    }
+                }
+            }
+        }
+    }
+    pairs
+}
