@@ -189,7 +189,11 @@ impl PassTables for AdaptiveTables {
     }
 
     fn create_pass(&self, pc: &PassContext<'_>) -> Result<Box<dyn PatchPass>> {
-        Ok(Box::new(pass::AdaptivePass::new(pc, self)?))
+        Ok(Box::new(pass::AdaptivePass::new(
+            pc,
+            &self.refinement,
+            &self.draw,
+        )?))
     }
 
     fn as_any(&self) -> &dyn Any {

@@ -10,7 +10,6 @@ use glam::DVec3;
 
 use super::derive::DerivedPoints;
 use super::refine::GpuRefiner;
-use super::AdaptiveTables;
 use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool, Pipeline};
 use crate::patch::adaptive::AdaptiveDrawTables;
 use crate::render::pass::pipeline::{patch_pipeline, PatchShaders};
@@ -21,6 +20,7 @@ use crate::render::pass::upload::device_buffer;
 use crate::render::pass::{bind_draw_state, record_patch_draws, PatchDraws, VertexFrames};
 use crate::render::schemes::traits::PassContext;
 use crate::render::schemes::PatchPass;
+use crate::subdiv::tables::RefinementTables;
 use crate::Result;
 
 /// The pass's own set-0 bindings (`glsl/common/frame.glsl`, `gregory/gregory.glsl`,
@@ -97,11 +97,14 @@ fn rewrite_word(mut bytes: Vec<u8>, stride: usize, word: usize, f: impl Fn(u32) 
 }
 
 impl AdaptivePass {
-    /// Uploads the tables of `t` and creates the pipelines.
-    pub fn new(pc: &PassContext<'_>, t: &AdaptiveTables) -> Result<AdaptivePass> {
+    /// Uploads the refinement tables and draw tables `d` and creates the pipelines.
+    pub fn new(
+        pc: &PassContext<'_>,
+        refinement: &RefinementTables,
+        d: &AdaptiveDrawTables,
+    ) -> Result<AdaptivePass> {
         let ctx = pc.ctx;
-        let d = &t.draw;
-        let refiner = GpuRefiner::new(ctx, &t.refinement, pc.positions)?;
+        let refiner = GpuRefiner::new(ctx, refinement, pc.positions)?;
         let derived = DerivedPoints::new(ctx, d, refiner.points())?;
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let index = vk::BufferUsageFlags::INDEX_BUFFER;
@@ -222,7 +225,7 @@ impl AdaptivePass {
         pc.shared.write_set0(ctx, set, &own);
         Ok(AdaptivePass {
             ctx: ctx.clone(),
-            patches: t.primitive_count() as u32,
+            patches: (d.regular.len() + d.triangles.len() + d.end_caps.len()) as u32,
             refiner,
             derived,
             _records: records,
