@@ -23,11 +23,18 @@ const vec3 KIND_COLORS[6] = vec3[6](vec3(0.90, 0.68, 0.20), vec3(0.95, 0.50, 0.1
                                    vec3(0.85, 0.25, 0.25), vec3(0.58, 0.38, 0.80),
                                    vec3(0.20, 0.70, 0.70), vec3(0.30, 0.50, 0.90));
 
+// Adaptive patch levels 0..8 (the thesis' Fig. 5.1 colours each level apart).
+const vec3 LEVEL_COLORS[9] = vec3[9](vec3(0.25, 0.40, 0.90), vec3(0.20, 0.75, 0.85),
+                                    vec3(0.30, 0.80, 0.35), vec3(0.95, 0.85, 0.25),
+                                    vec3(0.95, 0.55, 0.15), vec3(0.90, 0.25, 0.25),
+                                    vec3(0.80, 0.30, 0.75), vec3(0.55, 0.35, 0.85),
+                                    vec3(0.95, 0.95, 0.95));
+
 vec3 base_color() {
     if (t_class >= CLASS_ADAPTIVE) {
         uint kind = min((t_class - CLASS_ADAPTIVE) / 16u, 5u);
         uint level = (t_class - CLASS_ADAPTIVE) % 16u;
-        if (frame.flags.x == COLOR_LEVEL) return heat_ramp(float(min(level, 8u)) / 8.0);
+        if (frame.flags.x == COLOR_LEVEL) return LEVEL_COLORS[min(level, 8u)];
         if (frame.flags.x == COLOR_PATCH_TYPE) return KIND_COLORS[kind];
         return vec3(0.72, 0.74, 0.78);
     }

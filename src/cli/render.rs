@@ -76,7 +76,8 @@ pub struct RenderArgs {
     pub animate: u32,
     /// `patch-type`: regular gold, irregular purple, triangles green (adaptive: regular gold,
     /// boundary orange, crease red, end caps purple, single-crease teal, transition blue);
-    /// `level`: adaptive patches by refinement level, blue (0) to red (8); `none`: one material.
+    /// `level`: adaptive patches by refinement level (0 blue, 1 cyan, 2 green, 3 yellow, 4 orange,
+    /// 5 red, 6 magenta, 7 violet, 8 white); `none`: one material.
     #[arg(long, default_value = "none", value_parser = ["patch-type", "level", "none"])]
     pub color_by: String,
     /// MSAA samples (1, 2, 4, 8; must be supported by the device).

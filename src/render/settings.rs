@@ -61,8 +61,8 @@ pub enum ColorBy {
     /// Error maps ([`super::heatmap`]): blue (exact) to red by the per-vertex error class;
     /// regular patches blue, exact CPU faces grey.
     Error,
-    /// Adaptive-scheme patches by refinement level (Köbler 2013, Fig. 5.1): level 0 blue to the
-    /// isolation level red; other schemes' patches neutral.
+    /// Adaptive-scheme patches by refinement level (Köbler 2013, Fig. 5.1): one colour per level
+    /// (0 blue, 1 cyan, 2 green, 3 yellow, 4 orange, 5 red, ...); other schemes' patches neutral.
     Level,
 }
 
