@@ -209,10 +209,11 @@ fn gpu_frames_equal_cpu_rows() {
 }
 
 /// The shared meshes the scheme refuses today, each with a named face: end caps the Gregory
-/// construction does not cover (darts, infinitely sharp vertices with fewer than two sharp
-/// edges, crease sectors of one face) and end caps next to holes whose one-ring the sparse
-/// levels cut. Closing these is issue 8's remaining work; the list fails the test both ways.
-const KNOWN_GAPS: [&str; 15] = [
+/// construction does not cover (infinitely sharp vertices with fewer than two sharp edges,
+/// crease sectors of one face, corner sectors of more than two faces; `catmark_inf_crease0/1`
+/// have darts, now covered, next to such sectors). Holes are refined topologically with the
+/// ring, so end caps next to them build. The list fails the test both ways.
+const KNOWN_GAPS: [&str; 12] = [
     "catmark_cube_corner4",
     "catmark_cube_creases2",
     "catmark_cubes_infsharp",
@@ -221,9 +222,6 @@ const KNOWN_GAPS: [&str; 15] = [
     "catmark_fvar_project0",
     "catmark_gregory_test6",
     "catmark_gregory_test7",
-    "catmark_hole_test2",
-    "catmark_hole_test3",
-    "catmark_hole_test4",
     "catmark_inf_crease0",
     "catmark_inf_crease1",
     "catmark_tent",

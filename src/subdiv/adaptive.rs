@@ -324,6 +324,31 @@ impl AdaptiveRefinement {
     }
 }
 
+/// Adds to `selected` every vertex of a hole touching a selected vertex, until no hole adds
+/// one. Holes are refined topologically but never drawn (as OpenSubdiv does): a hole next to a
+/// refined face is kept whole in the next level with the faces around its corners, so the
+/// one-rings of the vertices it shares with drawn patches stay complete (otherwise a hole's far
+/// corners, missing their faces, would make every child next to the hole incomplete and the end
+/// caps there impossible). Only ring faces are added: which faces are refined, and so the patch
+/// census, is unchanged.
+fn close_over_holes(t: &Topology, selected: &mut [bool]) {
+    let holes: Vec<u32> = (0..t.face_count() as u32)
+        .filter(|&f| t.is_hole(f))
+        .collect();
+    let mut grew = !holes.is_empty();
+    while grew {
+        grew = false;
+        for &f in &holes {
+            let fv = t.face_vertices(f);
+            if fv.iter().any(|&v| selected[v as usize]) && !fv.iter().all(|&v| selected[v as usize])
+            {
+                fv.iter().for_each(|&v| selected[v as usize] = true);
+                grew = true;
+            }
+        }
+    }
+}
+
 /// Builds the level after `cur` from its `refined` faces, storing the step in `cur`.
 fn refine_sparse(cur: &mut AdaptiveLevel) -> Result<AdaptiveLevel> {
     let t = cur.topology();
@@ -335,6 +360,7 @@ fn refine_sparse(cur: &mut AdaptiveLevel) -> Result<AdaptiveLevel> {
             }
         }
     }
+    close_over_holes(t, &mut selected);
     let ring: Vec<u32> = (0..t.face_count() as u32)
         .filter(|&f| t.face_vertices(f).iter().any(|&v| selected[v as usize]))
         .collect();

@@ -29,7 +29,8 @@ pub enum NotGregory {
     /// A corner vertex touches a semi-sharp edge or has finite non-zero sharpness (not covered
     /// by the paper).
     SemiSharp { face: u32, vertex: u32 },
-    /// A corner vertex has exactly one infinitely sharp edge (a dart; not covered by the paper).
+    /// A corner vertex has exactly one infinitely sharp edge (a dart; not covered by the paper,
+    /// refused by the level-0 schemes only, [`check_face_level0`]).
     Dart { face: u32, vertex: u32 },
     /// An infinitely sharp vertex with fewer than two sharp edges (a cone point).
     Cusp { face: u32, vertex: u32 },
@@ -125,9 +126,6 @@ pub fn check_vertex(topo: &Topology, v: u32, f: u32) -> Result<(), NotGregory> {
     if corner && count < 2 {
         return Err(NotGregory::Cusp { face: f, vertex: v });
     }
-    if count == 1 {
-        return Err(NotGregory::Dart { face: f, vertex: v });
-    }
     if corner
         && sectors(&sharp, topo.vertex_faces(v).len())
             .iter()
@@ -178,6 +176,21 @@ pub fn check_face(topo: &Topology, f: u32) -> Result<(), NotGregory> {
         });
     }
     fv.iter().try_for_each(|&v| check_vertex(topo, v, f))
+}
+
+/// [`check_face`] for the level-0 Gregory schemes (`gregory-stencil`, `gregory-vs`), which also
+/// refuse faces with a dart corner: the dart construction ([`GregoryVertex::dart`], used by the
+/// adaptive scheme's end caps) has no GLSL port in the two-stage variant, and the level-0
+/// schemes keep such faces on their exact CPU path.
+pub fn check_face_level0(topo: &Topology, f: u32) -> Result<(), NotGregory> {
+    check_face(topo, f)?;
+    match topo.face_vertices(f).iter().find(|&&v| {
+        let sharp = sharp_edges(topo, v);
+        sharp.iter().filter(|&&s| s).count() == 1 && !is_inf(topo.vertex_sharpness(v))
+    }) {
+        Some(&vertex) => Err(NotGregory::Dart { face: f, vertex }),
+        None => Ok(()),
+    }
 }
 
 /// Faces a Gregory scheme should draw: with a limit surface, not (boundary-)regular (those are

@@ -35,7 +35,7 @@ pub mod table;
 mod vertex;
 
 pub use build::{
-    check_face, check_vertex, gregory_faces, gregory_patch, gregory_patch_at,
+    check_face, check_face_level0, check_vertex, gregory_faces, gregory_patch, gregory_patch_at,
     gregory_patch_weights, gregory_vertex, gregory_vertices, is_supported_vertex, vertex_ring,
     vertex_ring_with, GregoryPatch, NotGregory,
 };

@@ -24,7 +24,7 @@
 //! face in that corner vertex's ring (the paper's Fig. 8 "rotation offset"); `u32::MAX` in the
 //! fourth slot of a triangle.
 
-use super::build::check_face;
+use super::build::check_face_level0;
 use super::vertex::{sectors, GregoryVertex, VertexKind};
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::topology::Topology;
@@ -53,7 +53,7 @@ pub struct GregoryVertexTable {
 
 impl GregoryVertexTable {
     /// Builds the tables for the given faces; faces that get no Gregory patch are left out
-    /// (see [`check_face`]).
+    /// (see [`check_face_level0`]).
     pub fn new(topo: &Topology, faces: impl IntoIterator<Item = u32>) -> GregoryVertexTable {
         let mut t = GregoryVertexTable::default();
         for v in 0..topo.vertex_count() as u32 {
@@ -93,7 +93,7 @@ impl GregoryVertexTable {
             }
         }
         for f in faces {
-            if check_face(topo, f).is_err() {
+            if check_face_level0(topo, f).is_err() {
                 continue;
             }
             t.faces.push(f);
@@ -116,5 +116,7 @@ fn vertex_kind(topo: &Topology, v: u32) -> u32 {
         Some(VertexKind::Smooth) => KIND_SMOOTH,
         Some(VertexKind::Crease) => KIND_CREASE,
         Some(VertexKind::Corner) => KIND_CORNER,
+        // No GLSL port: the level-0 schemes refuse faces at darts (`check_face_level0`).
+        Some(VertexKind::Dart) => KIND_NONE,
     }
 }

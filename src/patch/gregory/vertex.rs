@@ -34,6 +34,10 @@ pub enum VertexKind {
     Crease,
     /// Corner rule: `p = v` (§4.6); each sector is bounded by two sharp edges.
     Corner,
+    /// Interior vertex with exactly one infinitely sharp edge (smooth vertex rule, crease rule
+    /// on that edge): limit position and tangent plane from the eigenvectors of the ring's
+    /// subdivision matrix ([`dart_limit`]); not covered by the paper.
+    Dart,
 }
 
 /// Corner point, edge points and transversal vectors of one vertex.
@@ -146,7 +150,10 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     /// single sharp edge, a crease sector with one face, or a ring that does not close: fewer
     /// faces than edges without a sharp edge, e.g. next to a hole).
     pub fn new(ring: &VertexRing<P>) -> Option<GregoryVertex<P>> {
-        if ring.sharp.iter().any(|&s| s) || ring.corner {
+        let sharp = ring.sharp.iter().filter(|&&s| s).count();
+        if sharp == 1 && !ring.corner && ring.c.len() == ring.m.len() {
+            Self::dart(ring)
+        } else if sharp > 0 || ring.corner {
             Self::sectored(ring)
         } else if ring.c.len() == ring.m.len() {
             Some(Self::interior(ring))
@@ -212,6 +219,42 @@ impl<P: GregoryPoint> GregoryVertex<P> {
             r_minus,
             cosine: vec![(2.0 * PI / nf).cos(); n],
         }
+    }
+
+    /// The construction at a dart (an interior vertex with one infinitely sharp edge `d`).
+    ///
+    /// The dart keeps the smooth vertex rule, but its sharp edge takes the crease (midpoint)
+    /// rule, so the smooth limit stencils of §3.2-3.3 are not eigenvectors of its subdivision
+    /// matrix. [`dart_limit`] computes, on the split ring, the exact limit position mask `l`
+    /// (the dominant left eigenvector) and two masks `t_1, t_2` spanning the exact tangent plane
+    /// (the two leading subdominant left eigenvectors, as `subdiv::limit` does). Then
+    /// - `p = l · ring`;
+    /// - `e_j = p + P(2/3 λ q_j)`, the smooth edge tangent of §3.3 projected (orthogonally, in
+    ///   mask space) onto `span(t_1, t_2)`: every edge point lies in the exact tangent plane
+    ///   and tends to the smooth one when the dart's perturbation vanishes;
+    /// - `r` and `cos(2π/n)` as for a smooth vertex (§3.4).
+    pub fn dart(ring: &VertexRing<P>) -> Option<GregoryVertex<P>> {
+        let n = ring.m.len();
+        let d = ring.sharp.iter().position(|&s| s)?;
+        let lim = dart_limit(n, d)?;
+        let smooth = Self::interior(ring);
+        let p = lim.apply(&lim.position, ring);
+        // The smooth edge points' offsets `e_j - p` as masks: the same sums as `interior`.
+        let e = (0..n)
+            .map(|j| {
+                let q = smooth_edge_mask(n, j);
+                let proj = lim.project(&q);
+                let mut e = p.clone();
+                e.add_scaled(1.0, &lim.apply(&proj, ring));
+                e
+            })
+            .collect();
+        Some(GregoryVertex {
+            kind: VertexKind::Dart,
+            p,
+            e,
+            ..smooth
+        })
     }
 
     /// The construction at a boundary, crease or corner vertex (§4.6), sector by sector.
@@ -366,4 +409,117 @@ pub fn face_point(
 ) -> DVec3 {
     let c = |n: usize| (2.0 * PI / n as f64).cos();
     face_point_cos(d, c(n_a), c(n_b), &p_a, &e_ab, &e_ba, &r)
+}
+
+/// Limit masks of a ring configuration over the split ring `[v, m_0.., c_0..]` (see
+/// [`dart_limit`]).
+#[derive(Debug, Clone)]
+pub struct RingLimit {
+    /// Limit position weights (sum 1).
+    pub position: Vec<f64>,
+    /// Two tangent masks spanning the exact tangent plane (sum 0 each).
+    pub tangents: [Vec<f64>; 2],
+}
+
+impl RingLimit {
+    /// `Σ w_k x_k` over the split ring.
+    fn apply<P: GregoryPoint>(&self, w: &[f64], ring: &VertexRing<P>) -> P {
+        let n = ring.m.len();
+        let mut out = combine(&[(w[0], &ring.v)]);
+        for i in 0..n {
+            out.add_scaled(w[1 + i], &ring.m[i]);
+        }
+        for (i, c) in ring.c.iter().enumerate() {
+            out.add_scaled(w[1 + n + i], c);
+        }
+        out
+    }
+
+    /// Orthogonal projection of mask `q` onto `span(tangents)`.
+    fn project(&self, q: &[f64]) -> Vec<f64> {
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        let [t1, t2] = &self.tangents;
+        let (g11, g12, g22) = (dot(t1, t1), dot(t1, t2), dot(t2, t2));
+        let (b1, b2) = (dot(t1, q), dot(t2, q));
+        let det = g11 * g22 - g12 * g12;
+        let a1 = (g22 * b1 - g12 * b2) / det;
+        let a2 = (g11 * b2 - g12 * b1) / det;
+        t1.iter().zip(t2).map(|(x, y)| a1 * x + a2 * y).collect()
+    }
+}
+
+/// The smooth edge-point offset `e_j - p = 2/3 λ q_j` of [`GregoryVertex::interior`] as a mask
+/// over the split ring (zero weight on `v`).
+fn smooth_edge_mask(n: usize, j: usize) -> Vec<f64> {
+    let nf = n as f64;
+    let cos_pi_n = (PI / nf).cos();
+    let sigma = 1.0 / (4.0 + cos_pi_n * cos_pi_n).sqrt();
+    let scale = (2.0 / 3.0) * subdominant_eigenvalue(n) * 2.0 / nf;
+    let mut q = vec![0.0; 1 + 2 * n];
+    for i in 0..n {
+        let k = ((i + n - j) % n) as f64;
+        q[1 + i] = scale * (1.0 - sigma * cos_pi_n) * (2.0 * PI * k / nf).cos();
+        q[1 + n + i] = scale * 2.0 * sigma * ((2.0 * PI * k + PI) / nf).cos();
+    }
+    q
+}
+
+/// Exact limit masks of a dart of valence `n` whose sharp edge is ring edge `d`, over the split
+/// ring `[v, m_0..m_{n-1}, c_0..c_{n-1}]`.
+///
+/// The split ring is closed under Catmull-Clark refinement whatever the face sizes (a face's
+/// child at the vertex is always the quad `v', e'_i, F_i, e'_{i+1}` with `F_i = c_i`), so its
+/// subdivision matrix `S` is `(2n+1)²` and depends only on `n` and `d`:
+/// `v' = (n-3)/n v + 2/n avg(m) + 1/n avg(c)` (smooth vertex rule), `e'_i = (2 m_i + c_{i-1} +
+/// c_i)/4` (smooth edge rule) except `e'_d = m_d` (crease rule), `m'_i = (v' + e'_i)/2`,
+/// `c'_i = (v' + e'_i + c_i + e'_{i+1})/4`. Its left eigenvectors give the limit masks
+/// (Halstead et al. 1993 §A); the spectrum of `S` is that of the one-ring matrix after one
+/// step, so the tangent plane is the one `subdiv::limit` computes.
+pub fn dart_limit(n: usize, d: usize) -> Option<RingLimit> {
+    use crate::subdiv::limit::masks::{eigen_limit, Dense};
+    if n < 2 || d >= n {
+        return None;
+    }
+    let m = 1 + 2 * n;
+    let nf = n as f64;
+    let (vi, mi, ci) = (0usize, |i: usize| 1 + i % n, |i: usize| 1 + n + i % n);
+    let mut vrow = vec![0.0; m];
+    vrow[vi] = (nf - 3.0) / nf;
+    for i in 0..n {
+        vrow[mi(i)] += 2.0 / (nf * nf);
+        vrow[ci(i)] += 1.0 / (nf * nf);
+    }
+    let erow = |i: usize| {
+        let mut r = vec![0.0; m];
+        if i % n == d {
+            r[mi(i)] = 1.0;
+        } else {
+            r[mi(i)] += 0.5;
+            r[ci(i + n - 1)] += 0.25;
+            r[ci(i)] += 0.25;
+        }
+        r
+    };
+    let mut a = vec![0.0; m * m];
+    a[..m].copy_from_slice(&vrow);
+    for i in 0..n {
+        let (ei, ej) = (erow(i), erow(i + 1));
+        for k in 0..m {
+            a[mi(i) * m + k] = 0.5 * (vrow[k] + ei[k]);
+            let own = if k == ci(i) { 1.0 } else { 0.0 };
+            a[ci(i) * m + k] = 0.25 * (vrow[k] + ei[k] + own + ej[k]);
+        }
+    }
+    let s = Dense { m, a };
+    let mut x1 = vec![0.0; m];
+    x1[mi(d)] = 1.0;
+    x1[vi] = -1.0;
+    let mut x2 = vec![0.0; m];
+    x2[mi(d + 1)] = 1.0;
+    x2[vi] = -1.0;
+    let lim = eigen_limit(&s, vi, [x1, x2])?;
+    Some(RingLimit {
+        position: lim.position,
+        tangents: lim.tangents,
+    })
 }

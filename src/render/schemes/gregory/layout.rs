@@ -7,7 +7,7 @@ use glam::DVec3;
 
 use crate::patch::gregory::edge_flags::{edge_flags, Across, EdgeFlags};
 pub use crate::patch::gregory::gregory_faces as irregular_faces;
-use crate::patch::gregory::{check_face, gregory_vertex};
+use crate::patch::gregory::{check_face_level0, gregory_vertex};
 use crate::patch::single_crease::SingleCreasePatch;
 use crate::patch::RegularPatch;
 use crate::topology::Topology;
@@ -17,10 +17,10 @@ pub const GREGORY_PATCH_INFO_BYTES: usize = 32;
 pub use crate::patch::gregory::edge_flags::GRID_IDS_PER_PATCH;
 
 /// Why a face is not drawn as a GPU Gregory patch (the renderer keeps it on the CPU path):
-/// the construction's own limits ([`check_face`]: polygons, darts, semi-sharp tags, cone
+/// the construction's own limits at level 0 ([`check_face_level0`]: polygons, darts, semi-sharp tags, cone
 /// points, one-face crease sectors, wide corner sectors).
 pub fn gregory_face_problem(topo: &Topology, f: u32) -> Option<String> {
-    check_face(topo, f).err().map(|e| e.to_string())
+    check_face_level0(topo, f).err().map(|e| e.to_string())
 }
 
 /// Shared TES data of a list of Gregory faces, in draw order: quads first, then triangles.

@@ -1,5 +1,5 @@
 //! What both GPU constructions of Gregory patches (Loop, Schaefer, Ni, Castaño 2009) share: the
-//! faces they take (triangles and quads the construction covers, [`check_face`]), the tables
+//! faces they take (triangles and quads the construction covers at level 0, [`check_face_level0`]), the tables
 //! the shared evaluation shaders read ([`GregoryLayout`]: set-0 bindings 6 and 7), the limit
 //! frames of their corners and the level limits of drawing triangles whole. The variants are
 //! the schemes [`super::gregory_vs`] (§4.1-4.2) and [`super::gregory_stencil`] (§4.3).
@@ -12,7 +12,7 @@ pub use layout::{gregory_face_problem, gregory_vertex_frame, irregular_faces, Gr
 
 use super::traits::{ReferencePatch, Refusal, RefusalReason};
 use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind};
-use crate::patch::gregory::{check_face, gregory_patch_at, GregoryPatch};
+use crate::patch::gregory::{check_face_level0, gregory_patch_at, GregoryPatch};
 use crate::render::pass::frames::single_normal_vertex;
 use crate::render::pass::upload::host_buffer;
 use crate::render::pass::VertexFrames;
@@ -37,7 +37,7 @@ pub fn covered_faces(
     let mut ok = Vec::new();
     let mut refused = Vec::new();
     for &f in candidates {
-        match check_face(topo, f) {
+        match check_face_level0(topo, f) {
             Ok(()) => ok.push(f),
             Err(e) => refused.push(Refusal {
                 face: f,
