@@ -63,9 +63,4 @@ void bspline_surface(float u, float v, out vec3 pos, out vec3 nrm) {
     nrm = len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
 }
 
-/// Patch edge (0: v=0, 1: u=1, 2: v=1, 3: u=0) of (u, v) on exactly one domain edge.
-int bspline_edge(float u, float v) {
-    return (v == 0.0) ? 0 : (u == 1.0) ? 1 : (v == 1.0) ? 2 : 3;
-}
-
 #endif

@@ -29,4 +29,9 @@ vec4 bspline_to_bezier_row(int k) {
     return vec4(0.0, 1.0, 4.0, 1.0) * (1.0 / 6.0);
 }
 
+/// Patch edge (0: v=0, 1: u=1, 2: v=1, 3: u=0) of (u, v) on exactly one domain edge.
+int bspline_edge(float u, float v) {
+    return (v == 0.0) ? 0 : (u == 1.0) ? 1 : (v == 1.0) ? 2 : 3;
+}
+
 #endif

@@ -34,6 +34,11 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_ISOLATION,
           value_parser = clap::value_parser!(u32).range(0..=8))]
     pub isolation: u32,
+    /// `--scheme adaptive`: draw regular quads whose only feature is one semi-sharp crease line
+    /// as single-crease patches instead of refining them (Nießner, Loop, Greiner 2012; OpenSubdiv's
+    /// `useSingleCreasePatch`): `true` (default) or `false`.
+    #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
+    pub single_crease: bool,
     /// Animate: before every timed frame, twist the control positions (as `render --animate`)
     /// and hand them to the renderer (`update_positions`: vertex limit frames and CPU-path faces
     /// recomputed on the CPU, every GPU patch rebuilt on the GPU); adds the CPU milliseconds of
@@ -101,7 +106,14 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let rest = mesh.positions().to_vec();
     for &req in &levels {
         let level = clamp_level(&ctx, req)?;
-        let surface = surface_for(&ctx, &mesh, level, args.scheme, args.isolation)?;
+        let surface = surface_for(
+            &ctx,
+            &mesh,
+            level,
+            args.scheme,
+            args.isolation,
+            args.single_crease,
+        )?;
         if req == levels[0] {
             report_fallback(&surface);
         }

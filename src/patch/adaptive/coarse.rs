@@ -10,7 +10,10 @@ use super::error::DrawTablesError;
 use super::records::CoarseEdge;
 use super::slots::{Slots, NONE};
 use crate::patch::edge_grid::edge_grid;
-use crate::subdiv::adaptive::{AdaptiveLevel, AdaptiveRefinement, ChildOf, PatchCensus};
+use crate::patch::single_crease::Rotation;
+use crate::subdiv::adaptive::{
+    AdaptiveLevel, AdaptivePatch, AdaptiveRefinement, ChildOf, PatchCensus,
+};
 use crate::topology::is_sharp_edge;
 
 /// Per level, face to its census patch ([`NONE`] when the face is not drawn at that level).
@@ -35,6 +38,46 @@ fn edge_points(lev: &AdaptiveLevel, next: &AdaptiveLevel) -> Vec<u32> {
         }
     }
     out
+}
+
+/// Coarse-edge flags bits 3-4: the edge curve of a single-crease coarse patch (0 the B-spline
+/// grid curve, also on the edge opposite the crease).
+pub const CREASE_EDGE: u32 = 1 << 3;
+/// Flags bits 3-4: an edge across the crease line of a single-crease coarse patch; bit 5
+/// ([`CREASE_AT_LO`]): its crease end is `lo`.
+pub const ACROSS_CREASE: u32 = 2 << 3;
+/// Flags bit 5, see [`ACROSS_CREASE`].
+pub const CREASE_AT_LO: u32 = 1 << 5;
+
+/// The flags of face edge `k` of coarse patch `p` (record `record`) saying which single-crease
+/// curve it is (`glsl/single_crease/single_crease.glsl`), bits 8-31 the record (whose sharpness
+/// the curve reads); 0 for B-spline patches and the edge opposite the crease. `crease_is_lo`:
+/// whether face corner `k` of the patch is the edge's `lo` end.
+fn crease_flags(
+    p: &AdaptivePatch,
+    record: u32,
+    k: usize,
+    crease_is_lo: impl Fn(usize) -> bool,
+) -> u32 {
+    let Some(line) = p.crease else {
+        return 0;
+    };
+    let kc = Rotation::of(line.side).face_corner(1);
+    let kind = if k == kc {
+        CREASE_EDGE
+    } else if k == (kc + 2) % 4 {
+        return 0;
+    } else {
+        // Edge k shares corner k (k = kc + 1) or k + 1 (k = kc - 1) with the crease edge.
+        let corner = if k == (kc + 1) % 4 { k } else { (k + 1) % 4 };
+        ACROSS_CREASE
+            | if crease_is_lo(corner) {
+                CREASE_AT_LO
+            } else {
+                0
+            }
+    };
+    kind | record << 8
 }
 
 /// The coarse edges of a refinement and the finer patches' references to them.
@@ -100,7 +143,8 @@ impl CoarseEdges {
                     mid_slot,
                     flags: u32::from(is_sharp_edge(t, e))
                         | u32::from(grid.first_phantom) << 1
-                        | u32::from(grid.last_phantom) << 2,
+                        | u32::from(grid.last_phantom) << 2
+                        | crease_flags(p, i as u32, k, |corner| slot(c[corner]) == lo),
                 });
             }
         }
