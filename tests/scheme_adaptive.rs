@@ -104,6 +104,9 @@ fn exact_patches_match_the_limit() {
         ("catmark_nonquads", 2),
         ("catmark_car", 2),
         ("catmark_pole64", 1),
+        ("catmark_single_crease", 2),
+        ("catmark_torus_creases1", 3),
+        ("embedded:creased", 2),
     ] {
         let m = mesh(name);
         let (surface, records) = draw(&ctx, &m, iso, uniform(4.0));
@@ -306,6 +309,8 @@ fn watertight_across_levels_and_types() {
         ("catmark_car", 2, false),
         ("catmark_cube_creases1", 3, true),
         ("catmark_nonquads", 2, true),
+        ("catmark_single_crease", 3, true),
+        ("embedded:creased", 3, true),
     ] {
         let m = mesh(name);
         let mut cases = vec![

@@ -53,7 +53,7 @@ layout(std430, set = 0, binding = 10) readonly buffer AdaptivePatches {
 /// sharp; bits 1, 2: the first / last point along the edge is a phantom, mirrored 2 x1 - x2 as
 /// the coarse patch's TCS does; bits 3-4: the curve of a single-crease coarse patch, 0 the grid
 /// curve, 1 its crease edge, 2 an edge across its crease line with bit 5 set when the crease end
-/// is lo; bits 8-31: that patch's record, whose crease_sharpness the curve reads).
+/// is lo; bit 6: a whole edge shared at one level (mid unused); bits 8-31: that patch's record, whose crease_sharpness the curve reads).
 struct CoarseEdge {
     uint rows[12];
     uint lo;
@@ -118,16 +118,22 @@ void coarse_edge_point(CoarseEdge ce, float t, float s, out vec3 pos, out vec3 n
 }
 
 /// The finer patch's side of a transition edge: edge from slot a to slot b (one of them the
-/// coarse edge's midpoint) at x measured from a, evaluated from the coarse record `index`.
+/// coarse edge's midpoint) at x measured from a, evaluated from the coarse record `index`; with
+/// flags bit 6 (an end cap next to a single-crease patch's crease-aware edge) the whole edge a-b.
 /// Position always from the coarse edge; the normal too unless the edge is sharp (a crease:
 /// each side keeps its own).
 void fine_edge_point(uint index, uint a, uint b, float x, inout vec3 pos, inout vec3 nrm) {
     CoarseEdge ce = coarse_edges[index];
-    bool first_half = (a == ce.lo || b == ce.lo);
-    bool x_from_lo = first_half ? (a == ce.lo) : (a == ce.mid);
     float t;
     float s;
-    coarse_half_ts(first_half, x_from_lo, x, t, s);
+    if ((ce.flags & 64u) != 0u) {
+        // A whole edge shared at one level: the canonical parameters of the other patch's own rule.
+        canonical_ts(x, a == ce.lo, t, s);
+    } else {
+        bool first_half = (a == ce.lo || b == ce.lo);
+        bool x_from_lo = first_half ? (a == ce.lo) : (a == ce.mid);
+        coarse_half_ts(first_half, x_from_lo, x, t, s);
+    }
     vec3 n;
     coarse_edge_point(ce, t, s, pos, n);
     if ((ce.flags & 1u) == 0u) {

@@ -103,8 +103,9 @@ fn end_cap_rows(
     Ok(out)
 }
 
-/// Slot rows (position, du, dv) from the first census patch with the slot as a corner, and
-/// whether the slot's normal is shared.
+/// Slot rows (position, du, dv) from the first census patch with the slot as a corner, exact
+/// patches (B-spline, single-crease) before end caps (whose Gregory corners are built without
+/// semi-sharpness), and whether the slot's normal is shared.
 fn slot_rows(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
@@ -113,23 +114,32 @@ fn slot_rows(
 ) -> (SparseRows, Vec<bool>) {
     let mut frames: Vec<Option<[Weights; 3]>> = vec![None; slots.len()];
     let mut shared = vec![false; slots.len()];
+    let mut cap_of = Vec::with_capacity(census.patches.len());
     let mut cap = 0;
     for p in &census.patches {
-        let lev = &refinement.levels[p.level as usize];
-        let fv = lev.topology().face_vertices(p.face);
-        for (k, &v) in fv.iter().enumerate() {
-            let s = slots.of(lev.global(v)) as usize;
-            if frames[s].is_some() {
+        cap_of.push(cap);
+        cap += usize::from(p.bspline.is_none());
+    }
+    for end_caps in [false, true] {
+        for (p, &cap) in census.patches.iter().zip(&cap_of) {
+            if p.bspline.is_none() != end_caps {
                 continue;
             }
-            frames[s] = Some(match (&p.crease, &p.bspline) {
-                (Some(line), _) => single_crease_corner_rows(line, k),
-                (None, Some(b)) => bspline_corner_rows(b, k),
-                (None, None) => gregory_corner_rows(&caps[cap], fv.len(), k),
-            });
-            shared[s] = single_normal_vertex(lev.topology(), v);
+            let lev = &refinement.levels[p.level as usize];
+            let fv = lev.topology().face_vertices(p.face);
+            for (k, &v) in fv.iter().enumerate() {
+                let s = slots.of(lev.global(v)) as usize;
+                if frames[s].is_some() {
+                    continue;
+                }
+                frames[s] = Some(match (&p.crease, &p.bspline) {
+                    (Some(line), _) => single_crease_corner_rows(line, k),
+                    (None, Some(b)) => bspline_corner_rows(b, k),
+                    (None, None) => gregory_corner_rows(&caps[cap], fv.len(), k),
+                });
+                shared[s] = single_normal_vertex(lev.topology(), v);
+            }
         }
-        cap += usize::from(p.bspline.is_none());
     }
     let mut rows = SparseRows::new();
     for f in frames.iter().flatten() {
@@ -243,6 +253,9 @@ impl AdaptiveDrawTables {
             let mut fine = [NONE; 4];
             for (k, c) in fine.iter_mut().enumerate().take(n) {
                 *c = coarse.lookup(refinement, p.level, p.face, k)?;
+                if *c == NONE && p.kind == PatchType::EndCap {
+                    *c = coarse.whole(refinement, &census, &at, &out.slots, (p.level, p.face, k));
+                }
             }
             let d = lev.domains[p.face as usize];
             let record = PatchRecord {
