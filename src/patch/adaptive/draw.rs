@@ -348,6 +348,16 @@ impl AdaptiveDrawTables {
         Ok(out)
     }
 
+    /// Patch primitives drawn: whole B-spline, single-crease and end-cap patches, one per
+    /// transition triangle.
+    pub fn primitive_count(&self) -> usize {
+        self.regular.len()
+            + self.triangles.len()
+            + self.single_crease.len()
+            + self.single_crease_triangles.len()
+            + self.end_caps.len()
+    }
+
     /// Number of slots.
     pub fn slot_count(&self) -> usize {
         self.slots.len()

@@ -125,12 +125,7 @@ impl AdaptiveTables {
     /// Patch primitives drawn: whole B-spline, single-crease and end-cap patches, one per
     /// transition triangle.
     pub fn primitive_count(&self) -> usize {
-        let d = &self.draw;
-        d.regular.len()
-            + d.triangles.len()
-            + d.single_crease.len()
-            + d.single_crease_triangles.len()
-            + d.end_caps.len()
+        self.draw.primitive_count()
     }
 
     /// The CPU surface of these tables over control `positions` (the reference the GPU
@@ -200,7 +195,11 @@ impl PassTables for AdaptiveTables {
     }
 
     fn create_pass(&self, pc: &PassContext<'_>) -> Result<Box<dyn PatchPass>> {
-        Ok(Box::new(pass::AdaptivePass::new(pc, self)?))
+        Ok(Box::new(pass::AdaptivePass::new(
+            pc,
+            &self.refinement,
+            &self.draw,
+        )?))
     }
 
     fn as_any(&self) -> &dyn Any {

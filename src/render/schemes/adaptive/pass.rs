@@ -11,9 +11,9 @@ use glam::DVec3;
 
 use super::derive::DerivedPoints;
 use super::refine::GpuRefiner;
-use super::AdaptiveTables;
 use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool, Pipeline};
 use crate::patch::adaptive::AdaptiveDrawTables;
+use crate::subdiv::tables::RefinementTables;
 use crate::render::pass::pipeline::{patch_pipeline, PatchShaders};
 use crate::render::pass::shared::{
     set0_layout, CONTROL_POSITIONS_BINDING, VERTEX_LIMITS_BINDING, VERTEX_NORMALS_BINDING,
@@ -107,11 +107,15 @@ fn rewrite_word(mut bytes: Vec<u8>, stride: usize, word: usize, f: impl Fn(u32) 
 }
 
 impl AdaptivePass {
-    /// Uploads the tables of `t` and creates the pipelines.
-    pub fn new(pc: &PassContext<'_>, t: &AdaptiveTables) -> Result<AdaptivePass> {
+    /// Uploads the kernels' tables `refinement` and the draw tables `d` and creates the
+    /// pipelines.
+    pub fn new(
+        pc: &PassContext<'_>,
+        refinement: &RefinementTables,
+        d: &AdaptiveDrawTables,
+    ) -> Result<AdaptivePass> {
         let ctx = pc.ctx;
-        let d = &t.draw;
-        let refiner = GpuRefiner::new(ctx, &t.refinement, pc.positions)?;
+        let refiner = GpuRefiner::new(ctx, refinement, pc.positions)?;
         let derived = DerivedPoints::new(ctx, d, refiner.points())?;
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let index = vk::BufferUsageFlags::INDEX_BUFFER;
@@ -269,7 +273,7 @@ impl AdaptivePass {
         pc.shared.write_set0(ctx, set, &own);
         Ok(AdaptivePass {
             ctx: ctx.clone(),
-            patches: t.primitive_count() as u32,
+            patches: d.primitive_count() as u32,
             refiner,
             derived,
             _records: records,
