@@ -49,6 +49,16 @@ pub struct BenchArgs {
     /// path, and the regular pass alone, each timed in frames of its own (paper Table 1).
     #[arg(long)]
     pub variants: bool,
+    /// The paper's Fig. 2 (Nießner, Loop, Greiner 2012): set every crease tag of sharpness > 0 to
+    /// each of these comma-separated values in turn and time `--scheme adaptive` at the first
+    /// `--tess` level with and without single-crease patches; prints frame ms and the GPU memory
+    /// of the patch data per configuration.
+    #[arg(long, value_name = "S1,S2,...")]
+    pub crease_sharpness: Option<String>,
+    /// With --crease-sharpness: write the sweep as a PNG plot (frame ms and patch-data MB over
+    /// the sharpness; teal with single-crease patches, orange without).
+    #[arg(long, requires = "crease_sharpness")]
+    pub plot: Option<std::path::PathBuf>,
     /// Image size WxH.
     #[arg(long, default_value = "800x600")]
     pub size: String,
@@ -78,6 +88,28 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let mesh = load(args.mesh.as_deref(), args.left_handed)?;
     let ctx = context(args.validation)?;
     println!("device: {}", ctx.info().name);
+    if let Some(list) = &args.crease_sharpness {
+        let sharpness: Vec<f32> = list
+            .split(',')
+            .map(|t| {
+                t.trim().parse::<f32>().map_err(|_| {
+                    Error::Invalid(format!("--crease-sharpness: `{t}` is not a number"))
+                })
+            })
+            .collect::<Result<_>>()?;
+        let sweep = super::bench_creases::Sweep {
+            sharpness: &sharpness,
+            level: clamp_level(&ctx, levels[0])?,
+            isolation: args.isolation,
+            frames: args.frames,
+            size: (width, height),
+        };
+        let rows = super::bench_creases::run(&ctx, &mesh, &sweep)?;
+        if let Some(path) = &args.plot {
+            super::bench_creases::plot(&rows, path)?;
+        }
+        return check_validation(&ctx);
+    }
     if args.variants {
         let levels: Vec<f32> = levels
             .iter()
