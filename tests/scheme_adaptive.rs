@@ -387,3 +387,21 @@ fn assert_coincident_points_equal(m: &ControlMesh, records: &[CaptureRecord]) ->
     }
     pairs
 }
+
+/// `--color-by patch-type` on `catmark_single_crease` at isolation 3: single-crease patches of
+/// every level in their own colour (teal) next to regular (gold), boundary (orange), crease
+/// (red), transition (blue) patches and end caps (purple).
+#[test]
+fn golden_single_crease_patch_type() {
+    let Some(ctx) = context() else { return };
+    let m = mesh("catmark_single_crease");
+    let surface = adaptive_surface(&ctx, &m, 3, 8.0);
+    let render = RenderDesc {
+        tess: uniform(8.0),
+        color_by: tessera::render::ColorBy::PatchType,
+        ..RenderDesc::default()
+    };
+    let img = common::capture::image(&ctx, &surface, &render, &offscreen(256, 192));
+    common::golden::check_golden("adaptive_single_crease_patch_type", &img);
+    assert_validation_clean(&ctx);
+}

@@ -9,14 +9,9 @@
 #ifndef TESSERA_ADAPTIVE_PATCH_TES_GLSL
 #define TESSERA_ADAPTIVE_PATCH_TES_GLSL
 
-#ifndef SPACING
-#define SPACING equal_spacing
-#endif
+#include "adaptive_tes_io.glsl"
 
 layout(quads, SPACING, cw) in;
-layout(location = 0) out vec3 t_world;
-layout(location = 1) out vec3 t_normal;
-layout(location = 2) flat out uint t_class;
 
 void main() {
     float u = gl_TessCoord.x;

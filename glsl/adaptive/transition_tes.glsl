@@ -13,15 +13,10 @@
 #ifndef TESSERA_TRANSITION_TES_GLSL
 #define TESSERA_TRANSITION_TES_GLSL
 
-#ifndef SPACING
-#define SPACING equal_spacing
-#endif
+#include "adaptive_tes_io.glsl"
 
 // Vertex 0 the centre, 1 and 2 the segment ends counter-clockwise in (u, v) (see `flip`).
 layout(triangles, SPACING, cw) in;
-layout(location = 0) out vec3 t_world;
-layout(location = 1) out vec3 t_normal;
-layout(location = 2) flat out uint t_class;
 
 void main() {
     TransitionTri tt = ttris[chunk.patch_base + uint(gl_PrimitiveID)];

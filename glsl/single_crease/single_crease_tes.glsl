@@ -67,25 +67,12 @@ void single_crease_surface(float sharpness, float u, float v, out vec3 pos, out 
     int g = set_at(cs, u);
     vec2 range = set_range(cs, g);
     float x = (u - range.x) / (range.y - range.x);
-    vec4 bx, dbx, bv, dbv;
-    bernstein3(x, 1.0 - x, bx, dbx);
-    bernstein3(v, 1.0 - v, bv, dbv);
-    vec3 p = vec3(0.0);
-    vec3 du = vec3(0.0);
-    vec3 dv = vec3(0.0);
-    for (int j = 0; j < 4; ++j) {
-        for (int i = 0; i < 4; ++i) {
-            vec3 cp = set_point(g, 4 * j + i);
-            p += (bx[i] * bv[j]) * cp;
-            du += (dbx[i] * bv[j]) * cp;
-            dv += (bx[i] * dbv[j]) * cp;
-        }
+    vec3 cp[16];
+    for (int k = 0; k < 16; ++k) {
+        cp[k] = set_point(g, k);
     }
-    // du is d/dx = (range width) d/du: the same direction.
-    vec3 n = cross(du, dv);
-    float len = length(n);
-    pos = p;
-    nrm = len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
+    // d/dx = (range width) d/du: the same normal.
+    bezier_surface(cp, x, v, pos, nrm);
 }
 
 #endif

@@ -142,7 +142,14 @@ fn label(img: &mut RgbImage, x: i64, y: i64, text: &str, scale: i64) {
             for (r, bits) in DIGITS[d as usize].iter().enumerate() {
                 for c in 0..3 {
                     if bits & (4 >> c) != 0 {
-                        fill(img, cx + c * scale, y + r as i64 * scale, scale, scale, Rgb([40; 3]));
+                        fill(
+                            img,
+                            cx + c * scale,
+                            y + r as i64 * scale,
+                            scale,
+                            scale,
+                            Rgb([40; 3]),
+                        );
                     }
                 }
             }
@@ -181,7 +188,10 @@ pub fn plot(rows: &[SweepRow], path: &Path) -> Result<()> {
     let (w, h) = (1000u32, 420u32);
     let mut img = RgbImage::from_pixel(w, h, Rgb([255; 3]));
     let values: [fn(&SweepRow) -> f64; 2] = [|r| r.frame_ms, |r| r.bytes as f64 / 1e6];
-    let s_min = rows.iter().map(|r| r.sharpness).fold(f32::INFINITY, f32::min) as f64;
+    let s_min = rows
+        .iter()
+        .map(|r| r.sharpness)
+        .fold(f32::INFINITY, f32::min) as f64;
     let s_max = rows.iter().map(|r| r.sharpness).fold(0.0, f32::max) as f64;
     for (panel, value) in values.iter().enumerate() {
         let (x0, y0, pw, ph) = (60.0 + 500.0 * panel as f64, 30.0, 400.0, 330.0);
@@ -192,7 +202,13 @@ pub fn plot(rows: &[SweepRow], path: &Path) -> Result<()> {
         };
         line(&mut img, (x0, y0), (x0, y0 + ph), Rgb([40; 3]));
         line(&mut img, (x0, y0 + ph), (x0 + pw, y0 + ph), Rgb([40; 3]));
-        label(&mut img, x0 as i64 - 50, y0 as i64, &format!("{:.1}", y_max), 3);
+        label(
+            &mut img,
+            x0 as i64 - 50,
+            y0 as i64,
+            &format!("{:.1}", y_max),
+            3,
+        );
         label(&mut img, x0 as i64 - 20, (y0 + ph) as i64 - 15, "0", 3);
         let mut ticks: Vec<f64> = rows.iter().map(|r| f64::from(r.sharpness)).collect();
         ticks.dedup();

@@ -50,6 +50,8 @@ pub fn tolerance(name: &str) -> Tolerance {
 /// in a few hundred pixels (the open Gregory ones also by one pixel of a pinhole); a render
 /// shifted by one pixel measures a mean of 0.016-0.085 and a 99th percentile of 0.33-0.44.
 const TOLERANCES: &[(&str, Tolerance)] = &[
+    // new with single-crease patches in the adaptive scheme; as single_crease_patch_type
+    ("adaptive_single_crease_patch_type", tol(0.006, 0.05)),
     // new with the single-crease pass; as bspline_only_mixed_patch_type
     ("single_crease_patch_type", tol(0.006, 0.05)),
     // new with the conformance tests; as mixed_patch_type (same mesh, scheme and colouring,

@@ -13,7 +13,6 @@ use super::derive::DerivedPoints;
 use super::refine::GpuRefiner;
 use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool, Pipeline};
 use crate::patch::adaptive::AdaptiveDrawTables;
-use crate::subdiv::tables::RefinementTables;
 use crate::render::pass::pipeline::{patch_pipeline, PatchShaders};
 use crate::render::pass::shared::{
     set0_layout, CONTROL_POSITIONS_BINDING, VERTEX_LIMITS_BINDING, VERTEX_NORMALS_BINDING,
@@ -22,6 +21,7 @@ use crate::render::pass::upload::device_buffer;
 use crate::render::pass::{bind_draw_state, record_patch_draws, PatchDraws, VertexFrames};
 use crate::render::schemes::traits::PassContext;
 use crate::render::schemes::PatchPass;
+use crate::subdiv::tables::RefinementTables;
 use crate::Result;
 
 /// The pass's own set-0 bindings (`glsl/common/frame.glsl`, `gregory/gregory.glsl`,
