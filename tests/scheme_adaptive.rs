@@ -93,9 +93,9 @@ fn errors_by_kind(m: &ControlMesh, records: &[CaptureRecord]) -> HashMap<u8, (f6
     out
 }
 
-/// B-spline, boundary, crease and transition patches equal the exact limit at every TES point
-/// (f32 GPU arithmetic): ≤ 1e-6 of the diagonal, normals ≤ 1e-3 rad (the B-spline pass's bound:
-/// f32 cancellation in the derivatives of flat, large patches).
+/// B-spline, boundary, crease, single-crease and transition patches equal the exact limit at
+/// every TES point (f32 GPU arithmetic): ≤ 1e-6 of the diagonal, normals ≤ 1e-3 rad (the
+/// B-spline pass's bound: f32 cancellation in the derivatives of flat, large patches).
 #[test]
 fn exact_patches_match_the_limit() {
     let Some(ctx) = context() else { return };
@@ -105,6 +105,10 @@ fn exact_patches_match_the_limit() {
         ("catmark_nonquads", 2),
         ("catmark_car", 2),
         ("catmark_pole64", 1),
+        // Single-crease patches of every level (on by default), whole and as transition fans
+        // (`embedded:creased` has an end cap the Gregory construction does not cover yet).
+        ("catmark_single_crease", 2),
+        ("catmark_torus_creases1", 3),
     ] {
         let m = mesh(name);
         let (surface, records) = draw(&ctx, &m, iso, uniform(4.0));
@@ -305,6 +309,12 @@ fn watertight_across_levels_and_types() {
         ("catmark_car", 2, false),
         ("catmark_cube_creases1", 3, true),
         ("catmark_nonquads", 2, true),
+        // Single-crease patches next to every type and level: B-spline, transition fans on
+        // both sides, end caps across their crease-aware edges (car, cube_creases1 too).
+        // `catmark_single_crease` is left out: its infinitely sharp crease vertices have
+        // several sectors, where crease B-spline patches keep their own corner normals (3e-6
+        // rad apart on one side, with single-crease patches off too).
+        ("catmark_torus_creases1", 3, true),
     ] {
         let m = mesh(name);
         let mut cases = vec![
@@ -522,4 +532,22 @@ fn enclosed_background(img: &image::RgbaImage) -> usize {
         .flat_map(|y| (0..w).map(move |x| (x, y)))
         .filter(|&(x, y)| bg(x, y) && !seen[(y * w + x) as usize])
         .count()
+}
+
+/// `--color-by patch-type` on `catmark_single_crease` at isolation 3: single-crease patches of
+/// every level in their own colour (teal) next to regular (gold), boundary (orange), crease
+/// (red), transition (blue) patches and end caps (purple).
+#[test]
+fn golden_single_crease_patch_type() {
+    let Some(ctx) = context() else { return };
+    let m = mesh("catmark_single_crease");
+    let surface = adaptive_surface(&ctx, &m, 3, 8.0);
+    let render = RenderDesc {
+        tess: uniform(8.0),
+        color_by: tessera::render::ColorBy::PatchType,
+        ..RenderDesc::default()
+    };
+    let img = common::capture::image(&ctx, &surface, &render, &offscreen(256, 192));
+    common::golden::check_golden("adaptive_single_crease_patch_type", &img);
+    assert_validation_clean(&ctx);
 }

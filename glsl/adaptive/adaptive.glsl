@@ -12,6 +12,7 @@
 #include "bspline.glsl"
 #include "watertight.glsl"
 #include "control_points.glsl"
+#include "single_crease/single_crease.glsl"
 #ifdef CAPTURE
 #include "capture.glsl"
 #endif
@@ -19,8 +20,9 @@
 const uint NO_ENTRY = 0xffffffffu;
 
 /// Patch kinds as captured (subdiv::adaptive::PatchType 0-4; transition patches are B-spline
-/// patches drawn as a triangle fan).
+/// patches drawn as a triangle fan; single-crease patches keep their kind when drawn as one).
 #define KIND_END_CAP 3u
+#define KIND_SINGLE_CREASE 4u
 #define KIND_TRANSITION 5u
 
 /// One drawn patch (80 bytes): base face and sub-face (NO_ENTRY for quads), level, kind, the map
@@ -49,7 +51,9 @@ layout(std430, set = 0, binding = 10) readonly buffer AdaptivePatches {
 /// (refined-buffer ids; rows left of / on / right of the direction from the smaller slot lo to
 /// hi, each from the lo end), the end and midpoint slots, flags (bit 0: boundary or infinitely
 /// sharp; bits 1, 2: the first / last point along the edge is a phantom, mirrored 2 x1 - x2 as
-/// the coarse patch's TCS does).
+/// the coarse patch's TCS does; bits 3-4: the curve of a single-crease coarse patch, 0 the grid
+/// curve, 1 its crease edge, 2 an edge across its crease line with bit 5 set when the crease end
+/// is lo; bit 6: a whole edge shared at one level (mid unused); bits 8-31: that patch's record, whose crease_sharpness the curve reads).
 struct CoarseEdge {
     uint rows[12];
     uint lo;
@@ -99,20 +103,37 @@ void coarse_edge_point(CoarseEdge ce, float t, float s, out vec3 pos, out vec3 n
         m[3] = 2.0 * m[2] - m[1];
         r[3] = 2.0 * r[2] - r[1];
     }
-    grid_edge_rows(l, m, r, (ce.flags & 1u) != 0u, t, s, pos, nrm);
+    uint curve = (ce.flags >> 3) & 3u;
+    if (curve == 0u) {
+        grid_edge_rows(l, m, r, (ce.flags & 1u) != 0u, t, s, pos, nrm);
+    } else {
+        // The coarse single-crease patch's own edge curve (single_crease_tes.glsl, e = 1 or 0/2).
+        float sharpness = crease_sharpness[ce.flags >> 8];
+        if (curve == 1u) {
+            crease_edge_rows(l, m, r, sharpness, t, s, pos, nrm);
+        } else {
+            crease_across_edge(l, m, r, (ce.flags & 32u) != 0u, sharpness, t, s, pos, nrm);
+        }
+    }
 }
 
 /// The finer patch's side of a transition edge: edge from slot a to slot b (one of them the
-/// coarse edge's midpoint) at x measured from a, evaluated from the coarse record `index`.
+/// coarse edge's midpoint) at x measured from a, evaluated from the coarse record `index`; with
+/// flags bit 6 (an end cap next to a single-crease patch's crease-aware edge) the whole edge a-b.
 /// Position always from the coarse edge; the normal too unless the edge is sharp (a crease:
 /// each side keeps its own).
 void fine_edge_point(uint index, uint a, uint b, float x, inout vec3 pos, inout vec3 nrm) {
     CoarseEdge ce = coarse_edges[index];
-    bool first_half = (a == ce.lo || b == ce.lo);
-    bool x_from_lo = first_half ? (a == ce.lo) : (a == ce.mid);
     float t;
     float s;
-    coarse_half_ts(first_half, x_from_lo, x, t, s);
+    if ((ce.flags & 64u) != 0u) {
+        // A whole edge shared at one level: the canonical parameters of the other patch's own rule.
+        canonical_ts(x, a == ce.lo, t, s);
+    } else {
+        bool first_half = (a == ce.lo || b == ce.lo);
+        bool x_from_lo = first_half ? (a == ce.lo) : (a == ce.mid);
+        coarse_half_ts(first_half, x_from_lo, x, t, s);
+    }
     vec3 n;
     coarse_edge_point(ce, t, s, pos, n);
     if ((ce.flags & 1u) == 0u) {

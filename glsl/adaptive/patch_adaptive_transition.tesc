@@ -1,8 +1,6 @@
 #version 450
-// Transition triangle (transition.glsl): the B-spline control points of its patch and levels
-// shared with the neighbours: the outer segment takes the level of the patch edge, or of the
-// finer patch along a half edge (level + 1); both spokes take the patch's largest edge level,
-// which every triangle of the fan computes alike.
+// Transition triangle of a B-spline patch: control points by bspline_tcs.glsl, levels by
+// transition_tcs.glsl.
 #include "frame.glsl"
 #include "adaptive.glsl"
 #include "adaptive_levels.glsl"
@@ -10,27 +8,5 @@
 #include "transition.glsl"
 #include "bspline/bspline_tcs.glsl"
 
-void main() {
-    TransitionTri tt = ttris[chunk.patch_base + uint(gl_PrimitiveID)];
-    PatchInfo info = patches[tt.patch_index];
-    bspline_control_points(info.flags);
-    if (gl_InvocationID == 0) {
-        AdaptivePatch ap = apatches[info.pad0];
-        int e = int(tt.edge);
-        vec4 o = patch_edge_levels(info.corners, ap.level);
-        ivec2 se = bspline_edge_corners(e);
-        float segment = o[e];
-        if (tt.half_edge == 1u) {
-            segment = level_edge_tess(info.corners[se.x], ap.mid[e], ap.level + 1u);
-        } else if (tt.half_edge == 2u) {
-            segment = level_edge_tess(ap.mid[e], info.corners[se.y], ap.level + 1u);
-        }
-        float spoke = max(max(o.x, o.y), max(o.z, o.w));
-        // Triangle domain: outer[i] is the edge where gl_TessCoord[i] == 0; vertex 0 is the
-        // centre, so outer[0] is the segment on the patch edge.
-        gl_TessLevelOuter[0] = segment;
-        gl_TessLevelOuter[1] = spoke;
-        gl_TessLevelOuter[2] = spoke;
-        gl_TessLevelInner[0] = max(segment, spoke);
-    }
-}
+#define PATCH_CONTROL_POINTS(info) bspline_control_points(info.flags)
+#include "transition_tcs.glsl"

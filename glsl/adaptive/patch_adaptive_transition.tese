@@ -1,10 +1,5 @@
 #version 450
-// Transition triangle evaluation: the patch's own surface at the mapped domain point; on the
-// outer segment the shared edge rules (a half edge at the coarse parameter of coarse_half_ts,
-// the same bits as the finer patch's fine_edge_point; a whole edge on a coarser patch by
-// fine_edge_point itself), at segment ends the shared corner or
-// midpoint slot, on the spokes a parameter canonical from the centre, so the two triangles of a
-// spoke evaluate the same domain points.
+// Transition triangle of a B-spline patch (transition_tes.glsl), captured as `transition`.
 // Defines: SPACING, CAPTURE.
 #include "frame.glsl"
 #include "adaptive.glsl"
@@ -12,81 +7,8 @@
 #include "transition.glsl"
 #include "bspline/bspline_tes.glsl"
 
-#ifndef SPACING
-#define SPACING equal_spacing
-#endif
-
-// Vertex 0 the centre, 1 and 2 the segment ends counter-clockwise in (u, v) (see `flip`).
-layout(triangles, SPACING, cw) in;
-layout(location = 0) out vec3 t_world;
-layout(location = 1) out vec3 t_normal;
-layout(location = 2) flat out uint t_class;
-
-void main() {
-    TransitionTri tt = ttris[chunk.patch_base + uint(gl_PrimitiveID)];
-    PatchInfo info = patches[tt.patch_index];
-    AdaptivePatch ap = apatches[info.pad0];
-    int e = int(tt.edge);
-    uint h = tt.half_edge;
-    ivec2 se = bspline_edge_corners(e);
-    vec2 start = corner_uv(se.x);
-    vec2 end = corner_uv(se.y);
-    vec2 mid = 0.5 * (start + end);
-    // Segment A -> B runs with the edge parameter.
-    vec2 a = (h == 2u) ? mid : start;
-    vec2 b = (h == 1u) ? mid : end;
-    uint slot_a = (h == 2u) ? ap.mid[e] : info.corners[se.x];
-    uint slot_b = (h == 1u) ? ap.mid[e] : info.corners[se.y];
-    // Edges 2 and 3 run against face order: B is vertex 1 there, keeping the fan counter-clockwise.
-    bool flip = e >= 2;
-    float wc = gl_TessCoord.x;
-    float wa = flip ? gl_TessCoord.z : gl_TessCoord.y;
-    float wb = flip ? gl_TessCoord.y : gl_TessCoord.z;
-
-    vec3 p;
-    vec3 nrm;
-    vec2 uv;
-    if (wc == 0.0 && (wa == 0.0 || wb == 0.0)) {
-        bool at_a = (wb == 0.0);
-        uv = at_a ? a : b;
-        bspline_surface(uv.x, uv.y, p, nrm);
-        shared_corner(at_a ? slot_a : slot_b, p, nrm);
-    } else if (wc == 0.0) {
-        float x = wb;
-        uv = a + x * (b - a);
-        bspline_surface(uv.x, uv.y, p, nrm);
-        if (h == 0u && ap.coarse[e] != NO_ENTRY) {
-            // A whole edge lying on a coarser patch (this patch is the finer side there).
-            fine_edge_point(ap.coarse[e], slot_a, slot_b, x, p, nrm);
-        } else if (h == 0u) {
-            edge_point(info.flags, e, x, p, nrm);
-        } else {
-            bool forward = ((info.flags >> (4 + e)) & 1u) == 0u;
-            float t;
-            float s;
-            coarse_half_ts((h == 1u) == forward, forward, x, t, s);
-            edge_point_ts(info.flags, e, t, s, p, nrm);
-        }
-    } else if (wa == 0.0 || wb == 0.0) {
-        // Spoke from the centre to B (wa == 0) or A (wb == 0).
-        float y = (wa == 0.0) ? wb : wa;
-        vec2 q = (wa == 0.0) ? b : a;
-        float ty;
-        float sy;
-        canonical_ts(y, true, ty, sy);
-        precise vec2 spoke_uv = sy * vec2(0.5) + ty * q;
-        uv = spoke_uv;
-        bspline_surface(uv.x, uv.y, p, nrm);
-    } else {
-        uv = wc * vec2(0.5) + wa * a + wb * b;
-        bspline_surface(uv.x, uv.y, p, nrm);
-    }
-
-    t_world = p;
-    t_normal = nrm;
-    t_class = adaptive_class(KIND_TRANSITION, ap.level);
-    gl_Position = frame.view_proj * vec4(p, 1.0);
-#ifdef CAPTURE
-    capture_adaptive(ap, KIND_TRANSITION, uv, p, nrm);
-#endif
-}
+#define PATCH_SURFACE(info, u, v, p, nrm) bspline_surface(u, v, p, nrm)
+#define PATCH_EDGE(info, e, x, p, nrm) edge_point(info.flags, e, x, p, nrm)
+#define PATCH_EDGE_TS(info, e, t, s, p, nrm) edge_point_ts(info.flags, e, t, s, p, nrm)
+#define FAN_KIND(ap) KIND_TRANSITION
+#include "transition_tes.glsl"

@@ -43,29 +43,11 @@ void edge_point(uint flags, int e, float x, out vec3 pos, out vec3 nrm) {
 
 /// The patch's own surface point and unit normal at (u, v) from the Bezier points.
 void bspline_surface(float u, float v, out vec3 pos, out vec3 nrm) {
-    vec4 bu, dbu, bv, dbv;
-    bernstein3(u, 1.0 - u, bu, dbu);
-    bernstein3(v, 1.0 - v, bv, dbv);
-    vec3 p = vec3(0.0);
-    vec3 du = vec3(0.0);
-    vec3 dv = vec3(0.0);
-    for (int j = 0; j < 4; ++j) {
-        for (int i = 0; i < 4; ++i) {
-            vec3 cp = c_bezier[4 * j + i];
-            p += (bu[i] * bv[j]) * cp;
-            du += (dbu[i] * bv[j]) * cp;
-            dv += (bu[i] * dbv[j]) * cp;
-        }
+    vec3 cp[16];
+    for (int k = 0; k < 16; ++k) {
+        cp[k] = c_bezier[k];
     }
-    vec3 n = cross(du, dv);
-    float len = length(n);
-    pos = p;
-    nrm = len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
-}
-
-/// Patch edge (0: v=0, 1: u=1, 2: v=1, 3: u=0) of (u, v) on exactly one domain edge.
-int bspline_edge(float u, float v) {
-    return (v == 0.0) ? 0 : (u == 1.0) ? 1 : (v == 1.0) ? 2 : 3;
+    bezier_surface(cp, u, v, pos, nrm);
 }
 
 #endif

@@ -29,4 +29,32 @@ vec4 bspline_to_bezier_row(int k) {
     return vec4(0.0, 1.0, 4.0, 1.0) * (1.0 / 6.0);
 }
 
+/// Patch edge (0: v=0, 1: u=1, 2: v=1, 3: u=0) of (u, v) on exactly one domain edge.
+int bspline_edge(float u, float v) {
+    return (v == 0.0) ? 0 : (u == 1.0) ? 1 : (v == 1.0) ? 2 : 3;
+}
+
+/// Point and unit normal (cross(dP/du, dP/dv), +z where it vanishes) of the bicubic Bezier patch
+/// cp[4*j + i] (i along u) at (u, v).
+void bezier_surface(vec3 cp[16], float u, float v, out vec3 pos, out vec3 nrm) {
+    vec4 bu, dbu, bv, dbv;
+    bernstein3(u, 1.0 - u, bu, dbu);
+    bernstein3(v, 1.0 - v, bv, dbv);
+    vec3 p = vec3(0.0);
+    vec3 du = vec3(0.0);
+    vec3 dv = vec3(0.0);
+    for (int j = 0; j < 4; ++j) {
+        for (int i = 0; i < 4; ++i) {
+            vec3 c = cp[4 * j + i];
+            p += (bu[i] * bv[j]) * c;
+            du += (dbu[i] * bv[j]) * c;
+            dv += (bu[i] * dbv[j]) * c;
+        }
+    }
+    vec3 n = cross(du, dv);
+    float len = length(n);
+    pos = p;
+    nrm = len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
+}
+
 #endif

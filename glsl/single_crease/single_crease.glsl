@@ -20,7 +20,8 @@
 
 #include "watertight.glsl"
 
-/// Per-patch sharpness along the crease line (binding 4), indexed like `patches` (binding 1).
+/// Per-patch sharpness along the crease line (binding 4), indexed like `patches` (binding 1) in the
+/// single-crease pass, by patch record (PatchInfo.pad0, 0 for other kinds) in the adaptive scheme.
 layout(std430, set = 0, binding = 4) readonly buffer CreaseSharpness {
     float crease_sharpness[];
 };

@@ -1,43 +1,17 @@
 #version 450
-// Single-crease patch (16 control vertices, rotated so the crease runs along u = 1; see
-// single_crease.glsl): reads the patch's sharpness (binding 4) and builds the two or three
-// Bezier control sets of its pieces across the crease (Nießner, Loop, Greiner 2012, §4; the
-// fractional blend of §3.1), passes the B-spline points on for the TES's shared edges and sets
-// the tessellation levels as the B-spline TCS does (common/tess_factors.glsl).
+// Single-crease patch of the single-crease pass: reads the patch's sharpness (binding 4), builds
+// its Bezier control sets (single_crease_tcs.glsl) and sets the tessellation levels as the
+// B-spline TCS does (common/tess_factors.glsl).
 #include "frame.glsl"
 #include "bspline.glsl"
 #include "tess_factors.glsl"
 #include "single_crease.glsl"
-
-layout(vertices = 16) out;
-layout(location = 0) in vec3 v_pos[];
-layout(location = 0) out vec3 c_bspline[];
-layout(location = 1) out vec3 c_set0[];
-layout(location = 2) out vec3 c_set1[];
-layout(location = 3) out vec3 c_set2[];
+#include "single_crease_tcs.glsl"
 
 void main() {
     uint patch_index = chunk.patch_base + uint(gl_PrimitiveID);
-    CreaseSplit cs = crease_split(crease_sharpness[patch_index]);
-    int id = gl_InvocationID;
-    int i = id % 4;
-    int j = id / 4;
-    c_bspline[gl_InvocationID] = v_pos[id];
-    // Along the crease (v) every piece is the smooth cubic: Bezier row j of each column.
-    vec4 wj = bspline_to_bezier_row(j);
-    vec3 col[4];
-    for (int k = 0; k < 4; ++k) {
-        col[k] = ((wj.x * v_pos[k] + wj.y * v_pos[4 + k]) + wj.z * v_pos[8 + k]) + wj.w * v_pos[12 + k];
-    }
-    // Across it (u) Bezier point i of each piece over its own u-range. Empty pieces are never read.
-    vec4 w0 = set_row(cs, 0, i);
-    vec4 w1 = set_row(cs, 1, i);
-    vec4 w2 = set_row(cs, 2, i);
-    c_set0[gl_InvocationID] = ((w0.x * col[0] + w0.y * col[1]) + w0.z * col[2]) + w0.w * col[3];
-    c_set1[gl_InvocationID] = ((w1.x * col[0] + w1.y * col[1]) + w1.z * col[2]) + w1.w * col[3];
-    c_set2[gl_InvocationID] = ((w2.x * col[0] + w2.y * col[1]) + w2.z * col[2]) + w2.w * col[3];
-
-    if (id == 0) {
+    single_crease_control_points(crease_sharpness[patch_index]);
+    if (gl_InvocationID == 0) {
         uvec4 c = patches[patch_index].corners;
         set_quad_tess_levels(c);
     }

@@ -34,6 +34,11 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_ISOLATION,
           value_parser = clap::value_parser!(u32).range(0..=8))]
     pub isolation: u32,
+    /// `--scheme adaptive`: draw regular quads whose only feature is one semi-sharp crease line
+    /// as single-crease patches instead of refining them (Nießner, Loop, Greiner 2012; OpenSubdiv's
+    /// `useSingleCreasePatch`): `true` (default) or `false`.
+    #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
+    pub single_crease: bool,
     /// Animate: before every timed frame, twist the control positions (as `render --animate`)
     /// and hand them to the renderer (`update_positions`: vertex limit frames and CPU-path faces
     /// recomputed on the CPU, every GPU patch rebuilt on the GPU); adds the CPU milliseconds of
@@ -44,6 +49,16 @@ pub struct BenchArgs {
     /// path, and the regular pass alone, each timed in frames of its own (paper Table 1).
     #[arg(long)]
     pub variants: bool,
+    /// The paper's Fig. 2 (Nießner, Loop, Greiner 2012): set every crease tag of sharpness > 0 to
+    /// each of these comma-separated values in turn and time `--scheme adaptive` at the first
+    /// `--tess` level with and without single-crease patches; prints frame ms and the GPU memory
+    /// of the patch data per configuration.
+    #[arg(long, value_name = "S1,S2,...")]
+    pub crease_sharpness: Option<String>,
+    /// With --crease-sharpness: write the sweep as a PNG plot (frame ms and patch-data MB over
+    /// the sharpness; teal with single-crease patches, orange without).
+    #[arg(long, requires = "crease_sharpness")]
+    pub plot: Option<std::path::PathBuf>,
     /// Image size WxH.
     #[arg(long, default_value = "800x600")]
     pub size: String,
@@ -73,6 +88,28 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let mesh = load(args.mesh.as_deref(), args.left_handed)?;
     let ctx = context(args.validation)?;
     println!("device: {}", ctx.info().name);
+    if let Some(list) = &args.crease_sharpness {
+        let sharpness: Vec<f32> = list
+            .split(',')
+            .map(|t| {
+                t.trim().parse::<f32>().map_err(|_| {
+                    Error::Invalid(format!("--crease-sharpness: `{t}` is not a number"))
+                })
+            })
+            .collect::<Result<_>>()?;
+        let sweep = super::bench_creases::Sweep {
+            sharpness: &sharpness,
+            level: clamp_level(&ctx, levels[0])?,
+            isolation: args.isolation,
+            frames: args.frames,
+            size: (width, height),
+        };
+        let rows = super::bench_creases::run(&ctx, &mesh, &sweep)?;
+        if let Some(path) = &args.plot {
+            super::bench_creases::plot(&rows, path)?;
+        }
+        return check_validation(&ctx);
+    }
     if args.variants {
         let levels: Vec<f32> = levels
             .iter()
@@ -101,7 +138,14 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let rest = mesh.positions().to_vec();
     for &req in &levels {
         let level = clamp_level(&ctx, req)?;
-        let surface = surface_for(&ctx, &mesh, level, args.scheme, args.isolation)?;
+        let surface = surface_for(
+            &ctx,
+            &mesh,
+            level,
+            args.scheme,
+            args.isolation,
+            args.single_crease,
+        )?;
         if req == levels[0] {
             report_fallback(&surface);
         }

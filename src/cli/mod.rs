@@ -2,6 +2,7 @@
 
 pub mod animate;
 pub mod bench;
+pub mod bench_creases;
 pub mod bench_gregory;
 pub mod error;
 pub mod info;

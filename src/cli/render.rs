@@ -67,6 +67,11 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_ISOLATION,
           value_parser = clap::value_parser!(u32).range(0..=8))]
     pub isolation: u32,
+    /// `--scheme adaptive`: draw regular quads whose only feature is one semi-sharp crease line
+    /// as single-crease patches instead of refining them (Nießner, Loop, Greiner 2012; OpenSubdiv's
+    /// `useSingleCreasePatch`): `true` (default) or `false`.
+    #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
+    pub single_crease: bool,
     /// Draw triangle edges only.
     #[arg(long)]
     pub wireframe: bool,
@@ -166,10 +171,15 @@ pub fn max_patch_level(arg: f32) -> f32 {
     }
 }
 
-/// Planning options on `ctx`'s device with `--isolation`.
-pub fn plan_options(ctx: &Context, isolation: u32) -> tessera::render::PlanOptions {
+/// Planning options on `ctx`'s device with `--isolation` and `--single-crease`.
+pub fn plan_options(
+    ctx: &Context,
+    isolation: u32,
+    single_crease: bool,
+) -> tessera::render::PlanOptions {
     tessera::render::PlanOptions::new(tessera::render::SchemeLimits::from_context(ctx))
         .with_isolation(isolation)
+        .with_single_crease(single_crease)
 }
 
 /// The surface of `mesh` for the `--scheme` named `scheme` on `ctx`'s device.
@@ -179,12 +189,13 @@ pub fn surface_for(
     level: f32,
     scheme: Scheme,
     isolation: u32,
+    single_crease: bool,
 ) -> Result<SurfaceData> {
     tessera::render::surface_for_scheme_with(
         mesh,
         level.ceil() as u32,
         scheme,
-        &plan_options(ctx, isolation),
+        &plan_options(ctx, isolation, single_crease),
     )
 }
 
@@ -257,7 +268,14 @@ pub fn run(args: RenderArgs) -> Result<()> {
     if !(tess.pixels_per_edge.is_finite() && tess.pixels_per_edge > 0.0) {
         return Err(Error::Invalid("--pixels-per-edge must be positive".into()));
     }
-    let surface = surface_for(&ctx, &mesh, level, args.scheme, args.isolation)?;
+    let surface = surface_for(
+        &ctx,
+        &mesh,
+        level,
+        args.scheme,
+        args.isolation,
+        args.single_crease,
+    )?;
     report_fallback(&surface);
     let render = RenderDesc {
         tess,

@@ -42,6 +42,11 @@ pub struct SampleArgs {
     #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_ISOLATION,
           value_parser = clap::value_parser!(u32).range(0..=8))]
     pub isolation: u32,
+    /// `--scheme adaptive`: draw regular quads whose only feature is one semi-sharp crease line
+    /// as single-crease patches instead of refining them (Nießner, Loop, Greiner 2012; OpenSubdiv's
+    /// `useSingleCreasePatch`): `true` (default) or `false`.
+    #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
+    pub single_crease: bool,
     /// Enable the Khronos validation layer (always on in debug builds).
     #[arg(long)]
     pub validation: bool,
@@ -56,8 +61,11 @@ pub fn run(args: SampleArgs) -> Result<()> {
     let ctx = context(args.validation)?;
     let level = clamp_level(&ctx, args.tess)?;
     // Only the GPU patches are captured; the other faces are counted, not evaluated.
-    let mut surface =
-        plan_for_scheme_with(&mesh, args.scheme, &plan_options(&ctx, args.isolation))?;
+    let mut surface = plan_for_scheme_with(
+        &mesh,
+        args.scheme,
+        &plan_options(&ctx, args.isolation, args.single_crease),
+    )?;
     log::info!(
         "{} face(s) captured from the GPU, {} drawn another way (CPU fallback, not in the file), \
          {} without limit surface",

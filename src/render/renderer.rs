@@ -9,7 +9,9 @@ use glam::DVec3;
 use super::cpu_path::CpuPathPass;
 use super::fallback::FallbackMesh;
 use super::pass::{CaptureRecord, SharedResources, VertexFrames};
+use super::schemes::adaptive::ADAPTIVE;
 use super::schemes::single_crease::SingleCreaseTables;
+use super::schemes::PatchScheme as _;
 use super::schemes::{PassContext, PassTables, PatchPass};
 pub use super::settings::RenderDesc;
 use super::settings::{FrameUniforms, TessSettings};
@@ -181,6 +183,15 @@ impl SurfaceRenderer {
                 .downcast_ref::<SingleCreaseTables>()
                 .map(|t| (i, t))
         }) else {
+            if self.parts.iter().any(|p| p.pass_name() == ADAPTIVE.name()) {
+                // The adaptive scheme's refinement kernels bake the crease rules (and the
+                // sharpness decides which faces are refined), so new sharpness is a new plan.
+                return Err(Error::Invalid(
+                    "set_sharpness: --scheme adaptive bakes the sharpness into its refinement \
+                     tables and patch layout; plan the surface again with the new creases"
+                        .into(),
+                ));
+            }
             return Err(Error::Invalid(
                 "set_sharpness: the surface has no single-crease patches (plan it again with the \
                  new creases)"

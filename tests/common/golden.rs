@@ -57,6 +57,8 @@ const TOLERANCES: &[(&str, Tolerance)] = &[
     ("adaptive_cube_creases1_type", tol(0.006, 0.05)),
     ("adaptive_pyramid_creases1_level", tol(0.006, 0.05)),
     ("adaptive_nonquads_type", tol(0.006, 0.05)),
+    // new with single-crease patches in the adaptive scheme; as single_crease_patch_type
+    ("adaptive_single_crease_patch_type", tol(0.006, 0.05)),
     // new with the single-crease pass; as bspline_only_mixed_patch_type
     ("single_crease_patch_type", tol(0.006, 0.05)),
     // new with the conformance tests; as mixed_patch_type (same mesh, scheme and colouring,

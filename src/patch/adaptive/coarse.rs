@@ -10,7 +10,10 @@ use super::error::DrawTablesError;
 use super::records::CoarseEdge;
 use super::slots::{Slots, NONE};
 use crate::patch::edge_grid::edge_grid;
-use crate::subdiv::adaptive::{AdaptiveLevel, AdaptiveRefinement, ChildOf, PatchCensus};
+use crate::patch::single_crease::Rotation;
+use crate::subdiv::adaptive::{
+    AdaptiveLevel, AdaptivePatch, AdaptiveRefinement, ChildOf, PatchCensus,
+};
 use crate::topology::is_sharp_edge;
 
 /// Per level, face to its census patch ([`NONE`] when the face is not drawn at that level).
@@ -35,6 +38,81 @@ fn edge_points(lev: &AdaptiveLevel, next: &AdaptiveLevel) -> Vec<u32> {
         }
     }
     out
+}
+
+/// Coarse-edge flags bits 3-4: the edge curve of a single-crease coarse patch (0 the B-spline
+/// grid curve, also on the edge opposite the crease).
+pub const CREASE_EDGE: u32 = 1 << 3;
+/// Flags bits 3-4: an edge across the crease line of a single-crease coarse patch; bit 5
+/// ([`CREASE_AT_LO`]): its crease end is `lo`.
+pub const ACROSS_CREASE: u32 = 2 << 3;
+/// Flags bit 5, see [`ACROSS_CREASE`].
+pub const CREASE_AT_LO: u32 = 1 << 5;
+
+/// The flags of face edge `k` of coarse patch `p` (record `record`) saying which single-crease
+/// curve it is (`glsl/single_crease/single_crease.glsl`), bits 8-31 the record (whose sharpness
+/// the curve reads); 0 for B-spline patches and the edge opposite the crease. `crease_is_lo`:
+/// whether face corner `k` of the patch is the edge's `lo` end.
+fn crease_flags(
+    p: &AdaptivePatch,
+    record: u32,
+    k: usize,
+    crease_is_lo: impl Fn(usize) -> bool,
+) -> u32 {
+    let Some(line) = p.crease else {
+        return 0;
+    };
+    let kc = Rotation::of(line.side).face_corner(1);
+    let kind = if k == kc {
+        CREASE_EDGE
+    } else if k == (kc + 2) % 4 {
+        return 0;
+    } else {
+        // Edge k shares corner k (k = kc + 1) or k + 1 (k = kc - 1) with the crease edge.
+        let corner = if k == (kc + 1) % 4 { k } else { (k + 1) % 4 };
+        ACROSS_CREASE
+            | if crease_is_lo(corner) {
+                CREASE_AT_LO
+            } else {
+                0
+            }
+    };
+    kind | record << 8
+}
+
+/// Flags bit 6: a whole edge shared at one level (an end cap next to a single-crease patch's
+/// crease-aware edge), not a coarse edge with two halves; `mid_slot` is [`NONE`].
+pub const WHOLE_EDGE: u32 = 1 << 6;
+
+/// The record of face edge `k` of census patch `p` (record `record`, B-spline or single-crease)
+/// with midpoint slot `mid_slot`: its 12 grid points in the canonical frame, end slots, flags.
+fn edge_record(
+    p: &AdaptivePatch,
+    record: u32,
+    k: usize,
+    mid_slot: u32,
+    sharp: bool,
+    slots: &Slots,
+) -> Option<CoarseEdge> {
+    let b = p.bspline?;
+    let slot = |g: u32| slots.of(g);
+    let c = b.corners();
+    // The finer face runs the edge c[k + 1] -> c[k].
+    let grid = edge_grid(&b, c[(k + 1) % 4], c[k], slot)?;
+    let (lo, hi) = (
+        slot(c[k]).min(slot(c[(k + 1) % 4])),
+        slot(c[k]).max(slot(c[(k + 1) % 4])),
+    );
+    Some(CoarseEdge {
+        rows: grid.ids,
+        lo_slot: lo,
+        hi_slot: hi,
+        mid_slot,
+        flags: u32::from(sharp)
+            | u32::from(grid.first_phantom) << 1
+            | u32::from(grid.last_phantom) << 2
+            | crease_flags(p, record, k, |corner| slot(c[corner]) == lo),
+    })
 }
 
 /// The coarse edges of a refinement and the finer patches' references to them.
@@ -66,12 +144,11 @@ impl CoarseEdges {
             .collect();
         let slot = |g: u32| slots.of(g);
         for (i, p) in census.patches.iter().enumerate() {
-            let Some(b) = p.bspline.filter(|_| p.transition != 0) else {
+            if p.bspline.is_none() || p.transition == 0 {
                 continue;
-            };
+            }
             let lev = &refinement.levels[p.level as usize];
             let t = lev.topology();
-            let c = b.corners();
             for k in (0..4).filter(|k| p.transition & (1 << k) != 0) {
                 let e = t.face_edges(p.face)[k];
                 let mid = mids[p.level as usize][e as usize];
@@ -82,29 +159,60 @@ impl CoarseEdges {
                     slot(next.global(mid))
                 };
                 out.mid_slots[i][k] = mid_slot;
-                // The finer face runs the edge c[k + 1] -> c[k].
-                let Some(grid) = edge_grid(&b, c[(k + 1) % 4], c[k], slot) else {
+                let sharp = is_sharp_edge(t, e);
+                let Some(record) = edge_record(p, i as u32, k, mid_slot, sharp, slots) else {
                     continue;
                 };
-                let (lo, hi) = (
-                    slot(c[k]).min(slot(c[(k + 1) % 4])),
-                    slot(c[k]).max(slot(c[(k + 1) % 4])),
-                );
                 out.by_edge.insert((p.level, e), out.edges.len() as u32);
                 out.owner.push((p.level, p.face, k as u32));
                 out.refs.push(0);
-                out.edges.push(CoarseEdge {
-                    rows: grid.ids,
-                    lo_slot: lo,
-                    hi_slot: hi,
-                    mid_slot,
-                    flags: u32::from(is_sharp_edge(t, e))
-                        | u32::from(grid.first_phantom) << 1
-                        | u32::from(grid.last_phantom) << 2,
-                });
+                out.edges.push(record);
             }
         }
         out
+    }
+
+    /// A [`WHOLE_EDGE`] record for face edge `k` of end cap `f` of `level` when the patch across
+    /// it (same level; `at`: [`patch_index`]) is a single-crease patch and the edge is one of its
+    /// crease-aware curves (its crease edge or an edge across its crease line), so the end cap
+    /// evaluates that curve as the single-crease patch does; [`NONE`] otherwise (the grid curve
+    /// of the end cap's B-spline-neighbour rule is then the same curve).
+    pub fn whole(
+        &mut self,
+        refinement: &AdaptiveRefinement,
+        census: &PatchCensus,
+        at: &[Vec<u32>],
+        slots: &Slots,
+        (level, f, k): (u32, u32, usize),
+    ) -> u32 {
+        let lev = &refinement.levels[level as usize];
+        let t = lev.topology();
+        let Some(g) = t.adjacent_face(f, k).filter(|&g| lev.own[g as usize]) else {
+            return NONE;
+        };
+        let j = at[level as usize][g as usize];
+        let Some(q) = census
+            .patches
+            .get(j as usize)
+            .filter(|q| q.crease.is_some())
+        else {
+            return NONE;
+        };
+        let e = t.face_edges(f)[k];
+        let Some(kq) = t.face_edges(g).iter().position(|&x| x == e) else {
+            return NONE;
+        };
+        let Some(mut record) = edge_record(q, j, kq, NONE, false, slots) else {
+            return NONE;
+        };
+        if record.flags & (CREASE_EDGE | ACROSS_CREASE) == 0 {
+            return NONE;
+        }
+        record.flags |= WHOLE_EDGE;
+        self.owner.push((level, g, kq as u32));
+        self.refs.push(2);
+        self.edges.push(record);
+        (self.edges.len() - 1) as u32
     }
 
     /// The record face edge `k` of face `f` of `level` lies on (its neighbour across is drawn

@@ -17,14 +17,18 @@ use super::error::DrawTablesError;
 use super::records::{
     words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
 };
-use super::rows::{bspline_corner_rows, gregory_corner_rows, SparseRows};
+use super::rows::{
+    bspline_corner_rows, gregory_corner_rows, single_crease_corner_rows, SparseRows,
+};
 use super::slots::{Slots, NONE};
 use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure};
 use crate::patch::edge_grid::PATCH_EDGES;
 use crate::patch::gregory::edge_flags::{edge_flags, Across};
 use crate::patch::gregory::stencil_table::sparse_face_rows;
 use crate::patch::gregory::Weights;
-use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
+use crate::patch::single_crease::{gpu_cvs, Rotation, SingleCreasePatch};
+use crate::patch::RegularPatch;
+use crate::subdiv::adaptive::{AdaptiveRefinement, Domain, PatchCensus, PatchType};
 use crate::topology::single_normal_vertex;
 
 /// Rows per end cap: 20 control points and 16 extra rows (quads), 15 + 12 then empty rows
@@ -53,6 +57,18 @@ pub struct AdaptiveDrawTables {
     pub transition: Vec<BSplineDraw>,
     /// The fans of the transition patches.
     pub triangles: Vec<TransitionTriangle>,
+    /// Single-crease patches (Nießner, Loop, Greiner 2012) without finer neighbour, as
+    /// [`BSplineDraw`]s in the GPU frame of `glsl/single_crease/`: control vertices rotated so the
+    /// crease runs along `u = 1` ([`gpu_cvs`]), corners and edge-direction flags of the rotated
+    /// patch, flags bits 8-9 the [`Rotation`]; their [`PatchRecord`]s are in the same frame.
+    pub single_crease: Vec<BSplineDraw>,
+    /// Single-crease patches with a finer neighbour.
+    pub single_crease_transition: Vec<BSplineDraw>,
+    /// The fans of the single-crease transition patches (`patch` indexes
+    /// [`Self::single_crease_transition`]).
+    pub single_crease_triangles: Vec<TransitionTriangle>,
+    /// Per record (census order): the crease sharpness of a single-crease patch, else 0.
+    pub sharpness: Vec<f32>,
     /// Gregory end caps.
     pub end_caps: Vec<EndCapDraw>,
     /// Edges of coarse patches with a finer neighbour.
@@ -87,8 +103,9 @@ fn end_cap_rows(
     Ok(out)
 }
 
-/// Slot rows (position, du, dv) from the first census patch with the slot as a corner, and
-/// whether the slot's normal is shared.
+/// Slot rows (position, du, dv) from the first census patch with the slot as a corner, exact
+/// patches (B-spline, single-crease) before end caps (whose Gregory corners are built without
+/// semi-sharpness), and whether the slot's normal is shared.
 fn slot_rows(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
@@ -97,22 +114,32 @@ fn slot_rows(
 ) -> (SparseRows, Vec<bool>) {
     let mut frames: Vec<Option<[Weights; 3]>> = vec![None; slots.len()];
     let mut shared = vec![false; slots.len()];
+    let mut cap_of = Vec::with_capacity(census.patches.len());
     let mut cap = 0;
     for p in &census.patches {
-        let lev = &refinement.levels[p.level as usize];
-        let fv = lev.topology().face_vertices(p.face);
-        for (k, &v) in fv.iter().enumerate() {
-            let s = slots.of(lev.global(v)) as usize;
-            if frames[s].is_some() {
+        cap_of.push(cap);
+        cap += usize::from(p.bspline.is_none());
+    }
+    for end_caps in [false, true] {
+        for (p, &cap) in census.patches.iter().zip(&cap_of) {
+            if p.bspline.is_none() != end_caps {
                 continue;
             }
-            frames[s] = Some(match &p.bspline {
-                Some(b) => bspline_corner_rows(b, k),
-                None => gregory_corner_rows(&caps[cap], fv.len(), k),
-            });
-            shared[s] = single_normal_vertex(lev.topology(), v);
+            let lev = &refinement.levels[p.level as usize];
+            let fv = lev.topology().face_vertices(p.face);
+            for (k, &v) in fv.iter().enumerate() {
+                let s = slots.of(lev.global(v)) as usize;
+                if frames[s].is_some() {
+                    continue;
+                }
+                frames[s] = Some(match (&p.crease, &p.bspline) {
+                    (Some(line), _) => single_crease_corner_rows(line, k),
+                    (None, Some(b)) => bspline_corner_rows(b, k),
+                    (None, None) => gregory_corner_rows(&caps[cap], fv.len(), k),
+                });
+                shared[s] = single_normal_vertex(lev.topology(), v);
+            }
         }
-        cap += usize::from(p.bspline.is_none());
     }
     let mut rows = SparseRows::new();
     for f in frames.iter().flatten() {
@@ -121,6 +148,70 @@ fn slot_rows(
         }
     }
     (rows, shared)
+}
+
+/// The [`BSplineDraw`] of census record `record` with control vertices `patch`: corner slots
+/// and flags (boundary mask, bit `4 + e` when edge `e` runs from the larger slot).
+fn bspline_draw(
+    record: u32,
+    base_face: u32,
+    patch: RegularPatch,
+    slot: impl Fn(u32) -> u32,
+) -> BSplineDraw {
+    let corners = patch.corners().map(slot);
+    let mut flags = u32::from(patch.boundary_mask & 0xf);
+    for (e, &(s, t)) in PATCH_EDGES.iter().enumerate() {
+        flags |= u32::from(corners[s] > corners[t]) << (4 + e);
+    }
+    BSplineDraw {
+        record,
+        base_face,
+        patch,
+        flags,
+        corners,
+    }
+}
+
+/// The fan of transition patch `patch` with transition mask `transition`: per edge one
+/// triangle, two (its halves) on a transition edge.
+fn fan(patch: u32, transition: u32) -> impl Iterator<Item = TransitionTriangle> {
+    (0..4).flat_map(move |edge| {
+        let halves: &[u32] = if transition & (1 << edge) != 0 {
+            &[1, 2]
+        } else {
+            &[0]
+        };
+        halves
+            .iter()
+            .map(move |&half| TransitionTriangle { patch, edge, half })
+    })
+}
+
+/// The domain of `d` (origin, u axis, v axis as f32) seen through `map`, the face's `(u, v)` of
+/// the patch's own `(u', v')` (affine).
+fn domain_words(d: &Domain, map: impl Fn(f64, f64) -> (f64, f64)) -> [[f32; 2]; 3] {
+    let at = |u, v| {
+        let (u, v) = map(u, v);
+        d.origin + u * d.u + v * d.v
+    };
+    let o = at(0.0, 0.0);
+    let f2 = |x: DVec2| [x.x as f32, x.y as f32];
+    [f2(o), f2(at(1.0, 0.0) - o), f2(at(0.0, 1.0) - o)]
+}
+
+/// `record` (face frame) in the GPU frame of a single-crease patch rotated by `rot`: GPU edge
+/// `e` is face edge `rot.face_corner(e)`, the domain maps the GPU `(u', v')`.
+fn rotated_record(record: PatchRecord, d: &Domain, rot: Rotation) -> PatchRecord {
+    let face_edge = |e: usize| rot.face_corner(e);
+    PatchRecord {
+        domain: domain_words(d, |u, v| rot.face_uv(u, v)),
+        transition: (0..4)
+            .filter(|&e| record.transition & (1 << face_edge(e)) != 0)
+            .fold(0, |m, e| m | 1 << e),
+        mid_slots: std::array::from_fn(|e| record.mid_slots[face_edge(e)]),
+        coarse: std::array::from_fn(|e| record.coarse[face_edge(e)]),
+        ..record
+    }
 }
 
 impl AdaptiveDrawTables {
@@ -148,67 +239,66 @@ impl AdaptiveDrawTables {
             regular: Vec::new(),
             transition: Vec::new(),
             triangles: Vec::new(),
+            single_crease: Vec::new(),
+            single_crease_transition: Vec::new(),
+            single_crease_triangles: Vec::new(),
+            sharpness: Vec::with_capacity(census.patches.len()),
             end_caps: Vec::new(),
             coarse_edges: Vec::new(),
         };
         for (i, p) in census.patches.iter().enumerate() {
             let lev = &refinement.levels[p.level as usize];
-            if p.kind == PatchType::SingleCrease {
-                return Err(DrawTablesError::SingleCrease {
-                    base_face: lev.domains[p.face as usize].base_face,
-                    level: p.level,
-                });
-            }
             let t = lev.topology();
             let n = t.face_size(p.face);
             let mut fine = [NONE; 4];
             for (k, c) in fine.iter_mut().enumerate().take(n) {
                 *c = coarse.lookup(refinement, p.level, p.face, k)?;
+                if *c == NONE && p.kind == PatchType::EndCap {
+                    *c = coarse.whole(refinement, &census, &at, &out.slots, (p.level, p.face, k));
+                }
             }
             let d = lev.domains[p.face as usize];
-            let f2 = |x: DVec2| [x.x as f32, x.y as f32];
-            out.records.push(PatchRecord {
+            let record = PatchRecord {
                 base_face: d.base_face,
                 sub_face: d.sub_face.unwrap_or(NONE),
                 level: p.level,
                 kind: p.kind as u32,
-                domain: [f2(d.origin), f2(d.u), f2(d.v)],
+                domain: domain_words(&d, |u, v| (u, v)),
                 transition: u32::from(p.transition),
                 mid_slots: coarse.mid_slots[i],
                 coarse: fine,
-            });
+            };
+            out.sharpness.push(p.crease.map_or(0.0, |l| l.sharpness));
             let slot = |v: u32| out.slots.of(v);
-            if let Some(b) = p.bspline {
-                let corners = b.corners().map(slot);
-                let mut flags = u32::from(b.boundary_mask & 0xf);
-                for (e, &(s, t)) in PATCH_EDGES.iter().enumerate() {
-                    flags |= u32::from(corners[s] > corners[t]) << (4 + e);
-                }
-                let draw = BSplineDraw {
-                    record: i as u32,
-                    base_face: d.base_face,
-                    patch: b,
-                    flags,
-                    corners,
+            if let Some(line) = p.crease {
+                let rot = Rotation::of(line.side);
+                out.records.push(rotated_record(record, &d, rot));
+                let patch = RegularPatch {
+                    face: p.face,
+                    cvs: gpu_cvs(&SingleCreasePatch::from_line(p.face, line)),
+                    boundary_mask: 0,
                 };
+                let mut draw = bspline_draw(i as u32, d.base_face, patch, slot);
+                draw.flags |= (rot as u32) << 8;
+                let transition = out.records[i].transition;
+                if transition == 0 {
+                    out.single_crease.push(draw);
+                } else {
+                    let fan_of = out.single_crease_transition.len() as u32;
+                    out.single_crease_triangles.extend(fan(fan_of, transition));
+                    out.single_crease_transition.push(draw);
+                }
+                continue;
+            }
+            out.records.push(record);
+            if let Some(b) = p.bspline {
+                let draw = bspline_draw(i as u32, d.base_face, b, slot);
                 if p.transition == 0 {
                     out.regular.push(draw);
                     continue;
                 }
-                let patch = out.transition.len() as u32;
-                for edge in 0..4 {
-                    let halves: &[u32] = if p.transition & (1 << edge) != 0 {
-                        &[1, 2]
-                    } else {
-                        &[0]
-                    };
-                    out.triangles
-                        .extend(halves.iter().map(|&half| TransitionTriangle {
-                            patch,
-                            edge,
-                            half,
-                        }));
-                }
+                let fan_of = out.transition.len() as u32;
+                out.triangles.extend(fan(fan_of, u32::from(p.transition)));
                 out.transition.push(draw);
                 continue;
             }
@@ -242,17 +332,30 @@ impl AdaptiveDrawTables {
         coarse.check_halves(refinement)?;
         out.coarse_edges = coarse.edges;
         log::debug!(
-            "adaptive draw tables: {} slots, {} rows, {} regular + {} transition ({} triangles) B-spline patches, {} end caps, {} coarse edges, {} bytes",
+            "adaptive draw tables: {} slots, {} rows, {} regular + {} transition ({} triangles) B-spline patches, {} + {} ({} triangles) single-crease patches, {} end caps, {} coarse edges, {} bytes",
             out.slots.len(),
             out.rows.len(),
             out.regular.len(),
             out.transition.len(),
             out.triangles.len(),
+            out.single_crease.len(),
+            out.single_crease_transition.len(),
+            out.single_crease_triangles.len(),
             out.end_caps.len(),
             out.coarse_edges.len(),
             out.memory_bytes()
         );
         Ok(out)
+    }
+
+    /// Patch primitives drawn: whole B-spline, single-crease and end-cap patches, one per
+    /// transition triangle.
+    pub fn primitive_count(&self) -> usize {
+        self.regular.len()
+            + self.triangles.len()
+            + self.single_crease.len()
+            + self.single_crease_triangles.len()
+            + self.end_caps.len()
     }
 
     /// Number of slots.
@@ -308,6 +411,47 @@ impl AdaptiveDrawTables {
         )
     }
 
+    /// `PatchInfo`s of the single-crease patches, 32 bytes each: whole ones, then those with a
+    /// finer neighbour.
+    pub fn single_crease_info_bytes(&self) -> Vec<u8> {
+        words_bytes(
+            self.single_crease
+                .iter()
+                .chain(&self.single_crease_transition)
+                .map(BSplineDraw::words),
+        )
+    }
+
+    /// Index buffer of the whole single-crease patches: 16 rotated control vertices each.
+    pub fn single_crease_index_bytes(&self) -> Vec<u8> {
+        words_bytes(self.single_crease.iter().map(|d| d.patch.cvs))
+    }
+
+    /// Single-crease transition triangles, 16 bytes each (`patch` into the single-crease
+    /// transition patches).
+    pub fn single_crease_triangle_bytes(&self) -> Vec<u8> {
+        words_bytes(
+            self.single_crease_triangles
+                .iter()
+                .map(TransitionTriangle::words),
+        )
+    }
+
+    /// Index buffer of the single-crease transition triangles: their patch's 16 rotated control
+    /// vertices each.
+    pub fn single_crease_triangle_index_bytes(&self) -> Vec<u8> {
+        words_bytes(
+            self.single_crease_triangles
+                .iter()
+                .map(|t| self.single_crease_transition[t.patch as usize].patch.cvs),
+        )
+    }
+
+    /// Per record one f32: the crease sharpness of single-crease patches (0 for the others).
+    pub fn sharpness_bytes(&self) -> Vec<u8> {
+        words_bytes(self.sharpness.iter().map(|s| [s.to_bits()]))
+    }
+
     /// `GregoryPatchInfo`s of the end caps, 32 bytes each.
     pub fn end_cap_info_bytes(&self) -> Vec<u8> {
         words_bytes(self.end_caps.iter().map(EndCapDraw::words))
@@ -343,11 +487,16 @@ impl AdaptiveDrawTables {
         use super::records::{
             COARSE_EDGE_WORDS, PATCH_INFO_WORDS, PATCH_RECORD_WORDS, TRIANGLE_WORDS,
         };
-        let words = self.records.len() * PATCH_RECORD_WORDS
+        let words = self.records.len() * (PATCH_RECORD_WORDS + 1)
             + self.shared_normal.len()
-            + (self.regular.len() + self.transition.len() + self.end_caps.len()) * PATCH_INFO_WORDS
-            + self.regular.len() * 16
-            + self.triangles.len() * (TRIANGLE_WORDS + 16)
+            + (self.regular.len()
+                + self.transition.len()
+                + self.single_crease.len()
+                + self.single_crease_transition.len()
+                + self.end_caps.len())
+                * PATCH_INFO_WORDS
+            + (self.regular.len() + self.single_crease.len()) * 16
+            + (self.triangles.len() + self.single_crease_triangles.len()) * (TRIANGLE_WORDS + 16)
             + self.end_caps.len() * 48
             + self.coarse_edges.len() * COARSE_EDGE_WORDS
             + self.rows.offsets.len()

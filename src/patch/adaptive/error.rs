@@ -23,15 +23,6 @@ pub enum DrawTablesError {
         /// Its face edge.
         edge: u32,
     },
-    /// A single-crease patch (refinement with `single_crease` on): the draw tables have no
-    /// record for its crease data yet.
-    #[error("patch of base face {base_face} (level {level}): single-crease patches are not drawn by the adaptive tables; refine without single-crease patches")]
-    SingleCrease {
-        /// Base face of the patch.
-        base_face: u32,
-        /// Its level.
-        level: u32,
-    },
 }
 
 impl DrawTablesError {
@@ -39,8 +30,7 @@ impl DrawTablesError {
     pub fn base_face(&self) -> u32 {
         match self {
             DrawTablesError::EndCap(e) => e.base_face,
-            DrawTablesError::LevelGap { base_face, .. }
-            | DrawTablesError::SingleCrease { base_face, .. } => *base_face,
+            DrawTablesError::LevelGap { base_face, .. } => *base_face,
         }
     }
 }

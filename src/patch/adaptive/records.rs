@@ -26,7 +26,8 @@ pub struct PatchRecord {
     pub sub_face: u32,
     /// Refinement level.
     pub level: u32,
-    /// [`crate::subdiv::adaptive::PatchType`] as u32 (0 regular, 1 boundary, 2 crease, 3 end cap).
+    /// [`crate::subdiv::adaptive::PatchType`] as u32 (0 regular, 1 boundary, 2 crease, 3 end cap,
+    /// 4 single-crease).
     pub kind: u32,
     /// Domain origin, u axis, v axis in the base face's (or sub-face's) `(u, v)`.
     pub domain: [[f32; 2]; 3],
@@ -125,7 +126,7 @@ impl EndCapDraw {
     }
 }
 
-/// The edge of a coarse B-spline patch with a one-level-finer neighbour: what both sides
+/// The edge of a coarse B-spline or single-crease patch with a one-level-finer neighbour: what both sides
 /// evaluate the shared curve from (thesis §3.4, transition patches).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CoarseEdge {
@@ -139,7 +140,9 @@ pub struct CoarseEdge {
     /// Slot of the midpoint (the finer level's edge point).
     pub mid_slot: u32,
     /// Bit 0: boundary or infinitely sharp edge; bit 1 / 2: the first / last point along is a
-    /// phantom mirrored `2 x1 - x2`.
+    /// phantom mirrored `2 x1 - x2`; bits 3-5 and 8-31 the single-crease curve of a
+    /// single-crease coarse patch and its record (`CREASE_EDGE`, `ACROSS_CREASE`,
+    /// `CREASE_AT_LO` of `coarse.rs`; 0: the B-spline grid curve).
     pub flags: u32,
 }
 

@@ -4,8 +4,10 @@
 use glam::DVec3;
 
 use crate::patch::gregory::{GregoryPoint, Weights};
+use crate::patch::single_crease::SingleCreasePatch;
 use crate::patch::RegularPatch;
 use crate::subdiv::bspline::{bspline, bspline_deriv};
+use crate::subdiv::single_crease::CreaseLine;
 
 /// Rows of sparse weights: row `r` is terms `offsets[r]..offsets[r + 1]` of `ids` / `weights`,
 /// ids ascending (the summation order, so a row two patches share sums to the same bits), zero
@@ -133,6 +135,30 @@ pub fn bspline_corner_rows(p: &RegularPatch, k: usize) -> [Weights; 3] {
         w
     };
     [tensor(bu, bv), tensor(du, bv), tensor(bu, dv)]
+}
+
+/// Rows (position, d/du, d/dv) of the single-crease patch of `line` (global control vertices)
+/// at its face corner `k`: its exact evaluation ([`SingleCreasePatch::eval`], Nießner, Loop,
+/// Greiner 2012 §3) as weights, read off by linearity (one unit control point at a time).
+pub fn single_crease_corner_rows(line: &CreaseLine, k: usize) -> [Weights; 3] {
+    let (u, v) = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)][k];
+    let local = SingleCreasePatch {
+        face: 0,
+        cvs: std::array::from_fn(|i| i as u32),
+        side: line.side,
+        sharpness: line.sharpness,
+    };
+    let mut rows = [Weights::zero(), Weights::zero(), Weights::zero()];
+    let mut unit = [DVec3::ZERO; 16];
+    for (i, &g) in line.cvs.iter().enumerate() {
+        unit[i] = DVec3::X;
+        let e = local.eval(&unit, u, v);
+        unit[i] = DVec3::ZERO;
+        for (row, w) in rows.iter_mut().zip([e.position.x, e.du.x, e.dv.x]) {
+            row.add_scaled(w, &Weights::unit(g));
+        }
+    }
+    rows
 }
 
 /// Rows (position, tangent towards corner `k + 1`, tangent towards corner `k - 1`) of a Gregory

@@ -61,6 +61,10 @@ pub struct PlanOptions {
     /// Isolation level of the feature-adaptive scheme (`--isolation`, `0..=`
     /// [`crate::subdiv::adaptive::MAX_ISOLATION`]).
     pub isolation: u32,
+    /// Whether the feature-adaptive scheme stops refining at single-crease patches (a regular
+    /// quad whose only feature is one semi-sharp crease line, drawn directly: Nießner, Loop,
+    /// Greiner 2012), as OpenSubdiv's `useSingleCreasePatch` (`--single-crease`, on by default).
+    pub single_crease: bool,
 }
 
 impl PlanOptions {
@@ -72,12 +76,21 @@ impl PlanOptions {
         PlanOptions {
             limits,
             isolation: Self::DEFAULT_ISOLATION,
+            single_crease: true,
         }
     }
 
     /// The same options with isolation level `isolation`.
     pub fn with_isolation(self, isolation: u32) -> PlanOptions {
         PlanOptions { isolation, ..self }
+    }
+
+    /// The same options with single-crease patches on or off.
+    pub fn with_single_crease(self, single_crease: bool) -> PlanOptions {
+        PlanOptions {
+            single_crease,
+            ..self
+        }
     }
 }
 

@@ -26,7 +26,7 @@ use super::traits::{
 use crate::patch::adaptive::{AdaptiveDrawTables, AdaptiveSurface};
 use crate::render::pass::{NormalRule, VertexFrames};
 use crate::render::settings::{PatchLevelLimit, Spacing};
-use crate::subdiv::adaptive::AdaptiveRefinement;
+use crate::subdiv::adaptive::{AdaptiveOptions, AdaptiveRefinement};
 use crate::subdiv::tables::RefinementTables;
 use crate::subdiv::Level;
 use crate::topology::Topology;
@@ -64,7 +64,7 @@ impl PatchScheme for AdaptiveScheme {
     }
 
     fn plan(&self, topo: &Arc<Topology>, candidates: &[u32], opts: &PlanOptions) -> PassPlan {
-        match AdaptiveTables::new(topo, candidates, opts.isolation) {
+        match AdaptiveTables::new(topo, candidates, opts) {
             Ok(t) => PassPlan {
                 tables: Some(Arc::new(t)),
                 refused: Vec::new(),
@@ -94,17 +94,22 @@ pub struct AdaptiveTables {
 }
 
 impl AdaptiveTables {
-    /// Refines `topo` to `isolation` and builds the tables; on failure the face that cannot be
-    /// drawn and why.
+    /// Refines `topo` to `opts.isolation` (stopping at single-crease patches with
+    /// `opts.single_crease`) and builds the tables; on failure the face that cannot be drawn and
+    /// why.
     pub fn new(
         topo: &Arc<Topology>,
         faces: &[u32],
-        isolation: u32,
+        opts: &PlanOptions,
     ) -> std::result::Result<AdaptiveTables, (u32, String)> {
         let first = faces.first().copied().unwrap_or(0);
         let base = Level::from_topology((**topo).clone());
+        let options = AdaptiveOptions {
+            isolation: opts.isolation,
+            single_crease: opts.single_crease,
+        };
         let adaptive =
-            AdaptiveRefinement::new(&base, isolation).map_err(|e| (first, e.to_string()))?;
+            AdaptiveRefinement::with_options(&base, options).map_err(|e| (first, e.to_string()))?;
         let refinement =
             RefinementTables::adaptive(&adaptive).map_err(|e| (first, e.to_string()))?;
         let draw =
@@ -117,9 +122,23 @@ impl AdaptiveTables {
         })
     }
 
-    /// Patch primitives drawn: regular and end-cap patches, one per transition triangle.
+    /// Patch primitives drawn: whole B-spline, single-crease and end-cap patches, one per
+    /// transition triangle.
     pub fn primitive_count(&self) -> usize {
-        self.draw.regular.len() + self.draw.triangles.len() + self.draw.end_caps.len()
+        self.draw.primitive_count()
+    }
+
+    /// Bytes of GPU memory of the patch data (what [`pass::AdaptivePass`] uploads and derives,
+    /// staging and index padding aside): the draw tables ([`AdaptiveDrawTables::memory_bytes`]),
+    /// the kernels' tables, the refined points (12 bytes each), the slot frames (two vec4 per
+    /// slot) and the end-cap points (a vec4 per end-cap row).
+    pub fn gpu_memory_bytes(&self) -> usize {
+        let d = &self.draw;
+        d.memory_bytes()
+            + self.refinement.gpu_tables().bytes()
+            + 12 * self.refinement.total_vertices as usize
+            + 32 * d.slot_count()
+            + 16 * (d.rows.len() - d.end_cap_first_row as usize)
     }
 
     /// The CPU surface of these tables over control `positions` (the reference the GPU

@@ -1,9 +1,10 @@
 //! The GPU pass of `--scheme adaptive`: per frame, the refinement kernels
 //! ([`GpuRefiner`]) and the derived points ([`DerivedPoints`]: corner frames, end-cap control
-//! points) before the render pass; then three draws reading the refined buffer: B-spline
+//! points) before the render pass; then five draws reading the refined buffer: B-spline
 //! patches of every level (`glsl/adaptive/patch_adaptive_bspline.*`), transition patches as
-//! triangle fans (`patch_adaptive_transition.*`) and Gregory end caps
-//! (`patch_adaptive_endcap.*`). One set 0 serves the three pipelines.
+//! triangle fans (`patch_adaptive_transition.*`), single-crease patches whole and as fans
+//! (`patch_adaptive_single_crease.*`, `patch_adaptive_sc_transition.*`) and Gregory end caps
+//! (`patch_adaptive_endcap.*`). One set 0 serves the five pipelines.
 
 use ash::vk;
 use glam::DVec3;
@@ -24,14 +25,16 @@ use crate::subdiv::tables::RefinementTables;
 use crate::Result;
 
 /// The pass's own set-0 bindings (`glsl/common/frame.glsl`, `gregory/gregory.glsl`,
-/// `adaptive/*.glsl`): B-spline patch records, Gregory records, Gregory grids, adaptive patch
-/// records, coarse edges, transition triangles, end-cap points.
-const OWN_BINDINGS: [u32; 7] = [1, 6, 7, 10, 11, 12, 13];
+/// `adaptive/*.glsl`, `single_crease/single_crease.glsl`): B-spline and single-crease patch
+/// records, Gregory records, Gregory grids, adaptive patch records, coarse edges, transition
+/// triangles, per-record crease sharpness, then end-cap points.
+const OWN_BINDINGS: [u32; 8] = [1, 6, 7, 10, 11, 12, 4, 13];
 
 /// One pipeline's patches: index buffer (control points or one dummy index per patch) and
 /// counts.
 struct DrawGroup {
     pipeline: Pipeline,
+    first_patch: u32,
     indices: Buffer,
     count: u32,
     points: u32,
@@ -66,18 +69,25 @@ fn table_buffer(
     device_buffer(ctx, &bytes, usage, label)
 }
 
-/// The B-spline `PatchInfo` records of binding 1: regular patches, then transition patches.
+/// The `PatchInfo` records of binding 1: regular B-spline patches, B-spline transition patches,
+/// whole single-crease patches, single-crease transition patches.
 fn bspline_info_bytes(d: &AdaptiveDrawTables) -> Vec<u8> {
     let mut bytes = d.regular_info_bytes();
     bytes.extend(d.transition_info_bytes());
+    bytes.extend(d.single_crease_info_bytes());
     bytes
 }
 
-/// The transition triangles (binding 12) with their patch index into [`bspline_info_bytes`]
-/// (after the regular patches).
+/// The transition triangles (binding 12), B-spline fans then single-crease fans, with their
+/// patch index into [`bspline_info_bytes`].
 fn triangle_bytes(d: &AdaptiveDrawTables) -> Vec<u8> {
     let offset = d.regular.len() as u32;
-    rewrite_word(d.triangle_bytes(), 16, 0, |w| w + offset)
+    let mut bytes = rewrite_word(d.triangle_bytes(), 16, 0, |w| w + offset);
+    let offset = (d.regular.len() + d.transition.len() + d.single_crease.len()) as u32;
+    bytes.extend(rewrite_word(d.single_crease_triangle_bytes(), 16, 0, |w| {
+        w + offset
+    }));
+    bytes
 }
 
 /// The end caps' `GregoryPatchInfo` records (binding 6) with `pad1` (word 3) the first of their
@@ -97,7 +107,8 @@ fn rewrite_word(mut bytes: Vec<u8>, stride: usize, word: usize, f: impl Fn(u32) 
 }
 
 impl AdaptivePass {
-    /// Uploads the refinement tables and draw tables `d` and creates the pipelines.
+    /// Uploads the kernels' tables `refinement` and the draw tables `d` and creates the
+    /// pipelines.
     pub fn new(
         pc: &PassContext<'_>,
         refinement: &RefinementTables,
@@ -135,6 +146,12 @@ impl AdaptivePass {
             )?,
             table_buffer(ctx, d.coarse_edge_bytes(), storage, "adaptive coarse edges")?,
             table_buffer(ctx, triangle_bytes(d), storage, "adaptive transition fans")?,
+            table_buffer(
+                ctx,
+                d.sharpness_bytes(),
+                storage,
+                "adaptive crease sharpness",
+            )?,
         ];
         let layout = set0_layout(&OWN_BINDINGS);
         let shaders =
@@ -149,8 +166,10 @@ impl AdaptivePass {
             };
         let points = Some(refiner.points().raw());
         let mut groups = Vec::new();
-        for (count, indices, s, vertices) in [
+        let bspline_records = (d.regular.len() + d.transition.len()) as u32;
+        for (first_patch, count, indices, s, vertices) in [
             (
+                0,
                 d.regular.len() as u32,
                 d.regular_index_bytes(),
                 shaders(
@@ -163,6 +182,7 @@ impl AdaptivePass {
                 points,
             ),
             (
+                0,
                 d.triangles.len() as u32,
                 d.triangle_index_bytes(),
                 shaders(
@@ -175,6 +195,33 @@ impl AdaptivePass {
                 points,
             ),
             (
+                bspline_records,
+                d.single_crease.len() as u32,
+                d.single_crease_index_bytes(),
+                shaders(
+                    "adaptive single-crease",
+                    "patch_bspline.vert",
+                    "patch_adaptive_single_crease",
+                    16,
+                    true,
+                ),
+                points,
+            ),
+            (
+                d.triangles.len() as u32,
+                d.single_crease_triangles.len() as u32,
+                d.single_crease_triangle_index_bytes(),
+                shaders(
+                    "adaptive single-crease transition",
+                    "patch_bspline.vert",
+                    "patch_adaptive_sc_transition",
+                    16,
+                    true,
+                ),
+                points,
+            ),
+            (
+                0,
                 d.end_caps.len() as u32,
                 vec![0u8; 4 * d.end_caps.len()],
                 shaders(
@@ -193,6 +240,7 @@ impl AdaptivePass {
             let points = s.points;
             groups.push(DrawGroup {
                 pipeline: patch_pipeline(ctx, pc.desc, pc.target, s)?,
+                first_patch,
                 indices: table_buffer(ctx, indices, index, "adaptive indices")?,
                 count,
                 points,
@@ -213,7 +261,7 @@ impl AdaptivePass {
             kind: DescriptorKind::StorageBuffer,
             buffer,
         };
-        let mut own: Vec<BufferBinding<'_>> = OWN_BINDINGS[..6]
+        let mut own: Vec<BufferBinding<'_>> = OWN_BINDINGS[..7]
             .iter()
             .zip(&records)
             .map(|(&b, buf)| sb(b, buf))
@@ -225,7 +273,7 @@ impl AdaptivePass {
         pc.shared.write_set0(ctx, set, &own);
         Ok(AdaptivePass {
             ctx: ctx.clone(),
-            patches: (d.regular.len() + d.triangles.len() + d.end_caps.len()) as u32,
+            patches: d.primitive_count() as u32,
             refiner,
             derived,
             _records: records,
@@ -281,7 +329,7 @@ impl PatchPass for AdaptivePass {
                 g.indices.raw(),
             );
             let draws = PatchDraws {
-                first_patch: 0,
+                first_patch: g.first_patch,
                 first_index: 0,
                 count: g.count,
                 points: g.points,

@@ -33,7 +33,8 @@ use super::traits::{
 };
 use crate::gpu::{Buffer, BufferBinding, DescriptorKind};
 use crate::mesh::{Crease, INFINITE_SHARPNESS};
-use crate::patch::single_crease::{CreaseSide, SingleCreasePatch};
+use crate::patch::single_crease::SingleCreasePatch;
+pub use crate::patch::single_crease::{gpu_cvs, Rotation};
 use crate::patch::RegularPatch;
 use crate::render::pass::upload::{f32_bytes, host_buffer};
 use crate::render::pass::{NormalRule, VertexFrames};
@@ -46,63 +47,6 @@ pub static SINGLE_CREASE: SingleCreaseScheme = SingleCreaseScheme;
 /// Set-0 binding of the per-patch sharpness (`crease_sharpness` in
 /// `glsl/single_crease/single_crease.glsl`).
 pub const SHARPNESS_BINDING: u32 = 4;
-
-/// How the GPU patch frame (crease along `u' = 1`) maps to the face's `(u, v)`; the value is
-/// flags bits 8-9 (`face_uv` in `single_crease.tese`). Rotations only, so the domain keeps its
-/// orientation.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Rotation {
-    /// Crease on the face's `u = 1`: `(u, v) = (u', v')`.
-    Identity = 0,
-    /// Crease on `u = 0`: `(u, v) = (1 - u', 1 - v')`.
-    Half = 1,
-    /// Crease on `v = 1`: `(u, v) = (1 - v', u')`.
-    Quarter = 2,
-    /// Crease on `v = 0`: `(u, v) = (v', 1 - u')`.
-    ThreeQuarters = 3,
-}
-
-impl Rotation {
-    /// The rotation bringing `side` to `u = 1`.
-    pub fn of(side: CreaseSide) -> Rotation {
-        match side {
-            CreaseSide::U1 => Rotation::Identity,
-            CreaseSide::U0 => Rotation::Half,
-            CreaseSide::V1 => Rotation::Quarter,
-            CreaseSide::V0 => Rotation::ThreeQuarters,
-        }
-    }
-
-    /// The face's `(u, v)` of the GPU frame's `(u', v')`.
-    pub fn face_uv(self, u: f64, v: f64) -> (f64, f64) {
-        match self {
-            Rotation::Identity => (u, v),
-            Rotation::Half => (1.0 - u, 1.0 - v),
-            Rotation::Quarter => (1.0 - v, u),
-            Rotation::ThreeQuarters => (v, 1.0 - u),
-        }
-    }
-
-    /// The face grid point `(i, j)` (`cvs[4j + i]`) at GPU grid point `(i', j')` (the same map on
-    /// the 4×4 net, grid spacing 1 centred on the face).
-    fn grid(self, i: usize, j: usize) -> (usize, usize) {
-        match self {
-            Rotation::Identity => (i, j),
-            Rotation::Half => (3 - i, 3 - j),
-            Rotation::Quarter => (3 - j, i),
-            Rotation::ThreeQuarters => (j, 3 - i),
-        }
-    }
-}
-
-/// The patch's control-vertex ids in the GPU frame: crease along `u = 1` (column 2).
-pub fn gpu_cvs(p: &SingleCreasePatch) -> [u32; 16] {
-    let rot = Rotation::of(p.side);
-    std::array::from_fn(|k| {
-        let (i, j) = rot.grid(k % 4, k / 4);
-        p.cvs[4 * j + i]
-    })
-}
 
 /// The `flags` word of the GPU record: bits 4-7 the edge directions of the rotated patch (as
 /// [`gpu_flags`]), bits 8-9 the [`Rotation`].
