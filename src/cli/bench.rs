@@ -1,9 +1,11 @@
-//! `tessera bench`: GPU time per frame of the tessellation pipeline at several levels.
+//! `tessera bench`: GPU time per frame of the tessellation pipeline at several levels: each
+//! pass's compute pre-pass (the adaptive scheme's refinement and derived points), the patch
+//! draws, the CPU-evaluated triangles; and the surface's GPU buffer memory.
 
 use clap::Args;
 use tessera::render::bench::median;
 use tessera::render::{
-    OffscreenDesc, OffscreenSession, RenderDesc, Scheme, TessSettings, CPU_PATH_LABEL,
+    MemoryReport, OffscreenDesc, OffscreenSession, RenderDesc, Scheme, TessSettings, CPU_PATH_LABEL,
 };
 use tessera::{Error, Result};
 
@@ -121,10 +123,11 @@ pub fn run(args: BenchArgs) -> Result<()> {
         return check_validation(&ctx);
     }
     println!(
-        "{:>6} {:>9} {:>12} {:>14} {:>14} {:>14}{}",
+        "{:>6} {:>9} {:>12} {:>14} {:>14} {:>14} {:>14}{}",
         "level",
         "patches",
         "TES invoc.",
+        "compute ms",
         "patch ms (med)",
         "cpu-tri ms",
         "frame ms (med)",
@@ -163,8 +166,12 @@ pub fn run(args: BenchArgs) -> Result<()> {
             ..OffscreenDesc::default()
         };
         let mut session = OffscreenSession::new(&ctx, &surface, &render, &desc, true)?;
+        if req == levels[0] {
+            print_memory(&session.renderer().memory_bytes());
+        }
         session.frame()?;
-        let (mut patch, mut cpu, mut total) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut compute, mut patch, mut cpu, mut total) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut tes = 0;
         let mut update = Vec::new();
         for k in 0..args.frames {
@@ -194,18 +201,21 @@ pub fn run(args: BenchArgs) -> Result<()> {
             let r = session
                 .frame()?
                 .ok_or_else(|| Error::Invalid("bench: no timings returned".into()))?;
+            let k = r.compute_ms();
             let p = r.patch_ms();
             let c = r.ms(CPU_PATH_LABEL);
+            compute.push(k);
             patch.push(p);
             cpu.push(c);
-            total.push(p + c);
+            total.push(k + p + c);
             tes = r.patch_stats.tes_invocations;
         }
         println!(
-            "{:>6} {:>9} {:>12} {:>14.3} {:>14.3} {:>14.3}{}",
+            "{:>6} {:>9} {:>12} {:>14.3} {:>14.3} {:>14.3} {:>14.3}{}",
             level,
             surface.patch_count(),
             tes,
+            median(&mut compute),
             median(&mut patch),
             median(&mut cpu),
             median(&mut total),
@@ -217,4 +227,22 @@ pub fn run(args: BenchArgs) -> Result<()> {
         );
     }
     check_validation(&ctx)
+}
+
+/// Prints the GPU buffer memory of a renderer, one line.
+fn print_memory(m: &MemoryReport) {
+    let kb = |b: u64| b as f64 / 1024.0;
+    let passes: Vec<String> = m
+        .passes
+        .iter()
+        .map(|(l, b)| format!("{l} {:.1}", kb(*b)))
+        .collect();
+    println!(
+        "GPU memory KiB: total {:.1} = shared {:.1} + passes {:.1} ({}) + cpu-path {:.1}",
+        kb(m.total()),
+        kb(m.shared),
+        kb(m.passes_total()),
+        passes.join(", "),
+        kb(m.cpu_path)
+    );
 }

@@ -8,6 +8,7 @@ use tessera::mesh::ObjOptions;
 use tessera::patch::gregory::accuracy::{
     measure, measure_with_samples, AccuracyOptions, AccuracyReport, FaceHeat,
 };
+use tessera::render::accuracy::{measure_gpu_with, TypeAccuracy};
 use tessera::render::Scheme;
 
 /// What `tessera error` measures: the CPU Gregory construction, or a GPU scheme's TES output
@@ -54,8 +55,14 @@ pub struct ErrorArgs {
     #[arg(long, value_enum, default_value = "gregory-cpu")]
     pub scheme: ErrorScheme,
     /// Samples per face: an (N+1) x (N+1) grid on quads, the barycentric grid on triangles.
+    /// GPU schemes: the uniform tessellation level (the adaptive scheme scales it down per
+    /// patch level, so every base face gets about the same density).
     #[arg(long, default_value_t = 8)]
     pub grid: usize,
+    /// Isolation level of `--scheme adaptive` (0-8; see `tessera render --help`).
+    #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_ISOLATION,
+          value_parser = clap::value_parser!(u32).range(0..=8))]
+    pub isolation: u32,
     /// Also sample regular faces (drawn as exact B-splines, so their error is ~0).
     #[arg(long)]
     pub include_regular: bool,
@@ -140,7 +147,7 @@ pub fn format_report(mesh: &str, scheme: &str, r: &AccuracyReport) -> String {
         "mesh {mesh}\nscheme {scheme}\nfaces sampled {} ({} triangles), regular {}, without Gregory patch {}{}\n\
          samples {}\nbbox diagonal {:.6e}\n\
          distance / diagonal: rms {:.3e} max {:.3e}\n\
-         equal (u,v) on quads / diagonal: rms {:.3e} max {:.3e}\n\
+         equal (u,v) on quads and sub-faces / diagonal: rms {:.3e} max {:.3e}\n\
          normal angle (rad): rms {:.3e} max {:.3e}\n",
         r.faces,
         r.triangles,
@@ -160,6 +167,32 @@ pub fn format_report(mesh: &str, scheme: &str, r: &AccuracyReport) -> String {
     )
 }
 
+/// The per-patch-type lines of a tagged GPU capture (adaptive scheme); empty for none.
+pub fn format_types(types: &[TypeAccuracy]) -> String {
+    if types.is_empty() {
+        return String::new();
+    }
+    let mut out = format!(
+        "by patch type (distance / diagonal; normal angle rad):\n{:<14} {:>6} {:>9} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}\n",
+        "type", "levels", "samples", "rms dist", "max dist", "rms (u,v)", "max (u,v)", "rms nrm", "max nrm"
+    );
+    for t in types {
+        out += &format!(
+            "{:<14} {:>6} {:>9} {:>10.3e} {:>10.3e} {:>10.3e} {:>10.3e} {:>10.3e} {:>10.3e}\n",
+            t.kind,
+            format!("{}-{}", t.levels.0, t.levels.1),
+            t.samples,
+            t.rms_distance,
+            t.max_distance,
+            t.rms_uv,
+            t.max_uv,
+            t.rms_normal,
+            t.max_normal
+        );
+    }
+    out
+}
+
 /// Runs the subcommand.
 pub fn run(args: ErrorArgs) -> tessera::Result<()> {
     if args.grid == 0 {
@@ -173,6 +206,7 @@ pub fn run(args: ErrorArgs) -> tessera::Result<()> {
     // reused when they are exactly those.
     let reuse = args.heatmap.is_some() && !args.include_regular && heatmap_grid(&args) == args.grid;
     let mut samples = None;
+    let mut types = Vec::new();
     let report = match args.scheme {
         ErrorScheme::GregoryCpu => {
             let options = AccuracyOptions {
@@ -189,16 +223,23 @@ pub fn run(args: ErrorArgs) -> tessera::Result<()> {
         }
         ErrorScheme::Gpu(scheme) => {
             let ctx = super::render::context(false)?;
-            let r = tessera::render::accuracy::measure_gpu(&ctx, &mesh, scheme, args.grid)?;
+            let opts = super::render::plan_options(&ctx, args.isolation);
+            let r = measure_gpu_with(&ctx, &mesh, scheme, args.grid, &opts)?;
             super::render::check_validation(&ctx)?;
-            r
+            types = r.by_type;
+            r.report
         }
     };
     let name = match args.scheme {
         ErrorScheme::GregoryCpu => "gregory-cpu",
         ErrorScheme::Gpu(s) => s.name(),
     };
-    print!("{}", format_report(&args.mesh, name, &report));
+    let name = match args.scheme {
+        ErrorScheme::Gpu(Scheme::Adaptive) => format!("{name} (isolation {})", args.isolation),
+        _ => name.to_string(),
+    };
+    print!("{}", format_report(&args.mesh, &name, &report));
+    print!("{}", format_types(&types));
     if let Some(path) = &args.heatmap {
         write_heatmap(&mesh, &args, path, samples.as_deref())?;
     }

@@ -3,27 +3,111 @@
 //! [`crate::patch::gregory::accuracy`] measures the CPU construction (distance to the closest
 //! exact point, equal-`(u, v)` error on quads, normal angle at the closest point), so the two
 //! reports compare directly (`tessera error --scheme gregory-vs|gregory-stencil`).
+//!
+//! The adaptive scheme (`tessera error --scheme adaptive --isolation L`) draws every face and
+//! tags each captured point with the patch that produced it: [`measure_gpu_with`] also reports
+//! the error per patch type ([`TypeAccuracy`]); points of non-quad faces are in sub-face
+//! domains and compared at equal `(u, v)` through `LimitEvaluator::eval(face, sub, u, v)`.
 
-use std::collections::HashSet;
+use std::collections::{BTreeMap, HashMap, HashSet};
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 use super::offscreen::{render_to_image, OffscreenDesc};
-use super::pass::capture_capacity_for;
-use super::plan::plan_for_scheme;
+use super::pass::{capture_capacity_for, CaptureRecord};
+use super::plan::plan_for_scheme_with;
 use super::renderer::{resolve_tess, RenderDesc};
+use super::schemes::adaptive::kind_name;
 use super::schemes::bspline::BSPLINE;
-use super::schemes::{PatchScheme, Scheme, SchemeLimits};
+use super::schemes::{PatchScheme, PlanOptions, Scheme, SchemeLimits};
 use super::settings::TessSettings;
 use crate::gpu::Context;
 use crate::patch::gregory::accuracy::{
-    closest_exact, nearby_exact_samples, normal_angle, AccuracyReport,
+    closest_exact, nearby_exact_samples, normal_angle, AccuracyReport, Located,
 };
 use crate::patch::gregory::check_face;
 use crate::patch::RegularPatch;
 use crate::subdiv::eval::{GridSample, LimitEvaluator};
 use crate::topology::Topology;
 use crate::{ControlMesh, Error, Result};
+
+/// Error of the captured points of one patch type (adaptive scheme), distances as fractions of
+/// the bbox diagonal, angles in radians.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct TypeAccuracy {
+    /// Patch type (`kind_name`: `regular`, `boundary`, `crease`, `gregory-quad` (end caps),
+    /// `single-crease`, `transition`).
+    pub kind: &'static str,
+    /// Captured points of this type.
+    pub samples: usize,
+    /// Refinement levels of the patches, lowest and highest.
+    pub levels: (u8, u8),
+    /// RMS distance to the closest exact point / diagonal.
+    pub rms_distance: f64,
+    /// Maximum distance / diagonal.
+    pub max_distance: f64,
+    /// RMS error at equal `(u, v)` (quads and sub-faces) / diagonal.
+    pub rms_uv: f64,
+    /// Maximum error at equal `(u, v)` / diagonal.
+    pub max_uv: f64,
+    /// RMS normal angle at the closest exact point.
+    pub rms_normal: f64,
+    /// Maximum normal angle.
+    pub max_normal: f64,
+}
+
+/// [`measure_gpu_with`]'s result: the overall report and, for schemes that tag their captured
+/// points with a patch type (adaptive), one line per type in `kind` order.
+#[derive(Debug, Clone, Default)]
+pub struct GpuAccuracy {
+    /// Every measured point.
+    pub report: AccuracyReport,
+    /// Per patch type (empty for untagged schemes).
+    pub by_type: Vec<TypeAccuracy>,
+}
+
+/// Sums of squares and maxima of one group of samples.
+#[derive(Default, Clone, Copy)]
+struct Sums {
+    n: usize,
+    nuv: usize,
+    d2: f64,
+    dmax: f64,
+    uv2: f64,
+    uvmax: f64,
+    a2: f64,
+    amax: f64,
+    lo: u8,
+    hi: u8,
+}
+
+impl Sums {
+    fn add(&mut self, d: f64, uv: Option<f64>, a: f64) {
+        self.n += 1;
+        self.d2 += d * d;
+        self.dmax = self.dmax.max(d);
+        self.a2 += a * a;
+        self.amax = self.amax.max(a);
+        if let Some(e) = uv {
+            self.nuv += 1;
+            self.uv2 += e * e;
+            self.uvmax = self.uvmax.max(e);
+        }
+    }
+
+    fn level(&mut self, level: u8) {
+        if self.n == 0 {
+            (self.lo, self.hi) = (level, level);
+        } else {
+            (self.lo, self.hi) = (self.lo.min(level), self.hi.max(level));
+        }
+    }
+
+    fn rms(sum: f64, n: usize) -> f64 {
+        (sum / n.max(1) as f64).sqrt()
+    }
+}
 
 /// Draws `mesh` with `scheme` at uniform level `grid` and measures the captured points of every
 /// Gregory patch. Faces left to the CPU path count as unsupported.
@@ -33,13 +117,26 @@ pub fn measure_gpu(
     scheme: Scheme,
     grid: usize,
 ) -> Result<AccuracyReport> {
+    let opts = PlanOptions::new(SchemeLimits::from_context(ctx));
+    Ok(measure_gpu_with(ctx, mesh, scheme, grid, &opts)?.report)
+}
+
+/// As [`measure_gpu`] with explicit planning options (the adaptive scheme's isolation level),
+/// plus the error per captured patch type.
+pub fn measure_gpu_with(
+    ctx: &Context,
+    mesh: &ControlMesh,
+    scheme: Scheme,
+    grid: usize,
+    opts: &PlanOptions,
+) -> Result<GpuAccuracy> {
     if scheme.passes().iter().all(|p| p.name() == BSPLINE.name()) {
         return Err(Error::Invalid(format!(
             "{scheme} draws no Gregory patches to measure"
         )));
     }
     let topo = Topology::new(mesh)?;
-    let mut surface = plan_for_scheme(mesh, scheme, &SchemeLimits::from_context(ctx))?;
+    let mut surface = plan_for_scheme_with(mesh, scheme, opts)?;
     let faces: Vec<u32> = surface.irregular_gpu_faces();
     let mut report = AccuracyReport {
         diagonal: mesh.bbox_diagonal(),
@@ -61,7 +158,10 @@ pub fn measure_gpu(
     report.faces = faces.len();
     report.triangles = faces.iter().filter(|&&f| topo.face_size(f) == 3).count();
     if faces.is_empty() {
-        return Ok(report);
+        return Ok(GpuAccuracy {
+            report,
+            by_type: Vec::new(),
+        });
     }
     surface.fallback_faces.clear();
     let tess = TessSettings {
@@ -88,37 +188,81 @@ pub fn measure_gpu(
     let ev = LimitEvaluator::new(mesh)?;
     let dense: Vec<Option<Vec<GridSample>>> = ev.eval_all_grids(2 * grid.max(1))?;
     let drawn: HashSet<u32> = faces.iter().copied().collect();
-    let (mut sd, mut suv, mut sn, mut nuv) = (0.0, 0.0, 0.0, 0usize);
+    let mut by_face: HashMap<u32, Vec<&CaptureRecord>> = HashMap::new();
     for r in records.iter().filter(|r| drawn.contains(&r.face)) {
-        let x = DVec3::from(r.position.map(f64::from));
-        let n = DVec3::from(r.normal.map(f64::from));
-        let f = r.face;
-        let candidates = nearby_exact_samples(&topo, &dense, f);
-        let c = closest_exact(&ev, x, &candidates, f)?;
-        let d = (c.sample.position - x).length();
-        let a = normal_angle(n, c.sample.normal);
-        report.samples += 1;
-        sd += d * d;
-        sn += a * a;
-        report.max_distance = report.max_distance.max(d);
-        report.max_normal = report.max_normal.max(a);
-        if topo.face_size(f) == 4 {
-            let e = (ev
-                .eval(f as usize, 0, f64::from(r.u), f64::from(r.v))?
-                .position
-                - x)
-                .length();
-            suv += e * e;
-            nuv += 1;
-            report.max_uv = report.max_uv.max(e);
+        by_face.entry(r.face).or_default().push(r);
+    }
+    let mut face_list: Vec<(u32, Vec<&CaptureRecord>)> = by_face.into_iter().collect();
+    face_list.sort_unstable_by_key(|(f, _)| *f);
+    // Per face (in parallel): (record, distance, equal-(u, v) error, normal angle).
+    type Measured<'a> = Vec<(&'a CaptureRecord, f64, Option<f64>, f64)>;
+    let measured: Vec<Measured<'_>> = face_list
+        .par_iter()
+        .map(|(f, recs)| {
+            let candidates: Vec<Located> = nearby_exact_samples(&topo, &dense, *f);
+            recs.iter()
+                .map(|&r| {
+                    let x = DVec3::from(r.position.map(f64::from));
+                    let n = DVec3::from(r.normal.map(f64::from));
+                    let c = closest_exact(&ev, x, &candidates, *f)?;
+                    let (mut d, mut exact_normal) =
+                        ((c.sample.position - x).length(), c.sample.normal);
+                    // Equal (u, v): quads in their own domain, other faces per sub-face.
+                    let sub = match r.sub_face {
+                        Some(k) => Some(k as usize),
+                        None if topo.face_size(*f) == 4 => Some(0),
+                        None => None,
+                    };
+                    let uv = match sub {
+                        Some(k) => {
+                            let e = ev.eval(*f as usize, k, f64::from(r.u), f64::from(r.v))?;
+                            let uv = (e.position - x).length();
+                            // The equal-(u, v) point is an exact point too: the projection can
+                            // stop in a local minimum (seen near the car's creases).
+                            if uv < d {
+                                (d, exact_normal) = (uv, e.normal);
+                            }
+                            Some(uv)
+                        }
+                        None => None,
+                    };
+                    let a = normal_angle(n, exact_normal);
+                    Ok((r, d, uv, a))
+                })
+                .collect::<Result<Measured<'_>>>()
+        })
+        .collect::<Result<_>>()?;
+    let mut all = Sums::default();
+    let mut types: BTreeMap<u8, Sums> = BTreeMap::new();
+    for &(r, d, uv, a) in measured.iter().flatten() {
+        all.add(d, uv, a);
+        if let Some(p) = r.patch {
+            let t = types.entry(p.kind).or_default();
+            t.level(p.level);
+            t.add(d, uv, a);
         }
     }
     let diag = report.diagonal.max(f64::MIN_POSITIVE);
-    let count = report.samples.max(1) as f64;
-    report.rms_distance = (sd / count).sqrt() / diag;
-    report.max_distance /= diag;
-    report.rms_uv = (suv / nuv.max(1) as f64).sqrt() / diag;
-    report.max_uv /= diag;
-    report.rms_normal = (sn / count).sqrt();
-    Ok(report)
+    report.samples = all.n;
+    report.rms_distance = Sums::rms(all.d2, all.n) / diag;
+    report.max_distance = all.dmax / diag;
+    report.rms_uv = Sums::rms(all.uv2, all.nuv) / diag;
+    report.max_uv = all.uvmax / diag;
+    report.rms_normal = Sums::rms(all.a2, all.n);
+    report.max_normal = all.amax;
+    let by_type = types
+        .into_iter()
+        .map(|(kind, s)| TypeAccuracy {
+            kind: kind_name(kind),
+            samples: s.n,
+            levels: (s.lo, s.hi),
+            rms_distance: Sums::rms(s.d2, s.n) / diag,
+            max_distance: s.dmax / diag,
+            rms_uv: Sums::rms(s.uv2, s.nuv) / diag,
+            max_uv: s.uvmax / diag,
+            rms_normal: Sums::rms(s.a2, s.n),
+            max_normal: s.amax,
+        })
+        .collect();
+    Ok(GpuAccuracy { report, by_type })
 }

@@ -136,6 +136,11 @@ impl CpuPathPass {
         self.vertices.write(0, &vb)
     }
 
+    /// Bytes of GPU memory of the triangles' vertex and index buffers.
+    pub fn memory_bytes(&self) -> u64 {
+        self.vertices.size() + self.indices.size()
+    }
+
     /// Records the draw (inside the caller's render pass).
     pub fn record(&self, cmd: vk::CommandBuffer) {
         if self.index_count == 0 {

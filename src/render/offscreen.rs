@@ -52,6 +52,11 @@ pub struct FrameReport {
     /// [`CPU_PATH_LABEL`]. On lavapipe, timestamps inside one render pass do not attribute work
     /// to passes reliably: time a pass alone in a frame of its own when it matters.
     pub passes: Vec<(String, f64)>,
+    /// `(pass, milliseconds)` of each patch pass's pre-pass work
+    /// ([`crate::render::schemes::PatchPass::record_compute`]: e.g. the adaptive scheme's
+    /// refinement and derived-point kernels), timed outside the render pass; about 0 for passes
+    /// without any. Not part of [`Self::patch_ms`].
+    pub compute: Vec<(String, f64)>,
     /// Pipeline statistics of every patch pass together.
     pub patch_stats: PipelineStats,
     /// Pipeline statistics of each patch pass.
@@ -77,6 +82,11 @@ impl FrameReport {
             .sum()
     }
 
+    /// Milliseconds of every pass's pre-pass compute work ([`Self::compute`]).
+    pub fn compute_ms(&self) -> f64 {
+        self.compute.iter().map(|(_, ms)| ms).sum()
+    }
+
     /// Statistics of the passes labelled `label`.
     pub fn stats(&self, label: &str) -> PipelineStats {
         self.pass_stats
@@ -99,10 +109,12 @@ fn add_stats(a: PipelineStats, b: &PipelineStats) -> PipelineStats {
     }
 }
 
-/// Timestamp and statistics queries of a session: one timer slot and one statistics query per
-/// patch pass, one timer slot for the CPU path.
+/// Timestamp and statistics queries of a session: per patch pass one timer slot for its draws
+/// and one statistics query, one timer slot for the CPU path; per patch pass one timer slot of
+/// its own timer for its compute pre-pass.
 struct Queries {
     timer: GpuTimer,
+    compute: GpuTimer,
     stats: Vec<StatsQuery>,
 }
 
@@ -147,6 +159,7 @@ impl OffscreenSession {
             let n = renderer.passes().len() as u32;
             Some(Queries {
                 timer: GpuTimer::new(ctx, n + 1)?,
+                compute: GpuTimer::new(ctx, n.max(1))?,
                 stats: (0..n)
                     .map(|_| StatsQuery::new(ctx))
                     .collect::<Result<_>>()?,
@@ -206,9 +219,21 @@ impl OffscreenSession {
         let result = self.ctx.submit_once(|dev, cmd| {
             if let Some(q) = queries.as_mut() {
                 q.timer.reset(cmd);
+                q.compute.reset(cmd);
                 q.stats.iter().for_each(|s| s.reset(cmd));
             }
-            renderer.record_compute(cmd);
+            // Each pass's compute pre-pass, timed on its own (outside the render pass, so the
+            // timestamps bracket exactly its dispatches and barriers).
+            for pass in renderer.passes() {
+                let slot = match queries.as_mut() {
+                    Some(q) => Some(q.compute.begin(cmd, pass.label())?),
+                    None => None,
+                };
+                pass.record_compute(cmd);
+                if let (Some(q), Some(i)) = (queries.as_mut(), slot) {
+                    q.compute.end(cmd, i)?;
+                }
+            }
             target.begin(dev, cmd, clear);
             for (k, pass) in renderer.passes().iter().enumerate() {
                 let slot = match queries.as_mut() {
@@ -250,6 +275,7 @@ impl OffscreenSession {
                     .collect::<Result<Vec<_>>>()?;
                 Some(FrameReport {
                     passes: q.timer.results()?,
+                    compute: q.compute.results()?,
                     patch_stats: pass_stats
                         .iter()
                         .fold(PipelineStats::default(), |a, (_, s)| add_stats(a, s)),

@@ -47,6 +47,29 @@ pub fn resolve_tess_for(
     tess.resolve(device_max_level, &limits)
 }
 
+/// GPU buffer memory of a [`SurfaceRenderer`], in bytes.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct MemoryReport {
+    /// Shared buffers: frame uniforms, control positions, vertex limit frames, capture.
+    pub shared: u64,
+    /// Each pass's own buffers, by label, in draw order.
+    pub passes: Vec<(String, u64)>,
+    /// CPU-evaluated triangles' vertex and index buffers.
+    pub cpu_path: u64,
+}
+
+impl MemoryReport {
+    /// Every buffer together.
+    pub fn total(&self) -> u64 {
+        self.shared + self.cpu_path + self.passes.iter().map(|(_, b)| b).sum::<u64>()
+    }
+
+    /// The passes' own buffers together.
+    pub fn passes_total(&self) -> u64 {
+        self.passes.iter().map(|(_, b)| b).sum()
+    }
+}
+
 /// GPU resources of one surface plus its pipelines for one render-target format.
 pub struct SurfaceRenderer {
     ctx: Context,
@@ -130,6 +153,20 @@ impl SurfaceRenderer {
     /// Number of patches drawn through the tessellation stages, over every pass.
     pub fn patch_count(&self) -> u32 {
         self.passes.iter().map(|p| p.patch_count()).sum()
+    }
+
+    /// GPU buffer memory of the surface: `(shared buffers, each pass's own in draw order, CPU-path
+    /// triangles)` in bytes ([`PatchPass::memory_bytes`]).
+    pub fn memory_bytes(&self) -> MemoryReport {
+        MemoryReport {
+            shared: self.shared.memory_bytes(),
+            passes: self
+                .passes
+                .iter()
+                .map(|p| (p.label().to_string(), p.memory_bytes()))
+                .collect(),
+            cpu_path: self.cpu_path.memory_bytes(),
+        }
     }
 
     /// Number of CPU-evaluated triangles.

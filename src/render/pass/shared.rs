@@ -152,6 +152,21 @@ impl SharedResources {
         self.positions.raw()
     }
 
+    /// Bytes of GPU memory of the shared buffers (frame uniforms, control positions, vertex
+    /// limit frames, capture).
+    pub fn memory_bytes(&self) -> u64 {
+        [
+            &self.frame,
+            &self.positions,
+            &self.vertex_limits,
+            &self.vertex_normals,
+            &self.capture,
+        ]
+        .iter()
+        .map(|b| b.size())
+        .sum()
+    }
+
     /// Number of control vertices.
     pub fn vertex_count(&self) -> usize {
         self.vertex_count

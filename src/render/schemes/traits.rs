@@ -289,6 +289,12 @@ pub trait PatchPass {
     /// Records the draws inside the caller's render pass.
     fn record(&self, cmd: vk::CommandBuffer);
 
+    /// Bytes of GPU buffer memory the pass holds of its own (tables, indices, computed points;
+    /// not the renderer's shared buffers). Default: 0.
+    fn memory_bytes(&self) -> u64 {
+        0
+    }
+
     /// Animation: new control positions and their limit frames (same topology; the shared
     /// buffers are already updated). Call while no frame using the pass is executing.
     fn update_positions(&mut self, positions: &[DVec3], frames: &VertexFrames) -> Result<()>;

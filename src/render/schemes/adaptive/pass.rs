@@ -311,6 +311,10 @@ impl PatchPass for AdaptivePass {
         self.patches
     }
 
+    fn memory_bytes(&self) -> u64 {
+        AdaptivePass::memory_bytes(self)
+    }
+
     fn record_compute(&self, cmd: vk::CommandBuffer) {
         let dev = self.ctx.device();
         self.refiner.record(dev, cmd);

@@ -334,6 +334,10 @@ impl PatchPass for GridPatchPass {
         self.label
     }
 
+    fn memory_bytes(&self) -> u64 {
+        self._patch_info.size() + self.indices.size()
+    }
+
     fn patch_count(&self) -> u32 {
         self.count
     }

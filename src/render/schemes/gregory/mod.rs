@@ -121,6 +121,11 @@ pub struct GregoryTesBuffers {
 }
 
 impl GregoryTesBuffers {
+    /// Bytes of GPU memory of the records and grids.
+    pub fn memory_bytes(&self) -> u64 {
+        self.records.size() + self.grids.size()
+    }
+
     /// Uploads the records and grids.
     pub fn new(ctx: &Context, layout: &GregoryLayout) -> Result<GregoryTesBuffers> {
         let storage = ash::vk::BufferUsageFlags::STORAGE_BUFFER;

@@ -330,6 +330,14 @@ impl PatchPass for GregoryStencilPass {
         "gregory patches"
     }
 
+    fn memory_bytes(&self) -> u64 {
+        self._weights.size()
+            + self._masks.size()
+            + self._records.size()
+            + self._tes.memory_bytes()
+            + self.indices.size()
+    }
+
     fn patch_count(&self) -> u32 {
         self.count
     }

@@ -396,6 +396,13 @@ impl PatchPass for GregoryVsPass {
         "gregory patches"
     }
 
+    fn memory_bytes(&self) -> u64 {
+        self._conn.size()
+            + self._corner_ring.size()
+            + self._tes.memory_bytes()
+            + self.indices.size()
+    }
+
     fn patch_count(&self) -> u32 {
         self.quads + self.tris
     }

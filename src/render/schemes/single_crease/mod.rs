@@ -303,6 +303,10 @@ impl PatchPass for SingleCreasePass {
         self.grid.label()
     }
 
+    fn memory_bytes(&self) -> u64 {
+        self.grid.memory_bytes() + self.sharpness.size()
+    }
+
     fn patch_count(&self) -> u32 {
         self.grid.patch_count()
     }
