@@ -15,6 +15,7 @@ use std::time::Duration;
 use tessera::mesh::ObjOptions;
 use tessera::patch::adaptive::AdaptiveDrawTables;
 use tessera::render::schemes::adaptive::AdaptiveTables;
+use tessera::render::{PlanOptions, SchemeLimits};
 use tessera::subdiv::adaptive::AdaptiveRefinement;
 use tessera::subdiv::tables::RefinementTables;
 use tessera::subdiv::Level;
@@ -47,7 +48,8 @@ fn benches(c: &mut Criterion) {
             b.iter(|| black_box(AdaptiveDrawTables::new(black_box(&adaptive)).unwrap()))
         });
         g.bench_function(format!("iso{isolation}_adaptive_tables_new"), |b| {
-            b.iter(|| black_box(AdaptiveTables::new(black_box(&topo), &faces, isolation).unwrap()))
+            let opts = PlanOptions::new(SchemeLimits::NO_DEVICE).with_isolation(isolation);
+            b.iter(|| black_box(AdaptiveTables::new(black_box(&topo), &faces, &opts).unwrap()))
         });
     }
     g.finish();
