@@ -39,7 +39,8 @@ pub struct BenchArgs {
     /// `--scheme adaptive`: draw regular quads whose only feature is one semi-sharp crease line
     /// as single-crease patches instead of refining them (Nießner, Loop, Greiner 2012; OpenSubdiv's
     /// `useSingleCreasePatch`): `true` (default) or `false`.
-    #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
+    #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_SINGLE_CREASE,
+          action = clap::ArgAction::Set, value_name = "BOOL")]
     pub single_crease: bool,
     /// Animate: before every timed frame, twist the control positions (as `render --animate`)
     /// and hand them to the renderer (`update_positions`: vertex limit frames and CPU-path faces

@@ -63,6 +63,10 @@ pub struct ErrorArgs {
     #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_ISOLATION,
           value_parser = clap::value_parser!(u32).range(0..=8))]
     pub isolation: u32,
+    /// Single-crease patches in `--scheme adaptive` (see `tessera render --help`).
+    #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_SINGLE_CREASE,
+          action = clap::ArgAction::Set, value_name = "BOOL")]
+    pub single_crease: bool,
     /// Also sample regular faces (drawn as exact B-splines, so their error is ~0).
     #[arg(long)]
     pub include_regular: bool,
@@ -223,7 +227,7 @@ pub fn run(args: ErrorArgs) -> tessera::Result<()> {
         }
         ErrorScheme::Gpu(scheme) => {
             let ctx = super::render::context(false)?;
-            let opts = super::render::plan_options(&ctx, args.isolation);
+            let opts = super::render::plan_options(&ctx, args.isolation, args.single_crease);
             let r = measure_gpu_with(&ctx, &mesh, scheme, args.grid, &opts)?;
             super::render::check_validation(&ctx)?;
             types = r.by_type;

@@ -70,7 +70,8 @@ pub struct RenderArgs {
     /// `--scheme adaptive`: draw regular quads whose only feature is one semi-sharp crease line
     /// as single-crease patches instead of refining them (Nießner, Loop, Greiner 2012; OpenSubdiv's
     /// `useSingleCreasePatch`): `true` (default) or `false`.
-    #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
+    #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_SINGLE_CREASE,
+          action = clap::ArgAction::Set, value_name = "BOOL")]
     pub single_crease: bool,
     /// Draw triangle edges only.
     #[arg(long)]

@@ -45,7 +45,8 @@ pub struct SampleArgs {
     /// `--scheme adaptive`: draw regular quads whose only feature is one semi-sharp crease line
     /// as single-crease patches instead of refining them (Nießner, Loop, Greiner 2012; OpenSubdiv's
     /// `useSingleCreasePatch`): `true` (default) or `false`.
-    #[arg(long, default_value_t = true, action = clap::ArgAction::Set, value_name = "BOOL")]
+    #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_SINGLE_CREASE,
+          action = clap::ArgAction::Set, value_name = "BOOL")]
     pub single_crease: bool,
     /// Enable the Khronos validation layer (always on in debug builds).
     #[arg(long)]

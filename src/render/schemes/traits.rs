@@ -69,6 +69,9 @@ pub struct PlanOptions {
 
 impl PlanOptions {
     /// The feature-adaptive isolation level when none is given (the default).
+    /// Whether the adaptive scheme draws single-crease patches when not told.
+    pub const DEFAULT_SINGLE_CREASE: bool = true;
+
     pub const DEFAULT_ISOLATION: u32 = 3;
 
     /// `limits` with the default settings.
@@ -76,7 +79,7 @@ impl PlanOptions {
         PlanOptions {
             limits,
             isolation: Self::DEFAULT_ISOLATION,
-            single_crease: true,
+            single_crease: Self::DEFAULT_SINGLE_CREASE,
         }
     }
 
