@@ -417,6 +417,21 @@ impl Context {
         self.shared.physical
     }
 
+    /// Size in bytes of the device's largest memory heap (what a frame's allocations must fit).
+    pub fn largest_heap_bytes(&self) -> u64 {
+        // SAFETY: the physical device belongs to this instance.
+        let props = unsafe {
+            self.shared
+                .instance
+                .get_physical_device_memory_properties(self.shared.physical)
+        };
+        props.memory_heaps[..props.memory_heap_count as usize]
+            .iter()
+            .map(|h| h.size)
+            .max()
+            .unwrap_or(0)
+    }
+
     /// Name, features, limits and queue family of the selected device.
     pub fn info(&self) -> &DeviceInfo {
         &self.shared.info
