@@ -13,12 +13,26 @@ pub const EXCERPT_CHARS: usize = 80;
 /// `text` trimmed, or its first [`EXCERPT_CHARS`] characters followed by `…` and the length
 /// when longer: errors quote a short excerpt of what they refuse, never a whole multi-megabyte
 /// line.
+///
+/// Control characters (NUL, escape sequences a terminal would act on, ...) are shown escaped.
 pub fn excerpt(text: &str) -> String {
     let t = text.trim();
-    match t.char_indices().nth(EXCERPT_CHARS) {
-        None => t.to_string(),
-        Some((cut, _)) => format!("{}… ({} bytes)", &t[..cut], t.len()),
+    let (head, cut) = match t.char_indices().nth(EXCERPT_CHARS) {
+        None => (t, false),
+        Some((at, _)) => (&t[..at], true),
+    };
+    let mut s = String::with_capacity(head.len() + 16);
+    for c in head.chars() {
+        if c.is_control() {
+            s.extend(c.escape_default());
+        } else {
+            s.push(c);
+        }
     }
+    if cut {
+        s += &format!("… ({} bytes)", t.len());
+    }
+    s
 }
 
 /// Result alias used throughout the crate.
