@@ -328,3 +328,42 @@ fn gpu_memory_is_checked_against_the_heap_before_allocating() {
     );
     assert!(!png.exists());
 }
+
+/// A GPU timeout (injected with a 1 ms wait) is an error, and every object the frame created
+/// drops safely while the GPU may still use it: no crash, no validation error (destroying a
+/// buffer or image in use would be one), and the context renders again afterwards.
+#[test]
+fn a_gpu_timeout_is_an_error_and_every_object_drops_safely() {
+    use tessera::gpu::{ContextDesc, GpuError};
+    use tessera::render::{
+        render_to_image, surface_for_scheme_with, OffscreenDesc, PlanOptions, RenderDesc, Scheme,
+        SchemeLimits,
+    };
+    let Some(ctx) = common::gpu::context_with(ContextDesc {
+        timeout_ms: 1,
+        ..ContextDesc::default()
+    }) else {
+        return;
+    };
+    let mesh = tessera::assets::EmbeddedMesh::Mixed.load().unwrap();
+    let opts = PlanOptions::new(SchemeLimits::from_context(&ctx));
+    let surface = surface_for_scheme_with(&mesh, 64, Scheme::default(), &opts).unwrap();
+    let mut render = RenderDesc::default();
+    render.tess.level = 64.0;
+    let desc = OffscreenDesc {
+        width: 1024,
+        height: 1024,
+        samples: 4,
+        ..OffscreenDesc::default()
+    };
+    let mut timeouts = 0;
+    for _ in 0..3 {
+        match render_to_image(&ctx, &surface, &render, &desc, false) {
+            Err(Error::Gpu(GpuError::Timeout(1))) => timeouts += 1,
+            Ok(_) => {}
+            Err(e) => panic!("{e}"),
+        }
+    }
+    assert!(timeouts > 0, "no timeout injected");
+    common::gpu::assert_validation_clean(&ctx);
+}
