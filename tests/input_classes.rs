@@ -36,21 +36,6 @@ fn text(t: &str) -> Option<Vec<u8>> {
     Some(t.as_bytes().to_vec())
 }
 
-/// An n-sided polygon.
-fn polygon(n: usize) -> Vec<u8> {
-    let mut t = String::new();
-    for k in 0..n {
-        let a = k as f64 / n as f64 * std::f64::consts::TAU;
-        t += &format!("v {:.6} {:.6} 0\n", a.cos(), a.sin());
-    }
-    t += "f";
-    for k in 1..=n {
-        t += &format!(" {k}");
-    }
-    t.push('\n');
-    t.into_bytes()
-}
-
 /// A cone: `n` triangles around one apex (valence n).
 fn cone(n: usize) -> Vec<u8> {
     let mut t = String::from("v 0 0 1\n");
@@ -133,7 +118,7 @@ fn classes() -> Vec<Class> {
         // ---- resource limits
         c("more vertices than --max-vertices", text(QUAD), &["limit", "IN", "--max-vertices", "3"], Err("control vertices: 4 exceeds the limit 3 (raise it with --max-vertices)")),
         c("more faces than --max-faces", text(STRIP), &["limit", "IN", "--max-faces", "1"], Err("faces: 2 exceeds the limit 1 (raise it with --max-faces)")),
-        c("2000-sided polygon", Some(polygon(2000)), &["render", "IN", "--out", "DIR/x.png"], Err("face 0 size: 2000 exceeds the limit 1024 (raise it with --max-face-size)")),
+        c("2000-sided polygon", Some(common::meshes::polygon_obj(2000).into_bytes()), &["render", "IN", "--out", "DIR/x.png"], Err("face 0 size: 2000 exceeds the limit 1024 (raise it with --max-face-size)")),
         c("valence-2000 cone", Some(cone(2000)), &["limit", "IN"], Err("vertex 0 valence (faces around it): 2000 exceeds the limit 1024 (raise it with --max-valence)")),
         c("GPU memory over the heap (--size 16384x16384)", None, &["render", "--size", "16384x16384", "--out", "DIR/x.png"], Err("GiB of GPU memory, more than the device's largest heap")),
         // ---- arguments and output

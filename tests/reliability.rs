@@ -299,18 +299,10 @@ fn input_limits_name_themselves_and_their_flags() {
         assert!(ok, "{err}");
     }
     // The defaults refuse a 2000-sided polygon (its CPU path takes minutes) until raised.
-    let n = 2000;
-    let mut text = String::new();
-    for k in 0..n {
-        let a = k as f64 / n as f64 * std::f64::consts::TAU;
-        text += &format!("v {} {} 0\n", a.cos(), a.sin());
-    }
-    text += "f";
-    for k in 1..=n {
-        text += &format!(" {k}");
-    }
-    text += "\n";
-    let f = write("polygon2000.obj", text.as_bytes());
+    let f = write(
+        "polygon2000.obj",
+        common::meshes::polygon_obj(2000).as_bytes(),
+    );
     let (ok, _, err) = run(&["render", s(&f), "--out", s(&dir().join("p.png"))]);
     assert!(!ok && err.contains("--max-face-size"), "{err}");
 }

@@ -172,16 +172,5 @@ pub const GPU_MAX_COORDINATE: f64 = 1e9;
 
 /// Refuses a mesh with a coordinate beyond [`GPU_MAX_COORDINATE`], naming the vertex.
 pub fn check_gpu_range(mesh: &ControlMesh) -> Result<()> {
-    let p = mesh.positions();
-    if let Some(v) = p
-        .iter()
-        .position(|p| p.abs().max_element() > GPU_MAX_COORDINATE)
-    {
-        return Err(Error::CoordinateTooLarge {
-            vertex: v as u32,
-            value: p[v].abs().max_element(),
-            limit: GPU_MAX_COORDINATE,
-        });
-    }
-    Ok(())
+    tessera::mesh::validate::check_magnitude(mesh.positions(), GPU_MAX_COORDINATE)
 }

@@ -42,16 +42,14 @@ pub fn validate(desc: &ControlMeshDesc) -> Result<Vec<MeshWarning>> {
 /// checked where it draws.
 pub const MAX_COORDINATE: f64 = 1e30;
 
-/// Refuses the first vertex with a coordinate beyond [`MAX_COORDINATE`].
-pub fn check_magnitude(positions: &[glam::DVec3]) -> Result<()> {
-    if let Some(v) = positions
-        .iter()
-        .position(|p| p.abs().max_element() > MAX_COORDINATE)
-    {
+/// Refuses the first vertex with a coordinate of magnitude beyond `limit` (validation uses
+/// [`MAX_COORDINATE`]; a consumer with a narrower range, such as the f32 GPU pipeline, its own).
+pub fn check_magnitude(positions: &[glam::DVec3], limit: f64) -> Result<()> {
+    if let Some(v) = positions.iter().position(|p| p.abs().max_element() > limit) {
         return Err(Error::CoordinateTooLarge {
             vertex: v as u32,
             value: positions[v].abs().max_element(),
-            limit: MAX_COORDINATE,
+            limit,
         });
     }
     Ok(())
@@ -118,7 +116,7 @@ fn check_faces(desc: &ControlMeshDesc, offsets: &[u32]) -> Result<()> {
     if let Some(v) = desc.positions.iter().position(|p| !p.is_finite()) {
         return Err(Error::NonFiniteCoordinate { vertex: v as u32 });
     }
-    check_magnitude(&desc.positions)?;
+    check_magnitude(&desc.positions, MAX_COORDINATE)?;
     let mut scratch = Vec::new();
     for f in 0..desc.face_sizes.len() {
         let face = &desc.face_vertices[offsets[f] as usize..offsets[f + 1] as usize];
