@@ -20,9 +20,14 @@ fuzz_target!(|data: &[u8]| {
     let Ok(ev) = LimitEvaluator::new(&mesh) else {
         return;
     };
-    for f in (0..ev.face_count()).filter(|&f| ev.has_limit_surface(f)).take(8) {
+    for f in (0..ev.face_count())
+        .filter(|&f| ev.has_limit_surface(f))
+        .take(8)
+    {
         for &(u, v) in &[(0.0, 0.0), (0.5, 0.5), (1.0, 0.25)] {
-            let s = ev.eval(f, 0, u, v).expect("face with a limit surface evaluates");
+            let s = ev
+                .eval(f, 0, u, v)
+                .expect("face with a limit surface evaluates");
             assert!(
                 s.position.is_finite()
                     && s.du.is_finite()
