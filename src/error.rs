@@ -7,6 +7,34 @@ mod device;
 
 pub use device::{DeviceReport, GpuError, VkResultCode};
 
+/// Longest quote of user text in a message ([`excerpt`]), in characters.
+pub const EXCERPT_CHARS: usize = 80;
+
+/// `text` trimmed, or its first [`EXCERPT_CHARS`] characters followed by `…` and the length
+/// when longer: errors quote a short excerpt of what they refuse, never a whole multi-megabyte
+/// line.
+///
+/// Control characters (NUL, escape sequences a terminal would act on, ...) are shown escaped.
+pub fn excerpt(text: &str) -> String {
+    let t = text.trim();
+    let (head, cut) = match t.char_indices().nth(EXCERPT_CHARS) {
+        None => (t, false),
+        Some((at, _)) => (&t[..at], true),
+    };
+    let mut s = String::with_capacity(head.len() + 16);
+    for c in head.chars() {
+        if c.is_control() {
+            s.extend(c.escape_default());
+        } else {
+            s.push(c);
+        }
+    }
+    if cut {
+        s += &format!("… ({} bytes)", t.len());
+    }
+    s
+}
+
 /// Result alias used throughout the crate.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
@@ -28,6 +56,17 @@ impl std::fmt::Display for TagKind {
             TagKind::Corner => "corner",
             TagKind::Hole => "hole",
         })
+    }
+}
+
+impl Error {
+    /// [`Error::Parse`] of line `line` quoting an [`excerpt`] of `text`.
+    pub fn parse(line: usize, text: &str, message: String) -> Error {
+        Error::Parse {
+            line,
+            text: excerpt(text),
+            message,
+        }
     }
 }
 
@@ -76,6 +115,16 @@ pub enum Error {
     NonFiniteCoordinate {
         /// The vertex (0-based).
         vertex: u32,
+    },
+    /// A vertex coordinate is too large to evaluate or draw without overflow.
+    #[error("vertex {vertex} has a coordinate of magnitude {value:e}, beyond the supported {limit:e} (it would overflow in evaluation or on the GPU); scale the model down")]
+    CoordinateTooLarge {
+        /// The vertex (0-based).
+        vertex: u32,
+        /// Its largest coordinate magnitude.
+        value: f64,
+        /// The largest magnitude accepted.
+        limit: f64,
     },
     /// A face uses the same vertex twice.
     #[error("face {face} uses vertex {vertex} more than once")]
@@ -170,6 +219,29 @@ pub enum Error {
         /// The operating system's message.
         message: String,
     },
+    /// A file (or standard output) could not be written.
+    #[error("cannot write {path}: {message}")]
+    Write {
+        /// The file.
+        path: String,
+        /// The operating system's (or encoder's) message.
+        message: String,
+    },
+    /// A resource limit of the command line was exceeded; `flag` raises it.
+    #[error("{what}: {found} exceeds the limit {limit} (raise it with {flag})")]
+    LimitExceeded {
+        /// What was counted (vertices, faces, face size, valence, ...), with the element.
+        what: String,
+        /// The count found.
+        found: u64,
+        /// The limit in force.
+        limit: u64,
+        /// The command-line flag that raises it.
+        flag: &'static str,
+    },
+    /// The input would draw nothing (every face a hole, no face with a limit surface, ...).
+    #[error("nothing to draw: {0}")]
+    NothingToDraw(String),
     /// Vulkan / device failure (see [`GpuError`]).
     #[error(transparent)]
     Gpu(#[from] GpuError),

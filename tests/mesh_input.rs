@@ -600,7 +600,8 @@ fn malformed_files_give_typed_errors() {
     assert_parse_error(
         obj("\u{7f}ELF\u{1}\u{1}\0\0garbage\n"),
         1,
-        "\u{7f}ELF\u{1}\u{1}\0\0garbage",
+        // Control characters are quoted escaped (nothing a terminal would act on).
+        "\\u{7f}ELF\\u{1}\\u{1}\\u{0}\\u{0}garbage",
     );
     // A face using a vertex defined later is fine; one beyond the whole file is not.
     assert!(obj("f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n").is_ok());

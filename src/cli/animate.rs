@@ -7,7 +7,7 @@ use std::path::Path;
 
 use tessera::render::animate::{contact_sheet, twist};
 use tessera::render::{OffscreenDesc, OffscreenSession, RenderDesc, SurfaceData};
-use tessera::{ControlMesh, Error, Result};
+use tessera::{ControlMesh, Result};
 
 /// Renders `frames` frames of `mesh` twisting about the up axis and writes the contact sheet
 /// to `out`. Faces drawn from the CPU reference are re-evaluated per frame. Prints the GPU time
@@ -51,12 +51,7 @@ pub fn run(
         images.push(session.image()?);
     }
     let cols = (f64::from(frames).sqrt().ceil() as u32).max(1);
-    contact_sheet(&images, cols)
-        .save_with_format(out, image::ImageFormat::Png)
-        .map_err(|e| Error::Io {
-            path: out.display().to_string(),
-            message: e.to_string(),
-        })?;
+    super::image_out::save(&contact_sheet(&images, cols), out)?;
     eprintln!(
         "{frames} frame(s) written as a {cols}-column contact sheet to {}",
         out.display()

@@ -71,6 +71,9 @@ pub struct BenchArgs {
     /// The file's faces are wound clockwise.
     #[arg(long)]
     pub left_handed: bool,
+    /// Input size limits.
+    #[command(flatten)]
+    pub limits: super::limits::InputLimits,
 }
 
 /// Runs the subcommand.
@@ -89,6 +92,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
         })
         .collect::<Result<_>>()?;
     let mesh = load(args.mesh.as_deref(), args.left_handed)?;
+    super::limits::check_mesh(&mesh, &args.limits)?;
+    super::limits::check_gpu_range(&mesh)?;
     let ctx = context(args.validation)?;
     println!("device: {}", ctx.info().name);
     if let Some(list) = &args.crease_sharpness {

@@ -133,9 +133,7 @@ fn write_heatmap(
     };
     let out = render_to_image(&ctx, &heat.surface, &render, &desc, false)?;
     super::render::check_validation(&ctx)?;
-    out.image
-        .save(path)
-        .map_err(|e| tessera::Error::Invalid(format!("cannot write {}: {e}", path.display())))?;
+    super::image_out::save(&out.image, path)?;
     eprintln!(
         "error map written to {} (full red = {:.3e} of the bbox diagonal; largest error {:.3e})",
         path.display(),

@@ -98,6 +98,9 @@ pub struct RenderArgs {
     /// The file's faces are wound clockwise.
     #[arg(long)]
     pub left_handed: bool,
+    /// Input size limits.
+    #[command(flatten)]
+    pub limits: super::limits::InputLimits,
 }
 
 /// Parses `WxH`.
@@ -244,8 +247,11 @@ pub fn print_report(r: &FrameReport) {
 /// Runs the subcommand.
 pub fn run(args: RenderArgs) -> Result<()> {
     let (width, height) = parse_size(&args.size)?;
+    super::image_out::check_out(&args.out)?;
     let camera = CameraSpec::parse(&args.camera)?;
     let mesh = load(args.mesh.as_deref(), args.left_handed)?;
+    super::limits::check_mesh(&mesh, &args.limits)?;
+    super::limits::check_gpu_range(&mesh)?;
     let ctx = context(args.validation)?;
     if !ctx.info().limits.supports_samples(args.msaa) {
         return Err(Error::Invalid(format!(
@@ -276,6 +282,12 @@ pub fn run(args: RenderArgs) -> Result<()> {
         args.scheme,
         args.isolation,
         args.single_crease,
+    )?;
+    super::limits::check_drawable(&surface)?;
+    super::limits::check_gpu_memory(
+        &ctx,
+        super::limits::estimate_gpu_bytes(&surface, width, height, args.msaa, 0),
+        "this render",
     )?;
     report_fallback(&surface);
     let render = RenderDesc {
@@ -311,12 +323,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         return check_validation(&ctx);
     }
     let out = render_to_image(&ctx, &surface, &render, &desc, args.timings)?;
-    out.image
-        .save_with_format(&args.out, image::ImageFormat::Png)
-        .map_err(|e| Error::Io {
-            path: args.out.display().to_string(),
-            message: e.to_string(),
-        })?;
+    super::image_out::save(&out.image, &args.out)?;
     if let Some(r) = &out.report {
         print_report(r);
     }

@@ -54,11 +54,16 @@ pub struct SampleArgs {
     /// The file's faces are wound clockwise.
     #[arg(long)]
     pub left_handed: bool,
+    /// Input size limits.
+    #[command(flatten)]
+    pub limits: super::limits::InputLimits,
 }
 
 /// Runs the subcommand.
 pub fn run(args: SampleArgs) -> Result<()> {
     let mesh = load(Some(&args.mesh), args.left_handed)?;
+    super::limits::check_mesh(&mesh, &args.limits)?;
+    super::limits::check_gpu_range(&mesh)?;
     let ctx = context(args.validation)?;
     let level = clamp_level(&ctx, args.tess)?;
     // Only the GPU patches are captured; the other faces are counted, not evaluated.
@@ -74,6 +79,15 @@ pub fn run(args: SampleArgs) -> Result<()> {
         surface.fallback_faces.len(),
         surface.skipped_faces
     );
+    super::limits::check_drawable(&surface)?;
+    if surface.patch_count() == 0 {
+        return Err(Error::NothingToDraw(format!(
+            "{}: no face is drawn by a GPU patch with --scheme {}, so no TES invocation would \
+             be captured",
+            args.mesh,
+            args.scheme.name()
+        )));
+    }
     surface.fallback_faces.clear();
     let tess = TessSettings {
         level,
@@ -92,6 +106,19 @@ pub fn run(args: SampleArgs) -> Result<()> {
         height: 64,
         ..OffscreenDesc::default()
     };
+    super::limits::check_gpu_memory(
+        &ctx,
+        super::limits::estimate_gpu_bytes(
+            &surface,
+            desc.width,
+            desc.height,
+            desc.samples,
+            u64::from(render.capture_capacity.unwrap_or(0)),
+        ),
+        "this capture",
+    )?;
+    // Opened before rendering: a path that cannot be written fails before the GPU work.
+    let (mut w, name) = super::stream::open_output(Some(&args.out))?;
     let out = render_to_image(&ctx, &surface, &render, &desc, false)?;
     let mut recs = out.capture.unwrap_or_default();
     recs.sort_by(|a, b| {
@@ -99,14 +126,25 @@ pub fn run(args: SampleArgs) -> Result<()> {
             .partial_cmp(&(b.face, b.sub_face, b.v, b.u))
             .unwrap_or(std::cmp::Ordering::Equal)
     });
-    let mut text = String::with_capacity(recs.len() * 96);
-    for r in &recs {
-        write_record(&mut text, r);
-    }
-    std::fs::write(&args.out, text).map_err(|e| Error::Io {
-        path: args.out.display().to_string(),
-        message: e.to_string(),
-    })?;
+    // Streamed: one block of lines in memory at a time, not the whole file.
+    let mut progress = super::stream::Progress::new(
+        "records",
+        recs.len() as u64,
+        !log::log_enabled!(log::Level::Info),
+    );
+    super::stream::write_ordered(
+        recs.chunks(4096),
+        |c| c.len() as u64,
+        |c, text| {
+            for r in *c {
+                write_record(text, r);
+            }
+            Ok(())
+        },
+        &mut w,
+        &name,
+        &mut progress,
+    )?;
     eprintln!("{} TES invocations written", recs.len());
     check_validation(&ctx)
 }

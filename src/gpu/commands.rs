@@ -9,9 +9,10 @@ use crate::Result;
 impl Context {
     /// Records commands with `record` into a fresh primary command buffer, submits it to the
     /// graphics queue and waits for completion. Waiting longer than the context's timeout
-    /// returns [`GpuError::Timeout`] instead of hanging; the work keeps running, so call
-    /// [`Context::wait_idle`] before dropping resources it uses. Its command buffer and fence are
-    /// released once it finishes (at the next submission or when the context drops).
+    /// returns [`GpuError::Timeout`] instead of hanging; the work keeps running, and every GPU
+    /// object (buffer, image, render target, descriptor or query pool) dropped meanwhile first
+    /// waits for it to finish, so dropping after a timeout is safe. Its command buffer and fence
+    /// are released once it finishes (at the next submission or when the context drops).
     pub fn submit_once<R>(
         &self,
         record: impl FnOnce(&ash::Device, vk::CommandBuffer) -> Result<R>,

@@ -79,6 +79,22 @@ pub(crate) struct Shared {
 }
 
 impl Shared {
+    /// Called before an object is destroyed: when a submission timed out (its work may still
+    /// be running and may use the object), waits for every such submission to finish. Without
+    /// a timeout this is one uncontended lock. A lost device ends the wait with an error, which
+    /// is logged (the object is then destroyed, as the device no longer executes anything).
+    pub fn wait_pending(&self) {
+        let pending = self.pending.lock().unwrap_or_else(|p| p.into_inner());
+        if pending.is_empty() {
+            return;
+        }
+        let fences: Vec<vk::Fence> = pending.iter().map(|(f, _)| *f).collect();
+        // SAFETY: the fences belong to this device and stay alive while the lock is held.
+        if let Err(e) = unsafe { self.device.wait_for_fences(&fences, true, u64::MAX) } {
+            log::error!("waiting for timed-out GPU work before destroying its objects: {e}");
+        }
+    }
+
     pub fn allocator(&self) -> MutexGuard<'_, Allocator> {
         self.allocator.lock().unwrap_or_else(|p| p.into_inner())
     }
@@ -415,6 +431,21 @@ impl Context {
     /// The physical device in use.
     pub fn physical_device(&self) -> vk::PhysicalDevice {
         self.shared.physical
+    }
+
+    /// Size in bytes of the device's largest memory heap (what a frame's allocations must fit).
+    pub fn largest_heap_bytes(&self) -> u64 {
+        // SAFETY: the physical device belongs to this instance.
+        let props = unsafe {
+            self.shared
+                .instance
+                .get_physical_device_memory_properties(self.shared.physical)
+        };
+        props.memory_heaps[..props.memory_heap_count as usize]
+            .iter()
+            .map(|h| h.size)
+            .max()
+            .unwrap_or(0)
     }
 
     /// Name, features, limits and queue family of the selected device.

@@ -78,6 +78,7 @@ impl DescriptorPool {
 
 impl Drop for DescriptorPool {
     fn drop(&mut self) {
+        self.shared.wait_pending();
         // SAFETY: sets from this pool are no longer used.
         unsafe { self.shared.device.destroy_descriptor_pool(self.raw, None) };
     }

@@ -458,6 +458,7 @@ impl RenderTarget {
 
 impl Drop for RenderTarget {
     fn drop(&mut self) {
+        self.shared.wait_pending();
         // SAFETY: no GPU work uses the target any more; images drop after this.
         unsafe {
             self.shared

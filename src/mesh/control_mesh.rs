@@ -154,6 +154,7 @@ impl ControlMesh {
                 "set_positions: vertex {i} has a non-finite coordinate"
             )));
         }
+        super::validate::check_magnitude(positions, super::validate::MAX_COORDINATE)?;
         self.positions.copy_from_slice(positions);
         Ok(())
     }

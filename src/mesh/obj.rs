@@ -14,6 +14,7 @@ use glam::DVec3;
 
 use super::tags::Tags;
 use super::{ControlMesh, ControlMeshDesc, MeshWarning};
+use crate::error::excerpt;
 use crate::{Error, Result};
 
 /// Options of the OBJ reader.
@@ -124,18 +125,16 @@ impl Scan {
         // (index, line, text) of face references beyond the vertices read so far (allowed if
         // the vertex comes later in the file).
         let mut forward: Vec<(u32, usize, &str)> = Vec::new();
-        for (i, raw) in text.lines().enumerate() {
+        // A UTF-8 byte-order mark (as some Windows editors write) is not content.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        for (i, raw) in obj_lines(text).enumerate() {
             let line = i + 1;
             let content = raw.split('#').next().unwrap_or("");
             let words: Vec<&str> = content.split_whitespace().collect();
             let Some((&key, args)) = words.split_first() else {
                 continue;
             };
-            let err = |message: String| Error::Parse {
-                line,
-                text: raw.trim().to_string(),
-                message,
-            };
+            let err = |message: String| Error::parse(line, raw, message);
             match key {
                 "v" => {
                     let p = parse_position(args).map_err(err)?;
@@ -173,34 +172,54 @@ impl Scan {
                     line,
                     keyword: k.to_string(),
                 }),
-                k => return Err(err(format!("unknown OBJ statement `{k}`"))),
+                k => return Err(err(format!("unknown OBJ statement `{}`", excerpt(k)))),
             }
         }
         let nv = scan.positions.len();
         if let Some(&(v, line, raw)) = forward.iter().find(|f| f.0 as usize >= nv) {
-            return Err(Error::Parse {
+            return Err(Error::parse(
                 line,
-                text: raw.trim().to_string(),
-                message: format!("vertex {} does not exist (the file has {nv})", v as u64 + 1),
-            });
+                raw,
+                format!("vertex {} does not exist (the file has {nv})", v as u64 + 1),
+            ));
         }
         Ok(scan)
     }
+}
+
+/// The lines of `text`, ended by `\n`, `\r\n` or a lone `\r` (classic Mac OS), without their
+/// terminators.
+fn obj_lines(text: &str) -> impl Iterator<Item = &str> {
+    let mut rest = Some(text);
+    std::iter::from_fn(move || {
+        let t = rest?;
+        match t.find(['\n', '\r']) {
+            Some(i) => {
+                let skip = if t[i..].starts_with("\r\n") { 2 } else { 1 };
+                rest = Some(&t[i + skip..]);
+                Some(&t[..i])
+            }
+            None => {
+                rest = None;
+                (!t.is_empty()).then_some(t)
+            }
+        }
+    })
 }
 
 /// `x y z`, `x y z w` (divided by `w`) or `x y z r g b` (colour ignored).
 fn parse_position(args: &[&str]) -> std::result::Result<DVec3, String> {
     let num = |s: &str| {
         s.parse::<f64>()
-            .map_err(|_| format!("`{s}` is not a number"))
+            .map_err(|_| format!("`{}` is not a number", excerpt(s)))
     };
     match args.len() {
         3 | 4 | 6 => {
             let p = DVec3::new(num(args[0])?, num(args[1])?, num(args[2])?);
             if args.len() == 4 {
                 let w = num(args[3])?;
-                if w == 0.0 {
-                    return Err("homogeneous coordinate w = 0".into());
+                if w == 0.0 || !w.is_finite() {
+                    return Err(format!("homogeneous coordinate w = {w}"));
                 }
                 return Ok(p / w);
             }
@@ -218,7 +237,7 @@ fn resolve_index(word: &str, nv: i64) -> std::result::Result<u32, String> {
     let first = word.split('/').next().unwrap_or("");
     let k: i64 = first
         .parse()
-        .map_err(|_| format!("`{word}` is not a vertex reference"))?;
+        .map_err(|_| format!("`{}` is not a vertex reference", excerpt(word)))?;
     let v = match k {
         0 => return Err("vertex index 0 (OBJ indices start at 1)".into()),
         k if k > 0 => k - 1,

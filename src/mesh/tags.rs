@@ -10,6 +10,7 @@
 //! with a warning.
 
 use super::{BoundaryInterpolation, Corner, Crease, CreaseMethod, MeshWarning, SchemeOptions};
+use crate::error::excerpt;
 use crate::{Error, Result};
 
 /// Tags collected from a file.
@@ -32,11 +33,7 @@ struct TagArgs<'a> {
 impl Tags {
     /// Parses the words after `t` on line `line` (1-based); `text` is the whole line for errors.
     pub fn parse_line(&mut self, words: &[&str], line: usize, text: &str) -> Result<()> {
-        let err = |message: String| Error::Parse {
-            line,
-            text: text.trim().to_string(),
-            message,
-        };
+        let err = |message: String| Error::parse(line, text, message);
         let [name, counts, rest @ ..] = words else {
             return Err(err(
                 "a tag needs a name and nint/nfloat[/nstring] counts".into()
@@ -51,7 +48,8 @@ impl Tags {
                 Ok(())
             } else {
                 Err(err(format!(
-                    "tag `{name}` expects {}/{}/{ns} arguments",
+                    "tag `{}` expects {}/{}/{ns} arguments",
+                    excerpt(name),
                     ni.map_or("n".into(), |n| n.to_string()),
                     nf.map_or("n".into(), |n| n.to_string()),
                 )))
@@ -114,7 +112,8 @@ impl Tags {
                     "chaikin" => CreaseMethod::Chaikin,
                     s => {
                         return Err(err(format!(
-                            "creasemethod `{s}` (expected normal or chaikin)"
+                            "creasemethod `{}` (expected normal or chaikin)",
+                            excerpt(s)
                         )))
                     }
                 };
@@ -128,7 +127,8 @@ impl Tags {
                         .push(MeshWarning::SmoothTrianglesIgnored { line }),
                     s => {
                         return Err(err(format!(
-                            "smoothtriangles `{s}` (expected catmark or smooth)"
+                            "smoothtriangles `{}` (expected catmark or smooth)",
+                            excerpt(s)
                         )))
                     }
                 }
@@ -136,7 +136,7 @@ impl Tags {
             "facevaryinginterpolateboundary" | "facevaryingpropagatecorners" => {}
             other => self.warnings.push(MeshWarning::UnknownTag {
                 line,
-                name: other.to_string(),
+                name: excerpt(other),
             }),
         }
         Ok(())
@@ -148,18 +148,23 @@ fn split_args<'a>(counts: &str, rest: &[&'a str]) -> std::result::Result<TagArgs
     let parts: Vec<&str> = counts.split('/').collect();
     if parts.is_empty() || parts.len() > 3 {
         return Err(format!(
-            "bad argument counts `{counts}` (expected nint/nfloat[/nstring])"
+            "bad argument counts `{}` (expected nint/nfloat[/nstring])",
+            excerpt(counts)
         ));
     }
     let mut n = [0usize; 3];
     for (k, p) in parts.iter().enumerate() {
         n[k] = p.parse().map_err(|_| {
-            format!("bad argument counts `{counts}` (expected nint/nfloat[/nstring])")
+            format!(
+                "bad argument counts `{}` (expected nint/nfloat[/nstring])",
+                excerpt(counts)
+            )
         })?;
     }
     if n.iter().sum::<usize>() != rest.len() {
         return Err(format!(
-            "counts `{counts}` announce {} arguments, the line has {}",
+            "counts `{}` announce {} arguments, the line has {}",
+            excerpt(counts),
             n.iter().sum::<usize>(),
             rest.len()
         ));
@@ -170,14 +175,14 @@ fn split_args<'a>(counts: &str, rest: &[&'a str]) -> std::result::Result<TagArgs
         .iter()
         .map(|s| {
             s.parse::<u32>()
-                .map_err(|_| format!("`{s}` is not a non-negative integer index"))
+                .map_err(|_| format!("`{}` is not a non-negative integer index", excerpt(s)))
         })
         .collect::<std::result::Result<Vec<_>, _>>()?;
     let floats = floats
         .iter()
         .map(|s| {
             s.parse::<f32>()
-                .map_err(|_| format!("`{s}` is not a number"))
+                .map_err(|_| format!("`{}` is not a number", excerpt(s)))
         })
         .collect::<std::result::Result<Vec<_>, _>>()?;
     let strings = strings.iter().map(|s| s.trim_matches('"')).collect();

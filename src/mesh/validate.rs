@@ -2,7 +2,7 @@
 //!
 //! Checks, in this order, each refused with its own [`Error`] variant naming the element:
 //! empty mesh, size mismatch, face with < 3 vertices, out-of-range index, non-finite coordinate,
-//! repeated vertex in a face, non-manifold edge (3+ faces), inconsistent winding across an edge,
+//! coordinate beyond [`MAX_COORDINATE`], repeated vertex in a face, non-manifold edge (3+ faces), inconsistent winding across an edge,
 //! non-manifold vertex (more than one fan of faces), then the tags: crease/corner/hole index out
 //! of range, negative or NaN sharpness, crease on a pair that is not an edge.
 //! Unreferenced vertices are reported as a [`MeshWarning`].
@@ -32,6 +32,27 @@ pub fn validate(desc: &ControlMeshDesc) -> Result<Vec<MeshWarning>> {
         warnings.push(MeshWarning::UnreferencedVertices(unreferenced));
     }
     Ok(warnings)
+}
+
+/// Largest coordinate magnitude accepted. Limit evaluation works in f64 and its normals take
+/// products of up to four coordinates (1e30^4 = 1e120, far from f64's 1.8e308); positions go
+/// to the GPU as f32 (at most 3.4e38). Larger values would overflow to infinity there, so they
+/// are refused rather than rescaled (a rescaled mesh would no longer evaluate, sample or
+/// capture at the file's coordinates). The GPU pipeline has a narrower range of its own,
+/// checked where it draws.
+pub const MAX_COORDINATE: f64 = 1e30;
+
+/// Refuses the first vertex with a coordinate of magnitude beyond `limit` (validation uses
+/// [`MAX_COORDINATE`]; a consumer with a narrower range, such as the f32 GPU pipeline, its own).
+pub fn check_magnitude(positions: &[glam::DVec3], limit: f64) -> Result<()> {
+    if let Some(v) = positions.iter().position(|p| p.abs().max_element() > limit) {
+        return Err(Error::CoordinateTooLarge {
+            vertex: v as u32,
+            value: positions[v].abs().max_element(),
+            limit,
+        });
+    }
+    Ok(())
 }
 
 /// Empty mesh, sizes that cannot be indexed with `u32`, face sizes that do not add up.
@@ -95,6 +116,7 @@ fn check_faces(desc: &ControlMeshDesc, offsets: &[u32]) -> Result<()> {
     if let Some(v) = desc.positions.iter().position(|p| !p.is_finite()) {
         return Err(Error::NonFiniteCoordinate { vertex: v as u32 });
     }
+    check_magnitude(&desc.positions, MAX_COORDINATE)?;
     let mut scratch = Vec::new();
     for f in 0..desc.face_sizes.len() {
         let face = &desc.face_vertices[offsets[f] as usize..offsets[f + 1] as usize];

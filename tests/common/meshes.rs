@@ -72,3 +72,18 @@ pub fn gregory_test_meshes() -> Vec<(String, ControlMesh)> {
         .filter_map(|name| try_osd(&name).ok().map(|m| (name, m)))
         .collect()
 }
+
+/// OBJ text of one regular `n`-sided polygon in the z = 0 plane (unit circumradius).
+pub fn polygon_obj(n: usize) -> String {
+    let mut t = String::new();
+    for k in 0..n {
+        let a = k as f64 / n as f64 * std::f64::consts::TAU;
+        t += &format!("v {:.6} {:.6} 0\n", a.cos(), a.sin());
+    }
+    t += "f";
+    for k in 1..=n {
+        t += &format!(" {k}");
+    }
+    t.push('\n');
+    t
+}
