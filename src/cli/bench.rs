@@ -11,7 +11,7 @@ use tessera::{Error, Result};
 
 use super::render::{
     check_validation, clamp_level, context, load, max_patch_level, parse_size, report_fallback,
-    surface_for,
+    surface_for, AdaptiveArgs,
 };
 
 /// Arguments of `tessera bench`.
@@ -31,17 +31,9 @@ pub struct BenchArgs {
     /// GPU scheme for non-regular faces (see `tessera render --help`).
     #[arg(long, value_enum, default_value_t = Scheme::default())]
     pub scheme: Scheme,
-    /// Isolation level of `--scheme adaptive` (0-8): faces are refined around features until
-    /// they are regular or this level is reached (Köbler 2013 §3.3).
-    #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_ISOLATION,
-          value_parser = clap::value_parser!(u32).range(0..=8))]
-    pub isolation: u32,
-    /// `--scheme adaptive`: draw regular quads whose only feature is one semi-sharp crease line
-    /// as single-crease patches instead of refining them (Nießner, Loop, Greiner 2012; OpenSubdiv's
-    /// `useSingleCreasePatch`): `true` (default) or `false`.
-    #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_SINGLE_CREASE,
-          action = clap::ArgAction::Set, value_name = "BOOL")]
-    pub single_crease: bool,
+    /// `--isolation`, `--single-crease` (the adaptive scheme's planning).
+    #[command(flatten)]
+    pub adaptive: AdaptiveArgs,
     /// Animate: before every timed frame, twist the control positions (as `render --animate`)
     /// and hand them to the renderer (`update_positions`: vertex limit frames and CPU-path faces
     /// recomputed on the CPU, every GPU patch rebuilt on the GPU); adds the CPU milliseconds of
@@ -108,7 +100,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         let sweep = super::bench_creases::Sweep {
             sharpness: &sharpness,
             level: clamp_level(&ctx, levels[0])?,
-            isolation: args.isolation,
+            isolation: args.adaptive.isolation,
             frames: args.frames,
             size: (width, height),
         };
@@ -152,8 +144,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
             &mesh,
             level,
             args.scheme,
-            args.isolation,
-            args.single_crease,
+            args.adaptive.isolation,
+            args.adaptive.single_crease,
         )?;
         if req == levels[0] {
             report_fallback(&surface);

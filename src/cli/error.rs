@@ -4,6 +4,8 @@ use std::sync::OnceLock;
 
 use clap::builder::PossibleValue;
 use clap::{Args, ValueEnum};
+
+use super::render::AdaptiveArgs;
 use tessera::mesh::ObjOptions;
 use tessera::patch::gregory::accuracy::{
     measure, measure_with_samples, AccuracyOptions, AccuracyReport, FaceHeat,
@@ -59,14 +61,9 @@ pub struct ErrorArgs {
     /// patch level, so every base face gets about the same density).
     #[arg(long, default_value_t = 8)]
     pub grid: usize,
-    /// Isolation level of `--scheme adaptive` (0-8; see `tessera render --help`).
-    #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_ISOLATION,
-          value_parser = clap::value_parser!(u32).range(0..=8))]
-    pub isolation: u32,
-    /// Single-crease patches in `--scheme adaptive` (see `tessera render --help`).
-    #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_SINGLE_CREASE,
-          action = clap::ArgAction::Set, value_name = "BOOL")]
-    pub single_crease: bool,
+    /// `--isolation`, `--single-crease` (the adaptive scheme's planning).
+    #[command(flatten)]
+    pub adaptive: AdaptiveArgs,
     /// Also sample regular faces (drawn as exact B-splines, so their error is ~0).
     #[arg(long)]
     pub include_regular: bool,
@@ -225,7 +222,11 @@ pub fn run(args: ErrorArgs) -> tessera::Result<()> {
         }
         ErrorScheme::Gpu(scheme) => {
             let ctx = super::render::context(false)?;
-            let opts = super::render::plan_options(&ctx, args.isolation, args.single_crease);
+            let opts = super::render::plan_options(
+                &ctx,
+                args.adaptive.isolation,
+                args.adaptive.single_crease,
+            );
             let r = measure_gpu_with(&ctx, &mesh, scheme, args.grid, &opts)?;
             super::render::check_validation(&ctx)?;
             types = r.by_type;
@@ -237,7 +238,9 @@ pub fn run(args: ErrorArgs) -> tessera::Result<()> {
         ErrorScheme::Gpu(s) => s.name(),
     };
     let name = match args.scheme {
-        ErrorScheme::Gpu(Scheme::Adaptive) => format!("{name} (isolation {})", args.isolation),
+        ErrorScheme::Gpu(Scheme::Adaptive) => {
+            format!("{name} (isolation {})", args.adaptive.isolation)
+        }
         _ => name.to_string(),
     };
     print!("{}", format_report(&args.mesh, &name, &report));

@@ -62,17 +62,9 @@ pub struct RenderArgs {
     /// large rings or valences) are drawn from the exact CPU reference, with a message.
     #[arg(long, value_enum, default_value_t = Scheme::default())]
     pub scheme: Scheme,
-    /// Isolation level of `--scheme adaptive` (0-8): faces are refined around features until
-    /// they are regular or this level is reached (Köbler 2013 §3.3).
-    #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_ISOLATION,
-          value_parser = clap::value_parser!(u32).range(0..=8))]
-    pub isolation: u32,
-    /// `--scheme adaptive`: draw regular quads whose only feature is one semi-sharp crease line
-    /// as single-crease patches instead of refining them (Nießner, Loop, Greiner 2012; OpenSubdiv's
-    /// `useSingleCreasePatch`): `true` (default) or `false`.
-    #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_SINGLE_CREASE,
-          action = clap::ArgAction::Set, value_name = "BOOL")]
-    pub single_crease: bool,
+    /// `--isolation`, `--single-crease` (the adaptive scheme's planning).
+    #[command(flatten)]
+    pub adaptive: AdaptiveArgs,
     /// Draw triangle edges only.
     #[arg(long)]
     pub wireframe: bool,
@@ -173,6 +165,22 @@ pub fn max_patch_level(arg: f32) -> f32 {
     } else {
         f32::INFINITY
     }
+}
+
+/// The adaptive scheme's planning flags, shared by `render`, `sample`, `bench` and `error`.
+#[derive(Args, Debug, Clone, Copy)]
+pub struct AdaptiveArgs {
+    /// Isolation level of `--scheme adaptive` (0-8): faces are refined around features until
+    /// they are regular or this level is reached (Köbler 2013 §3.3).
+    #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_ISOLATION,
+          value_parser = clap::value_parser!(u32).range(0..=8))]
+    pub isolation: u32,
+    /// `--scheme adaptive`: draw regular quads whose only feature is one semi-sharp crease line
+    /// as single-crease patches instead of refining them (Nießner, Loop, Greiner 2012; OpenSubdiv's
+    /// `useSingleCreasePatch`): `true` (default) or `false`.
+    #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_SINGLE_CREASE,
+          action = clap::ArgAction::Set, value_name = "BOOL")]
+    pub single_crease: bool,
 }
 
 /// Planning options on `ctx`'s device with `--isolation` and `--single-crease`.
@@ -280,8 +288,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
         &mesh,
         level,
         args.scheme,
-        args.isolation,
-        args.single_crease,
+        args.adaptive.isolation,
+        args.adaptive.single_crease,
     )?;
     super::limits::check_drawable(&surface)?;
     super::limits::check_gpu_memory(

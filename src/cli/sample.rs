@@ -10,7 +10,7 @@ use tessera::render::{
 };
 use tessera::{Error, Result};
 
-use super::render::{check_validation, clamp_level, context, load, plan_options};
+use super::render::{check_validation, clamp_level, context, load, plan_options, AdaptiveArgs};
 
 /// Arguments of `tessera sample`.
 ///
@@ -37,17 +37,9 @@ pub struct SampleArgs {
     /// GPU scheme for non-regular faces (see `tessera render --help`).
     #[arg(long, value_enum, default_value_t = Scheme::default())]
     pub scheme: Scheme,
-    /// Isolation level of `--scheme adaptive` (0-8): faces are refined around features until
-    /// they are regular or this level is reached (Köbler 2013 §3.3).
-    #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_ISOLATION,
-          value_parser = clap::value_parser!(u32).range(0..=8))]
-    pub isolation: u32,
-    /// `--scheme adaptive`: draw regular quads whose only feature is one semi-sharp crease line
-    /// as single-crease patches instead of refining them (Nießner, Loop, Greiner 2012; OpenSubdiv's
-    /// `useSingleCreasePatch`): `true` (default) or `false`.
-    #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_SINGLE_CREASE,
-          action = clap::ArgAction::Set, value_name = "BOOL")]
-    pub single_crease: bool,
+    /// `--isolation`, `--single-crease` (the adaptive scheme's planning).
+    #[command(flatten)]
+    pub adaptive: AdaptiveArgs,
     /// Enable the Khronos validation layer (always on in debug builds).
     #[arg(long)]
     pub validation: bool,
@@ -70,7 +62,7 @@ pub fn run(args: SampleArgs) -> Result<()> {
     let mut surface = plan_for_scheme_with(
         &mesh,
         args.scheme,
-        &plan_options(&ctx, args.isolation, args.single_crease),
+        &plan_options(&ctx, args.adaptive.isolation, args.adaptive.single_crease),
     )?;
     log::info!(
         "{} face(s) captured from the GPU, {} drawn another way (CPU fallback, not in the file), \
