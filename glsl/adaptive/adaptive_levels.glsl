@@ -22,4 +22,16 @@ vec4 patch_edge_levels(uvec4 c, uint level) {
                 level_edge_tess(c.w, c.z, level), level_edge_tess(c.x, c.w, level));
 }
 
+/// Sets the levels of a whole level-`level` quad patch with corner slots c (Vulkan quad domain:
+/// outer[0] is the u=0 edge, [1] v=0, [2] u=1, [3] v=1; inner the larger opposite outer level).
+void set_level_quad_tess_levels(uvec4 c, uint level) {
+    vec4 o = patch_edge_levels(c, level);
+    gl_TessLevelOuter[0] = o.w;
+    gl_TessLevelOuter[1] = o.x;
+    gl_TessLevelOuter[2] = o.y;
+    gl_TessLevelOuter[3] = o.z;
+    gl_TessLevelInner[0] = max(o.x, o.z);
+    gl_TessLevelInner[1] = max(o.w, o.y);
+}
+
 #endif

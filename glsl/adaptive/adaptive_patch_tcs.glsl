@@ -9,14 +9,7 @@ void main() {
     PatchInfo info = patches[chunk.patch_base + uint(gl_PrimitiveID)];
     PATCH_CONTROL_POINTS(info);
     if (gl_InvocationID == 0) {
-        vec4 o = patch_edge_levels(info.corners, apatches[info.pad0].level);
-        // Vulkan quad domain: outer[0] is the u=0 edge, [1] v=0, [2] u=1, [3] v=1.
-        gl_TessLevelOuter[0] = o.w;
-        gl_TessLevelOuter[1] = o.x;
-        gl_TessLevelOuter[2] = o.y;
-        gl_TessLevelOuter[3] = o.z;
-        gl_TessLevelInner[0] = max(o.x, o.z);
-        gl_TessLevelInner[1] = max(o.w, o.y);
+        set_level_quad_tess_levels(info.corners, apatches[info.pad0].level);
     }
 }
 

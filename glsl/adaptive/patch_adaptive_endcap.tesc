@@ -23,18 +23,6 @@ void main() {
         g_nbr[id - 8] = endcap_points[base + 20u + uint(id)].xyz;
     }
     if (id == 0) {
-        uvec4 c = info.corners;
-        uint level = apatches[info.pad0].level;
-        // Quad domain: outer[0] is the u=0 edge, [1] v=0, [2] u=1, [3] v=1.
-        float o0 = level_edge_tess(c.x, c.w, level);
-        float o1 = level_edge_tess(c.x, c.y, level);
-        float o2 = level_edge_tess(c.y, c.z, level);
-        float o3 = level_edge_tess(c.w, c.z, level);
-        gl_TessLevelOuter[0] = o0;
-        gl_TessLevelOuter[1] = o1;
-        gl_TessLevelOuter[2] = o2;
-        gl_TessLevelOuter[3] = o3;
-        gl_TessLevelInner[0] = max(o1, o3);
-        gl_TessLevelInner[1] = max(o0, o2);
+        set_level_quad_tess_levels(info.corners, apatches[info.pad0].level);
     }
 }
