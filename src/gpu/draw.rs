@@ -13,6 +13,27 @@ pub const MAX_INDICES_PER_PATCH_DRAW: u32 = 1024;
 /// Largest number of vertices to put in one non-indexed patch draw.
 pub const MAX_VERTICES_PER_PATCH_DRAW: u32 = 4096;
 
+/// Largest number of tessellated domain points (TES invocations) one patch draw may produce.
+/// Measured on Mesa 22.3.6 lavapipe with the one-point QAS patches of `catmark_car` (1575
+/// quads): at uniform level 8 (81 points per quad) draws of 800 patches are correct and of 832
+/// are not; at level 16 (289 points) 226 are and 240 are not, i.e. the wrong patches start past
+/// 2^16 domain points in one draw. Passes whose chunks can exceed it (small patches drawn
+/// whole at high levels) split their draws further with [`patches_per_draw_at_level`].
+pub const MAX_DOMAIN_POINTS_PER_DRAW: u32 = 1 << 16;
+
+/// An upper bound of the domain points of a quad patch whose levels are at most `level`, for
+/// any spacing (fractional levels round up to at most `ceil(level) + 1` segments).
+pub fn quad_domain_points(level: f32) -> u32 {
+    let side = level.max(1.0).ceil() as u32 + 2;
+    side * side
+}
+
+/// How many patches whose levels are at most `level` one draw may hold so that it stays below
+/// [`MAX_DOMAIN_POINTS_PER_DRAW`] (at least 1).
+pub fn patches_per_draw_at_level(level: f32) -> u32 {
+    (MAX_DOMAIN_POINTS_PER_DRAW / quad_domain_points(level)).max(1)
+}
+
 /// How many patches of `points_per_patch` control points one draw may hold (at least 1).
 pub fn max_patches_per_draw(points_per_patch: u32, indexed: bool) -> u32 {
     let limit = if indexed {
@@ -51,5 +72,9 @@ mod tests {
         let c: Vec<_> = patch_draw_chunks(130, 16, true).collect();
         assert_eq!(c, vec![(0, 64), (64, 64), (128, 2)]);
         assert_eq!(patch_draw_chunks(0, 16, true).count(), 0);
+        // Level 8: at most 10 x 10 points per quad; level 16: 18 x 18 (the measured 226 fit).
+        assert_eq!(patches_per_draw_at_level(8.0), 655);
+        assert_eq!(patches_per_draw_at_level(16.0), 202);
+        assert_eq!(patches_per_draw_at_level(64.0), 15);
     }
 }
