@@ -9,11 +9,14 @@
 //! - [`single_crease`]: regular quads with one semi-sharp crease line, evaluated directly
 //!   (Nießner, Loop, Greiner 2012).
 //! - [`gregory`]: Gregory patches of the other triangles and quads, with their stencil forms.
+//! - [`qas`]: quadratic patches fitted to one Catmull-Clark step's limit points (Boubekeur,
+//!   Schlick 2007).
 
 pub mod adaptive;
 pub mod basis;
 pub mod edge_grid;
 pub mod gregory;
+pub mod qas;
 pub mod regular;
 pub mod single_crease;
 
