@@ -1,13 +1,7 @@
-// The outputs of every adaptive-scheme TES and the default spacing (stage files define SPACING).
+// The outputs of every adaptive-scheme TES and the default spacing (common/tes_outputs.glsl).
 #ifndef TESSERA_ADAPTIVE_TES_IO_GLSL
 #define TESSERA_ADAPTIVE_TES_IO_GLSL
 
-#ifndef SPACING
-#define SPACING equal_spacing
-#endif
-
-layout(location = 0) out vec3 t_world;
-layout(location = 1) out vec3 t_normal;
-layout(location = 2) flat out uint t_class;
+#include "tes_outputs.glsl"
 
 #endif

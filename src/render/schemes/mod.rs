@@ -22,6 +22,7 @@ pub mod bspline;
 pub mod gregory;
 pub mod gregory_stencil;
 pub mod gregory_vs;
+pub mod qas;
 pub mod single_crease;
 pub mod traits;
 
@@ -54,6 +55,11 @@ pub enum Scheme {
     /// around features to `--isolation`, every face drawn as exact B-spline patches of its
     /// level, transition patches and Gregory end caps; nothing on the CPU path.
     Adaptive,
+    /// QAS (Boubekeur, Schlick 2007): one Catmull-Clark step projected to the limit, then per
+    /// triangle or quad a quadratic position patch and a quadratic normal patch through those
+    /// limit points (C0, smooth shading); faces of five or more sides from the exact CPU
+    /// reference.
+    Qas,
 }
 
 /// One registry line: a user-facing scheme, its command-line name and its passes in order.
@@ -67,7 +73,7 @@ pub struct SchemeEntry {
 }
 
 /// Every scheme. Adding one: a [`Scheme`] variant and a line here.
-pub static REGISTRY: [SchemeEntry; 4] = [
+pub static REGISTRY: [SchemeEntry; 5] = [
     SchemeEntry {
         scheme: Scheme::BsplineOnly,
         name: "bspline-only",
@@ -96,15 +102,21 @@ pub static REGISTRY: [SchemeEntry; 4] = [
         name: "adaptive",
         passes: &[&adaptive::ADAPTIVE],
     },
+    SchemeEntry {
+        scheme: Scheme::Qas,
+        name: "qas",
+        passes: &[&qas::QAS],
+    },
 ];
 
 impl Scheme {
     /// Every scheme, in registry order.
-    pub const ALL: [Scheme; 4] = [
+    pub const ALL: [Scheme; 5] = [
         Scheme::BsplineOnly,
         Scheme::GregoryVs,
         Scheme::GregoryStencil,
         Scheme::Adaptive,
+        Scheme::Qas,
     ];
 
     /// The registry line of this scheme.

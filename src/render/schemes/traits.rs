@@ -11,6 +11,7 @@ use glam::DVec3;
 
 use crate::gpu::{Context, TargetFormat};
 use crate::patch::gregory::NotGregory;
+use crate::patch::qas::NotQas;
 use crate::render::pass::{NormalRule, SharedResources, VertexFrames};
 use crate::render::settings::{PatchLevelLimit, RenderDesc, Spacing};
 use crate::topology::Topology;
@@ -108,6 +109,8 @@ pub enum RefusalReason {
     NotSingleCrease,
     /// The Gregory construction does not cover the face.
     NotGregory(NotGregory),
+    /// QAS draws triangles and quads only ([`NotQas`]).
+    NotQas(NotQas),
     /// The face's one-ring exceeds the largest patch primitive.
     RingTooLarge {
         /// One-ring size.
@@ -154,6 +157,7 @@ impl fmt::Display for Refusal {
                 "face {face}: not a regular quad with a single semi-sharp crease line"
             ),
             RefusalReason::NotGregory(e) => e.fmt(f),
+            RefusalReason::NotQas(e) => e.fmt(f),
             RefusalReason::RingTooLarge { ring, max } => write!(
                 f,
                 "face {face}: one-ring of {ring} vertices exceeds the {max}-vertex stencil patch"
@@ -241,6 +245,12 @@ pub trait PassTables: fmt::Debug + Send + Sync + Any {
 
     /// Patches drawn (a face may need several).
     fn patch_count(&self) -> usize;
+
+    /// Control points (coefficients the evaluation reads) per patch, averaged over the pass's
+    /// patches, for comparisons between schemes; `None` where the pass does not say.
+    fn control_points_per_patch(&self) -> Option<f64> {
+        None
+    }
 
     /// Writes the limit position and normal of each of its patch corners not yet written
     /// (passes run in registry order: the first that has a vertex wins).

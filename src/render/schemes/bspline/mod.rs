@@ -181,6 +181,10 @@ impl PassTables for BSplineTables {
         true
     }
 
+    fn control_points_per_patch(&self) -> Option<f64> {
+        Some(16.0)
+    }
+
     fn corner_frames(&self, positions: &[DVec3], rule: NormalRule<'_>, frames: &mut VertexFrames) {
         for p in &self.patches {
             grid_corner_frames(

@@ -1,0 +1,57 @@
+// What both QAS evaluation shaders share: includes, spacing, outputs, and the watertight
+// corner and edge evaluation (module docs of qas.glsl).
+#ifndef TESSERA_QAS_TES_IO_GLSL
+#define TESSERA_QAS_TES_IO_GLSL
+
+#include "frame.glsl"
+#include "watertight.glsl"
+#include "qas.glsl"
+#ifdef CAPTURE
+#include "capture.glsl"
+#endif
+
+#include "tes_outputs.glsl"
+
+/// The quadratic Bézier (lo, mid, hi) at canonical (t, s = 1 - t) measured from lo.
+vec3 qas_curve(vec3 lo, vec3 mid, vec3 hi, float t, float s) {
+    precise float w0 = s * s;
+    precise float w1 = 2.0 * t * s;
+    precise float w2 = t * t;
+    precise vec3 r = (w0 * lo + w1 * mid) + w2 * hi;
+    return r;
+}
+
+/// Patch `pi`'s edge from coefficient slot a (corner vertex ia, x = 0) over slot m to slot b
+/// (corner vertex ib, x = 1) at x: position and unit normal, in the canonical frame.
+void qas_edge(uint pi, int a, int m, int b, uint ia, uint ib, float x, out vec3 pos,
+              out vec3 nrm) {
+    bool from_lo = ia < ib;
+    float t, s;
+    edge_ts(x, from_lo, t, s);
+    int lo = from_lo ? a : b;
+    int hi = from_lo ? b : a;
+    pos = qas_curve(qas[pi].p[lo].xyz, qas[pi].p[m].xyz, qas[pi].p[hi].xyz, t, s);
+    precise vec3 nn = normalize(qas_curve(qas[pi].n[lo].xyz, qas[pi].n[m].xyz,
+                                          qas[pi].n[hi].xyz, t, s));
+    nrm = nn;
+}
+
+/// Patch `pi`'s corner coefficient slot k: the limit point and its unit normal.
+void qas_corner(uint pi, int k, out vec3 pos, out vec3 nrm) {
+    pos = qas[pi].p[k].xyz;
+    precise vec3 nn = normalize(qas[pi].n[k].xyz);
+    nrm = nn;
+}
+
+/// Writes the outputs (and the capture record) of point (u, v) of face `face`.
+void qas_emit(uint face, vec2 uv, vec3 p, vec3 nrm, uint cls) {
+    t_world = p;
+    t_normal = nrm;
+    t_class = cls;
+    gl_Position = frame.view_proj * vec4(p, 1.0);
+#ifdef CAPTURE
+    capture_point(face, uv, p, nrm);
+#endif
+}
+
+#endif
