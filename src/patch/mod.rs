@@ -1,5 +1,7 @@
 //! Patch schemes: CPU construction and reference evaluation, one module per scheme.
 //!
+//! - [`acc`]: ACC geometry patches of smooth interior quads (Loop, Schaefer 2008 §3; CPU only so
+//!   far).
 //! - [`adaptive`]: the patches of a feature-adaptive refinement (B-splines and Gregory end
 //!   caps at the isolation level) as one CPU surface.
 //! - [`basis`]: cubic B-spline and Bernstein bases, B-spline to Bézier conversion.
@@ -12,6 +14,7 @@
 //! - [`qas`]: quadratic patches fitted to one Catmull-Clark step's limit points (Boubekeur,
 //!   Schlick 2007).
 
+pub mod acc;
 pub mod adaptive;
 pub mod basis;
 pub mod edge_grid;
