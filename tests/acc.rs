@@ -155,8 +155,9 @@ fn accuracy_against_the_exact_limit() {
     for (name, rms_bound, rms_n_bound) in [
         ("catmark_cube", 5.0e-3, 6.5e-2),
         ("catmark_car", 3.3e-4, 2.4e-2),
-        // only its regular quads: exact
+        // bishop and mixed: ACC covers only their regular quads, exact
         ("catmark_bishop", 1e-12, 1e-6),
+        ("embedded:mixed", 1e-12, 1e-6),
     ] {
         let (_, _, ev, diag, acc) = patches(name);
         let (mut d2, mut a2, mut dmax, mut amax, mut n) = (0.0, 0.0, 0.0f64, 0.0f64, 0usize);
