@@ -11,14 +11,14 @@ use std::time::Instant;
 
 use common::capture::uniform;
 use common::conformance::{
-    animation_on, assert_watertight, draw, golden_patch_type, gpu_equals_cpu_on, watertight_on,
+    accuracy_within, animation_on, assert_watertight, draw, golden_patch_type, gpu_equals_cpu_on,
+    watertight_on,
 };
 use common::gpu::{assert_validation_clean, context};
 use common::meshes::mesh;
 use glam::DVec3;
 use tessera::mesh::INFINITE_SHARPNESS;
 use tessera::patch::qas::{NotQas, QasKind, QasSurface};
-use tessera::render::accuracy::measure_gpu;
 use tessera::render::animate::twist;
 use tessera::render::schemes::qas::QasTables;
 use tessera::render::{plan_for_scheme, CaptureRecord, RefusalReason, Scheme, SchemeLimits};
@@ -138,29 +138,15 @@ fn limit_points_interpolated_exactly() {
 /// qas`, closest exact point), bounded by today's figures rounded up (README table).
 #[test]
 fn accuracy_against_the_exact_limit() {
-    let Some(ctx) = context() else { return };
-    // (mesh, RMS distance, max distance, RMS normal) bounds, fractions of the diagonal and rad.
-    for (name, rms, max, rms_n) in [
-        ("embedded:mixed", 1.4e-3, 1.4e-2, 2.8e-2),
-        ("catmark_cube", 2.1e-3, 3.3e-3, 3.0e-2),
-        ("catmark_car", 1.6e-4, 1.6e-3, 1.5e-1),
-        ("catmark_bishop", 6.5e-5, 9.0e-4, 1.5e-1),
-    ] {
-        let r = measure_gpu(&ctx, &mesh(name), SCHEME, 8).unwrap();
-        eprintln!(
-            "{name}: {} faces, RMS {:.3e} max {:.3e} of the diagonal, normal RMS {:.3e} max {:.3e} rad",
-            r.faces, r.rms_distance, r.max_distance, r.rms_normal, r.max_normal
-        );
-        assert!(r.faces > 0, "{name}: no QAS face measured");
-        assert!(r.rms_distance <= rms, "{name}: RMS {:e}", r.rms_distance);
-        assert!(r.max_distance <= max, "{name}: max {:e}", r.max_distance);
-        assert!(
-            r.rms_normal <= rms_n,
-            "{name}: RMS normal {:e}",
-            r.rms_normal
-        );
-    }
-    assert_validation_clean(&ctx);
+    accuracy_within(
+        SCHEME,
+        &[
+            ("embedded:mixed", 1.4e-3, 1.4e-2, 2.8e-2),
+            ("catmark_cube", 2.1e-3, 3.3e-3, 3.0e-2),
+            ("catmark_car", 1.6e-4, 1.6e-3, 1.5e-1),
+            ("catmark_bishop", 6.5e-5, 9.0e-4, 1.5e-1),
+        ],
+    );
 }
 
 /// The paper's point: the surface is only C0, but the separate normal patch shades it close to

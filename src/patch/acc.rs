@@ -179,3 +179,35 @@ pub fn acc_patch(topo: &Topology, p: &[DVec3], f: u32) -> Result<AccPatch, NotAc
     }
     Ok(AccPatch { face: f, bezier: b })
 }
+
+/// Per edge `k` of face `f` (corner `k` to `k + 1`), the row of the patch across the edge next to
+/// it, from corner `k` to `k + 1`: the neighbour's edge point at corner `k` on its other edge
+/// there, its interior points of both corners, its edge point at corner `k + 1`; the same values
+/// (bit for bit) as the neighbour's own patch holds when it is an ACC patch too. With the edge's
+/// own row they give a cross-edge derivative both faces compute alike (watertight edge normals).
+pub fn neighbour_rows(topo: &Topology, p: &[DVec3], f: u32) -> Result<[[DVec3; 4]; 4], NotAcc> {
+    check_face(topo, f)?;
+    let fv = topo.face_vertices(f);
+    let mut rows = [[DVec3::ZERO; 4]; 4];
+    for (k, row) in rows.iter_mut().enumerate() {
+        let (v, w) = (fv[k], fv[(k + 1) % 4]);
+        let e = topo.find_edge(v, w).expect("an edge of f");
+        let g = topo
+            .edge_faces(e)
+            .iter()
+            .copied()
+            .find(|&g| g != f)
+            .expect("an interior edge has two faces");
+        let gv = topo.face_vertices(g);
+        let n = gv.len();
+        let j = gv.iter().position(|&x| x == v).expect("v is a corner of g");
+        let jw = (j + n - 1) % n;
+        *row = [
+            edge_point(topo, p, g, v, gv[(j + 1) % n]),
+            interior(topo, p, v, g),
+            interior(topo, p, w, g),
+            edge_point(topo, p, g, w, gv[(jw + n - 1) % n]),
+        ];
+    }
+    Ok(rows)
+}

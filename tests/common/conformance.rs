@@ -259,6 +259,29 @@ pub fn gpu_equals_cpu_on(scheme: Scheme, meshes: &[&str], pos_tol: f64, normal_t
     }
 }
 
+/// `tessera error MESH --scheme scheme --grid 8` (closest exact point, the scheme's approximate
+/// faces) on each `(mesh, RMS distance, max distance, RMS normal)`, within those bounds
+/// (fractions of the diagonal, radians); the figures are printed.
+pub fn accuracy_within(scheme: Scheme, cases: &[(&str, f64, f64, f64)]) {
+    let Some(ctx) = context() else { return };
+    for &(name, rms, max, rms_n) in cases {
+        let r = tessera::render::accuracy::measure_gpu(&ctx, &mesh(name), scheme, 8).unwrap();
+        eprintln!(
+            "{name}: {} faces, RMS {:.3e} max {:.3e} of the diagonal, normal RMS {:.3e} max {:.3e} rad",
+            r.faces, r.rms_distance, r.max_distance, r.rms_normal, r.max_normal
+        );
+        assert!(r.faces > 0, "{name}: no {scheme} face measured");
+        assert!(r.rms_distance <= rms, "{name}: RMS {:e}", r.rms_distance);
+        assert!(r.max_distance <= max, "{name}: max {:e}", r.max_distance);
+        assert!(
+            r.rms_normal <= rms_n,
+            "{name}: RMS normal {:e}",
+            r.rms_normal
+        );
+    }
+    assert_validation_clean(&ctx);
+}
+
 /// [`assert_watertight`] on each `(mesh, uniform level)`.
 pub fn watertight_on(scheme: Scheme, cases: &[(&str, f32)]) {
     let Some(ctx) = context() else { return };

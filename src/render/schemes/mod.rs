@@ -17,12 +17,14 @@
 //! What the passes share (set-0 bindings, uploads, frames, the chunked draw loop, capture) is in
 //! [`crate::render::pass`].
 
+pub mod acc;
 pub mod adaptive;
 pub mod bspline;
 pub mod gregory;
 pub mod gregory_stencil;
 pub mod gregory_vs;
 pub mod qas;
+pub mod records;
 pub mod single_crease;
 pub mod traits;
 
@@ -60,6 +62,10 @@ pub enum Scheme {
     /// limit points (C0, smooth shading); faces of five or more sides from the exact CPU
     /// reference.
     Qas,
+    /// ACC geometry patches (Loop, Schaefer 2008 §3) of smooth interior quads: bicubic Bézier
+    /// patches from the one-ring masks, edge normals from both sides' rows (not the paper's
+    /// tangent patches); every other face from the exact CPU reference.
+    Acc,
 }
 
 /// One registry line: a user-facing scheme, its command-line name and its passes in order.
@@ -73,7 +79,7 @@ pub struct SchemeEntry {
 }
 
 /// Every scheme. Adding one: a [`Scheme`] variant and a line here.
-pub static REGISTRY: [SchemeEntry; 5] = [
+pub static REGISTRY: [SchemeEntry; 6] = [
     SchemeEntry {
         scheme: Scheme::BsplineOnly,
         name: "bspline-only",
@@ -107,16 +113,22 @@ pub static REGISTRY: [SchemeEntry; 5] = [
         name: "qas",
         passes: &[&qas::QAS],
     },
+    SchemeEntry {
+        scheme: Scheme::Acc,
+        name: "acc",
+        passes: &[&acc::ACC],
+    },
 ];
 
 impl Scheme {
     /// Every scheme, in registry order.
-    pub const ALL: [Scheme; 5] = [
+    pub const ALL: [Scheme; 6] = [
         Scheme::BsplineOnly,
         Scheme::GregoryVs,
         Scheme::GregoryStencil,
         Scheme::Adaptive,
         Scheme::Qas,
+        Scheme::Acc,
     ];
 
     /// The registry line of this scheme.

@@ -10,6 +10,7 @@ use ash::vk;
 use glam::DVec3;
 
 use crate::gpu::{Context, TargetFormat};
+use crate::patch::acc::NotAcc;
 use crate::patch::gregory::NotGregory;
 use crate::patch::qas::NotQas;
 use crate::render::pass::{NormalRule, SharedResources, VertexFrames};
@@ -111,6 +112,8 @@ pub enum RefusalReason {
     NotGregory(NotGregory),
     /// QAS draws triangles and quads only ([`NotQas`]).
     NotQas(NotQas),
+    /// ACC draws smooth interior quads only ([`NotAcc`]).
+    NotAcc(NotAcc),
     /// The face's one-ring exceeds the largest patch primitive.
     RingTooLarge {
         /// One-ring size.
@@ -158,6 +161,7 @@ impl fmt::Display for Refusal {
             ),
             RefusalReason::NotGregory(e) => e.fmt(f),
             RefusalReason::NotQas(e) => e.fmt(f),
+            RefusalReason::NotAcc(e) => e.fmt(f),
             RefusalReason::RingTooLarge { ring, max } => write!(
                 f,
                 "face {face}: one-ring of {ring} vertices exceeds the {max}-vertex stencil patch"

@@ -1,0 +1,226 @@
+//! Passes of host-written per-patch records (QAS, ACC): the CPU builds every patch's
+//! coefficients into one record per patch (rewritten per animation frame), the tessellation
+//! stages read the record of `patch_base + gl_PrimitiveID` from set 0 binding 4; the patch
+//! primitive has one point and no vertex input (`record_patch.vert`). Groups (one pipeline each,
+//! e.g. quads then triangles) are drawn whole (not split into sub-patches), in runs kept under
+//! lavapipe's domain points per draw ([`crate::gpu::patches_per_draw_at_level`]).
+
+use ash::vk;
+use glam::DVec3;
+
+use super::{PassContext, PatchPass};
+use crate::gpu::{
+    patches_per_draw_at_level, Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool,
+    Pipeline,
+};
+use crate::render::pass::pipeline::{patch_pipeline, PatchShaders};
+use crate::render::pass::shared::set0_layout;
+use crate::render::pass::upload::{device_buffer, host_buffer};
+use crate::render::pass::VertexFrames;
+use crate::render::pass::{bind_draw_state, record_patch_draws, PatchDraws};
+use crate::render::settings::TessMode;
+use crate::Result;
+
+/// Set-0 binding of the records.
+pub const RECORDS_BINDING: u32 = 4;
+/// Set-0 binding the shared frame block declares for B-spline records; bound to the records so
+/// the layout is complete (unused by these stages).
+const UNUSED_PATCH_INFO_BINDING: u32 = 1;
+
+/// One pipeline's run of patches.
+pub struct RecordGroup {
+    /// Tessellation control shader.
+    pub tess_control: &'static str,
+    /// Evaluation-shader stem.
+    pub tess_eval_stem: &'static str,
+    /// First patch (record) of the run.
+    pub first: u32,
+    /// Patches in the run.
+    pub count: u32,
+}
+
+/// GPU resources of a pass of host-written records.
+pub struct RecordPass {
+    ctx: Context,
+    records: Buffer,
+    indices: Buffer,
+    _pool: DescriptorPool,
+    set: vk::DescriptorSet,
+    groups: Vec<(Pipeline, u32, u32)>,
+    per_draw: u32,
+    count: u32,
+}
+
+impl RecordPass {
+    /// Uploads `records` (one per patch) and creates a pipeline per non-empty group.
+    pub fn new(
+        pc: &PassContext<'_>,
+        label: &str,
+        records: &[u8],
+        groups: &[RecordGroup],
+    ) -> Result<RecordPass> {
+        let ctx = pc.ctx;
+        let records = host_buffer(
+            ctx,
+            records,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            &format!("{label} records"),
+        )?;
+        let count: u32 = groups.iter().map(|g| g.count).sum();
+        let indices = device_buffer(
+            ctx,
+            &vec![0u8; 4 * count as usize],
+            vk::BufferUsageFlags::INDEX_BUFFER,
+            &format!("{label} patch indices"),
+        )?;
+        let own = [UNUSED_PATCH_INFO_BINDING, RECORDS_BINDING];
+        let mut pipelines = Vec::new();
+        for g in groups.iter().filter(|g| g.count > 0) {
+            let pipeline = patch_pipeline(
+                ctx,
+                pc.desc,
+                pc.target,
+                PatchShaders {
+                    label: format!("{label} {}", g.tess_eval_stem),
+                    vertex: "record_patch.vert".into(),
+                    tess_control: g.tess_control.into(),
+                    tess_eval_stem: g.tess_eval_stem,
+                    points: 1,
+                    position_input: false,
+                    set_layouts: vec![set0_layout(&own)],
+                },
+            )?;
+            pipelines.push((pipeline, g.first, g.count));
+        }
+        let pool = DescriptorPool::new(ctx, 1, 4 + own.len() as u32, 1)?;
+        let layout = pipelines
+            .first()
+            .map(|p| p.0.set_layouts[0])
+            .ok_or_else(|| {
+                crate::Error::Invalid(format!("{label}: a record pass needs at least one patch"))
+            })?;
+        let set = pool.allocate(layout)?;
+        let sb = |binding| BufferBinding {
+            binding,
+            kind: DescriptorKind::StorageBuffer,
+            buffer: &records,
+        };
+        pc.shared.write_set0(
+            ctx,
+            set,
+            &[sb(UNUSED_PATCH_INFO_BINDING), sb(RECORDS_BINDING)],
+        );
+        Ok(RecordPass {
+            ctx: ctx.clone(),
+            records,
+            indices,
+            _pool: pool,
+            set,
+            groups: pipelines,
+            per_draw: patches_per_draw_at_level(largest_level(pc)),
+            count,
+        })
+    }
+
+    /// Patches drawn.
+    pub fn patch_count(&self) -> u32 {
+        self.count
+    }
+
+    /// Bytes of the records and indices.
+    pub fn memory_bytes(&self) -> u64 {
+        self.records.size() + self.indices.size()
+    }
+
+    /// Rewrites the records (same count; animation).
+    pub fn write_records(&mut self, bytes: &[u8]) -> Result<()> {
+        self.records.write(0, bytes)
+    }
+
+    /// Records the draws of every group inside the caller's render pass.
+    pub fn record(&self, cmd: vk::CommandBuffer) {
+        let dev = self.ctx.device();
+        for (pipeline, first, count) in &self.groups {
+            bind_draw_state(dev, cmd, pipeline, &[self.set], None, self.indices.raw());
+            // Runs below lavapipe's domain-point budget per draw; record_patch_draws further
+            // chunks each run by its index count.
+            let mut done = 0;
+            while done < *count {
+                let n = self.per_draw.min(*count - done);
+                let draws = PatchDraws {
+                    first_patch: first + done,
+                    first_index: first + done,
+                    count: n,
+                    points: 1,
+                    sub_draws: 1,
+                    sub_flag: 0,
+                };
+                record_patch_draws(dev, cmd, pipeline.layout, &draws, 1);
+                done += n;
+            }
+        }
+    }
+}
+
+/// The largest level a patch edge or interior can get: the uniform level, or in screen-space
+/// mode the device's largest level.
+fn largest_level(pc: &PassContext<'_>) -> f32 {
+    match pc.desc.tess.mode {
+        TessMode::Uniform => pc.desc.tess.level,
+        _ => pc.ctx.info().limits.max_tessellation_generation_level as f32,
+    }
+}
+
+/// Tables whose patches are drawn as records: the record bytes for control positions.
+pub trait RecordTables: Clone + 'static {
+    /// One record per patch, in draw order, for control positions `positions`.
+    fn records(&self, positions: &[DVec3]) -> Result<Vec<u8>>;
+}
+
+/// The pass of a scheme drawn from records: its tables and the GPU resources; animation
+/// rebuilds the records on the CPU.
+pub struct RecordTablesPass<T> {
+    label: &'static str,
+    tables: T,
+    pass: RecordPass,
+}
+
+impl<T: RecordTables> RecordTablesPass<T> {
+    /// The pass of `tables` for the positions of `pc`, one pipeline per group.
+    pub fn new(
+        pc: &PassContext<'_>,
+        label: &'static str,
+        tables: &T,
+        groups: &[RecordGroup],
+    ) -> Result<Self> {
+        let records = tables.records(pc.positions)?;
+        Ok(RecordTablesPass {
+            label,
+            tables: tables.clone(),
+            pass: RecordPass::new(pc, label, &records, groups)?,
+        })
+    }
+}
+
+impl<T: RecordTables> PatchPass for RecordTablesPass<T> {
+    fn label(&self) -> &'static str {
+        self.label
+    }
+
+    fn patch_count(&self) -> u32 {
+        self.pass.patch_count()
+    }
+
+    fn memory_bytes(&self) -> u64 {
+        self.pass.memory_bytes()
+    }
+
+    fn record(&self, cmd: vk::CommandBuffer) {
+        self.pass.record(cmd);
+    }
+
+    fn update_positions(&mut self, positions: &[DVec3], _: &VertexFrames) -> Result<()> {
+        let bytes = self.tables.records(positions)?;
+        self.pass.write_records(&bytes)
+    }
+}
