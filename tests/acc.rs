@@ -1,4 +1,4 @@
-//! ACC geometry patches (Loop, Schaefer 2008 §3; `patch::acc`, CPU only so far) against the
+//! ACC geometry patches (Loop, Schaefer 2008 §3; the CPU construction `patch::acc`) against the
 //! exact limit: regular quads reproduce their B-spline patch, corners are the limit positions,
 //! neighbours share their boundary curves bitwise; how far the edge points leave the limit
 //! tangent plane at extraordinary vertices and the accuracy elsewhere are measured.

@@ -14,7 +14,7 @@
 //! valences the edge points do not lie in the limit tangent plane (the averages keep every
 //! Fourier mode of the ring, the tangent plane only the subdominant one): the geometry patches
 //! are not G1 there, which the paper's separate tangent patches address for shading (not built
-//! here yet). Faces that are not quads, or whose corners touch a boundary, a crease or a non-quad
+//! here; the GPU pass shares edge normals from [`neighbour_rows`] instead). Faces that are not quads, or whose corners touch a boundary, a crease or a non-quad
 //! face, are refused ([`NotAcc`]).
 
 use std::fmt;

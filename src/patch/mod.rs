@@ -1,7 +1,6 @@
 //! Patch schemes: CPU construction and reference evaluation, one module per scheme.
 //!
-//! - [`acc`]: ACC geometry patches of smooth interior quads (Loop, Schaefer 2008 §3; CPU only so
-//!   far).
+//! - [`acc`]: ACC geometry patches of smooth interior quads (Loop, Schaefer 2008 §3).
 //! - [`adaptive`]: the patches of a feature-adaptive refinement (B-splines and Gregory end
 //!   caps at the isolation level) as one CPU surface.
 //! - [`basis`]: cubic B-spline and Bernstein bases, B-spline to Bézier conversion.
