@@ -4,6 +4,7 @@ pub mod animate;
 pub mod bench;
 pub mod bench_creases;
 pub mod bench_gregory;
+pub mod compare;
 pub mod error;
 pub mod image_out;
 pub mod info;
