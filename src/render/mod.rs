@@ -29,7 +29,10 @@ pub use plan::{
     cpu_faces, plan_for_scheme, plan_for_scheme_with, plan_passes, surface_for_scheme,
     surface_for_scheme_with, surface_from_mesh, surface_with,
 };
-pub use renderer::{resolve_tess, resolve_tess_for, MemoryReport, RenderDesc, SurfaceRenderer};
+pub use renderer::{
+    resolve_tess, resolve_tess_for, EngineDesc, MemoryReport, RenderDesc, SurfaceRenderer,
+    MAX_FRAMES_IN_FLIGHT,
+};
 pub use schemes::{
     PassTables, PatchPass, PatchScheme, PlanOptions, Refusal, RefusalReason, Scheme, SchemeLimits,
 };
