@@ -8,6 +8,7 @@ pub mod animate;
 pub mod bench;
 pub mod camera;
 pub mod cpu_path;
+pub mod displace;
 pub mod fallback;
 pub mod heatmap;
 pub mod offscreen;
@@ -36,5 +37,5 @@ pub use renderer::{
 pub use schemes::{
     PassTables, PatchPass, PatchScheme, PlanOptions, Refusal, RefusalReason, Scheme, SchemeLimits,
 };
-pub use settings::{ColorBy, FrameUniforms, Spacing, TessMode, TessSettings};
+pub use settings::{ColorBy, Displacement, FrameUniforms, Spacing, TessMode, TessSettings};
 pub use surface::SurfaceData;

@@ -325,8 +325,8 @@ impl SurfaceRenderer {
         let max_level = self.ctx.info().limits.max_tessellation_generation_level as f32;
         self.slot = self.next_slot;
         self.next_slot = (self.slot + 1) % self.shared.slot_count();
-        self.shared
-            .write_frame(self.slot, &frame.to_bytes(&self.desc.tess, max_level))?;
+        let bytes = frame.to_bytes(&self.desc.tess, max_level, self.desc.displacement);
+        self.shared.write_frame(self.slot, &bytes)?;
         self.sync_slot(self.slot)
     }
 
