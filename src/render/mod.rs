@@ -9,6 +9,7 @@ pub mod bench;
 pub mod camera;
 pub mod compare;
 pub mod cpu_path;
+pub mod displace;
 pub mod fallback;
 pub mod heatmap;
 pub mod offscreen;
@@ -31,9 +32,12 @@ pub use plan::{
     cpu_faces, plan_for_scheme, plan_for_scheme_with, plan_passes, surface_for_scheme,
     surface_for_scheme_with, surface_from_mesh, surface_with,
 };
-pub use renderer::{resolve_tess, resolve_tess_for, MemoryReport, RenderDesc, SurfaceRenderer};
+pub use renderer::{
+    resolve_tess, resolve_tess_for, EngineDesc, MemoryReport, RenderDesc, SurfaceRenderer,
+    MAX_FRAMES_IN_FLIGHT,
+};
 pub use schemes::{
     PassTables, PatchPass, PatchScheme, PlanOptions, Refusal, RefusalReason, Scheme, SchemeLimits,
 };
-pub use settings::{ColorBy, FrameUniforms, Spacing, TessMode, TessSettings};
+pub use settings::{ColorBy, Displacement, FrameUniforms, Spacing, TessMode, TessSettings};
 pub use surface::SurfaceData;

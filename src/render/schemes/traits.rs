@@ -9,7 +9,7 @@ use std::sync::Arc;
 use ash::vk;
 use glam::DVec3;
 
-use crate::gpu::{Context, TargetFormat};
+use crate::gpu::{Context, DrawTarget};
 use crate::patch::gregory::NotGregory;
 use crate::render::pass::{NormalRule, SharedResources, VertexFrames};
 use crate::render::settings::{PatchLevelLimit, RenderDesc, Spacing};
@@ -228,7 +228,7 @@ pub struct PassContext<'a> {
     /// Render description, its tessellation settings resolved ([`crate::render::resolve_tess`]).
     pub desc: &'a RenderDesc,
     /// Format of the render targets the pipelines draw into.
-    pub target: TargetFormat,
+    pub target: &'a DrawTarget,
 }
 
 /// The CPU tables of one pass of one surface (built once per topology; pure data).
@@ -287,10 +287,11 @@ pub trait PatchPass {
 
     /// Records work that must run before any draw of the frame, outside the render pass (e.g.
     /// compute refinement of the control points). Default: none.
-    fn record_compute(&self, _cmd: vk::CommandBuffer) {}
+    /// `slot` is the frame slot being recorded (its shared buffers and sets).
+    fn record_compute(&self, _cmd: vk::CommandBuffer, _slot: usize) {}
 
-    /// Records the draws inside the caller's render pass.
-    fn record(&self, cmd: vk::CommandBuffer);
+    /// Records the draws of frame slot `slot` inside the caller's render pass.
+    fn record(&self, cmd: vk::CommandBuffer, slot: usize);
 
     /// Bytes of GPU buffer memory the pass holds of its own (tables, indices, computed points;
     /// not the renderer's shared buffers). Default: 0.
