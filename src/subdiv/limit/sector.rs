@@ -83,14 +83,13 @@ const CORNER3_RATIO: f64 = 0.192_249_564_268_589_4;
 /// `c_1 x -(phi_y c_lo + phi_x c_hi)` (`c_lo = e_lo - v` pairs with the layout's `x`,
 /// `c_hi = e_hi - v` with `-y`), `grad phi` at that face's diagonal from the constants above.
 fn corner3(s: &Dense, r: &SectorRing) -> Option<EigenLimit> {
-    let mut start = vec![0.0; r.m];
-    for (x, w) in start.iter_mut().zip(CORNER3_MODE) {
-        *x = w;
+    if r.m != CORNER3_MODE.len() {
+        return None;
     }
-    let l1 = masks::subdominant(s, 0, start)?;
+    let l1 = masks::subdominant(s, 0, CORNER3_MODE.to_vec())?;
     // Sign so that c_1 multiplies the eigenfunction that is positive inside the sector.
     let sign = masks::dot(&l1, &CORNER3_MODE).signum();
-    if r.m != CORNER3_MODE.len() || sign == 0.0 {
+    if sign == 0.0 {
         return None;
     }
     let t1: Vec<f64> = l1.iter().map(|x| sign * x).collect();
@@ -148,4 +147,91 @@ pub fn sector_limit(s: &Dense, r: &SectorRing) -> Option<EigenLimit> {
     let mut hint = vec![1.0 / (m - 1) as f64; m];
     hint[0] = -1.0;
     masks::eigen_limit_locked(s, 0, lock, hint)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The subdivision matrix of a sector of `k` quads written from the rules (ring
+    /// `v, e_0 .. e_k, f_0 .. f_{k-1}`; `e_0`, `e_k` sharp): face points, smooth edge points
+    /// `(v + e + F + F') / 4`, sharp edge midpoints, and the vertex kept (corner) or `1/8, 3/4,
+    /// 1/8` (crease).
+    fn sector_matrix(k: usize, corner: bool) -> Dense {
+        let m = 2 * k + 2;
+        let (e, f) = (|i: usize| 1 + i, |i: usize| k + 2 + i);
+        let mut a = vec![0.0; m * m];
+        let face = |i: usize| {
+            let mut r = vec![0.0; m];
+            for x in [0, e(i), e(i + 1), f(i)] {
+                r[x] += 0.25;
+            }
+            r
+        };
+        if corner {
+            a[0] = 1.0;
+        } else {
+            a[0] = 0.75;
+            a[e(0)] = 0.125;
+            a[e(k)] = 0.125;
+        }
+        for j in [0, k] {
+            a[e(j) * m] = 0.5;
+            a[e(j) * m + e(j)] = 0.5;
+        }
+        for j in 1..k {
+            let (p, q) = (face(j - 1), face(j));
+            for c in 0..m {
+                a[e(j) * m + c] = 0.25 * (p[c] + q[c]);
+            }
+            a[e(j) * m] += 0.25;
+            a[e(j) * m + e(j)] += 0.25;
+        }
+        for i in 0..k {
+            a[f(i) * m..(f(i) + 1) * m].copy_from_slice(&face(i));
+        }
+        Dense { m, a }
+    }
+
+    /// Leading eigenvalue once 1 is deflated: Rayleigh quotient of the converged left vector.
+    fn leading(s: &Dense) -> f64 {
+        let mut start = vec![1.0; s.m];
+        start[0] = 0.3;
+        start[1] = -0.7;
+        let l = masks::subdominant(s, 0, start).unwrap();
+        let (m, a) = (s.m, &s.a);
+        let ls: Vec<f64> = (0..m)
+            .map(|c| (0..m).map(|r| l[r] * a[r * m + c]).sum())
+            .collect();
+        masks::dot(&ls, &l) / masks::dot(&l, &l)
+    }
+
+    #[test]
+    fn leading_eigenvalues_of_the_table() {
+        for (k, corner, want) in [
+            (3, true, 0.57968),
+            (3, false, 0.57968),
+            (4, true, 0.61112),
+            (5, false, 0.62634),
+            (5, true, 0.62634),
+        ] {
+            let got = leading(&sector_matrix(k, corner));
+            assert!((got - want).abs() < 1e-5, "k={k} corner={corner}: {got}");
+        }
+    }
+
+    #[test]
+    fn three_face_corner_mode_is_a_right_eigenvector() {
+        let s = sector_matrix(3, true);
+        let m = s.m;
+        let r = CORNER3_MODE;
+        let sr: Vec<f64> = (0..m)
+            .map(|i| (0..m).map(|c| s.a[i * m + c] * r[c]).sum())
+            .collect();
+        let lambda = masks::dot(&sr, &r) / masks::dot(&r, &r);
+        assert!((lambda - 0.579_682_326).abs() < 1e-8, "{lambda}");
+        for (x, y) in sr.iter().zip(r) {
+            assert!((x - lambda * y).abs() < 1e-9, "{sr:?}");
+        }
+    }
 }
