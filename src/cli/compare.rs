@@ -31,9 +31,9 @@ pub struct CompareArgs {
     /// Print CSV instead of a Markdown table.
     #[arg(long)]
     pub csv: bool,
-    /// Write a contact sheet of error maps (PNG or JPEG): one panel per scheme, in table order,
-    /// left to right then top to bottom, the exact limit coloured by the scheme's distance from
-    /// blue (exact) to red (`--scale` or more).
+    /// Write a contact sheet of error maps (PNG or JPEG): one panel per scheme (its name in the
+    /// top-left corner), in table order, left to right then top to bottom, the exact limit
+    /// coloured by the scheme's distance from blue (exact) to red (`--scale` or more).
     #[arg(long)]
     pub sheet: Option<std::path::PathBuf>,
     /// Distance shown as full red in every panel, as a fraction of the bbox diagonal (default:
@@ -121,7 +121,12 @@ pub fn run(args: CompareArgs) -> Result<()> {
         let panels = outcomes
             .iter()
             .filter_map(|(_, r)| r.as_ref().ok())
-            .map(|c| panel(&ctx, &mesh, c, &desc, scale, up))
+            .map(|c| {
+                let mut img = panel(&ctx, &mesh, c, &desc, scale, up)?;
+                let white = image::Rgba([235, 235, 235, 255]);
+                super::glyphs::draw_text(&mut img, 8, 8, c.row.scheme.name(), 2, white);
+                Ok(img)
+            })
             .collect::<Result<Vec<_>>>()?;
         super::image_out::save(&contact_sheet(&panels, width, height), path)?;
         let names: Vec<&str> = (outcomes.iter())

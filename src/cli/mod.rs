@@ -6,6 +6,7 @@ pub mod bench_creases;
 pub mod bench_gregory;
 pub mod compare;
 pub mod error;
+pub mod glyphs;
 pub mod image_out;
 pub mod info;
 pub mod limit;
