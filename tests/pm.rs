@@ -7,7 +7,7 @@ use common::meshes::{embedded, osd};
 use glam::DVec3;
 use tessera::mesh::ObjOptions;
 use tessera::patch::gregory::accuracy::{
-    closest_exact, measure, nearby_exact_samples, normal_angle, AccuracyOptions,
+    closest_exact, measure, nearby_exact_samples, normal_angle, AccuracyOptions, Located,
 };
 use tessera::patch::pm::construct::{spoke_weights, spokes, SECTOR_POINTS};
 use tessera::patch::pm::{
@@ -485,7 +485,7 @@ fn distance_to_limit(mesh: &ControlMesh, options: &PmOptions, grid: usize) -> (f
                         continue;
                     }
                     let x = p.sample(s, a, b);
-                    let c = closest_exact(&ev, x.position, &candidates, f as u32).unwrap();
+                    let c = closest_of_nearest(&ev, x.position, &candidates, f as u32);
                     let d = (c.sample.position - x.position).length() / mesh.bbox_diagonal();
                     sum += d * d;
                     count += 1;
@@ -496,6 +496,25 @@ fn distance_to_limit(mesh: &ControlMesh, options: &PmOptions, grid: usize) -> (f
         }
     }
     ((sum / count as f64).sqrt(), max, normal)
+}
+
+/// The closest exact point, projected from each of the four nearest dense samples (a single
+/// start can stall at a sub-face border next to an extraordinary vertex: on the symmetric cube
+/// one start gives 1.6e-2 of the diagonal on five faces and 2.5e-3 on the sixth).
+fn closest_of_nearest(ev: &LimitEvaluator, x: DVec3, candidates: &[Located], f: u32) -> Located {
+    let mut near: Vec<&Located> = candidates.iter().collect();
+    near.sort_by(|a, b| {
+        let d = |c: &Located| (c.sample.position - x).length_squared();
+        d(a).total_cmp(&d(b))
+    });
+    near.iter()
+        .take(4)
+        .map(|c| closest_exact(ev, x, std::slice::from_ref(*c), f).unwrap())
+        .min_by(|a, b| {
+            let d = |c: &Located| (c.sample.position - x).length_squared();
+            d(a).total_cmp(&d(b))
+        })
+        .unwrap()
 }
 
 #[test]
@@ -533,8 +552,42 @@ fn distance_to_the_catmull_clark_limit_beside_gregory() {
                 gregory.rms_distance, gregory.max_distance, gregory.max_normal
             );
             if scale == TangentScale::default() {
-                assert!(max < 0.05 && normal < 0.5, "{name}: {max:e} {normal:e}");
+                assert!(max < 0.02 && normal < 0.5, "{name}: {max:e} {normal:e}");
             }
         }
     }
+}
+
+/// The bicubic points next to edge `k` (row or column 1 in from it), from corner `k` to `k + 1`.
+fn inner_row(b: &[DVec3; 16], k: usize) -> [DVec3; 4] {
+    let idx: [usize; 4] = [[4, 5, 6, 7], [2, 6, 10, 14], [11, 10, 9, 8], [13, 9, 5, 1]][k];
+    idx.map(|i| b[i])
+}
+
+#[test]
+fn c1_between_adjacent_ordinary_patches() {
+    // C1 across a shared edge of two bicubics: each boundary point is the midpoint of its two
+    // neighbours across the edge.
+    let mut edges = 0;
+    for (name, mesh) in meshes() {
+        let topo = Topology::new(&mesh).unwrap();
+        let patches = pm_patches(&topo, mesh.positions(), &PmOptions::default()).unwrap();
+        for e in 0..topo.edge_count() as u32 {
+            let (faces, locals) = (topo.edge_faces(e), topo.edge_face_locals(e));
+            let (PmPatch::Bicubic(f), PmPatch::Bicubic(g)) =
+                (&patches[faces[0] as usize], &patches[faces[1] as usize])
+            else {
+                continue;
+            };
+            edges += 1;
+            let (kf, kg) = (locals[0] as usize, locals[1] as usize);
+            let edge = patches[faces[0] as usize].edge_cubic(kf);
+            let (a, b) = (inner_row(f, kf), inner_row(g, kg));
+            for i in 0..4 {
+                let d = (a[i] + b[3 - i] - 2.0 * edge[i]).length();
+                assert!(d < 1e-12 * mesh.bbox_diagonal(), "{name} edge {e}: {d:e}");
+            }
+        }
+    }
+    assert!(edges > 50, "{edges} ordinary edges");
 }
