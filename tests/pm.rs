@@ -591,3 +591,52 @@ fn c1_between_adjacent_ordinary_patches() {
     }
     assert!(edges > 50, "{edges} ordinary edges");
 }
+
+/// `mesh` mirrored in x, faces reversed to stay outward (as OBJ text).
+fn mirrored(mesh: &ControlMesh) -> ControlMesh {
+    let topo = Topology::new(mesh).unwrap();
+    let mut s = String::new();
+    for p in mesh.positions() {
+        s += &format!("v {} {} {}\n", -p.x, p.y, p.z);
+    }
+    for f in 0..topo.face_count() as u32 {
+        s += "f";
+        for &v in topo.face_vertices(f).iter().rev() {
+            s += &format!(" {}", v + 1);
+        }
+        s += "\n";
+    }
+    obj(&s, "mirrored")
+}
+
+#[test]
+fn mirrored_mesh_gives_the_mirrored_surface() {
+    // Catches index bias (which corner's data goes into b_211 or b_121, which sector's b_202
+    // into b_112): every facet's control points, mirrored, are the mirrored mesh's.
+    let flip = |p: DVec3| DVec3::new(-p.x, p.y, p.z);
+    for (name, mesh) in meshes() {
+        let topo = Topology::new(&mesh).unwrap();
+        let twin = mirrored(&mesh);
+        let twin_topo = Topology::new(&twin).unwrap();
+        let a = pm_patches(&topo, mesh.positions(), &PmOptions::default()).unwrap();
+        let b = pm_patches(&twin_topo, twin.positions(), &PmOptions::default()).unwrap();
+        for (f, (p, q)) in a.iter().zip(&b).enumerate() {
+            let key = |x: &DVec3| [x.x, x.y, x.z].map(|c| (c * 1e9).round() as i64);
+            let mut pa: Vec<[i64; 3]> = p.points().iter().map(|x| key(&flip(*x))).collect();
+            let mut pb: Vec<[i64; 3]> = q.points().iter().map(key).collect();
+            pa.sort_unstable();
+            pb.sort_unstable();
+            assert_eq!(pa, pb, "{name}: facet {f} is not mirrored");
+            // And the surfaces agree at the facet's edge midpoints (parameters reversed).
+            let n = topo.face_size(f as u32);
+            for k in 0..n {
+                let x = flip(p.edge_sample(k, 0.5).position);
+                let y = q.edge_sample((2 * n - 2 - k) % n, 0.5).position;
+                assert!(
+                    (x - y).length() < 1e-12 * mesh.bbox_diagonal(),
+                    "{name}: {f}"
+                );
+            }
+        }
+    }
+}
