@@ -434,6 +434,17 @@ fn refusals_name_the_facet() {
     let err = pm_patches(&topo, open.positions(), &PmOptions::default()).unwrap_err();
     assert_eq!(err.face(), 0);
     assert!(matches!(err, NotPm::Boundary { face: 0, .. }), "{err}");
+    let holes = osd("catmark_hole_test1");
+    let topo = Topology::new(&holes).unwrap();
+    let refused: Vec<NotPm> = pm_facets(&topo, holes.positions(), &PmOptions::default())
+        .into_iter()
+        .filter_map(|p| p.err())
+        .collect();
+    assert!(!refused.is_empty());
+    for e in refused {
+        assert_eq!(e, NotPm::Hole { face: e.face() });
+        assert!(topo.is_hole(e.face()), "{e}");
+    }
 }
 
 #[test]
@@ -639,4 +650,36 @@ fn mirrored_mesh_gives_the_mirrored_surface() {
             }
         }
     }
+}
+
+#[test]
+fn every_shared_mesh_the_construction_takes_is_g1() {
+    // The whole corpus: meshes whose facets are all taken are G1 everywhere; the others are
+    // refused with a facet named (never a panic).
+    let (mut taken, mut refused) = (Vec::new(), 0);
+    for name in common::meshes::osd_names() {
+        let Ok(mesh) = common::meshes::try_osd(&name) else {
+            continue;
+        };
+        let Ok(topo) = Topology::new(&mesh) else {
+            continue;
+        };
+        match pm_patches(&topo, mesh.positions(), &PmOptions::default()) {
+            Ok(patches) => {
+                let (angle, gap) = edge_gaps(&topo, &patches);
+                assert!(
+                    angle <= 1e-6 && spoke_gap(&patches) <= 1e-6,
+                    "{name}: {angle:e}"
+                );
+                assert!(gap <= 1e-12 * mesh.bbox_diagonal(), "{name}: gap {gap:e}");
+                taken.push(name);
+            }
+            Err(e) => {
+                assert!((e.face() as usize) < topo.face_count(), "{name}: {e}");
+                refused += 1;
+            }
+        }
+    }
+    eprintln!("{} meshes taken, {refused} refused: {taken:?}", taken.len());
+    assert!(taken.len() >= 8, "{taken:?}");
 }

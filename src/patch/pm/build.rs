@@ -78,6 +78,9 @@ pub fn classify(topo: &Topology, face: u32) -> Result<FacetClass, NotPm> {
     if !(3..=5).contains(&size) {
         return Err(NotPm::Polygon { face, size });
     }
+    if topo.is_hole(face) {
+        return Err(NotPm::Hole { face });
+    }
     for &v in topo.face_vertices(face) {
         check_vertex(topo, face, v)?;
     }

@@ -12,6 +12,11 @@ pub enum NotPm {
         /// Its number of sides.
         size: usize,
     },
+    /// The facet is a hole (tagged without surface).
+    Hole {
+        /// The facet.
+        face: u32,
+    },
     /// A corner lies on the mesh boundary (the paper covers closed meshes only).
     Boundary {
         /// The facet.
@@ -35,6 +40,7 @@ impl NotPm {
     pub fn face(&self) -> u32 {
         match *self {
             NotPm::Polygon { face, .. }
+            | NotPm::Hole { face }
             | NotPm::Boundary { face, .. }
             | NotPm::Valence { face, .. } => face,
         }
@@ -48,6 +54,7 @@ impl fmt::Display for NotPm {
                 f,
                 "face {face}: {size} sides; Pm-patches take triangles, quads and pentagons"
             ),
+            NotPm::Hole { face } => write!(f, "face {face}: a hole has no surface"),
             NotPm::Boundary { face, vertex } => write!(
                 f,
                 "face {face}: vertex {vertex} is on the boundary; Pm-patches need closed meshes"

@@ -12,8 +12,9 @@
 //!   sectors around a centre `b_004`, cubic outer boundaries, `6m + 1` points
 //!   ([`construct::pm_facet`]).
 //!
-//! Facets with more than five sides, on the boundary or at a vertex without a closed fan are
-//! refused ([`NotPm`], naming the facet).
+//! Facets with more than five sides, holes, facets on the boundary or at a vertex without a
+//! closed fan are refused ([`NotPm`], naming the facet). Sharpness tags of the mesh are not
+//! read: creases come from the crease scalars of [`PmOptions`] only.
 //!
 //! Control points per facet (paper Table 1; the quad row is lost in the scan):
 //!
