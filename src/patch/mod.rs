@@ -9,11 +9,13 @@
 //! - [`single_crease`]: regular quads with one semi-sharp crease line, evaluated directly
 //!   (Nießner, Loop, Greiner 2012).
 //! - [`gregory`]: Gregory patches of the other triangles and quads, with their stencil forms.
+//! - [`pm`]: Pm-patches (Myles, Ni, Peters 2008): one G1 patch per tri/quad/pent facet.
 
 pub mod adaptive;
 pub mod basis;
 pub mod edge_grid;
 pub mod gregory;
+pub mod pm;
 pub mod regular;
 pub mod single_crease;
 
