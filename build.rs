@@ -5,8 +5,9 @@
 //! * `glsl/common/`: includes shared by every scheme; `glsl/surface/`: the stages every scheme
 //!   shares; one folder per patch scheme (`bspline/`, `gregory/`, `gregory_vs/`,
 //!   `gregory_stencil/`) with its stages and includes.
-//! * `glsl/tests/`: test-only shaders. They go to `test_shaders.rs` (`TEST_SHADERS`), which
-//!   integration tests include and register with `Context::add_shaders`; every other module goes
+//! * `glsl/tests/` and `glsl/examples/`: test-only and example shaders. They go to
+//!   `test_shaders.rs` (`TEST_SHADERS`), which integration tests include and register with
+//!   `Context::add_shaders` and examples include for their own pipelines; every other module goes
 //!   to `shaders.rs` (`SHADERS`), embedded in the library by `src/gpu/shaders.rs`.
 //!
 //! Modules are named by file name alone (no folder), and a name two sources produce is an error:
@@ -32,8 +33,9 @@ use glslang::{
     CompilerOptions, ShaderInput, ShaderSource, ShaderStage, SpirvVersion, Target, VulkanVersion,
 };
 
-/// Folder (under `glsl/`) of the test-only shaders.
-const TEST_DIR: &str = "tests";
+/// Folders (under `glsl/`) of the shaders not embedded in the library: the tests' and the
+/// examples' (`examples/engine.rs` draws its own ground with `glsl/examples/`).
+const TEST_DIRS: [&str; 2] = ["tests", "examples"];
 
 /// Spacing variants of every scheme's evaluation shader: name suffix and defines.
 const SPACINGS: [(&str, &[&str]); 3] = [
@@ -179,7 +181,9 @@ fn collect_variants(glsl: &Path, dir: &str, out: &mut Vec<Variant>) -> Result<()
         })
         .collect();
     entries.sort();
-    let test = dir == TEST_DIR || dir.starts_with(&format!("{TEST_DIR}/"));
+    let test = TEST_DIRS
+        .iter()
+        .any(|t| dir == *t || dir.starts_with(&format!("{t}/")));
     for (name, is_dir) in entries {
         let rel = join_rel(dir, &name);
         if is_dir {

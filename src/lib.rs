@@ -20,3 +20,8 @@ pub mod topology;
 
 pub use error::{Error, Result};
 pub use mesh::ControlMesh;
+
+/// The README's code blocks, compiled as doc tests (the "As a library" integration).
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

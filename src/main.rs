@@ -34,6 +34,10 @@ enum Command {
     Bench(cli::bench::BenchArgs),
     /// Accuracy of a patch scheme against the exact limit surface.
     Error(cli::error::ErrorArgs),
+    /// Every scheme on one mesh: one table (patches, CPU faces, distance and normal error
+    /// against the exact limit, GPU ms and memory, watertightness, normal jumps) and an optional
+    /// contact sheet of error maps on one colour scale.
+    Compare(cli::compare::CompareArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -46,6 +50,7 @@ fn main() -> std::process::ExitCode {
         Command::Sample(args) => cli::sample::run(args),
         Command::Bench(args) => cli::bench::run(args),
         Command::Error(args) => cli::error::run(args),
+        Command::Compare(args) => cli::compare::run(args),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -285,11 +285,41 @@ fn exact_corner(ev: &LimitEvaluator, f: u32, n: usize, k: usize) -> LimitSample 
     }
 }
 
-/// At every corner of every Gregory face the patch normal is the exact limit normal.
+/// Whether face `f`'s corner at `v` lies in a sector whose limit tangent plane does not hold
+/// the sharp edges' tangents (corner sectors of three faces and more, any sector of five faces
+/// and more: `subdiv::limit::sector`). A Gregory corner interpolates the sharp curves with one
+/// tangent plane, so there it keeps the plane through them.
+fn beyond_sharp_edge_plane(topo: &Topology, v: u32, f: u32) -> bool {
+    let edges = topo.vertex_edges(v);
+    let sharp: Vec<bool> = edges
+        .iter()
+        .map(|&e| topo.edge_sharpness(e) >= INFINITE_SHARPNESS)
+        .collect();
+    let count = sharp.iter().filter(|&&s| s).count();
+    if count < 2 {
+        return false;
+    }
+    let corner = count > 2 || topo.vertex_sharpness(v) >= INFINITE_SHARPNESS;
+    let j = topo.vertex_faces(v).iter().position(|&g| g == f).unwrap();
+    let ne = edges.len();
+    // Faces from the sharp edge at or before slot j to the next sharp edge after it.
+    let lo = (0..ne)
+        .map(|d| (j + ne - d) % ne)
+        .find(|&k| sharp[k])
+        .unwrap();
+    let hi = (1..=ne).map(|d| (j + d) % ne).find(|&k| sharp[k]).unwrap();
+    let faces = (hi + ne - lo - 1) % ne + 1;
+    (corner && faces >= 3) || faces >= 5
+}
+
+/// At every corner of every Gregory face the patch normal is the exact limit normal, except at
+/// sectors whose limit tangent plane leaves the sharp edges ([`beyond_sharp_edge_plane`]),
+/// where the deviation is reported.
 fn check_corner_normals(mesh: &ControlMesh) -> usize {
     let (topo, patches) = patches(mesh);
     let ev = LimitEvaluator::new(mesh).unwrap();
     let mut checked = 0;
+    let mut beyond = (0, 0.0f64);
     for f in 0..topo.face_count() as u32 {
         let Some(p) = &patches[f as usize] else {
             continue;
@@ -305,6 +335,10 @@ fn check_corner_normals(mesh: &ControlMesh) -> usize {
                 exact.position
             );
             let angle = got.normal().angle_between(exact.normal);
+            if beyond_sharp_edge_plane(&topo, topo.face_vertices(f)[k], f) {
+                beyond = (beyond.0 + 1, beyond.1.max(angle));
+                continue;
+            }
             // The exact masks at sectors come from an iterative eigen-solve (~1e-8 rad).
             assert!(
                 angle < 1e-6,
@@ -312,6 +346,12 @@ fn check_corner_normals(mesh: &ControlMesh) -> usize {
             );
             checked += 1;
         }
+    }
+    if beyond.0 > 0 {
+        eprintln!(
+            "  {} corners in sectors beyond the sharp edges' plane: up to {:.3} rad from the limit",
+            beyond.0, beyond.1
+        );
     }
     checked
 }

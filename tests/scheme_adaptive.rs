@@ -24,6 +24,7 @@ use common::capture::{capture, offscreen, uniform};
 use common::golden::check_golden;
 use common::gpu::{assert_validation_clean, context};
 use common::meshes::{corpus_options, mesh, osd_names, osd_path};
+use common::watertight::assert_coincident_points_equal;
 
 /// Kind code of end caps in the capture tag (`KIND_END_CAP`).
 const END_CAP: u8 = 3;
@@ -338,53 +339,6 @@ fn watertight_across_levels_and_types() {
             assert!(pairs > 0);
         }
     }
-}
-
-/// Checks the coincident-point rule of [`watertight_across_levels_and_types`]; returns the
-/// number of coincident pairs.
-fn assert_coincident_points_equal(m: &ControlMesh, records: &[CaptureRecord]) -> usize {
-    // Bitwise-unequal copies of one point differ by a few ulp (~1e-7 of the diagonal); distinct
-    // domain points of fractional spacing can come within ~5e-6.
-    let eps = 1e-6 * m.bbox_diagonal();
-    let cell = |p: [f32; 3]| p.map(|c| (f64::from(c) / eps).floor() as i64);
-    let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
-    for (i, r) in records.iter().enumerate() {
-        grid.entry(cell(r.position)).or_default().push(i);
-    }
-    let mut pairs = 0;
-    for (i, r) in records.iter().enumerate() {
-        let c = cell(r.position);
-        let p = DVec3::from(r.position.map(f64::from));
-        for dx in -1..=1 {
-            for dy in -1..=1 {
-                for dz in -1..=1 {
-                    let Some(list) = grid.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) else {
-                        continue;
-                    };
-                    for &j in list.iter().filter(|&&j| j > i) {
-                        let q = &records[j];
-                        if (DVec3::from(q.position.map(f64::from)) - p).length() > eps {
-                            continue;
-                        }
-                        let same_pos = r.position.map(f32::to_bits) == q.position.map(f32::to_bits);
-                        assert!(same_pos, "positions differ: {r:?} vs {q:?}");
-                        let (a, b) = (
-                            DVec3::from(r.normal.map(f64::from)),
-                            DVec3::from(q.normal.map(f64::from)),
-                        );
-                        let same_n = r.normal.map(f32::to_bits) == q.normal.map(f32::to_bits);
-                        assert!(
-                            same_n || a.angle_between(b) > 0.01,
-                            "normals differ by {:.2e} rad: {r:?} vs {q:?}",
-                            a.angle_between(b)
-                        );
-                        pairs += 1;
-                    }
-                }
-            }
-        }
-    }
-    pairs
 }
 
 /// Animation: new control points only (the refinement runs on the GPU every frame) give the same

@@ -4,6 +4,7 @@
 #include "frame.glsl"
 #include "watertight.glsl"
 #include "acc.glsl"
+#include "displace.glsl"
 #ifdef CAPTURE
 #include "capture.glsl"
 #endif
@@ -62,12 +63,15 @@ void main() {
     bool u_edge = (u == 0.0 || u == 1.0);
     bool v_edge = (v == 0.0 || v == 1.0);
     if (u_edge && v_edge) {
+        // The shared limit position and normal of the corner vertex (as every scheme).
         p = acc[pi].b[int(3.0 * u + 12.0 * v)].xyz;
+        quad_corner_point(acc[pi].corners, u, v, p, nrm);
     } else if (v_edge) {
         acc_edge(pi, v == 0.0 ? 0 : 2, u, p, nrm);
     } else if (u_edge) {
         acc_edge(pi, u == 1.0 ? 1 : 3, v, p, nrm);
     }
+    displace_point(p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = acc[pi].cls;

@@ -31,7 +31,10 @@ layout(std140, set = 0, binding = 0) uniform Frame {
     vec4 tess;           // x: uniform level, y: mode, z: pixels per edge, w: max level
     vec4 light_dir;      // xyz: direction towards the key light (world), normalised
     uvec4 flags;         // x: colour mode
+    vec4 displace;       // x: procedural displacement scale along the normal (0: off)
 } frame;
+
+#include "displace.glsl"
 
 /// Per-draw constants (push_patch_chunk, src/render/patch_pipeline.rs). Patches are drawn in
 /// chunks and gl_PrimitiveID restarts at 0 in every draw, so `patch_base` is the chunk's first

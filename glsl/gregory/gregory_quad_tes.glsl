@@ -107,6 +107,7 @@ void main() {
         quad_edge(patch_index, info, 3, v, 0, p, nrm);
     }
 
+    displace_point(p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = GREGORY_CLASS(info);

@@ -91,6 +91,7 @@ void main() {
         tri_edge(info, 2, w0, p, nrm);
     }
 
+    displace_point(p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = CLASS_TRIANGLE;

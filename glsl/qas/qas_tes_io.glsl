@@ -6,6 +6,7 @@
 #include "frame.glsl"
 #include "watertight.glsl"
 #include "qas.glsl"
+#include "displace.glsl"
 #ifdef CAPTURE
 #include "capture.glsl"
 #endif
@@ -43,8 +44,10 @@ void qas_corner(uint pi, int k, out vec3 pos, out vec3 nrm) {
     nrm = nn;
 }
 
-/// Writes the outputs (and the capture record) of point (u, v) of face `face`.
+/// Writes the outputs (and the capture record) of point (u, v) of face `face`, displaced
+/// (`displace.glsl`) after the watertight evaluation.
 void qas_emit(uint face, vec2 uv, vec3 p, vec3 nrm, uint cls) {
+    displace_point(p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = cls;

@@ -9,8 +9,11 @@ layout(location = 0) out vec3 t_world;
 layout(location = 1) out vec3 t_normal;
 layout(location = 2) flat out uint t_class;
 void main() {
-    t_world = in_pos;
-    t_normal = in_normal;
+    vec3 p = in_pos;
+    vec3 n = in_normal;
+    displace_point(p, n);
+    t_world = p;
+    t_normal = n;
     t_class = in_class;
-    gl_Position = frame.view_proj * vec4(in_pos, 1.0);
+    gl_Position = frame.view_proj * vec4(p, 1.0);
 }

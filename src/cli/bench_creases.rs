@@ -5,6 +5,7 @@
 
 use std::path::Path;
 
+use super::glyphs::{draw_text, fill};
 use image::{Rgb, RgbImage};
 use tessera::gpu::Context;
 use tessera::mesh::ControlMesh;
@@ -120,55 +121,9 @@ fn frame_ms(ctx: &Context, surface: &SurfaceData, sweep: &Sweep<'_>) -> Result<f
 /// (orange).
 const COLORS: [Rgb<u8>; 2] = [Rgb([40, 160, 170]), Rgb([230, 120, 30])];
 
-/// 3x5 digits for the axis labels, one row per 3 bits.
-const DIGITS: [[u8; 5]; 10] = [
-    [7, 5, 5, 5, 7],
-    [2, 6, 2, 2, 7],
-    [7, 1, 7, 4, 7],
-    [7, 1, 7, 1, 7],
-    [5, 5, 7, 1, 1],
-    [7, 4, 7, 1, 7],
-    [7, 4, 7, 5, 7],
-    [7, 1, 1, 1, 1],
-    [7, 5, 7, 5, 7],
-    [7, 5, 7, 1, 7],
-];
-
-/// Writes `text` (digits and '.') at (x, y), each pixel a `scale`-square.
+/// Axis labels in the CLI's 3x5 font.
 fn label(img: &mut RgbImage, x: i64, y: i64, text: &str, scale: i64) {
-    let mut cx = x;
-    for ch in text.chars() {
-        if let Some(d) = ch.to_digit(10) {
-            for (r, bits) in DIGITS[d as usize].iter().enumerate() {
-                for c in 0..3 {
-                    if bits & (4 >> c) != 0 {
-                        fill(
-                            img,
-                            cx + c * scale,
-                            y + r as i64 * scale,
-                            scale,
-                            scale,
-                            Rgb([40; 3]),
-                        );
-                    }
-                }
-            }
-            cx += 4 * scale;
-        } else {
-            if ch == '.' {
-                fill(img, cx, y + 4 * scale, scale, scale, Rgb([40; 3]));
-            }
-            cx += 2 * scale;
-        }
-    }
-}
-
-fn fill(img: &mut RgbImage, x: i64, y: i64, w: i64, h: i64, c: Rgb<u8>) {
-    for yy in y.max(0)..(y + h).min(i64::from(img.height())) {
-        for xx in x.max(0)..(x + w).min(i64::from(img.width())) {
-            img.put_pixel(xx as u32, yy as u32, c);
-        }
-    }
+    draw_text(img, x, y, text, scale, Rgb([40; 3]));
 }
 
 /// A thick line from a to b.

@@ -65,6 +65,9 @@ pub struct RenderArgs {
     /// `--isolation`, `--single-crease` (the adaptive scheme's planning).
     #[command(flatten)]
     pub adaptive: AdaptiveArgs,
+    /// `--displacement`, `--displacement-scale`.
+    #[command(flatten)]
+    pub displace: DisplacementArgs,
     /// Draw triangle edges only.
     #[arg(long)]
     pub wireframe: bool,
@@ -181,6 +184,38 @@ pub struct AdaptiveArgs {
     #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_SINGLE_CREASE,
           action = clap::ArgAction::Set, value_name = "BOOL")]
     pub single_crease: bool,
+}
+
+/// Displacement along the normal, shared by `render` and `sample`.
+#[derive(Args, Debug, Clone)]
+pub struct DisplacementArgs {
+    /// `procedural`: move the surface along its normal by S * d(p) with
+    /// d(p) = (sin(5x + 1) + sin(5y + 2) + sin(5z + 3)) / 3 of the undisplaced limit position
+    /// (world units; continuous across faces, watertight where the normal is); `none`: the
+    /// limit surface.
+    #[arg(long, default_value = "none", value_parser = ["procedural", "none"])]
+    pub displacement: String,
+    /// The scale S of `--displacement` (world units).
+    #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
+    pub displacement_scale: f32,
+}
+
+impl DisplacementArgs {
+    /// The renderer's displacement; a non-finite scale is refused.
+    pub fn displacement(&self) -> Result<tessera::render::Displacement> {
+        if !self.displacement_scale.is_finite() {
+            return Err(Error::Invalid(format!(
+                "--displacement-scale {} is not a finite number",
+                self.displacement_scale
+            )));
+        }
+        Ok(match self.displacement.as_str() {
+            "procedural" => tessera::render::Displacement::Procedural {
+                scale: self.displacement_scale,
+            },
+            _ => tessera::render::Displacement::None,
+        })
+    }
 }
 
 /// Planning options on `ctx`'s device with `--isolation` and `--single-crease`.
@@ -306,6 +341,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
             "level" => ColorBy::Level,
             _ => ColorBy::None,
         },
+        displacement: args.displace.displacement()?,
         ..RenderDesc::default()
     };
     let desc = OffscreenDesc {

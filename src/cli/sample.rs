@@ -10,7 +10,9 @@ use tessera::render::{
 };
 use tessera::{Error, Result};
 
-use super::render::{check_validation, clamp_level, context, load, plan_options, AdaptiveArgs};
+use super::render::{
+    check_validation, clamp_level, context, load, plan_options, AdaptiveArgs, DisplacementArgs,
+};
 
 /// Arguments of `tessera sample`.
 ///
@@ -40,6 +42,9 @@ pub struct SampleArgs {
     /// `--isolation`, `--single-crease` (the adaptive scheme's planning).
     #[command(flatten)]
     pub adaptive: AdaptiveArgs,
+    /// `--displacement`, `--displacement-scale`: the captured points are displaced.
+    #[command(flatten)]
+    pub displace: DisplacementArgs,
     /// Enable the Khronos validation layer (always on in debug builds).
     #[arg(long)]
     pub validation: bool,
@@ -91,6 +96,7 @@ pub fn run(args: SampleArgs) -> Result<()> {
             surface.patch_count(),
             &resolve_tess(&ctx, &surface, &tess),
         )),
+        displacement: args.displace.displacement()?,
         ..RenderDesc::default()
     };
     let desc = OffscreenDesc {

@@ -57,19 +57,23 @@ pub fn validation_default() -> bool {
 
 /// Everything the context owns; resources keep an `Arc` to it so it is destroyed last.
 pub(crate) struct Shared {
-    _entry: ash::Entry,
+    pub(super) _entry: ash::Entry,
     pub instance: ash::Instance,
-    debug_instance: Option<ash::ext::debug_utils::Instance>,
-    messenger: vk::DebugUtilsMessengerEXT,
-    log: Box<SharedLog>,
+    pub(super) debug_instance: Option<ash::ext::debug_utils::Instance>,
+    pub(super) messenger: vk::DebugUtilsMessengerEXT,
+    pub(super) log: Box<SharedLog>,
     pub physical: vk::PhysicalDevice,
     pub device: ash::Device,
-    debug_device: Option<ash::ext::debug_utils::Device>,
+    pub(super) debug_device: Option<ash::ext::debug_utils::Device>,
+    /// Whether the context created the instance and device (and so destroys them): false for
+    /// [`Context::from_raw`], whose caller keeps them.
+    pub(super) owns_device: bool,
     pub queue: Mutex<vk::Queue>,
     pub command_pool: Mutex<vk::CommandPool>,
     /// Submissions that timed out: (fence, command buffer), released when signalled.
     pub pending: Mutex<Vec<(vk::Fence, vk::CommandBuffer)>>,
-    pub allocator: ManuallyDrop<Mutex<Allocator>>,
+    /// tessera's allocator or the caller's ([`super::RawContextDesc::allocator`]).
+    pub allocator: ManuallyDrop<Arc<Mutex<Allocator>>>,
     pub pipelines: Mutex<PipelineCache>,
     /// Shader tables registered with [`Context::add_shaders`], searched after the embedded one.
     pub added_shaders: Mutex<Vec<ShaderTable>>,
@@ -139,13 +143,17 @@ impl Drop for Shared {
                 None,
             );
             ManuallyDrop::drop(&mut self.allocator);
-            self.device.destroy_device(None);
+            if self.owns_device {
+                self.device.destroy_device(None);
+            }
             if let Some(di) = &self.debug_instance {
                 if self.messenger != vk::DebugUtilsMessengerEXT::null() {
                     di.destroy_debug_utils_messenger(self.messenger, None);
                 }
             }
-            self.instance.destroy_instance(None);
+            if self.owns_device {
+                self.instance.destroy_instance(None);
+            }
         }
     }
 }
@@ -362,10 +370,11 @@ impl Context {
             physical: candidate.handle,
             device,
             debug_device,
+            owns_device: true,
             queue: Mutex::new(queue),
             command_pool: Mutex::new(command_pool),
             pending: Mutex::new(Vec::new()),
-            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+            allocator: ManuallyDrop::new(Arc::new(Mutex::new(allocator))),
             pipelines: Mutex::new(PipelineCache::default()),
             added_shaders: Mutex::new(Vec::new()),
             info,
@@ -405,13 +414,18 @@ impl Context {
             .pipeline_statistics_query(f.pipeline_statistics_query)
             .vertex_pipeline_stores_and_atomics(f.vertex_pipeline_stores_and_atomics)
             .shader_float64(f.shader_float64);
+        let mut f13 =
+            vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(f.dynamic_rendering);
         let prio = [1.0f32];
         let queues = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(cand.info.queue_family)
             .queue_priorities(&prio)];
-        let dci = vk::DeviceCreateInfo::default()
+        let mut dci = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queues)
             .enabled_features(&features);
+        if f.dynamic_rendering {
+            dci = dci.push_next(&mut f13);
+        }
         // SAFETY: valid create info for this physical device.
         let device = unsafe { instance.create_device(cand.handle, &dci, None) }
             .map_err(vkerr("vkCreateDevice"))?;

@@ -20,6 +20,8 @@ pub enum Feature {
     Timestamps,
     /// `shaderFloat64`.
     ShaderFloat64,
+    /// `dynamicRendering` (Vulkan 1.3 / VK_KHR_dynamic_rendering): drawing without a render pass.
+    DynamicRendering,
 }
 
 impl Feature {
@@ -32,6 +34,7 @@ impl Feature {
             Feature::VertexPipelineStoresAndAtomics => "vertexPipelineStoresAndAtomics",
             Feature::Timestamps => "timestampComputeAndGraphics",
             Feature::ShaderFloat64 => "shaderFloat64",
+            Feature::DynamicRendering => "dynamicRendering",
         }
     }
 }
@@ -51,6 +54,8 @@ pub struct DeviceFeatures {
     pub timestamps: bool,
     /// `shaderFloat64`.
     pub shader_float64: bool,
+    /// `dynamicRendering` (Vulkan 1.3 core feature).
+    pub dynamic_rendering: bool,
 }
 
 impl DeviceFeatures {
@@ -63,6 +68,7 @@ impl DeviceFeatures {
             Feature::VertexPipelineStoresAndAtomics => self.vertex_pipeline_stores_and_atomics,
             Feature::Timestamps => self.timestamps,
             Feature::ShaderFloat64 => self.shader_float64,
+            Feature::DynamicRendering => self.dynamic_rendering,
         }
     }
 
@@ -107,6 +113,8 @@ pub struct DeviceLimits {
     pub max_storage_buffer_range: u32,
     /// `maxBoundDescriptorSets`.
     pub max_bound_descriptor_sets: u32,
+    /// `maxPerStageDescriptorStorageBuffers`.
+    pub max_per_stage_storage_buffers: u32,
     /// `minStorageBufferOffsetAlignment`.
     pub min_storage_buffer_offset_alignment: u64,
     /// `minUniformBufferOffsetAlignment`.
@@ -242,6 +250,13 @@ pub(crate) fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Cand
             instance.get_physical_device_queue_family_properties(pd),
         )
     };
+    let dynamic_rendering = props.api_version >= vk::API_VERSION_1_3 && {
+        let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
+        let mut f2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut f13);
+        // SAFETY: a Vulkan 1.3 device (instances are created for API 1.2 or newer).
+        unsafe { instance.get_physical_device_features2(pd, &mut f2) };
+        f13.dynamic_rendering == vk::TRUE
+    };
     let graphics = families
         .iter()
         .position(|q| q.queue_flags.contains(vk::QueueFlags::GRAPHICS) && q.queue_count > 0);
@@ -280,6 +295,7 @@ pub(crate) fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Cand
                     == vk::TRUE,
                 timestamps: l.timestamp_compute_and_graphics == vk::TRUE && ts_bits > 0,
                 shader_float64: feats.shader_float64 == vk::TRUE,
+                dynamic_rendering,
             },
             limits: DeviceLimits {
                 max_tessellation_patch_size: l.max_tessellation_patch_size,
@@ -302,6 +318,7 @@ pub(crate) fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Cand
                 max_push_constants_size: l.max_push_constants_size,
                 max_storage_buffer_range: l.max_storage_buffer_range,
                 max_bound_descriptor_sets: l.max_bound_descriptor_sets,
+                max_per_stage_storage_buffers: l.max_per_stage_descriptor_storage_buffers,
                 min_storage_buffer_offset_alignment: l.min_storage_buffer_offset_alignment,
                 min_uniform_buffer_offset_alignment: l.min_uniform_buffer_offset_alignment,
             },
@@ -341,6 +358,7 @@ mod tests {
                     max_push_constants_size: 128,
                     max_storage_buffer_range: 1 << 27,
                     max_bound_descriptor_sets: 8,
+                    max_per_stage_storage_buffers: 16,
                     min_storage_buffer_offset_alignment: 16,
                     min_uniform_buffer_offset_alignment: 16,
                 },

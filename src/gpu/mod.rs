@@ -8,11 +8,14 @@ mod debug;
 mod descriptors;
 mod device;
 mod draw;
+mod draw_target;
 mod error;
+mod external;
 mod memory;
 mod pipeline;
 mod query;
 pub mod shaders;
+pub mod spirv;
 mod target;
 
 pub use ash::vk;
@@ -25,7 +28,9 @@ pub use draw::{
     max_patches_per_draw, patch_draw_chunks, patches_per_draw_at_level, quad_domain_points,
     MAX_DOMAIN_POINTS_PER_DRAW, MAX_INDICES_PER_PATCH_DRAW, MAX_VERTICES_PER_PATCH_DRAW,
 };
+pub use draw_target::{DrawTarget, LayoutSlots, PassKind, PushRange};
 pub use error::{DeviceReport, GpuError, VkResultCode};
+pub use external::{check_raw_device, RawContextDesc, MIN_PATCH_SIZE};
 pub use memory::{as_bytes, from_bytes, Buffer, Image, ImageDesc, MemoryLocation, Pod};
 pub use pipeline::{
     ComputePipelineDesc, DescriptorBinding, DescriptorKind, GraphicsPipelineDesc, Pipeline,

@@ -7,6 +7,7 @@ use ash::vk;
 
 use super::context::Context;
 use super::device::Feature;
+use super::draw_target::{DrawTarget, LayoutSlots, PassKind};
 use super::error::{invalid, GpuError};
 use super::shaders::stage_of;
 use super::target::{create_render_pass, RenderTarget, TargetFormat};
@@ -158,19 +159,29 @@ pub struct Pipeline {
     pub raw: vk::Pipeline,
     /// Its layout.
     pub layout: vk::PipelineLayout,
-    /// Its descriptor set layouts (set 0 first), for allocating sets.
+    /// Its descriptor set layouts (tessera's set 0 first), for allocating sets.
     pub set_layouts: Vec<vk::DescriptorSetLayout>,
     /// Bind point (GRAPHICS or COMPUTE).
     pub bind_point: vk::PipelineBindPoint,
+    /// Set index of `set_layouts[0]` in the layout ([`LayoutSlots::first_set`]; 0 for compute).
+    pub first_set: u32,
+    /// Byte offset of the pipeline's push constants ([`LayoutSlots::push_offset`]).
+    pub push_offset: u32,
 }
+
+type LayoutKey = (
+    Vec<Vec<DescriptorBinding>>,
+    Option<PushConstants>,
+    LayoutSlots,
+);
 
 /// Cache of everything pipeline-related; destroyed with the context.
 #[derive(Default)]
 pub(crate) struct PipelineCache {
     set_layouts: HashMap<Vec<DescriptorBinding>, vk::DescriptorSetLayout>,
-    layouts: HashMap<(Vec<Vec<DescriptorBinding>>, Option<PushConstants>), vk::PipelineLayout>,
+    layouts: HashMap<LayoutKey, vk::PipelineLayout>,
     render_passes: HashMap<TargetFormat, vk::RenderPass>,
-    graphics: HashMap<(GraphicsPipelineDesc, TargetFormat), Pipeline>,
+    graphics: HashMap<(GraphicsPipelineDesc, DrawTarget), Pipeline>,
     compute: HashMap<ComputePipelineDesc, Pipeline>,
 }
 
@@ -225,16 +236,15 @@ impl PipelineCache {
         ctx: &Context,
         sets: &[Vec<DescriptorBinding>],
         push: Option<PushConstants>,
+        slots: &LayoutSlots,
     ) -> Result<(vk::PipelineLayout, Vec<vk::DescriptorSetLayout>)> {
         let lim = &ctx.info().limits;
-        if sets.len() as u32 > lim.max_bound_descriptor_sets {
-            return Err(GpuError::Limit(format!(
-                "{} descriptor sets exceed maxBoundDescriptorSets {}",
-                sets.len(),
-                lim.max_bound_descriptor_sets
-            ))
-            .into());
-        }
+        slots.check(
+            sets.len(),
+            push.map(|p| (p.stages, p.size)),
+            lim.max_bound_descriptor_sets,
+            lim.max_push_constants_size,
+        )?;
         if let Some(p) = push {
             if p.size == 0 || p.size % 4 != 0 || p.size > lim.max_push_constants_size {
                 return Err(GpuError::Limit(format!(
@@ -248,21 +258,33 @@ impl PipelineCache {
             .iter()
             .map(|s| self.set_layout(ctx, s))
             .collect::<Result<Vec<_>>>()?;
-        let key = (sets.to_vec(), push);
+        let key = (sets.to_vec(), push, slots.clone());
         if let Some(l) = self.layouts.get(&key) {
             return Ok((*l, set_layouts));
         }
+        let mut all_sets = slots.caller_set_layouts.clone();
+        if all_sets.is_empty() && slots.first_set > 0 {
+            all_sets = vec![self.set_layout(ctx, &[])?; slots.first_set as usize];
+        }
+        all_sets.extend_from_slice(&set_layouts);
+        let range = |stages, offset, size| {
+            vk::PushConstantRange::default()
+                .stage_flags(stages)
+                .offset(offset)
+                .size(size)
+        };
         let ranges: Vec<_> = push
             .iter()
-            .map(|p| {
-                vk::PushConstantRange::default()
-                    .stage_flags(p.stages)
-                    .offset(0)
-                    .size(p.size)
-            })
+            .map(|p| range(p.stages, slots.push_offset, p.size))
+            .chain(
+                slots
+                    .caller_push_ranges
+                    .iter()
+                    .map(|r| range(r.stages, r.offset, r.size)),
+            )
             .collect();
         let ci = vk::PipelineLayoutCreateInfo::default()
-            .set_layouts(&set_layouts)
+            .set_layouts(&all_sets)
             .push_constant_ranges(&ranges);
         // SAFETY: valid create info.
         let l = unsafe { ctx.device().create_pipeline_layout(&ci, None) }
@@ -339,6 +361,43 @@ fn validate(ctx: &Context, d: &GraphicsPipelineDesc) -> Result<()> {
     if d.polygon_mode != vk::PolygonMode::FILL {
         ctx.require(&[Feature::FillModeNonSolid])?;
     }
+    check_storage_per_stage(ctx, &d.label, &d.set_layouts)
+}
+
+/// Storage buffers visible to one stage must fit `maxPerStageDescriptorStorageBuffers` (the
+/// tessellation stages read up to a dozen tables).
+fn check_storage_per_stage(
+    ctx: &Context,
+    label: &str,
+    sets: &[Vec<DescriptorBinding>],
+) -> Result<()> {
+    let max = ctx.info().limits.max_per_stage_storage_buffers;
+    let storage = || {
+        sets.iter()
+            .flatten()
+            .filter(|b| b.kind == DescriptorKind::StorageBuffer)
+    };
+    for (stage, name) in [
+        (vk::ShaderStageFlags::VERTEX, "vertex"),
+        (
+            vk::ShaderStageFlags::TESSELLATION_CONTROL,
+            "tessellation control",
+        ),
+        (
+            vk::ShaderStageFlags::TESSELLATION_EVALUATION,
+            "tessellation evaluation",
+        ),
+        (vk::ShaderStageFlags::FRAGMENT, "fragment"),
+    ] {
+        let n = storage().filter(|b| b.stages.contains(stage)).count() as u32;
+        if n > max {
+            return Err(GpuError::Limit(format!(
+                "{label}: {n} storage buffers in the {name} stage; the device allows {max} \
+                 (maxPerStageDescriptorStorageBuffers)"
+            ))
+            .into());
+        }
+    }
     Ok(())
 }
 
@@ -358,18 +417,42 @@ impl Context {
         desc: &GraphicsPipelineDesc,
         fmt: TargetFormat,
     ) -> Result<Pipeline> {
+        self.graphics_pipeline_in(desc, &fmt.into())
+    }
+
+    /// The graphics pipeline for `desc`, drawing into the caller's rendering `target` (its
+    /// render pass or dynamic rendering, with tessera's sets and push constants in the
+    /// target's slots). Created once, then cached.
+    pub fn graphics_pipeline_in(
+        &self,
+        desc: &GraphicsPipelineDesc,
+        target: &DrawTarget,
+    ) -> Result<Pipeline> {
         let mut cache = self
             .shared
             .pipelines
             .lock()
             .unwrap_or_else(|p| p.into_inner());
-        let key = (desc.clone(), fmt);
+        let key = (desc.clone(), target.clone());
         if let Some(p) = cache.graphics.get(&key) {
             return Ok(p.clone());
         }
         validate(self, desc)?;
-        let (layout, set_layouts) = cache.layout(self, &desc.set_layouts, desc.push_constants)?;
-        let render_pass = cache.render_pass(self, fmt)?;
+        let fmt = target.format;
+        let (layout, set_layouts) =
+            cache.layout(self, &desc.set_layouts, desc.push_constants, &target.slots)?;
+        let (render_pass, subpass) = match target.pass {
+            PassKind::Tessera => (cache.render_pass(self, fmt)?, 0),
+            PassKind::RenderPass {
+                render_pass,
+                subpass,
+            } => (render_pass, subpass),
+            PassKind::Dynamic => {
+                self.require(&[Feature::DynamicRendering])?;
+                (vk::RenderPass::null(), 0)
+            }
+        };
+        let remap = target.slots.remap();
 
         let mut names = vec![(vk::ShaderStageFlags::VERTEX, desc.vertex.as_str())];
         if let (Some(c), Some(e)) = (&desc.tess_control, &desc.tess_eval) {
@@ -379,7 +462,7 @@ impl Context {
         names.push((vk::ShaderStageFlags::FRAGMENT, desc.fragment.as_str()));
         let mut modules = Vec::new();
         for (_, n) in &names {
-            match self.shader_module(n) {
+            match self.shader_module_remapped(n, &remap) {
                 Ok(m) => modules.push(m),
                 Err(e) => {
                     destroy_modules(self, &modules);
@@ -460,9 +543,17 @@ impl Context {
             .dynamic_state(&dynamic)
             .layout(layout)
             .render_pass(render_pass)
-            .subpass(0);
+            .subpass(subpass);
         if desc.tess_control.is_some() {
             ci = ci.tessellation_state(&tess);
+        }
+        let colors = [fmt.color];
+        let mut rendering = vk::PipelineRenderingCreateInfo::default()
+            .color_attachment_formats(&colors)
+            .depth_attachment_format(fmt.depth)
+            .stencil_attachment_format(stencil_format(fmt.depth));
+        if target.pass == PassKind::Dynamic {
+            ci = ci.push_next(&mut rendering);
         }
         // SAFETY: all referenced state lives until the call returns.
         let result = unsafe {
@@ -477,6 +568,8 @@ impl Context {
             layout,
             set_layouts,
             bind_point: vk::PipelineBindPoint::GRAPHICS,
+            first_set: target.slots.first_set,
+            push_offset: target.slots.push_offset,
         };
         cache.graphics.insert(key, p.clone());
         Ok(p)
@@ -493,7 +586,12 @@ impl Context {
             return Ok(p.clone());
         }
         check_stage(&desc.shader, vk::ShaderStageFlags::COMPUTE, "compute")?;
-        let (layout, set_layouts) = cache.layout(self, &desc.set_layouts, desc.push_constants)?;
+        let (layout, set_layouts) = cache.layout(
+            self,
+            &desc.set_layouts,
+            desc.push_constants,
+            &LayoutSlots::default(),
+        )?;
         let module = self.shader_module(&desc.shader)?;
         let stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::COMPUTE)
@@ -515,9 +613,19 @@ impl Context {
             layout,
             set_layouts,
             bind_point: vk::PipelineBindPoint::COMPUTE,
+            first_set: 0,
+            push_offset: 0,
         };
         cache.compute.insert(desc.clone(), p.clone());
         Ok(p)
+    }
+}
+
+/// The stencil attachment format of dynamic rendering for depth format `depth`.
+fn stencil_format(depth: vk::Format) -> vk::Format {
+    match depth {
+        vk::Format::D32_SFLOAT_S8_UINT | vk::Format::D24_UNORM_S8_UINT => depth,
+        _ => vk::Format::UNDEFINED,
     }
 }
 

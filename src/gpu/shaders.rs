@@ -7,6 +7,7 @@ use ash::vk;
 
 use super::context::Context;
 use super::error::GpuError;
+use super::spirv::Remap;
 use crate::Result;
 
 mod generated {
@@ -89,7 +90,20 @@ impl Context {
 
     /// Creates a shader module from the shader `name` (embedded or added). The caller destroys it.
     pub fn shader_module(&self, name: &str) -> Result<vk::ShaderModule> {
+        self.shader_module_remapped(name, &Remap::default())
+    }
+
+    /// As [`Self::shader_module`], its descriptor sets and push constants moved by `remap`
+    /// ([`super::spirv`]).
+    pub fn shader_module_remapped(&self, name: &str, remap: &Remap) -> Result<vk::ShaderModule> {
         let code = self.shader_code(name)?;
+        let moved;
+        let code = if remap.is_identity() {
+            code
+        } else {
+            moved = super::spirv::remap(code, remap)?;
+            &moved[..]
+        };
         let ci = vk::ShaderModuleCreateInfo::default().code(code);
         // SAFETY: embedded code is SPIR-V produced by glslang at build time; added code is valid
         // SPIR-V by the contract of `add_shaders`.

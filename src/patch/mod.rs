@@ -12,12 +12,15 @@
 //! - [`gregory`]: Gregory patches of the other triangles and quads, with their stencil forms.
 //! - [`qas`]: quadratic patches fitted to one Catmull-Clark step's limit points (Boubekeur,
 //!   Schlick 2007).
+//! - [`acc`]: ACC bicubic geometry patches of smooth quads (Loop, Schaefer 2008), a baseline.
+//! - [`pm`]: Pm-patches (Myles, Ni, Peters 2008): one G1 patch per tri/quad/pent facet.
 
 pub mod acc;
 pub mod adaptive;
 pub mod basis;
 pub mod edge_grid;
 pub mod gregory;
+pub mod pm;
 pub mod qas;
 pub mod regular;
 pub mod single_crease;

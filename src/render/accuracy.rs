@@ -22,6 +22,7 @@ use super::schemes::adaptive::kind_name;
 use super::schemes::bspline::BSPLINE;
 use super::schemes::{PatchScheme, PlanOptions, Scheme, SchemeLimits};
 use super::settings::TessSettings;
+use super::surface::SurfaceData;
 use crate::gpu::Context;
 use crate::patch::gregory::accuracy::{
     closest_exact, nearby_exact_samples, normal_angle, AccuracyReport, Located,
@@ -164,77 +165,18 @@ pub fn measure_gpu_with(
         });
     }
     surface.fallback_faces.clear();
-    let tess = TessSettings {
-        level: grid.max(1) as f32,
-        max_patch_level: f32::INFINITY,
-        ..TessSettings::default()
-    };
-    let render = RenderDesc {
-        tess,
-        capture_capacity: Some(capture_capacity_for(
-            surface.patch_count(),
-            &resolve_tess(ctx, &surface, &tess),
-        )),
-        ..RenderDesc::default()
-    };
-    let off = OffscreenDesc {
-        width: 64,
-        height: 64,
-        ..OffscreenDesc::default()
-    };
-    let records = render_to_image(ctx, &surface, &render, &off, false)?
-        .capture
-        .unwrap_or_default();
+    let records = capture_whole_patches(ctx, &surface, grid.max(1) as f32)?;
     let ev = LimitEvaluator::new(mesh)?;
-    let dense: Vec<Option<Vec<GridSample>>> = ev.eval_all_grids(2 * grid.max(1))?;
     let drawn: HashSet<u32> = faces.iter().copied().collect();
-    let mut by_face: HashMap<u32, Vec<&CaptureRecord>> = HashMap::new();
-    for r in records.iter().filter(|r| drawn.contains(&r.face)) {
-        by_face.entry(r.face).or_default().push(r);
-    }
-    let mut face_list: Vec<(u32, Vec<&CaptureRecord>)> = by_face.into_iter().collect();
-    face_list.sort_unstable_by_key(|(f, _)| *f);
-    // Per face (in parallel): (record, distance, equal-(u, v) error, normal angle).
-    type Measured<'a> = Vec<(&'a CaptureRecord, f64, Option<f64>, f64)>;
-    let measured: Vec<Measured<'_>> = face_list
-        .par_iter()
-        .map(|(f, recs)| {
-            let candidates: Vec<Located> = nearby_exact_samples(&topo, &dense, *f);
-            recs.iter()
-                .map(|&r| {
-                    let x = DVec3::from(r.position.map(f64::from));
-                    let n = DVec3::from(r.normal.map(f64::from));
-                    let c = closest_exact(&ev, x, &candidates, *f)?;
-                    let (mut d, mut exact_normal) =
-                        ((c.sample.position - x).length(), c.sample.normal);
-                    // Equal (u, v): quads in their own domain, other faces per sub-face.
-                    let sub = match r.sub_face {
-                        Some(k) => Some(k as usize),
-                        None if topo.face_size(*f) == 4 => Some(0),
-                        None => None,
-                    };
-                    let uv = match sub {
-                        Some(k) => {
-                            let e = ev.eval(*f as usize, k, f64::from(r.u), f64::from(r.v))?;
-                            let uv = (e.position - x).length();
-                            // The equal-(u, v) point is an exact point too: the projection can
-                            // stop in a local minimum (seen near the car's creases).
-                            if uv < d {
-                                (d, exact_normal) = (uv, e.normal);
-                            }
-                            Some(uv)
-                        }
-                        None => None,
-                    };
-                    let a = normal_angle(n, exact_normal);
-                    Ok((r, d, uv, a))
-                })
-                .collect::<Result<Measured<'_>>>()
-        })
-        .collect::<Result<_>>()?;
+    let records: Vec<CaptureRecord> = records
+        .into_iter()
+        .filter(|r| drawn.contains(&r.face))
+        .collect();
+    let measured = measure_points(&ev, &topo, &records, grid)?;
     let mut all = Sums::default();
     let mut types: BTreeMap<u8, Sums> = BTreeMap::new();
-    for &(r, d, uv, a) in measured.iter().flatten() {
+    for m in &measured {
+        let (r, d, uv, a) = (&m.record, m.distance, m.uv_error, m.normal_angle);
         all.add(d, uv, a);
         if let Some(p) = r.patch {
             let t = types.entry(p.kind).or_default();
@@ -265,4 +207,119 @@ pub fn measure_gpu_with(
         })
         .collect();
     Ok(GpuAccuracy { report, by_type })
+}
+
+/// One captured point measured against the exact limit (model units, radians).
+#[derive(Debug, Clone, Copy)]
+pub struct MeasuredPoint {
+    /// The captured point.
+    pub record: CaptureRecord,
+    /// Distance to the closest exact point.
+    pub distance: f64,
+    /// Distance to the exact point at the same `(face, sub-face, u, v)` (quads and sub-faces;
+    /// `None` for a scheme's own triangle domains).
+    pub uv_error: Option<f64>,
+    /// Angle between the captured normal and the exact normal at the closest point.
+    pub normal_angle: f64,
+    /// The exact unit normal at the closest point.
+    pub exact_normal: DVec3,
+}
+
+/// Measures captured points against the exact limit of `ev` (faces in parallel): the closest
+/// exact point among a dense sampling (`2 grid` per face side) of the face and its neighbours,
+/// refined by projection, and the equal-`(u, v)` point where the record is in a quad or
+/// sub-face domain. Points come back grouped by face, ascending.
+pub fn measure_points(
+    ev: &LimitEvaluator,
+    topo: &Topology,
+    records: &[CaptureRecord],
+    grid: usize,
+) -> Result<Vec<MeasuredPoint>> {
+    let dense: Vec<Option<Vec<GridSample>>> = ev.eval_all_grids(2 * grid.max(1))?;
+    let mut by_face: HashMap<u32, Vec<&CaptureRecord>> = HashMap::new();
+    for r in records {
+        by_face.entry(r.face).or_default().push(r);
+    }
+    let mut face_list: Vec<(u32, Vec<&CaptureRecord>)> = by_face.into_iter().collect();
+    face_list.sort_unstable_by_key(|(f, _)| *f);
+    let measured: Vec<Vec<MeasuredPoint>> = face_list
+        .par_iter()
+        .map(|(f, recs)| {
+            let candidates: Vec<Located> = nearby_exact_samples(topo, &dense, *f);
+            recs.iter()
+                .map(|&r| measure_point(ev, topo, &candidates, r))
+                .collect::<Result<Vec<_>>>()
+        })
+        .collect::<Result<_>>()?;
+    Ok(measured.into_iter().flatten().collect())
+}
+
+/// [`measure_points`] for one record of face `r.face` with its face's exact candidates.
+fn measure_point(
+    ev: &LimitEvaluator,
+    topo: &Topology,
+    candidates: &[Located],
+    r: &CaptureRecord,
+) -> Result<MeasuredPoint> {
+    let f = r.face;
+    let x = DVec3::from(r.position.map(f64::from));
+    let n = DVec3::from(r.normal.map(f64::from));
+    let c = closest_exact(ev, x, candidates, f)?;
+    let (mut d, mut exact_normal) = ((c.sample.position - x).length(), c.sample.normal);
+    // Equal (u, v): quads in their own domain, other faces per sub-face.
+    let sub = match r.sub_face {
+        Some(k) => Some(k as usize),
+        None if topo.face_size(f) == 4 => Some(0),
+        None => None,
+    };
+    let uv_error = match sub {
+        Some(k) => {
+            let e = ev.eval(f as usize, k, f64::from(r.u), f64::from(r.v))?;
+            let uv = (e.position - x).length();
+            // The equal-(u, v) point is an exact point too: the projection can stop in a
+            // local minimum (seen near the car's creases).
+            if uv < d {
+                (d, exact_normal) = (uv, e.normal);
+            }
+            Some(uv)
+        }
+        None => None,
+    };
+    Ok(MeasuredPoint {
+        record: *r,
+        distance: d,
+        uv_error,
+        normal_angle: normal_angle(n, exact_normal),
+        exact_normal,
+    })
+}
+
+/// The TES capture of every GPU patch of `surface` at uniform `level`, patches drawn whole (not
+/// split into sub-patches), into a small offscreen target.
+pub fn capture_whole_patches(
+    ctx: &Context,
+    surface: &SurfaceData,
+    level: f32,
+) -> Result<Vec<CaptureRecord>> {
+    let tess = TessSettings {
+        level,
+        max_patch_level: f32::INFINITY,
+        ..TessSettings::default()
+    };
+    let render = RenderDesc {
+        tess,
+        capture_capacity: Some(capture_capacity_for(
+            surface.patch_count(),
+            &resolve_tess(ctx, surface, &tess),
+        )),
+        ..RenderDesc::default()
+    };
+    let off = OffscreenDesc {
+        width: 64,
+        height: 64,
+        ..OffscreenDesc::default()
+    };
+    Ok(render_to_image(ctx, surface, &render, &off, false)?
+        .capture
+        .unwrap_or_default())
 }

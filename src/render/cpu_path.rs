@@ -9,7 +9,7 @@ use super::pass::upload::{device_buffer, host_buffer, u32_bytes};
 use super::pass::{bind_draw_state, SharedResources};
 use super::renderer::RenderDesc;
 use crate::gpu::{
-    Buffer, Context, DescriptorPool, GraphicsPipelineDesc, Pipeline, TargetFormat, VertexAttribute,
+    Buffer, Context, DescriptorPool, DrawTarget, GraphicsPipelineDesc, Pipeline, VertexAttribute,
     VertexBinding,
 };
 use crate::{Error, Result};
@@ -33,14 +33,19 @@ fn vertex_bytes(mesh: &FallbackMesh) -> Vec<u8> {
     out
 }
 
-/// The CPU-evaluated triangles of one surface on the GPU.
+/// The CPU-evaluated triangles of one surface on the GPU: one vertex buffer per frame slot,
+/// brought to the latest triangles ([`Self::update`]) when the slot is next prepared
+/// ([`Self::sync`]), as the shared buffers are.
 pub struct CpuPathPass {
     ctx: Context,
     index_count: u32,
-    vertices: Buffer,
+    /// Per frame slot: the vertex buffer and the version of the triangles it holds.
+    vertices: Vec<(Buffer, u64)>,
+    /// The latest triangles' vertex bytes and their version.
+    staged: (Vec<u8>, u64),
     indices: Buffer,
     _pool: DescriptorPool,
-    set: vk::DescriptorSet,
+    sets: Vec<vk::DescriptorSet>,
     pipeline: Pipeline,
 }
 
@@ -51,14 +56,19 @@ impl CpuPathPass {
         mesh: &FallbackMesh,
         shared: &SharedResources,
         desc: &RenderDesc,
-        target: TargetFormat,
+        target: &DrawTarget,
     ) -> Result<CpuPathPass> {
-        let vertices = host_buffer(
-            ctx,
-            &vertex_bytes(mesh),
-            vk::BufferUsageFlags::VERTEX_BUFFER,
-            "cpu-evaluated vertices",
-        )?;
+        let bytes = vertex_bytes(mesh);
+        let n = shared.slot_count();
+        let vertices = (0..n)
+            .map(|k| {
+                let name = format!("cpu-evaluated vertices (frame slot {k})");
+                Ok((
+                    host_buffer(ctx, &bytes, vk::BufferUsageFlags::VERTEX_BUFFER, &name)?,
+                    0,
+                ))
+            })
+            .collect::<Result<Vec<_>>>()?;
         let indices = device_buffer(
             ctx,
             &u32_bytes(&mesh.indices),
@@ -98,17 +108,17 @@ impl CpuPathPass {
             set_layouts: vec![set0_layout(&[])],
             push_constants: None,
         };
-        let pipeline = ctx.graphics_pipeline_for(&p, target)?;
-        let pool = DescriptorPool::new(ctx, 1, 5, 1)?;
-        let set = pool.allocate(pipeline.set_layouts[0])?;
-        shared.write_set0(ctx, set, &[]);
+        let pipeline = ctx.graphics_pipeline_in(&p, target)?;
+        let pool = DescriptorPool::new(ctx, n as u32, 5 * n as u32, n as u32)?;
+        let sets = shared.set0_per_slot(ctx, &pool, pipeline.set_layouts[0], &[])?;
         Ok(CpuPathPass {
             ctx: ctx.clone(),
             index_count: mesh.indices.len() as u32,
             vertices,
+            staged: (bytes, 0),
             indices,
             _pool: pool,
-            set,
+            sets,
             pipeline,
         })
     }
@@ -118,7 +128,8 @@ impl CpuPathPass {
         self.index_count / 3
     }
 
-    /// Animation: the triangles re-evaluated at new positions (same count).
+    /// Animation: the triangles re-evaluated at new positions (same count), kept on the host
+    /// until each frame slot is prepared.
     pub fn update(&mut self, mesh: &FallbackMesh) -> Result<()> {
         if mesh.indices.len() as u32 != self.index_count {
             return Err(Error::Invalid(format!(
@@ -128,21 +139,32 @@ impl CpuPathPass {
             )));
         }
         let vb = vertex_bytes(mesh);
-        if vb.len() as u64 > self.vertices.size() {
+        if vb.len() as u64 > self.vertices[0].0.size() {
             return Err(Error::Invalid(
                 "update_positions: fallback mesh has more vertices than before".into(),
             ));
         }
-        self.vertices.write(0, &vb)
+        self.staged = (vb, self.staged.1 + 1);
+        Ok(())
+    }
+
+    /// Brings frame slot `slot` to the latest triangles (the GPU must be done with it).
+    pub fn sync(&mut self, slot: usize) -> Result<()> {
+        let (buffer, version) = &mut self.vertices[slot];
+        if *version != self.staged.1 {
+            buffer.write(0, &self.staged.0)?;
+            *version = self.staged.1;
+        }
+        Ok(())
     }
 
     /// Bytes of GPU memory of the triangles' vertex and index buffers.
     pub fn memory_bytes(&self) -> u64 {
-        self.vertices.size() + self.indices.size()
+        self.vertices.iter().map(|(b, _)| b.size()).sum::<u64>() + self.indices.size()
     }
 
-    /// Records the draw (inside the caller's render pass).
-    pub fn record(&self, cmd: vk::CommandBuffer) {
+    /// Records the draw of frame slot `slot` (inside the caller's render pass).
+    pub fn record(&self, cmd: vk::CommandBuffer, slot: usize) {
         if self.index_count == 0 {
             return;
         }
@@ -151,8 +173,8 @@ impl CpuPathPass {
             dev,
             cmd,
             &self.pipeline,
-            &[self.set],
-            Some(self.vertices.raw()),
+            &[self.sets[slot]],
+            Some(self.vertices[slot].0.raw()),
             self.indices.raw(),
         );
         // SAFETY: inside the caller's render pass with this pass's state bound; the indices lie

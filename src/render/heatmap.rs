@@ -96,6 +96,28 @@ pub fn heat_surface_from_samples(
     })
 }
 
+/// An error map drawn from `heat` alone (no GPU pass: every face of `mesh` must be in `heat`
+/// or is not drawn), coloured on the given `scale` (model units shown as full red): for maps of
+/// schemes whose regular faces carry error too.
+pub fn heat_only_surface(mesh: &ControlMesh, heat: &[FaceHeat], scale: f64) -> Result<HeatSurface> {
+    let mut surface = surface_from_mesh_plan(mesh)?;
+    surface.parts.clear();
+    surface.fallback_faces.clear();
+    surface.fallback = FallbackMesh::default();
+    for f in heat {
+        append_face(&mut surface.fallback, f, scale);
+    }
+    let max_distance = heat
+        .iter()
+        .flat_map(|f| f.samples.iter().map(|s| s.distance))
+        .fold(0.0f64, f64::max);
+    Ok(HeatSurface {
+        surface,
+        scale,
+        max_distance,
+    })
+}
+
 /// The B-spline-only plan of `mesh` (no CPU evaluation; needs no device).
 fn surface_from_mesh_plan(mesh: &ControlMesh) -> Result<SurfaceData> {
     plan_for_scheme(mesh, Scheme::BsplineOnly, &SchemeLimits::NO_DEVICE)

@@ -7,7 +7,9 @@ pub mod accuracy;
 pub mod animate;
 pub mod bench;
 pub mod camera;
+pub mod compare;
 pub mod cpu_path;
+pub mod displace;
 pub mod fallback;
 pub mod heatmap;
 pub mod offscreen;
@@ -15,6 +17,7 @@ pub mod pass;
 pub mod plan;
 pub mod renderer;
 pub mod schemes;
+pub mod seams;
 pub mod session;
 pub mod settings;
 pub mod surface;
@@ -29,9 +32,12 @@ pub use plan::{
     cpu_faces, plan_for_scheme, plan_for_scheme_with, plan_passes, surface_for_scheme,
     surface_for_scheme_with, surface_from_mesh, surface_with,
 };
-pub use renderer::{resolve_tess, resolve_tess_for, MemoryReport, RenderDesc, SurfaceRenderer};
+pub use renderer::{
+    resolve_tess, resolve_tess_for, EngineDesc, MemoryReport, RenderDesc, SurfaceRenderer,
+    MAX_FRAMES_IN_FLIGHT,
+};
 pub use schemes::{
     PassTables, PatchPass, PatchScheme, PlanOptions, Refusal, RefusalReason, Scheme, SchemeLimits,
 };
-pub use settings::{ColorBy, FrameUniforms, Spacing, TessMode, TessSettings};
+pub use settings::{ColorBy, Displacement, FrameUniforms, Spacing, TessMode, TessSettings};
 pub use surface::SurfaceData;

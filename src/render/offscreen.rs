@@ -215,6 +215,7 @@ impl OffscreenSession {
         let renderer = &self.renderer;
         let clear = self.desc.clear;
         let capture = r.capture_capacity.is_some();
+        let frame_slot = renderer.frame_slot();
         let mut queries = self.queries.take();
         let result = self.ctx.submit_once(|dev, cmd| {
             if let Some(q) = queries.as_mut() {
@@ -229,7 +230,7 @@ impl OffscreenSession {
                     Some(q) => Some(q.compute.begin(cmd, pass.label())?),
                     None => None,
                 };
-                pass.record_compute(cmd);
+                pass.record_compute(cmd, frame_slot);
                 if let (Some(q), Some(i)) = (queries.as_mut(), slot) {
                     q.compute.end(cmd, i)?;
                 }
@@ -244,7 +245,7 @@ impl OffscreenSession {
                     }
                     None => None,
                 };
-                pass.record(cmd);
+                pass.record(cmd, frame_slot);
                 if let (Some(q), Some(i)) = (queries.as_mut(), slot) {
                     q.stats[k].end(cmd);
                     q.timer.end(cmd, i)?;

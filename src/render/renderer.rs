@@ -16,7 +16,7 @@ use super::schemes::{PassContext, PassTables, PatchPass};
 pub use super::settings::RenderDesc;
 use super::settings::{FrameUniforms, TessSettings};
 use super::surface::{vertex_frames, SurfaceData};
-use crate::gpu::{Context, Feature, TargetFormat};
+use crate::gpu::{Context, DrawTarget, Feature, TargetFormat};
 use crate::mesh::Crease;
 use crate::topology::Topology;
 use crate::{Error, Result};
@@ -47,6 +47,9 @@ pub fn resolve_tess_for(
     tess.resolve(device_max_level, &limits)
 }
 
+/// Most frames in flight a renderer keeps slots for.
+pub const MAX_FRAMES_IN_FLIGHT: u32 = 4;
+
 /// GPU buffer memory of a [`SurfaceRenderer`], in bytes.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct MemoryReport {
@@ -70,10 +73,40 @@ impl MemoryReport {
     }
 }
 
+/// How a [`SurfaceRenderer`] fits into the caller's frame loop.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct EngineDesc {
+    /// The rendering tessera draws into: formats, render pass or dynamic rendering, descriptor
+    /// set and push-constant slots.
+    pub target: DrawTarget,
+    /// Frames the caller keeps in flight (1-3 typical): the renderer holds that many copies
+    /// of its host-written buffers, so preparing one frame never touches another's.
+    pub frames_in_flight: u32,
+}
+
+impl From<TargetFormat> for EngineDesc {
+    /// tessera's own render pass for `target`, one frame in flight.
+    fn from(target: TargetFormat) -> EngineDesc {
+        EngineDesc {
+            target: target.into(),
+            frames_in_flight: 1,
+        }
+    }
+}
+
 /// GPU resources of one surface plus its pipelines for one render-target format.
+///
+/// Frames in flight ([`EngineDesc::frames_in_flight`] = N): each [`Self::set_frame`] prepares
+/// the next of N frame slots (frame uniforms, control positions, limit frames, CPU-path
+/// triangles) and the following [`Self::record_compute`] / [`Self::record`] use that slot. The
+/// caller guarantees, with its own fences, that the frame which last used the slot (N frames
+/// back) has finished before calling `set_frame`; frames N-1 back may still execute.
 pub struct SurfaceRenderer {
     ctx: Context,
     desc: RenderDesc,
+    /// Frame slot of the frame being prepared and recorded; the next `set_frame` takes the next.
+    slot: usize,
+    next_slot: usize,
     topology: Option<Arc<Topology>>,
     positions: Vec<DVec3>,
     parts: Vec<Arc<dyn PassTables>>,
@@ -84,13 +117,32 @@ pub struct SurfaceRenderer {
 
 impl SurfaceRenderer {
     /// Uploads `surface`, creates every pass and the pipelines for render targets of format
-    /// `target`. The tessellation settings are resolved here, once.
+    /// `target` (tessera's render pass, one frame in flight). The tessellation settings are
+    /// resolved here, once.
     pub fn new(
         ctx: &Context,
         surface: &SurfaceData,
         desc: &RenderDesc,
         target: TargetFormat,
     ) -> Result<SurfaceRenderer> {
+        Self::for_engine(ctx, surface, desc, &target.into())
+    }
+
+    /// As [`Self::new`], drawing into the caller's rendering with its frames in flight
+    /// ([`EngineDesc`]).
+    pub fn for_engine(
+        ctx: &Context,
+        surface: &SurfaceData,
+        desc: &RenderDesc,
+        engine: &EngineDesc,
+    ) -> Result<SurfaceRenderer> {
+        if !(1..=MAX_FRAMES_IN_FLIGHT).contains(&engine.frames_in_flight) {
+            return Err(Error::Invalid(format!(
+                "frames_in_flight {} is outside 1..={MAX_FRAMES_IN_FLIGHT}",
+                engine.frames_in_flight
+            )));
+        }
+        let target = &engine.target;
         let mut desc = *desc;
         desc.tess = resolve_tess(ctx, surface, &desc.tess);
         if desc.wireframe {
@@ -103,7 +155,13 @@ impl SurfaceRenderer {
             ctx.require(&[Feature::VertexPipelineStoresAndAtomics])?;
         }
         let frames = surface.vertex_frames(&surface.positions);
-        let shared = SharedResources::new(ctx, &surface.positions, &frames, desc.capture_capacity)?;
+        let shared = SharedResources::new(
+            ctx,
+            &surface.positions,
+            &frames,
+            desc.capture_capacity,
+            engine.frames_in_flight as usize,
+        )?;
         let pc = PassContext {
             ctx,
             shared: &shared,
@@ -121,6 +179,8 @@ impl SurfaceRenderer {
         Ok(SurfaceRenderer {
             ctx: ctx.clone(),
             desc,
+            slot: 0,
+            next_slot: 0,
             topology: surface.topology.clone(),
             positions: surface.positions.clone(),
             parts: surface.parts.clone(),
@@ -196,7 +256,7 @@ impl SurfaceRenderer {
             )));
         }
         let frames: VertexFrames = vertex_frames(self.topology.as_deref(), &self.parts, positions);
-        self.shared.update(positions, &frames)?;
+        self.shared.stage(positions, &frames)?;
         for p in &mut self.passes {
             p.update_positions(positions, &frames)?;
         }
@@ -204,7 +264,17 @@ impl SurfaceRenderer {
             self.cpu_path.update(mesh)?;
         }
         self.positions = positions.to_vec();
+        if self.shared.slot_count() == 1 {
+            // One frame in flight: the caller waited for it, the slot is free now.
+            self.sync_slot(0)?;
+        }
         Ok(())
+    }
+
+    /// Brings frame slot `slot` to the latest positions and CPU-path triangles.
+    fn sync_slot(&mut self, slot: usize) -> Result<()> {
+        self.shared.sync(slot)?;
+        self.cpu_path.sync(slot)
     }
 
     /// Run-time crease sharpness: sets each edge (`v0`, `v1`) of `creases` to its `sharpness`
@@ -239,37 +309,54 @@ impl SurfaceRenderer {
         self.passes[i].update_tables(tables.as_ref())?;
         self.parts[i] = tables;
         let frames = vertex_frames(self.topology.as_deref(), &self.parts, &self.positions);
-        self.shared.update(&self.positions, &frames)?;
+        self.shared.stage(&self.positions, &frames)?;
+        for slot in 0..self.shared.slot_count() {
+            self.shared.sync(slot)?;
+        }
         log::debug!("set_sharpness: {} crease edges changed", creases.len());
         Ok(())
     }
 
-    /// Writes the frame uniforms with the renderer's tessellation settings. Call before
-    /// submitting the command buffer that [`Self::record`] filled, while no earlier frame of
-    /// this renderer is still executing.
+    /// Prepares the next frame: takes the next frame slot, writes its frame uniforms with the
+    /// renderer's tessellation settings and brings it to the latest positions. Call once per
+    /// frame before recording it, when the frame that last used this slot
+    /// ([`EngineDesc::frames_in_flight`] frames back) has finished; later frames may still run.
     pub fn set_frame(&mut self, frame: &FrameUniforms) -> Result<()> {
         let max_level = self.ctx.info().limits.max_tessellation_generation_level as f32;
-        self.shared
-            .write_frame(&frame.to_bytes(&self.desc.tess, max_level))
+        self.slot = self.next_slot;
+        self.next_slot = (self.slot + 1) % self.shared.slot_count();
+        let bytes = frame.to_bytes(&self.desc.tess, max_level, self.desc.displacement);
+        self.shared.write_frame(self.slot, &bytes)?;
+        self.sync_slot(self.slot)
+    }
+
+    /// The frame slot the last [`Self::set_frame`] prepared (what recording uses).
+    pub fn frame_slot(&self) -> usize {
+        self.slot
+    }
+
+    /// Number of frame slots ([`EngineDesc::frames_in_flight`]).
+    pub fn frames_in_flight(&self) -> usize {
+        self.shared.slot_count()
     }
 
     /// Records every pass's pre-pass work (outside a render pass, before [`Self::record`]).
     pub fn record_compute(&self, cmd: vk::CommandBuffer) {
         for p in &self.passes {
-            p.record_compute(cmd);
+            p.record_compute(cmd, self.slot);
         }
     }
 
     /// Records the tessellated draws of every pass, in order (inside the caller's render pass).
     pub fn record_patches(&self, cmd: vk::CommandBuffer) {
         for p in &self.passes {
-            p.record(cmd);
+            p.record(cmd, self.slot);
         }
     }
 
     /// Records the CPU-evaluated triangles (inside the caller's render pass).
     pub fn record_fallback(&self, cmd: vk::CommandBuffer) {
-        self.cpu_path.record(cmd);
+        self.cpu_path.record(cmd, self.slot);
     }
 
     /// Records every draw (patches, then CPU-evaluated triangles) inside the caller's render
@@ -288,5 +375,16 @@ impl SurfaceRenderer {
     /// the capture buffer overflowed (more invocations than its capacity) or capture is off.
     pub fn read_capture(&self) -> Result<Vec<CaptureRecord>> {
         self.shared.read_capture()
+    }
+}
+
+impl Drop for SurfaceRenderer {
+    /// Waits for the device to finish (frames the caller submitted may still read the
+    /// renderer's buffers) before the buffers are destroyed. A lost device or a failed wait is
+    /// logged and the resources are destroyed anyway, which Vulkan allows after device loss.
+    fn drop(&mut self) {
+        if let Err(e) = self.ctx.wait_idle() {
+            log::warn!("dropping a SurfaceRenderer: waiting for the device failed ({e}); destroying its resources anyway");
+        }
     }
 }

@@ -170,6 +170,33 @@ pub struct RenderDesc {
     pub cull_back_faces: bool,
     /// Record every TES invocation into the capture buffer (`Some(capacity)` in records).
     pub capture_capacity: Option<u32>,
+    /// Displacement of the surface along its normal ([`super::displace`]).
+    pub displacement: Displacement,
+}
+
+/// Displacement of the limit surface along its normal, applied in every evaluation stage (and
+/// to the CPU-evaluated triangles) after the watertight position and normal.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Displacement {
+    /// The limit surface itself.
+    #[default]
+    None,
+    /// `p + scale * d(p) * n` with the fixed function [`super::displace::procedural`] of the
+    /// undisplaced limit position (`--displacement procedural --displacement-scale S`).
+    Procedural {
+        /// World units per unit of `d` (`d` lies in [-1, 1]).
+        scale: f32,
+    },
+}
+
+impl Displacement {
+    /// The `Frame.displace` words: scale (0 when off).
+    fn scale(self) -> f32 {
+        match self {
+            Displacement::None => 0.0,
+            Displacement::Procedural { scale } => scale,
+        }
+    }
 }
 
 impl Default for RenderDesc {
@@ -180,6 +207,7 @@ impl Default for RenderDesc {
             color_by: ColorBy::None,
             cull_back_faces: false,
             capture_capacity: None,
+            displacement: Displacement::None,
         }
     }
 }
@@ -201,12 +229,17 @@ pub struct FrameUniforms {
 }
 
 /// Size of the std140 `Frame` block.
-pub const FRAME_UNIFORM_BYTES: usize = 144;
+pub const FRAME_UNIFORM_BYTES: usize = 160;
 
 impl FrameUniforms {
-    /// The std140 bytes of the `Frame` block with the resolved tessellation settings `tess` and
-    /// the device's `maxTessellationGenerationLevel` `max_level`.
-    pub fn to_bytes(&self, tess: &TessSettings, max_level: f32) -> [u8; FRAME_UNIFORM_BYTES] {
+    /// The std140 bytes of the `Frame` block with the resolved tessellation settings `tess`,
+    /// the device's `maxTessellationGenerationLevel` `max_level` and the `displacement`.
+    pub fn to_bytes(
+        &self,
+        tess: &TessSettings,
+        max_level: f32,
+        displacement: Displacement,
+    ) -> [u8; FRAME_UNIFORM_BYTES] {
         let mut f = [0f32; 32];
         f[..16].copy_from_slice(&self.view_proj.to_cols_array());
         f[16..19].copy_from_slice(&self.eye.to_array());
@@ -231,6 +264,7 @@ impl FrameUniforms {
             ColorBy::Level => 3u32,
         };
         out[128..132].copy_from_slice(&color.to_le_bytes());
+        out[144..148].copy_from_slice(&displacement.scale().to_le_bytes());
         out
     }
 }
@@ -255,7 +289,7 @@ mod tests {
             spacing: Spacing::Equal,
             max_patch_level: 16.0,
         };
-        let b = u.to_bytes(&tess, 64.0);
+        let b = u.to_bytes(&tess, 64.0, Displacement::Procedural { scale: 0.25 });
         let f = |o: usize| f32::from_le_bytes(b[o..o + 4].try_into().unwrap());
         assert_eq!(f(4 * 15), 15.0);
         assert_eq!(f(64), 1.0);
@@ -265,6 +299,7 @@ mod tests {
         assert_eq!(f(108), 64.0);
         assert_eq!(f(116), 1.0);
         assert_eq!(u32::from_le_bytes(b[128..132].try_into().unwrap()), 1);
+        assert_eq!(f(144), 0.25);
     }
 
     #[test]

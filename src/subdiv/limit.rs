@@ -5,12 +5,26 @@
 //! Method: a smooth interior vertex whose faces are all quads uses the closed-form masks of
 //! Halstead, Kass, DeRose 1993 (appendix A). A vertex with non-quad faces or semi-sharp edges /
 //! vertex sharpness is first refined locally (`Level::extract` of its faces + `Level::refine`)
-//! until neither remains (at most `ceil(sharpness)` steps). Every other vertex (dart, crease,
-//! corner, boundary) uses the left eigenvectors of its local subdivision matrix restricted to
-//! the sector of the face of interest ([`masks::eigen_limit`]); for crease vertices the position
-//! is the closed form `(1, 4, 1) / 6` along the crease and for corners the vertex itself.
+//! until neither remains (at most `ceil(sharpness)` steps); so is a vertex whose one-ring holds
+//! a vertex twice (next to a valence-2 vertex). Every other vertex (dart, crease, corner,
+//! boundary) uses the left eigenvectors of its local subdivision matrix restricted to the
+//! sector of the face of interest ([`masks::eigen_limit`], [`sector::sector_limit`]); for crease
+//! vertices the position is the closed form `(1, 4, 1) / 6` along the crease and for corners
+//! the vertex itself.
+//!
+//! The tangents are per face: their cross product is the limit of that face's own surface
+//! normal at the vertex (along the face's diagonal). Faces of different sectors, and in corner
+//! sectors of three faces each face, have different normals there ([`sector`] lists the cases).
+//!
+//! Darts (one infinitely sharp edge, smooth vertex rule): the position is the dominant left
+//! eigenvector of the dart's own subdivision matrix, whose sharp edge takes the crease rule
+//! (midpoints). That is where refinement converges (tests/limit_corners.rs tracks the vertex
+//! through 8 and 40 local refinements). OpenSubdiv's Far and Bfr use the smooth interior mask at
+//! a dart instead, which is off by 2.4e-3 to 1.3e-2 of the bounding-box diagonal on the shared
+//! meshes' darts; the tangent plane comes from the same matrix (its two leading modes).
 
 pub mod masks;
+pub mod sector;
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -26,10 +40,11 @@ use crate::{Error, Result};
 /// outward normal of a counter-clockwise face. At smooth interior vertices they are Halstead's
 /// tangents along the face's edges (`tangent_u` toward the face's next corner, `tangent_v`
 /// toward its previous one; for valence 4 exactly the B-spline partials). Elsewhere they are an
-/// oriented basis of the tangent plane: crease and corner sectors use the sharp edge's tangent
-/// and the cross tangent into the sector; darts, corner tags without sharp edges (cusps, whose
-/// normal is perpendicular to the cusp axis) and other cases the two leading eigenvectors of
-/// the local subdivision matrix. Valence-2 vertices use the two positive 1/4 modes.
+/// oriented basis of the face's tangent plane at the vertex: sectors between sharp edges as
+/// [`sector`] tabulates (crease tangent and cross mode, both sharp edges' tangents, or the
+/// leading modes); darts, corner tags without sharp edges (cusps, whose normal is
+/// perpendicular to the cusp axis) and other cases the two leading eigenvectors of the local
+/// subdivision matrix. Valence-2 vertices use the two positive 1/4 modes.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct VertexMask {
     /// Vertex indices of the level.
@@ -127,7 +142,7 @@ fn vertex_mask_rec(level: &Level, v: u32, face: u32, depth: u32) -> Result<Verte
     if sharp == 0 && !is_inf(topo.vertex_sharpness(v)) && !topo.is_boundary_vertex(v) {
         return Ok(smooth_mask(level, v, i));
     }
-    eigen_mask(level, v, i, sharp)
+    eigen_mask(level, v, i, sharp, depth)
 }
 
 /// Closed-form smooth interior mask on a quad ring (Halstead et al. 1993, appendix A).
@@ -230,7 +245,7 @@ fn sector(topo: &Topology, v: u32, i: usize) -> Vec<usize> {
 /// Mask from the eigenvectors of the local subdivision matrix restricted to the face's sector
 /// (sectors between infinitely sharp edges do not interact: crease and corner rules only read
 /// the sharp edges' ends).
-fn eigen_mask(level: &Level, v: u32, i: usize, sharp: usize) -> Result<VertexMask> {
+fn eigen_mask(level: &Level, v: u32, i: usize, sharp: usize, depth: u32) -> Result<VertexMask> {
     let topo = level.topology();
     let faces = topo.vertex_faces(v).to_vec();
     let fail = || Error::Invalid(format!("limit mask: no convergence at vertex {v}"));
@@ -254,22 +269,43 @@ fn eigen_mask(level: &Level, v: u32, i: usize, sharp: usize) -> Result<VertexMas
     let mut child_of: Vec<(u32, u32)> = vec![(nf_sub + ne_sub + v_sub, v_sub)];
     let mut edge_slots: Vec<usize> = sec.clone();
     edge_slots.push(sec[sec.len() - 1] + 1);
+    let mut simple = true;
+    let mut add = |ring: &mut Vec<u32>, child_of: &mut Vec<(u32, u32)>, c: u32, x: u32| {
+        match ring.iter().position(|&y| y == x) {
+            None => {
+                ring.push(x);
+                child_of.push((c, x));
+            }
+            // The closing edge of a sector that wraps all the way round is listed twice.
+            Some(k) => simple &= child_of[k].0 == c,
+        }
+    };
     for &k in &edge_slots {
         let e = sub_edges[k % sub_edges.len()];
-        let x = st.other_vertex(e, v_sub);
-        if !ring.contains(&x) {
-            ring.push(x);
-            child_of.push((nf_sub + e, x));
-        }
+        add(
+            &mut ring,
+            &mut child_of,
+            nf_sub + e,
+            st.other_vertex(e, v_sub),
+        );
     }
     for &k in &sec {
         let g = sub_faces[k];
         let fv = st.face_vertices(g);
-        let x = fv[(sub_locals[k] as usize + 2) % 4];
-        if !ring.contains(&x) {
-            ring.push(x);
-            child_of.push((g, x));
+        add(
+            &mut ring,
+            &mut child_of,
+            g,
+            fv[(sub_locals[k] as usize + 2) % 4],
+        );
+    }
+    if !simple {
+        // A ring vertex in two roles (e.g. next to a valence-2 vertex): the ring matrix would mix
+        // two children into one row. One refinement step makes every ring vertex distinct.
+        if depth >= MAX_LOCAL_STEPS {
+            return Err(fail());
         }
+        return refined_mask(level, v, i, depth);
     }
     let m = ring.len();
     let pos_in_ring = |x: u32| ring.iter().position(|&y| y == x);
@@ -286,38 +322,31 @@ fn eigen_mask(level: &Level, v: u32, i: usize, sharp: usize) -> Result<VertexMas
     }
     let ne = sub_edges.len();
     let corner_rule = is_inf(topo.vertex_sharpness(v)) || sharp > 2;
+    let opposite = {
+        let fv = st.face_vertices(sub_faces[i_sub]);
+        pos_in_ring(fv[(sub_locals[i_sub] as usize + 2) % 4]).ok_or_else(fail)?
+    };
     let lim = if sharp >= 2 {
-        // Sector bounded by sharp edges: lock the exactly known edge tangent and find the cross
-        // tangent pointing into the sector. (lower edge, into sector) is counter-clockwise.
+        // Sector bounded by sharp edges ([`sector::sector_limit`]).
         let lo = pos_in_ring(st.other_vertex(sub_edges[sec[0] % ne], v_sub)).ok_or_else(fail)?;
         let last = sec[sec.len() - 1];
         let hi =
             pos_in_ring(st.other_vertex(sub_edges[(last + 1) % ne], v_sub)).ok_or_else(fail)?;
-        let mut lock = vec![0.0; m];
-        if corner_rule || lo == hi {
-            lock[lo] += 1.0;
-            lock[0] -= 1.0;
-        } else {
-            lock[lo] += 0.5;
-            lock[hi] -= 0.5;
+        let ring = sector::SectorRing {
+            m,
+            lo,
+            hi,
+            a: pos_in_ring(st.other_vertex(sub_edges[i_sub], v_sub)).ok_or_else(fail)?,
+            b: pos_in_ring(st.other_vertex(sub_edges[(i_sub + 1) % ne], v_sub)).ok_or_else(fail)?,
+            faces: sec.len(),
+            face: sec.iter().position(|&k| k == i_sub).ok_or_else(fail)?,
+            corner: corner_rule,
+        };
+        let mut lim = sector::sector_limit(&s, &ring).ok_or_else(fail)?;
+        if !sector::exact_orientation(&ring) {
+            orient(&s, &mut lim, [ring.a, opposite, ring.b]);
         }
-        if corner_rule && sec.len() <= 2 && lo != hi {
-            // Corner sector of one or two faces: both sharp edges' tangents are exact
-            // eigenvectors of the top eigenvalue 1/2 (a Jordan block for two faces).
-            let mut other = vec![0.0; m];
-            other[hi] += 1.0;
-            other[0] -= 1.0;
-            let mut position = vec![0.0; m];
-            position[0] = 1.0;
-            masks::EigenLimit {
-                position,
-                tangents: [lock, other],
-            }
-        } else {
-            let mut hint = vec![1.0 / (m - 1) as f64; m];
-            hint[0] = -1.0;
-            masks::eigen_limit_locked(&s, 0, lock, hint).ok_or_else(fail)?
-        }
+        lim
     } else {
         let a = pos_in_ring(st.other_vertex(sub_edges[i_sub], v_sub)).ok_or_else(fail)?;
         let b =
@@ -328,7 +357,9 @@ fn eigen_mask(level: &Level, v: u32, i: usize, sharp: usize) -> Result<VertexMas
         let mut x2 = vec![0.0; m];
         x2[b] = 1.0;
         x2[0] = -1.0;
-        masks::eigen_limit(&s, 0, [x1, x2]).ok_or_else(fail)?
+        let mut lim = masks::eigen_limit(&s, 0, [x1, x2]).ok_or_else(fail)?;
+        orient(&s, &mut lim, [a, opposite, b]);
+        lim
     };
     let mut position = lim.position.clone();
     // Closed forms where they exist (exact; the tests check them against deep refinement).
@@ -357,6 +388,22 @@ fn eigen_mask(level: &Level, v: u32, i: usize, sharp: usize) -> Result<VertexMas
         })
         .collect();
     Ok(VertexMask::from_triples(t))
+}
+
+/// Turns `lim`'s tangent pair to the orientation of the face whose corner `(v, e_a, f, e_b)`
+/// has the ring entries `[a, f, b]`, judged at the face's diagonal: the pair
+/// `(f - v, e_b - e_a)` ([`masks::face_orientation`]); left as it is if that cannot be decided.
+fn orient(s: &masks::Dense, lim: &mut masks::EigenLimit, [a, f, b]: [usize; 3]) {
+    let mut diagonal = vec![0.0; s.m];
+    diagonal[f] += 1.0;
+    diagonal[0] -= 1.0;
+    let mut across = vec![0.0; s.m];
+    across[b] += 1.0;
+    across[a] -= 1.0;
+    let t = [&lim.tangents[0][..], &lim.tangents[1][..]];
+    if masks::face_orientation(s, 0, &diagonal, &across, t) == Some(-1.0) {
+        lim.tangents[1].iter_mut().for_each(|x| *x = -*x);
+    }
 }
 
 /// Limit positions of every vertex of `level` (vertices without faces keep their position).

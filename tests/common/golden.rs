@@ -54,6 +54,10 @@ const TOLERANCES: &[(&str, Tolerance)] = &[
     // bspline_only_mixed_patch_type
     ("qas_mixed_patch_type", tol(0.006, 0.05)),
     ("acc_mixed_patch_type", tol(0.006, 0.05)),
+    // new with examples/engine.rs (the engine's checkered ground and the adaptive scheme on
+    // embedded:mixed, patch-type colours, last of 6 twisted frames; measured 0 against today's
+    // render, which made it); as adaptive_car_type
+    ("engine_example", tol(0.006, 0.05)),
     // new with the adaptive scheme (measured 0 against today's render, which made them); as
     // bspline_only_mixed_patch_type
     ("adaptive_car_level", tol(0.006, 0.05)),

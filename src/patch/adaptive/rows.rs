@@ -128,11 +128,7 @@ pub fn bspline_corner_rows(p: &RegularPatch, k: usize) -> [Weights; 3] {
             }
         }
         let c = fold_phantoms(c, p.boundary_mask);
-        let mut w = Weights::zero();
-        for (&v, &x) in p.cvs.iter().zip(&c) {
-            w.add_scaled(x, &Weights::unit(v));
-        }
-        w
+        Weights::from_terms(p.cvs.iter().copied().zip(c))
     };
     [tensor(bu, bv), tensor(du, bv), tensor(bu, dv)]
 }
@@ -148,17 +144,16 @@ pub fn single_crease_corner_rows(line: &CreaseLine, k: usize) -> [Weights; 3] {
         side: line.side,
         sharpness: line.sharpness,
     };
-    let mut rows = [Weights::zero(), Weights::zero(), Weights::zero()];
     let mut unit = [DVec3::ZERO; 16];
-    for (i, &g) in line.cvs.iter().enumerate() {
-        unit[i] = DVec3::X;
-        let e = local.eval(&unit, u, v);
-        unit[i] = DVec3::ZERO;
-        for (row, w) in rows.iter_mut().zip([e.position.x, e.du.x, e.dv.x]) {
-            row.add_scaled(w, &Weights::unit(g));
-        }
-    }
-    rows
+    let columns: Vec<(u32, [f64; 3])> = (line.cvs.iter().enumerate())
+        .map(|(i, &g)| {
+            unit[i] = DVec3::X;
+            let e = local.eval(&unit, u, v);
+            unit[i] = DVec3::ZERO;
+            (g, [e.position.x, e.du.x, e.dv.x])
+        })
+        .collect();
+    std::array::from_fn(|r| Weights::from_terms(columns.iter().map(|&(g, w)| (g, w[r]))))
 }
 
 /// Rows (position, tangent towards corner `k + 1`, tangent towards corner `k - 1`) of a Gregory

@@ -52,6 +52,21 @@ impl Weights {
         Weights(vec![(v, 1.0)])
     }
 
+    /// `Σ w_i unit(v_i)` over `terms` in their order, zero weights dropped: the same bits as
+    /// adding the units one by one with [`GregoryPoint::add_scaled`], without merging.
+    pub fn from_terms(terms: impl IntoIterator<Item = (u32, f64)>) -> Weights {
+        let mut t: Vec<(u32, f64)> = terms.into_iter().filter(|&(_, w)| w != 0.0).collect();
+        t.sort_by_key(|&(v, _)| v);
+        t.dedup_by(|next, kept| {
+            let same = next.0 == kept.0;
+            if same {
+                kept.1 += next.1;
+            }
+            same
+        });
+        Weights(t)
+    }
+
     /// Applies the weights to positions.
     pub fn apply(&self, positions: &[DVec3]) -> DVec3 {
         self.0.iter().map(|&(v, w)| w * positions[v as usize]).sum()
@@ -63,27 +78,72 @@ impl GregoryPoint for Weights {
         Weights(Vec::new())
     }
 
+    /// Merges `w * x` in: in place when every id of `x` is already in `self` (the common case
+    /// once a row has taken its support), else through a reused per-thread buffer, so a
+    /// construction allocates only when a row outgrows its own capacity. Each weight is
+    /// `a + w * b` or `w * b` whichever way it is merged.
     fn add_scaled(&mut self, w: f64, x: &Self) {
-        if w == 0.0 {
+        if w == 0.0 || x.0.is_empty() {
             return;
         }
-        let a = std::mem::take(&mut self.0);
-        let mut out = Vec::with_capacity(a.len() + x.0.len());
-        let (mut i, mut j) = (0, 0);
-        while i < a.len() || j < x.0.len() {
-            if j == x.0.len() || (i < a.len() && a[i].0 < x.0[j].0) {
-                out.push(a[i]);
-                i += 1;
-            } else if i == a.len() || x.0[j].0 < a[i].0 {
-                out.push((x.0[j].0, w * x.0[j].1));
-                j += 1;
-            } else {
-                out.push((a[i].0, a[i].1 + w * x.0[j].1));
-                i += 1;
-                j += 1;
-            }
+        if self.0.is_empty() {
+            self.0.extend(x.0.iter().map(|&(v, b)| (v, w * b)));
+            return;
         }
-        self.0 = out;
+        if merge_in_place(&mut self.0, w, &x.0) {
+            return;
+        }
+        MERGE_BUFFER.with(|buffer| {
+            let mut out = buffer.borrow_mut();
+            merge_into(&mut out, &self.0, w, &x.0);
+            self.0.clear();
+            self.0.extend_from_slice(&out);
+        });
+    }
+}
+
+thread_local! {
+    /// The buffer [`Weights::add_scaled`] merges into before copying back (it keeps its capacity).
+    static MERGE_BUFFER: std::cell::RefCell<Vec<(u32, f64)>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// `a += w * x` when every id of `x` is in `a` (both ascending); false, `a` untouched, otherwise.
+fn merge_in_place(a: &mut [(u32, f64)], w: f64, x: &[(u32, f64)]) -> bool {
+    let find = |a: &[(u32, f64)], i: &mut usize, v: u32| {
+        while *i < a.len() && a[*i].0 < v {
+            *i += 1;
+        }
+        *i < a.len() && a[*i].0 == v
+    };
+    let mut i = 0;
+    if x.len() > a.len() || !x.iter().all(|&(v, _)| find(a, &mut i, v)) {
+        return false;
+    }
+    let mut i = 0;
+    for &(v, b) in x {
+        find(a, &mut i, v);
+        a[i].1 += w * b;
+    }
+    true
+}
+
+/// `out = a + w * x`, ids ascending (the sorted merge of both).
+fn merge_into(out: &mut Vec<(u32, f64)>, a: &[(u32, f64)], w: f64, x: &[(u32, f64)]) {
+    out.clear();
+    out.reserve(a.len() + x.len());
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() || j < x.len() {
+        if j == x.len() || (i < a.len() && a[i].0 < x[j].0) {
+            out.push(a[i]);
+            i += 1;
+        } else if i == a.len() || x[j].0 < a[i].0 {
+            out.push((x[j].0, w * x[j].1));
+            j += 1;
+        } else {
+            out.push((a[i].0, a[i].1 + w * x[j].1));
+            i += 1;
+            j += 1;
+        }
     }
 }
 
@@ -107,5 +167,42 @@ mod tests {
             DVec3::X,
         ];
         assert_eq!(a.apply(&p), DVec3::new(1.0 + 3.0 + 0.5, 1.0 + 3.0, 3.0));
+    }
+
+    #[test]
+    fn from_terms_equals_adding_units() {
+        let terms = [
+            (5, 0.1),
+            (2, 0.7),
+            (5, 0.3),
+            (9, 0.0),
+            (2, -0.25),
+            (0, 1e-3),
+        ];
+        let mut added = Weights::zero();
+        for &(v, w) in &terms {
+            added.add_scaled(w, &Weights::unit(v));
+        }
+        assert_eq!(Weights::from_terms(terms), added);
+        assert_eq!(added.0, vec![(0, 1e-3), (2, 0.7 - 0.25), (5, 0.1 + 0.3)]);
+    }
+
+    #[test]
+    fn in_place_and_buffered_merges_agree() {
+        let a = Weights(vec![(1, 0.5), (3, 0.25), (8, 2.0)]);
+        let subset = Weights(vec![(1, 4.0), (8, -1.0)]);
+        let mut in_place = a.clone();
+        in_place.add_scaled(0.3, &subset);
+        assert_eq!(
+            in_place.0,
+            vec![(1, 0.5 + 0.3 * 4.0), (3, 0.25), (8, 2.0 - 0.3)]
+        );
+        let wider = Weights(vec![(0, 1.0), (3, 1.0)]);
+        let mut merged = a;
+        merged.add_scaled(-2.0, &wider);
+        assert_eq!(
+            merged.0,
+            vec![(0, -2.0), (1, 0.5), (3, 0.25 - 2.0), (8, 2.0)]
+        );
     }
 }

@@ -7,6 +7,7 @@
 //! paper's "one global, consistent order", §4.5), so a point two patches share gets bitwise
 //! equal values in both.
 
+use std::borrow::Borrow;
 use std::collections::HashMap;
 
 use glam::DVec3;
@@ -104,12 +105,13 @@ pub struct GregoryStencilTable {
 /// own construction (the rows its own stencil has), so they are bitwise its own values. Where
 /// the edge has no Gregory neighbour (boundary, a face without Gregory patch) the patch's own
 /// points stand in.
-fn table_rows<P: GregoryPoint>(
+fn table_rows<P: GregoryPoint, B: Borrow<GregoryPatch<P>>>(
     topo: &Topology,
     f: u32,
-    patch: impl Fn(u32) -> Result<GregoryPatch<P>, NotGregory>,
+    patch: impl Fn(u32) -> Result<B, NotGregory>,
 ) -> Result<Vec<P>, NotGregory> {
     let own = patch(f)?;
+    let own = own.borrow();
     let [_, e_plus, e_minus, f_plus, f_minus] = own.points();
     let fv = topo.face_vertices(f);
     let n = fv.len();
@@ -127,7 +129,7 @@ fn table_rows<P: GregoryPoint>(
             let k2 = (0..m).find(|&i| d[i] == y && d[(i + 1) % m] == x)?;
             let k2n = (k2 + 1) % m;
             let q = patch(g).ok()?;
-            let [_, ep, em, fp, fm] = q.points();
+            let [_, ep, em, fp, fm] = q.borrow().points();
             // e_plus at x, e_minus at y, f_minus at x, f_plus at y.
             Some([
                 ep[k2n].clone(),
@@ -182,11 +184,34 @@ fn corner_data(
 /// vertices, ascending ids, f64: the weights [`GregoryStencilTable::build`] rounds to f32, without
 /// its ring-size limit (sparse rows have no fixed patch size).
 pub fn sparse_face_rows(topo: &Topology, faces: &[u32]) -> Vec<Result<Vec<Weights>, NotGregory>> {
-    let vertices = corner_data(topo, faces.iter().copied());
+    let patches = face_patches(topo, faces);
     faces
         .iter()
-        .map(|&f| table_rows(topo, f, |g| gregory_patch(topo, &vertices, g)))
+        .map(|&f| table_rows(topo, f, |g| patches[&g].as_ref().map_err(|e| *e)))
         .collect()
+}
+
+/// The Gregory patch in weight space of every face of `faces` and of their edge neighbours
+/// (what [`table_rows`] reads), each built once: around an extraordinary vertex the faces are
+/// one another's neighbours.
+fn face_patches(
+    topo: &Topology,
+    faces: &[u32],
+) -> HashMap<u32, Result<GregoryPatch<Weights>, NotGregory>> {
+    let vertices = corner_data(topo, faces.iter().copied());
+    let mut patches = HashMap::new();
+    for &f in faces {
+        for g in std::iter::once(f).chain(
+            topo.face_edges(f)
+                .iter()
+                .flat_map(|&e| topo.edge_faces(e).iter().copied()),
+        ) {
+            patches
+                .entry(g)
+                .or_insert_with(|| gregory_patch(topo, &vertices, g));
+        }
+    }
+    patches
 }
 
 impl GregoryStencilTable {
@@ -209,10 +234,11 @@ impl GregoryStencilTable {
                 Err(e) => table.skipped.push(e),
             }
         }
-        let vertices = corner_data(topo, accepted.iter().map(|(f, _)| *f));
+        let faces: Vec<u32> = accepted.iter().map(|(f, _)| *f).collect();
+        let patches = face_patches(topo, &faces);
         let mut types = HashMap::new();
         for (f, ring) in accepted {
-            match table_rows(topo, f, |g| gregory_patch(topo, &vertices, g)) {
+            match table_rows(topo, f, |g| patches[&g].as_ref().map_err(|e| *e)) {
                 Ok(rows) => table.push(topo, f, ring, &rows, &mut types),
                 Err(e) => table.skipped.push(NoStencil::NotGregory(e)),
             }

@@ -7,7 +7,7 @@ use ash::vk;
 use super::pipeline::push_patch_chunk;
 use crate::gpu::{patch_draw_chunks, Pipeline};
 
-/// Binds `pipeline` with `sets` (from set 0), the vertex buffer `vertices` at binding 0 (when
+/// Binds `pipeline` with `sets` (tessera's, from its first set [`Pipeline::first_set`]), the vertex buffer `vertices` at binding 0 (when
 /// the pipeline reads vertex input) and the u32 index buffer `indices`.
 pub fn bind_draw_state(
     dev: &ash::Device,
@@ -25,7 +25,7 @@ pub fn bind_draw_state(
             cmd,
             vk::PipelineBindPoint::GRAPHICS,
             pipeline.layout,
-            0,
+            pipeline.first_set,
             sets,
             &[],
         );
@@ -54,12 +54,12 @@ pub struct PatchDraws {
     pub sub_flag: u32,
 }
 
-/// Records the indexed draws of `d` with the pipeline of `layout` bound (its push-constant range
+/// Records the indexed draws of `d` with `pipeline` bound (its push-constant range
 /// is [`super::pipeline::patch_push_constants`]), telling the shaders the uniform `split`.
 pub fn record_patch_draws(
     dev: &ash::Device,
     cmd: vk::CommandBuffer,
-    layout: vk::PipelineLayout,
+    pipeline: &Pipeline,
     d: &PatchDraws,
     split: u32,
 ) {
@@ -68,12 +68,12 @@ pub fn record_patch_draws(
             push_patch_chunk(
                 dev,
                 cmd,
-                layout,
+                pipeline,
                 d.first_patch + first,
                 sub | d.sub_flag,
                 split,
             );
-            // SAFETY: the caller records inside a render pass with a pipeline of `layout`, its
+            // SAFETY: the caller records inside a render pass with `pipeline`, its
             // descriptor sets, vertex and index buffers bound; the range lies in the bound
             // index buffer (chunks of the run).
             unsafe {

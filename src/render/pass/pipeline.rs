@@ -5,7 +5,7 @@
 use ash::vk;
 
 use crate::gpu::{
-    Context, DescriptorBinding, GraphicsPipelineDesc, Pipeline, PushConstants, TargetFormat,
+    Context, DescriptorBinding, DrawTarget, GraphicsPipelineDesc, Pipeline, PushConstants,
     VertexAttribute, VertexBinding,
 };
 use crate::render::renderer::RenderDesc;
@@ -58,12 +58,12 @@ pub(crate) fn patch_push_constants() -> PushConstants {
     }
 }
 
-/// Records the push constants of one draw chunk: first patch `base` (gl_PrimitiveID restarts
+/// Records the push constants of one draw chunk for `pipeline` (bound): first patch `base` (gl_PrimitiveID restarts
 /// per draw), sub-patch index `sub`, sub-patches per side `split`.
 pub(crate) fn push_patch_chunk(
     dev: &ash::Device,
     cmd: vk::CommandBuffer,
-    layout: vk::PipelineLayout,
+    pipeline: &Pipeline,
     base: u32,
     sub: u32,
     split: u32,
@@ -73,8 +73,16 @@ pub(crate) fn push_patch_chunk(
         pc[4 * k..4 * k + 4].copy_from_slice(&w.to_le_bytes());
     }
     // SAFETY: the caller records into a valid command buffer with a pipeline of `layout`
-    // bound, whose push-constant range is [`patch_push_constants`].
-    unsafe { dev.cmd_push_constants(cmd, layout, patch_push_stages(), 0, &pc) };
+    // bound, whose push-constant range is [`patch_push_constants`] at its push offset.
+    unsafe {
+        dev.cmd_push_constants(
+            cmd,
+            pipeline.layout,
+            patch_push_stages(),
+            pipeline.push_offset,
+            &pc,
+        )
+    };
 }
 
 /// Vertex input of pipelines that read control positions from binding 0 (tightly packed f32
@@ -119,7 +127,7 @@ pub(crate) struct PatchShaders {
 pub(crate) fn patch_pipeline(
     ctx: &Context,
     desc: &RenderDesc,
-    target: TargetFormat,
+    target: &DrawTarget,
     s: PatchShaders,
 ) -> Result<Pipeline> {
     let tese = desc.tese_name(s.tess_eval_stem);
@@ -146,5 +154,5 @@ pub(crate) fn patch_pipeline(
         set_layouts: s.set_layouts,
         push_constants: Some(patch_push_constants()),
     };
-    ctx.graphics_pipeline_for(&p, target)
+    ctx.graphics_pipeline_in(&p, target)
 }

@@ -12,7 +12,9 @@ use glam::DVec3;
 use super::capture::{capture_buffer, decode_capture, reset_capture, CaptureRecord};
 use super::frames::VertexFrames;
 use super::upload::{host_buffer, vec3_bytes, vec4_bytes};
-use crate::gpu::{Buffer, BufferBinding, Context, DescriptorBinding, DescriptorKind};
+use crate::gpu::{
+    Buffer, BufferBinding, Context, DescriptorBinding, DescriptorKind, DescriptorPool,
+};
 use crate::render::settings::FRAME_UNIFORM_BYTES;
 use crate::{Error, Result};
 
@@ -65,62 +67,114 @@ pub fn set0_layout(own: &[u32]) -> Vec<DescriptorBinding> {
     v
 }
 
-/// The buffers shared by every pass of one surface: frame uniforms, control positions, vertex
-/// limit frames and the TES capture.
-pub struct SharedResources {
+/// The host-written buffers of one frame in flight: what the CPU rewrites between frames.
+struct FrameSlot {
     frame: Buffer,
     positions: Buffer,
     vertex_limits: Buffer,
     vertex_normals: Buffer,
+    /// Version of the positions the buffers hold ([`SharedResources::stage`]).
+    version: u64,
+}
+
+impl FrameSlot {
+    fn new(ctx: &Context, staged: &Staged, k: usize) -> Result<FrameSlot> {
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let name = |what: &str| format!("{what} (frame slot {k})");
+        Ok(FrameSlot {
+            frame: host_buffer(
+                ctx,
+                &[0u8; FRAME_UNIFORM_BYTES],
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+                &name("frame uniforms"),
+            )?,
+            positions: host_buffer(
+                ctx,
+                &staged.positions,
+                storage | vk::BufferUsageFlags::VERTEX_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+                &name("control positions"),
+            )?,
+            vertex_limits: host_buffer(ctx, &staged.limits, storage, &name("vertex limits"))?,
+            vertex_normals: host_buffer(ctx, &staged.normals, storage, &name("vertex normals"))?,
+            version: staged.version,
+        })
+    }
+
+    fn buffers(&self) -> [&Buffer; 4] {
+        [
+            &self.frame,
+            &self.positions,
+            &self.vertex_limits,
+            &self.vertex_normals,
+        ]
+    }
+}
+
+/// The latest control positions and limit frames as bytes, with their version.
+struct Staged {
+    positions: Vec<u8>,
+    limits: Vec<u8>,
+    normals: Vec<u8>,
+    version: u64,
+}
+
+/// The buffers shared by every pass of one surface: per frame in flight ([`FrameSlot`]) the
+/// frame uniforms, control positions and vertex limit frames; one TES capture.
+///
+/// Frames in flight: the host writes only the slot of the frame being prepared
+/// ([`Self::write_frame`], [`Self::sync`]), so the frames still executing read their own slots
+/// untouched. New positions ([`Self::stage`]) reach each slot when that slot is next prepared.
+pub struct SharedResources {
+    slots: Vec<FrameSlot>,
+    staged: Staged,
     capture: Buffer,
     capture_capacity: Option<u32>,
     vertex_count: usize,
 }
 
 impl SharedResources {
-    /// Uploads `positions` and `frames`; `capture_capacity` records of TES capture.
+    /// Uploads `positions` and `frames` into each of `frames_in_flight` slots (at least one);
+    /// `capture_capacity` records of TES capture.
     pub fn new(
         ctx: &Context,
         positions: &[DVec3],
         frames: &VertexFrames,
         capture_capacity: Option<u32>,
+        frames_in_flight: usize,
     ) -> Result<SharedResources> {
-        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let staged = Staged {
+            positions: vec3_bytes(positions),
+            limits: vec4_bytes(&frames.limits),
+            normals: vec4_bytes(&frames.normals),
+            version: 0,
+        };
+        let slots = (0..frames_in_flight.max(1))
+            .map(|k| FrameSlot::new(ctx, &staged, k))
+            .collect::<Result<Vec<_>>>()?;
         Ok(SharedResources {
-            frame: host_buffer(
-                ctx,
-                &[0u8; FRAME_UNIFORM_BYTES],
-                vk::BufferUsageFlags::UNIFORM_BUFFER,
-                "frame uniforms",
-            )?,
-            positions: host_buffer(
-                ctx,
-                &vec3_bytes(positions),
-                storage | vk::BufferUsageFlags::VERTEX_BUFFER,
-                "control positions",
-            )?,
-            vertex_limits: host_buffer(
-                ctx,
-                &vec4_bytes(&frames.limits),
-                storage,
-                "vertex limit positions",
-            )?,
-            vertex_normals: host_buffer(
-                ctx,
-                &vec4_bytes(&frames.normals),
-                storage,
-                "vertex limit normals",
-            )?,
+            slots,
+            staged,
             capture: capture_buffer(ctx, capture_capacity.unwrap_or(0))?,
             capture_capacity,
             vertex_count: positions.len(),
         })
     }
 
-    /// The descriptor writes of the shared bindings followed by `own`. A shared binding that
-    /// `own` also writes is left to `own` (a pass with its own control points or vertex frames,
-    /// e.g. the adaptive scheme's refined buffer and GPU-computed frames).
-    pub fn bindings<'a>(&'a self, own: &[BufferBinding<'a>]) -> Vec<BufferBinding<'a>> {
+    /// Number of frame slots (frames in flight).
+    pub fn slot_count(&self) -> usize {
+        self.slots.len()
+    }
+
+    /// The descriptor writes of the shared bindings of frame slot `slot` followed by `own`. A
+    /// shared binding that `own` also writes is left to `own` (a pass with its own control
+    /// points or vertex frames, e.g. the adaptive scheme's refined buffer and GPU-computed
+    /// frames).
+    pub fn bindings<'a>(
+        &'a self,
+        slot: usize,
+        own: &[BufferBinding<'a>],
+    ) -> Vec<BufferBinding<'a>> {
+        let s = &self.slots[slot];
         let sb = |binding, buffer| BufferBinding {
             binding,
             kind: DescriptorKind::StorageBuffer,
@@ -130,41 +184,51 @@ impl SharedResources {
             BufferBinding {
                 binding: FRAME_BINDING,
                 kind: DescriptorKind::UniformBuffer,
-                buffer: &self.frame,
+                buffer: &s.frame,
             },
-            sb(VERTEX_LIMITS_BINDING, &self.vertex_limits),
+            sb(VERTEX_LIMITS_BINDING, &s.vertex_limits),
             sb(CAPTURE_BINDING, &self.capture),
-            sb(CONTROL_POSITIONS_BINDING, &self.positions),
-            sb(VERTEX_NORMALS_BINDING, &self.vertex_normals),
+            sb(CONTROL_POSITIONS_BINDING, &s.positions),
+            sb(VERTEX_NORMALS_BINDING, &s.vertex_normals),
         ];
         v.retain(|b| own.iter().all(|o| o.binding != b.binding));
         v.extend_from_slice(own);
         v
     }
 
-    /// Writes set 0 of a pass: the shared bindings and the pass's `own`.
-    pub fn write_set0(&self, ctx: &Context, set: vk::DescriptorSet, own: &[BufferBinding<'_>]) {
-        ctx.write_buffer_descriptors(set, &self.bindings(own));
+    /// Allocates set 0 of a pass once per frame slot from `pool` (sized for
+    /// [`Self::slot_count`] sets of `layout`) and writes each: the slot's shared bindings and
+    /// the pass's `own`. Index the result by slot.
+    pub fn set0_per_slot(
+        &self,
+        ctx: &Context,
+        pool: &DescriptorPool,
+        layout: vk::DescriptorSetLayout,
+        own: &[BufferBinding<'_>],
+    ) -> Result<Vec<vk::DescriptorSet>> {
+        (0..self.slots.len())
+            .map(|slot| {
+                let set = pool.allocate(layout)?;
+                ctx.write_buffer_descriptors(set, &self.bindings(slot, own));
+                Ok(set)
+            })
+            .collect()
     }
 
-    /// The control-position vertex buffer (tightly packed f32 xyz).
-    pub fn positions(&self) -> vk::Buffer {
-        self.positions.raw()
+    /// The control-position vertex buffer of frame slot `slot` (tightly packed f32 xyz).
+    pub fn positions(&self, slot: usize) -> vk::Buffer {
+        self.slots[slot].positions.raw()
     }
 
-    /// Bytes of GPU memory of the shared buffers (frame uniforms, control positions, vertex
-    /// limit frames, capture).
+    /// Bytes of GPU memory of the shared buffers (every slot's frame uniforms, control
+    /// positions and vertex limit frames; the capture).
     pub fn memory_bytes(&self) -> u64 {
-        [
-            &self.frame,
-            &self.positions,
-            &self.vertex_limits,
-            &self.vertex_normals,
-            &self.capture,
-        ]
-        .iter()
-        .map(|b| b.size())
-        .sum()
+        self.slots
+            .iter()
+            .flat_map(|s| s.buffers())
+            .map(|b| b.size())
+            .sum::<u64>()
+            + self.capture.size()
     }
 
     /// Number of control vertices.
@@ -172,13 +236,14 @@ impl SharedResources {
         self.vertex_count
     }
 
-    /// Writes the frame uniform block.
-    pub fn write_frame(&mut self, bytes: &[u8]) -> Result<()> {
-        self.frame.write(0, bytes)
+    /// Writes the frame uniform block of `slot` (the GPU must be done with that slot).
+    pub fn write_frame(&mut self, slot: usize, bytes: &[u8]) -> Result<()> {
+        self.slots[slot].frame.write(0, bytes)
     }
 
-    /// Animation: new control positions and their limit frames.
-    pub fn update(&mut self, positions: &[DVec3], frames: &VertexFrames) -> Result<()> {
+    /// Animation: new control positions and their limit frames, kept on the host until each
+    /// slot is prepared ([`Self::sync`]).
+    pub fn stage(&mut self, positions: &[DVec3], frames: &VertexFrames) -> Result<()> {
         if positions.len() != self.vertex_count {
             return Err(Error::Invalid(format!(
                 "update_positions: got {} positions, the surface has {} vertices",
@@ -186,9 +251,28 @@ impl SharedResources {
                 self.vertex_count
             )));
         }
-        self.positions.write(0, &vec3_bytes(positions))?;
-        self.vertex_limits.write(0, &vec4_bytes(&frames.limits))?;
-        self.vertex_normals.write(0, &vec4_bytes(&frames.normals))
+        self.staged = Staged {
+            positions: vec3_bytes(positions),
+            limits: vec4_bytes(&frames.limits),
+            normals: vec4_bytes(&frames.normals),
+            version: self.staged.version + 1,
+        };
+        Ok(())
+    }
+
+    /// Brings `slot` to the latest staged positions if it holds older ones (the GPU must be
+    /// done with that slot). Returns whether it wrote.
+    pub fn sync(&mut self, slot: usize) -> Result<bool> {
+        let st = &self.staged;
+        let s = &mut self.slots[slot];
+        if s.version == st.version {
+            return Ok(false);
+        }
+        s.positions.write(0, &st.positions)?;
+        s.vertex_limits.write(0, &st.limits)?;
+        s.vertex_normals.write(0, &st.normals)?;
+        s.version = st.version;
+        Ok(true)
     }
 
     /// Resets the capture counter (host write; between frames).

@@ -74,6 +74,11 @@ pub struct SchemeEntry {
     pub scheme: Scheme,
     /// Command-line name (as `clap` derives it from the variant).
     pub name: &'static str,
+    /// Control points each patch type reads (the `tessera compare` column).
+    pub control_points: &'static str,
+    /// Continuity of the drawn surface by construction (`tessera compare` also measures the
+    /// normal jump across patch edges).
+    pub continuity: &'static str,
     /// Passes, in the order faces are offered to them and drawn.
     pub passes: &'static [&'static dyn PatchScheme],
 }
@@ -83,11 +88,15 @@ pub static REGISTRY: [SchemeEntry; 6] = [
     SchemeEntry {
         scheme: Scheme::BsplineOnly,
         name: "bspline-only",
+        control_points: "16 (B-spline); other faces on the CPU",
+        continuity: "exact limit: C2, G1 at extraordinary vertices",
         passes: &[&bspline::BSPLINE],
     },
     SchemeEntry {
         scheme: Scheme::GregoryVs,
         name: "gregory-vs",
+        control_points: "16 (B-spline, single-crease), 20 / 15 (Gregory quad / tri, from the 1-ring in VS + TCS)",
+        continuity: "exact on B-spline and single-crease patches; Gregory faces approximate, G1 by construction",
         passes: &[
             &bspline::BSPLINE,
             &single_crease::SINGLE_CREASE,
@@ -97,6 +106,8 @@ pub static REGISTRY: [SchemeEntry; 6] = [
     SchemeEntry {
         scheme: Scheme::GregoryStencil,
         name: "gregory-stencil",
+        control_points: "16 (B-spline, single-crease), 20 / 15 (Gregory quad / tri, one-ring stencils in the TCS)",
+        continuity: "exact on B-spline and single-crease patches; Gregory faces approximate, G1 by construction",
         passes: &[
             &bspline::BSPLINE,
             &single_crease::SINGLE_CREASE,
@@ -106,16 +117,22 @@ pub static REGISTRY: [SchemeEntry; 6] = [
     SchemeEntry {
         scheme: Scheme::Adaptive,
         name: "adaptive",
+        control_points: "16 (B-spline, single-crease, transition, every level), 20 (Gregory end caps at the isolation level)",
+        continuity: "exact except the end caps (approximate, G1 by construction), whose area shrinks 4x per level",
         passes: &[&adaptive::ADAPTIVE],
     },
     SchemeEntry {
         scheme: Scheme::Qas,
         name: "qas",
+        control_points: "9 + 9 (biquadratic position and normal patches, quads), 6 + 6 (quadratic triangles), from one Catmull-Clark step's limit points",
+        continuity: "C0 positions (bitwise watertight), normals continuous across edges from the normal patch; interpolates the step's limit points",
         passes: &[&qas::QAS],
     },
     SchemeEntry {
         scheme: Scheme::Acc,
         name: "acc",
+        control_points: "16 (bicubic geometry patch from the one-ring masks) + the rows beside each edge for its normals",
+        continuity: "exact on regular quads; C0 with edge normals shared, not G1 next to extraordinary vertices (no tangent patches)",
         passes: &[&acc::ACC],
     },
 ];
@@ -145,6 +162,16 @@ impl Scheme {
     }
 
     /// The passes drawing this scheme's faces, in order.
+    /// [`SchemeEntry::control_points`].
+    pub fn control_points(self) -> &'static str {
+        self.entry().control_points
+    }
+
+    /// [`SchemeEntry::continuity`].
+    pub fn continuity(self) -> &'static str {
+        self.entry().continuity
+    }
+
     pub fn passes(self) -> &'static [&'static dyn PatchScheme] {
         self.entry().passes
     }

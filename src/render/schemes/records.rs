@@ -45,7 +45,8 @@ pub struct RecordPass {
     records: Buffer,
     indices: Buffer,
     _pool: DescriptorPool,
-    set: vk::DescriptorSet,
+    /// Set 0 per frame slot (the shared bindings of that slot, the records).
+    sets: Vec<vk::DescriptorSet>,
     groups: Vec<(Pipeline, u32, u32)>,
     per_draw: u32,
     count: u32,
@@ -92,30 +93,31 @@ impl RecordPass {
             )?;
             pipelines.push((pipeline, g.first, g.count));
         }
-        let pool = DescriptorPool::new(ctx, 1, 4 + own.len() as u32, 1)?;
         let layout = pipelines
             .first()
             .map(|p| p.0.set_layouts[0])
             .ok_or_else(|| {
                 crate::Error::Invalid(format!("{label}: a record pass needs at least one patch"))
             })?;
-        let set = pool.allocate(layout)?;
+        let n = pc.shared.slot_count() as u32;
+        let pool = DescriptorPool::new(ctx, n, n * (5 + own.len() as u32), n)?;
         let sb = |binding| BufferBinding {
             binding,
             kind: DescriptorKind::StorageBuffer,
             buffer: &records,
         };
-        pc.shared.write_set0(
+        let sets = pc.shared.set0_per_slot(
             ctx,
-            set,
+            &pool,
+            layout,
             &[sb(UNUSED_PATCH_INFO_BINDING), sb(RECORDS_BINDING)],
-        );
+        )?;
         Ok(RecordPass {
             ctx: ctx.clone(),
             records,
             indices,
             _pool: pool,
-            set,
+            sets,
             groups: pipelines,
             per_draw: patches_per_draw_at_level(largest_level(pc)),
             count,
@@ -132,16 +134,24 @@ impl RecordPass {
         self.records.size() + self.indices.size()
     }
 
-    /// Rewrites the records (same count; animation).
+    /// Rewrites the records (same count; animation). One buffer serves every frame slot, so
+    /// as [`PatchPass::update_positions`] says, no frame using it may be executing.
     pub fn write_records(&mut self, bytes: &[u8]) -> Result<()> {
         self.records.write(0, bytes)
     }
 
-    /// Records the draws of every group inside the caller's render pass.
-    pub fn record(&self, cmd: vk::CommandBuffer) {
+    /// Records the draws of every group of frame slot `slot` inside the caller's render pass.
+    pub fn record(&self, cmd: vk::CommandBuffer, slot: usize) {
         let dev = self.ctx.device();
         for (pipeline, first, count) in &self.groups {
-            bind_draw_state(dev, cmd, pipeline, &[self.set], None, self.indices.raw());
+            bind_draw_state(
+                dev,
+                cmd,
+                pipeline,
+                &[self.sets[slot]],
+                None,
+                self.indices.raw(),
+            );
             // Runs below lavapipe's domain-point budget per draw; record_patch_draws further
             // chunks each run by its index count.
             let mut done = 0;
@@ -155,7 +165,7 @@ impl RecordPass {
                     sub_draws: 1,
                     sub_flag: 0,
                 };
-                record_patch_draws(dev, cmd, pipeline.layout, &draws, 1);
+                record_patch_draws(dev, cmd, pipeline, &draws, 1);
                 done += n;
             }
         }
@@ -215,8 +225,8 @@ impl<T: RecordTables> PatchPass for RecordTablesPass<T> {
         self.pass.memory_bytes()
     }
 
-    fn record(&self, cmd: vk::CommandBuffer) {
-        self.pass.record(cmd);
+    fn record(&self, cmd: vk::CommandBuffer, slot: usize) {
+        self.pass.record(cmd, slot);
     }
 
     fn update_positions(&mut self, positions: &[DVec3], _: &VertexFrames) -> Result<()> {

@@ -9,7 +9,7 @@ use std::sync::Arc;
 use ash::vk;
 use glam::DVec3;
 
-use crate::gpu::{Context, TargetFormat};
+use crate::gpu::{Context, DrawTarget};
 use crate::patch::acc::NotAcc;
 use crate::patch::gregory::NotGregory;
 use crate::patch::qas::NotQas;
@@ -236,7 +236,7 @@ pub struct PassContext<'a> {
     /// Render description, its tessellation settings resolved ([`crate::render::resolve_tess`]).
     pub desc: &'a RenderDesc,
     /// Format of the render targets the pipelines draw into.
-    pub target: TargetFormat,
+    pub target: &'a DrawTarget,
 }
 
 /// The CPU tables of one pass of one surface (built once per topology; pure data).
@@ -249,12 +249,6 @@ pub trait PassTables: fmt::Debug + Send + Sync + Any {
 
     /// Patches drawn (a face may need several).
     fn patch_count(&self) -> usize;
-
-    /// Control points (coefficients the evaluation reads) per patch, averaged over the pass's
-    /// patches, for comparisons between schemes; `None` where the pass does not say.
-    fn control_points_per_patch(&self) -> Option<f64> {
-        None
-    }
 
     /// Writes the limit position and normal of each of its patch corners not yet written
     /// (passes run in registry order: the first that has a vertex wins).
@@ -301,10 +295,11 @@ pub trait PatchPass {
 
     /// Records work that must run before any draw of the frame, outside the render pass (e.g.
     /// compute refinement of the control points). Default: none.
-    fn record_compute(&self, _cmd: vk::CommandBuffer) {}
+    /// `slot` is the frame slot being recorded (its shared buffers and sets).
+    fn record_compute(&self, _cmd: vk::CommandBuffer, _slot: usize) {}
 
-    /// Records the draws inside the caller's render pass.
-    fn record(&self, cmd: vk::CommandBuffer);
+    /// Records the draws of frame slot `slot` inside the caller's render pass.
+    fn record(&self, cmd: vk::CommandBuffer, slot: usize);
 
     /// Bytes of GPU buffer memory the pass holds of its own (tables, indices, computed points;
     /// not the renderer's shared buffers). Default: 0.

@@ -158,6 +158,62 @@ pub fn eigen_limit_locked(
     None
 }
 
+/// Orientation of the tangent pair `t` for the face whose edge vectors at the vertex are `xa`,
+/// `xb` (counter-clockwise): `+1` if `t[0] x t[1]` is the face's outward normal, `-1` if not.
+///
+/// The face's corner `(v, e_a, e_b)` after `k` steps is `(xa S^k, xb S^k)`; its wedge tends to
+/// `D l_1 ^ l_2` over the leading left modes, with `D` the orientation of the characteristic map
+/// on that face. Orthonormalising the pair each step (Gram-Schmidt, which keeps the wedge's sign)
+/// and pairing it with `t[0] ^ t[1]` gives that sign; the iteration stops once the pairing has
+/// settled. `None` if `t` is degenerate or the pairing vanishes.
+pub fn face_orientation(
+    s: &Dense,
+    centre: usize,
+    xa: &[f64],
+    xb: &[f64],
+    t: [&[f64]; 2],
+) -> Option<f64> {
+    let l = dominant(s, centre)?;
+    let deflate = |x: &mut Vec<f64>| {
+        let c: f64 = x.iter().sum();
+        for (xi, li) in x.iter_mut().zip(&l) {
+            *xi -= c * li;
+        }
+    };
+    let unit = |x: &mut Vec<f64>| -> bool {
+        let n = norm(x);
+        x.iter_mut().for_each(|v| *v /= n);
+        n > 1e-300
+    };
+    let (mut t0, mut t1) = (t[0].to_vec(), t[1].to_vec());
+    if !unit(&mut t0) || !unit(&mut t1) {
+        return None;
+    }
+    let (mut ya, mut yb) = (xa.to_vec(), xb.to_vec());
+    let mut last = 0.0;
+    let steps = (4_000_000 / (s.m * s.m)).clamp(40, 400);
+    for it in 0..steps {
+        ya = s.left_mul(&ya);
+        yb = s.left_mul(&yb);
+        deflate(&mut ya);
+        deflate(&mut yb);
+        if !unit(&mut ya) {
+            return None;
+        }
+        let d = dot(&yb, &ya);
+        yb.iter_mut().zip(&ya).for_each(|(b, a)| *b -= d * a);
+        if !unit(&mut yb) {
+            return None;
+        }
+        let w = dot(&t0, &ya) * dot(&t1, &yb) - dot(&t0, &yb) * dot(&t1, &ya);
+        if it >= 8 && (w - last).abs() < 1e-9 {
+            break;
+        }
+        last = w;
+    }
+    (last.abs() > 1e-6).then(|| last.signum())
+}
+
 /// Result of [`eigen_limit`]: weights over the ring entries of the local subdivision matrix.
 #[derive(Debug, Clone)]
 pub struct EigenLimit {
@@ -168,7 +224,7 @@ pub struct EigenLimit {
     pub tangents: [Vec<f64>; 2],
 }
 
-fn dot(a: &[f64], b: &[f64]) -> f64 {
+pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
@@ -182,15 +238,24 @@ fn norm(a: &[f64]) -> f64 {
 ///
 /// `centre` is the ring entry of the vertex; `start = [x_a, x_b]` are the face's two edge
 /// vectors at the vertex (`e_a - e_centre`, `e_b - e_centre`, counter-clockwise). The first
-/// tangent is the dominant mode reached from `x_a + x_b` (power iteration with deflation of the
-/// eigenvalue 1), the second the dominant mode of the quotient by the first, signed by
-/// `x_b - x_a`. Since `(x_a + x_b) x (x_b - x_a) = 2 x_a x x_b`, the pair keeps the face's
-/// orientation. This also covers spectra whose top mode is simple (darts, corner tags with
-/// smooth edges) where the tangent "plane" is spanned by two modes of different eigenvalues.
+/// tangent is the dominant mode reached from `x_a + x_b` ([`subdominant`]), the second the
+/// dominant mode of the quotient by the first, signed by `x_b - x_a`. Since
+/// `(x_a + x_b) x (x_b - x_a) = 2 x_a x x_b`, the pair keeps the face's orientation. This also
+/// covers spectra whose top mode is simple (darts, corner tags with smooth edges, sectors of five
+/// or more faces) where the tangent plane is spanned by two modes of different eigenvalues.
 /// Returns `None` when the iteration does not converge.
 pub fn eigen_limit(s: &Dense, centre: usize, start: [Vec<f64>; 2]) -> Option<EigenLimit> {
-    let l = dominant(s, centre)?;
     let [xa, xb] = start;
+    let sum: Vec<f64> = xa.iter().zip(&xb).map(|(a, b)| a + b).collect();
+    let t1 = subdominant(s, centre, sum)?;
+    let hint: Vec<f64> = xa.iter().zip(&xb).map(|(a, b)| b - a).collect();
+    eigen_limit_locked(s, centre, t1, hint)
+}
+
+/// The dominant left eigenvector of `s` once the eigenvalue 1 is deflated (power iteration from
+/// `start`, unit length, the sign it converges to). `None` without convergence.
+pub fn subdominant(s: &Dense, centre: usize, start: Vec<f64>) -> Option<Vec<f64>> {
+    let l = dominant(s, centre)?;
     let deflate_unit = |x: &mut Vec<f64>| -> bool {
         let c: f64 = x.iter().sum();
         for (xi, li) in x.iter_mut().zip(&l) {
@@ -203,12 +268,11 @@ pub fn eigen_limit(s: &Dense, centre: usize, start: [Vec<f64>; 2]) -> Option<Eig
         x.iter_mut().for_each(|v| *v /= n);
         true
     };
-    let mut x: Vec<f64> = xa.iter().zip(&xb).map(|(a, b)| a + b).collect();
+    let mut x = start;
     if !deflate_unit(&mut x) {
         return None;
     }
     let max_iter = (20_000_000 / (s.m * s.m)).clamp(4000, 50_000);
-    let mut t1 = None;
     for it in 0..max_iter {
         let mut y = s.left_mul(&x);
         if !deflate_unit(&mut y) {
@@ -222,13 +286,10 @@ pub fn eigen_limit(s: &Dense, centre: usize, start: [Vec<f64>; 2]) -> Option<Eig
             .sqrt();
         x = y;
         if diff < 1e-13 || (it + 1 == max_iter && diff < 1e-7) {
-            t1 = Some(x);
-            break;
+            return Some(x);
         }
     }
-    let t1 = t1?;
-    let hint: Vec<f64> = xa.iter().zip(&xb).map(|(a, b)| b - a).collect();
-    eigen_limit_locked(s, centre, t1, hint)
+    None
 }
 
 #[cfg(test)]

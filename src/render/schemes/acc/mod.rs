@@ -122,11 +122,6 @@ impl PassTables for AccTables {
         self.faces.len()
     }
 
-    fn control_points_per_patch(&self) -> Option<f64> {
-        // 16 Bézier points and the 16 points of the rows beside the edges.
-        Some(32.0)
-    }
-
     fn corner_frames(&self, positions: &[DVec3], rule: NormalRule<'_>, frames: &mut VertexFrames) {
         for &f in &self.faces {
             let Ok(patch) = acc_patch(&self.topo, positions, f) else {

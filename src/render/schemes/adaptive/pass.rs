@@ -49,7 +49,10 @@ pub struct AdaptivePass {
     _records: Vec<Buffer>,
     groups: Vec<DrawGroup>,
     _pool: DescriptorPool,
-    set: vk::DescriptorSet,
+    /// Set 0 per frame slot.
+    sets: Vec<vk::DescriptorSet>,
+    /// The shared control positions per frame slot (level 0 of the refinement).
+    control: Vec<vk::Buffer>,
     patches: u32,
 }
 
@@ -247,15 +250,16 @@ impl AdaptivePass {
                 vertices,
             });
         }
-        let pool = DescriptorPool::new(ctx, 1, 16, 1)?;
-        let set = pool.allocate(match groups.first() {
+        let n = pc.shared.slot_count() as u32;
+        let pool = DescriptorPool::new(ctx, n, 16 * n, n)?;
+        let layout = match groups.first() {
             Some(g) => g.pipeline.set_layouts[0],
             None => {
                 return Err(crate::Error::Invalid(
                     "adaptive scheme: no patch to draw".into(),
                 ))
             }
-        })?;
+        };
         let sb = |binding, buffer| BufferBinding {
             binding,
             kind: DescriptorKind::StorageBuffer,
@@ -270,7 +274,7 @@ impl AdaptivePass {
         own.push(sb(CONTROL_POSITIONS_BINDING, refiner.points()));
         own.push(sb(VERTEX_LIMITS_BINDING, derived.limits()));
         own.push(sb(VERTEX_NORMALS_BINDING, derived.normals()));
-        pc.shared.write_set0(ctx, set, &own);
+        let sets = pc.shared.set0_per_slot(ctx, &pool, layout, &own)?;
         Ok(AdaptivePass {
             ctx: ctx.clone(),
             patches: d.primitive_count() as u32,
@@ -279,7 +283,8 @@ impl AdaptivePass {
             _records: records,
             groups,
             _pool: pool,
-            set,
+            sets,
+            control: (0..n as usize).map(|k| pc.shared.positions(k)).collect(),
         })
     }
 
@@ -315,20 +320,20 @@ impl PatchPass for AdaptivePass {
         AdaptivePass::memory_bytes(self)
     }
 
-    fn record_compute(&self, cmd: vk::CommandBuffer) {
+    fn record_compute(&self, cmd: vk::CommandBuffer, slot: usize) {
         let dev = self.ctx.device();
-        self.refiner.record(dev, cmd);
+        self.refiner.record_from(dev, cmd, self.control[slot]);
         self.derived.record(dev, cmd);
     }
 
-    fn record(&self, cmd: vk::CommandBuffer) {
+    fn record(&self, cmd: vk::CommandBuffer, slot: usize) {
         let dev = self.ctx.device();
         for g in &self.groups {
             bind_draw_state(
                 dev,
                 cmd,
                 &g.pipeline,
-                &[self.set],
+                &[self.sets[slot]],
                 g.vertices,
                 g.indices.raw(),
             );
@@ -340,12 +345,13 @@ impl PatchPass for AdaptivePass {
                 sub_draws: 1,
                 sub_flag: 0,
             };
-            record_patch_draws(dev, cmd, g.pipeline.layout, &draws, 1);
+            record_patch_draws(dev, cmd, &g.pipeline, &draws, 1);
         }
     }
 
-    fn update_positions(&mut self, positions: &[DVec3], _: &VertexFrames) -> Result<()> {
-        // Only the control points cross the bus; refinement and frames run on the GPU.
-        self.refiner.update_control_points(positions)
+    fn update_positions(&mut self, _: &[DVec3], _: &VertexFrames) -> Result<()> {
+        // Only the control points cross the bus (the shared positions of each frame slot,
+        // copied into level 0 by `record_compute`); refinement and frames run on the GPU.
+        Ok(())
     }
 }

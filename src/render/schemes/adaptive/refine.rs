@@ -129,9 +129,17 @@ impl GpuRefiner {
         self.tables.size() + self.points.size() + self.staging.size()
     }
 
-    /// Records the level-0 copy and every level's kernels into `cmd` (recording, outside a
-    /// render pass), ending with a barrier to vertex input, tessellation and transfer reads.
+    /// Records the level-0 copy from the points of [`Self::update_control_points`] and every
+    /// level's kernels into `cmd` ([`Self::record_from`]).
     pub fn record(&self, dev: &ash::Device, cmd: vk::CommandBuffer) {
+        self.record_from(dev, cmd, self.staging.raw());
+    }
+
+    /// Records the level-0 copy from `control` (a `TRANSFER_SRC` buffer of at least the base
+    /// vertices' tightly packed f32 xyz, host writes to it made before submission) and every
+    /// level's kernels into `cmd` (recording, outside a render pass), ending with a barrier to
+    /// vertex input, tessellation and transfer reads.
+    pub fn record_from(&self, dev: &ash::Device, cmd: vk::CommandBuffer, control: vk::Buffer) {
         use vk::{AccessFlags as A, PipelineStageFlags as S};
         let readers = S::VERTEX_INPUT
             | S::VERTEX_SHADER
@@ -146,7 +154,7 @@ impl GpuRefiner {
         );
         let region = vk::BufferCopy::default().size(u64::from(self.control_count) * 12);
         // SAFETY: both buffers are valid, the region lies inside both.
-        unsafe { dev.cmd_copy_buffer(cmd, self.staging.raw(), self.points.raw(), &[region]) };
+        unsafe { dev.cmd_copy_buffer(cmd, control, self.points.raw(), &[region]) };
         let compute = (S::COMPUTE_SHADER, A::SHADER_READ | A::SHADER_WRITE);
         memory_barrier(dev, cmd, (S::TRANSFER, A::TRANSFER_WRITE), compute);
         let layout = self.pipelines[0].layout;

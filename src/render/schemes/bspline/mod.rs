@@ -181,10 +181,6 @@ impl PassTables for BSplineTables {
         true
     }
 
-    fn control_points_per_patch(&self) -> Option<f64> {
-        Some(16.0)
-    }
-
     fn corner_frames(&self, positions: &[DVec3], rule: NormalRule<'_>, frames: &mut VertexFrames) {
         for p in &self.patches {
             grid_corner_frames(
@@ -260,11 +256,11 @@ pub struct GridPatchPass {
     label: &'static str,
     count: u32,
     split: u32,
-    positions: vk::Buffer,
+    positions: Vec<vk::Buffer>,
     _patch_info: Buffer,
     indices: Buffer,
     _pool: DescriptorPool,
-    set: vk::DescriptorSet,
+    sets: Vec<vk::DescriptorSet>,
     pipeline: Pipeline,
 }
 
@@ -309,25 +305,27 @@ impl GridPatchPass {
                 set_layouts: vec![set0_layout(&own_bindings)],
             },
         )?;
-        let pool = DescriptorPool::new(ctx, 1, 5 + own_bindings.len() as u32, 1)?;
-        let set = pool.allocate(pipeline.set_layouts[0])?;
+        let n = pc.shared.slot_count() as u32;
+        let pool = DescriptorPool::new(ctx, n, n * (5 + own_bindings.len() as u32), n)?;
         let mut own = vec![BufferBinding {
             binding: PATCH_INFO_BINDING,
             kind: DescriptorKind::StorageBuffer,
             buffer: &patch_info,
         }];
         own.extend_from_slice(spec.own);
-        pc.shared.write_set0(ctx, set, &own);
+        let sets = pc
+            .shared
+            .set0_per_slot(ctx, &pool, pipeline.set_layouts[0], &own)?;
         Ok(GridPatchPass {
             ctx: ctx.clone(),
             label: spec.label,
             count: spec.patches.len() as u32,
             split: pc.desc.tess.split(),
-            positions: pc.shared.positions(),
+            positions: (0..n as usize).map(|k| pc.shared.positions(k)).collect(),
             _patch_info: patch_info,
             indices,
             _pool: pool,
-            set,
+            sets,
             pipeline,
         })
     }
@@ -346,14 +344,14 @@ impl PatchPass for GridPatchPass {
         self.count
     }
 
-    fn record(&self, cmd: vk::CommandBuffer) {
+    fn record(&self, cmd: vk::CommandBuffer, slot: usize) {
         let dev = self.ctx.device();
         bind_draw_state(
             dev,
             cmd,
             &self.pipeline,
-            &[self.set],
-            Some(self.positions),
+            &[self.sets[slot]],
+            Some(self.positions[slot]),
             self.indices.raw(),
         );
         let draws = PatchDraws {
@@ -364,7 +362,7 @@ impl PatchPass for GridPatchPass {
             sub_draws: self.split * self.split,
             sub_flag: 0,
         };
-        record_patch_draws(dev, cmd, self.pipeline.layout, &draws, self.split);
+        record_patch_draws(dev, cmd, &self.pipeline, &draws, self.split);
     }
 
     fn update_positions(&mut self, _: &[DVec3], _: &VertexFrames) -> Result<()> {

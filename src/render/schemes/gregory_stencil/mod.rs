@@ -222,14 +222,15 @@ pub struct GregoryStencilPass {
     groups: Vec<DrawGroup>,
     count: u32,
     split: u32,
-    positions: vk::Buffer,
+    positions: Vec<vk::Buffer>,
     _weights: Buffer,
     _masks: Buffer,
     _records: Buffer,
     _tes: GregoryTesBuffers,
     indices: Buffer,
     _pool: DescriptorPool,
-    set0: vk::DescriptorSet,
+    /// Set 0 per frame slot.
+    set0: Vec<vk::DescriptorSet>,
     set1: vk::DescriptorSet,
 }
 
@@ -294,12 +295,14 @@ impl GregoryStencilPass {
             "gregory stencil ring indices",
         )?;
         let tes = GregoryTesBuffers::new(ctx, &plan.layout)?;
-        let pool = DescriptorPool::new(ctx, 2, 12, 1)?;
-        let (mut set0, mut set1) = (vk::DescriptorSet::null(), vk::DescriptorSet::null());
+        let n = pc.shared.slot_count() as u32;
+        let pool = DescriptorPool::new(ctx, n + 1, 9 * n + 3, n)?;
+        let (mut set0, mut set1) = (Vec::new(), vk::DescriptorSet::null());
         if let Some(g) = groups.first() {
-            set0 = pool.allocate(g.pipeline.set_layouts[0])?;
+            set0 =
+                pc.shared
+                    .set0_per_slot(ctx, &pool, g.pipeline.set_layouts[0], &tes.bindings())?;
             set1 = pool.allocate(g.pipeline.set_layouts[1])?;
-            pc.shared.write_set0(ctx, set0, &tes.bindings());
             let sb = |binding, buffer| BufferBinding {
                 binding,
                 kind: DescriptorKind::StorageBuffer,
@@ -312,7 +315,7 @@ impl GregoryStencilPass {
             groups,
             count: total,
             split: pc.desc.tess.split(),
-            positions: pc.shared.positions(),
+            positions: (0..n as usize).map(|k| pc.shared.positions(k)).collect(),
             _weights: weights,
             _masks: masks,
             _records: records,
@@ -345,15 +348,15 @@ impl PatchPass for GregoryStencilPass {
     /// Quads with the renderer's sub-patch split, triangles whole but told the quads' split, so
     /// their edge levels and edge parameters match the split quads (`gregory_tri_edge_level` /
     /// `edge_ts` in `glsl/gregory/`).
-    fn record(&self, cmd: vk::CommandBuffer) {
+    fn record(&self, cmd: vk::CommandBuffer, slot: usize) {
         let dev = self.ctx.device();
         for g in &self.groups {
             bind_draw_state(
                 dev,
                 cmd,
                 &g.pipeline,
-                &[self.set0, self.set1],
-                Some(self.positions),
+                &[self.set0[slot], self.set1],
+                Some(self.positions[slot]),
                 self.indices.raw(),
             );
             let draws = PatchDraws {
@@ -368,7 +371,7 @@ impl PatchPass for GregoryStencilPass {
                 },
                 sub_flag: 0,
             };
-            record_patch_draws(dev, cmd, g.pipeline.layout, &draws, self.split);
+            record_patch_draws(dev, cmd, &g.pipeline, &draws, self.split);
         }
     }
 

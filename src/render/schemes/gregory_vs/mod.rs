@@ -271,7 +271,8 @@ pub struct GregoryVsPass {
     _tes: GregoryTesBuffers,
     indices: Buffer,
     _pool: DescriptorPool,
-    set: vk::DescriptorSet,
+    /// Set 0 per frame slot.
+    sets: Vec<vk::DescriptorSet>,
     quad_pipeline: Pipeline,
     tri_pipeline: Pipeline,
 }
@@ -332,8 +333,8 @@ impl GregoryVsPass {
         )?;
         let quad_pipeline = pipeline(pc, budget, true)?;
         let tri_pipeline = pipeline(pc, budget, false)?;
-        let pool = DescriptorPool::new(ctx, 1, 10, 1)?;
-        let set = pool.allocate(quad_pipeline.set_layouts[0])?;
+        let n = pc.shared.slot_count() as u32;
+        let pool = DescriptorPool::new(ctx, n, 10 * n, n)?;
         let sb = |binding, buffer| BufferBinding {
             binding,
             kind: DescriptorKind::StorageBuffer,
@@ -344,7 +345,9 @@ impl GregoryVsPass {
             sb(CONNECTIVITY_BINDING, &conn),
             sb(CORNER_RING_BINDING, &corner_ring),
         ]);
-        pc.shared.write_set0(ctx, set, &own);
+        let sets = pc
+            .shared
+            .set0_per_slot(ctx, &pool, quad_pipeline.set_layouts[0], &own)?;
         Ok(GregoryVsPass {
             ctx: ctx.clone(),
             quads: layout.quad_count,
@@ -355,7 +358,7 @@ impl GregoryVsPass {
             _tes: tes,
             indices,
             _pool: pool,
-            set,
+            sets,
             quad_pipeline,
             tri_pipeline,
         })
@@ -409,7 +412,7 @@ impl PatchPass for GregoryVsPass {
 
     /// Quads in sub-patch splits like the regular patches, triangles in as many sub-triangles
     /// (sub index | [`TRI_SUB_MODE`]), their edges on the split quads' lattice.
-    fn record(&self, cmd: vk::CommandBuffer) {
+    fn record(&self, cmd: vk::CommandBuffer, slot: usize) {
         let dev = self.ctx.device();
         let subs = self.split * self.split;
         for (pipe, draws) in [
@@ -439,8 +442,8 @@ impl PatchPass for GregoryVsPass {
             if draws.count == 0 {
                 continue;
             }
-            bind_draw_state(dev, cmd, pipe, &[self.set], None, self.indices.raw());
-            record_patch_draws(dev, cmd, pipe.layout, &draws, self.split);
+            bind_draw_state(dev, cmd, pipe, &[self.sets[slot]], None, self.indices.raw());
+            record_patch_draws(dev, cmd, pipe, &draws, self.split);
         }
     }
 

@@ -128,18 +128,6 @@ impl PassTables for QasTables {
         self.surface.patches.len()
     }
 
-    fn control_points_per_patch(&self) -> Option<f64> {
-        // Position and normal coefficients: 18 per quad, 12 per triangle.
-        let n = self.surface.patches.len().max(1) as f64;
-        let sum: usize = self
-            .surface
-            .patches
-            .iter()
-            .map(|p| 2 * p.kind.points())
-            .sum();
-        Some(sum as f64 / n)
-    }
-
     fn corner_frames(&self, positions: &[DVec3], rule: NormalRule<'_>, frames: &mut VertexFrames) {
         let points = self.surface.points(positions);
         for p in &self.surface.patches {

@@ -311,8 +311,8 @@ impl PatchPass for SingleCreasePass {
         self.grid.patch_count()
     }
 
-    fn record(&self, cmd: vk::CommandBuffer) {
-        self.grid.record(cmd);
+    fn record(&self, cmd: vk::CommandBuffer, slot: usize) {
+        self.grid.record(cmd, slot);
     }
 
     fn update_positions(&mut self, positions: &[DVec3], frames: &VertexFrames) -> Result<()> {

@@ -1,0 +1,200 @@
+// osd_eval: OpenSubdiv 3.5 Far feature-adaptive patches with Gregory-basis end caps, evaluated on the
+// same (face, u, v) grid as `tessera limit --grid N`, in the same line format, so the two can be
+// compared point by point (tools/osd_eval/compare.py). A dev-only yardstick, never part of the crate:
+//   g++ -O2 -std=c++14 osd_eval.cpp -o osd_eval -losdCPU      (Debian: libosd-dev)
+//   osd_eval MESH.obj ISOLATION GRID [single-crease] > osd.txt
+// Reads `v`, `f` and the OpenSubdiv tags tessera reads (crease, corner, hole, interpolateboundary,
+// creasemethod; interpolateboundary 0 none, 1 edge-and-corner (the default), 2 edge-only, as tessera).
+// Quads print `f u v ...`; sub-face k of another face prints `f:k u v ...` (ptex order).
+#include <opensubdiv/far/patchMap.h>
+#include <opensubdiv/far/patchTableFactory.h>
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/ptexIndices.h>
+#include <opensubdiv/far/stencilTable.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace OpenSubdiv;
+
+struct Point {
+    double p[3];
+    void Clear() { p[0] = p[1] = p[2] = 0.0; }
+    void AddWithWeight(Point const &s, double w) {
+        for (int k = 0; k < 3; ++k) p[k] += w * s.p[k];
+    }
+};
+
+struct Mesh {
+    std::vector<Point> verts;
+    std::vector<int> sizes, indices, creasePairs, cornerVerts, holes;
+    std::vector<float> creaseWeights, cornerWeights;
+    Sdc::Options options;
+};
+
+static int index_of(const std::string &token) { return std::stoi(token.substr(0, token.find('/'))) - 1; }
+
+static bool load(const char *path, Mesh &m) {
+    std::ifstream in(path);
+    if (!in) return false;
+    m.options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
+    std::string line;
+    while (std::getline(in, line)) {
+        std::istringstream s(line);
+        std::string tag;
+        s >> tag;
+        if (tag == "v") {
+            Point p;
+            s >> p.p[0] >> p.p[1] >> p.p[2];
+            m.verts.push_back(p);
+        } else if (tag == "f") {
+            std::string t;
+            int n = 0;
+            while (s >> t) {
+                m.indices.push_back(index_of(t));
+                ++n;
+            }
+            m.sizes.push_back(n);
+        } else if (tag == "t") {
+            std::string name, counts;
+            s >> name >> counts;
+            int ni = 0, nf = 0, ns = 0;
+            std::sscanf(counts.c_str(), "%d/%d/%d", &ni, &nf, &ns);
+            std::vector<int> ints(ni);
+            for (auto &i : ints) s >> i;
+            std::vector<float> floats(nf);
+            for (auto &f : floats) s >> f;
+            if (name == "crease")
+                for (int k = 0; k + 1 < ni; k += 2) {
+                    m.creasePairs.push_back(ints[k]);
+                    m.creasePairs.push_back(ints[k + 1]);
+                    m.creaseWeights.push_back(floats.empty() ? 10.0f : floats[0]);
+                }
+            else if (name == "corner")
+                for (int k = 0; k < ni; ++k) {
+                    m.cornerVerts.push_back(ints[k]);
+                    m.cornerWeights.push_back(floats.empty() ? 10.0f : floats[0]);
+                }
+            else if (name == "hole")
+                for (int k = 0; k < ni; ++k) m.holes.push_back(ints[k]);
+            else if (name == "interpolateboundary" && ni > 0)
+                m.options.SetVtxBoundaryInterpolation(
+                    ints[0] == 0 ? Sdc::Options::VTX_BOUNDARY_NONE
+                    : ints[0] == 1 ? Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER
+                                   : Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+            else if (name == "creasemethod") {
+                std::string method;
+                s >> method;
+                if (method == "chaikin") m.options.SetCreasingMethod(Sdc::Options::CREASE_CHAIKIN);
+            }
+        }
+    }
+    return true;
+}
+
+int main(int argc, char **argv) {
+    if (argc < 4) {
+        std::fprintf(stderr, "usage: osd_eval MESH.obj ISOLATION GRID [single-crease]\n");
+        return 2;
+    }
+    Mesh m;
+    if (!load(argv[1], m)) {
+        std::fprintf(stderr, "cannot read %s\n", argv[1]);
+        return 1;
+    }
+    const int isolation = std::atoi(argv[2]), grid = std::atoi(argv[3]);
+    const bool singleCrease = argc > 4 && std::string(argv[4]) == "single-crease";
+
+    Far::TopologyDescriptor desc;
+    desc.numVertices = (int)m.verts.size();
+    desc.numFaces = (int)m.sizes.size();
+    desc.numVertsPerFace = m.sizes.data();
+    desc.vertIndicesPerFace = m.indices.data();
+    desc.numCreases = (int)m.creaseWeights.size();
+    desc.creaseVertexIndexPairs = m.creasePairs.data();
+    desc.creaseWeights = m.creaseWeights.data();
+    desc.numCorners = (int)m.cornerWeights.size();
+    desc.cornerVertexIndices = m.cornerVerts.data();
+    desc.cornerWeights = m.cornerWeights.data();
+    desc.numHoles = (int)m.holes.size();
+    desc.holeIndices = m.holes.data();
+    using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+    Far::TopologyRefiner *refiner =
+        Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, m.options));
+    if (!refiner) return 1;
+
+    Far::PatchTableFactory::Options popts(isolation);
+    popts.SetEndCapType(Far::PatchTableFactory::Options::ENDCAP_GREGORY_BASIS);
+    popts.SetPatchPrecision<double>();
+    popts.useSingleCreasePatch = singleCrease;
+    popts.useInfSharpPatch = true;
+    Far::TopologyRefiner::AdaptiveOptions aopts = popts.GetRefineAdaptiveOptions();
+    refiner->RefineAdaptive(aopts);
+    Far::PatchTable *table = Far::PatchTableFactory::Create(*refiner, popts);
+
+    const int refined = refiner->GetNumVerticesTotal();
+    std::vector<Point> points(refined + table->GetNumLocalPoints());
+    std::copy(m.verts.begin(), m.verts.end(), points.begin());
+    Far::PrimvarRefinerReal<double> primvar(*refiner);
+    Point *src = points.data();
+    for (int level = 1; level <= refiner->GetMaxLevel(); ++level) {
+        Point *dst = src + refiner->GetLevel(level - 1).GetNumVertices();
+        primvar.Interpolate(level, src, dst);
+        src = dst;
+    }
+    // End-cap points from the local point stencils (double, as the patch precision).
+    if (Far::StencilTableReal<double> const *local = table->GetLocalPointStencilTable<double>()) {
+        for (int r = 0; r < local->GetNumStencils(); ++r) {
+            Far::StencilReal<double> st = local->GetStencil(r);
+            Point &out = points[refined + r];
+            out.Clear();
+            for (int c = 0; c < st.GetSize(); ++c) out.AddWithWeight(points[st.GetVertexIndices()[c]], st.GetWeights()[c]);
+        }
+    }
+
+    Far::PatchMap map(*table);
+    Far::PtexIndices ptex(*refiner);
+    std::fprintf(stderr, "patches %d, local points %d\n", table->GetNumPatchesTotal(), table->GetNumLocalPoints());
+    const Far::TopologyLevel &base = refiner->GetLevel(0);
+    std::vector<double> w(20), wu(20), wv(20);
+    for (int f = 0; f < base.GetNumFaces(); ++f) {
+        if (base.IsFaceHole(f)) continue;
+        const int n = base.GetFaceVertices(f).size();
+        const int subs = n == 4 ? 1 : n;
+        for (int k = 0; k < subs; ++k) {
+            for (int j = 0; j <= grid; ++j)
+                for (int i = 0; i <= grid; ++i) {
+                    const double u = double(i) / grid, v = double(j) / grid;
+                    Far::PatchTable::PatchHandle const *h = map.FindPatch(ptex.GetFaceId(f) + k, u, v);
+                    if (!h) continue;
+                    table->EvaluateBasis(*h, u, v, w.data(), wu.data(), wv.data());
+                    Far::ConstIndexArray cvs = table->GetPatchVertices(*h);
+                    Point p, du, dv;
+                    p.Clear(), du.Clear(), dv.Clear();
+                    for (int c = 0; c < cvs.size(); ++c) {
+                        p.AddWithWeight(points[cvs[c]], w[c]);
+                        du.AddWithWeight(points[cvs[c]], wu[c]);
+                        dv.AddWithWeight(points[cvs[c]], wv[c]);
+                    }
+                    double nn[3] = {du.p[1] * dv.p[2] - du.p[2] * dv.p[1], du.p[2] * dv.p[0] - du.p[0] * dv.p[2],
+                                    du.p[0] * dv.p[1] - du.p[1] * dv.p[0]};
+                    const double len = std::sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
+                    for (double &x : nn) x = len > 0 ? x / len : 0.0;
+                    if (n == 4)
+                        std::printf("%d", f);
+                    else
+                        std::printf("%d:%d", f, k);
+                    std::printf(" %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", u, v, p.p[0], p.p[1], p.p[2],
+                                nn[0], nn[1], nn[2]);
+                }
+        }
+    }
+    delete table;
+    delete refiner;
+    return 0;
+}
