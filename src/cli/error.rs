@@ -140,10 +140,24 @@ fn write_heatmap(
     Ok(())
 }
 
-/// The printed report.
-pub fn format_report(mesh: &str, scheme: &str, r: &AccuracyReport) -> String {
+/// The printed report. `not_sampled` describes the faces left out: by default (the CPU Gregory
+/// construction) those without a Gregory patch; a GPU scheme passes its own CPU-path count and
+/// first refusal.
+pub fn format_report(
+    mesh: &str,
+    scheme: &str,
+    r: &AccuracyReport,
+    not_sampled: Option<&str>,
+) -> String {
+    let without = format!(
+        "without Gregory patch {}{}",
+        r.unsupported,
+        r.first_unsupported
+            .map(|e| format!(" (first: {e})"))
+            .unwrap_or_default()
+    );
     format!(
-        "mesh {mesh}\nscheme {scheme}\nfaces sampled {} ({} triangles), regular {}, without Gregory patch {}{}\n\
+        "mesh {mesh}\nscheme {scheme}\nfaces sampled {} ({} triangles), regular {}, {}\n\
          samples {}\nbbox diagonal {:.6e}\n\
          distance / diagonal: rms {:.3e} max {:.3e}\n\
          equal (u,v) on quads and sub-faces / diagonal: rms {:.3e} max {:.3e}\n\
@@ -151,10 +165,7 @@ pub fn format_report(mesh: &str, scheme: &str, r: &AccuracyReport) -> String {
         r.faces,
         r.triangles,
         r.regular,
-        r.unsupported,
-        r.first_unsupported
-            .map(|e| format!(" (first: {e})"))
-            .unwrap_or_default(),
+        not_sampled.unwrap_or(&without),
         r.samples,
         r.diagonal,
         r.rms_distance,
@@ -206,6 +217,7 @@ pub fn run(args: ErrorArgs) -> tessera::Result<()> {
     let reuse = args.heatmap.is_some() && !args.include_regular && heatmap_grid(&args) == args.grid;
     let mut samples = None;
     let mut types = Vec::new();
+    let mut cpu_path = None;
     let report = match args.scheme {
         ErrorScheme::GregoryCpu => {
             let options = AccuracyOptions {
@@ -230,6 +242,13 @@ pub fn run(args: ErrorArgs) -> tessera::Result<()> {
             let r = measure_gpu_with(&ctx, &mesh, scheme, args.grid, &opts)?;
             super::render::check_validation(&ctx)?;
             types = r.by_type;
+            cpu_path = Some(format!(
+                "on the exact CPU path {}{}",
+                r.cpu_faces,
+                r.first_refusal
+                    .map(|e| format!(" (first: {e})"))
+                    .unwrap_or_default()
+            ));
             r.report
         }
     };
@@ -243,7 +262,10 @@ pub fn run(args: ErrorArgs) -> tessera::Result<()> {
         }
         _ => name.to_string(),
     };
-    print!("{}", format_report(&args.mesh, &name, &report));
+    print!(
+        "{}",
+        format_report(&args.mesh, &name, &report, cpu_path.as_deref())
+    );
     print!("{}", format_types(&types));
     if let Some(path) = &args.heatmap {
         write_heatmap(&mesh, &args, path, samples.as_deref())?;

@@ -66,6 +66,10 @@ pub struct GpuAccuracy {
     pub report: AccuracyReport,
     /// Per patch type (empty for untagged schemes).
     pub by_type: Vec<TypeAccuracy>,
+    /// Faces with a limit surface the scheme does not draw (the exact CPU path; not sampled).
+    pub cpu_faces: usize,
+    /// Why the first of them was refused by the scheme's last pass.
+    pub first_refusal: Option<String>,
 }
 
 /// Sums of squares and maxima of one group of samples.
@@ -143,25 +147,35 @@ pub fn measure_gpu_with(
         diagonal: mesh.bbox_diagonal(),
         ..Default::default()
     };
+    let drawn_here: HashSet<u32> = faces.iter().copied().collect();
     for f in 0..topo.face_count() as u32 {
         if !topo.has_limit_surface(f) {
             continue;
         }
-        if RegularPatch::gather(&topo, f).is_some() {
+        if RegularPatch::gather(&topo, f).is_some() && !drawn_here.contains(&f) {
             report.regular += 1;
-        } else if !faces.contains(&f) {
+        } else if !drawn_here.contains(&f) {
             report.unsupported += 1;
             if let Err(e) = check_face(&topo, f) {
                 report.first_unsupported.get_or_insert(e);
             }
         }
     }
+    let cpu_faces = surface.fallback_faces.len();
+    // The last pass's word on the first CPU face (earlier passes refuse it for their own reasons).
+    let first_refusal = surface.fallback_faces.first().and_then(|first| {
+        (surface.refusals.iter())
+            .rfind(|r| r.face == first.face)
+            .map(ToString::to_string)
+    });
     report.faces = faces.len();
     report.triangles = faces.iter().filter(|&&f| topo.face_size(f) == 3).count();
     if faces.is_empty() {
         return Ok(GpuAccuracy {
             report,
             by_type: Vec::new(),
+            cpu_faces,
+            first_refusal,
         });
     }
     surface.fallback_faces.clear();
@@ -206,7 +220,12 @@ pub fn measure_gpu_with(
             max_normal: s.amax,
         })
         .collect();
-    Ok(GpuAccuracy { report, by_type })
+    Ok(GpuAccuracy {
+        report,
+        by_type,
+        cpu_faces,
+        first_refusal,
+    })
 }
 
 /// One captured point measured against the exact limit (model units, radians).
