@@ -6,7 +6,7 @@ mod common;
 
 use common::gpu::{assert_validation_clean, context};
 use tessera::render::accuracy::measure_gpu_with;
-use tessera::render::compare::{compare_scheme, error_map, CompareDesc};
+use tessera::render::compare::{compare_scheme, error_map, exact_reference, CompareDesc};
 use tessera::render::heatmap::{heat_class, HEAT_CLASS_BASE};
 use tessera::render::{
     plan_for_scheme_with, OffscreenDesc, OffscreenSession, PlanOptions, RenderDesc, Scheme,
@@ -32,8 +32,9 @@ fn rows_match_the_dedicated_measurements() {
     let Some(ctx) = context() else { return };
     let mesh = tessera::assets::EmbeddedMesh::Mixed.load().unwrap();
     let desc = desc(&ctx);
+    let exact = exact_reference(&mesh, &desc).unwrap();
     for scheme in Scheme::ALL {
-        let c = compare_scheme(&ctx, &mesh, scheme, &desc).unwrap();
+        let c = compare_scheme(&ctx, &mesh, &exact, scheme, &desc).unwrap();
         let r = &c.row;
         let surface = plan_for_scheme_with(&mesh, scheme, &desc.plan).unwrap();
         assert_eq!(r.patches, surface.patch_count(), "{scheme}");
@@ -86,11 +87,14 @@ fn error_maps_share_one_scale() {
     let Some(ctx) = context() else { return };
     let mesh = tessera::assets::EmbeddedMesh::Mixed.load().unwrap();
     let desc = desc(&ctx);
-    let gregory = compare_scheme(&ctx, &mesh, Scheme::GregoryStencil, &desc).unwrap();
-    let adaptive = compare_scheme(&ctx, &mesh, Scheme::Adaptive, &desc).unwrap();
+    let exact = exact_reference(&mesh, &desc).unwrap();
+    let gregory = compare_scheme(&ctx, &mesh, &exact, Scheme::GregoryStencil, &desc).unwrap();
+    let adaptive = compare_scheme(&ctx, &mesh, &exact, Scheme::Adaptive, &desc).unwrap();
+    let grid = 4;
+    let map_grid = exact.ev.eval_all_grids(grid).unwrap();
     let scale = gregory.row.max_distance * mesh.bbox_diagonal();
     let hot = |points: &[tessera::render::accuracy::MeasuredPoint]| {
-        let map = error_map(&mesh, points, 4, scale).unwrap();
+        let map = error_map(&mesh, &map_grid, grid, points, scale).unwrap();
         assert!(map.surface.parts.is_empty());
         let classes = &map.surface.fallback.classes;
         assert!(!classes.is_empty());

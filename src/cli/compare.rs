@@ -3,10 +3,13 @@
 
 use clap::Args;
 use image::RgbaImage;
-use tessera::render::compare::{compare_scheme, error_map, CompareDesc, SchemeComparison};
+use tessera::render::compare::{
+    compare_scheme, error_map, exact_reference, CompareDesc, SchemeComparison,
+};
 use tessera::render::{
     render_to_image, ColorBy, OffscreenDesc, PlanOptions, RenderDesc, Scheme, SchemeLimits, UpAxis,
 };
+use tessera::subdiv::eval::GridSample;
 use tessera::{Error, Result};
 
 use super::render::{check_validation, clamp_level, context, load, parse_size, AdaptiveArgs};
@@ -93,11 +96,12 @@ pub fn run(args: CompareArgs) -> Result<()> {
     } else {
         args.schemes.clone()
     };
+    let exact = exact_reference(&mesh, &desc)?;
     let outcomes: Vec<Outcome> = schemes
         .iter()
         .map(|&s| {
             log::info!("compare: {s}");
-            (s, compare_scheme(&ctx, &mesh, s, &desc))
+            (s, compare_scheme(&ctx, &mesh, &exact, s, &desc))
         })
         .collect();
     let diagonal = mesh.bbox_diagonal();
@@ -118,11 +122,16 @@ pub fn run(args: CompareArgs) -> Result<()> {
             .scale
             .map(|s| s * diagonal)
             .unwrap_or_else(|| percentile_distance(&outcomes, 0.99));
+        let grid = desc.tess.round().max(2.0) as usize;
+        let map = MapGrid {
+            grid,
+            exact: exact.ev.eval_all_grids(grid)?,
+        };
         let panels = outcomes
             .iter()
             .filter_map(|(_, r)| r.as_ref().ok())
             .map(|c| {
-                let mut img = panel(&ctx, &mesh, c, &desc, scale, up)?;
+                let mut img = panel(&ctx, &mesh, &map, c, &desc, scale, up)?;
                 let white = image::Rgba([235, 235, 235, 255]);
                 super::glyphs::draw_text(&mut img, 8, 8, c.row.scheme.name(), 2, white);
                 Ok(img)
@@ -154,16 +163,23 @@ fn percentile_distance(outcomes: &[Outcome], q: f64) -> f64 {
     d.get(k).copied().unwrap_or(0.0)
 }
 
+/// The exact limit on the error maps' grid, evaluated once for every panel.
+struct MapGrid {
+    grid: usize,
+    exact: Vec<Option<Vec<GridSample>>>,
+}
+
 /// The error map of one scheme, rendered.
 fn panel(
     ctx: &tessera::gpu::Context,
     mesh: &tessera::ControlMesh,
+    map: &MapGrid,
     c: &SchemeComparison,
     desc: &CompareDesc,
     scale: f64,
     up: UpAxis,
 ) -> Result<RgbaImage> {
-    let heat = error_map(mesh, &c.points, desc.tess.round().max(2.0) as usize, scale)?;
+    let heat = error_map(mesh, &map.exact, map.grid, &c.points, scale)?;
     let render = RenderDesc {
         color_by: ColorBy::Error,
         ..RenderDesc::default()

@@ -180,13 +180,11 @@ pub fn measure_gpu_with(
     }
     surface.fallback_faces.clear();
     let records = capture_whole_patches(ctx, &surface, grid.max(1) as f32)?;
-    let ev = LimitEvaluator::new(mesh)?;
-    let drawn: HashSet<u32> = faces.iter().copied().collect();
     let records: Vec<CaptureRecord> = records
         .into_iter()
-        .filter(|r| drawn.contains(&r.face))
+        .filter(|r| drawn_here.contains(&r.face))
         .collect();
-    let measured = measure_points(&ev, &topo, &records, grid)?;
+    let measured = ExactReference::with_topology(topo, mesh, grid)?.measure(&records)?;
     let mut all = Sums::default();
     let mut types: BTreeMap<u8, Sums> = BTreeMap::new();
     for m in &measured {
@@ -244,36 +242,59 @@ pub struct MeasuredPoint {
     pub exact_normal: DVec3,
 }
 
-/// Measures captured points against the exact limit of `ev` (faces in parallel): the closest
-/// exact point among a dense sampling (`2 grid` per face side) of the face and its neighbours,
-/// refined by projection, and the equal-`(u, v)` point where the record is in a quad or
-/// sub-face domain. Points come back grouped by face, ascending.
-pub fn measure_points(
-    ev: &LimitEvaluator,
-    topo: &Topology,
-    records: &[CaptureRecord],
-    grid: usize,
-) -> Result<Vec<MeasuredPoint>> {
-    let dense: Vec<Option<Vec<GridSample>>> = ev.eval_all_grids(2 * grid.max(1))?;
-    let mut by_face: HashMap<u32, Vec<&CaptureRecord>> = HashMap::new();
-    for r in records {
-        by_face.entry(r.face).or_default().push(r);
-    }
-    let mut face_list: Vec<(u32, Vec<&CaptureRecord>)> = by_face.into_iter().collect();
-    face_list.sort_unstable_by_key(|(f, _)| *f);
-    let measured: Vec<Vec<MeasuredPoint>> = face_list
-        .par_iter()
-        .map(|(f, recs)| {
-            let candidates: Vec<Located> = nearby_exact_samples(topo, &dense, *f);
-            recs.iter()
-                .map(|&r| measure_point(ev, topo, &candidates, r))
-                .collect::<Result<Vec<_>>>()
-        })
-        .collect::<Result<_>>()?;
-    Ok(measured.into_iter().flatten().collect())
+/// The exact limit captured points are measured against, built once per mesh and sampling:
+/// its topology, its evaluator and a dense sampling (`2 grid` per face side) the projections
+/// start from, so that several captures of one mesh (`tessera compare`) share them.
+pub struct ExactReference {
+    /// Topology of the mesh.
+    pub topo: Topology,
+    /// Its exact evaluator.
+    pub ev: LimitEvaluator,
+    dense: Vec<Option<Vec<GridSample>>>,
 }
 
-/// [`measure_points`] for one record of face `r.face` with its face's exact candidates.
+impl ExactReference {
+    /// The reference of `mesh` for captures at level `grid`.
+    pub fn new(mesh: &ControlMesh, grid: usize) -> Result<ExactReference> {
+        Self::with_topology(Topology::new(mesh)?, mesh, grid)
+    }
+
+    /// [`Self::new`] with the topology of `mesh` already built.
+    pub fn with_topology(
+        topo: Topology,
+        mesh: &ControlMesh,
+        grid: usize,
+    ) -> Result<ExactReference> {
+        let ev = LimitEvaluator::new(mesh)?;
+        let dense = ev.eval_all_grids(2 * grid.max(1))?;
+        Ok(ExactReference { topo, ev, dense })
+    }
+
+    /// Measures captured points (faces in parallel): the closest exact point among the dense
+    /// samples of the face and its neighbours, refined by projection, and the equal-`(u, v)`
+    /// point where the record is in a quad or sub-face domain. Points come back grouped by
+    /// face, ascending.
+    pub fn measure(&self, records: &[CaptureRecord]) -> Result<Vec<MeasuredPoint>> {
+        let mut by_face: HashMap<u32, Vec<&CaptureRecord>> = HashMap::new();
+        for r in records {
+            by_face.entry(r.face).or_default().push(r);
+        }
+        let mut face_list: Vec<(u32, Vec<&CaptureRecord>)> = by_face.into_iter().collect();
+        face_list.sort_unstable_by_key(|(f, _)| *f);
+        let measured: Vec<Vec<MeasuredPoint>> = face_list
+            .par_iter()
+            .map(|(f, recs)| {
+                let candidates: Vec<Located> = nearby_exact_samples(&self.topo, &self.dense, *f);
+                recs.iter()
+                    .map(|&r| measure_point(&self.ev, &self.topo, &candidates, r))
+                    .collect::<Result<Vec<_>>>()
+            })
+            .collect::<Result<_>>()?;
+        Ok(measured.into_iter().flatten().collect())
+    }
+}
+
+/// [`ExactReference::measure`] for one record of face `r.face` with its face's exact candidates.
 fn measure_point(
     ev: &LimitEvaluator,
     topo: &Topology,

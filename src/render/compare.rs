@@ -8,7 +8,7 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use super::accuracy::{capture_whole_patches, measure_points, MeasuredPoint};
+use super::accuracy::{capture_whole_patches, ExactReference, MeasuredPoint};
 use super::bench::median;
 use super::heatmap::{heat_only_surface, HeatSurface};
 use super::offscreen::{OffscreenDesc, OffscreenSession};
@@ -20,8 +20,7 @@ use super::settings::TessSettings;
 use super::CPU_PATH_LABEL;
 use crate::gpu::Context;
 use crate::patch::gregory::accuracy::{FaceHeat, HeatSample};
-use crate::subdiv::eval::LimitEvaluator;
-use crate::topology::Topology;
+use crate::subdiv::eval::GridSample;
 use crate::{ControlMesh, Error, Result};
 
 /// Two captured points closer than this fraction of the bbox diagonal are one seam point.
@@ -82,23 +81,29 @@ pub struct SchemeComparison {
     pub points: Vec<MeasuredPoint>,
 }
 
+/// The exact reference every scheme of a comparison at `desc.tess` is measured against (built
+/// once per mesh).
+pub fn exact_reference(mesh: &ControlMesh, desc: &CompareDesc) -> Result<ExactReference> {
+    ExactReference::new(mesh, desc.tess.round().max(1.0) as usize)
+}
+
 /// Draws `mesh` with `scheme`: captures and measures every TES point at `desc.tess` (patches
-/// not split), then times `desc.frames` frames with the renderer's default settings.
+/// not split) against `exact` ([`exact_reference`]), then times `desc.frames` frames with the
+/// renderer's default settings.
 pub fn compare_scheme(
     ctx: &Context,
     mesh: &ControlMesh,
+    exact: &ExactReference,
     scheme: Scheme,
     desc: &CompareDesc,
 ) -> Result<SchemeComparison> {
     let surface = plan_for_scheme_with(mesh, scheme, &desc.plan)?;
-    let topo = Topology::new(mesh)?;
-    let ev = LimitEvaluator::new(mesh)?;
     let diagonal = mesh.bbox_diagonal().max(f64::MIN_POSITIVE);
     let points = if surface.patch_count() == 0 {
         Vec::new()
     } else {
         let records = capture_whole_patches(ctx, &surface, desc.tess)?;
-        measure_points(&ev, &topo, &records, desc.tess.round().max(1.0) as usize)?
+        exact.measure(&records)?
     };
     let n = points.len().max(1) as f64;
     let rms = |f: fn(&MeasuredPoint) -> f64| {
@@ -156,24 +161,25 @@ fn time_frames(
     Ok((median(&mut frame), median(&mut compute), memory))
 }
 
-/// The error map of one scheme: every face of `mesh` drawn from its exact limit on a `grid`
-/// per (sub-)face, each sample coloured by the distance of the scheme's captured point of the
-/// same face nearest to it (faces without captured points are on the exact CPU path: 0), on
-/// the shared `scale` (model units shown as full red).
+/// The error map of one scheme: every face of `mesh` drawn from `exact`, its exact limit on a
+/// `grid` per (sub-)face ([`crate::subdiv::eval::LimitEvaluator::eval_all_grids`], evaluated once for all
+/// schemes),
+/// each sample coloured by the distance of the scheme's captured point of the same face nearest
+/// to it (faces without captured points are on the exact CPU path: 0), on the shared `scale`
+/// (model units shown as full red).
 pub fn error_map(
     mesh: &ControlMesh,
-    points: &[MeasuredPoint],
+    exact: &[Option<Vec<GridSample>>],
     grid: usize,
+    points: &[MeasuredPoint],
     scale: f64,
 ) -> Result<HeatSurface> {
-    let ev = LimitEvaluator::new(mesh)?;
     let mut by_face: HashMap<u32, Vec<&MeasuredPoint>> = HashMap::new();
     for m in points {
         by_face.entry(m.record.face).or_default().push(m);
     }
-    let grid = grid.max(1);
     let mut heat = Vec::new();
-    for (f, samples) in ev.eval_all_grids(grid)?.into_iter().enumerate() {
+    for (f, samples) in exact.iter().enumerate() {
         let Some(samples) = samples else { continue };
         let captured = by_face.get(&(f as u32)).map(Vec::as_slice).unwrap_or(&[]);
         for sub in samples.chunks((grid + 1) * (grid + 1)) {
