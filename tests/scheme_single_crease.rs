@@ -388,3 +388,65 @@ fn faces_leaving_the_cpu_path() {
         );
     }
 }
+
+/// Sharpness is data in the adaptive scheme too, where the new refinement keeps the layout of
+/// the old: the torus's crease loop (every face a single-crease patch, nothing refined) from 1
+/// to 4.5 and 0.3, and the open grid's line (its ends refined around the crease-end vertices,
+/// to a depth set by the integer part) from 2.2 to 2.7 (new kernel weights and stencil rows):
+/// each captures bitwise what a surface planned from the mesh with the new sharpness captures.
+/// A change that refines other faces (2.7 to 3.5) or touches a boundary edge is refused with
+/// the reason, changing nothing.
+#[test]
+fn adaptive_set_sharpness_at_run_time() {
+    let Some(ctx) = context() else { return };
+    let tess = uniform(5.0);
+    let render = RenderDesc {
+        tess,
+        ..RenderDesc::default()
+    };
+    let rebuilt = |m: &ControlMesh| sorted(draw(&ctx, m, Scheme::Adaptive, tess).1);
+    let surface = scheme_surface(&ctx, &torus(&line(|_| 1.0)), 5, Scheme::Adaptive);
+    let mut anim = Animation::new(&ctx, &surface, &render, &offscreen(64, 64));
+    let before = sorted(anim.frame());
+    for s in [4.5f32, 0.3] {
+        anim.set_sharpness(&loop_creases(s)).unwrap();
+        let changed = sorted(anim.frame());
+        assert!(changed == rebuilt(&torus(&line(|_| s))), "torus s = {s}");
+        assert!(changed != before);
+    }
+    let line_creases = |s: f32| -> Vec<Crease> {
+        (0..N)
+            .map(|j| Crease {
+                v0: idx(4, j),
+                v1: idx(4, j + 1),
+                sharpness: s,
+            })
+            .collect()
+    };
+    let surface = scheme_surface(&ctx, &grid(&line(|_| 2.2)), 5, Scheme::Adaptive);
+    let mut anim = Animation::new(&ctx, &surface, &render, &offscreen(64, 64));
+    let before = sorted(anim.frame());
+    anim.set_sharpness(&line_creases(2.7)).unwrap();
+    let changed = sorted(anim.frame());
+    assert!(changed == rebuilt(&grid(&line(|_| 2.7))), "grid 2.2 -> 2.7");
+    assert!(changed != before);
+    let e = anim
+        .set_sharpness(&line_creases(3.5))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("changes the adaptive refinement"), "{e}");
+    let e = anim
+        .set_sharpness(&[Crease {
+            v0: idx(0, 0),
+            v1: idx(1, 0),
+            sharpness: 1.0,
+        }])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("boundary edge"), "{e}");
+    assert!(
+        sorted(anim.frame()) == changed,
+        "a refused change changed the surface"
+    );
+    assert_validation_clean(&ctx);
+}

@@ -236,18 +236,39 @@ impl Context {
         if bytes.is_empty() {
             return invalid(format!("upload of empty data to buffer \"{name}\""));
         }
-        let staging = Buffer::from_slice(
-            self,
-            bytes,
-            vk::BufferUsageFlags::TRANSFER_SRC,
-            &format!("{name} (staging)"),
-        )?;
         let dst = Buffer::new(
             self,
             bytes.len() as u64,
             usage | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
             name,
+        )?;
+        self.rewrite_buffer(&dst, data, name)?;
+        Ok(dst)
+    }
+
+    /// Overwrites the start of the existing buffer `dst` (with `TRANSFER_DST` usage, at least as
+    /// large as `data`) with `data` through a staging buffer, then makes it visible to every
+    /// later command. Call while no submitted work reads `dst`.
+    pub fn rewrite_buffer<T: Pod>(&self, dst: &Buffer, data: &[T], name: &str) -> Result<()> {
+        let bytes = as_bytes(data);
+        if bytes.is_empty() {
+            return Ok(());
+        }
+        if bytes.len() as u64 > dst.size()
+            || !dst.usage().contains(vk::BufferUsageFlags::TRANSFER_DST)
+        {
+            return invalid(format!(
+                "rewrite of buffer \"{name}\": {} bytes into {} (needs TRANSFER_DST usage)",
+                bytes.len(),
+                dst.size()
+            ));
+        }
+        let staging = Buffer::from_slice(
+            self,
+            bytes,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            &format!("{name} (staging)"),
         )?;
         self.submit_once(|dev, cmd| {
             let region = vk::BufferCopy::default().size(bytes.len() as u64);
@@ -266,8 +287,7 @@ impl Context {
                 ),
             );
             Ok(())
-        })?;
-        Ok(dst)
+        })
     }
 
     /// Reads any buffer (host visible or not; non-host-visible ones need `TRANSFER_SRC` usage)

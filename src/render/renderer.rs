@@ -9,9 +9,8 @@ use glam::DVec3;
 use super::cpu_path::CpuPathPass;
 use super::fallback::FallbackMesh;
 use super::pass::{CaptureRecord, SharedResources, VertexFrames};
-use super::schemes::adaptive::ADAPTIVE;
+use super::schemes::adaptive::AdaptiveTables;
 use super::schemes::single_crease::SingleCreaseTables;
-use super::schemes::PatchScheme as _;
 use super::schemes::{PassContext, PassTables, PatchPass};
 pub use super::settings::RenderDesc;
 use super::settings::{FrameUniforms, TessSettings};
@@ -278,35 +277,48 @@ impl SurfaceRenderer {
     }
 
     /// Run-time crease sharpness: sets each edge (`v0`, `v1`) of `creases` to its `sharpness`
-    /// on the single-crease patches (their per-patch sharpness and the limit frames of their
-    /// corners), without re-planning. Errors, changing nothing, when the surface has no
-    /// single-crease patches or the change leaves what they cover
-    /// ([`SingleCreaseTables::with_sharpness`]: the new sharpness must be in `0 < s < 10`, every
-    /// face around the edge's end vertices a single-crease patch keeping one sharpness along its
-    /// crease line). Call only while no submitted frame that uses this renderer is executing.
+    /// without re-planning. Errors, changing nothing, when the change needs a new plan:
+    /// - single-crease patches of the Gregory schemes ([`SingleCreaseTables::with_sharpness`]):
+    ///   the new sharpness must be in `0 < s < 10` and every face around the edge's end vertices
+    ///   a single-crease patch keeping one sharpness along its crease line; only their
+    ///   per-patch sharpness and corner frames change;
+    /// - `--scheme adaptive` ([`AdaptiveTables::with_sharpness`]): any sharpness (0 removes the
+    ///   crease, 10 makes it infinitely sharp) as long as the new refinement has the same layout
+    ///   (the same faces refined to the same levels: typically the same integer part of the
+    ///   sharpness); the kernels' weights, stencil rows and patch sharpness are rewritten in
+    ///   place, which costs a CPU re-tabulation of the surface (the car: about as long as
+    ///   planning its adaptive pass) but no GPU allocation or pipeline.
+    ///
+    /// Call only while no submitted frame that uses this renderer is executing.
     pub fn set_sharpness(&mut self, creases: &[Crease]) -> Result<()> {
-        let Some((i, tables)) = self.parts.iter().enumerate().find_map(|(i, p)| {
-            p.as_any()
-                .downcast_ref::<SingleCreaseTables>()
-                .map(|t| (i, t))
-        }) else {
-            if self.parts.iter().any(|p| p.pass_name() == ADAPTIVE.name()) {
-                // The adaptive scheme's refinement kernels bake the crease rules (and the
-                // sharpness decides which faces are refined), so new sharpness is a new plan.
-                return Err(Error::Invalid(
-                    "set_sharpness: --scheme adaptive bakes the sharpness into its refinement \
-                     tables and patch layout; plan the surface again with the new creases"
-                        .into(),
-                ));
-            }
+        let found = self.parts.iter().enumerate().find_map(|(i, p)| {
+            let any = p.as_any();
+            let tables: Result<Arc<dyn PassTables>> =
+                if let Some(t) = any.downcast_ref::<SingleCreaseTables>() {
+                    t.with_sharpness(creases).map(|t| Arc::new(t) as _)
+                } else {
+                    let t = any.downcast_ref::<AdaptiveTables>()?;
+                    t.with_sharpness(creases)
+                        .map(|t| Arc::new(t) as _)
+                        .map_err(|e| Error::Invalid(format!("set_sharpness: {e}")))
+                };
+            Some((i, tables))
+        });
+        let Some((i, tables)) = found else {
             return Err(Error::Invalid(
-                "set_sharpness: the surface has no single-crease patches (plan it again with the \
-                 new creases)"
+                "set_sharpness: the surface has no single-crease or adaptive patches (plan it \
+                 again with the new creases)"
                     .into(),
             ));
         };
-        let tables: Arc<dyn PassTables> = Arc::new(tables.with_sharpness(creases)?);
-        self.passes[i].update_tables(tables.as_ref())?;
+        let tables = tables?;
+        self.passes[i]
+            .update_tables(tables.as_ref())
+            .map_err(|e| Error::Invalid(format!("set_sharpness: {e}")))?;
+        if let Some(t) = tables.as_any().downcast_ref::<AdaptiveTables>() {
+            // Every face is the adaptive pass's: the surface's topology is its base level.
+            self.topology = Some(Arc::new(t.adaptive.levels[0].topology().clone()));
+        }
         self.parts[i] = tables;
         let frames = vertex_frames(self.topology.as_deref(), &self.parts, &self.positions);
         self.shared.stage(&self.positions, &frames)?;

@@ -4,7 +4,7 @@
 
 use super::connectivity::{Topology, NONE};
 use super::par::{try_for_chunks, Shared};
-use crate::mesh::{BoundaryInterpolation, ControlMesh, SchemeOptions, INFINITE_SHARPNESS};
+use crate::mesh::{BoundaryInterpolation, ControlMesh, Crease, SchemeOptions, INFINITE_SHARPNESS};
 use crate::{Error, Result};
 
 /// Clamps a tag sharpness to `[0, INFINITE_SHARPNESS]`.
@@ -26,16 +26,7 @@ impl Topology {
         )?;
         t.options = mesh.options();
         for c in mesh.creases() {
-            if c.sharpness.is_nan() || c.sharpness < 0.0 {
-                return Err(Error::Invalid(format!(
-                    "crease {}-{}: invalid sharpness {}",
-                    c.v0, c.v1, c.sharpness
-                )));
-            }
-            let e = t
-                .find_edge(c.v0, c.v1)
-                .ok_or_else(|| Error::Invalid(format!("crease {}-{}: no such edge", c.v0, c.v1)))?;
-            t.edge_sharpness[e as usize] = clamp_sharpness(c.sharpness);
+            t.set_crease(c)?;
         }
         for c in mesh.corners() {
             if c.sharpness.is_nan() || c.sharpness < 0.0 || c.vertex >= t.num_vertices {
@@ -59,6 +50,41 @@ impl Topology {
             }
         }
         Ok(t)
+    }
+
+    /// This topology with the sharpness of each edge (`v0`, `v1`) of `creases` replaced by its
+    /// `sharpness` (run-time creases). Errors naming the crease on a missing edge, an invalid
+    /// sharpness or a boundary edge (infinitely sharp by the boundary rule).
+    pub fn with_creases(&self, creases: &[Crease]) -> Result<Topology> {
+        let mut t = self.clone();
+        for c in creases {
+            if let Some(e) = t.find_edge(c.v0, c.v1) {
+                if t.edge_faces[e as usize][1] == NONE {
+                    return Err(Error::Invalid(format!(
+                        "crease {}-{}: a boundary edge, infinitely sharp by the boundary rule",
+                        c.v0, c.v1
+                    )));
+                }
+            }
+            t.set_crease(c)?;
+        }
+        Ok(t)
+    }
+
+    /// Sets the sharpness of the edge of crease `c` (clamped to infinitely sharp), naming the
+    /// crease when its sharpness is invalid or it is no edge.
+    fn set_crease(&mut self, c: &Crease) -> Result<()> {
+        if c.sharpness.is_nan() || c.sharpness < 0.0 {
+            return Err(Error::Invalid(format!(
+                "crease {}-{}: invalid sharpness {}",
+                c.v0, c.v1, c.sharpness
+            )));
+        }
+        let e = self
+            .find_edge(c.v0, c.v1)
+            .ok_or_else(|| Error::Invalid(format!("crease {}-{}: no such edge", c.v0, c.v1)))?;
+        self.edge_sharpness[e as usize] = clamp_sharpness(c.sharpness);
+        Ok(())
     }
 
     /// Boundary edges become infinitely sharp; with `EdgeAndCorner`, boundary vertices with a

@@ -25,7 +25,8 @@ pub const END_CAP_ROWS: u32 = 36;
 
 /// GPU resources of the per-frame stencil rows of one adaptive surface.
 pub struct DerivedPoints {
-    _rows: [Buffer; 4],
+    rows: [Buffer; 4],
+    row_lens: [usize; 4],
     limits: Buffer,
     normals: Buffer,
     end_cap_points: Buffer,
@@ -37,6 +38,14 @@ pub struct DerivedPoints {
     _pool: DescriptorPool,
     sets: [vk::DescriptorSet; 2],
 }
+
+/// Labels of the four row tables (offsets, ids, weights, slot flags).
+const ROW_LABELS: [&str; 4] = [
+    "adaptive row offsets",
+    "adaptive row ids",
+    "adaptive row weights",
+    "adaptive slot flags",
+];
 
 /// A device-local buffer of `count` vec4 (at least one) written and read only by the GPU.
 fn vec4_storage(ctx: &Context, count: u32, label: &str) -> Result<Buffer> {
@@ -67,11 +76,13 @@ impl DerivedPoints {
         let slots = d.slot_count() as u32;
         let end_cap_first_row = d.end_cap_first_row;
         let end_cap_rows = d.end_caps.len() as u32 * END_CAP_ROWS;
+        let [offsets, ids, weights, flags] = Self::row_bytes(d);
+        let row_lens = [offsets.len(), ids.len(), weights.len(), flags.len()];
         let row_buffers = [
-            words_buffer(ctx, d.row_offset_bytes(), "adaptive row offsets")?,
-            words_buffer(ctx, d.row_id_bytes(), "adaptive row ids")?,
-            words_buffer(ctx, d.row_weight_bytes(), "adaptive row weights")?,
-            words_buffer(ctx, d.slot_flag_bytes(), "adaptive slot flags")?,
+            words_buffer(ctx, offsets, ROW_LABELS[0])?,
+            words_buffer(ctx, ids, ROW_LABELS[1])?,
+            words_buffer(ctx, weights, ROW_LABELS[2])?,
+            words_buffer(ctx, flags, ROW_LABELS[3])?,
         ];
         let limits = vec4_storage(ctx, slots, "adaptive vertex limits")?;
         let normals = vec4_storage(ctx, slots, "adaptive vertex normals")?;
@@ -106,7 +117,8 @@ impl DerivedPoints {
             );
         }
         Ok(DerivedPoints {
-            _rows: row_buffers,
+            rows: row_buffers,
+            row_lens,
             limits,
             normals,
             end_cap_points,
@@ -135,9 +147,33 @@ impl DerivedPoints {
         &self.end_cap_points
     }
 
+    /// The stencil-row tables of `d` as uploaded: row offsets, ids, weights, slot flags.
+    pub fn row_bytes(d: &AdaptiveDrawTables) -> [Vec<u8>; 4] {
+        [
+            d.row_offset_bytes(),
+            d.row_id_bytes(),
+            d.row_weight_bytes(),
+            d.slot_flag_bytes(),
+        ]
+    }
+
+    /// Byte lengths of the row tables uploaded ([`Self::row_bytes`]).
+    pub fn row_lens(&self) -> [usize; 4] {
+        self.row_lens
+    }
+
+    /// Overwrites the row tables with `rows` of the same lengths ([`Self::row_lens`]; a
+    /// run-time data change, e.g. new crease sharpness). Call while no submitted work uses them.
+    pub fn rewrite_rows(&self, ctx: &Context, rows: &[Vec<u8>; 4]) -> Result<()> {
+        for ((buffer, bytes), label) in self.rows.iter().zip(rows).zip(ROW_LABELS) {
+            ctx.rewrite_buffer(buffer, bytes, label)?;
+        }
+        Ok(())
+    }
+
     /// Bytes of GPU memory held.
     pub fn memory_bytes(&self) -> u64 {
-        self._rows.iter().map(Buffer::size).sum::<u64>()
+        self.rows.iter().map(Buffer::size).sum::<u64>()
             + self.limits.size()
             + self.normals.size()
             + self.end_cap_points.size()

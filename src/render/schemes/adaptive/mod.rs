@@ -23,6 +23,7 @@ use super::traits::{
     CaptureLayout, PassContext, PassPlan, PassTables, PatchPass, PatchScheme, PlanOptions,
     ReferencePatch, Refusal, RefusalReason,
 };
+use crate::mesh::Crease;
 use crate::patch::adaptive::{AdaptiveDrawTables, AdaptiveSurface};
 use crate::render::pass::{NormalRule, VertexFrames};
 use crate::render::settings::{PatchLevelLimit, Spacing};
@@ -102,12 +103,21 @@ impl AdaptiveTables {
         faces: &[u32],
         opts: &PlanOptions,
     ) -> std::result::Result<AdaptiveTables, (u32, String)> {
-        let first = faces.first().copied().unwrap_or(0);
-        let base = Level::from_topology((**topo).clone());
         let options = AdaptiveOptions {
             isolation: opts.isolation,
             single_crease: opts.single_crease,
         };
+        Self::build((**topo).clone(), faces, options)
+    }
+
+    /// [`Self::new`] from the base topology and the refinement options.
+    fn build(
+        topo: Topology,
+        faces: &[u32],
+        options: AdaptiveOptions,
+    ) -> std::result::Result<AdaptiveTables, (u32, String)> {
+        let first = faces.first().copied().unwrap_or(0);
+        let base = Level::from_topology(topo);
         let adaptive =
             AdaptiveRefinement::with_options(&base, options).map_err(|e| (first, e.to_string()))?;
         let refinement =
@@ -120,6 +130,21 @@ impl AdaptiveTables {
             refinement,
             draw,
         })
+    }
+
+    /// These tables with the sharpness of each edge of `creases` replaced (run-time creases,
+    /// [`crate::render::SurfaceRenderer::set_sharpness`]): refined and tabulated again from the
+    /// new base topology, at the same isolation and single-crease setting. Whether the GPU
+    /// pass can take them without re-planning (the same faces refined to the same levels) is
+    /// its [`PatchPass::update_tables`]'s decision. Errors name the crease or the face.
+    pub fn with_sharpness(&self, creases: &[Crease]) -> Result<AdaptiveTables> {
+        let topo = self.adaptive.levels[0].topology().with_creases(creases)?;
+        let options = AdaptiveOptions {
+            isolation: self.adaptive.isolation,
+            single_crease: self.adaptive.single_crease,
+        };
+        Self::build(topo, &self.faces, options)
+            .map_err(|(f, why)| crate::Error::Invalid(format!("face {f}: {why}")))
     }
 
     /// Patch primitives drawn: whole B-spline, single-crease and end-cap patches, one per

@@ -20,8 +20,8 @@ use crate::render::pass::shared::{
 use crate::render::pass::upload::device_buffer;
 use crate::render::pass::{bind_draw_state, record_patch_draws, PatchDraws, VertexFrames};
 use crate::render::schemes::traits::PassContext;
-use crate::render::schemes::PatchPass;
-use crate::subdiv::tables::RefinementTables;
+use crate::render::schemes::{PassTables, PatchPass};
+use crate::subdiv::tables::{KernelRange, RefinementTables};
 use crate::Result;
 
 /// The pass's own set-0 bindings (`glsl/common/frame.glsl`, `gregory/gregory.glsl`,
@@ -34,6 +34,8 @@ const OWN_BINDINGS: [u32; 8] = [1, 6, 7, 10, 11, 12, 4, 13];
 /// counts.
 struct DrawGroup {
     pipeline: Pipeline,
+    /// Which of [`index_bytes`] it draws.
+    table: usize,
     first_patch: u32,
     indices: Buffer,
     count: u32,
@@ -46,7 +48,7 @@ pub struct AdaptivePass {
     ctx: Context,
     refiner: GpuRefiner,
     derived: DerivedPoints,
-    _records: Vec<Buffer>,
+    records: Vec<Buffer>,
     groups: Vec<DrawGroup>,
     _pool: DescriptorPool,
     /// Set 0 per frame slot.
@@ -54,6 +56,57 @@ pub struct AdaptivePass {
     /// The shared control positions per frame slot (level 0 of the refinement).
     control: Vec<vk::Buffer>,
     patches: u32,
+    /// What [`PatchPass::update_tables`] must keep.
+    layout: TableLayout,
+}
+
+/// The layout a run-time table change must keep, since it rewrites the buffers in place (the
+/// draws, dispatches and descriptor sets stay): patch and refined-point counts, the kernels'
+/// table words and dispatch ranges, and the byte length of every other table.
+#[derive(Debug, PartialEq, Eq)]
+struct TableLayout {
+    patches: usize,
+    refined_points: u32,
+    refinement: (usize, Vec<[KernelRange; 3]>),
+    records: [usize; 7],
+    indices: [usize; 5],
+    rows: [usize; 4],
+}
+
+/// Labels of the record tables ([`record_bytes`]).
+const RECORD_LABELS: [&str; 7] = [
+    "adaptive b-spline records",
+    "adaptive end-cap records",
+    "adaptive end-cap grids",
+    "adaptive patch records",
+    "adaptive coarse edges",
+    "adaptive transition fans",
+    "adaptive crease sharpness",
+];
+
+/// The record tables, bound at [`OWN_BINDINGS`]`[..7]`.
+fn record_bytes(d: &AdaptiveDrawTables) -> [Vec<u8>; 7] {
+    [
+        bspline_info_bytes(d),
+        end_cap_info_bytes(d),
+        d.end_cap_grid_bytes(),
+        d.patch_record_bytes(),
+        d.coarse_edge_bytes(),
+        triangle_bytes(d),
+        d.sharpness_bytes(),
+    ]
+}
+
+/// The index buffers of the five draw groups: B-spline patches, transition triangles,
+/// single-crease patches, single-crease transition triangles, end caps (one dummy index each).
+fn index_bytes(d: &AdaptiveDrawTables) -> [Vec<u8>; 5] {
+    [
+        d.regular_index_bytes(),
+        d.triangle_index_bytes(),
+        d.single_crease_index_bytes(),
+        d.single_crease_triangle_index_bytes(),
+        vec![0u8; 4 * d.end_caps.len()],
+    ]
 }
 
 /// `bytes` as a device-local storage or index buffer (16 zero bytes when empty: a binding needs
@@ -122,40 +175,13 @@ impl AdaptivePass {
         let derived = DerivedPoints::new(ctx, d, refiner.points())?;
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let index = vk::BufferUsageFlags::INDEX_BUFFER;
-        let records = vec![
-            table_buffer(
-                ctx,
-                bspline_info_bytes(d),
-                storage,
-                "adaptive b-spline records",
-            )?,
-            table_buffer(
-                ctx,
-                end_cap_info_bytes(d),
-                storage,
-                "adaptive end-cap records",
-            )?,
-            table_buffer(
-                ctx,
-                d.end_cap_grid_bytes(),
-                storage,
-                "adaptive end-cap grids",
-            )?,
-            table_buffer(
-                ctx,
-                d.patch_record_bytes(),
-                storage,
-                "adaptive patch records",
-            )?,
-            table_buffer(ctx, d.coarse_edge_bytes(), storage, "adaptive coarse edges")?,
-            table_buffer(ctx, triangle_bytes(d), storage, "adaptive transition fans")?,
-            table_buffer(
-                ctx,
-                d.sharpness_bytes(),
-                storage,
-                "adaptive crease sharpness",
-            )?,
-        ];
+        let record_bytes = record_bytes(d);
+        let record_lens = record_bytes.each_ref().map(Vec::len);
+        let records = record_bytes
+            .into_iter()
+            .zip(RECORD_LABELS)
+            .map(|(bytes, label)| table_buffer(ctx, bytes, storage, label))
+            .collect::<Result<Vec<_>>>()?;
         let layout = set0_layout(&OWN_BINDINGS);
         let shaders =
             |label: &str, vertex: &str, stem: &'static str, points, position_input| PatchShaders {
@@ -170,79 +196,81 @@ impl AdaptivePass {
         let points = Some(refiner.points().raw());
         let mut groups = Vec::new();
         let bspline_records = (d.regular.len() + d.transition.len()) as u32;
-        for (first_patch, count, indices, s, vertices) in [
-            (
-                0,
-                d.regular.len() as u32,
-                d.regular_index_bytes(),
-                shaders(
-                    "adaptive b-spline",
-                    "patch_bspline.vert",
-                    "patch_adaptive_bspline",
-                    16,
-                    true,
+        let index_bytes = index_bytes(d);
+        let index_lens = index_bytes.each_ref().map(Vec::len);
+        for (table, (indices, (first_patch, count, s, vertices))) in index_bytes
+            .into_iter()
+            .zip([
+                (
+                    0,
+                    d.regular.len() as u32,
+                    shaders(
+                        "adaptive b-spline",
+                        "patch_bspline.vert",
+                        "patch_adaptive_bspline",
+                        16,
+                        true,
+                    ),
+                    points,
                 ),
-                points,
-            ),
-            (
-                0,
-                d.triangles.len() as u32,
-                d.triangle_index_bytes(),
-                shaders(
-                    "adaptive transition",
-                    "patch_bspline.vert",
-                    "patch_adaptive_transition",
-                    16,
-                    true,
+                (
+                    0,
+                    d.triangles.len() as u32,
+                    shaders(
+                        "adaptive transition",
+                        "patch_bspline.vert",
+                        "patch_adaptive_transition",
+                        16,
+                        true,
+                    ),
+                    points,
                 ),
-                points,
-            ),
-            (
-                bspline_records,
-                d.single_crease.len() as u32,
-                d.single_crease_index_bytes(),
-                shaders(
-                    "adaptive single-crease",
-                    "patch_bspline.vert",
-                    "patch_adaptive_single_crease",
-                    16,
-                    true,
+                (
+                    bspline_records,
+                    d.single_crease.len() as u32,
+                    shaders(
+                        "adaptive single-crease",
+                        "patch_bspline.vert",
+                        "patch_adaptive_single_crease",
+                        16,
+                        true,
+                    ),
+                    points,
                 ),
-                points,
-            ),
-            (
-                d.triangles.len() as u32,
-                d.single_crease_triangles.len() as u32,
-                d.single_crease_triangle_index_bytes(),
-                shaders(
-                    "adaptive single-crease transition",
-                    "patch_bspline.vert",
-                    "patch_adaptive_sc_transition",
-                    16,
-                    true,
+                (
+                    d.triangles.len() as u32,
+                    d.single_crease_triangles.len() as u32,
+                    shaders(
+                        "adaptive single-crease transition",
+                        "patch_bspline.vert",
+                        "patch_adaptive_sc_transition",
+                        16,
+                        true,
+                    ),
+                    points,
                 ),
-                points,
-            ),
-            (
-                0,
-                d.end_caps.len() as u32,
-                vec![0u8; 4 * d.end_caps.len()],
-                shaders(
-                    "adaptive end caps",
-                    "patch_adaptive_endcap.vert",
-                    "patch_adaptive_endcap",
-                    1,
-                    false,
+                (
+                    0,
+                    d.end_caps.len() as u32,
+                    shaders(
+                        "adaptive end caps",
+                        "patch_adaptive_endcap.vert",
+                        "patch_adaptive_endcap",
+                        1,
+                        false,
+                    ),
+                    None,
                 ),
-                None,
-            ),
-        ] {
+            ])
+            .enumerate()
+        {
             if count == 0 {
                 continue;
             }
             let points = s.points;
             groups.push(DrawGroup {
                 pipeline: patch_pipeline(ctx, pc.desc, pc.target, s)?,
+                table,
                 first_patch,
                 indices: table_buffer(ctx, indices, index, "adaptive indices")?,
                 count,
@@ -275,12 +303,21 @@ impl AdaptivePass {
         own.push(sb(VERTEX_LIMITS_BINDING, derived.limits()));
         own.push(sb(VERTEX_NORMALS_BINDING, derived.normals()));
         let sets = pc.shared.set0_per_slot(ctx, &pool, layout, &own)?;
+        let layout = TableLayout {
+            patches: d.primitive_count(),
+            refined_points: refiner.total_vertices(),
+            refinement: (refiner.table_layout().0, refiner.table_layout().1.to_vec()),
+            records: record_lens,
+            indices: index_lens,
+            rows: derived.row_lens(),
+        };
         Ok(AdaptivePass {
             ctx: ctx.clone(),
+            layout,
             patches: d.primitive_count() as u32,
             refiner,
             derived,
-            _records: records,
+            records,
             groups,
             _pool: pool,
             sets,
@@ -302,7 +339,7 @@ impl AdaptivePass {
     pub fn memory_bytes(&self) -> u64 {
         self.refiner.memory_bytes()
             + self.derived.memory_bytes()
-            + self._records.iter().map(Buffer::size).sum::<u64>()
+            + self.records.iter().map(Buffer::size).sum::<u64>()
             + self.groups.iter().map(|g| g.indices.size()).sum::<u64>()
     }
 }
@@ -352,6 +389,53 @@ impl PatchPass for AdaptivePass {
     fn update_positions(&mut self, _: &[DVec3], _: &VertexFrames) -> Result<()> {
         // Only the control points cross the bus (the shared positions of each frame slot,
         // copied into level 0 by `record_compute`); refinement and frames run on the GPU.
+        Ok(())
+    }
+
+    /// New tables of the same layout (new crease sharpness that refines the same faces to the
+    /// same levels, [`super::AdaptiveTables::with_sharpness`]): every table is rewritten in
+    /// place; pipelines, draws and descriptor sets stay. Another layout is an error naming
+    /// what changed, and nothing is written.
+    fn update_tables(&mut self, tables: &dyn PassTables) -> Result<()> {
+        let t = tables
+            .as_any()
+            .downcast_ref::<super::AdaptiveTables>()
+            .ok_or_else(|| crate::Error::Invalid("adaptive pass: tables of another pass".into()))?;
+        let d = &t.draw;
+        let records = record_bytes(d);
+        let indices = index_bytes(d);
+        let rows = DerivedPoints::row_bytes(d);
+        let refinement = t.refinement.gpu_tables();
+        let layout = TableLayout {
+            patches: d.primitive_count(),
+            refined_points: t.refinement.total_vertices,
+            refinement: (refinement.words.len(), refinement.steps.clone()),
+            records: records.each_ref().map(Vec::len),
+            indices: indices.each_ref().map(Vec::len),
+            rows: rows.each_ref().map(Vec::len),
+        };
+        if layout != self.layout {
+            return Err(crate::Error::Invalid(format!(
+                "the new sharpness changes the adaptive refinement ({} -> {} patches, {} -> {} \
+                 refined points, {} -> {} stencil-row terms): plan the surface again with the new \
+                 creases",
+                self.layout.patches,
+                layout.patches,
+                self.layout.refined_points,
+                layout.refined_points,
+                self.layout.rows[1] / 4,
+                layout.rows[1] / 4,
+            )));
+        }
+        let ctx = &self.ctx;
+        self.refiner.rewrite_tables(ctx, &refinement)?;
+        self.derived.rewrite_rows(ctx, &rows)?;
+        for ((buffer, bytes), label) in self.records.iter().zip(&records).zip(RECORD_LABELS) {
+            ctx.rewrite_buffer(buffer, bytes, label)?;
+        }
+        for g in &self.groups {
+            ctx.rewrite_buffer(&g.indices, &indices[g.table], "adaptive indices")?;
+        }
         Ok(())
     }
 }

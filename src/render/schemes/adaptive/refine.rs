@@ -34,6 +34,7 @@ const KERNELS: [&str; 3] = ["refine_face.comp", "refine_edge.comp", "refine_vert
 /// GPU resources of the compute refinement of one topology.
 pub struct GpuRefiner {
     tables: Buffer,
+    table_words: usize,
     points: Buffer,
     staging: Buffer,
     control_count: u32,
@@ -96,6 +97,7 @@ impl GpuRefiner {
         );
         Ok(GpuRefiner {
             tables: table_buffer,
+            table_words: words.len(),
             points,
             staging,
             control_count,
@@ -122,6 +124,23 @@ impl GpuRefiner {
     /// Number of points in [`Self::points`].
     pub fn total_vertices(&self) -> u32 {
         self.total_vertices
+    }
+
+    /// Words in the table buffer and the kernels' dispatch ranges per level (what a run-time
+    /// table rewrite must keep).
+    pub fn table_layout(&self) -> (usize, &[[KernelRange; 3]]) {
+        (self.table_words, &self.steps)
+    }
+
+    /// Overwrites the subdivision tables with `tables` of the same layout
+    /// ([`Self::table_layout`]; new crease weights). Call while no submitted work uses them.
+    pub fn rewrite_tables(&self, ctx: &Context, tables: &GpuTables) -> Result<()> {
+        if (tables.words.len(), tables.steps.as_slice()) != self.table_layout() {
+            return Err(Error::Invalid(
+                "adaptive refinement: new subdivision tables of another layout".into(),
+            ));
+        }
+        ctx.rewrite_buffer(&self.tables, &tables.words, "adaptive refinement tables")
     }
 
     /// Bytes of GPU memory held (tables, points, staging).
