@@ -237,6 +237,10 @@ impl PassTables for AdaptiveTables {
             pc,
             &self.refinement,
             &self.draw,
+            |tables| {
+                let t = tables.as_any().downcast_ref::<AdaptiveTables>()?;
+                Some((&t.refinement, &t.draw))
+            },
         )?))
     }
 

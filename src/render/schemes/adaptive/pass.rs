@@ -58,7 +58,13 @@ pub struct AdaptivePass {
     patches: u32,
     /// What [`PatchPass::update_tables`] must keep.
     layout: TableLayout,
+    /// Finds the tables in what [`PatchPass::update_tables`] gets.
+    tables_of: TablesOf,
 }
+
+/// The kernels' and draw tables inside tables of this scheme (`super::AdaptiveTables`, whose
+/// `create_pass` gives it, so this module need not name the type), or `None` for another pass's.
+pub type TablesOf = fn(&dyn PassTables) -> Option<(&RefinementTables, &AdaptiveDrawTables)>;
 
 /// The layout a run-time table change must keep, since it rewrites the buffers in place (the
 /// draws, dispatches and descriptor sets stay): patch and refined-point counts, the kernels'
@@ -164,11 +170,12 @@ fn rewrite_word(mut bytes: Vec<u8>, stride: usize, word: usize, f: impl Fn(u32) 
 
 impl AdaptivePass {
     /// Uploads the kernels' tables `refinement` and the draw tables `d` and creates the
-    /// pipelines.
+    /// pipelines; `tables_of` finds both in new tables of the same scheme (run-time changes).
     pub fn new(
         pc: &PassContext<'_>,
         refinement: &RefinementTables,
         d: &AdaptiveDrawTables,
+        tables_of: TablesOf,
     ) -> Result<AdaptivePass> {
         let ctx = pc.ctx;
         let refiner = GpuRefiner::new(ctx, refinement, pc.positions)?;
@@ -314,6 +321,7 @@ impl AdaptivePass {
         Ok(AdaptivePass {
             ctx: ctx.clone(),
             layout,
+            tables_of,
             patches: d.primitive_count() as u32,
             refiner,
             derived,
@@ -393,22 +401,19 @@ impl PatchPass for AdaptivePass {
     }
 
     /// New tables of the same layout (new crease sharpness that refines the same faces to the
-    /// same levels, [`super::AdaptiveTables::with_sharpness`]): every table is rewritten in
+    /// same levels, `AdaptiveTables::with_sharpness`): every table is rewritten in
     /// place; pipelines, draws and descriptor sets stay. Another layout is an error naming
     /// what changed, and nothing is written.
     fn update_tables(&mut self, tables: &dyn PassTables) -> Result<()> {
-        let t = tables
-            .as_any()
-            .downcast_ref::<super::AdaptiveTables>()
+        let (kernels, d) = (self.tables_of)(tables)
             .ok_or_else(|| crate::Error::Invalid("adaptive pass: tables of another pass".into()))?;
-        let d = &t.draw;
         let records = record_bytes(d);
         let indices = index_bytes(d);
         let rows = DerivedPoints::row_bytes(d);
-        let refinement = t.refinement.gpu_tables();
+        let refinement = kernels.gpu_tables();
         let layout = TableLayout {
             patches: d.primitive_count(),
-            refined_points: t.refinement.total_vertices,
+            refined_points: kernels.total_vertices,
             refinement: (refinement.words.len(), refinement.steps.clone()),
             records: records.each_ref().map(Vec::len),
             indices: indices.each_ref().map(Vec::len),
