@@ -95,8 +95,11 @@ fn errors_by_kind(m: &ControlMesh, records: &[CaptureRecord]) -> HashMap<u8, (f6
 }
 
 /// B-spline, boundary, crease, single-crease and transition patches equal the exact limit at
-/// every TES point (f32 GPU arithmetic): ≤ 1e-6 of the diagonal, normals ≤ 1e-3 rad (the
-/// B-spline pass's bound: f32 cancellation in the derivatives of flat, large patches).
+/// every TES point (f32 GPU arithmetic): ≤ 1e-6 of the diagonal, normals ≤ 1e-4 rad. Measured
+/// on the car at isolation 2: regular 6.7e-5, transition 6.1e-5, single-crease 2.5e-5,
+/// boundary 2.3e-5 rad (≤ 2.3e-6 on the other meshes). The car's floor is the f32 refined
+/// buffer: rounding its level-2 points to f32 once, with the patches evaluated exactly in f64,
+/// moves the normals by 6.1e-5 (regular) and 1.6e-5 rad (single-crease) already.
 #[test]
 fn exact_patches_match_the_limit() {
     let Some(ctx) = context() else { return };
@@ -125,7 +128,7 @@ fn exact_patches_match_the_limit() {
             );
             if kind != END_CAP {
                 assert!(
-                    d <= 1e-6 && a <= 1e-3,
+                    d <= 1e-6 && a <= 1e-4,
                     "{name}: {} off the limit",
                     kind_name(kind)
                 );

@@ -16,9 +16,11 @@ const SCHEME: Scheme = Scheme::BsplineOnly;
 const EXACT_PASS: &str = "bspline";
 
 /// Exact: every point of every B-spline patch equals the Catmull-Clark limit at the same
-/// (face, u, v) within 1e-6 of the bbox diagonal and 1e-3 rad (measured: <= 2.3e-7 of the
-/// diagonal; normals <= 1.1e-6 rad on the embedded meshes, 2.3e-4 rad on the car, whose f32
-/// derivatives of its small faces lose digits).
+/// (face, u, v) within 1e-6 of the bbox diagonal and 5e-5 rad (measured: <= 2.3e-7 of the
+/// diagonal; normals <= 4.7e-7 rad on the embedded meshes, 1.6e-5 rad on the car, as far as
+/// rounding its control points to f32 alone moves the exact normals there, 1.5e-5 rad: the
+/// Bezier points and edge tangents are computed relative to a patch point, so the small faces'
+/// derivatives keep their digits; 2.3e-4 rad in absolute coordinates).
 #[test]
 fn matches_the_exact_limit() {
     let Some(ctx) = context() else { return };
@@ -30,7 +32,7 @@ fn matches_the_exact_limit() {
     ] {
         let m = mesh(name);
         let (surface, records) = draw(&ctx, &m, SCHEME, uniform(6.0));
-        assert_matches_limit(name, &m, &surface, &records, EXACT_PASS, 1e-6, 1e-3);
+        assert_matches_limit(name, &m, &surface, &records, EXACT_PASS, 1e-6, 5e-5);
     }
 }
 

@@ -2,7 +2,9 @@
 // patch::RegularPatch), shared by the B-spline pass and the adaptive scheme's B-spline and
 // transition patches: mirrors phantom points (columns first, then rows: 2a - b) and writes, for
 // this invocation, the mirrored B-spline point (the TES's shared-edge evaluation) and the Bezier
-// point (the interior).
+// point (the interior) relative to the patch origin P[5] (a corner vertex, never a phantom; the
+// TES adds it back): differences of nearby points keep their digits where absolute coordinates
+// would not, so the normals of small patches far from the coordinate origin stay accurate.
 #ifndef TESSERA_BSPLINE_TCS_GLSL
 #define TESSERA_BSPLINE_TCS_GLSL
 
@@ -38,9 +40,11 @@ void bspline_control_points(uint flags) {
     // Bezier point (i, j) = sum_b wj[b] * sum_a wi[a] * P[4b + a] (tensor-product change of basis).
     vec4 wi = bspline_to_bezier_row(i);
     vec4 wj = bspline_to_bezier_row(j);
+    vec3 o = P[5];
     vec3 acc = vec3(0.0);
     for (int b = 0; b < 4; ++b) {
-        vec3 row = wi.x * P[4 * b] + wi.y * P[4 * b + 1] + wi.z * P[4 * b + 2] + wi.w * P[4 * b + 3];
+        vec3 row = wi.x * (P[4 * b] - o) + wi.y * (P[4 * b + 1] - o) + wi.z * (P[4 * b + 2] - o)
+            + wi.w * (P[4 * b + 3] - o);
         acc += wj[b] * row;
     }
     c_bezier[gl_InvocationID] = acc;

@@ -41,13 +41,16 @@ void edge_point(uint flags, int e, float x, out vec3 pos, out vec3 nrm) {
     edge_point_ts(flags, e, t, s, pos, nrm);
 }
 
-/// The patch's own surface point and unit normal at (u, v) from the Bezier points.
+/// The patch's own surface point and unit normal at (u, v) from the Bezier points (relative to
+/// the origin c_bspline[5], bspline_tcs.glsl).
 void bspline_surface(float u, float v, out vec3 pos, out vec3 nrm) {
     vec3 cp[16];
     for (int k = 0; k < 16; ++k) {
         cp[k] = c_bezier[k];
     }
-    bezier_surface(cp, u, v, pos, nrm);
+    vec3 rel;
+    bezier_surface(cp, u, v, rel, nrm);
+    pos = c_bspline[5] + rel;
 }
 
 #endif

@@ -89,15 +89,19 @@ vec4 bspline3_deriv(float t, float s) {
     return vec4(-0.5 * s * s, d1t, -d1s, 0.5 * t * t);
 }
 
-/// Edge limit curve and normal from its B-spline points c (from the smaller-id end) and the
-/// cross-edge differences d (left minus right row, per point): position sum N_i c_i, normal
-/// cross(dC/dt, sum N_i d_i). The tail of grid_edge_rows and single_crease/single_crease.glsl's
-/// crease edge.
-void edge_curve(vec3 c[4], vec3 d[4], float t, float s, out vec3 pos, out vec3 nrm) {
+/// Edge limit curve and normal from its B-spline points c (from the smaller-id end), the same
+/// points relative to an origin both sides share, c_rel (built from grid points minus that
+/// origin, so the tangent keeps the digits of small patches far from the coordinate origin: the
+/// derivative does not depend on the origin), and the cross-edge differences d (left minus right
+/// row, per point): position sum N_i c_i, normal cross(dC/dt, sum N_i d_i). The tail of
+/// grid_edge_rows and single_crease/single_crease.glsl's crease edge.
+void edge_curve(vec3 c[4], vec3 c_rel[4], vec3 d[4], float t, float s, out vec3 pos,
+                out vec3 nrm) {
     precise vec4 n = bspline3(t, s);
     precise vec3 p = ((n.x * c[0] + n.y * c[1]) + n.z * c[2]) + n.w * c[3];
     precise vec4 dn = bspline3_deriv(t, s);
-    precise vec3 tangent = ((dn.x * c[0] + dn.y * c[1]) + dn.z * c[2]) + dn.w * c[3];
+    precise vec3 tangent =
+        ((dn.x * c_rel[0] + dn.y * c_rel[1]) + dn.z * c_rel[2]) + dn.w * c_rel[3];
     precise vec3 cross_dir = ((n.x * d[0] + n.y * d[1]) + n.z * d[2]) + n.w * d[3];
     precise vec3 nn = normalize(cross(tangent, cross_dir));
     pos = p;
@@ -112,15 +116,18 @@ void edge_curve(vec3 c[4], vec3 d[4], float t, float s, out vec3 pos, out vec3 n
 void grid_edge_rows(vec3 l[4], vec3 m[4], vec3 r[4], bool sharp, float t, float s, out vec3 pos,
                     out vec3 nrm) {
     precise vec3 c[4];
+    precise vec3 c_rel[4];
     precise vec3 d[4];
+    precise vec3 o = m[0];
     for (int i = 0; i < 4; ++i) {
         // On a boundary or infinitely sharp edge one outer row is a side's own mirrored phantom
         // (2a - b), which makes (l + r + 4m)/6 equal m only in exact arithmetic: use m itself, the
         // crease polygon both sides share, so both sides get the same bits.
         c[i] = sharp ? m[i] : ((l[i] + r[i]) + 4.0 * m[i]) * (1.0 / 6.0);
+        c_rel[i] = sharp ? m[i] - o : (((l[i] - o) + (r[i] - o)) + 4.0 * (m[i] - o)) * (1.0 / 6.0);
         d[i] = l[i] - r[i];
     }
-    edge_curve(c, d, t, s, pos, nrm);
+    edge_curve(c, c_rel, d, t, s, pos, nrm);
 }
 
 #endif

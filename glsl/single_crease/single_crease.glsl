@@ -130,12 +130,15 @@ void crease_edge_rows(vec3 l[4], vec3 m[4], vec3 r[4], float sharpness, float t,
     precise float alpha = crease_edge_alpha(crease_split(sharpness));
     precise float beta = 1.0 - 2.0 * alpha;
     precise vec3 c[4];
+    precise vec3 c_rel[4];
     precise vec3 d[4];
+    precise vec3 o = m[0];
     for (int i = 0; i < 4; ++i) {
         c[i] = alpha * (l[i] + r[i]) + beta * m[i];
+        c_rel[i] = alpha * ((l[i] - o) + (r[i] - o)) + beta * (m[i] - o);
         d[i] = l[i] - r[i];
     }
-    edge_curve(c, d, t, s, pos, nrm);
+    edge_curve(c, c_rel, d, t, s, pos, nrm);
 }
 
 /// An edge across the crease (v = 0 or v = 1): rows l, m, r along it in the canonical frame,
@@ -147,10 +150,14 @@ void crease_edge_rows(vec3 l[4], vec3 m[4], vec3 r[4], float sharpness, float t,
 void crease_across_edge(vec3 l[4], vec3 m[4], vec3 r[4], bool crease_at_lo, float sharpness,
                         float t, float s, out vec3 pos, out vec3 nrm) {
     precise vec3 c[4];
+    precise vec3 c_rel[4];
     precise vec3 d[4];
+    precise vec3 o = m[0];
     for (int k = 0; k < 4; ++k) {
         int kk = crease_at_lo ? 3 - k : k;
         c[k] = ((l[kk] + r[kk]) + 4.0 * m[kk]) * (1.0 / 6.0);
+        // The tangent from points relative to o (as edge_curve in common/watertight.glsl).
+        c_rel[k] = (((l[kk] - o) + (r[kk] - o)) + 4.0 * (m[kk] - o)) * (1.0 / 6.0);
         d[k] = l[kk] - r[kk];
     }
     // Curve parameter from the away end.
@@ -168,9 +175,10 @@ void crease_across_edge(vec3 l[4], vec3 m[4], vec3 r[4], bool crease_at_lo, floa
     for (int i = 0; i < 4; ++i) {
         precise vec4 w = set_row(cs, g, i);
         precise vec3 e = ((w.x * c[0] + w.y * c[1]) + w.z * c[2]) + w.w * c[3];
+        precise vec3 e_rel = ((w.x * c_rel[0] + w.y * c_rel[1]) + w.z * c_rel[2]) + w.w * c_rel[3];
         precise vec3 f = ((w.x * d[0] + w.y * d[1]) + w.z * d[2]) + w.w * d[3];
         p += b[i] * e;
-        tangent += db[i] * e;
+        tangent += db[i] * e_rel;
         cross_dir += b[i] * f;
     }
     if (crease_at_lo) {

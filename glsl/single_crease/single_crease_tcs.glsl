@@ -20,11 +20,14 @@ void single_crease_control_points(float sharpness) {
     int i = id % 4;
     int j = id / 4;
     c_bspline[gl_InvocationID] = v_pos[id];
-    // Along the crease (v) every piece is the smooth cubic: Bezier row j of each column.
+    // Along the crease (v) every piece is the smooth cubic: Bezier row j of each column, relative
+    // to the origin v_pos[5] (as bspline_tcs.glsl; the TES adds c_bspline[5] back).
     vec4 wj = bspline_to_bezier_row(j);
+    vec3 o = v_pos[5];
     vec3 col[4];
     for (int k = 0; k < 4; ++k) {
-        col[k] = ((wj.x * v_pos[k] + wj.y * v_pos[4 + k]) + wj.z * v_pos[8 + k]) + wj.w * v_pos[12 + k];
+        col[k] = ((wj.x * (v_pos[k] - o) + wj.y * (v_pos[4 + k] - o)) + wj.z * (v_pos[8 + k] - o))
+            + wj.w * (v_pos[12 + k] - o);
     }
     // Across it (u) Bezier point i of each piece over its own u-range. Empty pieces are never read.
     vec4 w0 = set_row(cs, 0, i);

@@ -71,8 +71,10 @@ void single_crease_surface(float sharpness, float u, float v, out vec3 pos, out 
     for (int k = 0; k < 16; ++k) {
         cp[k] = set_point(g, k);
     }
-    // d/dx = (range width) d/du: the same normal.
-    bezier_surface(cp, x, v, pos, nrm);
+    // d/dx = (range width) d/du: the same normal. The sets are relative to c_bspline[5].
+    vec3 rel;
+    bezier_surface(cp, x, v, rel, nrm);
+    pos = c_bspline[5] + rel;
 }
 
 #endif
