@@ -331,7 +331,8 @@ fn sub_triangles_meet_bitwise() {
     assert_validation_clean(&ctx);
 }
 
-/// Both variants, fractional spacings, adaptive levels, and every catmark_gregory_test mesh
+/// Both variants, fractional spacings, screen-space and camera-distance levels, and every
+/// catmark_gregory_test mesh
 /// with faces the GPU construction takes.
 #[test]
 fn watertight_spacings_variants_meshes() {
@@ -344,6 +345,7 @@ fn watertight_spacings_variants_meshes() {
         (6.5, Spacing::FractionalEven, TessMode::Uniform),
         (7.0, Spacing::Equal, TessMode::Uniform),
         (8.0, Spacing::Equal, TessMode::Adaptive),
+        (6.0, Spacing::FractionalOdd, TessMode::Distance),
         (24.0, Spacing::Equal, TessMode::Uniform),
         (32.0, Spacing::Equal, TessMode::Uniform),
     ];

@@ -295,8 +295,8 @@ fn every_shared_mesh_draws_on_the_gpu() {
 
 /// Points two patches emit at the same place are the same bits (any types and levels): every
 /// pair of records closer than 1e-6 of the diagonal has bitwise-equal positions, and normals
-/// bitwise equal or more than 0.01 rad apart (a crease). Uniform levels 1-8 and screen-space
-/// factors, every spacing.
+/// bitwise equal or more than 0.01 rad apart (a crease). Uniform levels 1-8, screen-space and
+/// camera-distance factors, every spacing.
 #[test]
 fn watertight_across_levels_and_types() {
     let Some(ctx) = context() else { return };
@@ -331,6 +331,10 @@ fn watertight_across_levels_and_types() {
         // Screen-space capture is sized for level 64 everywhere: small meshes only.
         if screen_space {
             cases.push(screen);
+            cases.push(TessSettings {
+                mode: TessMode::Distance,
+                ..uniform(8.0)
+            });
         }
         for tess in cases {
             let (_, records) = draw(&ctx, &m, iso, tess);

@@ -9,7 +9,7 @@ mod common;
 
 use std::time::Instant;
 
-use common::capture::uniform;
+use common::capture::{offscreen, uniform};
 use common::conformance::{
     accuracy_within, animation_on, assert_watertight, draw, golden_patch_type, gpu_equals_cpu_on,
     watertight_on,
@@ -264,6 +264,94 @@ fn watertight() {
     };
     let (surface, records) = draw(&ctx, &m, SCHEME, tess);
     assert_watertight("mixed screen-space", &surface, &records);
+    let (surface, records) = draw(&ctx, &m, SCHEME, distance_mode(8.0));
+    assert_watertight("mixed camera distance", &surface, &records);
+}
+
+/// The paper's camera-distance metric (`--tess-mode distance`): `level x D / d` per edge, d the
+/// eye's distance to the midpoint of the edge's end-vertex limit points, D the bounding-box
+/// diagonal by default.
+fn distance_mode(level: f32) -> tessera::render::TessSettings {
+    tessera::render::TessSettings {
+        mode: tessera::render::TessMode::Distance,
+        ..uniform(level)
+    }
+}
+
+/// Camera-distance levels: every captured quad edge has the points its level predicts from the
+/// eye's distance (counted on the CPU from the limit points, `ceil(clamp(L D / d, 1, 64))`
+/// segments with equal spacing), and the car's nearest faces get more points than its farthest.
+#[test]
+fn camera_distance_levels() {
+    let Some(ctx) = context() else { return };
+    let m = mesh("catmark_car");
+    let surface =
+        tessera::render::plan_for_scheme(&m, SCHEME, &SchemeLimits::from_context(&ctx)).unwrap();
+    let render = tessera::render::RenderDesc {
+        tess: distance_mode(8.0),
+        ..Default::default()
+    };
+    let mut anim = common::capture::Animation::new(&ctx, &surface, &render, &offscreen(96, 96));
+    let records = anim.frame();
+    let eye = anim.eye();
+    let topo = Topology::new(&m).unwrap();
+    let (lo, hi) = surface.bounding_box();
+    let reference = (hi - lo).length();
+    // The shared limit points the TCS reads (vertex_limit).
+    let frames = surface.vertex_frames(&surface.positions);
+    let limit = |v: u32| frames.limits[v as usize];
+    let qas: std::collections::HashSet<u32> = surface
+        .part("qas")
+        .unwrap()
+        .faces()
+        .iter()
+        .copied()
+        .collect();
+    let (mut checked, mut by_face) = (0, std::collections::HashMap::new());
+    for r in &records {
+        *by_face.entry(r.face).or_insert(0usize) += 1;
+    }
+    for &f in &qas {
+        let fv = topo.face_vertices(f);
+        if fv.len() != 4 {
+            continue;
+        }
+        // Edge v = 0 of the quad: corners 0 and 1.
+        let d = (0.5 * (limit(fv[0]) + limit(fv[1])) - eye).length();
+        let want = (8.0 * reference / d).clamp(1.0, 64.0).ceil() as usize + 1;
+        let got = records
+            .iter()
+            .filter(|r| r.face == f && r.v == 0.0)
+            .map(|r| r.u.to_bits())
+            .collect::<std::collections::BTreeSet<_>>()
+            .len();
+        // f32 rounding of d can move a level across an integer: allow one segment.
+        assert!(
+            got.abs_diff(want) <= 1,
+            "face {f}: {got} points on edge v = 0, the distance rule gives {want}"
+        );
+        checked += 1;
+    }
+    let centre = |f: u32| {
+        let fv = topo.face_vertices(f);
+        fv.iter().map(|&v| limit(v)).sum::<DVec3>() / fv.len() as f64
+    };
+    let nearest = qas.iter().min_by(|&&a, &&b| {
+        (centre(a) - eye)
+            .length()
+            .total_cmp(&(centre(b) - eye).length())
+    });
+    let farthest = qas.iter().max_by(|&&a, &&b| {
+        (centre(a) - eye)
+            .length()
+            .total_cmp(&(centre(b) - eye).length())
+    });
+    let (n, f) = (by_face[nearest.unwrap()], by_face[farthest.unwrap()]);
+    eprintln!(
+        "car, camera distance: {checked} edges checked; nearest face {n} points, farthest {f}"
+    );
+    assert!(checked > 100 && n > f);
+    assert_validation_clean(&ctx);
 }
 
 /// Moving the control vertices (stencils re-applied on the CPU, records rewritten) equals

@@ -6,9 +6,13 @@
 
 /// Outer tessellation level of the edge between slots a and b of a level-`level` patch. Uniform
 /// mode: the requested level / 2^level, at least 1, so the density is the same at every level
-/// and both sides of an edge (same level) agree; screen-space mode: the chord rule of
-/// edge_tess_level (the chord itself halves with the level).
+/// and both sides of an edge (same level) agree; distance mode: the distance rule / 2^level
+/// likewise; screen-space mode: the chord rule of edge_tess_level (the chord itself halves with
+/// the level).
 float level_edge_tess(uint a, uint b, uint level) {
+    if (frame.tess.y == TESS_MODE_DISTANCE) {
+        return clamp(distance_tess_level(a, b) / float(1u << level), 1.0, frame.tess.w);
+    }
     if (frame.tess.y != TESS_MODE_ADAPTIVE) {
         return clamp(frame.tess.x / float(1u << level), 1.0, frame.tess.w);
     }

@@ -7,6 +7,7 @@
 /// Tessellation-factor modes (`Frame.tess.y`).
 #define TESS_MODE_UNIFORM 0.0
 #define TESS_MODE_ADAPTIVE 1.0
+#define TESS_MODE_DISTANCE 2.0
 
 /// Colour modes (`Frame.flags.x`).
 #define COLOR_NONE 0u
@@ -28,7 +29,8 @@ layout(std140, set = 0, binding = 0) uniform Frame {
     mat4 view_proj;      // world -> clip (Vulkan clip space: y down, depth 0..1)
     vec4 eye;            // xyz: camera position in world space
     vec4 viewport;       // xy: framebuffer size in pixels
-    vec4 tess;           // x: uniform level, y: mode, z: pixels per edge, w: max level
+    vec4 tess;           // x: uniform level, y: mode, z: pixels per edge (distance mode: the
+                         // reference distance), w: max level
     vec4 light_dir;      // xyz: direction towards the key light (world), normalised
     uvec4 flags;         // x: colour mode
     vec4 displace;       // x: procedural displacement scale along the normal (0: off)

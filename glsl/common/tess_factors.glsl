@@ -1,7 +1,10 @@
 // Tessellation factors from data both patches of an edge share (needs frame.glsl; TCS only).
 // Uniform: the requested level. Adaptive: the projected length, in pixels, of the chord between
-// the limit points of the edge's two end vertices, divided by the target pixels per edge. The end
-// vertices are taken in increasing vertex-id order so both neighbours run the same arithmetic.
+// the limit points of the edge's two end vertices, divided by the target pixels per edge.
+// Distance (QAS's camera-distance metric, Boubekeur, Schlick 2007 §3): the requested level times
+// the reference distance over the distance from the eye to the midpoint of those limit points.
+// The end vertices are taken in increasing vertex-id order so both neighbours run the same
+// arithmetic.
 #ifndef TESSERA_TESS_FACTORS_GLSL
 #define TESSERA_TESS_FACTORS_GLSL
 
@@ -12,9 +15,22 @@ vec2 to_pixels(vec3 p) {
     return (c.xy / w * 0.5 + 0.5) * frame.viewport.xy;
 }
 
+/// Distance-mode level (unclamped) of the edge between base vertices a and b: level x reference
+/// distance / distance of the eye to the midpoint of their limit points.
+float distance_tess_level(uint a, uint b) {
+    uint lo = min(a, b);
+    uint hi = max(a, b);
+    precise vec3 mid = 0.5 * (vertex_limit[lo].xyz + vertex_limit[hi].xyz);
+    precise float d = length(mid - frame.eye.xyz);
+    return frame.tess.x * frame.tess.z / max(d, 1e-30);
+}
+
 /// Outer level of the edge between base vertices a and b.
 float edge_tess_level(uint a, uint b) {
     float max_level = frame.tess.w;
+    if (frame.tess.y == TESS_MODE_DISTANCE) {
+        return clamp(distance_tess_level(a, b), 1.0, max_level);
+    }
     if (frame.tess.y != TESS_MODE_ADAPTIVE) {
         // A split patch covers its domain with split x split sub-patches of level / split.
         return clamp(frame.tess.x / float(chunk.split), 1.0, max_level);

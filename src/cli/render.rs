@@ -40,12 +40,17 @@ pub struct RenderArgs {
     /// the grid density of the CPU-evaluated faces.
     #[arg(long, default_value_t = 8.0)]
     pub tess: f32,
-    /// `uniform` or `adaptive` (screen-space, from the shared edges' end-point limit positions).
-    #[arg(long, default_value = "uniform", value_parser = ["uniform", "adaptive"])]
+    /// `uniform`, `adaptive` (screen-space, from the shared edges' end-point limit positions) or
+    /// `distance` (camera distance: `--tess` at `--tess-distance`, ∝ 1 / distance).
+    #[arg(long, default_value = "uniform", value_parser = ["uniform", "adaptive", "distance"])]
     pub tess_mode: String,
     /// Adaptive mode: target length of a tessellated segment in pixels.
     #[arg(long, default_value_t = 8.0)]
     pub pixels_per_edge: f32,
+    /// Distance mode: the camera distance at which an edge gets `--tess` (default: the surface's
+    /// bounding-box diagonal).
+    #[arg(long)]
+    pub tess_distance: Option<f32>,
     /// Tessellation spacing.
     #[arg(long, default_value = "equal", value_parser = ["equal", "fractional-odd", "fractional-even"])]
     pub spacing: String,
@@ -306,17 +311,25 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let level = clamp_level(&ctx, args.tess)?;
     let tess = TessSettings {
         level,
-        mode: if args.tess_mode == "adaptive" {
-            TessMode::Adaptive
-        } else {
-            TessMode::Uniform
+        mode: match args.tess_mode.as_str() {
+            "adaptive" => TessMode::Adaptive,
+            "distance" => TessMode::Distance,
+            _ => TessMode::Uniform,
         },
         pixels_per_edge: args.pixels_per_edge,
+        distance: args.tess_distance.unwrap_or(0.0),
         spacing: Spacing::parse(&args.spacing)?,
         max_patch_level: max_patch_level(args.max_patch_level),
     };
     if !(tess.pixels_per_edge.is_finite() && tess.pixels_per_edge > 0.0) {
         return Err(Error::Invalid("--pixels-per-edge must be positive".into()));
+    }
+    if let Some(d) = args.tess_distance {
+        if !(d.is_finite() && d > 0.0) {
+            return Err(Error::Invalid(format!(
+                "--tess-distance {d}: must be a positive distance"
+            )));
+        }
     }
     let surface = surface_for(
         &ctx,

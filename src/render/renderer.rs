@@ -13,7 +13,7 @@ use super::schemes::adaptive::AdaptiveTables;
 use super::schemes::single_crease::SingleCreaseTables;
 use super::schemes::{PassContext, PassTables, PatchPass};
 pub use super::settings::RenderDesc;
-use super::settings::{FrameUniforms, TessSettings};
+use super::settings::{FrameUniforms, TessMode, TessSettings};
 use super::surface::{vertex_frames, SurfaceData};
 use crate::gpu::{Context, DrawTarget, Feature, TargetFormat};
 use crate::mesh::Crease;
@@ -43,7 +43,12 @@ pub fn resolve_tess_for(
         .iter()
         .map(|p| p.patch_level_limit(tess.spacing))
         .collect();
-    tess.resolve(device_max_level, &limits)
+    let mut t = tess.resolve(device_max_level, &limits);
+    if t.mode == TessMode::Distance && !(t.distance > 0.0 && t.distance.is_finite()) {
+        let (lo, hi) = surface.bounding_box();
+        t.distance = (hi - lo).length().max(f64::from(f32::MIN_POSITIVE)) as f32;
+    }
+    t
 }
 
 /// Most frames in flight a renderer keeps slots for.

@@ -13,6 +13,10 @@ pub enum TessMode {
     Uniform,
     /// Levels from the projected length of each edge (target pixels per segment).
     Adaptive,
+    /// Levels from the camera distance of each edge (QAS's camera-distance metric, Boubekeur,
+    /// Schlick 2007 §3; per-edge from the midpoint of its end vertices' shared limit points, so
+    /// both sides agree): `level × distance / d`, [`TessSettings::distance`].
+    Distance,
 }
 
 /// Tessellation spacing (SPIR-V `SpacingEqual`, `SpacingFractionalOdd`, `SpacingFractionalEven`).
@@ -75,6 +79,10 @@ pub struct TessSettings {
     pub mode: TessMode,
     /// Adaptive target: pixels per tessellated segment.
     pub pixels_per_edge: f32,
+    /// Distance mode: an edge whose midpoint is this far from the eye gets `level`, nearer
+    /// edges more and farther ones fewer (∝ 1 / distance). `0`: the surface's bounding-box
+    /// diagonal, set by [`crate::render::resolve_tess`].
+    pub distance: f32,
     /// Spacing of the tessellator.
     pub spacing: Spacing,
     /// Uniform mode: patches whose level exceeds this are drawn as 2x2, 4x4, ... sub-patches of
@@ -107,6 +115,7 @@ impl Default for TessSettings {
             level: 8.0,
             mode: TessMode::Uniform,
             pixels_per_edge: 8.0,
+            distance: 0.0,
             spacing: Spacing::Equal,
             max_patch_level: 16.0,
         }
@@ -249,8 +258,12 @@ impl FrameUniforms {
         f[25] = match tess.mode {
             TessMode::Uniform => 0.0,
             TessMode::Adaptive => 1.0,
+            TessMode::Distance => 2.0,
         };
-        f[26] = tess.pixels_per_edge;
+        f[26] = match tess.mode {
+            TessMode::Distance => tess.distance,
+            _ => tess.pixels_per_edge,
+        };
         f[27] = max_level;
         f[28..31].copy_from_slice(&self.light_dir.to_array());
         let mut out = [0u8; FRAME_UNIFORM_BYTES];
@@ -286,6 +299,7 @@ mod tests {
             level: 5.0,
             mode: TessMode::Adaptive,
             pixels_per_edge: 4.0,
+            distance: 2.0,
             spacing: Spacing::Equal,
             max_patch_level: 16.0,
         };
@@ -300,6 +314,13 @@ mod tests {
         assert_eq!(f(116), 1.0);
         assert_eq!(u32::from_le_bytes(b[128..132].try_into().unwrap()), 1);
         assert_eq!(f(144), 0.25);
+        let distance = TessSettings {
+            mode: TessMode::Distance,
+            ..tess
+        };
+        let b = u.to_bytes(&distance, 64.0, Displacement::None);
+        let f = |o: usize| f32::from_le_bytes(b[o..o + 4].try_into().unwrap());
+        assert_eq!((f(100), f(104)), (2.0, 2.0));
     }
 
     #[test]

@@ -37,10 +37,10 @@ pub fn uniform(level: f32) -> TessSettings {
     }
 }
 
-/// Capture records `patches` patches can emit at `tess`; adaptive levels are taken at the
-/// device limit they can reach (64: at most 66^2 points per patch).
+/// Capture records `patches` patches can emit at `tess`; screen-space and distance levels are
+/// taken at the device limit they can reach (64: at most 66^2 points per patch).
 pub fn patch_capacity(patches: usize, tess: &TessSettings) -> u32 {
-    if tess.mode == TessMode::Adaptive {
+    if tess.mode != TessMode::Uniform {
         let highest = TessSettings {
             level: 64.0,
             spacing: Spacing::FractionalEven,
@@ -176,6 +176,11 @@ impl Animation {
     /// New crease sharpness on the single-crease patches (`SurfaceRenderer::set_sharpness`).
     pub fn set_sharpness(&mut self, creases: &[tessera::mesh::Crease]) -> tessera::Result<()> {
         self.session.renderer_mut().set_sharpness(creases)
+    }
+
+    /// The camera's eye (world).
+    pub fn eye(&self) -> DVec3 {
+        self.session.camera().eye
     }
 
     /// The last frame's picture.
