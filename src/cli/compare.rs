@@ -214,8 +214,8 @@ fn contact_sheet(panels: &[RgbaImage], width: u32, height: u32) -> RgbaImage {
 fn markdown(outcomes: &[Outcome]) -> String {
     let mut s = String::from(
         "| scheme | control points per patch | patches | CPU faces | distance / diag (RMS / max) \
-         | normal rad (RMS / max) | GPU ms/frame (compute) | GPU KiB | watertight | normal jump rad \
-         | continuity |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
+         | normal rad (RMS / max) | GPU ms/frame (compute) | GPU KiB | watertight | normal jump rad: \
+         drawn / patches (limit) | continuity |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for (scheme, r) in outcomes {
         match r {
@@ -248,7 +248,10 @@ fn markdown(outcomes: &[Outcome]) -> String {
          exact and not sampled); the adaptive scheme tessellates a level-l patch at tess / 2^l \
          (at least 1), so at high isolation its end caps are sampled near their corners only: \
          raise `--tess` to see their interior. Normal jump: the largest angle between the drawn \
-         normals of coincident seam points where the exact limit is smooth.\n"
+         normals of coincident seam points where the exact limit is smooth; then between the two \
+         patches' geometric normals 1e-4 inside each side of every smooth edge two GPU quads \
+         share (their CPU constructions, central differences of positions), with the exact \
+         limit's angle at the same points in parentheses.\n"
 }
 
 /// The watertight column: `yes` / `no (N of M pairs, gap G)`, noting CPU faces are not checked.
@@ -269,11 +272,17 @@ fn watertight(c: &SchemeComparison) -> String {
     }
 }
 
-/// The normal-jump column over smooth seam pairs.
+/// The normal-jump column: drawn normals over smooth seam pairs, then the patches' own normals
+/// just inside shared smooth edges (the limit's in parentheses).
 fn normal_jump(c: &SchemeComparison) -> String {
-    match c.row.seams.smooth_pairs {
-        0 => "—".into(),
+    let drawn = match c.row.seams.smooth_pairs {
+        0 => "—".to_string(),
         _ => format!("{:.1e}", c.row.seams.max_normal_jump),
+    };
+    let g = &c.row.continuity;
+    match g.samples {
+        0 => format!("{drawn} / —"),
+        _ => format!("{drawn} / {:.1e} ({:.1e})", g.max_jump, g.max_exact_jump),
     }
 }
 
@@ -282,14 +291,14 @@ fn csv(outcomes: &[Outcome], diagonal: f64) -> String {
     let mut s = String::from(
         "scheme,patches,cpu_faces,samples,rms_distance,max_distance,rms_normal,max_normal,\
          frame_ms,compute_ms,memory_bytes,seam_pairs,cracked_pairs,max_gap,smooth_pairs,\
-         max_normal_jump,error\n",
+         max_normal_jump,error,g1_edges,g1_max_jump,g1_rms_jump,g1_exact_max_jump\n",
     );
     for (scheme, r) in outcomes {
         match r {
             Ok(c) => {
                 let r = &c.row;
                 s += &format!(
-                    "{},{},{},{},{:e},{:e},{:e},{:e},{},{},{},{},{},{:e},{},{:e},\n",
+                    "{},{},{},{},{:e},{:e},{:e},{:e},{},{},{},{},{},{:e},{},{:e},,{},{:e},{:e},{:e}\n",
                     scheme,
                     r.patches,
                     r.cpu_faces,
@@ -306,11 +315,15 @@ fn csv(outcomes: &[Outcome], diagonal: f64) -> String {
                     r.seams.max_gap / diagonal,
                     r.seams.smooth_pairs,
                     r.seams.max_normal_jump,
+                    r.continuity.edges,
+                    r.continuity.max_jump,
+                    r.continuity.rms_jump,
+                    r.continuity.max_exact_jump,
                 )
             }
             Err(e) => {
                 s += &format!(
-                    "{scheme},,,,,,,,,,,,,,,,\"{}\"\n",
+                    "{scheme},,,,,,,,,,,,,,,,\"{}\",,,,\n",
                     e.to_string().replace('"', "'")
                 )
             }

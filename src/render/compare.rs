@@ -10,6 +10,7 @@ use glam::DVec3;
 
 use super::accuracy::{capture_whole_patches, ExactReference, MeasuredPoint};
 use super::bench::median;
+use super::continuity::ContinuityReport;
 use super::heatmap::{heat_only_surface, HeatSurface};
 use super::offscreen::{OffscreenDesc, OffscreenSession};
 use super::plan::plan_for_scheme_with;
@@ -70,6 +71,8 @@ pub struct SchemeRow {
     pub memory_bytes: u64,
     /// Seams between the GPU patches.
     pub seams: SeamReport,
+    /// Tangent-plane continuity of the patches' constructions across shared smooth edges.
+    pub continuity: ContinuityReport,
 }
 
 /// A row and the measured points it was computed from (for the error map).
@@ -124,6 +127,7 @@ pub fn compare_scheme(
         compute_ms,
         memory_bytes,
         seams: SeamReport::new(&points, SEAM_TOLERANCE * diagonal),
+        continuity: ContinuityReport::new(&surface, &exact.topo, &exact.ev),
     };
     Ok(SchemeComparison { row, points })
 }

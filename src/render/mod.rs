@@ -8,6 +8,7 @@ pub mod animate;
 pub mod bench;
 pub mod camera;
 pub mod compare;
+pub mod continuity;
 pub mod cpu_path;
 pub mod displace;
 pub mod fallback;

@@ -278,6 +278,15 @@ pub trait PassTables: fmt::Debug + Send + Sync + Any {
     /// [`Self::capture_layout`]). `None` when the pass does not draw `face`.
     fn reference(&self, positions: &[DVec3], face: u32) -> Option<ReferencePatch>;
 
+    /// [`Self::reference`] of each of `faces` (a pass whose references share costly data, such
+    /// as a whole refined surface, builds it once here).
+    fn references(&self, positions: &[DVec3], faces: &[u32]) -> Vec<Option<ReferencePatch>> {
+        faces
+            .iter()
+            .map(|&f| self.reference(positions, f))
+            .collect()
+    }
+
     /// Creates the GPU pass.
     fn create_pass(&self, pc: &PassContext<'_>) -> Result<Box<dyn PatchPass>>;
 

@@ -221,15 +221,24 @@ impl PassTables for AdaptiveTables {
     }
 
     fn reference(&self, positions: &[DVec3], face: u32) -> Option<ReferencePatch> {
+        self.references(positions, &[face]).pop().flatten()
+    }
+
+    fn references(&self, positions: &[DVec3], faces: &[u32]) -> Vec<Option<ReferencePatch>> {
         let topo = self.adaptive.levels[0].topology();
-        if topo.face_size(face) != 4 {
-            return None;
-        }
-        let surface = self.cpu_surface(positions).ok()?;
-        Some(Box::new(move |u, v| match surface.eval(face, None, u, v) {
-            Some(p) => (p.position, p.du.cross(p.dv).normalize_or_zero()),
-            None => (DVec3::NAN, DVec3::ZERO),
-        }))
+        let surface = self.cpu_surface(positions).ok().map(Arc::new);
+        faces
+            .iter()
+            .map(|&face| {
+                let surface = surface.clone().filter(|_| topo.face_size(face) == 4)?;
+                let patch: ReferencePatch =
+                    Box::new(move |u, v| match surface.eval(face, None, u, v) {
+                        Some(p) => (p.position, p.du.cross(p.dv).normalize_or_zero()),
+                        None => (DVec3::NAN, DVec3::ZERO),
+                    });
+                Some(patch)
+            })
+            .collect()
     }
 
     fn create_pass(&self, pc: &PassContext<'_>) -> Result<Box<dyn PatchPass>> {
