@@ -186,6 +186,24 @@ pub enum Error {
         /// The bad value.
         sharpness: f32,
     },
+    /// A face corner's texture-coordinate index is out of range.
+    #[error("face {face}, corner {corner}: texture coordinate {index} out of range (the mesh has {count})")]
+    TexCoordOutOfRange {
+        /// Face index.
+        face: u32,
+        /// Corner within the face.
+        corner: u32,
+        /// The bad texture-coordinate index (0-based).
+        index: u32,
+        /// Number of texture coordinates.
+        count: u32,
+    },
+    /// A texture coordinate is NaN or infinite.
+    #[error("texture coordinate {index} is not finite")]
+    NonFiniteTexCoord {
+        /// Texture-coordinate index (0-based).
+        index: u32,
+    },
     /// A crease/corner vertex or a hole face index is out of range.
     #[error("{kind} {index}: index {value} out of range (limit {limit})")]
     TagIndexOutOfRange {

@@ -95,6 +95,12 @@ fn classes() -> Vec<Class> {
         c("bow-tie vertex", text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv -1 0 0\nv -1 -1 0\nf 1 2 3\nf 1 4 5\n"), info, Err("non-manifold vertex 0: its faces form 2 separate fans")),
         c("inconsistent winding", text(&STRIP.replace("f 2 3 6 5", "f 2 5 6 3")), info, Err("inconsistent winding")),
         c("unreferenced vertices", quad_with("v 5 5 5\n"), info, Ok),
+        // ---- texture coordinates (`vt`)
+        c("texture coordinate beyond the vt lines", text("v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nvt 0 0\nf 1/1 2/1 5/1 4/1\nf 2/1 3/1 6/9 5/1\n"), info, Err("face 1: texture coordinate 9 does not exist (the file has 1)")),
+        c("texture coordinate index 0", text("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/0 2/1 3/1\n"), info, Err("face 0: texture coordinate index 0 (OBJ indices start at 1)")),
+        c("texture coordinates on some faces only (warning)", text("v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nvt 0 0\nf 1/1 2/1 5/1 4/1\nf 2 3 6 5\n"), info, Ok),
+        c("texture coordinates on some corners only", text("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2 3/1\n"), info, Err("face 0: texture coordinates on some corners only")),
+        c("texture coordinate not a number", text("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 nan\nf 1/1 2/1 3/1\n"), info, Err("`nan` is not a finite number")),
         // ---- tags
         c("tag without counts", quad_with("t crease\n"), info, Err("a tag needs a name and nint/nfloat[/nstring] counts")),
         c("tag counts not numbers", quad_with("t crease a/b 0 1 1\n"), info, Err("bad argument counts `a/b`")),

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::meshes::{corpus_options, osd_dir, osd_names, osd_path};
+use common::meshes::{corpus_options, osd_dir, osd_names, osd_path, CUBE_FACES};
 use glam::DVec3;
 use tessera::error::TagKind;
 use tessera::mesh::{
@@ -317,18 +317,13 @@ fn clockwise_cube() -> ControlMeshDesc {
         .map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64))
         .collect();
     // Counter-clockwise from outside, then reversed.
-    let ccw: [[u32; 4]; 6] = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
     ControlMeshDesc {
         positions,
         face_sizes: vec![4; 6],
-        face_vertices: ccw.iter().flat_map(|f| f.iter().rev().copied()).collect(),
+        face_vertices: CUBE_FACES
+            .iter()
+            .flat_map(|f| f.iter().rev().copied())
+            .collect(),
         ..Default::default()
     }
 }
@@ -438,7 +433,15 @@ f 1 2 4 # trailing comment
     assert_eq!(m.positions()[0].x, 0.1f64);
     assert_eq!(m.positions()[2], DVec3::splat(5.0));
     assert_eq!(m.positions()[6], DVec3::new(2.0, 1.0, 0.0));
-    assert_eq!(m.warnings(), &[MeshWarning::UnreferencedVertices(vec![2])]);
+    // Texture coordinates on face 0 only: read without them, with a warning.
+    assert!(m.uvs().is_none());
+    assert_eq!(
+        m.warnings(),
+        &[
+            MeshWarning::PartialTexCoords { face: 1 },
+            MeshWarning::UnreferencedVertices(vec![2])
+        ]
+    );
 }
 
 const SQUARE2X2: &str = "\
@@ -626,8 +629,14 @@ fn malformed_files_give_typed_errors() {
         obj(&format!("{tri}f\n")).unwrap_err(),
         Error::FaceTooSmall { face: 0, size: 0 }
     );
-    // Bad texture / normal references are irrelevant to positions and must not matter.
-    assert!(obj(&format!("{tri}vt 0 0\nf 1/0 2/0 3/-7\n")).is_ok());
+    // Bad normal references are irrelevant to positions and do not matter; bad texture
+    // coordinate references are errors naming the face (tests/texcoords.rs).
+    assert!(obj(&format!("{tri}vn 0 0 1\nf 1//9 2//0 3//-7\n")).is_ok());
+    assert_parse_error(
+        obj(&format!("{tri}vt 0 0\nf 1/0 2/0 3/-7\n")),
+        5,
+        "f 1/0 2/0 3/-7",
+    );
     // Binary junk that is not valid UTF-8.
     let junk: Vec<u8> = (0..2000u32)
         .map(|i| (i.wrapping_mul(2654435761) >> 13) as u8)

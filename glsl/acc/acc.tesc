@@ -10,4 +10,5 @@ void main() {
     if (gl_InvocationID == 0) {
         set_quad_tess_levels(acc[chunk.patch_base + uint(gl_PrimitiveID)].corners);
     }
+    CULL_PATCH(acc[chunk.patch_base + uint(gl_PrimitiveID)].b, 16);
 }

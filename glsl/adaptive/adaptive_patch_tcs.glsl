@@ -11,6 +11,7 @@ void main() {
     if (gl_InvocationID == 0) {
         set_level_quad_tess_levels(info.corners, apatches[info.pad0].level);
     }
+    CULL_PATCH(c_bspline, 16);
 }
 
 #endif

@@ -25,4 +25,5 @@ void main() {
     if (id == 0) {
         set_level_quad_tess_levels(info.corners, apatches[info.pad0].level);
     }
+    CULL_PATCH(g_cp, 20);
 }

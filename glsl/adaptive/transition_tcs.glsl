@@ -29,6 +29,7 @@ void main() {
         gl_TessLevelOuter[2] = spoke;
         gl_TessLevelInner[0] = max(segment, spoke);
     }
+    CULL_PATCH(c_bspline, 16);
 }
 
 #endif

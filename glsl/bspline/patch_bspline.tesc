@@ -11,4 +11,5 @@ void main() {
     if (gl_InvocationID == 0) {
         set_quad_tess_levels(info.corners);
     }
+    CULL_PATCH(c_bezier, 16);
 }

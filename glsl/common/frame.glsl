@@ -32,7 +32,7 @@ layout(std140, set = 0, binding = 0) uniform Frame {
     vec4 tess;           // x: uniform level, y: mode, z: pixels per edge (distance mode: the
                          // reference distance), w: max level
     vec4 light_dir;      // xyz: direction towards the key light (world), normalised
-    uvec4 flags;         // x: colour mode
+    uvec4 flags;         // x: colour mode, y: bit 0 patch culling (cull.glsl), z: bit 0 texture coordinates (texcoord.glsl)
     vec4 displace;       // x: procedural displacement scale along the normal (0: off)
 } frame;
 

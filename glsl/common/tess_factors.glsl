@@ -8,6 +8,8 @@
 #ifndef TESSERA_TESS_FACTORS_GLSL
 #define TESSERA_TESS_FACTORS_GLSL
 
+#include "cull.glsl"
+
 /// Screen position (pixels) of a world point; points behind the eye are pushed to the near side.
 vec2 to_pixels(vec3 p) {
     vec4 c = frame.view_proj * vec4(p, 1.0);

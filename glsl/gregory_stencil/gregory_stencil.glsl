@@ -96,6 +96,7 @@ void main() {
         set_quad_tess_levels(c);
 #endif
     }
+    CULL_PATCH(g_cp, GREGORY_POINTS);
 }
 
 #endif

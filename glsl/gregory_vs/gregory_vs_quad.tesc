@@ -129,4 +129,5 @@ void main() {
         uvec4 c = gpatches[patch_index].corners;
         set_quad_tess_levels(c);
     }
+    CULL_PATCH(g_cp, 20);
 }

@@ -136,4 +136,5 @@ void main() {
         gl_TessLevelOuter[2] = o2;
         gl_TessLevelInner[0] = max(o0, max(o1, o2));
     }
+    CULL_PATCH(g_cp, 15);
 }

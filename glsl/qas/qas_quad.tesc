@@ -10,4 +10,5 @@ void main() {
     if (gl_InvocationID == 0) {
         set_quad_tess_levels(qas[chunk.patch_base + uint(gl_PrimitiveID)].corners);
     }
+    CULL_PATCH(qas[chunk.patch_base + uint(gl_PrimitiveID)].p, 9);
 }

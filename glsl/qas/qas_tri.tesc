@@ -18,4 +18,5 @@ void main() {
         gl_TessLevelOuter[2] = o2;
         gl_TessLevelInner[0] = max(o0, max(o1, o2));
     }
+    CULL_PATCH(qas[chunk.patch_base + uint(gl_PrimitiveID)].p, 6);
 }

@@ -15,4 +15,5 @@ void main() {
         uvec4 c = patches[patch_index].corners;
         set_quad_tess_levels(c);
     }
+    CULL_PATCH(c_bspline, 16);
 }

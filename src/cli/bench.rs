@@ -5,7 +5,8 @@
 use clap::Args;
 use tessera::render::bench::median;
 use tessera::render::{
-    MemoryReport, OffscreenDesc, OffscreenSession, RenderDesc, Scheme, TessSettings, CPU_PATH_LABEL,
+    CameraSpec, MemoryReport, OffscreenDesc, OffscreenSession, RenderDesc, Scheme, TessSettings,
+    CPU_PATH_LABEL,
 };
 use tessera::{Error, Result};
 
@@ -57,6 +58,12 @@ pub struct BenchArgs {
     /// Image size WxH.
     #[arg(long, default_value = "800x600")]
     pub size: String,
+    /// `auto` (frame the bounding box) or `az,el,dist` (degrees, degrees, model units).
+    #[arg(long, default_value = "auto")]
+    pub camera: String,
+    /// `--cull`, `--no-cull` (frustum culling of patches; see `render`).
+    #[command(flatten)]
+    pub cull: super::render::CullArgs,
     /// Enable the Khronos validation layer (always on in debug builds).
     #[arg(long)]
     pub validation: bool,
@@ -71,6 +78,7 @@ pub struct BenchArgs {
 /// Runs the subcommand.
 pub fn run(args: BenchArgs) -> Result<()> {
     let (width, height) = parse_size(&args.size)?;
+    let camera = CameraSpec::parse(&args.camera)?;
     if args.frames == 0 {
         return Err(Error::Invalid("--frames must be at least 1".into()));
     }
@@ -156,11 +164,13 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 max_patch_level: max_patch_level(args.max_patch_level),
                 ..TessSettings::default()
             },
+            cull_patches: args.cull.enabled(),
             ..RenderDesc::default()
         };
         let desc = OffscreenDesc {
             width,
             height,
+            camera,
             ..OffscreenDesc::default()
         };
         let mut session = OffscreenSession::new(&ctx, &surface, &render, &desc, true)?;

@@ -73,6 +73,9 @@ pub struct RenderArgs {
     /// `--displacement`, `--displacement-scale`.
     #[command(flatten)]
     pub displace: DisplacementArgs,
+    /// `--cull`, `--no-cull`.
+    #[command(flatten)]
+    pub cull: CullArgs,
     /// Draw triangle edges only.
     #[arg(long)]
     pub wireframe: bool,
@@ -189,6 +192,26 @@ pub struct AdaptiveArgs {
     #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_SINGLE_CREASE,
           action = clap::ArgAction::Set, value_name = "BOOL")]
     pub single_crease: bool,
+}
+
+/// Patch culling, shared by `render` and `bench`.
+#[derive(Args, Debug, Clone, Copy)]
+pub struct CullArgs {
+    /// Cull patches outside the view frustum in the control stages (the default): zero
+    /// tessellation levels where the patch's control hull, grown by the displacement scale, lies
+    /// outside one frustum plane. The image is the same; fewer TES invocations.
+    #[arg(long, overrides_with = "no_cull")]
+    pub cull: bool,
+    /// Tessellate every patch, in view or not.
+    #[arg(long, overrides_with = "cull")]
+    pub no_cull: bool,
+}
+
+impl CullArgs {
+    /// Whether patches are culled (`--cull` unless `--no-cull` came last).
+    pub fn enabled(&self) -> bool {
+        !self.no_cull
+    }
 }
 
 /// Displacement along the normal, shared by `render` and `sample`.
@@ -355,6 +378,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
             _ => ColorBy::None,
         },
         displacement: args.displace.displacement()?,
+        cull_patches: args.cull.enabled(),
         ..RenderDesc::default()
     };
     let desc = OffscreenDesc {

@@ -25,7 +25,9 @@ use super::render::{
 /// not Catmull-Clark's three-quad parameterisation of the triangle.
 /// `--scheme adaptive`: quads in the face's (u, v), other faces `f:k u v …` in sub-face k (as
 /// `tessera limit`), and two more columns: the patch type (regular, boundary, crease, gregory-quad
-/// for end caps, single-crease, transition) and its refinement level.
+/// for end caps, single-crease, transition) and its refinement level. Meshes with texture
+/// coordinates (OBJ `vt`): two last columns `s t`, the face-varying coordinate at the point
+/// (bilinear over quads and sub-faces, barycentric over triangles drawn whole).
 #[derive(Args)]
 pub struct SampleArgs {
     /// Control mesh: an OBJ file or `embedded:NAME`.
@@ -118,6 +120,7 @@ pub fn run(args: SampleArgs) -> Result<()> {
     // Opened before rendering: a path that cannot be written fails before the GPU work.
     let (mut w, name) = super::stream::open_output(Some(&args.out))?;
     let out = render_to_image(&ctx, &surface, &render, &desc, false)?;
+    let texcoords = surface.texcoords.is_some();
     let mut recs = out.capture.unwrap_or_default();
     recs.sort_by(|a, b| {
         (a.face, a.sub_face, a.v, a.u)
@@ -135,7 +138,7 @@ pub fn run(args: SampleArgs) -> Result<()> {
         |c| c.len() as u64,
         |c, text| {
             for r in *c {
-                write_record(text, r);
+                write_record(text, r, texcoords);
             }
             Ok(())
         },
@@ -149,7 +152,7 @@ pub fn run(args: SampleArgs) -> Result<()> {
 
 /// One capture line: `f u v x y z nx ny nz` (`f:k` for sub-face k), then the patch type and level
 /// where the scheme tags them.
-fn write_record(text: &mut String, r: &CaptureRecord) {
+fn write_record(text: &mut String, r: &CaptureRecord, texcoords: bool) {
     let [x, y, z] = r.position;
     let [nx, ny, nz] = r.normal;
     let _ = match r.sub_face {
@@ -168,6 +171,9 @@ fn write_record(text: &mut String, r: &CaptureRecord) {
             tessera::render::schemes::adaptive::kind_name(p.kind),
             p.level
         );
+    }
+    if texcoords {
+        let _ = write!(text, " {:?} {:?}", r.texcoord[0], r.texcoord[1]);
     }
     text.push('\n');
 }

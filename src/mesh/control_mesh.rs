@@ -3,6 +3,7 @@
 use glam::DVec3;
 
 use super::desc::{ControlMeshDesc, Corner, Crease, SchemeOptions};
+use super::uv::FaceUvs;
 use super::validate;
 use super::warning::MeshWarning;
 
@@ -18,6 +19,7 @@ pub struct ControlMesh {
     pub(crate) holes: Vec<bool>,
     pub(crate) options: SchemeOptions,
     pub(crate) warnings: Vec<MeshWarning>,
+    pub(crate) uvs: Option<FaceUvs>,
 }
 
 impl ControlMesh {
@@ -136,7 +138,21 @@ impl ControlMesh {
             holes,
             options: desc.options,
             warnings,
+            uvs: None,
         })
+    }
+
+    /// The mesh with face-varying texture coordinates (indices parallel to
+    /// [`Self::face_vertices`], after any left-handed reversal). Errors name the face.
+    pub fn with_uvs(mut self, uvs: FaceUvs) -> crate::Result<ControlMesh> {
+        uvs.validate(&self.face_offsets)?;
+        self.uvs = Some(uvs);
+        Ok(self)
+    }
+
+    /// The face-varying texture coordinates, if the mesh has them ([`FaceUvs`]).
+    pub fn uvs(&self) -> Option<&FaceUvs> {
+        self.uvs.as_ref()
     }
 
     /// Replaces the vertex positions, keeping topology and tags (animation).

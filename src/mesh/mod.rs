@@ -9,6 +9,7 @@ mod control_mesh;
 mod desc;
 pub mod obj;
 mod tags;
+pub mod uv;
 pub mod validate;
 mod warning;
 
@@ -18,4 +19,5 @@ pub use desc::{
     INFINITE_SHARPNESS,
 };
 pub use obj::ObjOptions;
+pub use uv::FaceUvs;
 pub use warning::MeshWarning;

@@ -8,11 +8,15 @@
 //! negative relative) with line numbers, and hands tobj a clean copy whose `v` lines encode
 //! their own index. tobj's per-object output is decoded back to file indices through those
 //! encoded positions, and the objects (`o` / `g`) are concatenated in file order.
-//! Texture coordinates, normals, materials and smoothing groups are not used.
+//! Texture coordinates (`vt`, referenced as `f v/vt ...`) become the mesh's face-varying
+//! [`FaceUvs`] when every face has them (when only some have, a warning names the first face
+//! without and the mesh has none); bad references are errors naming the face. Normals,
+//! materials and smoothing groups are not used.
 
 use glam::DVec3;
 
 use super::tags::Tags;
+use super::uv::FaceUvs;
 use super::{ControlMesh, ControlMeshDesc, MeshWarning};
 use crate::error::excerpt;
 use crate::{Error, Result};
@@ -26,7 +30,7 @@ pub struct ObjOptions {
 }
 
 /// OBJ statements that mean nothing for a subdivision control mesh and are skipped silently.
-const SILENT: &[&str] = &["vt", "vn", "vp", "s", "mtllib", "usemtl", "o", "g"];
+const SILENT: &[&str] = &["vn", "vp", "s", "mtllib", "usemtl", "o", "g"];
 
 /// OBJ statements that are valid OBJ but not used here; skipped with a warning.
 const IGNORED: &[&str] = &[
@@ -77,6 +81,7 @@ impl ControlMesh {
     pub fn from_obj_str(text: &str, name: &str, options: &ObjOptions) -> Result<Self> {
         let scan = Scan::run(text)?;
         let (face_sizes, face_vertices) = faces_through_tobj(&scan, name)?;
+        let (uvs, partial) = scan.face_uvs(options);
         let Tags {
             creases,
             corners,
@@ -95,10 +100,14 @@ impl ControlMesh {
             left_handed: options.left_handed,
         })?;
         let mut warnings = scan.warnings;
+        warnings.extend(partial);
         warnings.extend(tag_warnings);
         warnings.append(&mut mesh.warnings);
         mesh.warnings = warnings;
-        Ok(mesh)
+        match uvs {
+            Some(uvs) => mesh.with_uvs(uvs),
+            None => Ok(mesh),
+        }
     }
 }
 
@@ -107,6 +116,10 @@ struct Scan {
     positions: Vec<DVec3>,
     /// 0-based file vertex indices of each face, in file order.
     faces: Vec<Vec<u32>>,
+    /// The `vt` lines (s, t).
+    texcoords: Vec<[f32; 2]>,
+    /// 0-based `vt` indices of each face's corners, when its face line has them.
+    face_texcoords: Vec<Option<Vec<u32>>>,
     tags: Tags,
     warnings: Vec<MeshWarning>,
     /// The text handed to tobj: `v` lines encode their index, `f` lines hold absolute indices.
@@ -118,6 +131,8 @@ impl Scan {
         let mut scan = Scan {
             positions: Vec::new(),
             faces: Vec::new(),
+            texcoords: Vec::new(),
+            face_texcoords: Vec::new(),
             tags: Tags::default(),
             warnings: Vec::new(),
             clean: String::with_capacity(text.len()),
@@ -125,6 +140,8 @@ impl Scan {
         // (index, line, text) of face references beyond the vertices read so far (allowed if
         // the vertex comes later in the file).
         let mut forward: Vec<(u32, usize, &str)> = Vec::new();
+        // (face, index, line, text) of `vt` references beyond the `vt` lines read so far.
+        let mut forward_vt: Vec<(usize, u32, usize, &str)> = Vec::new();
         // A UTF-8 byte-order mark (as some Windows editors write) is not content.
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         for (i, raw) in obj_lines(text).enumerate() {
@@ -147,9 +164,16 @@ impl Scan {
                         .push_str(&format!("v {} {} 0\n", index >> 16, index & 0xffff));
                     scan.positions.push(p);
                 }
+                "vt" => {
+                    let st = parse_texcoord(args).map_err(err)?;
+                    scan.texcoords.push(st);
+                }
                 "f" => {
                     let nv = scan.positions.len() as i64;
+                    let nt = scan.texcoords.len() as i64;
+                    let f = scan.faces.len();
                     let mut face = Vec::with_capacity(args.len());
+                    let mut texcoords = Vec::with_capacity(args.len());
                     scan.clean.push('f');
                     for w in args {
                         let v = resolve_index(w, nv).map_err(err)?;
@@ -158,9 +182,27 @@ impl Scan {
                         }
                         scan.clean.push_str(&format!(" {}", v as u64 + 1));
                         face.push(v);
+                        if let Some(t) = resolve_texcoord(w, nt)
+                            .map_err(|m| Error::parse(line, raw, format!("face {f}: {m}")))?
+                        {
+                            if t as i64 >= nt {
+                                forward_vt.push((f, t, line, raw));
+                            }
+                            texcoords.push(t);
+                        }
                     }
                     scan.clean.push('\n');
+                    let with_uv = match texcoords.len() {
+                        0 => None,
+                        n if n == face.len() => Some(texcoords),
+                        _ => {
+                            return Err(err(format!(
+                                "face {f}: texture coordinates on some corners only"
+                            )))
+                        }
+                    };
                     scan.faces.push(face);
+                    scan.face_texcoords.push(with_uv);
                 }
                 "t" => scan.tags.parse_line(args, line, raw)?,
                 "o" | "g" => {
@@ -183,7 +225,46 @@ impl Scan {
                 format!("vertex {} does not exist (the file has {nv})", v as u64 + 1),
             ));
         }
+        let nt = scan.texcoords.len();
+        if let Some(&(f, t, line, raw)) = forward_vt.iter().find(|f| f.1 as usize >= nt) {
+            return Err(Error::parse(
+                line,
+                raw,
+                format!(
+                    "face {f}: texture coordinate {} does not exist (the file has {nt})",
+                    t as u64 + 1
+                ),
+            ));
+        }
         Ok(scan)
+    }
+
+    /// The faces' texture coordinates when every face has them, in the corner order
+    /// [`ControlMesh::new`] gives the faces (reversed after corner 0 when left-handed); when only
+    /// some have, none and a warning naming the first face without.
+    fn face_uvs(&self, options: &ObjOptions) -> (Option<FaceUvs>, Option<MeshWarning>) {
+        if self.face_texcoords.iter().all(Option::is_none) {
+            return (None, None);
+        }
+        let mut indices = Vec::with_capacity(self.faces.iter().map(Vec::len).sum());
+        for (f, t) in self.face_texcoords.iter().enumerate() {
+            let Some(t) = t else {
+                let face = f as u32;
+                return (None, Some(MeshWarning::PartialTexCoords { face }));
+            };
+            let start = indices.len();
+            indices.extend_from_slice(t);
+            if options.left_handed && t.len() > 1 {
+                indices[start + 1..].reverse();
+            }
+        }
+        (
+            Some(FaceUvs {
+                values: self.texcoords.clone(),
+                indices,
+            }),
+            None,
+        )
     }
 }
 
@@ -229,6 +310,49 @@ fn parse_position(args: &[&str]) -> std::result::Result<DVec3, String> {
             "a vertex needs 3 coordinates (optionally w, or r g b), found {n} values"
         )),
     }
+}
+
+/// `s [t [w]]` (t defaults to 0, w is ignored), finite.
+fn parse_texcoord(args: &[&str]) -> std::result::Result<[f32; 2], String> {
+    let num = |s: &str| {
+        s.parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite() && x.abs() <= f64::from(f32::MAX))
+            .map(|x| x as f32)
+            .ok_or_else(|| format!("`{}` is not a finite number", excerpt(s)))
+    };
+    match args.len() {
+        1..=3 => Ok([num(args[0])?, args.get(1).map_or(Ok(0.0), |s| num(s))?]),
+        n => Err(format!(
+            "a texture coordinate needs 1 to 3 values (s [t [w]]), found {n}"
+        )),
+    }
+}
+
+/// The 0-based texture-coordinate index of a face word `v/vt` or `v/vt/vn` (1-based, or
+/// negative = relative to the `nt` coordinates read so far); `None` for `v` and `v//vn`.
+fn resolve_texcoord(word: &str, nt: i64) -> std::result::Result<Option<u32>, String> {
+    let Some(part) = word.split('/').nth(1).filter(|p| !p.is_empty()) else {
+        return Ok(None);
+    };
+    let k: i64 = part
+        .parse()
+        .map_err(|_| format!("`{}` is not a texture-coordinate reference", excerpt(word)))?;
+    let t = match k {
+        0 => return Err("texture coordinate index 0 (OBJ indices start at 1)".into()),
+        k if k > 0 => k - 1,
+        k => nt + k,
+    };
+    if t < 0 {
+        return Err(format!(
+            "relative texture coordinate {k} reaches before the first `vt`"
+        ));
+    }
+    u32::try_from(t)
+        .ok()
+        .filter(|&t| t < u32::MAX)
+        .map(Some)
+        .ok_or_else(|| format!("texture coordinate index {k} is too large"))
 }
 
 /// The 0-based vertex index of a face word `v`, `v/vt`, `v//vn` or `v/vt/vn` (1-based, or

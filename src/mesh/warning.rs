@@ -28,6 +28,12 @@ pub enum MeshWarning {
         /// The statement keyword.
         keyword: String,
     },
+    /// Some faces reference texture coordinates (`f v/vt`) and this one (the first) does not:
+    /// the mesh is read without texture coordinates.
+    PartialTexCoords {
+        /// The first face without them.
+        face: u32,
+    },
 }
 
 impl fmt::Display for MeshWarning {
@@ -54,6 +60,11 @@ impl fmt::Display for MeshWarning {
             MeshWarning::IgnoredStatement { line, keyword } => {
                 write!(f, "line {line}: OBJ statement `{keyword}` ignored")
             }
+            MeshWarning::PartialTexCoords { face } => write!(
+                f,
+                "face {face} has no texture coordinates while other faces have them: texture \
+                 coordinates ignored"
+            ),
         }
     }
 }

@@ -40,5 +40,7 @@ pub use renderer::{
 pub use schemes::{
     PassTables, PatchPass, PatchScheme, PlanOptions, Refusal, RefusalReason, Scheme, SchemeLimits,
 };
-pub use settings::{ColorBy, Displacement, FrameUniforms, Spacing, TessMode, TessSettings};
+pub use settings::{
+    ColorBy, Displacement, FrameFlags, FrameUniforms, Spacing, TessMode, TessSettings,
+};
 pub use surface::SurfaceData;

@@ -29,6 +29,7 @@ pub fn plan_passes(
     let mut surface = SurfaceData {
         positions: mesh.positions().to_vec(),
         topology: Some(topo.clone()),
+        texcoords: mesh.uvs().cloned().map(Arc::new),
         ..SurfaceData::default()
     };
     let mut candidates = Vec::new();

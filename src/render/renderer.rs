@@ -13,7 +13,7 @@ use super::schemes::adaptive::AdaptiveTables;
 use super::schemes::single_crease::SingleCreaseTables;
 use super::schemes::{PassContext, PassTables, PatchPass};
 pub use super::settings::RenderDesc;
-use super::settings::{FrameUniforms, TessMode, TessSettings};
+use super::settings::{FrameFlags, FrameUniforms, TessMode, TessSettings};
 use super::surface::{vertex_frames, SurfaceData};
 use crate::gpu::{Context, DrawTarget, Feature, TargetFormat};
 use crate::mesh::Crease;
@@ -117,6 +117,8 @@ pub struct SurfaceRenderer {
     shared: SharedResources,
     passes: Vec<Box<dyn PatchPass>>,
     cpu_path: CpuPathPass,
+    /// The surface has texture coordinates (`Frame.flags.z`).
+    texcoords: bool,
 }
 
 impl SurfaceRenderer {
@@ -165,6 +167,7 @@ impl SurfaceRenderer {
             &frames,
             desc.capture_capacity,
             engine.frames_in_flight as usize,
+            &surface.texcoord_words(),
         )?;
         let pc = PassContext {
             ctx,
@@ -191,6 +194,7 @@ impl SurfaceRenderer {
             shared,
             passes,
             cpu_path,
+            texcoords: surface.texcoords.is_some() && surface.topology.is_some(),
         })
     }
 
@@ -342,7 +346,12 @@ impl SurfaceRenderer {
         let max_level = self.ctx.info().limits.max_tessellation_generation_level as f32;
         self.slot = self.next_slot;
         self.next_slot = (self.slot + 1) % self.shared.slot_count();
-        let bytes = frame.to_bytes(&self.desc.tess, max_level, self.desc.displacement);
+        // Capture measures the whole surface: never cull while the TES captures.
+        let flags = FrameFlags {
+            cull: self.desc.cull_patches && self.desc.capture_capacity.is_none(),
+            texcoords: self.texcoords,
+        };
+        let bytes = frame.to_bytes(&self.desc.tess, max_level, self.desc.displacement, flags);
         self.shared.write_frame(self.slot, &bytes)?;
         self.sync_slot(self.slot)
     }

@@ -99,6 +99,7 @@ mod tests {
                 normal,
                 sub_face: None,
                 patch: None,
+                texcoord: [0.0; 2],
             },
             distance: 0.0,
             uv_error: None,

@@ -181,6 +181,12 @@ pub struct RenderDesc {
     pub capture_capacity: Option<u32>,
     /// Displacement of the surface along its normal ([`super::displace`]).
     pub displacement: Displacement,
+    /// Patch culling (`--cull`, default on; `--no-cull`): the control stages give zero
+    /// tessellation levels to patches whose control hull (grown by the displacement scale) lies
+    /// entirely outside the view frustum (`glsl/common/cull.glsl`). The image is unchanged.
+    /// Ignored (off) when the TES captures (`capture_capacity`): capture measures the whole
+    /// surface.
+    pub cull_patches: bool,
 }
 
 /// Displacement of the limit surface along its normal, applied in every evaluation stage (and
@@ -217,6 +223,7 @@ impl Default for RenderDesc {
             cull_back_faces: false,
             capture_capacity: None,
             displacement: Displacement::None,
+            cull_patches: true,
         }
     }
 }
@@ -237,17 +244,28 @@ pub struct FrameUniforms {
     pub color_by: ColorBy,
 }
 
+/// Switches of the `Frame` block the renderer sets (`flags.y`, `flags.z`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct FrameFlags {
+    /// The control stages cull patches outside the frustum (`glsl/common/cull.glsl`).
+    pub cull: bool,
+    /// The surface has texture coordinates (`glsl/common/texcoord.glsl`).
+    pub texcoords: bool,
+}
+
 /// Size of the std140 `Frame` block.
 pub const FRAME_UNIFORM_BYTES: usize = 160;
 
 impl FrameUniforms {
     /// The std140 bytes of the `Frame` block with the resolved tessellation settings `tess`,
-    /// the device's `maxTessellationGenerationLevel` `max_level` and the `displacement`.
+    /// the device's `maxTessellationGenerationLevel` `max_level`, the `displacement` and the
+    /// renderer's switches (`flags`).
     pub fn to_bytes(
         &self,
         tess: &TessSettings,
         max_level: f32,
         displacement: Displacement,
+        flags: FrameFlags,
     ) -> [u8; FRAME_UNIFORM_BYTES] {
         let mut f = [0f32; 32];
         f[..16].copy_from_slice(&self.view_proj.to_cols_array());
@@ -277,6 +295,8 @@ impl FrameUniforms {
             ColorBy::Level => 3u32,
         };
         out[128..132].copy_from_slice(&color.to_le_bytes());
+        out[132..136].copy_from_slice(&u32::from(flags.cull).to_le_bytes());
+        out[136..140].copy_from_slice(&u32::from(flags.texcoords).to_le_bytes());
         out[144..148].copy_from_slice(&displacement.scale().to_le_bytes());
         out
     }
@@ -303,7 +323,15 @@ mod tests {
             spacing: Spacing::Equal,
             max_patch_level: 16.0,
         };
-        let b = u.to_bytes(&tess, 64.0, Displacement::Procedural { scale: 0.25 });
+        let b = u.to_bytes(
+            &tess,
+            64.0,
+            Displacement::Procedural { scale: 0.25 },
+            FrameFlags {
+                cull: true,
+                texcoords: true,
+            },
+        );
         let f = |o: usize| f32::from_le_bytes(b[o..o + 4].try_into().unwrap());
         assert_eq!(f(4 * 15), 15.0);
         assert_eq!(f(64), 1.0);
@@ -313,12 +341,22 @@ mod tests {
         assert_eq!(f(108), 64.0);
         assert_eq!(f(116), 1.0);
         assert_eq!(u32::from_le_bytes(b[128..132].try_into().unwrap()), 1);
+        assert_eq!(u32::from_le_bytes(b[132..136].try_into().unwrap()), 1);
+        assert_eq!(u32::from_le_bytes(b[136..140].try_into().unwrap()), 1);
         assert_eq!(f(144), 0.25);
         let distance = TessSettings {
             mode: TessMode::Distance,
             ..tess
         };
-        let b = u.to_bytes(&distance, 64.0, Displacement::None);
+        let b = u.to_bytes(
+            &distance,
+            64.0,
+            Displacement::None,
+            FrameFlags {
+                cull: false,
+                texcoords: false,
+            },
+        );
         let f = |o: usize| f32::from_le_bytes(b[o..o + 4].try_into().unwrap());
         assert_eq!((f(100), f(104)), (2.0, 2.0));
     }

@@ -9,6 +9,7 @@ use super::fallback::{FallbackFace, FallbackMesh};
 use super::pass::{NormalRule, VertexFrames};
 use super::schemes::bspline::BSplineTables;
 use super::schemes::{PassTables, Refusal};
+use crate::mesh::FaceUvs;
 use crate::patch::RegularPatch;
 use crate::topology::Topology;
 
@@ -47,6 +48,10 @@ pub struct SurfaceData {
     pub skipped_faces: usize,
     /// Why each fallback face was refused by each pass that was offered it.
     pub refusals: Vec<Refusal>,
+    /// The mesh's face-varying texture coordinates (OBJ `vt`), when it has them and a
+    /// topology: the evaluation stages interpolate them ([`crate::mesh::uv`]) and the capture
+    /// records them.
+    pub texcoords: Option<Arc<FaceUvs>>,
 }
 
 impl SurfaceData {
@@ -63,6 +68,34 @@ impl SurfaceData {
             parts,
             ..SurfaceData::default()
         }
+    }
+
+    /// The words of the evaluation stages' texture-coordinate table
+    /// (`glsl/common/texcoord.glsl`): per face `(first entry, corner count, 0, 0)`, then per
+    /// face corner `(s bits, t bits, vertex id, 0)`. One zero word set without texture
+    /// coordinates.
+    pub fn texcoord_words(&self) -> Vec<[u32; 4]> {
+        let (Some(uvs), Some(topo)) = (&self.texcoords, &self.topology) else {
+            return vec![[0; 4]];
+        };
+        let faces = topo.face_count();
+        let offsets = topo.face_offsets();
+        let mut words = Vec::with_capacity(faces + offsets[faces] as usize);
+        for f in 0..faces {
+            words.push([
+                (faces as u32) + offsets[f],
+                offsets[f + 1] - offsets[f],
+                0,
+                0,
+            ]);
+        }
+        for f in 0..faces {
+            for (k, &v) in topo.face_vertices(f as u32).iter().enumerate() {
+                let st = uvs.corner(offsets, f, k);
+                words.push([st[0].to_bits(), st[1].to_bits(), v, 0]);
+            }
+        }
+        words
     }
 
     /// The part drawn by the pass named `pass` (e.g. `"bspline"`, `"gregory-vs"`).

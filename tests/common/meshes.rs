@@ -87,3 +87,14 @@ pub fn polygon_obj(n: usize) -> String {
     t.push('\n');
     t
 }
+
+/// The faces of the cube with vertex k = (x, y, z) bits (x + 2y + 4z), each counter-clockwise
+/// seen from outside.
+pub const CUBE_FACES: [[u32; 4]; 6] = [
+    [0, 2, 3, 1],
+    [4, 5, 7, 6],
+    [0, 1, 5, 4],
+    [2, 6, 7, 3],
+    [0, 4, 6, 2],
+    [1, 3, 7, 5],
+];

@@ -8,8 +8,8 @@ use crate::render::settings::{Spacing, TessSettings};
 use crate::{Error, Result};
 
 /// Bytes of one capture record (`CaptureRecord` in `glsl/common/capture.glsl`): face, u, v,
-/// position, normal, sub-face, tag.
-pub const CAPTURE_RECORD_BYTES: usize = 44;
+/// position, normal, sub-face, tag, texture coordinate.
+pub const CAPTURE_RECORD_BYTES: usize = 52;
 /// `sub_face` word of a record in its base face's own domain.
 const NO_SUB_FACE: u32 = u32::MAX;
 /// Tag bit: the record carries a patch kind and level (`CAPTURE_TAGGED`).
@@ -35,6 +35,9 @@ pub struct CaptureRecord {
     pub sub_face: Option<u32>,
     /// The patch that produced the point, for schemes that tag it (the adaptive scheme).
     pub patch: Option<CapturedPatch>,
+    /// Texture coordinate (s, t) at the point ([`crate::mesh::uv`]); zero when the surface has
+    /// no texture coordinates.
+    pub texcoord: [f32; 2],
 }
 
 /// The patch kind and level a capture record was tagged with.
@@ -91,6 +94,7 @@ pub fn decode_capture(words: &[u32], capacity: u32) -> Result<Vec<CaptureRecord>
                 kind: (r[10] & 0xff) as u8,
                 level: ((r[10] >> 8) & 0xff) as u8,
             }),
+            texcoord: [f(r[11]), f(r[12])],
         })
         .collect())
 }

@@ -3,7 +3,7 @@
 //! Set 0 of every patch pipeline holds the shared bindings of `glsl/common/frame.glsl`,
 //! `capture.glsl` and the watertight corner rules plus the scheme's own bindings
 //! ([`set0_layout`]): 0 `Frame` UBO, 2 vertex limit positions, 3 TES capture, 8 control
-//! positions, 9 vertex limit normals. A scheme's own tables take the other binding numbers of
+//! positions, 9 vertex limit normals, 14 face-varying texture coordinates. A scheme's own tables take the other binding numbers of
 //! set 0 (1, 4-7) or sets of their own.
 
 use ash::vk;
@@ -28,6 +28,8 @@ pub const CAPTURE_BINDING: u32 = 3;
 pub const CONTROL_POSITIONS_BINDING: u32 = 8;
 /// Binding of the vertex limit normals.
 pub const VERTEX_NORMALS_BINDING: u32 = 9;
+/// Binding of the face-varying texture coordinates (`glsl/common/texcoord.glsl`).
+pub const TEXCOORDS_BINDING: u32 = 14;
 
 /// Stages that read the shared storage buffers.
 pub fn storage_stages() -> vk::ShaderStageFlags {
@@ -59,6 +61,7 @@ pub fn set0_layout(own: &[u32]) -> Vec<DescriptorBinding> {
             CAPTURE_BINDING,
             CONTROL_POSITIONS_BINDING,
             VERTEX_NORMALS_BINDING,
+            TEXCOORDS_BINDING,
         ]
         .into_iter()
         .chain(own.iter().copied())
@@ -130,17 +133,20 @@ pub struct SharedResources {
     capture: Buffer,
     capture_capacity: Option<u32>,
     vertex_count: usize,
+    texcoords: Buffer,
 }
 
 impl SharedResources {
     /// Uploads `positions` and `frames` into each of `frames_in_flight` slots (at least one);
-    /// `capture_capacity` records of TES capture.
+    /// `capture_capacity` records of TES capture; the texture-coordinate table's words
+    /// (`SurfaceData::texcoord_words`).
     pub fn new(
         ctx: &Context,
         positions: &[DVec3],
         frames: &VertexFrames,
         capture_capacity: Option<u32>,
         frames_in_flight: usize,
+        texcoords: &[[u32; 4]],
     ) -> Result<SharedResources> {
         let staged = Staged {
             positions: vec3_bytes(positions),
@@ -157,6 +163,11 @@ impl SharedResources {
             capture: capture_buffer(ctx, capture_capacity.unwrap_or(0))?,
             capture_capacity,
             vertex_count: positions.len(),
+            texcoords: ctx.upload_buffer(
+                texcoords,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                "texture coordinates",
+            )?,
         })
     }
 
@@ -190,6 +201,7 @@ impl SharedResources {
             sb(CAPTURE_BINDING, &self.capture),
             sb(CONTROL_POSITIONS_BINDING, &s.positions),
             sb(VERTEX_NORMALS_BINDING, &s.vertex_normals),
+            sb(TEXCOORDS_BINDING, &self.texcoords),
         ];
         v.retain(|b| own.iter().all(|o| o.binding != b.binding));
         v.extend_from_slice(own);
@@ -229,6 +241,7 @@ impl SharedResources {
             .map(|b| b.size())
             .sum::<u64>()
             + self.capture.size()
+            + self.texcoords.size()
     }
 
     /// Number of control vertices.
