@@ -51,8 +51,19 @@ pub struct CapturedPatch {
 }
 
 /// The capture buffer for `capacity` records (a minimal one when capture is off), its header
-/// written: count 0, capacity.
+/// written: count 0, capacity. The capacity is lowered to what one storage-buffer binding can
+/// hold (`maxStorageBufferRange`); a frame that emits more is then a capture-overflow error
+/// ([`decode_capture`]), never an invalid binding.
 pub fn capture_buffer(ctx: &Context, capacity: u32) -> Result<Buffer> {
+    let range = ctx.info().limits.max_storage_buffer_range as usize;
+    let fits = (range.saturating_sub(CAPTURE_HEADER_BYTES) / CAPTURE_RECORD_BYTES) as u32;
+    if capacity > fits {
+        log::warn!(
+            "TES capture: {capacity} records do not fit one storage buffer \
+             (maxStorageBufferRange {range} bytes); capturing at most {fits}"
+        );
+    }
+    let capacity = capacity.min(fits);
     let mut bytes = vec![0u8; CAPTURE_HEADER_BYTES + CAPTURE_RECORD_BYTES * capacity as usize];
     bytes[4..8].copy_from_slice(&capacity.to_le_bytes());
     let mut b = Buffer::new(
