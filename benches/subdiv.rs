@@ -1,5 +1,7 @@
 //! Topology, refinement and stencil benchmarks on `catmark_car` (1,575 quads) and on the car
-//! refined three times (100,800 quads) as a new control mesh.
+//! refined three times (100,800 quads) as a new control mesh; and reading a generated
+//! 1000 x 1000-quad grid (1M faces, 52 MB of OBJ text) with its topology, the work of
+//! `tessera info` on it (issue: under 1 s and 500 MB).
 //!
 //! OpenSubdiv 3.5 Far on the same 2-core machines (issue 2): topology creation 40.5 ms, uniform
 //! refinement of the topology to level 3 727 ms, level-3 stencil table 6.6 s (all on the
@@ -82,5 +84,41 @@ fn benches(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(subdiv, benches);
+/// OBJ text of an `n x n` grid of quads over a bumpy height field (what `tessera info` was
+/// measured on).
+fn grid_obj(n: usize) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::with_capacity(n * n * 52);
+    for j in 0..=n {
+        for i in 0..=n {
+            let z = 0.1 * ((i * 7 + j * 13) % 17) as f64 / 17.0;
+            let _ = writeln!(s, "v {:.4} {:.4} {z:.4}", i as f64 * 0.01, j as f64 * 0.01);
+        }
+    }
+    for j in 0..n {
+        for i in 0..n {
+            let a = j * (n + 1) + i + 1;
+            let _ = writeln!(s, "f {a} {} {} {}", a + 1, a + n + 2, a + n + 1);
+        }
+    }
+    s
+}
+
+fn load_1m(c: &mut Criterion) {
+    let text = grid_obj(1000);
+    let mut g = c.benchmark_group("grid_1m_quads");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(10));
+    g.bench_function("obj_read_and_topology", |b| {
+        b.iter(|| {
+            let m = ControlMesh::from_obj_str(black_box(&text), "grid", &ObjOptions::default())
+                .expect("grid loads");
+            black_box(Topology::new(&m).expect("topology"))
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(subdiv, benches, load_1m);
 criterion_main!(subdiv);

@@ -729,7 +729,14 @@ fn osd_corpus_loads_exactly_the_manifold_files() {
 #[test]
 fn osd_specific_files() {
     let load = |name: &str, left_handed: bool| {
-        ControlMesh::from_obj_file(osd_path(name), &ObjOptions { left_handed }).unwrap()
+        ControlMesh::from_obj_file(
+            osd_path(name),
+            &ObjOptions {
+                left_handed,
+                check_with_tobj: true,
+            },
+        )
+        .unwrap()
     };
     // Counts from SOURCE.md.
     let car = load("catmark_car", false);

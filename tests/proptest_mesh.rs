@@ -261,7 +261,10 @@ proptest! {
     ) {
         let sources = sources();
         let text = apply(&sources[source % sources.len()], &muts);
-        check(ControlMesh::from_obj_str(&text, "mutated", &ObjOptions { left_handed }))?;
+        check(ControlMesh::from_obj_str(&text, "mutated", &ObjOptions {
+            left_handed,
+            check_with_tobj: true,
+        }))?;
     }
 }
 

@@ -43,7 +43,14 @@ fn with_shared_uvs(m: &ControlMesh) -> String {
 }
 
 fn load(text: &str, left_handed: bool) -> tessera::Result<ControlMesh> {
-    ControlMesh::from_obj_str(text, "test.obj", &ObjOptions { left_handed })
+    ControlMesh::from_obj_str(
+        text,
+        "test.obj",
+        &ObjOptions {
+            left_handed,
+            check_with_tobj: true,
+        },
+    )
 }
 
 const QUAD_WITH_UVS: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n\

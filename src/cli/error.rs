@@ -210,6 +210,7 @@ pub fn run(args: ErrorArgs) -> tessera::Result<()> {
     }
     let options = ObjOptions {
         left_handed: args.left_handed,
+        ..ObjOptions::default()
     };
     let mesh = tessera::assets::load_mesh(&args.mesh, &options)?;
     // The map shows the Gregory faces on a grid of at least 2; the CPU report's samples are

@@ -40,6 +40,7 @@ pub struct InfoArgs {
 pub fn run(args: InfoArgs) -> tessera::Result<()> {
     let options = ObjOptions {
         left_handed: args.left_handed,
+        ..ObjOptions::default()
     };
     let mut mesh = tessera::assets::load_mesh(&args.mesh, &options)?;
     if let Some(s) = args.crease_sharpness {

@@ -64,6 +64,7 @@ pub fn run(args: LimitArgs) -> tessera::Result<()> {
     let n = args.grid;
     let options = ObjOptions {
         left_handed: args.left_handed,
+        ..ObjOptions::default()
     };
     let mesh = tessera::assets::load_mesh(&args.mesh, &options)?;
     super::limits::check_mesh(&mesh, &args.limits)?;

@@ -123,7 +123,13 @@ pub fn parse_size(s: &str) -> Result<(u32, u32)> {
 /// Loads the mesh named on the command line, or the embedded default mesh.
 pub fn load(mesh: Option<&str>, left_handed: bool) -> Result<ControlMesh> {
     match mesh {
-        Some(spec) => tessera::assets::load_mesh(spec, &ObjOptions { left_handed }),
+        Some(spec) => tessera::assets::load_mesh(
+            spec,
+            &ObjOptions {
+                left_handed,
+                ..ObjOptions::default()
+            },
+        ),
         None => Ok(tessera::assets::default_mesh()),
     }
 }

@@ -1,13 +1,15 @@
 //! Wavefront OBJ input with OpenSubdiv-style tags.
 //!
-//! Faces of any size are kept as polygons (`tobj` without triangulation). tobj renumbers the
-//! vertices of each object by first use and stores them as `f32`, while tags address the file's
-//! `v` list by 0-based index and may name vertices no face uses. So this reader makes one pass
-//! of its own first: it reads every `v` line in `f64` (vertex `i` of the mesh is the file's
-//! `i`-th `v`), parses the `t` tag lines, checks and resolves face indices (1-based or
-//! negative relative) with line numbers, and hands tobj a clean copy whose `v` lines encode
-//! their own index. tobj's per-object output is decoded back to file indices through those
-//! encoded positions, and the objects (`o` / `g`) are concatenated in file order.
+//! Faces of any size are kept as polygons. Tags address the file's `v` list by 0-based index and
+//! may name vertices no face uses, and positions are read in `f64`, so this reader parses the
+//! file itself in one pass: every `v` line in `f64` (vertex `i` of the mesh is the file's `i`-th
+//! `v`), the `t` tag lines, face indices (1-based or negative relative) resolved and checked with
+//! line numbers; objects (`o` / `g`) are concatenated in file order. `tobj` (which renumbers
+//! vertices per object and stores them as `f32`) reads the same faces as an independent check
+//! when [`ObjOptions::check_with_tobj`] asks for it, as the tests do; on every load it doubled
+//! the time of large files (a 1M-face grid: 2.8 s for `tessera info`, most of it in the two
+//! parses).
+//!
 //! Texture coordinates (`vt`, referenced as `f v/vt ...`) become the mesh's face-varying
 //! [`FaceUvs`] when every face has them (when only some have, a warning names the first face
 //! without and the mesh has none); bad references are errors naming the face. Normals,
@@ -27,6 +29,9 @@ pub struct ObjOptions {
     /// The file's faces are wound clockwise seen from outside (e.g. OpenSubdiv's
     /// `catmark_lefthanded`): reverse them on load.
     pub left_handed: bool,
+    /// Also read the faces with `tobj` and error if its faces differ from this reader's (an
+    /// independent check the tests turn on; it doubles the load time of large files).
+    pub check_with_tobj: bool,
 }
 
 /// OBJ statements that mean nothing for a subdivision control mesh and are skipped silently.
@@ -79,9 +84,13 @@ impl ControlMesh {
 
     /// Parses OBJ text with OpenSubdiv tags; `name` identifies the source in messages.
     pub fn from_obj_str(text: &str, name: &str, options: &ObjOptions) -> Result<Self> {
-        let scan = Scan::run(text)?;
-        let (face_sizes, face_vertices) = faces_through_tobj(&scan, name)?;
+        let mut scan = Scan::run(text)?;
+        if options.check_with_tobj {
+            check_with_tobj(&scan, name)?;
+        }
         let (uvs, partial) = scan.face_uvs(options);
+        let face_sizes = std::mem::take(&mut scan.face_sizes);
+        let face_vertices = std::mem::take(&mut scan.face_vertices);
         let Tags {
             creases,
             corners,
@@ -111,32 +120,35 @@ impl ControlMesh {
     }
 }
 
-/// What the first pass finds.
+/// What the reader finds.
 struct Scan {
     positions: Vec<DVec3>,
-    /// 0-based file vertex indices of each face, in file order.
-    faces: Vec<Vec<u32>>,
+    /// Corners of each face, in file order.
+    face_sizes: Vec<u32>,
+    /// 0-based file vertex indices of the faces' corners, face after face.
+    face_vertices: Vec<u32>,
     /// The `vt` lines (s, t).
     texcoords: Vec<[f32; 2]>,
     /// 0-based `vt` indices of each face's corners, when its face line has them.
     face_texcoords: Vec<Option<Vec<u32>>>,
     tags: Tags,
     warnings: Vec<MeshWarning>,
-    /// The text handed to tobj: `v` lines encode their index, `f` lines hold absolute indices.
-    clean: String,
 }
 
 impl Scan {
     fn run(text: &str) -> Result<Scan> {
         let mut scan = Scan {
             positions: Vec::new(),
-            faces: Vec::new(),
+            face_sizes: Vec::new(),
+            face_vertices: Vec::new(),
             texcoords: Vec::new(),
             face_texcoords: Vec::new(),
             tags: Tags::default(),
             warnings: Vec::new(),
-            clean: String::with_capacity(text.len()),
         };
+        // The words of the current line (one buffer for the whole file).
+        let mut words: Vec<&str> = Vec::new();
+        let mut texcoords: Vec<u32> = Vec::new();
         // (index, line, text) of face references beyond the vertices read so far (allowed if
         // the vertex comes later in the file).
         let mut forward: Vec<(u32, usize, &str)> = Vec::new();
@@ -147,7 +159,8 @@ impl Scan {
         for (i, raw) in obj_lines(text).enumerate() {
             let line = i + 1;
             let content = raw.split('#').next().unwrap_or("");
-            let words: Vec<&str> = content.split_whitespace().collect();
+            words.clear();
+            words.extend(content.split_whitespace());
             let Some((&key, args)) = words.split_first() else {
                 continue;
             };
@@ -159,9 +172,6 @@ impl Scan {
                     if index >= u32::MAX as u64 {
                         return Err(err("too many vertices".into()));
                     }
-                    // Two f32-exact halves: tobj reads positions as f32.
-                    scan.clean
-                        .push_str(&format!("v {} {} 0\n", index >> 16, index & 0xffff));
                     scan.positions.push(p);
                 }
                 "vt" => {
@@ -171,17 +181,14 @@ impl Scan {
                 "f" => {
                     let nv = scan.positions.len() as i64;
                     let nt = scan.texcoords.len() as i64;
-                    let f = scan.faces.len();
-                    let mut face = Vec::with_capacity(args.len());
-                    let mut texcoords = Vec::with_capacity(args.len());
-                    scan.clean.push('f');
+                    let f = scan.face_sizes.len();
+                    texcoords.clear();
                     for w in args {
                         let v = resolve_index(w, nv).map_err(err)?;
                         if v as i64 >= nv {
                             forward.push((v, line, raw));
                         }
-                        scan.clean.push_str(&format!(" {}", v as u64 + 1));
-                        face.push(v);
+                        scan.face_vertices.push(v);
                         if let Some(t) = resolve_texcoord(w, nt)
                             .map_err(|m| Error::parse(line, raw, format!("face {f}: {m}")))?
                         {
@@ -191,24 +198,19 @@ impl Scan {
                             texcoords.push(t);
                         }
                     }
-                    scan.clean.push('\n');
                     let with_uv = match texcoords.len() {
                         0 => None,
-                        n if n == face.len() => Some(texcoords),
+                        n if n == args.len() => Some(texcoords.clone()),
                         _ => {
                             return Err(err(format!(
                                 "face {f}: texture coordinates on some corners only"
                             )))
                         }
                     };
-                    scan.faces.push(face);
+                    scan.face_sizes.push(args.len() as u32);
                     scan.face_texcoords.push(with_uv);
                 }
                 "t" => scan.tags.parse_line(args, line, raw)?,
-                "o" | "g" => {
-                    scan.clean.push_str(content.trim());
-                    scan.clean.push('\n');
-                }
                 k if SILENT.contains(&k) => {}
                 k if IGNORED.contains(&k) => scan.warnings.push(MeshWarning::IgnoredStatement {
                     line,
@@ -246,7 +248,7 @@ impl Scan {
         if self.face_texcoords.iter().all(Option::is_none) {
             return (None, None);
         }
-        let mut indices = Vec::with_capacity(self.faces.iter().map(Vec::len).sum());
+        let mut indices = Vec::with_capacity(self.face_vertices.len());
         for (f, t) in self.face_texcoords.iter().enumerate() {
             let Some(t) = t else {
                 let face = f as u32;
@@ -378,22 +380,39 @@ fn resolve_index(word: &str, nv: i64) -> std::result::Result<u32, String> {
         .ok_or_else(|| format!("vertex index {k} is too large"))
 }
 
-/// Runs tobj on the cleaned text and maps its per-object, renumbered output back to file
-/// indices. The result is checked against the first pass, face by face.
-fn faces_through_tobj(scan: &Scan, name: &str) -> Result<(Vec<u32>, Vec<u32>)> {
+/// The independent check of [`ObjOptions::check_with_tobj`]: tobj reads a clean copy of the
+/// file's vertices and faces (`v` lines encoding their own index as two f32-exact halves, since
+/// tobj renumbers the vertices of each object by first use and stores them as f32; `f` lines
+/// with absolute indices), its output is decoded back to file indices and must equal this
+/// reader's faces, face by face.
+fn check_with_tobj(scan: &Scan, name: &str) -> Result<()> {
+    use std::fmt::Write as _;
+    let mut clean = String::new();
+    for index in 0..scan.positions.len() {
+        let _ = writeln!(clean, "v {} {} 0", index >> 16, index & 0xffff);
+    }
+    let mut at = 0usize;
+    for &n in &scan.face_sizes {
+        clean.push('f');
+        for &v in &scan.face_vertices[at..at + n as usize] {
+            let _ = write!(clean, " {}", u64::from(v) + 1);
+        }
+        clean.push('\n');
+        at += n as usize;
+    }
     let load = tobj::LoadOptions {
         triangulate: false,
         single_index: false,
         ignore_points: false,
         ignore_lines: false,
     };
-    let mut reader = std::io::Cursor::new(scan.clean.as_bytes());
+    let mut reader = std::io::Cursor::new(clean.as_bytes());
     let (models, _) =
         tobj::load_obj_buf(&mut reader, &load, |_| Err(tobj::LoadError::GenericFailure))
             .map_err(|e| Error::Obj(format!("{name}: {e}")))?;
     let inconsistent = || Error::Obj(format!("{name}: tobj output is inconsistent"));
-    let mut sizes = Vec::with_capacity(scan.faces.len());
-    let mut vertices = Vec::with_capacity(scan.faces.iter().map(Vec::len).sum());
+    let mut sizes = Vec::with_capacity(scan.face_sizes.len());
+    let mut vertices = Vec::with_capacity(scan.face_vertices.len());
     for model in &models {
         let m = &model.mesh;
         let decode = |i: u32| -> Option<u32> {
@@ -419,17 +438,10 @@ fn faces_through_tobj(scan: &Scan, name: &str) -> Result<(Vec<u32>, Vec<u32>)> {
             at = end;
         }
     }
-    let agrees = sizes.len() == scan.faces.len()
-        && scan
-            .faces
-            .iter()
-            .flatten()
-            .copied()
-            .eq(vertices.iter().copied());
-    if !agrees {
+    if sizes != scan.face_sizes || vertices != scan.face_vertices {
         return Err(Error::Obj(format!(
             "{name}: tobj's faces disagree with the file's face lines"
         )));
     }
-    Ok((sizes, vertices))
+    Ok(())
 }

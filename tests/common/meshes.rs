@@ -35,6 +35,7 @@ pub fn osd_names() -> Vec<String> {
 pub fn corpus_options(name: &str) -> ObjOptions {
     ObjOptions {
         left_handed: name == "catmark_lefthanded",
+        check_with_tobj: true,
     }
 }
 
