@@ -23,6 +23,7 @@ const SCHEMES: [Scheme; 6] = [
     Scheme::Adaptive,
     Scheme::Qas,
     Scheme::Acc,
+    Scheme::Pm,
 ];
 const SCALE: f32 = 0.08;
 

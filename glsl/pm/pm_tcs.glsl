@@ -1,0 +1,18 @@
+// The TCS body of every Pm patch type: invocation i sums coefficient row i (pm.glsl) over the
+// control positions; invocation 0 sets the levels (PM_SET_LEVELS(rec), defined by the stage
+// file). Define PM_POINTS (output coefficients) before including.
+#ifndef TESSERA_PM_TCS_GLSL
+#define TESSERA_PM_TCS_GLSL
+
+layout(vertices = PM_POINTS) out;
+layout(location = 0) out vec3 g_cp[];
+
+void main() {
+    uint rec = pm_record(chunk.patch_base + uint(gl_PrimitiveID));
+    g_cp[gl_InvocationID] = pm_coefficient(rec, uint(gl_InvocationID));
+    if (gl_InvocationID == 0) {
+        PM_SET_LEVELS(rec);
+    }
+}
+
+#endif
