@@ -16,7 +16,7 @@ use glam::DVec3;
 use tessera::render::displace::displaced;
 use tessera::render::{Displacement, RenderDesc, Scheme};
 
-const SCHEMES: [Scheme; 6] = [
+const SCHEMES: [Scheme; 7] = [
     Scheme::BsplineOnly,
     Scheme::GregoryStencil,
     Scheme::GregoryVs,

@@ -37,6 +37,7 @@ fn meshes() -> Vec<(String, ControlMesh)> {
         "catmark_torus",
         "catmark_toroidal_tet",
         "embedded:mixed",
+        "catmark_bishop",
     ]
     .iter()
     .map(|n| (n.to_string(), mesh(n)))
@@ -68,7 +69,8 @@ fn hexagon_mesh() -> ControlMesh {
 }
 
 /// GPU == CPU: every captured point within 1e-6 of the bbox diagonal of `patch::pm` at its
-/// captured parameters, every normal (interior, edges, corners, centres, poles) within 1e-4 rad;
+/// captured parameters, every normal (interior, edges, corners, centres, poles) within 1e-4 rad
+/// (1e-2 on the bishop's small faces);
 /// each point tagged with its facet's class. Every patch kind occurs.
 #[test]
 fn gpu_equals_cpu_construction() {
@@ -79,6 +81,9 @@ fn gpu_equals_cpu_construction() {
         let t = tables(&surface);
         let patches: HashMap<u32, PmPatch> = t.patches(&surface.positions).into_iter().collect();
         let diag = m.bbox_diagonal();
+        // f32 rows summed over a small face's one-ring cancel: the bishop's smallest faces are
+        // ~1e-3 of the diagonal (see the car's normals in the README).
+        let normal_tol = if name == "catmark_bishop" { 1e-2 } else { 1e-4 };
         let (mut worst_p, mut worst_n) = (0.0f64, 0.0f64);
         for r in &records {
             let patch = &patches[&r.face];
@@ -88,7 +93,7 @@ fn gpu_equals_cpu_construction() {
             let d = (p - s.position).length() / diag;
             let a = n.angle_between(s.normal);
             assert!(
-                d <= 1e-6 && a <= 1e-4,
+                d <= 1e-6 && a <= normal_tol,
                 "{name}: {r:?}: {d:.2e} of the diagonal, {a:.2e} rad from the CPU construction"
             );
             worst_p = worst_p.max(d);
