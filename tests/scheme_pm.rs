@@ -37,7 +37,6 @@ fn meshes() -> Vec<(String, ControlMesh)> {
         "catmark_torus",
         "catmark_toroidal_tet",
         "embedded:mixed",
-        "catmark_bishop",
     ]
     .iter()
     .map(|n| (n.to_string(), mesh(n)))
@@ -70,20 +69,22 @@ fn hexagon_mesh() -> ControlMesh {
 
 /// GPU == CPU: every captured point within 1e-6 of the bbox diagonal of `patch::pm` at its
 /// captured parameters, every normal (interior, edges, corners, centres, poles) within 1e-4 rad
-/// (1e-2 on the bishop's small faces);
+/// (1e-3 on the bishop's small faces);
 /// each point tagged with its facet's class. Every patch kind occurs.
 #[test]
 fn gpu_equals_cpu_construction() {
     let Some(ctx) = context() else { return };
     let mut kinds = BTreeSet::new();
-    for (name, m) in meshes() {
+    let mut cases = meshes();
+    cases.push(("catmark_bishop".into(), mesh("catmark_bishop")));
+    for (name, m) in cases {
         let (surface, records) = draw(&ctx, &m, SCHEME, uniform(5.0));
         let t = tables(&surface);
         let patches: HashMap<u32, PmPatch> = t.patches(&surface.positions).into_iter().collect();
         let diag = m.bbox_diagonal();
-        // f32 rows summed over a small face's one-ring cancel: the bishop's smallest faces are
-        // ~1e-3 of the diagonal (see the car's normals in the README).
-        let normal_tol = if name == "catmark_bishop" { 1e-2 } else { 1e-4 };
+        // The bishop's smallest faces are ~1e-3 of the diagonal: f32 normals there are good to
+        // ~1e-4 rad (measured 1.1e-4; 6.8e-3 before the rows were summed relative to a corner).
+        let normal_tol = if name == "catmark_bishop" { 1e-3 } else { 1e-4 };
         let (mut worst_p, mut worst_n) = (0.0f64, 0.0f64);
         for r in &records {
             let patch = &patches[&r.face];

@@ -17,6 +17,7 @@ void main() {
     vec3 p, nrm;
     bezier_surface(cp, u, v, p, nrm);
     uint rec = pm_record(chunk.patch_base + uint(gl_PrimitiveID));
+    p += pm_origin(rec);
     bool u_edge = (u == 0.0 || u == 1.0);
     bool v_edge = (v == 0.0 || v == 1.0);
     if (u_edge && v_edge) {

@@ -27,6 +27,7 @@ void main() {
         }
     }
     vec3 nrm = pm_normal(du, dv);
+    p += pm_origin(rec);
     int zeros = int(w.x == 0.0) + int(w.y == 0.0) + int(w.z == 0.0);
     if (zeros >= 2) {
         uint k = (w.x != 0.0) ? 0u : (w.y != 0.0 ? 1u : 2u);

@@ -47,6 +47,7 @@ void main() {
     }
     vec3 nrm = pm_normal(db, dc);
     uint rec = pm_record(chunk.patch_base + uint(gl_PrimitiveID));
+    p += pm_origin(rec);
     int zeros = int(w.x == 0.0) + int(w.y == 0.0) + int(w.z == 0.0);
     if (zeros >= 2) {
         if (w.z != 0.0) {

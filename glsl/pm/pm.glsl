@@ -39,24 +39,32 @@ uint pm_record(uint patch_index) {
     return pm_words[0] + patch_index * PM_RECORD_WORDS;
 }
 
-/// Stencil row `row` applied to the control positions: terms in ascending vertex id, no fused
-/// multiply-add, so equal rows give equal bits in every shader.
-vec3 pm_row(uint row) {
+/// Stencil row `row` applied to the control positions relative to `origin`,
+/// sum w_i (p_i - origin): terms in ascending vertex id, no fused multiply-add, so equal rows
+/// and origins give equal bits in every shader. Relative sums keep the differences that
+/// derivatives are made of free of the cancellation of large coordinates.
+vec3 pm_row(uint row, vec3 origin) {
     uint r = pm_words[3] + 2u * row;
     uint first = pm_words[4] + 2u * pm_words[r];
     uint count = pm_words[r + 1u];
     precise vec3 acc = vec3(0.0);
     for (uint i = 0u; i < count; ++i) {
         uint t = first + 2u * i;
-        precise vec3 term = uintBitsToFloat(pm_words[t + 1u]) * control_point(pm_words[t]);
+        precise vec3 rel = control_point(pm_words[t]) - origin;
+        precise vec3 term = uintBitsToFloat(pm_words[t + 1u]) * rel;
         acc = acc + term;
     }
     return acc;
 }
 
-/// Coefficient `k` of the patch whose record starts at `rec`.
+/// The origin of a patch's coefficients: the control position of its record's corner 0.
+vec3 pm_origin(uint rec) {
+    return control_point(pm_words[rec + 4u]);
+}
+
+/// Coefficient `k` of the patch whose record starts at `rec`, relative to pm_origin(rec).
 vec3 pm_coefficient(uint rec, uint k) {
-    return pm_row(pm_words[rec + 12u + k]);
+    return pm_row(pm_words[rec + 12u + k], pm_origin(rec));
 }
 
 /// Colour class of the patch (CLASS_PM + ordinary 0, polar 1, m = 3, 4, 5 as 2, 3, 4).
@@ -71,17 +79,18 @@ uint pm_class(uint kind_word) {
 void pm_edge(uint edge, float x, bool from_lo, out vec3 pos, out vec3 nrm) {
     uint e = pm_words[1] + edge * PM_EDGE_WORDS;
     uint degree = pm_words[e];
+    vec3 origin = control_point(pm_words[e + 14u]);
     float t, s;
     canonical_ts(x, from_lo, t, s);
     vec3 c[5];
     for (uint i = 0u; i <= degree; ++i) {
-        c[i] = pm_row(pm_words[e + 1u + i]);
+        c[i] = pm_row(pm_words[e + 1u + i], origin);
     }
     vec3 dl[4];
     vec3 dr[4];
     for (uint i = 0u; i < 4u; ++i) {
-        dl[i] = pm_row(pm_words[e + 6u + i]);
-        dr[i] = pm_row(pm_words[e + 10u + i]);
+        dl[i] = pm_row(pm_words[e + 6u + i], origin);
+        dr[i] = pm_row(pm_words[e + 10u + i], origin);
     }
     precise vec4 b3 = vec4(s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t);
     precise vec3 p;
@@ -100,19 +109,22 @@ void pm_edge(uint edge, float x, bool from_lo, out vec3 pos, out vec3 nrm) {
     precise vec3 d_left = ((b3.x * dl[0] + b3.y * dl[1]) + b3.z * dl[2]) + b3.w * dl[3];
     precise vec3 d_right = ((b3.x * dr[0] + b3.y * dr[1]) + b3.z * dr[2]) + b3.w * dr[3];
     precise vec3 nn = normalize(cross(tangent, d_left - d_right));
-    pos = p;
+    precise vec3 world = origin + p;
+    pos = world;
     nrm = nn;
 }
 
-/// The centre of a Pm-patch (centre record `centre`): b_004 and the normal of the plane of the
+/// The centre of a Pm-patch (centre record `centre`, rows relative to its word 3): b_004 and the normal of the plane of the
 /// spoke points next to it, cross(b^0_103 - b_004, b^1_103 - b_004), the same for every sector.
 void pm_centre(uint centre, out vec3 pos, out vec3 nrm) {
     uint c = pm_words[2] + centre * PM_CENTRE_WORDS;
-    precise vec3 p = pm_row(pm_words[c]);
-    precise vec3 a = pm_row(pm_words[c + 1u]) - p;
-    precise vec3 b = pm_row(pm_words[c + 2u]) - p;
+    vec3 origin = control_point(pm_words[c + 3u]);
+    precise vec3 p = pm_row(pm_words[c], origin);
+    precise vec3 a = pm_row(pm_words[c + 1u], origin) - p;
+    precise vec3 b = pm_row(pm_words[c + 2u], origin) - p;
     precise vec3 nn = normalize(cross(a, b));
-    pos = p;
+    precise vec3 world = origin + p;
+    pos = world;
     nrm = nn;
 }
 

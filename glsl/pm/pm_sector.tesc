@@ -19,7 +19,9 @@ float pm_spoke_level(uint corner, vec3 centre) {
 void pm_sector_levels(uint rec) {
     uint c0 = pm_words[rec + 4u];
     uint c1 = pm_words[rec + 5u];
-    vec3 centre = pm_row(pm_words[pm_words[2] + pm_words[rec + 3u] * PM_CENTRE_WORDS]);
+    vec3 n_unused;
+    vec3 centre;
+    pm_centre(pm_words[rec + 3u], centre, n_unused);
     float o0 = pm_spoke_level(c1, centre);
     float o1 = pm_spoke_level(c0, centre);
     float o2 = edge_tess_level(c0, c1);

@@ -1,5 +1,5 @@
 // The TCS body of every Pm patch type: invocation i sums coefficient row i (pm.glsl) over the
-// control positions; invocation 0 sets the levels (PM_SET_LEVELS(rec), defined by the stage
+// control positions, relative to the patch's origin (pm_origin: the TES adds it back); invocation 0 sets the levels (PM_SET_LEVELS(rec), defined by the stage
 // file). Define PM_POINTS (output coefficients) before including.
 #ifndef TESSERA_PM_TCS_GLSL
 #define TESSERA_PM_TCS_GLSL

@@ -21,6 +21,11 @@
 //! - rows (first term, term count) and terms (vertex id, `f32` weight bits), terms sorted by
 //!   vertex id, zero weights dropped, identical rows stored once (row 0 is empty: zero).
 //!
+//! The shaders sum a row relative to an origin vertex `o` (`Σ w_i (p_i - o)`, then `+ o` for a
+//! position): patch coefficients relative to the patch's corner 0, an edge record's relative to
+//! its canonical start (word 14), a centre record's relative to the facet's corner 0 (word 3).
+//! Derivatives then come from small differences, not from cancelling large `f32` coordinates.
+//!
 //! Both patches of an edge evaluate the same edge record with the same canonical parameter, so
 //! positions and normals there are bitwise equal (`glsl/pm/pm.glsl`, `pm_edge`).
 
@@ -110,6 +115,7 @@ enum EdgeKey {
 #[derive(Debug, Clone, Copy, Default)]
 struct EdgeRecord {
     degree: u32,
+    origin: u32,
     curve: [u32; 5],
     left: [u32; 4],
     right: [u32; 4],
@@ -118,6 +124,9 @@ struct EdgeRecord {
 /// A domain edge of a patch, in the patch's direction (its start corner to its end corner).
 struct DomainEdge {
     key: EdgeKey,
+    /// The vertex whose control position the record's rows are summed relative to (the
+    /// canonical start: the smaller vertex id, or the spoke's corner).
+    origin: u32,
     /// Whether the patch's start is the canonical start (then the patch is left of it).
     start_is_canonical: bool,
     /// Bézier points of the edge curve.
@@ -140,10 +149,12 @@ fn bicubic_edge_pairs(k: usize) -> [(usize, usize); 4] {
     })
 }
 
-fn bicubic_edge(b: &[Weights; 16], k: usize, key: EdgeKey, start_is_canonical: bool) -> DomainEdge {
+fn bicubic_edge(b: &[Weights; 16], k: usize, key: EdgeKey, ends: [u32; 2]) -> DomainEdge {
     let pairs = bicubic_edge_pairs(k);
+    let start_is_canonical = ends[0] < ends[1];
     DomainEdge {
         key,
+        origin: ends[0].min(ends[1]),
         start_is_canonical,
         curve: pairs.iter().map(|&(on, _)| b[on].clone()).collect(),
         cross: pairs.map(|(on, inner)| scaled_diff(3.0, &b[inner], &b[on])),
@@ -161,6 +172,8 @@ struct Patch {
     rows: Vec<Weights>,
     edges: Vec<DomainEdge>,
     centre: Option<[Weights; 3]>,
+    /// Facet corner 0 (the origin of its centre record's rows).
+    corners_0: u32,
 }
 
 /// The CPU side of the Pm pass of one surface: which faces it draws and the word buffer.
@@ -259,14 +272,14 @@ fn face_patches(topo: &Topology, f: u32, patch: &PmPatch<Weights>, out: &mut Vec
     let fv = topo.face_vertices(f);
     let fe = topo.face_edges(f);
     let n = fv.len();
-    // Facet edge e (corner e to corner e + 1) and whether it runs from the smaller vertex id.
-    let mesh_edge = |e: usize| (EdgeKey::Mesh(fe[e]), fv[e] < fv[(e + 1) % n]);
+    // Facet edge e (corner e to corner e + 1) and its end vertices.
+    let mesh_edge = |e: usize| (EdgeKey::Mesh(fe[e]), [fv[e], fv[(e + 1) % n]]);
     match patch {
         PmPatch::Bicubic(b) => {
             let edges = (0..4)
                 .map(|k| {
-                    let (key, canon) = mesh_edge(k);
-                    bicubic_edge(b, k, key, canon)
+                    let (key, ends) = mesh_edge(k);
+                    bicubic_edge(b, k, key, ends)
                 })
                 .collect();
             out.push(Patch {
@@ -279,6 +292,7 @@ fn face_patches(topo: &Topology, f: u32, patch: &PmPatch<Weights>, out: &mut Vec
                 rows: b.to_vec(),
                 edges,
                 centre: None,
+                corners_0: fv[0],
             });
         }
         PmPatch::Polar { h, pole } => {
@@ -289,8 +303,8 @@ fn face_patches(topo: &Topology, f: u32, patch: &PmPatch<Weights>, out: &mut Vec
             let edges = [(0, a), (1, bb), (3, *pole)]
                 .into_iter()
                 .map(|(k, e)| {
-                    let (key, canon) = mesh_edge(e);
-                    bicubic_edge(&b, k, key, canon)
+                    let (key, ends) = mesh_edge(e);
+                    bicubic_edge(&b, k, key, ends)
                 })
                 .collect();
             out.push(Patch {
@@ -303,6 +317,7 @@ fn face_patches(topo: &Topology, f: u32, patch: &PmPatch<Weights>, out: &mut Vec
                 rows: b.to_vec(),
                 edges,
                 centre: None,
+                corners_0: fv[0],
             });
         }
         PmPatch::Pm(pts) => {
@@ -312,10 +327,11 @@ fn face_patches(topo: &Topology, f: u32, patch: &PmPatch<Weights>, out: &mut Vec
             let centre = [q(0, 0, 0).clone(), q(0, 1, 0).clone(), q(1, 1, 0).clone()];
             for i in 0..m {
                 let j = (i + 1) % m;
-                let (key0, canon0) = mesh_edge(i);
+                let (key0, ends) = mesh_edge(i);
                 let outer = DomainEdge {
                     key: key0,
-                    start_is_canonical: canon0,
+                    origin: ends[0].min(ends[1]),
+                    start_is_canonical: ends[0] < ends[1],
                     curve: patch.edge_cubic(i).to_vec(),
                     cross: std::array::from_fn(|k| {
                         scaled_diff(4.0, q(i, 3 - k, k), q(i, 4 - k, k))
@@ -324,6 +340,7 @@ fn face_patches(topo: &Topology, f: u32, patch: &PmPatch<Weights>, out: &mut Vec
                 // v^{i+1} -> centre: spoke j in its canonical direction, this sector on the left.
                 let to_centre = DomainEdge {
                     key: EdgeKey::Spoke(f, j),
+                    origin: fv[j],
                     start_is_canonical: true,
                     curve: (0..5).map(|l| q(i, 0, 4 - l).clone()).collect(),
                     cross: std::array::from_fn(|k| {
@@ -333,6 +350,7 @@ fn face_patches(topo: &Topology, f: u32, patch: &PmPatch<Weights>, out: &mut Vec
                 // centre -> v^i: spoke i reversed, this sector on the right.
                 let from_centre = DomainEdge {
                     key: EdgeKey::Spoke(f, i),
+                    origin: fv[i],
                     start_is_canonical: false,
                     curve: (0..5).map(|l| q(i, l, 0).clone()).collect(),
                     cross: std::array::from_fn(|k| {
@@ -350,6 +368,7 @@ fn face_patches(topo: &Topology, f: u32, patch: &PmPatch<Weights>, out: &mut Vec
                     rows: quartics[i].to_vec(),
                     edges: vec![outer, to_centre, from_centre],
                     centre: Some(centre.clone()),
+                    corners_0: fv[0],
                 });
             }
         }
@@ -375,6 +394,7 @@ fn words(patches: &[Patch]) -> Vec<u32> {
             edge_rec[k] = id;
             let rec = &mut edges[id as usize];
             rec.degree = (e.curve.len() - 1) as u32;
+            rec.origin = e.origin;
             let curve: Vec<u32> = e.curve.iter().map(|w| rows.id(w)).collect();
             let cross: Vec<u32> = e.cross.iter().map(|w| rows.id(w)).collect();
             if e.start_is_canonical {
@@ -392,7 +412,8 @@ fn words(patches: &[Patch]) -> Vec<u32> {
         }
         let centre = match &p.centre {
             Some(c) => *centre_of.entry(p.face).or_insert_with(|| {
-                centres.push([rows.id(&c[0]), rows.id(&c[1]), rows.id(&c[2]), 0]);
+                // Summed relative to the facet's corner 0 (patch records do the same).
+                centres.push([rows.id(&c[0]), rows.id(&c[1]), rows.id(&c[2]), p.corners_0]);
                 (centres.len() - 1) as u32
             }),
             None => 0,
@@ -421,7 +442,7 @@ fn words(patches: &[Patch]) -> Vec<u32> {
         out.extend(e.curve);
         out.extend(e.left);
         out.extend(e.right);
-        out.extend([0u32; 2]);
+        out.extend([e.origin, 0]);
     }
     out[2] = out.len() as u32;
     for c in &centres {
