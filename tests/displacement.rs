@@ -16,13 +16,14 @@ use glam::DVec3;
 use tessera::render::displace::displaced;
 use tessera::render::{Displacement, RenderDesc, Scheme};
 
-const SCHEMES: [Scheme; 6] = [
+const SCHEMES: [Scheme; 7] = [
     Scheme::BsplineOnly,
     Scheme::GregoryStencil,
     Scheme::GregoryVs,
     Scheme::Adaptive,
     Scheme::Qas,
     Scheme::Acc,
+    Scheme::Pm,
 ];
 const SCALE: f32 = 0.08;
 

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::meshes::{embedded, osd};
+use common::meshes::{capsule, embedded, osd};
 use glam::DVec3;
 use tessera::mesh::ObjOptions;
 use tessera::patch::gregory::accuracy::{
@@ -39,40 +39,6 @@ fn meshes() -> Vec<(String, ControlMesh)> {
 
 fn obj(text: &str, name: &str) -> ControlMesh {
     ControlMesh::from_obj_str(text, name, &ObjOptions::default()).unwrap()
-}
-
-/// A closed capsule: `n` segments, `rings` rings of quads, a triangle fan (polar
-/// configuration of valence `n`) at each end; slightly irregular so nothing is symmetric.
-fn capsule(n: usize, rings: usize) -> ControlMesh {
-    let mut s = String::new();
-    for r in 0..rings {
-        let z = r as f64 - (rings as f64 - 1.0) / 2.0;
-        for k in 0..n {
-            let a = std::f64::consts::TAU * k as f64 / n as f64 + 0.1 * r as f64;
-            let rad = 1.0 + 0.15 * ((3 * k + r) % 4) as f64;
-            s += &format!("v {} {} {}\n", rad * a.cos(), rad * a.sin(), z);
-        }
-    }
-    let top = rings * n + 1;
-    s += &format!("v 0.1 -0.05 {}\n", rings as f64 / 2.0 + 0.4);
-    s += &format!("v -0.05 0.1 {}\n", -(rings as f64) / 2.0 - 0.3);
-    let id = |r: usize, k: usize| r * n + (k % n) + 1;
-    for r in 0..rings - 1 {
-        for k in 0..n {
-            s += &format!(
-                "f {} {} {} {}\n",
-                id(r, k),
-                id(r, k + 1),
-                id(r + 1, k + 1),
-                id(r + 1, k)
-            );
-        }
-    }
-    for k in 0..n {
-        s += &format!("f {} {} {}\n", id(rings - 1, k), id(rings - 1, k + 1), top);
-        s += &format!("f {} {} {}\n", id(0, k + 1), id(0, k), top + 1);
-    }
-    obj(&s, "capsule")
 }
 
 /// A regular dodecahedron (12 pentagons, valence 3), one vertex moved.

@@ -130,7 +130,15 @@ fn expected_texcoord(m: &ControlMesh, r: &CaptureRecord) -> DVec2 {
     let bilinear = |c0: DVec2, c1: DVec2, c2: DVec2, c3: DVec2| {
         c0 * ((1.0 - u) * (1.0 - v)) + c1 * (u * (1.0 - v)) + c2 * (u * v) + c3 * ((1.0 - u) * v)
     };
+    // Pm sectors (capture kinds pm-3/4/5, 18-20): (u, v) = barycentric weights of corner k + 1
+    // and of the centre, linear over the sector.
+    let pm_sector = r.patch.is_some_and(|p| (18..=20).contains(&p.kind));
     match r.sub_face {
+        Some(k) if pm_sector => {
+            let k = k as usize;
+            let centre = (0..n).map(c).sum::<DVec2>() / n as f64;
+            c(k) * (1.0 - u - v) + c(k + 1) * u + centre * v
+        }
         None if n == 4 => bilinear(c(0), c(1), c(2), c(3)),
         None => c(0) * (1.0 - u - v) + c(1) * u + c(2) * v,
         Some(k) => {

@@ -11,5 +11,7 @@ void main() {
     if (gl_InvocationID == 0) {
         set_quad_tess_levels(info.corners);
     }
-    CULL_PATCH(c_bezier, 16);
+    // The Bezier points (relative to c_bspline[5], bspline_tcs.glsl) bound the patch tighter
+    // than the B-spline points.
+    CULL_PATCH_AT(c_bezier, 16, c_bspline[5]);
 }

@@ -30,13 +30,19 @@ layout(std430, set = 0, binding = 3) buffer Capture {
     CaptureRecord capture_records[];
 };
 
-void capture_tagged(uint face, uint sub_face, vec2 uv, vec3 p, vec3 n, uint tag) {
+/// One record with the texture coordinate `st` given (stages whose domains are not the
+/// capture's sub-faces, e.g. Pm sectors).
+void capture_with_texcoord(uint face, uint sub_face, vec2 uv, vec3 p, vec3 n, uint tag, vec2 st) {
     uint slot = atomicAdd(capture_count, 1u);
     if (slot < capture_capacity) {
-        vec2 st = has_texcoords() ? surface_texcoord(face, sub_face, uv) : vec2(0.0);
         capture_records[slot] = CaptureRecord(face, uv.x, uv.y, p.x, p.y, p.z, n.x, n.y, n.z,
                                               sub_face, tag, st.x, st.y);
     }
+}
+
+void capture_tagged(uint face, uint sub_face, vec2 uv, vec3 p, vec3 n, uint tag) {
+    vec2 st = has_texcoords() ? surface_texcoord(face, sub_face, uv) : vec2(0.0);
+    capture_with_texcoord(face, sub_face, uv, p, n, tag, st);
 }
 
 void capture_point(uint face, vec2 uv, vec3 p, vec3 n) {

@@ -91,16 +91,21 @@ void cull_discard_patch() {
     gl_TessLevelOuter[3] = 0.0;
 }
 
-#define CULL_PATCH(points, count)                                                             \
+/// Culls the patch whose control points are points[0 .. count) plus `origin` (patches whose
+/// stages pass points relative to an origin, e.g. pm/pm_tcs.glsl).
+#define CULL_PATCH_AT(points, count, origin)                                                  \
     barrier();                                                                                \
     if (gl_InvocationID == 0 && cull_enabled()) {                                             \
         CullBound cull_bound = cull_begin();                                                  \
         for (int cull_k = 0; cull_k < (count); ++cull_k) {                                    \
-            cull_add(cull_bound, (points[cull_k]).xyz);                                       \
+            cull_add(cull_bound, (points[cull_k]).xyz + (origin));                            \
         }                                                                                     \
         if (cull_outside(cull_bound)) {                                                       \
             cull_discard_patch();                                                             \
         }                                                                                     \
     }
+
+/// Culls the patch whose control points are points[0 .. count) (after its levels are set).
+#define CULL_PATCH(points, count) CULL_PATCH_AT(points, count, vec3(0.0))
 
 #endif

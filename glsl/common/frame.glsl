@@ -24,6 +24,8 @@
 #define CLASS_HEAT_BASE 16u
 /// Adaptive-scheme classes: CLASS_ADAPTIVE + 16 kind + level (glsl/adaptive/adaptive.glsl).
 #define CLASS_ADAPTIVE 2048u
+/// Pm-patch classes: CLASS_PM + ordinary 0, polar 1, m = 3, 4, 5 as 2, 3, 4 (glsl/pm/pm.glsl).
+#define CLASS_PM 4096u
 
 layout(std140, set = 0, binding = 0) uniform Frame {
     mat4 view_proj;      // world -> clip (Vulkan clip space: y down, depth 0..1)

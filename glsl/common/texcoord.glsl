@@ -101,4 +101,33 @@ vec2 surface_texcoord(uint face, uint sub_face, vec2 uv) {
     return tc_bilinear(tc_value(first + k), mid_next, centre, mid_prev, uv);
 }
 
+/// Texture coordinate of a point of sector k of a Pm facet (pm/patch_pm_sector.tese) at
+/// barycentric w over (corner k, corner k + 1, centre): linear over the sector triangle, the
+/// centre's value the mean of the corners'. Facet edges as every face (tc_edge); a spoke is
+/// blended from its corner to the centre by the centre's weight, canonical in it (the sector on
+/// the other side reads that weight as 1 - its corner's weight), so both sectors of a spoke
+/// get the same bits.
+vec2 pm_sector_texcoord(uint face, uint k, vec3 w) {
+    uvec4 fe = texcoord_table[face];
+    uint first = fe.x;
+    uint n = fe.y;
+    uint next = (k + 1u) % n;
+    precise vec2 sum = vec2(0.0);
+    for (uint i = 0u; i < n; ++i) {
+        sum = sum + tc_value(first + i);
+    }
+    precise vec2 centre = sum / float(n);
+    vec2 ck = tc_value(first + k);
+    vec2 cn = tc_value(first + next);
+    int zeros = int(w.x == 0.0) + int(w.y == 0.0) + int(w.z == 0.0);
+    if (zeros >= 2) {
+        return w.z != 0.0 ? centre : (w.x != 0.0 ? ck : cn);
+    }
+    if (w.z == 0.0) return tc_edge(first, k, next, w.y);
+    if (w.x == 0.0) return tc_inner_edge(cn, centre, w.z);
+    if (w.y == 0.0) return tc_inner_edge(centre, ck, w.x);
+    precise vec2 r = (w.x * ck + w.y * cn) + w.z * centre;
+    return r;
+}
+
 #endif

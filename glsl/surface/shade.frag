@@ -30,7 +30,16 @@ const vec3 LEVEL_COLORS[9] = vec3[9](vec3(0.25, 0.40, 0.90), vec3(0.20, 0.75, 0.
                                     vec3(0.80, 0.30, 0.75), vec3(0.55, 0.35, 0.85),
                                     vec3(0.95, 0.95, 0.95));
 
+// Pm patch types (pm/pm.glsl): ordinary gold, polar blue, m = 3 green, 4 purple, 5 red.
+const vec3 PM_COLORS[5] = vec3[5](vec3(0.90, 0.68, 0.20), vec3(0.25, 0.45, 0.90),
+                                 vec3(0.30, 0.72, 0.35), vec3(0.58, 0.38, 0.80),
+                                 vec3(0.85, 0.25, 0.25));
+
 vec3 base_color() {
+    if (t_class >= CLASS_PM) {
+        if (frame.flags.x == COLOR_PATCH_TYPE) return PM_COLORS[min(t_class - CLASS_PM, 4u)];
+        return vec3(0.72, 0.74, 0.78);
+    }
     if (t_class >= CLASS_ADAPTIVE) {
         uint kind = min((t_class - CLASS_ADAPTIVE) / 16u, 5u);
         uint level = (t_class - CLASS_ADAPTIVE) % 16u;

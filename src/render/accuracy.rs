@@ -307,7 +307,12 @@ fn measure_point(
     let c = closest_exact(ev, x, candidates, f)?;
     let (mut d, mut exact_normal) = ((c.sample.position - x).length(), c.sample.normal);
     // Equal (u, v): quads in their own domain, other faces per sub-face.
+    // Pm polar and sector points are in the patch's own triangle domain.
+    let own_domain = r
+        .patch
+        .is_some_and(|p| super::schemes::pm::own_domain_kind(p.kind));
     let sub = match r.sub_face {
+        _ if own_domain => None,
         Some(k) => Some(k as usize),
         None if topo.face_size(f) == 4 => Some(0),
         None => None,

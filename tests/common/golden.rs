@@ -54,6 +54,10 @@ const TOLERANCES: &[(&str, Tolerance)] = &[
     // bspline_only_mixed_patch_type
     ("qas_mixed_patch_type", tol(0.006, 0.05)),
     ("acc_mixed_patch_type", tol(0.006, 0.05)),
+    // new with --scheme pm (embedded:mixed by patch type from the default camera and from
+    // below; measured 0 against today's render, which made them); as qas_mixed_patch_type
+    ("pm_mixed_patch_type", tol(0.006, 0.05)),
+    ("pm_mixed_below_patch_type", tol(0.006, 0.05)),
     // new with examples/engine.rs (the engine's checkered ground and the adaptive scheme on
     // embedded:mixed, patch-type colours, last of 6 twisted frames; measured 0 against today's
     // render, which made it); as adaptive_car_type

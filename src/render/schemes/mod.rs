@@ -23,6 +23,7 @@ pub mod bspline;
 pub mod gregory;
 pub mod gregory_stencil;
 pub mod gregory_vs;
+pub mod pm;
 pub mod qas;
 pub mod records;
 pub mod single_crease;
@@ -66,6 +67,11 @@ pub enum Scheme {
     /// patches from the one-ring masks, edge normals from both sides' rows (not the paper's
     /// tangent patches); every other face from the exact CPU reference.
     Acc,
+    /// Pm-patches (Myles, Ni, Peters 2008), stencil variant: one G1 patch per triangle, quad or
+    /// pentagon of a closed mesh (bicubic for ordinary quads, singular bicubic for polar
+    /// triangles, m quartic sectors otherwise), every coefficient a one-ring stencil summed in
+    /// the TCS; other facets from the exact CPU reference.
+    Pm,
 }
 
 /// One registry line: a user-facing scheme, its command-line name and its passes in order.
@@ -84,7 +90,7 @@ pub struct SchemeEntry {
 }
 
 /// Every scheme. Adding one: a [`Scheme`] variant and a line here.
-pub static REGISTRY: [SchemeEntry; 6] = [
+pub static REGISTRY: [SchemeEntry; 7] = [
     SchemeEntry {
         scheme: Scheme::BsplineOnly,
         name: "bspline-only",
@@ -135,17 +141,25 @@ pub static REGISTRY: [SchemeEntry; 6] = [
         continuity: "exact on regular quads; C0 with edge normals shared, not G1 next to extraordinary vertices (no tangent patches)",
         passes: &[&acc::ACC],
     },
+    SchemeEntry {
+        scheme: Scheme::Pm,
+        name: "pm",
+        control_points: "16 (ordinary bicubic), 13 (polar singular bicubic), 19 / 25 / 31 (Pm-patch of 3 / 4 / 5 quartic sectors), one-ring stencils in the TCS",
+        continuity: "G1 everywhere by construction (C1 between ordinary patches); approximates Catmull-Clark (ordinary quads on regular rings exact)",
+        passes: &[&pm::PM],
+    },
 ];
 
 impl Scheme {
     /// Every scheme, in registry order.
-    pub const ALL: [Scheme; 6] = [
+    pub const ALL: [Scheme; 7] = [
         Scheme::BsplineOnly,
         Scheme::GregoryVs,
         Scheme::GregoryStencil,
         Scheme::Adaptive,
         Scheme::Qas,
         Scheme::Acc,
+        Scheme::Pm,
     ];
 
     /// The registry line of this scheme.

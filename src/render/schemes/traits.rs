@@ -12,6 +12,7 @@ use glam::DVec3;
 use crate::gpu::{Context, DrawTarget};
 use crate::patch::acc::NotAcc;
 use crate::patch::gregory::NotGregory;
+use crate::patch::pm::NotPm;
 use crate::patch::qas::NotQas;
 use crate::render::pass::{NormalRule, SharedResources, VertexFrames};
 use crate::render::settings::{PatchLevelLimit, RenderDesc, Spacing};
@@ -114,6 +115,8 @@ pub enum RefusalReason {
     NotQas(NotQas),
     /// ACC draws smooth interior quads only ([`NotAcc`]).
     NotAcc(NotAcc),
+    /// The Pm construction does not cover the facet ([`NotPm`]).
+    NotPm(NotPm),
     /// The face's one-ring exceeds the largest patch primitive.
     RingTooLarge {
         /// One-ring size.
@@ -162,6 +165,7 @@ impl fmt::Display for Refusal {
             RefusalReason::NotGregory(e) => e.fmt(f),
             RefusalReason::NotQas(e) => e.fmt(f),
             RefusalReason::NotAcc(e) => e.fmt(f),
+            RefusalReason::NotPm(e) => e.fmt(f),
             RefusalReason::RingTooLarge { ring, max } => write!(
                 f,
                 "face {face}: one-ring of {ring} vertices exceeds the {max}-vertex stencil patch"

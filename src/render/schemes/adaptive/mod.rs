@@ -44,7 +44,7 @@ pub fn kind_name(kind: u8) -> &'static str {
         3 => "gregory-quad",
         4 => "single-crease",
         5 => "transition",
-        _ => "unknown",
+        k => super::pm::kind_name(k).unwrap_or("unknown"),
     }
 }
 
