@@ -260,15 +260,20 @@ fn watertight() {
     }
 }
 
-/// The crease loop of the torus (8 edges, every face along it a single-crease patch).
-fn loop_creases(s: f32) -> Vec<Crease> {
+/// The crease line i = 4 (8 edges) of sharpness `s`, vertex ids by `vid`.
+fn column_creases(vid: impl Fn(usize, usize) -> u32, s: f32) -> Vec<Crease> {
     (0..N)
         .map(|j| Crease {
-            v0: torus_idx(4, j),
-            v1: torus_idx(4, j + 1),
+            v0: vid(4, j),
+            v1: vid(4, j + 1),
             sharpness: s,
         })
         .collect()
+}
+
+/// The crease loop of the torus (8 edges, every face along it a single-crease patch).
+fn loop_creases(s: f32) -> Vec<Crease> {
+    column_creases(torus_idx, s)
 }
 
 /// Sharpness is data: changing the torus's crease loop from 1 to 4.5 (and on to 0.3) at run time
@@ -326,13 +331,7 @@ fn set_sharpness_at_run_time() {
     let g = grid(&line(|_| 1.0));
     let surface = scheme_surface(&ctx, &g, 5, Scheme::GregoryStencil);
     let mut anim = Animation::new(&ctx, &surface, &render, &offscreen(64, 64));
-    let all: Vec<Crease> = (0..N)
-        .map(|j| Crease {
-            v0: idx(4, j),
-            v1: idx(4, j + 1),
-            sharpness: 2.0,
-        })
-        .collect();
+    let all = column_creases(idx, 2.0);
     let e = anim.set_sharpness(&all).unwrap_err().to_string();
     assert!(e.contains("not a single-crease patch"), "{e}");
     assert_validation_clean(&ctx);
@@ -416,15 +415,7 @@ fn adaptive_set_sharpness_at_run_time() {
         assert!(changed == rebuilt(&torus(&line(|_| s))), "torus s = {s}");
         assert!(changed != before);
     }
-    let line_creases = |s: f32| -> Vec<Crease> {
-        (0..N)
-            .map(|j| Crease {
-                v0: idx(4, j),
-                v1: idx(4, j + 1),
-                sharpness: s,
-            })
-            .collect()
-    };
+    let line_creases = |s: f32| column_creases(idx, s);
     let surface = scheme_surface(&ctx, &grid(&line(|_| 2.2)), 5, Scheme::Adaptive);
     let mut anim = Animation::new(&ctx, &surface, &render, &offscreen(64, 64));
     let before = sorted(anim.frame());

@@ -156,6 +156,15 @@ pub struct PatchLevelLimit {
     pub splittable: bool,
 }
 
+impl PatchLevelLimit {
+    /// Patches drawn whole at any level (passes whose levels are per patch or whose records
+    /// cannot be split into sub-patches).
+    pub const WHOLE: PatchLevelLimit = PatchLevelLimit {
+        max_patch_level: f32::INFINITY,
+        splittable: false,
+    };
+}
+
 impl Default for PatchLevelLimit {
     fn default() -> Self {
         PatchLevelLimit {

@@ -159,10 +159,7 @@ impl PassTables for AccTables {
     }
 
     fn patch_level_limit(&self, _: Spacing) -> PatchLevelLimit {
-        PatchLevelLimit {
-            max_patch_level: f32::INFINITY,
-            splittable: false,
-        }
+        PatchLevelLimit::WHOLE
     }
 
     fn reference(&self, positions: &[DVec3], face: u32) -> Option<ReferencePatch> {

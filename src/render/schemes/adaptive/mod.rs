@@ -210,10 +210,7 @@ impl PassTables for AdaptiveTables {
 
     fn patch_level_limit(&self, _: Spacing) -> PatchLevelLimit {
         // Levels scale down per patch level instead: patches are never split.
-        PatchLevelLimit {
-            max_patch_level: f32::INFINITY,
-            splittable: false,
-        }
+        PatchLevelLimit::WHOLE
     }
 
     fn capture_layout(&self) -> CaptureLayout {

@@ -178,10 +178,7 @@ impl PassTables for PmTables {
     }
 
     fn patch_level_limit(&self, _: Spacing) -> PatchLevelLimit {
-        PatchLevelLimit {
-            max_patch_level: f32::INFINITY,
-            splittable: false,
-        }
+        PatchLevelLimit::WHOLE
     }
 
     fn capture_layout(&self) -> CaptureLayout {
