@@ -24,6 +24,7 @@ use super::traits::{
     ReferencePatch, Refusal, RefusalReason,
 };
 use crate::patch::adaptive::{AdaptiveDrawTables, AdaptiveSurface};
+use crate::patch::gregory::GregoryTangents;
 use crate::render::pass::{NormalRule, VertexFrames};
 use crate::render::settings::{PatchLevelLimit, Spacing};
 use crate::subdiv::adaptive::{AdaptiveOptions, AdaptiveRefinement};
@@ -91,6 +92,8 @@ pub struct AdaptiveTables {
     pub refinement: RefinementTables,
     /// What the draws read.
     pub draw: AdaptiveDrawTables,
+    /// Edge-tangent lengths of the end caps' Gregory construction.
+    pub tangents: GregoryTangents,
 }
 
 impl AdaptiveTables {
@@ -112,13 +115,14 @@ impl AdaptiveTables {
             AdaptiveRefinement::with_options(&base, options).map_err(|e| (first, e.to_string()))?;
         let refinement =
             RefinementTables::adaptive(&adaptive).map_err(|e| (first, e.to_string()))?;
-        let draw =
-            AdaptiveDrawTables::new(&adaptive).map_err(|e| (e.base_face(), e.to_string()))?;
+        let draw = AdaptiveDrawTables::with_tangents(&adaptive, opts.gregory_tangents)
+            .map_err(|e| (e.base_face(), e.to_string()))?;
         Ok(AdaptiveTables {
             faces: faces.to_vec(),
             adaptive,
             refinement,
             draw,
+            tangents: opts.gregory_tangents,
         })
     }
 
@@ -144,7 +148,7 @@ impl AdaptiveTables {
     /// The CPU surface of these tables over control `positions` (the reference the GPU
     /// reproduces).
     pub fn cpu_surface(&self, positions: &[DVec3]) -> Result<AdaptiveSurface> {
-        AdaptiveSurface::new(&self.adaptive, positions)
+        AdaptiveSurface::with_tangents(&self.adaptive, positions, self.tangents)
             .map_err(|e| crate::Error::Invalid(e.to_string()))
     }
 }
