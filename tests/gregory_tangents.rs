@@ -57,7 +57,11 @@ fn fitted_tangents_beat_the_papers_on_quad_meshes() {
     // Not everywhere: on meshes whose valence-3 vertices sit in nearly flat regions
     // (`catmark_gregory_test0`, the pawn and the rook) the paper's longer tangents are closer,
     // see the README's table.
-    for name in ["catmark_cube", "catmark_gregory_test1", "catmark_gregory_test8"] {
+    for name in [
+        "catmark_cube",
+        "catmark_gregory_test1",
+        "catmark_gregory_test8",
+    ] {
         let paper = measured(name, GregoryTangents::Paper);
         let optimal = measured(name, GregoryTangents::Optimal);
         assert!(paper.faces == optimal.faces && paper.faces > 0);
