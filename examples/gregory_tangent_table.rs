@@ -6,7 +6,8 @@
 //! cargo run --release --example gregory_tangent_table
 //! ```
 
-use tessera::patch::gregory::tangents::{fit_error, fit_scale, fit_terms, MAX_FITTED_VALENCE};
+use tessera::patch::gregory::tangent_fit::{fit_error, fit_scale, fit_terms};
+use tessera::patch::gregory::tangents::MAX_FITTED_VALENCE;
 use tessera::patch::gregory::GregoryTangents;
 
 fn main() -> tessera::Result<()> {

@@ -6,9 +6,8 @@ mod common;
 
 use common::meshes::mesh as load;
 use tessera::patch::gregory::accuracy::{measure_tangents, AccuracyOptions, AccuracyReport};
-use tessera::patch::gregory::tangents::{
-    fit_error, fit_scale, fit_terms, MAX_FITTED_VALENCE, OPTIMAL_SCALE,
-};
+use tessera::patch::gregory::tangent_fit::{fit_error, fit_scale, fit_terms};
+use tessera::patch::gregory::tangents::{MAX_FITTED_VALENCE, OPTIMAL_SCALE};
 use tessera::patch::gregory::GregoryTangents;
 
 #[test]

@@ -32,6 +32,7 @@ mod point;
 pub mod stencil;
 pub mod stencil_table;
 pub mod table;
+pub mod tangent_fit;
 pub mod tangents;
 mod vertex;
 
