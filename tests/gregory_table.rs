@@ -11,7 +11,7 @@ use std::f64::consts::PI;
 use tessera::patch::gregory::table::{
     GregoryVertexTable, KIND_CORNER, KIND_CREASE, KIND_NONE, KIND_SMOOTH,
 };
-use tessera::patch::gregory::{gregory_patch_at, GregoryPatch};
+use tessera::patch::gregory::{gregory_patch_at_with, GregoryPatch, GregoryTangents};
 use tessera::topology::Topology;
 
 /// What the vertex shader outputs for one vertex.
@@ -45,7 +45,9 @@ fn vertex_stage(t: &GregoryVertexTable, pos: &[DVec3], v: usize) -> Option<Verte
         at += size - 2;
     }
     if kind == KIND_SMOOTH as usize {
-        return Some(smooth(x, &m, &c));
+        // The word after the face records: the f32 bits of the edge-tangent factor.
+        let scale = f32::from_bits(t.ring[at]) as f64;
+        return Some(smooth(x, &m, &c, scale));
     }
     // Sectors and sharp edges from the sector words.
     let mut sharp = vec![false; ne];
@@ -112,7 +114,7 @@ fn vertex_stage(t: &GregoryVertexTable, pos: &[DVec3], v: usize) -> Option<Verte
 }
 
 /// Paper §3.2-3.4 for a closed smooth ring.
-fn smooth(x: DVec3, m: &[DVec3], c: &[DVec3]) -> VertexOut {
+fn smooth(x: DVec3, m: &[DVec3], c: &[DVec3], scale: f64) -> VertexOut {
     let n = m.len();
     let nf = n as f64;
     let sum: DVec3 = (0..n).map(|i| m[i] + c[i]).sum();
@@ -129,7 +131,7 @@ fn smooth(x: DVec3, m: &[DVec3], c: &[DVec3]) -> VertexOut {
                 q +=
                     (1.0 - sigma * cpn) * a.cos() * m[i] + 2.0 * sigma * (a + PI / nf).cos() * c[i];
             }
-            p + 2.0 / 3.0 * lambda * (2.0 / nf) * q
+            p + 2.0 / 3.0 * (scale * lambda) * (2.0 / nf) * q
         })
         .collect();
     let r: Vec<DVec3> = (0..n)
@@ -217,37 +219,45 @@ fn flat_tables_reproduce_the_patches() {
     ] {
         let mesh = load(name);
         let topo = Topology::new(&mesh).unwrap();
-        let table = GregoryVertexTable::new(&topo, 0..topo.face_count() as u32);
-        let pos = mesh.positions();
-        let outs: Vec<Option<VertexOut>> = (0..topo.vertex_count())
-            .map(|v| vertex_stage(&table, pos, v))
-            .collect();
-        for (k, &f) in table.faces.iter().enumerate() {
-            let rows = tcs_stage(&table, &outs, topo.face_vertices(f), k);
-            let expected: Vec<DVec3> = match gregory_patch_at(&topo, pos, f).unwrap() {
-                GregoryPatch::Quad(q) => (0..4)
-                    .flat_map(|i| [q.p[i], q.e_plus[i], q.e_minus[i], q.f_plus[i], q.f_minus[i]])
-                    .collect(),
-                GregoryPatch::Triangle(q) => (0..3)
-                    .flat_map(|i| [q.p[i], q.e_plus[i], q.e_minus[i], q.f_plus[i], q.f_minus[i]])
-                    .collect(),
-            };
-            assert_eq!(rows.len(), expected.len());
-            for (r, (a, b)) in rows.iter().zip(&expected).enumerate() {
-                assert!(
-                    (*a - *b).length() < 1e-12 * mesh.bbox_diagonal().max(1.0),
-                    "{name} face {f} row {r}: {a} vs {b}"
-                );
+        for tangents in [GregoryTangents::Paper, GregoryTangents::Optimal] {
+            let table =
+                GregoryVertexTable::with_tangents(&topo, 0..topo.face_count() as u32, tangents);
+            let pos = mesh.positions();
+            let outs: Vec<Option<VertexOut>> = (0..topo.vertex_count())
+                .map(|v| vertex_stage(&table, pos, v))
+                .collect();
+            for (k, &f) in table.faces.iter().enumerate() {
+                let rows = tcs_stage(&table, &outs, topo.face_vertices(f), k);
+                let expected: Vec<DVec3> =
+                    match gregory_patch_at_with(&topo, pos, f, tangents).unwrap() {
+                        GregoryPatch::Quad(q) => (0..4)
+                            .flat_map(|i| {
+                                [q.p[i], q.e_plus[i], q.e_minus[i], q.f_plus[i], q.f_minus[i]]
+                            })
+                            .collect(),
+                        GregoryPatch::Triangle(q) => (0..3)
+                            .flat_map(|i| {
+                                [q.p[i], q.e_plus[i], q.e_minus[i], q.f_plus[i], q.f_minus[i]]
+                            })
+                            .collect(),
+                    };
+                assert_eq!(rows.len(), expected.len());
+                for (r, (a, b)) in rows.iter().zip(&expected).enumerate() {
+                    assert!(
+                        (*a - *b).length() < 1e-12 * mesh.bbox_diagonal().max(1.0),
+                        "{name} face {f} row {r}: {a} vs {b}"
+                    );
+                }
+                checked += 1;
             }
-            checked += 1;
-        }
-        // Every patch corner has vertex data and a valid offset.
-        for (k, &f) in table.faces.iter().enumerate() {
-            for (i, &v) in topo.face_vertices(f).iter().enumerate() {
-                assert_ne!(table.vertices[4 * v as usize + 3], KIND_NONE);
-                assert!((table.patch_offsets[4 * k + i] as usize) < topo.vertex_faces(v).len());
+            // Every patch corner has vertex data and a valid offset.
+            for (k, &f) in table.faces.iter().enumerate() {
+                for (i, &v) in topo.face_vertices(f).iter().enumerate() {
+                    assert_ne!(table.vertices[4 * v as usize + 3], KIND_NONE);
+                    assert!((table.patch_offsets[4 * k + i] as usize) < topo.vertex_faces(v).len());
+                }
             }
         }
     }
-    assert!(checked > 500, "{checked}");
+    assert!(checked > 1000, "{checked}");
 }

@@ -3,6 +3,7 @@
 // connectivity buffer and the dynamic positions buffer, the limit position p (§3.2), one edge
 // point per ring edge (§3.3) and the transversal vectors r (§3.4); at boundary, crease and
 // corner vertices the sector-wise rules of §4.6 (as patch::gregory::GregoryVertex::sectored).
+// Edge tangents 2/3 s(n) lambda q with the factor s(n) the table stores per smooth vertex.
 // Packed into the varyings as documented in gregory_vs/gregory_vs.glsl. Vertices beyond the
 // varyings budget are never drawn by this variant (the host falls back).
 #include "gregory/gregory.glsl"
@@ -92,6 +93,9 @@ void main() {
         float sigma = inversesqrt(4.0 + cos_pi_n * cos_pi_n);
         float c2 = cos(2.0 * GVS_PI / nf_);
         float lambda = (5.0 + c2 + cos_pi_n * sqrt(18.0 + 2.0 * c2)) / 16.0;
+        // The edge-tangent factor s(n) after the face records (GregoryTangents::scale; 1.0 for
+        // the paper's construction, which leaves lambda's bits unchanged).
+        lambda *= uintBitsToFloat(conn[fo]);
         for (int j = 0; j < n; ++j) {
             vec3 q = vec3(0.0);
             for (int i = 0; i < n; ++i) {

@@ -147,14 +147,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let rest = mesh.positions().to_vec();
     for &req in &levels {
         let level = clamp_level(&ctx, req)?;
-        let surface = surface_for(
-            &ctx,
-            &mesh,
-            level,
-            args.scheme,
-            args.adaptive.isolation,
-            args.adaptive.single_crease,
-        )?;
+        let surface = surface_for(&ctx, &mesh, level, args.scheme, &args.adaptive)?;
         if req == levels[0] {
             report_fallback(&surface);
         }

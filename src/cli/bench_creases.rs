@@ -63,8 +63,11 @@ pub fn run(ctx: &Context, mesh: &ControlMesh, sweep: &Sweep<'_>) -> Result<Vec<S
                 &m,
                 sweep.level,
                 tessera::render::Scheme::Adaptive,
-                sweep.isolation,
-                single_crease,
+                &super::render::AdaptiveArgs {
+                    isolation: sweep.isolation,
+                    single_crease,
+                    gregory_tangents: Default::default(),
+                },
             )?;
             let tables = surface.parts[0]
                 .as_any()

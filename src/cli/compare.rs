@@ -89,7 +89,8 @@ pub fn run(args: CompareArgs) -> Result<()> {
         height,
         plan: PlanOptions::new(SchemeLimits::from_context(&ctx))
             .with_isolation(args.adaptive.isolation)
-            .with_single_crease(args.adaptive.single_crease),
+            .with_single_crease(args.adaptive.single_crease)
+            .with_gregory_tangents(args.adaptive.tangents()),
     };
     let schemes = if args.schemes.is_empty() {
         Scheme::ALL.to_vec()

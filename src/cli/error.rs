@@ -8,7 +8,7 @@ use clap::{Args, ValueEnum};
 use super::render::AdaptiveArgs;
 use tessera::mesh::ObjOptions;
 use tessera::patch::gregory::accuracy::{
-    measure, measure_with_samples, AccuracyOptions, AccuracyReport, FaceHeat,
+    measure_tangents, AccuracyOptions, AccuracyReport, FaceHeat,
 };
 use tessera::render::accuracy::{measure_gpu_with, TypeAccuracy};
 use tessera::render::Scheme;
@@ -225,21 +225,16 @@ pub fn run(args: ErrorArgs) -> tessera::Result<()> {
                 grid: args.grid,
                 include_regular: args.include_regular,
             };
+            let (report, heat) =
+                measure_tangents(&mesh, &options, args.adaptive.tangents(), reuse)?;
             if reuse {
-                let (report, heat) = measure_with_samples(&mesh, &options)?;
                 samples = Some(heat);
-                report
-            } else {
-                measure(&mesh, &options)?
             }
+            report
         }
         ErrorScheme::Gpu(scheme) => {
             let ctx = super::render::context(false)?;
-            let opts = super::render::plan_options(
-                &ctx,
-                args.adaptive.isolation,
-                args.adaptive.single_crease,
-            );
+            let opts = super::render::plan_options(&ctx, &args.adaptive);
             let r = measure_gpu_with(&ctx, &mesh, scheme, args.grid, &opts)?;
             super::render::check_validation(&ctx)?;
             types = r.by_type;

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 use tessera::gpu::{Context, ContextDesc};
 use tessera::mesh::ObjOptions;
+use tessera::patch::gregory::GregoryTangents;
 use tessera::render::{
     render_to_image, CameraSpec, ColorBy, FrameReport, OffscreenDesc, RenderDesc, Scheme, Spacing,
     SurfaceData, TessMode, TessSettings, UpAxis,
@@ -184,7 +185,8 @@ pub fn max_patch_level(arg: f32) -> f32 {
     }
 }
 
-/// The adaptive scheme's planning flags, shared by `render`, `sample`, `bench` and `error`.
+/// The planning flags (adaptive scheme, Gregory construction), shared by `render`, `sample`,
+/// `bench`, `error` and `compare`.
 #[derive(Args, Debug, Clone, Copy)]
 pub struct AdaptiveArgs {
     /// Isolation level of `--scheme adaptive` (0-8): faces are refined around features until
@@ -198,6 +200,20 @@ pub struct AdaptiveArgs {
     #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_SINGLE_CREASE,
           action = clap::ArgAction::Set, value_name = "BOOL")]
     pub single_crease: bool,
+    /// Edge-tangent lengths of the Gregory construction (`gregory-vs`, `gregory-stencil` and the
+    /// adaptive end caps): `optimal` (the paper's tangents scaled per valence by a factor
+    /// fitted to the exact limit, `patch::gregory::tangents`) or `paper` (the paper's 2/3 λ q,
+    /// Loop et al. 2009 §3.3).
+    #[arg(long, default_value_t = GregoryTangents::default(), value_name = "paper|optimal",
+          value_parser = |s: &str| s.parse::<GregoryTangents>())]
+    pub gregory_tangents: GregoryTangents,
+}
+
+impl AdaptiveArgs {
+    /// The `--gregory-tangents` setting.
+    pub fn tangents(&self) -> GregoryTangents {
+        self.gregory_tangents
+    }
 }
 
 /// Patch culling, shared by `render` and `bench`.
@@ -252,15 +268,13 @@ impl DisplacementArgs {
     }
 }
 
-/// Planning options on `ctx`'s device with `--isolation` and `--single-crease`.
-pub fn plan_options(
-    ctx: &Context,
-    isolation: u32,
-    single_crease: bool,
-) -> tessera::render::PlanOptions {
+/// Planning options on `ctx`'s device with `--isolation`, `--single-crease` and
+/// `--gregory-tangents`.
+pub fn plan_options(ctx: &Context, args: &AdaptiveArgs) -> tessera::render::PlanOptions {
     tessera::render::PlanOptions::new(tessera::render::SchemeLimits::from_context(ctx))
-        .with_isolation(isolation)
-        .with_single_crease(single_crease)
+        .with_isolation(args.isolation)
+        .with_single_crease(args.single_crease)
+        .with_gregory_tangents(args.tangents())
 }
 
 /// The surface of `mesh` for the `--scheme` named `scheme` on `ctx`'s device.
@@ -269,14 +283,13 @@ pub fn surface_for(
     mesh: &ControlMesh,
     level: f32,
     scheme: Scheme,
-    isolation: u32,
-    single_crease: bool,
+    args: &AdaptiveArgs,
 ) -> Result<SurfaceData> {
     tessera::render::surface_for_scheme_with(
         mesh,
         level.ceil() as u32,
         scheme,
-        &plan_options(ctx, isolation, single_crease),
+        &plan_options(ctx, args),
     )
 }
 
@@ -360,14 +373,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
             )));
         }
     }
-    let surface = surface_for(
-        &ctx,
-        &mesh,
-        level,
-        args.scheme,
-        args.adaptive.isolation,
-        args.adaptive.single_crease,
-    )?;
+    let surface = surface_for(&ctx, &mesh, level, args.scheme, &args.adaptive)?;
     super::limits::check_drawable(&surface)?;
     super::limits::check_gpu_memory(
         &ctx,

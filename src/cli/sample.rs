@@ -66,11 +66,8 @@ pub fn run(args: SampleArgs) -> Result<()> {
     let ctx = context(args.validation)?;
     let level = clamp_level(&ctx, args.tess)?;
     // Only the GPU patches are captured; the other faces are counted, not evaluated.
-    let mut surface = plan_for_scheme_with(
-        &mesh,
-        args.scheme,
-        &plan_options(&ctx, args.adaptive.isolation, args.adaptive.single_crease),
-    )?;
+    let mut surface =
+        plan_for_scheme_with(&mesh, args.scheme, &plan_options(&ctx, &args.adaptive))?;
     log::info!(
         "{} face(s) captured from the GPU, {} drawn another way (CPU fallback, not in the file), \
          {} without limit surface",

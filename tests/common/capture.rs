@@ -306,7 +306,12 @@ pub fn gregory_vs_capture_with_budget(
     let surface = SurfaceData {
         positions: mesh.positions().to_vec(),
         topology: Some(topo.clone()),
-        parts: vec![Arc::new(GregoryVsTables::new(topo, &faces, budget))],
+        parts: vec![Arc::new(GregoryVsTables::new(
+            topo,
+            &faces,
+            budget,
+            Default::default(),
+        ))],
         ..SurfaceData::default()
     };
     let records = render_to_image(ctx, &surface, &desc, &offscreen(64, 64), false)

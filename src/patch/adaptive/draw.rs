@@ -25,7 +25,7 @@ use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure};
 use crate::patch::edge_grid::PATCH_EDGES;
 use crate::patch::gregory::edge_flags::{edge_flags, Across};
 use crate::patch::gregory::stencil_table::sparse_face_rows;
-use crate::patch::gregory::Weights;
+use crate::patch::gregory::{GregoryTangents, Weights};
 use crate::patch::single_crease::{gpu_cvs, Rotation, SingleCreasePatch};
 use crate::patch::RegularPatch;
 use crate::subdiv::adaptive::{AdaptiveRefinement, Domain, PatchCensus, PatchType};
@@ -79,6 +79,7 @@ pub struct AdaptiveDrawTables {
 fn end_cap_rows(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
+    tangents: GregoryTangents,
 ) -> Result<Vec<Vec<Weights>>, EndCapError> {
     let caps: Vec<_> = census
         .patches
@@ -93,7 +94,7 @@ fn end_cap_rows(
         }
         let faces: Vec<u32> = group.iter().map(|p| p.face).collect();
         let t = lev.topology().without_semi_sharpness();
-        for (p, rows) in group.iter().zip(sparse_face_rows(&t, &faces)) {
+        for (p, rows) in group.iter().zip(sparse_face_rows(&t, &faces, tangents)) {
             let rows = rows.map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?;
             let global =
                 |w: Weights| Weights(w.0.into_iter().map(|(v, x)| (lev.global(v), x)).collect());
@@ -215,11 +216,19 @@ fn rotated_record(record: PatchRecord, d: &Domain, rot: Rotation) -> PatchRecord
 }
 
 impl AdaptiveDrawTables {
-    /// The draw tables of `refinement`.
+    /// The draw tables of `refinement` (default Gregory tangents for the end caps).
     pub fn new(refinement: &AdaptiveRefinement) -> Result<AdaptiveDrawTables, DrawTablesError> {
+        Self::with_tangents(refinement, GregoryTangents::default())
+    }
+
+    /// The draw tables of `refinement`, end caps with the given Gregory edge tangents.
+    pub fn with_tangents(
+        refinement: &AdaptiveRefinement,
+        tangents: GregoryTangents,
+    ) -> Result<AdaptiveDrawTables, DrawTablesError> {
         let census = PatchCensus::new(refinement);
         let slots = Slots::new(refinement, &census);
-        let caps = end_cap_rows(refinement, &census)?;
+        let caps = end_cap_rows(refinement, &census, tangents)?;
         let (mut rows, shared_normal) = slot_rows(refinement, &census, &slots, &caps);
         let end_cap_first_row = rows.len() as u32;
         for c in &caps {

@@ -4,7 +4,7 @@
 use glam::{DVec2, DVec3};
 use thiserror::Error;
 
-use crate::patch::gregory::{gregory_patch_at, GregoryPatch, NotGregory};
+use crate::patch::gregory::{gregory_patch_at_with, GregoryPatch, GregoryTangents, NotGregory};
 use crate::patch::regular::RegularPatch;
 use crate::patch::single_crease::SingleCreasePatch;
 use crate::subdiv::adaptive::{AdaptivePatch, AdaptiveRefinement, Domain, PatchCensus, PatchType};
@@ -119,6 +119,7 @@ pub fn end_caps(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
     positions: &[DVec3],
+    tangents: GregoryTangents,
 ) -> Result<Vec<SurfacePatch>, EndCapError> {
     census
         .patches
@@ -130,7 +131,7 @@ pub fn end_caps(
             let t = lev.topology().without_semi_sharpness();
             let first = lev.first_vertex as usize;
             let local = &positions[first..first + lev.level.vertex_count()];
-            let patch = gregory_patch_at(&t, local, p.face)
+            let patch = gregory_patch_at_with(&t, local, p.face, tangents)
                 .map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?;
             Ok(SurfacePatch {
                 level: p.level,
@@ -187,9 +188,18 @@ impl AdaptiveSurface {
         refinement: &AdaptiveRefinement,
         base: &[DVec3],
     ) -> Result<AdaptiveSurface, EndCapError> {
+        Self::with_tangents(refinement, base, GregoryTangents::default())
+    }
+
+    /// [`Self::new`] with end caps built with the given Gregory edge tangents.
+    pub fn with_tangents(
+        refinement: &AdaptiveRefinement,
+        base: &[DVec3],
+        tangents: GregoryTangents,
+    ) -> Result<AdaptiveSurface, EndCapError> {
         let census = PatchCensus::new(refinement);
         let positions = refinement.refine_positions(base);
-        let mut caps = end_caps(refinement, &census, &positions)?.into_iter();
+        let mut caps = end_caps(refinement, &census, &positions, tangents)?.into_iter();
         let patches = census
             .patches
             .iter()

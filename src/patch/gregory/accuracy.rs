@@ -13,7 +13,8 @@
 //!
 //! Distances are reported as fractions of the control mesh's bounding-box diagonal.
 
-use super::build::{check_face, gregory_patch, gregory_vertices, GregoryPatch};
+use super::build::{check_face, gregory_patch, gregory_vertices_with, GregoryPatch};
+use super::tangents::GregoryTangents;
 use crate::patch::regular::RegularPatch;
 use crate::subdiv::eval::{GridSample, LimitEvaluator, LimitSample};
 use crate::topology::Topology;
@@ -225,7 +226,18 @@ fn sample_params(n: usize, triangle: bool) -> Vec<(f64, f64)> {
 
 /// Measures the Gregory construction of `mesh` against its exact limit surface.
 pub fn measure(mesh: &ControlMesh, options: &AccuracyOptions) -> Result<AccuracyReport> {
-    Ok(sample(mesh, options, false)?.0)
+    Ok(sample(mesh, options, GregoryTangents::default(), false)?.0)
+}
+
+/// [`measure`] of the construction with the given edge tangents, with every sample and its
+/// error when `keep_samples` (for error maps).
+pub fn measure_tangents(
+    mesh: &ControlMesh,
+    options: &AccuracyOptions,
+    tangents: GregoryTangents,
+    keep_samples: bool,
+) -> Result<(AccuracyReport, Vec<FaceHeat>)> {
+    sample(mesh, options, tangents, keep_samples)
 }
 
 /// [`measure`], also returning every sample with its error (for error maps).
@@ -233,26 +245,27 @@ pub fn measure_with_samples(
     mesh: &ControlMesh,
     options: &AccuracyOptions,
 ) -> Result<(AccuracyReport, Vec<FaceHeat>)> {
-    sample(mesh, options, true)
+    sample(mesh, options, GregoryTangents::default(), true)
 }
 
 /// Samples every Gregory face of `mesh` (as [`measure`] chooses them) with its distance to the
 /// exact surface, for an error map.
 pub fn heat_samples(mesh: &ControlMesh, options: &AccuracyOptions) -> Result<Vec<FaceHeat>> {
-    Ok(sample(mesh, options, true)?.1)
+    Ok(sample(mesh, options, GregoryTangents::default(), true)?.1)
 }
 
 /// Chooses the faces, samples them and summarises the errors; keeps the samples when asked.
 fn sample(
     mesh: &ControlMesh,
     options: &AccuracyOptions,
+    tangents: GregoryTangents,
     keep_samples: bool,
 ) -> Result<(AccuracyReport, Vec<FaceHeat>)> {
     let grid = options.grid.max(1);
     let topo = Topology::new(mesh)?;
     let ev = LimitEvaluator::new(mesh)?;
     let positions = mesh.positions();
-    let verts = gregory_vertices(&topo, positions);
+    let verts = gregory_vertices_with(&topo, positions, tangents);
     let mut report = AccuracyReport {
         diagonal: mesh.bbox_diagonal(),
         ..Default::default()

@@ -3,6 +3,7 @@
 
 use super::eval::{CornerRef, GregoryQuad, GregoryTriangle};
 use super::point::{GregoryPoint, Weights};
+use super::tangents::GregoryTangents;
 use super::vertex::{sectors, GregoryVertex, Sector, VertexRing};
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::patch::regular::RegularPatch;
@@ -261,27 +262,48 @@ pub fn vertex_ring_with<P: GregoryPoint>(
         c,
         sharp,
         corner: is_inf(topo.vertex_sharpness(v)) || count > 2,
+        quads: topo.vertex_faces(v).iter().all(|&f| topo.face_size(f) == 4),
     }
 }
 
-/// Per-vertex Gregory data of vertex `v`, or `None` where no supported face could use it.
+/// Per-vertex Gregory data of vertex `v`, or `None` where no supported face could use it
+/// (default edge tangents, [`GregoryTangents::default`]).
 pub fn gregory_vertex<P: GregoryPoint>(
     topo: &Topology,
     v: u32,
     point: &impl Fn(u32) -> P,
 ) -> Option<GregoryVertex<P>> {
+    gregory_vertex_with(topo, v, point, GregoryTangents::default())
+}
+
+/// [`gregory_vertex`] with the given edge-tangent lengths.
+pub fn gregory_vertex_with<P: GregoryPoint>(
+    topo: &Topology,
+    v: u32,
+    point: &impl Fn(u32) -> P,
+    tangents: GregoryTangents,
+) -> Option<GregoryVertex<P>> {
     let faces = topo.vertex_faces(v);
     if faces.is_empty() || faces.iter().all(|&f| check_vertex(topo, v, f).is_err()) {
         return None;
     }
-    GregoryVertex::new(&vertex_ring_with(topo, v, point))
+    GregoryVertex::new(&vertex_ring_with(topo, v, point), tangents)
 }
 
 /// Per-vertex Gregory data for every vertex (`None` where the construction does not apply).
 pub fn gregory_vertices(topo: &Topology, positions: &[DVec3]) -> Vec<Option<GregoryVertex<DVec3>>> {
+    gregory_vertices_with(topo, positions, GregoryTangents::default())
+}
+
+/// [`gregory_vertices`] with the given edge-tangent lengths.
+pub fn gregory_vertices_with(
+    topo: &Topology,
+    positions: &[DVec3],
+    tangents: GregoryTangents,
+) -> Vec<Option<GregoryVertex<DVec3>>> {
     let point = |i: u32| positions[i as usize];
     (0..topo.vertex_count() as u32)
-        .map(|v| gregory_vertex(topo, v, &point))
+        .map(|v| gregory_vertex_with(topo, v, &point, tangents))
         .collect()
 }
 
@@ -327,25 +349,48 @@ pub fn gregory_patch_at(
     positions: &[DVec3],
     f: u32,
 ) -> Result<GregoryPatch<DVec3>, NotGregory> {
+    gregory_patch_at_with(topo, positions, f, GregoryTangents::default())
+}
+
+/// [`gregory_patch_at`] with the given edge-tangent lengths.
+pub fn gregory_patch_at_with(
+    topo: &Topology,
+    positions: &[DVec3],
+    f: u32,
+    tangents: GregoryTangents,
+) -> Result<GregoryPatch<DVec3>, NotGregory> {
     let point = |i: u32| positions[i as usize];
-    local_patch(topo, f, &point)
+    local_patch(topo, f, &point, tangents)
 }
 
 /// The Gregory patch of face `f` with every control point as weights over control vertices.
 pub fn gregory_patch_weights(topo: &Topology, f: u32) -> Result<GregoryPatch<Weights>, NotGregory> {
-    local_patch(topo, f, &Weights::unit)
+    gregory_patch_weights_with(topo, f, GregoryTangents::default())
+}
+
+/// [`gregory_patch_weights`] with the given edge-tangent lengths.
+pub fn gregory_patch_weights_with(
+    topo: &Topology,
+    f: u32,
+    tangents: GregoryTangents,
+) -> Result<GregoryPatch<Weights>, NotGregory> {
+    local_patch(topo, f, &Weights::unit, tangents)
 }
 
 fn local_patch<P: GregoryPoint>(
     topo: &Topology,
     f: u32,
     point: &impl Fn(u32) -> P,
+    tangents: GregoryTangents,
 ) -> Result<GregoryPatch<P>, NotGregory> {
     check_face(topo, f)?;
     let fv = topo.face_vertices(f);
     let mut data: Vec<Option<GregoryVertex<P>>> = Vec::with_capacity(fv.len());
     for &v in fv {
-        data.push(GregoryVertex::new(&vertex_ring_with(topo, v, point)));
+        data.push(GregoryVertex::new(
+            &vertex_ring_with(topo, v, point),
+            tangents,
+        ));
     }
     assemble_face(topo, f, |k, _| data[k].as_ref())
 }

@@ -32,15 +32,19 @@ mod point;
 pub mod stencil;
 pub mod stencil_table;
 pub mod table;
+pub mod tangent_fit;
+pub mod tangents;
 mod vertex;
 
 pub use build::{
     check_face, check_face_level0, check_vertex, gregory_faces, gregory_patch, gregory_patch_at,
-    gregory_patch_weights, gregory_vertex, gregory_vertices, is_supported_vertex, vertex_ring,
+    gregory_patch_at_with, gregory_patch_weights, gregory_patch_weights_with, gregory_vertex,
+    gregory_vertex_with, gregory_vertices, gregory_vertices_with, is_supported_vertex, vertex_ring,
     vertex_ring_with, GregoryPatch, NotGregory,
 };
 pub use eval::{CornerRef, GregoryQuad, GregoryTriangle, PatchPoint};
 pub use point::{combine, GregoryPoint, Weights};
+pub use tangents::GregoryTangents;
 pub use vertex::{
     crease_tangent_weights, face_point, face_point_cos, sectors, subdominant_eigenvalue,
     GregoryVertex, Sector, VertexKind, VertexRing,

@@ -12,9 +12,10 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use super::build::{gregory_patch, gregory_vertex, GregoryPatch, NotGregory};
+use super::build::{gregory_patch, gregory_vertex_with, GregoryPatch, NotGregory};
 use super::point::{GregoryPoint, Weights};
 use super::stencil::{dense_rows, stencil_ring, NoStencil, MAX_RING, ROWS_PER_CORNER};
+use super::tangents::GregoryTangents;
 use super::vertex::GregoryVertex;
 use crate::topology::Topology;
 
@@ -161,6 +162,7 @@ fn table_rows<P: GregoryPoint, B: Borrow<GregoryPatch<P>>>(
 fn corner_data(
     topo: &Topology,
     faces: impl Iterator<Item = u32>,
+    tangents: GregoryTangents,
 ) -> Vec<Option<GregoryVertex<Weights>>> {
     let mut data: Vec<Option<GregoryVertex<Weights>>> =
         (0..topo.vertex_count()).map(|_| None).collect();
@@ -170,7 +172,7 @@ fn corner_data(
             for &g in topo.edge_faces(e) {
                 for &v in topo.face_vertices(g) {
                     if !std::mem::replace(&mut done[v as usize], true) {
-                        data[v as usize] = gregory_vertex(topo, v, &Weights::unit);
+                        data[v as usize] = gregory_vertex_with(topo, v, &Weights::unit, tangents);
                     }
                 }
             }
@@ -183,8 +185,12 @@ fn corner_data(
 /// points, then the neighbours' edge and face points) as sparse weight vectors over `topo`'s
 /// vertices, ascending ids, f64: the weights [`GregoryStencilTable::build`] rounds to f32, without
 /// its ring-size limit (sparse rows have no fixed patch size).
-pub fn sparse_face_rows(topo: &Topology, faces: &[u32]) -> Vec<Result<Vec<Weights>, NotGregory>> {
-    let patches = face_patches(topo, faces);
+pub fn sparse_face_rows(
+    topo: &Topology,
+    faces: &[u32],
+    tangents: GregoryTangents,
+) -> Vec<Result<Vec<Weights>, NotGregory>> {
+    let patches = face_patches(topo, faces, tangents);
     faces
         .iter()
         .map(|&f| table_rows(topo, f, |g| patches[&g].as_ref().map_err(|e| *e)))
@@ -197,8 +203,9 @@ pub fn sparse_face_rows(topo: &Topology, faces: &[u32]) -> Vec<Result<Vec<Weight
 fn face_patches(
     topo: &Topology,
     faces: &[u32],
+    tangents: GregoryTangents,
 ) -> HashMap<u32, Result<GregoryPatch<Weights>, NotGregory>> {
-    let vertices = corner_data(topo, faces.iter().copied());
+    let vertices = corner_data(topo, faces.iter().copied(), tangents);
     let mut patches = HashMap::new();
     for &f in faces {
         for g in std::iter::once(f).chain(
@@ -226,6 +233,16 @@ impl GregoryStencilTable {
     /// [`MAX_RING`]; pass the device's `maxTessellationPatchSize`) or that get no Gregory patch
     /// ([`super::check_face`]) are listed in `skipped`.
     pub fn build(topo: &Topology, faces: &[u32], max_ring: usize) -> GregoryStencilTable {
+        Self::build_with(topo, faces, max_ring, GregoryTangents::default())
+    }
+
+    /// [`Self::build`] with the given edge-tangent lengths.
+    pub fn build_with(
+        topo: &Topology,
+        faces: &[u32],
+        max_ring: usize,
+        tangents: GregoryTangents,
+    ) -> GregoryStencilTable {
         let mut table = GregoryStencilTable::default();
         let mut accepted = Vec::with_capacity(faces.len());
         for &f in faces {
@@ -235,7 +252,7 @@ impl GregoryStencilTable {
             }
         }
         let faces: Vec<u32> = accepted.iter().map(|(f, _)| *f).collect();
-        let patches = face_patches(topo, &faces);
+        let patches = face_patches(topo, &faces, tangents);
         let mut types = HashMap::new();
         for (f, ring) in accepted {
             match table_rows(topo, f, |g| patches[&g].as_ref().map_err(|e| *e)) {

@@ -18,13 +18,16 @@
 //!    or ends a sector of a crease or corner vertex;
 //! 3. per incident face `i` in ring order: one word `size`, then the `size - 3` vertices of the
 //!    face other than `v`, `w_i`, `w_{(i+1) % ne}`, in face order after `w_{(i+1) % ne}` (one
-//!    diagonal for a quad, none for a triangle); `c_i` is the mean of all `size` vertices.
+//!    diagonal for a quad, none for a triangle); `c_i` is the mean of all `size` vertices;
+//! 4. smooth vertices only: one word, the `f32` bits of the edge-tangent factor `s(n)`
+//!    ([`super::GregoryTangents::scale`]; 1.0 for the paper's construction).
 //!
 //! `patch_offsets[4 k .. 4 k + 4]`: for patch `k` (face `faces[k]`), per corner the index of the
 //! face in that corner vertex's ring (the paper's Fig. 8 "rotation offset"); `u32::MAX` in the
 //! fourth slot of a triangle.
 
 use super::build::check_face_level0;
+use super::tangents::GregoryTangents;
 use super::vertex::{sectors, GregoryVertex, VertexKind};
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::topology::Topology;
@@ -53,8 +56,17 @@ pub struct GregoryVertexTable {
 
 impl GregoryVertexTable {
     /// Builds the tables for the given faces; faces that get no Gregory patch are left out
-    /// (see [`check_face_level0`]).
+    /// (see [`check_face_level0`]). Default edge tangents.
     pub fn new(topo: &Topology, faces: impl IntoIterator<Item = u32>) -> GregoryVertexTable {
+        Self::with_tangents(topo, faces, GregoryTangents::default())
+    }
+
+    /// [`Self::new`] with the given edge-tangent lengths.
+    pub fn with_tangents(
+        topo: &Topology,
+        faces: impl IntoIterator<Item = u32>,
+        tangents: GregoryTangents,
+    ) -> GregoryVertexTable {
         let mut t = GregoryVertexTable::default();
         for v in 0..topo.vertex_count() as u32 {
             let kind = vertex_kind(topo, v);
@@ -90,6 +102,11 @@ impl GregoryVertexTable {
                 for s in 1..=fv.len().saturating_sub(3) {
                     t.ring.push(fv[(k + s) % fv.len()]);
                 }
+            }
+            if kind == KIND_SMOOTH {
+                let quads = vfaces.iter().all(|&f| topo.face_size(f) == 4);
+                t.ring
+                    .push((tangents.ring_scale(nf, quads) as f32).to_bits());
             }
         }
         for f in faces {

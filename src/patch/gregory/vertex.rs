@@ -3,6 +3,7 @@
 //! generic over the point type so the same code yields positions and stencil weights.
 
 use super::point::{combine, GregoryPoint};
+use super::tangents::GregoryTangents;
 use glam::DVec3;
 use std::f64::consts::PI;
 
@@ -22,6 +23,8 @@ pub struct VertexRing<P = DVec3> {
     pub sharp: Vec<bool>,
     /// The vertex follows the corner rule (infinitely sharp vertex or more than two sharp edges).
     pub corner: bool,
+    /// Every incident face is a quad (the rings [`GregoryTangents::Optimal`] is fitted on).
+    pub quads: bool,
 }
 
 /// How the construction treats a vertex.
@@ -149,14 +152,14 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     /// otherwise [`Self::sectored`]. `None` for rings the construction does not cover (a
     /// single sharp edge, a crease sector with one face, or a ring that does not close: fewer
     /// faces than edges without a sharp edge, e.g. next to a hole).
-    pub fn new(ring: &VertexRing<P>) -> Option<GregoryVertex<P>> {
+    pub fn new(ring: &VertexRing<P>, tangents: GregoryTangents) -> Option<GregoryVertex<P>> {
         let sharp = ring.sharp.iter().filter(|&&s| s).count();
         if sharp == 1 && !ring.corner && ring.c.len() == ring.m.len() {
-            Self::dart(ring)
+            Self::dart(ring, tangents)
         } else if sharp > 0 || ring.corner {
             Self::sectored(ring)
         } else if ring.c.len() == ring.m.len() {
-            Some(Self::interior(ring))
+            Some(Self::interior(ring, tangents))
         } else {
             None
         }
@@ -167,9 +170,10 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     /// Limit position `p = (n-3)/(n+5) v + 4/(n(n+5)) Σ (m_i + c_i)` (§3.2, the stencil
     /// generalised to mixed quad/triangle rings); limit tangent along edge `j`
     /// `q_j = 2/n Σ_i ((1 - σ cos(π/n)) cos(2π(i-j)/n) m_i + 2σ cos((2π(i-j)+π)/n) c_i)` with
-    /// `σ = (4 + cos²(π/n))^(-1/2)` and edge point `e_j = p + 2/3 λ q_j` (§3.3);
+    /// `σ = (4 + cos²(π/n))^(-1/2)` and edge point `e_j = p + 2/3 s(n) λ q_j` (§3.3; `s(n)` is
+    /// [`GregoryTangents::scale`]: 1 for the paper's construction);
     /// `r_j = 1/3 (m_{j+1} - m_{j-1}) + 2/3 (c_j - c_{j-1})` (§3.4).
-    pub fn interior(ring: &VertexRing<P>) -> GregoryVertex<P> {
+    pub fn interior(ring: &VertexRing<P>, tangents: GregoryTangents) -> GregoryVertex<P> {
         let n = ring.m.len();
         debug_assert_eq!(ring.c.len(), n);
         let nf = n as f64;
@@ -181,7 +185,9 @@ impl<P: GregoryPoint> GregoryVertex<P> {
         }
         let cos_pi_n = (PI / nf).cos();
         let sigma = 1.0 / (4.0 + cos_pi_n * cos_pi_n).sqrt();
-        let scale = (2.0 / 3.0) * subdominant_eigenvalue(n) * 2.0 / nf;
+        let scale =
+            (2.0 / 3.0) * (tangents.ring_scale(n, ring.quads) * subdominant_eigenvalue(n)) * 2.0
+                / nf;
         let e = (0..n)
             .map(|j| {
                 let mut e = p.clone();
@@ -229,20 +235,20 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     /// (the dominant left eigenvector) and two masks `t_1, t_2` spanning the exact tangent plane
     /// (the two leading subdominant left eigenvectors, as `subdiv::limit` does). Then
     /// - `p = l · ring`;
-    /// - `e_j = p + P(2/3 λ q_j)`, the smooth edge tangent of §3.3 projected (orthogonally, in
+    /// - `e_j = p + P(2/3 s(n) λ q_j)`, the smooth edge tangent of §3.3 projected (orthogonally, in
     ///   mask space) onto `span(t_1, t_2)`: every edge point lies in the exact tangent plane
     ///   and tends to the smooth one when the dart's perturbation vanishes;
     /// - `r` and `cos(2π/n)` as for a smooth vertex (§3.4).
-    pub fn dart(ring: &VertexRing<P>) -> Option<GregoryVertex<P>> {
+    pub fn dart(ring: &VertexRing<P>, tangents: GregoryTangents) -> Option<GregoryVertex<P>> {
         let n = ring.m.len();
         let d = ring.sharp.iter().position(|&s| s)?;
         let lim = dart_limit(n, d)?;
-        let smooth = Self::interior(ring);
+        let smooth = Self::interior(ring, tangents);
         let p = lim.apply(&lim.position, ring);
         // The smooth edge points' offsets `e_j - p` as masks: the same sums as `interior`.
         let e = (0..n)
             .map(|j| {
-                let q = smooth_edge_mask(n, j);
+                let q = smooth_edge_mask(n, j, tangents.ring_scale(n, ring.quads));
                 let proj = lim.project(&q);
                 let mut e = p.clone();
                 e.add_scaled(1.0, &lim.apply(&proj, ring));
@@ -448,13 +454,13 @@ impl RingLimit {
     }
 }
 
-/// The smooth edge-point offset `e_j - p = 2/3 λ q_j` of [`GregoryVertex::interior`] as a mask
-/// over the split ring (zero weight on `v`).
-fn smooth_edge_mask(n: usize, j: usize) -> Vec<f64> {
+/// The smooth edge-point offset `e_j - p = 2/3 s(n) λ q_j` of [`GregoryVertex::interior`] as a
+/// mask over the split ring (zero weight on `v`).
+fn smooth_edge_mask(n: usize, j: usize, factor: f64) -> Vec<f64> {
     let nf = n as f64;
     let cos_pi_n = (PI / nf).cos();
     let sigma = 1.0 / (4.0 + cos_pi_n * cos_pi_n).sqrt();
-    let scale = (2.0 / 3.0) * subdominant_eigenvalue(n) * 2.0 / nf;
+    let scale = (2.0 / 3.0) * (factor * subdominant_eigenvalue(n)) * 2.0 / nf;
     let mut q = vec![0.0; 1 + 2 * n];
     for i in 0..n {
         let k = ((i + n - j) % n) as f64;
@@ -522,4 +528,68 @@ pub fn dart_limit(n: usize, d: usize) -> Option<RingLimit> {
         position: lim.position,
         tangents: lim.tangents,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A closed ring of valence `n` with uneven positions.
+    fn ring(n: usize) -> VertexRing<DVec3> {
+        let p = |k: usize| {
+            let t = k as f64;
+            DVec3::new(
+                (1.3 * t).sin() + t,
+                (0.7 * t).cos() * 2.0,
+                (2.1 * t).sin() * 0.5,
+            )
+        };
+        VertexRing {
+            v: DVec3::new(0.1, -0.2, 0.3),
+            m: (0..n).map(p).collect(),
+            c: (0..n).map(|i| p(i + 17) * 0.5).collect(),
+            sharp: vec![false; n],
+            corner: false,
+            quads: true,
+        }
+    }
+
+    #[test]
+    fn paper_tangents_keep_the_papers_bits() {
+        // The edge points as the construction computed them before the tangent factor
+        // existed (the same sums in the same order), against `Paper`: bit for bit.
+        for n in 3..=12 {
+            let r = ring(n);
+            let g = GregoryVertex::interior(&r, GregoryTangents::Paper);
+            let nf = n as f64;
+            let cos_pi_n = (PI / nf).cos();
+            let sigma = 1.0 / (4.0 + cos_pi_n * cos_pi_n).sqrt();
+            let scale = (2.0 / 3.0) * subdominant_eigenvalue(n) * 2.0 / nf;
+            for j in 0..n {
+                let mut e = g.p;
+                for i in 0..n {
+                    let k = ((i + n - j) % n) as f64;
+                    let wm = (1.0 - sigma * cos_pi_n) * (2.0 * PI * k / nf).cos();
+                    let wc = 2.0 * sigma * ((2.0 * PI * k + PI) / nf).cos();
+                    e += scale * wm * r.m[i];
+                    e += scale * wc * r.c[i];
+                }
+                assert_eq!(g.e[j], e, "valence {n} edge {j}");
+            }
+        }
+    }
+
+    #[test]
+    fn scaled_tangents_scale_the_edge_vectors() {
+        for n in [3, 5, 9] {
+            let r = ring(n);
+            let paper = GregoryVertex::interior(&r, GregoryTangents::Paper);
+            let scaled = GregoryVertex::interior(&r, GregoryTangents::Scaled(0.75));
+            assert_eq!(paper.p, scaled.p);
+            for (a, b) in paper.e.iter().zip(&scaled.e) {
+                let d = (*b - scaled.p) - 0.75 * (*a - paper.p);
+                assert!(d.length() < 1e-14, "valence {n}: {d}");
+            }
+        }
+    }
 }

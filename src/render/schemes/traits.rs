@@ -11,7 +11,7 @@ use glam::DVec3;
 
 use crate::gpu::{Context, DrawTarget};
 use crate::patch::acc::NotAcc;
-use crate::patch::gregory::NotGregory;
+use crate::patch::gregory::{GregoryTangents, NotGregory};
 use crate::patch::pm::NotPm;
 use crate::patch::qas::NotQas;
 use crate::render::pass::{NormalRule, SharedResources, VertexFrames};
@@ -57,7 +57,7 @@ impl SchemeLimits {
 }
 
 /// What passes plan against: the device's limits and the settings of schemes that refine.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlanOptions {
     /// Device limits.
     pub limits: SchemeLimits,
@@ -68,6 +68,9 @@ pub struct PlanOptions {
     /// quad whose only feature is one semi-sharp crease line, drawn directly: Nießner, Loop,
     /// Greiner 2012), as OpenSubdiv's `useSingleCreasePatch` (`--single-crease`, on by default).
     pub single_crease: bool,
+    /// Edge-tangent lengths of the Gregory construction in `gregory-vs`, `gregory-stencil` and
+    /// the adaptive scheme's end caps (`--gregory-tangents paper|optimal`).
+    pub gregory_tangents: GregoryTangents,
 }
 
 impl PlanOptions {
@@ -83,6 +86,15 @@ impl PlanOptions {
             limits,
             isolation: Self::DEFAULT_ISOLATION,
             single_crease: Self::DEFAULT_SINGLE_CREASE,
+            gregory_tangents: GregoryTangents::default(),
+        }
+    }
+
+    /// The same options with the given Gregory edge-tangent lengths.
+    pub fn with_gregory_tangents(self, gregory_tangents: GregoryTangents) -> PlanOptions {
+        PlanOptions {
+            gregory_tangents,
+            ..self
         }
     }
 

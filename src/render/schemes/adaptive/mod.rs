@@ -25,6 +25,7 @@ use super::traits::{
 };
 use crate::mesh::Crease;
 use crate::patch::adaptive::{AdaptiveDrawTables, AdaptiveSurface};
+use crate::patch::gregory::GregoryTangents;
 use crate::render::pass::{NormalRule, VertexFrames};
 use crate::render::settings::{PatchLevelLimit, Spacing};
 use crate::subdiv::adaptive::{AdaptiveOptions, AdaptiveRefinement};
@@ -92,6 +93,8 @@ pub struct AdaptiveTables {
     pub refinement: RefinementTables,
     /// What the draws read.
     pub draw: AdaptiveDrawTables,
+    /// Edge-tangent lengths of the end caps' Gregory construction.
+    pub tangents: GregoryTangents,
 }
 
 impl AdaptiveTables {
@@ -107,14 +110,16 @@ impl AdaptiveTables {
             isolation: opts.isolation,
             single_crease: opts.single_crease,
         };
-        Self::build((**topo).clone(), faces, options)
+        Self::build((**topo).clone(), faces, options, opts.gregory_tangents)
     }
 
-    /// [`Self::new`] from the base topology and the refinement options.
+    /// [`Self::new`] from the base topology, the refinement options and the end caps'
+    /// edge-tangent lengths.
     fn build(
         topo: Topology,
         faces: &[u32],
         options: AdaptiveOptions,
+        tangents: GregoryTangents,
     ) -> std::result::Result<AdaptiveTables, (u32, String)> {
         let first = faces.first().copied().unwrap_or(0);
         let base = Level::from_topology(topo);
@@ -122,19 +127,20 @@ impl AdaptiveTables {
             AdaptiveRefinement::with_options(&base, options).map_err(|e| (first, e.to_string()))?;
         let refinement =
             RefinementTables::adaptive(&adaptive).map_err(|e| (first, e.to_string()))?;
-        let draw =
-            AdaptiveDrawTables::new(&adaptive).map_err(|e| (e.base_face(), e.to_string()))?;
+        let draw = AdaptiveDrawTables::with_tangents(&adaptive, tangents)
+            .map_err(|e| (e.base_face(), e.to_string()))?;
         Ok(AdaptiveTables {
             faces: faces.to_vec(),
             adaptive,
             refinement,
             draw,
+            tangents,
         })
     }
 
     /// These tables with the sharpness of each edge of `creases` replaced (run-time creases,
     /// [`crate::render::SurfaceRenderer::set_sharpness`]): refined and tabulated again from the
-    /// new base topology, at the same isolation and single-crease setting. Whether the GPU
+    /// new base topology, at the same isolation, single-crease and tangent settings. Whether the GPU
     /// pass can take them without re-planning (the same faces refined to the same levels) is
     /// its [`PatchPass::update_tables`]'s decision. Errors name the crease or the face.
     pub fn with_sharpness(&self, creases: &[Crease]) -> Result<AdaptiveTables> {
@@ -143,7 +149,7 @@ impl AdaptiveTables {
             isolation: self.adaptive.isolation,
             single_crease: self.adaptive.single_crease,
         };
-        Self::build(topo, &self.faces, options)
+        Self::build(topo, &self.faces, options, self.tangents)
             .map_err(|(f, why)| crate::Error::Invalid(format!("face {f}: {why}")))
     }
 
@@ -169,7 +175,7 @@ impl AdaptiveTables {
     /// The CPU surface of these tables over control `positions` (the reference the GPU
     /// reproduces).
     pub fn cpu_surface(&self, positions: &[DVec3]) -> Result<AdaptiveSurface> {
-        AdaptiveSurface::new(&self.adaptive, positions)
+        AdaptiveSurface::with_tangents(&self.adaptive, positions, self.tangents)
             .map_err(|e| crate::Error::Invalid(e.to_string()))
     }
 }

@@ -7,7 +7,7 @@ use glam::DVec3;
 
 use crate::patch::gregory::edge_flags::{edge_flags, Across, EdgeFlags};
 pub use crate::patch::gregory::gregory_faces as irregular_faces;
-use crate::patch::gregory::{check_face_level0, gregory_vertex};
+use crate::patch::gregory::{check_face_level0, gregory_vertex, GregoryTangents};
 use crate::patch::single_crease::SingleCreasePatch;
 use crate::patch::RegularPatch;
 use crate::topology::Topology;
@@ -34,6 +34,8 @@ pub struct GregoryLayout {
     pub corners: Vec<[u32; 4]>,
     /// Index of the patch's face in each corner vertex's ring (paper Fig. 8).
     pub corner_ring: Vec<[u32; 4]>,
+    /// Edge-tangent lengths of the construction the patches are built with.
+    pub tangents: GregoryTangents,
     /// Bit k: edge k (corner k -> k+1) is shared with a regular B-spline patch; bit 4+k: that
     /// shared edge is a boundary or infinitely sharp edge (curve from the crease polygon); bit 8+k: the
     /// face across edge k is a triangle; bit 12+k: edge k is a boundary or infinitely sharp edge, or its other face is
@@ -62,7 +64,7 @@ fn grid_neighbour(topo: &Topology, g: u32) -> Option<RegularPatch> {
 impl GregoryLayout {
     /// Tables for `faces` (each a triangle or quad with interior smooth vertices: check with
     /// [`gregory_face_problem`] first; others are skipped).
-    pub fn new(topo: &Topology, faces: &[u32]) -> GregoryLayout {
+    pub fn new(topo: &Topology, faces: &[u32], tangents: GregoryTangents) -> GregoryLayout {
         let mut quads: Vec<u32> = faces
             .iter()
             .copied()
@@ -78,6 +80,7 @@ impl GregoryLayout {
         let drawn: std::collections::HashSet<u32> = quads.iter().copied().collect();
         let mut out = GregoryLayout {
             quad_count,
+            tangents,
             ..Default::default()
         };
         for &f in &quads {

@@ -12,7 +12,7 @@ pub use layout::{gregory_face_problem, gregory_vertex_frame, irregular_faces, Gr
 
 use super::traits::{ReferencePatch, Refusal, RefusalReason};
 use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind};
-use crate::patch::gregory::{check_face_level0, gregory_patch_at, GregoryPatch};
+use crate::patch::gregory::{check_face_level0, gregory_patch_at_with, GregoryPatch};
 use crate::render::pass::frames::single_normal_vertex;
 use crate::render::pass::upload::host_buffer;
 use crate::render::pass::VertexFrames;
@@ -69,8 +69,8 @@ pub fn corner_frames(
     }
 }
 
-/// The CPU construction of the Gregory patch of `face` ([`gregory_patch_at`], §3-4), when
-/// `layout` draws it.
+/// The CPU construction of the Gregory patch of `face` ([`gregory_patch_at_with`], §3-4, with
+/// the layout's tangents), when `layout` draws it.
 pub fn reference(
     topo: &Topology,
     layout: &GregoryLayout,
@@ -80,7 +80,7 @@ pub fn reference(
     if !layout.faces.contains(&face) {
         return None;
     }
-    let patch = gregory_patch_at(topo, positions, face).ok()?;
+    let patch = gregory_patch_at_with(topo, positions, face, layout.tangents).ok()?;
     Some(Box::new(move |u, v| {
         let p = match &patch {
             GregoryPatch::Quad(q) => q.eval(u, v),

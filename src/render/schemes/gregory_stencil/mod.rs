@@ -22,6 +22,7 @@ use crate::patch::gregory::stencil::{NoStencil, MAX_RING};
 use crate::patch::gregory::stencil_table::{
     GregoryStencilTable as StencilTable, QUAD_EXTRA, QUAD_POINTS,
 };
+use crate::patch::gregory::GregoryTangents;
 use crate::render::pass::pipeline::{patch_pipeline, PatchShaders};
 use crate::render::pass::shared::set0_layout;
 use crate::render::pass::upload::{device_buffer, f32_bytes, u32_bytes};
@@ -113,13 +114,18 @@ impl StencilPlan {
     /// Stencils of the faces among `faces` the construction covers (rings limited to
     /// `max_patch_size`, the device's `maxTessellationPatchSize`) and the shared layout of the
     /// accepted ones.
-    pub fn new(topo: &Topology, faces: &[u32], max_patch_size: u32) -> StencilPlan {
+    pub fn new(
+        topo: &Topology,
+        faces: &[u32],
+        max_patch_size: u32,
+        tangents: GregoryTangents,
+    ) -> StencilPlan {
         let (covered, _) = gregory::covered_faces(GREGORY_STENCIL.name(), topo, faces);
-        let mut table = StencilTable::build(topo, &covered, max_patch_size as usize);
+        let mut table = StencilTable::build_with(topo, &covered, max_patch_size as usize, tangents);
         // GregoryLayout's order: quads first, then triangles, each in input order.
         table.patches.sort_by_key(|p| p.triangle);
         let accepted: Vec<u32> = table.patches.iter().map(|p| p.face).collect();
-        let layout = GregoryLayout::new(topo, &accepted);
+        let layout = GregoryLayout::new(topo, &accepted, tangents);
         debug_assert_eq!(layout.faces, accepted);
         StencilPlan { table, layout }
     }
@@ -138,7 +144,7 @@ impl PatchScheme for GregoryStencilScheme {
     fn plan(&self, topo: &Arc<Topology>, candidates: &[u32], opts: &PlanOptions) -> PassPlan {
         let limits = &opts.limits;
         let (covered, mut refused) = gregory::covered_faces(self.name(), topo, candidates);
-        let plan = StencilPlan::new(topo, &covered, limits.max_patch_size);
+        let plan = StencilPlan::new(topo, &covered, limits.max_patch_size, opts.gregory_tangents);
         refused.extend(plan.table.skipped.iter().map(|s| Refusal {
             face: s.face(),
             pass: self.name(),

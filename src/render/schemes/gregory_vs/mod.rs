@@ -33,8 +33,8 @@ use super::traits::{
     Refusal, RefusalReason, SchemeLimits,
 };
 use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool, Pipeline};
-use crate::patch::gregory::is_supported_vertex;
 use crate::patch::gregory::table::GregoryVertexTable;
+use crate::patch::gregory::{is_supported_vertex, GregoryTangents};
 use crate::render::pass::pipeline::{patch_pipeline, PatchShaders};
 use crate::render::pass::shared::set0_layout;
 use crate::render::pass::upload::{host_buffer, u32_bytes};
@@ -129,8 +129,8 @@ pub fn select_faces(topo: &Topology, faces: &[u32], budget: VsBudget) -> (Vec<u3
 /// Connectivity words (layout in `glsl/common/gregory_vs.glsl`): the per-vertex part of
 /// [`GregoryVertexTable`] (paper Fig. 7: header `(offset, ne, nf, kind)` per vertex, far edge
 /// vertices, sector words, face records) with the ring offsets made absolute.
-pub fn connectivity_words(topo: &Topology) -> Vec<u32> {
-    let t = GregoryVertexTable::new(topo, std::iter::empty());
+pub fn connectivity_words(topo: &Topology, tangents: GregoryTangents) -> Vec<u32> {
+    let t = GregoryVertexTable::with_tangents(topo, std::iter::empty(), tangents);
     let base = t.vertices.len() as u32;
     let mut words = t.vertices;
     for h in words.chunks_exact_mut(4) {
@@ -182,7 +182,12 @@ impl PatchScheme for GregoryVsScheme {
         let (ok, refused) = select_faces(topo, candidates, budget);
         PassPlan {
             tables: (!ok.is_empty()).then(|| {
-                Arc::new(GregoryVsTables::new(topo.clone(), &ok, budget)) as Arc<dyn PassTables>
+                Arc::new(GregoryVsTables::new(
+                    topo.clone(),
+                    &ok,
+                    budget,
+                    opts.gregory_tangents,
+                )) as Arc<dyn PassTables>
             }),
             refused,
         }
@@ -204,8 +209,13 @@ pub struct GregoryVsTables {
 impl GregoryVsTables {
     /// Tables for `faces` (accepted by [`select_faces`] with `budget`, which must not exceed the
     /// device's [`vs_budget`]; the 15-slot variant can be tested on devices allowing 31).
-    pub fn new(topology: Arc<Topology>, faces: &[u32], budget: VsBudget) -> GregoryVsTables {
-        let layout = GregoryLayout::new(&topology, faces);
+    pub fn new(
+        topology: Arc<Topology>,
+        faces: &[u32],
+        budget: VsBudget,
+        tangents: GregoryTangents,
+    ) -> GregoryVsTables {
+        let layout = GregoryLayout::new(&topology, faces, tangents);
         GregoryVsTables {
             topology,
             layout,
@@ -314,7 +324,7 @@ impl GregoryVsPass {
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let conn = host_buffer(
             ctx,
-            &u32_bytes(&connectivity_words(topo)),
+            &u32_bytes(&connectivity_words(topo, t.layout.tangents)),
             storage,
             "gregory-vs connectivity",
         )?;

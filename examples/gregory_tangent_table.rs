@@ -1,0 +1,45 @@
+//! Regenerates `patch::gregory::tangents::OPTIMAL_SCALE`: the least-squares edge-tangent factor
+//! per valence (module docs of `tessera::patch::gregory::tangents`), printed as the Rust array
+//! to paste, with the fitted RMS normal distance at the paper's factor (1) and at the fitted one.
+//!
+//! ```sh
+//! cargo run --release --example gregory_tangent_table
+//! ```
+
+use tessera::patch::gregory::tangent_fit::{fit_error, fit_scale, fit_terms};
+use tessera::patch::gregory::tangents::MAX_FITTED_VALENCE;
+use tessera::patch::gregory::GregoryTangents;
+
+fn main() -> tessera::Result<()> {
+    let mut table = Vec::new();
+    println!("valence  s*        RMS paper   RMS fitted");
+    for n in 3..=MAX_FITTED_VALENCE {
+        if n == 4 {
+            table.push(1.0);
+            println!("{n:>7}  1 (fixed: bicubic reproduction)");
+            continue;
+        }
+        let t = fit_terms(n)?;
+        let s = -t[1] / t[2];
+        println!(
+            "{n:>7}  {s:.6}  {:.4e}  {:.4e}",
+            fit_error(&t, 1.0).sqrt(),
+            fit_error(&t, s).sqrt()
+        );
+        table.push(s);
+    }
+    println!("\nbeyond the table (the fallback GregoryTangents::scale uses):");
+    for n in [96, 128, 256, 360] {
+        let s = fit_scale(n)?;
+        println!(
+            "{n:>7}  fit {s:.6}  fallback {:.6}",
+            GregoryTangents::Optimal.scale(n)
+        );
+    }
+    let entries: Vec<String> = table.iter().map(|s| format!("{s:.6}")).collect();
+    println!(
+        "\npub const OPTIMAL_SCALE: [f64; MAX_FITTED_VALENCE - 2] = [\n    {},\n];",
+        entries.join(", ")
+    );
+    Ok(())
+}

@@ -1,0 +1,149 @@
+//! The least-squares fit behind [`super::tangents::OPTIMAL_SCALE`] (derivation in the module
+//! docs of [`super::tangents`]): the test control nets, the error terms and the closed-form
+//! minimiser, used by `examples/gregory_tangent_table.rs` and `tests/gregory_tangents.rs`.
+
+use super::build::gregory_patch_at_with;
+use super::tangents::GregoryTangents;
+use crate::mesh::{ControlMesh, ControlMeshDesc};
+use crate::subdiv::eval::LimitEvaluator;
+use crate::topology::Topology;
+use glam::DVec3;
+use std::f64::consts::PI;
+
+/// Sectors of `FIT_K × FIT_K` quads around the fitted vertex.
+pub const FIT_K: usize = 4;
+/// Samples per face side (midpoints of a grid).
+pub const FIT_SAMPLES: usize = 12;
+
+/// The three height functions of the fit ([`super::tangents`] docs).
+pub fn fit_heights() -> [fn(f64, f64) -> f64; 3] {
+    [
+        |x, y| 0.5 * (x * x + y * y),
+        |x, y| 0.5 * (x * x - y * y),
+        |x, y| x * y,
+    ]
+}
+
+/// The fit's control net at valence `n` with heights `h` ([`super::tangents`] docs). Faces `0..n` are the
+/// faces at the extraordinary vertex (vertex 0), face `i` in sector `i` with corner 0 there.
+pub fn fit_mesh(n: usize, h: impl Fn(f64, f64) -> f64) -> crate::Result<ControlMesh> {
+    let k = FIT_K;
+    let per = k * (k + 1);
+    let id = |i: usize, a: usize, b: usize| -> u32 {
+        let (i, a, b) = if a == 0 && b > 0 {
+            ((i + 1) % n, b, 0)
+        } else {
+            (i, a, b)
+        };
+        if a == 0 {
+            0
+        } else {
+            (1 + i * per + (a - 1) * (k + 1) + b) as u32
+        }
+    };
+    let mut positions = vec![DVec3::new(0.0, 0.0, h(0.0, 0.0))];
+    for i in 0..n {
+        let (s0, c0) = (2.0 * PI * i as f64 / n as f64).sin_cos();
+        let (s1, c1) = (2.0 * PI * (i + 1) as f64 / n as f64).sin_cos();
+        for a in 1..=k {
+            for b in 0..=k {
+                let (x, y) = (a as f64 * c0 + b as f64 * c1, a as f64 * s0 + b as f64 * s1);
+                positions.push(DVec3::new(x, y, h(x, y)));
+            }
+        }
+    }
+    let mut faces = Vec::new();
+    let mut rest = Vec::new();
+    for i in 0..n {
+        for a in 0..k {
+            for b in 0..k {
+                let quad = [
+                    id(i, a, b),
+                    id(i, a + 1, b),
+                    id(i, a + 1, b + 1),
+                    id(i, a, b + 1),
+                ];
+                if a == 0 && b == 0 {
+                    faces.extend(quad);
+                } else {
+                    rest.extend(quad);
+                }
+            }
+        }
+    }
+    faces.extend(rest);
+    ControlMesh::new(ControlMeshDesc {
+        positions,
+        face_sizes: vec![4; n * k * k],
+        face_vertices: faces,
+        ..Default::default()
+    })
+}
+
+/// `[Σ a², Σ ab, Σ b²]` of the fit at valence `n` ([`super::tangents`] docs), summed over the three heights,
+/// where the normal distance at a sample is `a + s b` for tangents `Scaled(s)`; the samples are
+/// weighted so that `E(s) = Σ (a + s b)²` is the mean squared distance.
+pub fn fit_terms(n: usize) -> crate::Result<[f64; 3]> {
+    let mut sums = [0.0; 3];
+    let m = FIT_SAMPLES;
+    let weight = 1.0 / (3 * n * m * m) as f64;
+    for h in fit_heights() {
+        let mesh = fit_mesh(n, h)?;
+        let topo = Topology::new(&mesh)?;
+        let exact = LimitEvaluator::new(&mesh)?;
+        for f in 0..n as u32 {
+            let patch = |s: f64| {
+                gregory_patch_at_with(&topo, mesh.positions(), f, GregoryTangents::Scaled(s))
+                    .map_err(|e| crate::Error::Invalid(e.to_string()))
+            };
+            let (g0, g1) = (patch(0.0)?, patch(1.0)?);
+            let uv: Vec<(f64, f64)> = (0..m * m)
+                .map(|k| ((k % m) as f64 + 0.5, (k / m) as f64 + 0.5))
+                .map(|(u, v)| (u / m as f64, v / m as f64))
+                .collect();
+            let limit = exact.eval_points(f as usize, 0, &uv)?;
+            for (&(u, v), l) in uv.iter().zip(&limit) {
+                let p0 = g0.eval(u, v).position;
+                let p1 = g1.eval(u, v).position;
+                let a = (p0 - l.position).dot(l.normal);
+                let b = (p1 - p0).dot(l.normal);
+                sums[0] += weight * a * a;
+                sums[1] += weight * a * b;
+                sums[2] += weight * b * b;
+            }
+        }
+    }
+    Ok(sums)
+}
+
+/// The mean squared normal distance of the fit at valence `n` with factor `s`.
+pub fn fit_error(terms: &[f64; 3], s: f64) -> f64 {
+    terms[0] + 2.0 * s * terms[1] + s * s * terms[2]
+}
+
+/// The least-squares factor `s*(n) = −Σ ab / Σ b²` ([`super::tangents`] docs).
+pub fn fit_scale(n: usize) -> crate::Result<f64> {
+    let t = fit_terms(n)?;
+    Ok(-t[1] / t[2])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fit_mesh_is_regular_but_one_vertex() {
+        let mesh = fit_mesh(5, |_, _| 0.0).unwrap();
+        let topo = Topology::new(&mesh).unwrap();
+        assert_eq!(topo.vertex_faces(0).len(), 5);
+        // The faces at the vertex: corner 0 is the vertex, the others are interior valence 4.
+        for f in 0..5 {
+            let fv = topo.face_vertices(f);
+            assert_eq!(fv[0], 0);
+            for &v in &fv[1..] {
+                assert!(!topo.is_boundary_vertex(v));
+                assert_eq!(topo.vertex_faces(v).len(), 4);
+            }
+        }
+    }
+}
