@@ -51,6 +51,16 @@ vec2 tc_inner_edge(vec2 from, vec2 to, float y) {
     return r;
 }
 
+/// The mean of a face's n corner coordinates (its centre's).
+vec2 tc_centre(uint first, uint n) {
+    precise vec2 sum = vec2(0.0);
+    for (uint i = 0u; i < n; ++i) {
+        sum = sum + tc_value(first + i);
+    }
+    precise vec2 centre = sum / float(n);
+    return centre;
+}
+
 vec2 tc_bilinear(vec2 c0, vec2 c1, vec2 c2, vec2 c3, vec2 uv) {
     precise vec2 r = ((1.0 - uv.x) * (1.0 - uv.y)) * c0 + (uv.x * (1.0 - uv.y)) * c1
                    + (uv.x * uv.y) * c2 + ((1.0 - uv.x) * uv.y) * c3;
@@ -89,11 +99,7 @@ vec2 surface_texcoord(uint face, uint sub_face, vec2 uv) {
     uint prev = (k + n - 1u) % n;
     if (v == 0.0) return tc_edge(first, k, next, 0.5 * u);
     if (u == 0.0) return tc_edge(first, k, prev, 0.5 * v);
-    precise vec2 sum = vec2(0.0);
-    for (uint i = 0u; i < n; ++i) {
-        sum = sum + tc_value(first + i);
-    }
-    precise vec2 centre = sum / float(n);
+    vec2 centre = tc_centre(first, n);
     vec2 mid_next = tc_edge(first, k, next, 0.5);
     vec2 mid_prev = tc_edge(first, k, prev, 0.5);
     if (u == 1.0) return tc_inner_edge(mid_next, centre, v);
@@ -112,11 +118,7 @@ vec2 pm_sector_texcoord(uint face, uint k, vec3 w) {
     uint first = fe.x;
     uint n = fe.y;
     uint next = (k + 1u) % n;
-    precise vec2 sum = vec2(0.0);
-    for (uint i = 0u; i < n; ++i) {
-        sum = sum + tc_value(first + i);
-    }
-    precise vec2 centre = sum / float(n);
+    vec2 centre = tc_centre(first, n);
     vec2 ck = tc_value(first + k);
     vec2 cn = tc_value(first + next);
     int zeros = int(w.x == 0.0) + int(w.y == 0.0) + int(w.z == 0.0);

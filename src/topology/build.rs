@@ -58,22 +58,20 @@ impl Topology {
     pub fn with_creases(&self, creases: &[Crease]) -> Result<Topology> {
         let mut t = self.clone();
         for c in creases {
-            if let Some(e) = t.find_edge(c.v0, c.v1) {
-                if t.edge_faces[e as usize][1] == NONE {
-                    return Err(Error::Invalid(format!(
-                        "crease {}-{}: a boundary edge, infinitely sharp by the boundary rule",
-                        c.v0, c.v1
-                    )));
-                }
+            let e = t.set_crease(c)?;
+            if t.edge_faces[e as usize][1] == NONE {
+                return Err(Error::Invalid(format!(
+                    "crease {}-{}: a boundary edge, infinitely sharp by the boundary rule",
+                    c.v0, c.v1
+                )));
             }
-            t.set_crease(c)?;
         }
         Ok(t)
     }
 
-    /// Sets the sharpness of the edge of crease `c` (clamped to infinitely sharp), naming the
-    /// crease when its sharpness is invalid or it is no edge.
-    fn set_crease(&mut self, c: &Crease) -> Result<()> {
+    /// Sets the sharpness of the edge of crease `c` (clamped to infinitely sharp) and returns
+    /// the edge, naming the crease when its sharpness is invalid or it is no edge.
+    fn set_crease(&mut self, c: &Crease) -> Result<u32> {
         if c.sharpness.is_nan() || c.sharpness < 0.0 {
             return Err(Error::Invalid(format!(
                 "crease {}-{}: invalid sharpness {}",
@@ -84,7 +82,7 @@ impl Topology {
             .find_edge(c.v0, c.v1)
             .ok_or_else(|| Error::Invalid(format!("crease {}-{}: no such edge", c.v0, c.v1)))?;
         self.edge_sharpness[e as usize] = clamp_sharpness(c.sharpness);
-        Ok(())
+        Ok(e)
     }
 
     /// Boundary edges become infinitely sharp; with `EdgeAndCorner`, boundary vertices with a
