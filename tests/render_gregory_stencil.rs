@@ -98,6 +98,13 @@ fn run_with(
     Some(r)
 }
 
+/// Interior normals of the GPU patches against the f64 CPU construction: the stages work on
+/// points relative to each corner's vertex (gregory/gregory.glsl), so the f32 error does not grow
+/// with the model's distance from the origin. Measured: car 1.1e-5 rad (2.6e-4 with absolute
+/// points), every other mesh here <= 5.5e-7; rounding the car's control points to f32 alone moves
+/// its B-spline normals by 1.5e-5.
+const GPU_NORMAL_TOL: f64 = 3e-5;
+
 fn run(mesh: &ControlMesh, level: f32) -> Option<Run> {
     run_with(mesh, level, GregoryVariant::Stencil, false)
 }
@@ -166,7 +173,7 @@ fn check_watertight(r: &Run) -> usize {
 fn gpu_matches_cpu_and_is_watertight(mesh: &ControlMesh, name: &str) {
     for level in [5.0, 8.0] {
         let Some(r) = run(mesh, level) else { return };
-        let (p, n, en) = check_against_cpu(&r, 2e-3);
+        let (p, n, en) = check_against_cpu(&r, GPU_NORMAL_TOL);
         // Edge normals come from both patches' cross-edge derivatives (or the B-spline grid next
         // to regular faces), so they differ slightly from either patch's own normal.
         assert!(en <= 0.1, "{name}: edge normal off by {en} rad");
@@ -210,7 +217,7 @@ fn car_with_regular_patches_is_watertight() {
         return;
     };
     assert!(r.drawn.len() > r.gregory.len());
-    let (p, _, _) = check_against_cpu(&r, 2e-3);
+    let (p, _, _) = check_against_cpu(&r, GPU_NORMAL_TOL);
     let mut mixed = 0;
     for &f in &r.gregory {
         let fv = r.topo.face_vertices(f);
@@ -419,7 +426,7 @@ fn boundary_and_crease_meshes() {
         let Some(r) = run_with(mesh, 6.0, GregoryVariant::Stencil, true) else {
             return;
         };
-        let (p, n, en) = check_against_cpu(&r, 2e-3);
+        let (p, n, en) = check_against_cpu(&r, GPU_NORMAL_TOL);
         let m = check_watertight(&r);
         eprintln!(
             "{name}: {} Gregory + {} regular faces, max position error {p:.2e} of the diagonal, \

@@ -250,8 +250,10 @@ fn gpu_matches_cpu_construction() {
             pos <= 1e-5,
             "{name}: position error {pos:e} of the bbox diagonal"
         );
-        assert!(n_in <= 1e-3, "{name}: interior normal angle {n_in:e}");
-        assert!(n_edge <= 1e-3, "{name}: edge normal angle {n_edge:e}");
+        // Points relative to each corner's vertex (gregory/gregory.glsl): measured car 1.1e-5
+        // interior, 1.3e-5 edges (2.6e-4 / 1.0e-4 with absolute points), others <= 5.5e-7.
+        assert!(n_in <= 3e-5, "{name}: interior normal angle {n_in:e}");
+        assert!(n_edge <= 3e-5, "{name}: edge normal angle {n_edge:e}");
     }
     assert!(
         with_patches >= 9,

@@ -5,6 +5,9 @@
 // Defines: SPACING, CAPTURE.
 #include "frame.glsl"
 #include "adaptive.glsl"
+// End-cap points are absolute (endcap_points.comp sums refined points; the corners are limit
+// slots, not control points): every corner's origin is zero.
+#define GREGORY_CORNER_ORIGIN(info, k) vec3(0.0)
 #include "gregory/gregory.glsl"
 
 /// Edge k (corner k -> k + 1) at x measured from corner `from_corner`, when it lies on a coarser

@@ -92,7 +92,8 @@ void cull_discard_patch() {
 }
 
 /// Culls the patch whose control points are points[0 .. count) plus `origin` (patches whose
-/// stages pass points relative to an origin, e.g. pm/pm_tcs.glsl).
+/// stages pass points relative to an origin, e.g. pm/pm_tcs.glsl). `origin` is evaluated per
+/// point and may name the point's index `cull_k` (Gregory points relative to their corner).
 #define CULL_PATCH_AT(points, count, origin)                                                  \
     barrier();                                                                                \
     if (gl_InvocationID == 0 && cull_enabled()) {                                             \

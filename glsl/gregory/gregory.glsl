@@ -17,6 +17,15 @@
 //                  the same arithmetic as the neighbour computes them for itself.
 // Per-patch record (binding 6), indexed by chunk.patch_base + gl_PrimitiveID.
 //
+// Corner frames: every point above belongs to one face corner (p, e, f of corner i; g_eout[2k]
+// and g_nbr[2k] to corner k, g_eout[2k+1] and g_nbr[2k+1] to corner k+1) and is passed relative
+// to that corner's origin GREGORY_CORNER_ORIGIN(info, i): the control position of the corner's
+// vertex for the Gregory schemes, zero (absolute points) where a stage defines it so. Points a
+// few hundredths of the model apart then keep their digits in f32 however far the model lies
+// from the coordinate origin (the car's normals: 2.6e-4 rad from the f64 construction with
+// absolute points). Every patch at a vertex uses the same origin, so shared points keep equal
+// bits; an edge is evaluated in the frame of its smaller-id end (shared_edge).
+//
 // Watertightness (§4.5): corners and the canonical edge parameter follow common/watertight.glsl;
 // an edge shared with a regular B-spline patch is its grid_edge_rows on the edge's 12 grid points
 // (binding 7, grid_edge), exactly as bspline/patch_bspline.tese evaluates it. Gregory/Gregory
@@ -54,6 +63,11 @@ layout(std430, set = 0, binding = 7) readonly buffer GregoryGrids {
 #include "control_points.glsl"
 
 #include "watertight.glsl"
+
+#ifndef GREGORY_CORNER_ORIGIN
+/// Origin of corner k's points (the contract above): the control position of its vertex.
+#define GREGORY_CORNER_ORIGIN(info, k) control_point((info).corners[(k)])
+#endif
 
 #ifdef TESSERA_FRAME_GLSL
 /// Bit of chunk.sub_index: the triangle draw is split into chunk.split^2 sub-triangles (the
@@ -125,6 +139,20 @@ float gregory_tri_edge_level(uint a, uint b) {
     float l = edge_tess_level(a, b);
     return (chunk.split > 1u && !tri_sub_mode()) ? split_edge_level() : l;
 }
+
+/// Levels of the triangle patch with corner vertex ids c.xyz. Triangle domain: outer[i] is the
+/// edge where gl_TessCoord[i] == 0 (the barycentric weight of corner i), so outer[0] is edge 1-2,
+/// [1] edge 2-0, [2] edge 0-1. Triangles are drawn whole; with split quads their edges take the
+/// quads' full level (gregory_tri_edge_level).
+void set_gregory_tri_tess_levels(uvec4 c) {
+    float o0 = gregory_tri_edge_level(c.y, c.z);
+    float o1 = gregory_tri_edge_level(c.z, c.x);
+    float o2 = gregory_tri_edge_level(c.x, c.y);
+    gl_TessLevelOuter[0] = o0;
+    gl_TessLevelOuter[1] = o1;
+    gl_TessLevelOuter[2] = o2;
+    gl_TessLevelInner[0] = max(o0, max(o1, o2));
+}
 #endif
 #endif
 
@@ -184,13 +212,14 @@ vec3 cross_tri(vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 eo0, vec3 f0, vec3 f1, v
 }
 
 /// Gregory/Gregory edge in canonical order: the boundary cubic (p0, e0, e1, p1) from the
-/// smaller-id end, normal cross(tangent, d_left - d_right) with d_* the two patches' cross-edge
-/// derivatives (into each patch). The construction is tangent-plane continuous across the edge
-/// (§3.4), so this is the normal of both patches; both compute the same bits.
-void gregory_edge(vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 d_left, vec3 d_right, float t,
-                  float s, out vec3 pos, out vec3 nrm) {
+/// smaller-id end, relative to `origin`, normal cross(tangent, d_left - d_right) with d_* the
+/// two patches' cross-edge derivatives (into each patch). The construction is tangent-plane
+/// continuous across the edge (§3.4), so this is the normal of both patches; both compute the
+/// same bits.
+void gregory_edge(vec3 origin, vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 d_left, vec3 d_right,
+                  float t, float s, out vec3 pos, out vec3 nrm) {
     precise vec4 b = vec4(s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t);
-    precise vec3 p = ((b.x * p0 + b.y * e0) + b.z * e1) + b.w * p1;
+    precise vec3 p = (((b.x * p0 + b.y * e0) + b.z * e1) + b.w * p1) + origin;
     precise vec3 tangent = ((s * s) * (e0 - p0) + (2.0 * t * s) * (e1 - e0)) + (t * t) * (p1 - e1);
     precise vec3 cross_dir = d_left - d_right;
     precise vec3 nn = normalize(cross(tangent, cross_dir));
@@ -205,25 +234,51 @@ vec3 cross_any(bool quad, vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 eo0, vec3 f0,
                 : cross_tri(p0, e0, e1, p1, eo0, f0, f1, eo1, t, s);
 }
 
+/// An edge in canonical order, from its smaller-id end 0 (points relative to origin o0) to end 1
+/// (points relative to o1), for the patch on its left (`own_left`) or right: the end-1 points
+/// are moved into the frame of end 0 by the same `precise` shift on both sides.
+void canonical_edge(bool own_quad, bool nbr_quad, bool sharp, bool own_left, float t, float s,
+                    vec3 o0, vec3 o1, vec3 p0, vec3 e0, vec3 e1, vec3 p1,
+                    vec3 own_eo0, vec3 own_f0, vec3 own_f1, vec3 own_eo1,
+                    vec3 nbr_eo0, vec3 nbr_f0, vec3 nbr_f1, vec3 nbr_eo1,
+                    out vec3 pos, out vec3 nrm) {
+    precise vec3 shift = o1 - o0;
+    precise vec3 q1 = p1 + shift;
+    precise vec3 g1 = e1 + shift;
+    precise vec3 own_g1 = own_f1 + shift;
+    precise vec3 own_h1 = own_eo1 + shift;
+    vec3 d_own = cross_any(own_quad, p0, e0, g1, q1, own_eo0, own_f0, own_g1, own_h1, t, s);
+    // A boundary or infinitely sharp edge: no neighbour term (each side keeps its own normal).
+    vec3 d_nbr = vec3(0.0);
+    if (!sharp) {
+        precise vec3 nbr_g1 = nbr_f1 + shift;
+        precise vec3 nbr_h1 = nbr_eo1 + shift;
+        d_nbr = cross_any(nbr_quad, p0, e0, g1, q1, nbr_eo0, nbr_f0, nbr_g1, nbr_h1, t, s);
+    }
+    if (own_left) {
+        gregory_edge(o0, p0, e0, g1, q1, d_own, d_nbr, t, s, pos, nrm);
+    } else {
+        gregory_edge(o0, p0, e0, g1, q1, d_nbr, d_own, t, s, pos, nrm);
+    }
+}
+
 /// Evaluates patch edge k (corner a -> b, this patch on its left) from this patch's data
-/// (p, e along the edge, other edge points eo and face points f at both ends) and the
-/// neighbour's (g_eout / g_nbr of the TCS contract), in the canonical frame.
+/// (p, e along the edge, other edge points eo and face points f at both ends, each relative to
+/// its corner's origin oa, ob) and the neighbour's (g_eout / g_nbr of the TCS contract), in the
+/// canonical frame.
 void shared_edge(bool own_quad, bool nbr_quad, bool sharp, bool a_is_lo, float t, float s,
-                 vec3 pa, vec3 ea, vec3 eb, vec3 pb,
+                 vec3 oa, vec3 ob, vec3 pa, vec3 ea, vec3 eb, vec3 pb,
                  vec3 own_eo_a, vec3 own_f_a, vec3 own_f_b, vec3 own_eo_b,
                  vec3 nbr_eo_a, vec3 nbr_f_a, vec3 nbr_f_b, vec3 nbr_eo_b,
                  out vec3 pos, out vec3 nrm) {
-    // A boundary or infinitely sharp edge: no neighbour term (each side keeps its own normal).
     if (a_is_lo) {
-        vec3 d_own = cross_any(own_quad, pa, ea, eb, pb, own_eo_a, own_f_a, own_f_b, own_eo_b, t, s);
-        vec3 d_nbr = sharp ? vec3(0.0)
-                           : cross_any(nbr_quad, pa, ea, eb, pb, nbr_eo_a, nbr_f_a, nbr_f_b, nbr_eo_b, t, s);
-        gregory_edge(pa, ea, eb, pb, d_own, d_nbr, t, s, pos, nrm);
+        canonical_edge(own_quad, nbr_quad, sharp, true, t, s, oa, ob, pa, ea, eb, pb,
+                       own_eo_a, own_f_a, own_f_b, own_eo_b,
+                       nbr_eo_a, nbr_f_a, nbr_f_b, nbr_eo_b, pos, nrm);
     } else {
-        vec3 d_own = cross_any(own_quad, pb, eb, ea, pa, own_eo_b, own_f_b, own_f_a, own_eo_a, t, s);
-        vec3 d_nbr = sharp ? vec3(0.0)
-                           : cross_any(nbr_quad, pb, eb, ea, pa, nbr_eo_b, nbr_f_b, nbr_f_a, nbr_eo_a, t, s);
-        gregory_edge(pb, eb, ea, pa, d_nbr, d_own, t, s, pos, nrm);
+        canonical_edge(own_quad, nbr_quad, sharp, false, t, s, ob, oa, pb, eb, ea, pa,
+                       own_eo_b, own_f_b, own_f_a, own_eo_a,
+                       nbr_eo_b, nbr_f_b, nbr_f_a, nbr_eo_a, pos, nrm);
     }
 }
 
@@ -238,6 +293,15 @@ vec3 safe_normal(vec3 du, vec3 dv) {
     vec3 n = cross(du, dv);
     float len = length(n);
     return len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
+}
+
+/// A patch's own normal at its corner from the corner's point p and its edge points towards the
+/// next corner (e_next) and the previous one (e_prev), all in the corner's frame: the direction
+/// of the Bézier net's corner derivatives, kept where the vertex has several sectors
+/// (shared_corner). Computed in the corner's own frame, every patch at the vertex works on the
+/// same operands.
+vec3 gregory_corner_normal(vec3 p, vec3 e_next, vec3 e_prev) {
+    return safe_normal(e_next - p, e_prev - p);
 }
 
 #endif

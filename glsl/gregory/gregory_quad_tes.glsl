@@ -55,26 +55,33 @@ void quad_edge(uint patch_index, GregoryPatchInfo info, int k, float x, int from
     }
     bool nbr_quad = (info.flags & (1u << uint(8 + k))) == 0u;
     bool sharp = (info.flags & (1u << uint(12 + k))) != 0u;
-    shared_edge(true, nbr_quad, sharp, a_is_lo, t, s, P(a), EP(a), EM(b), P(b),
+    shared_edge(true, nbr_quad, sharp, a_is_lo, t, s, GREGORY_CORNER_ORIGIN(info, a),
+                GREGORY_CORNER_ORIGIN(info, b), P(a), EP(a), EM(b), P(b),
                 EM(a), FP(a), FM(b), EP(b),
                 g_eout[2 * k], g_nbr[2 * k], g_nbr[2 * k + 1], g_eout[2 * k + 1], pos, nrm);
 }
 
 void main() {
+    uint patch_index = chunk.patch_base + uint(gl_PrimitiveID);
+    GregoryPatchInfo info = gpatches[patch_index];
     vec3 sd = sub_domain();
     float u = sd.x + gl_TessCoord.x * sd.z;
     float v = sd.y + gl_TessCoord.y * sd.z;
     float su = 1.0 - u;
     float sv = 1.0 - v;
+    // Every corner's points in the frame of corner 0 (o[k]: corner k's origin relative to it).
+    vec3 o0 = GREGORY_CORNER_ORIGIN(info, 0);
+    vec3 o[4] = vec3[4](vec3(0.0), GREGORY_CORNER_ORIGIN(info, 1) - o0,
+                        GREGORY_CORNER_ORIGIN(info, 2) - o0, GREGORY_CORNER_ORIGIN(info, 3) - o0);
     vec3 f0 = gregory_blend(u, FP(0), v, FM(0));
-    vec3 f1 = gregory_blend(su, FM(1), v, FP(1));
-    vec3 f2 = gregory_blend(su, FP(2), sv, FM(2));
-    vec3 f3 = gregory_blend(u, FM(3), sv, FP(3));
+    vec3 f1 = gregory_blend(su, FM(1), v, FP(1)) + o[1];
+    vec3 f2 = gregory_blend(su, FP(2), sv, FM(2)) + o[2];
+    vec3 f3 = gregory_blend(u, FM(3), sv, FP(3)) + o[3];
     // Bezier net b[4j + i], i along u (the paper's matrix G with the F points blended).
-    vec3 b[16] = vec3[16](P(0), EP(0), EM(1), P(1),
-                          EM(0), f0, f1, EP(1),
-                          EP(3), f3, f2, EM(2),
-                          P(3), EM(3), EP(2), P(2));
+    vec3 b[16] = vec3[16](P(0), EP(0), EM(1) + o[1], P(1) + o[1],
+                          EM(0), f0, f1, EP(1) + o[1],
+                          EP(3) + o[3], f3, f2, EM(2) + o[2],
+                          P(3) + o[3], EM(3) + o[3], EP(2) + o[2], P(2) + o[2]);
     vec4 bu, dbu, bv, dbv;
     bernstein3(u, su, bu, dbu);
     bernstein3(v, sv, bv, dbv);
@@ -89,13 +96,14 @@ void main() {
             dv += (bu[i] * dbv[j]) * cp;
         }
     }
+    p += o0;
     vec3 nrm = safe_normal(du, dv);
 
-    uint patch_index = chunk.patch_base + uint(gl_PrimitiveID);
-    GregoryPatchInfo info = gpatches[patch_index];
     bool u_edge = (u == 0.0 || u == 1.0);
     bool v_edge = (v == 0.0 || v == 1.0);
     if (u_edge && v_edge) {
+        int k = (u == 0.0) ? (v == 0.0 ? 0 : 3) : (v == 0.0 ? 1 : 2);
+        nrm = gregory_corner_normal(P(k), EP(k), EM(k));
         quad_corner_point(info.corners, u, v, p, nrm);
     } else if (v == 0.0) {
         quad_edge(patch_index, info, 0, u, 0, p, nrm);

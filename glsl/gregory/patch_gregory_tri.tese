@@ -39,7 +39,8 @@ void tri_edge(GregoryPatchInfo info, int k, float x, out vec3 pos, out vec3 nrm)
     edge_ts(x, a_is_lo, t, s);
     bool nbr_quad = (info.flags & (1u << uint(8 + k))) == 0u;
     bool sharp = (info.flags & (1u << uint(12 + k))) != 0u;
-    shared_edge(false, nbr_quad, sharp, a_is_lo, t, s, P(a), EP(a), EM(b), P(b),
+    shared_edge(false, nbr_quad, sharp, a_is_lo, t, s, GREGORY_CORNER_ORIGIN(info, a),
+                GREGORY_CORNER_ORIGIN(info, b), P(a), EP(a), EM(b), P(b),
                 EM(a), FP(a), FM(b), EP(b),
                 g_eout[2 * k], g_nbr[2 * k], g_nbr[2 * k + 1], g_eout[2 * k + 1], pos, nrm);
 }
@@ -53,30 +54,38 @@ void edge_term(float a, float b, vec3 x, vec3 y, out vec3 val, out vec3 da, out 
 }
 
 void main() {
+    uint patch_index = chunk.patch_base + uint(gl_PrimitiveID);
+    GregoryPatchInfo info = gpatches[patch_index];
     vec3 bary = tri_domain_point(gl_TessCoord);
     float w0 = bary.x;
     float w1 = bary.y;
     float w2 = bary.z;
+    // Every corner's points in the frame of corner 0 (o1, o2: the other corners' origins
+    // relative to it).
+    vec3 o0 = GREGORY_CORNER_ORIGIN(info, 0);
+    vec3 o1 = GREGORY_CORNER_ORIGIN(info, 1) - o0;
+    vec3 o2 = GREGORY_CORNER_ORIGIN(info, 2) - o0;
     vec3 f0 = gregory_blend(w2, FM(0), w1, FP(0));
-    vec3 f1 = gregory_blend(w0, FM(1), w2, FP(1));
-    vec3 f2 = gregory_blend(w1, FM(2), w0, FP(2));
+    vec3 f1 = gregory_blend(w0, FM(1), w2, FP(1)) + o1;
+    vec3 f2 = gregory_blend(w1, FM(2), w0, FP(2)) + o2;
     vec3 e01, e01_0, e01_1, e12, e12_1, e12_2, e20, e20_2, e20_0;
-    edge_term(w0, w1, EP(0), EM(1), e01, e01_0, e01_1);
-    edge_term(w1, w2, EP(1), EM(2), e12, e12_1, e12_2);
-    edge_term(w2, w0, EP(2), EM(0), e20, e20_2, e20_0);
+    edge_term(w0, w1, EP(0), EM(1) + o1, e01, e01_0, e01_1);
+    edge_term(w1, w2, EP(1) + o1, EM(2) + o2, e12, e12_1, e12_2);
+    edge_term(w2, w0, EP(2) + o2, EM(0), e20, e20_2, e20_0);
     vec3 inner = w0 * f0 + w1 * f1 + w2 * f2;
-    vec3 p = w0 * w0 * w0 * P(0) + w1 * w1 * w1 * P(1) + w2 * w2 * w2 * P(2) + e01 + e12 + e20
-           + 12.0 * w0 * w1 * w2 * inner;
+    vec3 p1 = P(1) + o1;
+    vec3 p2 = P(2) + o2;
+    vec3 p = w0 * w0 * w0 * P(0) + w1 * w1 * w1 * p1 + w2 * w2 * w2 * p2 + e01 + e12 + e20
+           + 12.0 * w0 * w1 * w2 * inner + o0;
     vec3 t0 = 3.0 * w0 * w0 * P(0) + e01_0 + e20_0 + 12.0 * (w1 * w2 * inner + w0 * w1 * w2 * f0);
-    vec3 t1 = 3.0 * w1 * w1 * P(1) + e01_1 + e12_1 + 12.0 * (w0 * w2 * inner + w0 * w1 * w2 * f1);
-    vec3 t2 = 3.0 * w2 * w2 * P(2) + e12_2 + e20_2 + 12.0 * (w0 * w1 * inner + w0 * w1 * w2 * f2);
+    vec3 t1 = 3.0 * w1 * w1 * p1 + e01_1 + e12_1 + 12.0 * (w0 * w2 * inner + w0 * w1 * w2 * f1);
+    vec3 t2 = 3.0 * w2 * w2 * p2 + e12_2 + e20_2 + 12.0 * (w0 * w1 * inner + w0 * w1 * w2 * f2);
     vec3 nrm = safe_normal(t1 - t0, t2 - t0);
 
-    uint patch_index = chunk.patch_base + uint(gl_PrimitiveID);
-    GregoryPatchInfo info = gpatches[patch_index];
     int zeros = int(w0 == 0.0) + int(w1 == 0.0) + int(w2 == 0.0);
     if (zeros >= 2) {
         int k = (w0 != 0.0) ? 0 : (w1 != 0.0 ? 1 : 2);
+        nrm = gregory_corner_normal(P(k), EP(k), EM(k));
         p = vertex_limit[info.corners[k]].xyz;
         // Shared vertex normal; zero where the vertex has several sectors (own normal).
         vec3 vn = vertex_normal[info.corners[k]].xyz;

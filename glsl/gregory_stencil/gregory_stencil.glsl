@@ -7,20 +7,28 @@
 // a neighbouring patch gets the same nonzero terms in the same order on both sides and so is
 // bitwise equal. Output order: p0.., e_plus0.., e_minus0.., f_plus0.., f_minus0.. (as
 // GregoryQuad / GregoryTriangle); the next stencil rows are the neighbours' edge points g_eout,
-// then the neighbours' face points g_nbr (contract in gregory/gregory.glsl). Define GREGORY_TRI for triangles.
+// then the neighbours' face points g_nbr (contract in gregory/gregory.glsl). Each row sums its
+// terms relative to its corner's origin, the control position of that corner's vertex
+// (weights sum to one): w_i (x_i - o), so the points keep their digits far from the coordinate
+// origin and a point shared with a neighbour still has the same terms, hence the same bits.
+// Define GREGORY_TRI for triangles.
 // Needs frame.glsl and tess_factors.glsl (and, for triangles, gregory/gregory.glsl).
 #ifndef TESSERA_GREGORY_STENCIL_GLSL
 #define TESSERA_GREGORY_STENCIL_GLSL
 
 #ifdef GREGORY_TRI
+#define GREGORY_CORNERS 3
 #define GREGORY_POINTS 15
 #define GREGORY_EDGE_PAIRS 6
 #define GREGORY_NBR_LOCATION 7
 #else
+#define GREGORY_CORNERS 4
 #define GREGORY_POINTS 20
 #define GREGORY_EDGE_PAIRS 8
 #define GREGORY_NBR_LOCATION 9
 #endif
+
+#include "control_points.glsl"
 
 /// Stencil blocks: one per connectivity type, STENCIL_ROWS x STENCIL_COLS floats
 /// (src/render/gregory_stencil/gpu.rs mirrors this layout).
@@ -53,15 +61,17 @@ layout(location = 1) patch out vec3 g_eout[GREGORY_EDGE_PAIRS];
 layout(location = GREGORY_NBR_LOCATION) patch out vec3 g_nbr[GREGORY_EDGE_PAIRS];
 
 /// Stencil row `row` of the patch's connectivity type applied to the input ring (canonical local
-/// order): nonzero terms only, in ascending global vertex id, no fused multiply-add.
-vec3 stencil_row(StencilRecord rec, uint row) {
+/// order) relative to the origin of the row's corner `corner`: nonzero terms only, in ascending
+/// global vertex id, no fused multiply-add.
+vec3 stencil_row(StencilRecord rec, uint row, int corner) {
+    vec3 origin = control_point(rec.corners[corner]);
     uint base = (rec.type_id * STENCIL_ROWS + row) * STENCIL_COLS;
     uint mask = stencil_masks[rec.type_id * STENCIL_ROWS + row];
     precise vec3 acc = vec3(0.0);
     for (uint i = 0u; i < rec.ring_len; ++i) {
         uint k = (rec.order[i >> 4u][(i >> 2u) & 3u] >> (8u * (i & 3u))) & 0xffu;
         if ((mask & (1u << k)) != 0u) {
-            precise vec3 term = stencil_weights[base + k] * v_pos[k];
+            precise vec3 term = stencil_weights[base + k] * (v_pos[k] - origin);
             acc = acc + term;
         }
     }
@@ -70,33 +80,27 @@ vec3 stencil_row(StencilRecord rec, uint row) {
 
 void main() {
     StencilRecord rec = stencil_records[chunk.patch_base + uint(gl_PrimitiveID)];
-    g_cp[gl_InvocationID] = stencil_row(rec, uint(gl_InvocationID));
-    if (gl_InvocationID < GREGORY_EDGE_PAIRS) {
-        g_eout[gl_InvocationID] = stencil_row(rec, uint(GREGORY_POINTS + gl_InvocationID));
-    } else if (gl_InvocationID < 2 * GREGORY_EDGE_PAIRS) {
-        int i = gl_InvocationID - GREGORY_EDGE_PAIRS;
-        g_nbr[i] = stencil_row(rec, uint(GREGORY_POINTS + gl_InvocationID));
+    int id = gl_InvocationID;
+    g_cp[gl_InvocationID] = stencil_row(rec, uint(id), id % GREGORY_CORNERS);
+    // Pair i of g_eout / g_nbr lies at corner i / 2 (even i) or i / 2 + 1 (odd i).
+    if (id < GREGORY_EDGE_PAIRS) {
+        int corner = (id / 2 + (id & 1)) % GREGORY_CORNERS;
+        g_eout[id] = stencil_row(rec, uint(GREGORY_POINTS + id), corner);
+    } else if (id < 2 * GREGORY_EDGE_PAIRS) {
+        int i = id - GREGORY_EDGE_PAIRS;
+        int corner = (i / 2 + (i & 1)) % GREGORY_CORNERS;
+        g_nbr[i] = stencil_row(rec, uint(GREGORY_POINTS + id), corner);
     }
 
     if (gl_InvocationID == 0) {
         uvec4 c = rec.corners;
 #ifdef GREGORY_TRI
-        // Triangle domain: outer[i] is the edge where gl_TessCoord[i] == 0; barycentric weight
-        // of corner i is gl_TessCoord[i], so outer[0] is edge 1-2, [1] edge 2-0, [2] edge 0-1.
-        // Triangles are drawn whole; with split quads their edges take the quads' full level
-        // (gregory_tri_edge_level, gregory/gregory.glsl).
-        float o0 = gregory_tri_edge_level(c.y, c.z);
-        float o1 = gregory_tri_edge_level(c.z, c.x);
-        float o2 = gregory_tri_edge_level(c.x, c.y);
-        gl_TessLevelOuter[0] = o0;
-        gl_TessLevelOuter[1] = o1;
-        gl_TessLevelOuter[2] = o2;
-        gl_TessLevelInner[0] = max(o0, max(o1, o2));
+        set_gregory_tri_tess_levels(c);
 #else
         set_quad_tess_levels(c);
 #endif
     }
-    CULL_PATCH(g_cp, GREGORY_POINTS);
+    CULL_PATCH_AT(g_cp, GREGORY_POINTS, control_point(rec.corners[cull_k % GREGORY_CORNERS]));
 }
 
 #endif

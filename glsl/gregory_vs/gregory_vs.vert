@@ -4,6 +4,7 @@
 // point per ring edge (§3.3) and the transversal vectors r (§3.4); at boundary, crease and
 // corner vertices the sector-wise rules of §4.6 (as patch::gregory::GregoryVertex::sectored).
 // Edge tangents 2/3 s(n) lambda q with the factor s(n) the table stores per smooth vertex.
+// Points relative to the vertex's control position (corner frames, gregory/gregory.glsl).
 // Packed into the varyings as documented in gregory_vs/gregory_vs.glsl. Vertices beyond the
 // varyings budget are never drawn by this variant (the host falls back).
 #include "gregory/gregory.glsl"
@@ -65,17 +66,21 @@ void main() {
     int ne = min(int(conn[4u * v + 1u]), MAXE);
     int nf = min(int(conn[4u * v + 2u]), ne);
     uint kind = conn[4u * v + 3u];
-    vec3 pv = control_point(v);
+    // Everything relative to the vertex's control position (the origin of its corner's points,
+    // gregory/gregory.glsl): the ring differences keep their digits far from the coordinate
+    // origin.
+    vec3 origin = control_point(v);
+    vec3 pv = vec3(0.0);
     for (int j = 0; j < ne; ++j) {
-        m[j] = 0.5 * (pv + control_point(conn[off + uint(j)]));
+        m[j] = 0.5 * (control_point(conn[off + uint(j)]) - origin);
     }
     uint fo = off + uint(ne + nf);
     for (int i = 0; i < nf; ++i) {
         uint size = conn[fo];
-        vec3 acc = (pv + control_point(conn[off + uint(i)]))
-                 + control_point(conn[off + uint((i + 1) % ne)]);
+        vec3 acc = (control_point(conn[off + uint(i)]) - origin)
+                 + (control_point(conn[off + uint((i + 1) % ne)]) - origin);
         for (uint s = 0u; s + 3u < size; ++s) {
-            acc += control_point(conn[fo + 1u + s]);
+            acc += control_point(conn[fo + 1u + s]) - origin;
         }
         c[i] = acc / float(size);
         fo += size - 2u;
