@@ -8,7 +8,6 @@ use glam::DVec3;
 use image::RgbaImage;
 use tessera::gpu::{vk, Buffer, Context, MemoryLocation, PipelineStats};
 use tessera::mesh::ControlMesh;
-use tessera::render::pass::capture::decode_capture;
 use tessera::render::renderer::resolve_tess_for;
 use tessera::render::schemes::gregory::irregular_faces;
 use tessera::render::schemes::gregory_vs::{select_faces, GregoryVsTables, VsBudget};
@@ -232,9 +231,6 @@ pub fn sorted(mut records: Vec<CaptureRecord>) -> Vec<CaptureRecord> {
     records
 }
 
-/// Words of a [`CaptureRecord`] in a capture buffer (face, u, v, position, normal).
-const RECORD_WORDS: usize = 9;
-
 /// A TES capture buffer written by the shaders: a 16-byte header (invocation count, capacity)
 /// and up to `capacity` records of `record_words` 32-bit words.
 pub struct CaptureBuffer {
@@ -275,14 +271,6 @@ impl CaptureBuffer {
         let words: Vec<u32> = self.buffer.read().expect("read capture");
         let kept = words[0].min(self.capacity) as usize;
         (words[0], words[4..4 + kept * self.record_words].to_vec())
-    }
-
-    /// The records as [`CaptureRecord`]s (the renderer's layout, decoded by the library's
-    /// [`decode_capture`]); fails on overflow.
-    pub fn records(&self) -> Vec<CaptureRecord> {
-        assert_eq!(self.record_words, RECORD_WORDS);
-        let words: Vec<u32> = self.buffer.read().expect("read capture");
-        decode_capture(&words, self.capacity).expect("capture within capacity")
     }
 }
 
