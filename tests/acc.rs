@@ -208,3 +208,115 @@ fn refusals_name_the_face() {
     assert!(matches!(e, NotAcc::Feature { face: 0, .. }), "{e:?}");
     assert!(e.to_string().starts_with("face 0: corner"));
 }
+
+/// Tangent patches (`patch::acc::tangent`): on regular quads their normal is the B-spline
+/// patch's (the exact limit's) normal; at every corner it is the exact limit normal; across
+/// every edge two ACC faces share, both faces' normals at the edge equal the edge frame's normal
+/// (both computed from either side), so the normal field is continuous — unlike the geometry
+/// patches' own normals, whose jump across the same edges is reported beside it.
+#[test]
+fn tangent_patches_give_a_continuous_normal_field() {
+    use tessera::patch::acc::tangent::TangentBuilder;
+    // atan2 keeps the digits of tiny angles (acos of a dot product bottoms out near 1.5e-8).
+    let normal_angle = |a: DVec3, b: DVec3| a.cross(b).length().atan2(a.dot(b));
+    for name in [
+        "catmark_car",
+        "catmark_bishop",
+        "embedded:mixed",
+        "catmark_cube",
+    ] {
+        let (topo, p, ev, _, acc) = patches(name);
+        let mut builder = TangentBuilder::new(&topo, &p);
+        let tangent: std::collections::HashMap<u32, _> = acc
+            .iter()
+            .map(|a| (a.face, builder.patches(a.face).unwrap()))
+            .collect();
+        // Regular quads: U x V is the geometry's own normal.
+        let mut regular = 0.0f64;
+        for a in acc
+            .iter()
+            .filter(|a| RegularPatch::gather(&topo, a.face).is_some())
+        {
+            for (u, v) in [(0.3, 0.7), (0.5, 0.5), (0.9, 0.1)] {
+                let (_, pu, pv) = a.eval(u, v);
+                regular = regular.max(normal_angle(pu.cross(pv), tangent[&a.face].normal(u, v)));
+            }
+        }
+        // Corners: the exact limit normal.
+        let mut corner = 0.0f64;
+        for a in &acc {
+            for (u, v) in CORNERS {
+                let exact = ev.eval(a.face as usize, 0, u, v).unwrap().normal;
+                corner = corner.max(normal_angle(exact, tangent[&a.face].normal(u, v)));
+            }
+        }
+        // Against the exact limit normal at the same (face, u, v), 9 x 9 per face: the tangent
+        // patches' normals and the geometry patches' own.
+        let (mut sq_t, mut sq_g, mut count) = (0.0f64, 0.0f64, 0usize);
+        for a in &acc {
+            for j in 0..9 {
+                for i in 0..9 {
+                    let (u, v) = (i as f64 / 8.0, j as f64 / 8.0);
+                    let exact = ev.eval(a.face as usize, 0, u, v).unwrap().normal;
+                    let (_, pu, pv) = a.eval(u, v);
+                    sq_t += normal_angle(exact, tangent[&a.face].normal(u, v)).powi(2);
+                    sq_g += normal_angle(exact, pu.cross(pv)).powi(2);
+                    count += 1;
+                }
+            }
+        }
+        let (rms_t, rms_g) = ((sq_t / count as f64).sqrt(), (sq_g / count as f64).sqrt());
+        // Shared edges: both sides' normals against each other and the edge frame's.
+        let (mut jump, mut frame_gap, mut geometry_jump, mut edges) = (0.0f64, 0.0f64, 0.0f64, 0);
+        let at_edge = |k: usize, x: f64| match k {
+            0 => (x, 0.0),
+            1 => (1.0, x),
+            2 => (1.0 - x, 1.0),
+            _ => (0.0, 1.0 - x),
+        };
+        for a in &acc {
+            let fv = topo.face_vertices(a.face);
+            for k in 0..4 {
+                let (va, vb) = (fv[k], fv[(k + 1) % 4]);
+                let e = topo.find_edge(va, vb).unwrap();
+                let g = *topo.edge_faces(e).iter().find(|&&g| g != a.face).unwrap();
+                let Some(b) = acc.iter().find(|b| b.face == g) else {
+                    continue;
+                };
+                let gv = topo.face_vertices(g);
+                let kg = gv.iter().position(|&x| x == vb).unwrap();
+                let frame = builder.edge_frame(a.face, k);
+                assert_eq!(frame, builder.edge_frame(g, kg), "{name}: edge {va}-{vb}");
+                edges += 1;
+                for s in 1..8 {
+                    let x = s as f64 / 8.0;
+                    let (ua, va_) = at_edge(k, x);
+                    let (ub, vb_) = at_edge(kg, 1.0 - x);
+                    let na = tangent[&a.face].normal(ua, va_);
+                    let nb = tangent[&g].normal(ub, vb_);
+                    jump = jump.max(normal_angle(na, nb));
+                    let t = if va < vb { x } else { 1.0 - x };
+                    frame_gap = frame_gap.max(normal_angle(na, frame.normal(t)));
+                    let (_, pu, pv) = a.eval(ua, va_);
+                    let (_, qu, qv) = b.eval(ub, vb_);
+                    geometry_jump = geometry_jump.max(normal_angle(pu.cross(pv), qu.cross(qv)));
+                }
+            }
+        }
+        eprintln!(
+            "{name}: {} ACC faces; regular U x V vs geometry {regular:.1e} rad, corners vs the exact \
+             limit {corner:.1e} rad; {edges} shared edge sides: normal jump {jump:.1e} rad, vs the \
+             edge frame {frame_gap:.1e} rad (geometry patches' own normals jump {geometry_jump:.2e} rad); \
+             RMS normal vs the exact limit at the same parameter {rms_t:.3e} rad (geometry's own \
+             {rms_g:.3e} rad)",
+            acc.len()
+        );
+        assert!(regular <= 1e-9, "{name}: regular {regular:e}");
+        assert!(corner <= 1e-9, "{name}: corner {corner:e}");
+        assert!(edges > 0, "{name}: no shared edge");
+        assert!(
+            jump <= 1e-9 && frame_gap <= 1e-9,
+            "{name}: {jump:e} {frame_gap:e}"
+        );
+    }
+}

@@ -163,7 +163,8 @@ fn cli_prints_every_scheme_and_writes_the_sheet() {
 /// a shared smooth edge than the limit itself does at the same two points (both f64 on the CPU),
 /// Gregory quads no more either (G1 across their edges), QAS far more (C0: its geometric normal
 /// jumps, measured up to 2.4 rad on the car, though its separate normal patch is continuous) and
-/// ACC's geometry patches (no tangent patches; 0.60 rad on the car) more than the limit. Meshes:
+/// ACC's geometry patches (C0 at extraordinary vertices, 0.60 rad on the car; its tangent patches
+/// shade them continuously, but this reads the geometry) more than the limit. Meshes:
 /// the car (all quads) and `embedded:mixed`.
 #[test]
 fn continuity_reads_each_construction() {

@@ -64,8 +64,10 @@ fn accuracy_against_the_exact_limit() {
     accuracy_within(
         SCHEME,
         &[
-            ("catmark_cube", 3.7e-3, 5.5e-3, 4.1e-2),
-            ("catmark_car", 5.6e-5, 1.1e-3, 2.5e-2),
+            // Normals of the tangent patches (measured 4.28e-2 and 2.67e-2 rad; the geometry
+            // patches' own normals were 4.02e-2 and 2.47e-2 here, at the closest exact point).
+            ("catmark_cube", 3.7e-3, 5.5e-3, 4.4e-2),
+            ("catmark_car", 5.6e-5, 1.1e-3, 2.8e-2),
         ],
     );
 }

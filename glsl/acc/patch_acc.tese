@@ -1,6 +1,6 @@
 #version 450
-// ACC geometry patch (acc.glsl): the bicubic Bézier patch inside; corners and edges by the
-// shared watertight rules. Drawn whole. Defines: SPACING, CAPTURE.
+// ACC patch (acc.glsl): the bicubic geometry patch inside with the normal of its tangent
+// patches; corners and edges by the shared watertight rules. Drawn whole. Defines: SPACING, CAPTURE.
 #include "frame.glsl"
 #include "watertight.glsl"
 #include "acc.glsl"
@@ -12,41 +12,61 @@
 
 layout(quads, SPACING, cw) in;
 
-/// Per edge k, its Bézier row and the row beside it inside the patch in the direction of the
-/// edge's coordinate x (u on edges 0 and 2, v on 1 and 3: from corner 0, 1, 3, 0 to 1, 2, 2, 3).
+/// Per edge k, its Bézier row in the direction of the edge's coordinate x (u on edges 0 and 2, v
+/// on 1 and 3: from corner 0, 1, 3, 0 to 1, 2, 2, 3).
 const int EDGE_ROW[16] = int[16](0, 1, 2, 3, 3, 7, 11, 15, 12, 13, 14, 15, 0, 4, 8, 12);
-const int INNER_ROW[16] = int[16](4, 5, 6, 7, 2, 6, 10, 14, 8, 9, 10, 11, 1, 5, 9, 13);
 const int START[4] = int[4](0, 1, 3, 0);
 const int END[4] = int[4](1, 2, 2, 3);
 
-/// Edge k of patch pi at x: the cubic in the canonical frame and the normal
-/// cross(dC/dt, sum B_i (l_i - r_i)), l the row on the left of the canonical direction.
+/// Edge k of patch pi at x: the cubic in the canonical frame and the normal of the edge's frame,
+/// normalize(D(t) x X(t)), which both faces hold.
 void acc_edge(uint pi, int k, float x, out vec3 pos, out vec3 nrm) {
     uvec4 c = acc[pi].corners;
     bool forward = c[START[k]] < c[END[k]];
-    // x runs counter-clockwise (corner k to k + 1) on edges 0 and 1; the patch lies left of
-    // its counter-clockwise direction; nbr rows are stored counter-clockwise.
-    bool ccw = k < 2;
-    bool own_left = forward == ccw;
     float t, s;
     edge_ts(x, forward, t, s);
     precise vec3 e[4];
-    precise vec3 d[4];
     for (int i = 0; i < 4; ++i) {
-        int o = forward ? i : 3 - i;
-        vec3 own = acc[pi].b[INNER_ROW[4 * k + o]].xyz;
-        vec3 other = acc[pi].nbr[4 * k + (ccw ? o : 3 - o)].xyz;
-        e[i] = acc[pi].b[EDGE_ROW[4 * k + o]].xyz;
-        d[i] = own_left ? own - other : other - own;
+        e[i] = acc[pi].b[EDGE_ROW[4 * k + (forward ? i : 3 - i)]].xyz;
     }
     vec4 bt, dbt;
     bernstein3(t, s, bt, dbt);
     precise vec3 p = ((bt.x * e[0] + bt.y * e[1]) + bt.z * e[2]) + bt.w * e[3];
-    precise vec3 tangent = ((dbt.x * e[0] + dbt.y * e[1]) + dbt.z * e[2]) + dbt.w * e[3];
-    precise vec3 cross_dir = ((bt.x * d[0] + bt.y * d[1]) + bt.z * d[2]) + bt.w * d[3];
-    precise vec3 nn = normalize(cross(tangent, cross_dir));
+    int f = 7 * k;
+    precise vec3 versal = ((s * s) * acc[pi].edge[f].xyz + (2.0 * s * t) * acc[pi].edge[f + 1].xyz)
+                        + (t * t) * acc[pi].edge[f + 2].xyz;
+    precise vec3 cross_dir = ((bt.x * acc[pi].edge[f + 3].xyz + bt.y * acc[pi].edge[f + 4].xyz)
+                              + bt.z * acc[pi].edge[f + 5].xyz)
+                           + bt.w * acc[pi].edge[f + 6].xyz;
+    precise vec3 nn = normalize(cross(versal, cross_dir));
     pos = p;
     nrm = nn;
+}
+
+/// The shading normal U x V of the tangent patches at (u, v).
+vec3 tangent_normal(uint pi, float u, float v) {
+    float su = 1.0 - u;
+    float sv = 1.0 - v;
+    vec3 bu2 = vec3(su * su, 2.0 * su * u, u * u);
+    vec3 bv2 = vec3(sv * sv, 2.0 * sv * v, v * v);
+    vec4 bu3, dbu, bv3, dbv;
+    bernstein3(u, su, bu3, dbu);
+    bernstein3(v, sv, bv3, dbv);
+    vec3 tu = vec3(0.0);
+    vec3 tv = vec3(0.0);
+    for (int j = 0; j < 4; ++j) {
+        for (int i = 0; i < 3; ++i) {
+            tu += (bu2[i] * bv3[j]) * acc[pi].tu[3 * j + i].xyz;
+        }
+    }
+    for (int j = 0; j < 3; ++j) {
+        for (int i = 0; i < 4; ++i) {
+            tv += (bu3[i] * bv2[j]) * acc[pi].tv[4 * j + i].xyz;
+        }
+    }
+    vec3 n = cross(tu, tv);
+    float len = length(n);
+    return len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
 }
 
 void main() {
@@ -60,6 +80,7 @@ void main() {
     vec3 p;
     vec3 nrm;
     bezier_surface(cp, u, v, p, nrm);
+    nrm = tangent_normal(pi, u, v);
     bool u_edge = (u == 0.0 || u == 1.0);
     bool v_edge = (v == 0.0 || v == 1.0);
     if (u_edge && v_edge) {

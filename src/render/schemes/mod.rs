@@ -63,9 +63,9 @@ pub enum Scheme {
     /// limit points (C0, smooth shading); faces of five or more sides from the exact CPU
     /// reference.
     Qas,
-    /// ACC geometry patches (Loop, Schaefer 2008 §3) of smooth interior quads: bicubic Bézier
-    /// patches from the one-ring masks, edge normals from both sides' rows (not the paper's
-    /// tangent patches); every other face from the exact CPU reference.
+    /// ACC patches (Loop, Schaefer 2008 §3-4) of smooth interior quads: bicubic Bézier geometry
+    /// patches from the one-ring masks, normals from the u- and v-tangent patches (a continuous
+    /// normal field); every other face from the exact CPU reference.
     Acc,
     /// Pm-patches (Myles, Ni, Peters 2008), stencil variant: one G1 patch per triangle, quad or
     /// pentagon of a closed mesh (bicubic for ordinary quads, singular bicubic for polar
@@ -137,8 +137,8 @@ pub static REGISTRY: [SchemeEntry; 7] = [
     SchemeEntry {
         scheme: Scheme::Acc,
         name: "acc",
-        control_points: "16 (bicubic geometry patch from the one-ring masks) + the rows beside each edge for its normals",
-        continuity: "exact on regular quads; C0 with edge normals shared, not G1 next to extraordinary vertices (no tangent patches)",
+        control_points: "16 (bicubic geometry patch from the one-ring masks) + 12 + 12 tangent-patch vectors for its normals",
+        continuity: "exact on regular quads; geometry C0 next to extraordinary vertices, normals continuous from the tangent patches",
         passes: &[&acc::ACC],
     },
     SchemeEntry {

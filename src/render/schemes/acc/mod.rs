@@ -1,13 +1,14 @@
 //! ACC (`--scheme acc`, Loop and Schaefer 2008 §3): every smooth interior quad with quad rings
-//! drawn as its bicubic geometry patch ([`crate::patch::acc`]); every other face stays on the
-//! exact CPU path. Normals: inside a patch its own; on an edge, from the edge curve and the
-//! difference of the two rows beside it (this patch's and its neighbour's), which both faces
-//! hold, so edge normals are shared. This is not the paper's pair of tangent patches: the normal
-//! field is continuous across edges only on them.
+//! drawn as its bicubic geometry patch ([`crate::patch::acc`]) with the paper's pair of tangent
+//! patches for its normals ([`crate::patch::acc::tangent`]); every other face stays on the exact
+//! CPU path. Normals: inside a patch `U × V` of its tangent patches; on an edge, from the edge's
+//! canonical frame ([`AccEdgeFrame`]), which both faces hold with the same bits, so the normal
+//! field is continuous and edge normals are shared.
 //!
-//! GPU data ([`super::records`]): one 544-byte record per patch (`AccPatchRecord` in
-//! `glsl/acc/acc.glsl`): face, colour class, corner vertex ids, the 16 Bézier points and the 4
-//! neighbour rows, built on the CPU and rewritten per animation frame.
+//! GPU data ([`super::records`]): one 1120-byte record per patch (`AccPatchRecord` in
+//! `glsl/acc/acc.glsl`): face, colour class, corner vertex ids, the 16 Bézier points, the 12 + 12
+//! tangent-patch vectors and the 4 edge frames, built on the CPU and rewritten per animation
+//! frame.
 
 use std::any::Any;
 use std::sync::Arc;
@@ -19,7 +20,8 @@ use super::traits::{
     PassContext, PassPlan, PassTables, PatchPass, PatchScheme, PlanOptions, ReferencePatch,
     Refusal, RefusalReason,
 };
-use crate::patch::acc::{acc_patch, check_face, neighbour_rows};
+use crate::patch::acc::tangent::TangentBuilder;
+use crate::patch::acc::{acc_patch, check_face, AccEdgeFrame};
 use crate::render::pass::frames::single_normal_vertex;
 use crate::render::pass::{NormalRule, VertexFrames};
 use crate::render::settings::{PatchLevelLimit, Spacing};
@@ -30,7 +32,7 @@ use crate::Result;
 pub static ACC: AccScheme = AccScheme;
 
 /// Bytes of one `AccPatchRecord`.
-pub const RECORD_BYTES: usize = 544;
+pub const RECORD_BYTES: usize = 1120;
 
 /// Colour classes (`glsl/common/frame.glsl`): regular quads (valence-4 corners) and the others.
 const CLASS_REGULAR: u32 = 0;
@@ -85,10 +87,12 @@ impl RecordTables for AccTables {
     /// masks applied on the CPU.
     fn records(&self, p: &[DVec3]) -> Result<Vec<u8>> {
         let mut out = Vec::with_capacity(self.faces.len() * RECORD_BYTES);
+        let mut tangents = TangentBuilder::new(&self.topo, p);
         for &f in &self.faces {
             let bad = |e: crate::patch::acc::NotAcc| crate::Error::Invalid(e.to_string());
             let patch = acc_patch(&self.topo, p, f).map_err(bad)?;
-            let rows = neighbour_rows(&self.topo, p, f).map_err(bad)?;
+            let tangent = tangents.patches(f).map_err(bad)?;
+            let frames: Vec<AccEdgeFrame> = (0..4).map(|k| tangents.edge_frame(f, k)).collect();
             let fv = self.topo.face_vertices(f);
             let regular = fv.iter().all(|&v| self.topo.vertex_faces(v).len() == 4);
             let class = if regular {
@@ -99,7 +103,13 @@ impl RecordTables for AccTables {
             for w in [f, class, 0, 0].iter().chain(fv) {
                 out.extend_from_slice(&w.to_le_bytes());
             }
-            for x in patch.bezier.iter().chain(rows.iter().flatten()) {
+            let vectors = patch
+                .bezier
+                .iter()
+                .chain(&tangent.u)
+                .chain(&tangent.v)
+                .chain(frames.iter().flat_map(|e| e.versal.iter().chain(&e.cross)));
+            for x in vectors {
                 for c in x.as_vec3().to_array().into_iter().chain([1.0]) {
                     out.extend_from_slice(&c.to_le_bytes());
                 }
@@ -123,8 +133,11 @@ impl PassTables for AccTables {
     }
 
     fn corner_frames(&self, positions: &[DVec3], rule: NormalRule<'_>, frames: &mut VertexFrames) {
+        let mut tangents = TangentBuilder::new(&self.topo, positions);
         for &f in &self.faces {
-            let Ok(patch) = acc_patch(&self.topo, positions, f) else {
+            let (Ok(patch), Ok(tangent)) =
+                (acc_patch(&self.topo, positions, f), tangents.patches(f))
+            else {
                 continue;
             };
             let fv = self.topo.face_vertices(f);
@@ -135,7 +148,6 @@ impl PassTables for AccTables {
                 if frames.is_set(fv[k]) {
                     continue;
                 }
-                let (_, pu, pv) = patch.eval(u, v);
                 let shared = match rule {
                     NormalRule::Topology(topo) => single_normal_vertex(topo, fv[k]),
                     NormalRule::PatchSides => false,
@@ -143,7 +155,7 @@ impl PassTables for AccTables {
                 frames.set(
                     fv[k],
                     patch.bezier[CORNER_SLOTS[k]],
-                    pu.cross(pv).normalize_or_zero(),
+                    tangent.normal(u, v),
                     shared,
                 );
             }
@@ -165,9 +177,11 @@ impl PassTables for AccTables {
     fn reference(&self, positions: &[DVec3], face: u32) -> Option<ReferencePatch> {
         self.faces.contains(&face).then_some(())?;
         let patch = acc_patch(&self.topo, positions, face).ok()?;
+        let tangent = TangentBuilder::new(&self.topo, positions)
+            .patches(face)
+            .ok()?;
         Some(Box::new(move |u, v| {
-            let (p, pu, pv) = patch.eval(u, v);
-            (p, pu.cross(pv).normalize_or_zero())
+            (patch.eval(u, v).0, tangent.normal(u, v))
         }))
     }
 

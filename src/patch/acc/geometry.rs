@@ -1,21 +1,5 @@
-//! ACC geometry patches (Loop and Schaefer 2008, "Approximating Catmull-Clark Subdivision
-//! Surfaces with Bicubic Patches", §3): per quad a bicubic Bézier patch whose 16 points are
-//! masks over the one-rings of its corners.
-//!
-//! For corner `v` of valence `n` in a quad `(v, a, c, b)` (`a` the next corner, `c` the opposite
-//! one, `b` the previous): the *interior point* `(n v + 2 (a + b) + c) / (n + 5)`. The patch takes
-//! the interior points of its own face at its four inner points, at each corner the average of
-//! the `n` interior points around the vertex, which is the Catmull-Clark limit position
-//! `(n² v + 4 Σ edge neighbours + Σ diagonal neighbours) / (n (n + 5))`, and on each edge, next
-//! to each end, the average of the two interior points of that end on either side of the edge
-//! (weights `2n, 4, 2, 2, 1, 1` over `2n + 10`): both faces of an edge compute the same cubic
-//! boundary curve, so the patches meet with C0. For valence 4 the masks are the B-spline to
-//! Bézier change of basis, so a regular quad reproduces its B-spline patch exactly. At other
-//! valences the edge points do not lie in the limit tangent plane (the averages keep every
-//! Fourier mode of the ring, the tangent plane only the subdominant one): the geometry patches
-//! are not G1 there, which the paper's separate tangent patches address for shading (not built
-//! here; the GPU pass shares edge normals from [`neighbour_rows`] instead). Faces that are not quads, or whose corners touch a boundary, a crease or a non-quad
-//! face, are refused ([`NotAcc`]).
+//! The ACC geometry patches (§3): the masks, the refusals, the patch of a face (module docs of
+//! [`super`]).
 
 use std::fmt;
 
@@ -130,7 +114,7 @@ pub fn check_face(topo: &Topology, f: u32) -> Result<(), NotAcc> {
 }
 
 /// The interior point of corner `v` in quad `g`: `(n v + 2 (a + b) + c) / (n + 5)`.
-fn interior(topo: &Topology, p: &[DVec3], v: u32, g: u32) -> DVec3 {
+pub(crate) fn interior(topo: &Topology, p: &[DVec3], v: u32, g: u32) -> DVec3 {
     let fv = topo.face_vertices(g);
     let k = fv.iter().position(|&x| x == v).expect("v is a corner of g");
     let n = topo.vertex_faces(v).len() as f64;
@@ -140,7 +124,7 @@ fn interior(topo: &Topology, p: &[DVec3], v: u32, g: u32) -> DVec3 {
 
 /// The edge point next to `v` on the edge `v - w` of face `f`: the average of `v`'s interior
 /// points in `f` and in the face across that edge.
-fn edge_point(topo: &Topology, p: &[DVec3], f: u32, v: u32, w: u32) -> DVec3 {
+pub(crate) fn edge_point(topo: &Topology, p: &[DVec3], f: u32, v: u32, w: u32) -> DVec3 {
     let e = topo.find_edge(v, w).expect("an edge of f");
     let other = topo
         .edge_faces(e)
@@ -178,36 +162,4 @@ pub fn acc_patch(topo: &Topology, p: &[DVec3], f: u32) -> Result<AccPatch, NotAc
         b[at(0, dv)] = edge_point(topo, p, f, v, v_end);
     }
     Ok(AccPatch { face: f, bezier: b })
-}
-
-/// Per edge `k` of face `f` (corner `k` to `k + 1`), the row of the patch across the edge next to
-/// it, from corner `k` to `k + 1`: the neighbour's edge point at corner `k` on its other edge
-/// there, its interior points of both corners, its edge point at corner `k + 1`; the same values
-/// (bit for bit) as the neighbour's own patch holds when it is an ACC patch too. With the edge's
-/// own row they give a cross-edge derivative both faces compute alike (watertight edge normals).
-pub fn neighbour_rows(topo: &Topology, p: &[DVec3], f: u32) -> Result<[[DVec3; 4]; 4], NotAcc> {
-    check_face(topo, f)?;
-    let fv = topo.face_vertices(f);
-    let mut rows = [[DVec3::ZERO; 4]; 4];
-    for (k, row) in rows.iter_mut().enumerate() {
-        let (v, w) = (fv[k], fv[(k + 1) % 4]);
-        let e = topo.find_edge(v, w).expect("an edge of f");
-        let g = topo
-            .edge_faces(e)
-            .iter()
-            .copied()
-            .find(|&g| g != f)
-            .expect("an interior edge has two faces");
-        let gv = topo.face_vertices(g);
-        let n = gv.len();
-        let j = gv.iter().position(|&x| x == v).expect("v is a corner of g");
-        let jw = (j + n - 1) % n;
-        *row = [
-            edge_point(topo, p, g, v, gv[(j + 1) % n]),
-            interior(topo, p, v, g),
-            interior(topo, p, w, g),
-            edge_point(topo, p, g, w, gv[(jw + n - 1) % n]),
-        ];
-    }
-    Ok(rows)
 }
