@@ -16,7 +16,7 @@ use glam::DVec3;
 use tessera::render::displace::displaced;
 use tessera::render::{Displacement, RenderDesc, Scheme};
 
-const SCHEMES: [Scheme; 7] = [
+const SCHEMES: [Scheme; 8] = [
     Scheme::BsplineOnly,
     Scheme::GregoryStencil,
     Scheme::GregoryVs,
@@ -24,6 +24,7 @@ const SCHEMES: [Scheme; 7] = [
     Scheme::Qas,
     Scheme::Acc,
     Scheme::Pm,
+    Scheme::PmVs,
 ];
 const SCALE: f32 = 0.08;
 

@@ -649,3 +649,176 @@ fn every_shared_mesh_the_construction_takes_is_g1() {
     eprintln!("{} meshes taken, {refused} refused: {taken:?}", taken.len());
     assert!(taken.len() >= 8, "{taken:?}");
 }
+
+/// Relative radial spread `(max - min) / mean` of `|x - centre|` over the patches of `mesh`.
+fn radial_spread(mesh: &ControlMesh, options: &PmOptions) -> f64 {
+    let topo = Topology::new(mesh).unwrap();
+    let centre = mesh.positions().iter().sum::<DVec3>() / mesh.positions().len() as f64;
+    let (mut lo, mut hi, mut sum, mut count) = (f64::MAX, 0.0f64, 0.0, 0usize);
+    for p in pm_patches(&topo, mesh.positions(), options).unwrap() {
+        let m = match &p {
+            PmPatch::Pm(pts) => (pts.len() - 1) / SECTOR_POINTS,
+            _ => 1,
+        };
+        for s in 0..m {
+            for (b, c) in [(0.0, 0.0), (0.5, 0.0), (0.3, 0.3), (0.2, 0.6), (0.0, 1.0)] {
+                let r = (p.sample(s, b, c).position - centre).length();
+                lo = lo.min(r);
+                hi = hi.max(r);
+                sum += r;
+                count += 1;
+            }
+        }
+    }
+    (hi - lo) / (sum / count as f64)
+}
+
+#[test]
+fn crease_scalar_four_fifths_is_sphere_like() {
+    // Paper §7 / Fig. 10: a uniform a = 4/5 makes the dodecahedron "sphere-like", a = 0 is the
+    // polyhedron. Measured on the regular dodecahedron, radial spread (max - min) / mean of the
+    // surface points: 0.229 at a = 0, 0.083 at the smooth 2/3, 0.044 at 4/5, falling
+    // monotonically up to its minimum 0.032 at a = 0.9 (0.050 at a = 1).
+    let mut mesh = dodecahedron();
+    let mut pos = mesh.positions().to_vec();
+    pos[0] /= 1.3; // the regular dodecahedron
+    mesh.set_positions(&pos).unwrap();
+    let topo = Topology::new(&mesh).unwrap();
+    let spread = |a: f64| {
+        radial_spread(
+            &mesh,
+            &PmOptions {
+                crease: Some(vec![a; topo.edge_count()]),
+                ..Default::default()
+            },
+        )
+    };
+    let grid: Vec<(f64, f64)> = (0..=20)
+        .map(|k| k as f64 / 20.0)
+        .map(|a| (a, spread(a)))
+        .collect();
+    eprintln!("radial spread over a: {grid:?}");
+    assert!(grid[..=16].windows(2).all(|w| w[1].1 < w[0].1), "{grid:?}");
+    let (s45, s23, s0) = (spread(0.8), spread(2.0 / 3.0), spread(0.0));
+    eprintln!("a = 4/5: {s45:.3e}, a = 2/3: {s23:.3e}, a = 0: {s0:.3e}");
+    assert!(s45 < 0.6 * s23 && s45 < 0.2 * s0, "{s45:e} {s23:e} {s0:e}");
+}
+
+/// `mesh` with the crease tags `creases` (vertex pairs) at `sharpness`.
+fn with_tags(mesh: &ControlMesh, edges: &[(u32, u32)], sharpness: f32) -> ControlMesh {
+    let mut s = String::new();
+    for p in mesh.positions() {
+        s += &format!("v {} {} {}\n", p.x, p.y, p.z);
+    }
+    let topo = Topology::new(mesh).unwrap();
+    for f in 0..topo.face_count() as u32 {
+        s += "f";
+        for &v in topo.face_vertices(f) {
+            s += &format!(" {}", v + 1);
+        }
+        s += "\n";
+    }
+    for &(a, b) in edges {
+        s += &format!("t crease 2/1/0 {a} {b} {sharpness}\n");
+    }
+    obj(&s, "tagged")
+}
+
+/// The largest distance from the Pm edge curves of `edges` to their control segments.
+fn edge_gap_to_polygon(mesh: &ControlMesh, edges: &[(u32, u32)]) -> f64 {
+    let topo = Topology::new(mesh).unwrap();
+    let options = PmOptions::default().with_crease_tags(&topo, None);
+    let patches = pm_patches(&topo, mesh.positions(), &options).unwrap();
+    let pos = mesh.positions();
+    let mut gap = 0.0f64;
+    for &(a, b) in edges {
+        let e = topo.find_edge(a, b).unwrap();
+        let f = topo.edge_faces(e)[0];
+        let k = topo.edge_face_locals(e)[0] as usize;
+        let (p, q) = {
+            let fv = topo.face_vertices(f);
+            (pos[fv[k] as usize], pos[fv[(k + 1) % fv.len()] as usize])
+        };
+        for t in EDGE_T {
+            let x = patches[f as usize].edge_sample(k, t).position;
+            let s = ((x - p).dot(q - p) / (q - p).length_squared()).clamp(0.0, 1.0);
+            gap = gap.max((x - (p + s * (q - p))).length());
+        }
+    }
+    gap / mesh.bbox_diagonal()
+}
+
+#[test]
+fn crease_tags_pull_the_surface_to_the_tagged_control_edges() {
+    // The top square of the cube tagged with growing sharpness: a = (2/3) 2^-s on those edges
+    // (crease.rs) moves their edge curves monotonically towards the control polygon (largest
+    // gap, fraction of the diagonal: 0.158 untagged, 0.101 at s = 1, 0.060 at s = 4, 0.056
+    // infinitely sharp: the corners' vertex points still average their untagged vertical
+    // edges); infinitely sharp tags on every edge give the control polyhedron exactly.
+    let cube = osd("catmark_cube");
+    let topo = Topology::new(&cube).unwrap();
+    let top: Vec<(u32, u32)> = {
+        let pos = cube.positions();
+        let zmax = pos.iter().map(|p| p.z).fold(f64::MIN, f64::max);
+        (0..topo.edge_count() as u32)
+            .map(|e| topo.edge_vertices(e))
+            .filter(|&[a, b]| pos[a as usize].z == zmax && pos[b as usize].z == zmax)
+            .map(|[a, b]| (a, b))
+            .collect()
+    };
+    assert_eq!(top.len(), 4);
+    let gaps: Vec<(f32, f64)> = [0.0, 0.5, 1.0, 2.0, 4.0, 10.0]
+        .map(|s| (s, edge_gap_to_polygon(&with_tags(&cube, &top, s), &top)))
+        .to_vec();
+    eprintln!("gap of the tagged edges to the control polygon by sharpness: {gaps:?}");
+    assert!(gaps.windows(2).all(|w| w[1].1 < w[0].1), "{gaps:?}");
+    assert!(gaps[5].1 < 0.4 * gaps[0].1, "{gaps:?}");
+
+    let all: Vec<(u32, u32)> = (0..topo.edge_count() as u32)
+        .map(|e| topo.edge_vertices(e))
+        .map(|[a, b]| (a, b))
+        .collect();
+    let sharp = with_tags(&cube, &all, 10.0);
+    let st = Topology::new(&sharp).unwrap();
+    let from_tags = pm_patches(
+        &st,
+        sharp.positions(),
+        &PmOptions::default().with_crease_tags(&st, None),
+    )
+    .unwrap();
+    let zeros = pm_patches(
+        &topo,
+        cube.positions(),
+        &PmOptions {
+            crease: Some(vec![0.0; topo.edge_count()]),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(from_tags, zeros);
+    assert!(edge_gap_to_polygon(&sharp, &all) < 1e-12);
+}
+
+#[test]
+fn crease_tags_bring_pm_closer_to_the_creased_limit() {
+    // The exact limit keeps the tagged creases: Pm reading the tags (a = (2/3) 2^-s) is closer
+    // to it than Pm ignoring them, on shared meshes with semi-sharp and sharp tags.
+    for name in [
+        "catmark_cube_creases0",
+        "catmark_cube_creases1",
+        "catmark_torus_creases0",
+        "catmark_pyramid_creases0",
+    ] {
+        let mesh = osd(name);
+        let topo = Topology::new(&mesh).unwrap();
+        let tagged = PmOptions::default().with_crease_tags(&topo, None);
+        assert!(tagged.crease.is_some(), "{name}: no tags read");
+        let (rms0, max0, n0) = distance_to_limit(&mesh, &PmOptions::default(), 6);
+        let (rms1, max1, n1) = distance_to_limit(&mesh, &tagged, 6);
+        eprintln!(
+            "{name}: ignoring tags rms {rms0:.2e} max {max0:.2e} normal {n0:.2e} rad; \
+             with crease scalars rms {rms1:.2e} max {max1:.2e} normal {n1:.2e} rad"
+        );
+        assert!(rms1 < rms0, "{name}: {rms1:e} >= {rms0:e}");
+    }
+}

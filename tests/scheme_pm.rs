@@ -1,4 +1,5 @@
-//! Conformance of `--scheme pm` (Pm-patches, Myles, Ni, Peters 2008; stencil variant): every
+//! Conformance of `--scheme pm` (Pm-patches, Myles, Ni, Peters 2008; stencil variant) and
+//! `--scheme pm-vs` (vertex-stage variant): every
 //! captured TES point equals the CPU construction `patch::pm` at its captured parameters
 //! (ordinary and polar facets in the face's domain, Pm sectors as `f:k` with the sector's
 //! barycentric weights), the points of every patch kind are bitwise watertight (positions and,
@@ -21,12 +22,15 @@ use tessera::mesh::{ControlMesh, ObjOptions};
 use tessera::patch::pm::{NotPm, PmPatch};
 use tessera::render::animate::twist;
 use tessera::render::schemes::pm::{class_code, kind_name, reference_sample, PmTables};
+use tessera::render::schemes::pm_vs::PmVsTables;
 use tessera::render::{
     plan_for_scheme, CameraSpec, CaptureRecord, ColorBy, OffscreenDesc, RefusalReason, RenderDesc,
     Scheme, SchemeLimits, Spacing, SurfaceData, TessMode, TessSettings,
 };
 
 const SCHEME: Scheme = Scheme::Pm;
+/// Both construction variants (the stencil rows and the vertex stage + TCS assembly).
+const SCHEMES: [Scheme; 2] = [Scheme::Pm, Scheme::PmVs];
 
 /// Closed tri/quad/pent meshes: all-quad (ordinary patches), triangles and quads, the mixed
 /// mesh with its pentagon, and polar capsules.
@@ -47,7 +51,15 @@ fn meshes() -> Vec<(String, ControlMesh)> {
     out
 }
 
+/// The Pm tables of either variant's part.
 fn tables(surface: &SurfaceData) -> &PmTables {
+    if let Some(p) = surface.part("pm-vs") {
+        return &p
+            .as_any()
+            .downcast_ref::<PmVsTables>()
+            .expect("pm-vs tables")
+            .pm;
+    }
     surface
         .part("pm")
         .expect("pm draws")
@@ -77,14 +89,30 @@ fn gpu_equals_cpu_construction() {
     let mut kinds = BTreeSet::new();
     let mut cases = meshes();
     cases.push(("catmark_bishop".into(), mesh("catmark_bishop")));
-    for (name, m) in cases {
-        let (surface, records) = draw(&ctx, &m, SCHEME, uniform(5.0));
+    // Crease tags become crease scalars (eq. 14) on the GPU as on the CPU.
+    cases.push((
+        "catmark_torus_creases0".into(),
+        mesh("catmark_torus_creases0"),
+    ));
+    for ((name, m), scheme) in cases
+        .iter()
+        .flat_map(|c| SCHEMES.iter().map(move |&s| (c, s)))
+    {
+        let name = format!("{name} {}", scheme.name());
+        let (surface, records) = draw(&ctx, m, scheme, uniform(5.0));
         let t = tables(&surface);
         let patches: HashMap<u32, PmPatch> = t.patches(&surface.positions).into_iter().collect();
         let diag = m.bbox_diagonal();
         // The bishop's smallest faces are ~1e-3 of the diagonal: f32 normals there are good to
-        // ~1e-4 rad (measured 1.1e-4; 6.8e-3 before the rows were summed relative to a corner).
-        let normal_tol = if name == "catmark_bishop" { 1e-3 } else { 1e-4 };
+        // ~1e-4 rad (measured 1.1e-4 with its tags ignored; 6.8e-3 before the rows were summed
+        // relative to a corner). Its 224 sharpness-6 tags are crease scalars a = 0.0104: the
+        // patches beside them are nearly folded, their cross derivatives short, and f32 normals
+        // there measure 3.0e-3 rad in both variants.
+        let normal_tol = if name.starts_with("catmark_bishop") {
+            5e-3
+        } else {
+            1e-4
+        };
         let (mut worst_p, mut worst_n) = (0.0f64, 0.0f64);
         for r in &records {
             let patch = &patches[&r.face];
@@ -143,13 +171,22 @@ fn watertight() {
     ];
     let mut cases = meshes();
     cases.push(("hexagon fan".into(), hexagon_mesh()));
-    for (name, m) in &cases {
+    cases.push((
+        "catmark_cube_creases2".into(),
+        mesh("catmark_cube_creases2"),
+    ));
+    for ((name, m), scheme) in cases
+        .iter()
+        .flat_map(|c| SCHEMES.iter().map(move |&s| (c, s)))
+    {
         for tess in &settings {
-            let (_, records) = draw(&ctx, m, SCHEME, *tess);
+            let (_, records) = draw(&ctx, m, scheme, *tess);
             let pairs = assert_coincident_points_equal(m, &records);
             eprintln!(
-                "{name} {:?} {}: {pairs} coincident pairs",
-                tess.spacing, tess.level
+                "{name} {} {:?} {}: {pairs} coincident pairs",
+                scheme.name(),
+                tess.spacing,
+                tess.level
             );
             assert!(pairs > 0, "{name} {tess:?}: no coincident points");
         }
@@ -168,23 +205,27 @@ fn sorted(mut records: Vec<CaptureRecord>) -> Vec<CaptureRecord> {
 #[test]
 fn animation_equals_rebuild() {
     let Some(ctx) = context() else { return };
-    for (name, m) in [
+    for ((name, m), scheme) in [
         ("embedded:mixed".to_string(), mesh("embedded:mixed")),
         ("capsule5".to_string(), capsule(5, 3)),
-    ] {
+    ]
+    .iter()
+    .flat_map(|c| SCHEMES.iter().map(move |&s| (c, s)))
+    {
+        let name = format!("{name} {}", scheme.name());
         let moved = twist(m.positions(), DVec3::Z, 1.5, 0.3);
         let render = RenderDesc {
             tess: uniform(5.0),
             ..RenderDesc::default()
         };
-        let surface = scheme_surface(&ctx, &m, 5, SCHEME);
+        let surface = scheme_surface(&ctx, m, 5, scheme);
         let mut anim = Animation::new(&ctx, &surface, &render, &offscreen(64, 64));
         let before = sorted(anim.frame());
         anim.move_to(&moved).unwrap();
         let animated = sorted(anim.frame());
         let mut moved_mesh = m.clone();
         moved_mesh.set_positions(&moved).unwrap();
-        let (_, rebuilt) = draw(&ctx, &moved_mesh, SCHEME, uniform(5.0));
+        let (_, rebuilt) = draw(&ctx, &moved_mesh, scheme, uniform(5.0));
         assert!(!animated.is_empty(), "{name}: nothing captured");
         assert!(animated != before, "{name}: the twist moved nothing");
         assert!(
@@ -230,6 +271,11 @@ fn golden() {
     let Some(ctx) = context() else { return };
     let m = mesh("embedded:mixed");
     check_golden("pm_mixed_patch_type", &patch_type_image(&ctx, &m, SCHEME));
+    // The vertex-stage variant draws the same surface: the same golden.
+    check_golden(
+        "pm_mixed_patch_type",
+        &patch_type_image(&ctx, &m, Scheme::PmVs),
+    );
     let render = RenderDesc {
         tess: uniform(8.0),
         color_by: ColorBy::PatchType,
@@ -247,6 +293,26 @@ fn golden() {
     check_golden(
         "pm_mixed_below_patch_type",
         &image(&ctx, &surface, &render, &below),
+    );
+    assert_validation_clean(&ctx);
+}
+
+/// Crease scalars from the mesh's tags (paper Fig. 12, the axe blade): catmark_cube_creases0's
+/// two sharpness-2 edges (a = (2/3) 2^-2 = 1/6) are a sharp blade on the otherwise rounded
+/// cube, shaded, level 12.
+#[test]
+fn crease_golden() {
+    let Some(ctx) = context() else { return };
+    let m = mesh("catmark_cube_creases0");
+    let render = RenderDesc {
+        tess: uniform(12.0),
+        ..RenderDesc::default()
+    };
+    let surface = scheme_surface(&ctx, &m, 12, SCHEME);
+    assert!(surface.fallback_faces.is_empty());
+    check_golden(
+        "pm_cube_creases0_blade",
+        &image(&ctx, &surface, &render, &offscreen(256, 256)),
     );
     assert_validation_clean(&ctx);
 }

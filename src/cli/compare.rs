@@ -90,7 +90,8 @@ pub fn run(args: CompareArgs) -> Result<()> {
         plan: PlanOptions::new(SchemeLimits::from_context(&ctx))
             .with_isolation(args.adaptive.isolation)
             .with_single_crease(args.adaptive.single_crease)
-            .with_gregory_tangents(args.adaptive.tangents()),
+            .with_gregory_tangents(args.adaptive.tangents())
+            .with_pm_crease_scalar(args.adaptive.pm_crease_scalar),
     };
     let schemes = if args.schemes.is_empty() {
         Scheme::ALL.to_vec()

@@ -207,6 +207,21 @@ pub struct AdaptiveArgs {
     #[arg(long, default_value_t = GregoryTangents::default(), value_name = "paper|optimal",
           value_parser = |s: &str| s.parse::<GregoryTangents>())]
     pub gregory_tangents: GregoryTangents,
+    /// `--scheme pm`: crease scalar `a` in [0, 1] of every untagged edge (Myles, Ni, Peters 2008
+    /// eq. 14): 2/3 (default) is the smooth surface, 0 the control polyhedron, 4/5 rounder;
+    /// tagged edges of sharpness `s` get `a · 2^-s` (0 when infinitely sharp).
+    #[arg(long, value_name = "A", value_parser = parse_crease_scalar)]
+    pub pm_crease_scalar: Option<f64>,
+}
+
+/// A crease scalar in [0, 1].
+fn parse_crease_scalar(s: &str) -> std::result::Result<f64, String> {
+    let a: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
+    if (0.0..=1.0).contains(&a) {
+        Ok(a)
+    } else {
+        Err(format!("crease scalar {s} is outside [0, 1]"))
+    }
 }
 
 impl AdaptiveArgs {
@@ -275,6 +290,7 @@ pub fn plan_options(ctx: &Context, args: &AdaptiveArgs) -> tessera::render::Plan
         .with_isolation(args.isolation)
         .with_single_crease(args.single_crease)
         .with_gregory_tangents(args.tangents())
+        .with_pm_crease_scalar(args.pm_crease_scalar)
 }
 
 /// The surface of `mesh` for the `--scheme` named `scheme` on `ctx`'s device.

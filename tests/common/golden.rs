@@ -58,6 +58,9 @@ const TOLERANCES: &[(&str, Tolerance)] = &[
     // below; measured 0 against today's render, which made them); as qas_mixed_patch_type
     ("pm_mixed_patch_type", tol(0.006, 0.05)),
     ("pm_mixed_below_patch_type", tol(0.006, 0.05)),
+    // new with the Pm crease scalars (catmark_cube_creases0 shaded, its two tagged edges a
+    // sharp blade; measured 0 against today's render, which made it); as pm_mixed_patch_type
+    ("pm_cube_creases0_blade", tol(0.006, 0.05)),
     // new with examples/engine.rs (the engine's checkered ground and the adaptive scheme on
     // embedded:mixed, patch-type colours, last of 6 twisted frames; measured 0 against today's
     // render, which made it); as adaptive_car_type

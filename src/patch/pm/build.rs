@@ -3,7 +3,7 @@
 use super::construct::{bicubic, pm_facet, polar};
 use super::corner::{facet_corner, FacetCorner};
 use super::error::NotPm;
-use super::vertex::{check_vertex, pm_vertex, PmOptions, PmVertex, SMOOTH_CREASE};
+use super::vertex::{check_vertex, pm_vertex, PmOptions, PmVertex};
 use crate::patch::gregory::{GregoryPoint, Weights};
 use crate::topology::Topology;
 use glam::DVec3;
@@ -135,13 +135,7 @@ pub fn pm_patch<P: GregoryPoint>(
         FacetClass::Ordinary => PmPatch::Bicubic(Box::new(bicubic(&corners))),
         FacetClass::Polar { pole } => {
             let (a, b) = ((pole + 1) % 3, (pole + 2) % 3);
-            let crease = |k: usize| {
-                let e = topo.face_edges(face)[k];
-                options
-                    .crease
-                    .as_ref()
-                    .map_or(SMOOTH_CREASE, |c| c[e as usize])
-            };
+            let crease = |k: usize| options.edge_crease(topo.face_edges(face)[k]);
             // Edge `pole` joins the pole and corner a; edge `b` joins corner b and the pole.
             let h = polar(
                 &corners[a],

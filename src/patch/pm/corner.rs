@@ -28,13 +28,24 @@ pub struct FacetCorner<P> {
     pub prev_spoke: usize,
 }
 
-/// Corner `k` of facet `face` from the per-vertex data `vert` of its vertex.
-pub fn facet_corner<P: GregoryPoint>(
-    topo: &Topology,
-    face: u32,
-    k: usize,
-    vert: &PmVertex<P>,
-) -> FacetCorner<P> {
+/// Where a facet's corner `k` reads its vertex's data: the paper's per-facet input `j_k` and
+/// the spokes and slots next to it (indices into the vertex's ring).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CornerSlots {
+    /// The facet's slot in the ring (facet `j` lies between spokes `j` and `j + 1`).
+    pub slot: usize,
+    /// Slot of the facet across edge `k` (to corner `k + 1`).
+    pub f_next: usize,
+    /// Slot of the facet across edge `k - 1`.
+    pub f_prev: usize,
+    /// Spoke of edge `k`.
+    pub next_spoke: usize,
+    /// Spoke of edge `k - 1`.
+    pub prev_spoke: usize,
+}
+
+/// The ring indices corner `k` of facet `face` reads.
+pub fn corner_slots(topo: &Topology, face: u32, k: usize) -> CornerSlots {
     let fv = topo.face_vertices(face);
     let s = fv.len();
     let w = fv[k];
@@ -55,25 +66,36 @@ pub fn facet_corner<P: GregoryPoint>(
         next_spoke
     };
     let (f_next, f_prev) = if slot == prev_spoke {
-        (
-            vert.f[(slot + 1) % n].clone(),
-            vert.f[(slot + n - 1) % n].clone(),
-        )
+        ((slot + 1) % n, (slot + n - 1) % n)
     } else {
-        (
-            vert.f[(slot + n - 1) % n].clone(),
-            vert.f[(slot + 1) % n].clone(),
-        )
+        ((slot + n - 1) % n, (slot + 1) % n)
     };
-    FacetCorner {
-        v: vert.v.clone(),
-        next: vert.tangent(next_spoke),
-        prev: vert.tangent(prev_spoke),
-        f_in: vert.f[slot].clone(),
+    CornerSlots {
+        slot,
         f_next,
         f_prev,
-        valence: n,
         next_spoke,
         prev_spoke,
+    }
+}
+
+/// Corner `k` of facet `face` from the per-vertex data `vert` of its vertex.
+pub fn facet_corner<P: GregoryPoint>(
+    topo: &Topology,
+    face: u32,
+    k: usize,
+    vert: &PmVertex<P>,
+) -> FacetCorner<P> {
+    let c = corner_slots(topo, face, k);
+    FacetCorner {
+        v: vert.v.clone(),
+        next: vert.tangent(c.next_spoke),
+        prev: vert.tangent(c.prev_spoke),
+        f_in: vert.f[c.slot].clone(),
+        f_next: vert.f[c.f_next].clone(),
+        f_prev: vert.f[c.f_prev].clone(),
+        valence: vert.valence(),
+        next_spoke: c.next_spoke,
+        prev_spoke: c.prev_spoke,
     }
 }

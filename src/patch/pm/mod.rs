@@ -13,8 +13,9 @@
 //!   ([`construct::pm_facet`]).
 //!
 //! Facets with more than five sides, holes, facets on the boundary or at a vertex without a
-//! closed fan are refused ([`NotPm`], naming the facet). Sharpness tags of the mesh are not
-//! read: creases come from the crease scalars of [`PmOptions`] only.
+//! closed fan are refused ([`NotPm`], naming the facet). Sharpness tags become crease scalars
+//! ([`PmOptions::with_crease_tags`], eq. 14: `a = (2/3) 2^{-s}` for an edge of sharpness `s`,
+//! `0` when infinitely sharp; derivation in `crease.rs`).
 //!
 //! Control points per facet (paper Table 1; the quad row is lost in the scan):
 //!
@@ -95,6 +96,7 @@
 mod build;
 pub mod construct;
 mod corner;
+mod crease;
 mod error;
 mod eval;
 mod vertex;
@@ -103,11 +105,12 @@ pub use build::{
     classify, is_pole, pm_facets, pm_facets_weights, pm_patch, pm_patches, pm_vertices, FacetClass,
     PmPatch,
 };
-pub use corner::{facet_corner, FacetCorner};
+pub use corner::{corner_slots, facet_corner, CornerSlots, FacetCorner};
+pub use crease::crease_scalar;
 pub use error::NotPm;
 pub use eval::{
     bicubic_eval, bicubic_sample, pm_sector_sample, polar_as_bicubic, quartic_eval, PmSample,
 };
 pub use vertex::{
-    cos_n, lambda, pm_vertex, sin_n, PmOptions, PmVertex, TangentScale, SMOOTH_CREASE,
+    cos_n, far_vertices, lambda, pm_vertex, sin_n, PmOptions, PmVertex, TangentScale, SMOOTH_CREASE,
 };

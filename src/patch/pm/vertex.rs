@@ -91,7 +91,8 @@ pub struct PmOptions {
 }
 
 impl PmOptions {
-    fn crease(&self, e: u32) -> f64 {
+    /// The crease scalar of edge `e` ([`SMOOTH_CREASE`] without scalars).
+    pub fn edge_crease(&self, e: u32) -> f64 {
         self.crease
             .as_ref()
             .map_or(SMOOTH_CREASE, |a| a[e as usize])
@@ -132,12 +133,7 @@ pub fn pm_vertex<P: GregoryPoint>(
     let f: Vec<P> = (0..n)
         .map(|j| {
             let (a, b) = (spoke(j), spoke(j + 1));
-            let far: Vec<u32> = topo
-                .face_vertices(topo.vertex_faces(v)[j])
-                .iter()
-                .copied()
-                .filter(|&x| x != v && x != a && x != b)
-                .collect();
+            let far = far_vertices(topo, v, j);
             let pa = point(a);
             let pb = point(b);
             let pbar = if far.is_empty() {
@@ -152,12 +148,28 @@ pub fn pm_vertex<P: GregoryPoint>(
                 &pa,
                 &pb,
                 &pbar,
-                options.crease(edges[j]),
-                options.crease(edges[(j + 1) % n]),
+                options.edge_crease(edges[j]),
+                options.edge_crease(edges[(j + 1) % n]),
             )
         })
         .collect();
     vertex_from_faces(p, f, options.tangent_scale)
+}
+
+/// The vertices of facet `j` of `v`'s ring (between spokes `j` and `j + 1`) that are neither `v`
+/// nor a spoke end, in facet order: `p̄_j` is their mean (none for a triangle).
+pub fn far_vertices(topo: &Topology, v: u32, j: usize) -> Vec<u32> {
+    let edges = topo.vertex_edges(v);
+    let n = edges.len();
+    let (a, b) = (
+        topo.other_vertex(edges[j % n], v),
+        topo.other_vertex(edges[(j + 1) % n], v),
+    );
+    topo.face_vertices(topo.vertex_faces(v)[j])
+        .iter()
+        .copied()
+        .filter(|&x| x != v && x != a && x != b)
+        .collect()
 }
 
 /// Eq. (14): the face point of facet `j` with crease scalars `a_j` (spoke `j`, end `pa`) and

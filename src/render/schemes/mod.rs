@@ -24,6 +24,7 @@ pub mod gregory;
 pub mod gregory_stencil;
 pub mod gregory_vs;
 pub mod pm;
+pub mod pm_vs;
 pub mod qas;
 pub mod records;
 pub mod single_crease;
@@ -72,6 +73,10 @@ pub enum Scheme {
     /// triangles, m quartic sectors otherwise), every coefficient a one-ring stencil summed in
     /// the TCS; other facets from the exact CPU reference.
     Pm,
+    /// Pm-patches, vertex-stage variant (the paper's GPU construction, §6.1): the per-vertex
+    /// quantities of each control vertex in the vertex shader, each patch assembled from its
+    /// corners in the TCS, evaluated as `Pm`.
+    PmVs,
 }
 
 /// One registry line: a user-facing scheme, its command-line name and its passes in order.
@@ -90,7 +95,7 @@ pub struct SchemeEntry {
 }
 
 /// Every scheme. Adding one: a [`Scheme`] variant and a line here.
-pub static REGISTRY: [SchemeEntry; 7] = [
+pub static REGISTRY: [SchemeEntry; 8] = [
     SchemeEntry {
         scheme: Scheme::BsplineOnly,
         name: "bspline-only",
@@ -148,11 +153,18 @@ pub static REGISTRY: [SchemeEntry; 7] = [
         continuity: "G1 everywhere by construction (C1 between ordinary patches); approximates Catmull-Clark (ordinary quads on regular rings exact)",
         passes: &[&pm::PM],
     },
+    SchemeEntry {
+        scheme: Scheme::PmVs,
+        name: "pm-vs",
+        control_points: "16 (ordinary bicubic), 13 (polar singular bicubic), 19 / 25 / 31 (Pm-patch of 3 / 4 / 5 quartic sectors), per-vertex stage in VS + assembly in TCS",
+        continuity: "as pm (the same construction and evaluation; G1 everywhere, C1 between ordinary patches)",
+        passes: &[&pm_vs::PM_VS],
+    },
 ];
 
 impl Scheme {
     /// Every scheme, in registry order.
-    pub const ALL: [Scheme; 7] = [
+    pub const ALL: [Scheme; 8] = [
         Scheme::BsplineOnly,
         Scheme::GregoryVs,
         Scheme::GregoryStencil,
@@ -160,6 +172,7 @@ impl Scheme {
         Scheme::Qas,
         Scheme::Acc,
         Scheme::Pm,
+        Scheme::PmVs,
     ];
 
     /// The registry line of this scheme.

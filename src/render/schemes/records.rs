@@ -144,37 +144,49 @@ impl RecordPass {
     pub fn record(&self, cmd: vk::CommandBuffer, slot: usize) {
         let dev = self.ctx.device();
         for (pipeline, first, count) in &self.groups {
-            bind_draw_state(
-                dev,
-                cmd,
-                pipeline,
-                &[self.sets[slot]],
-                None,
-                self.indices.raw(),
-            );
-            // Runs below lavapipe's domain-point budget per draw; record_patch_draws further
-            // chunks each run by its index count.
-            let mut done = 0;
-            while done < *count {
-                let n = self.per_draw.min(*count - done);
-                let draws = PatchDraws {
-                    first_patch: first + done,
-                    first_index: first + done,
-                    count: n,
-                    points: 1,
-                    sub_draws: 1,
-                    sub_flag: 0,
-                };
-                record_patch_draws(dev, cmd, pipeline, &draws, 1);
-                done += n;
-            }
+            let run = PatchDraws {
+                first_patch: *first,
+                first_index: *first,
+                count: *count,
+                points: 1,
+                sub_draws: 1,
+                sub_flag: 0,
+            };
+            let draw_state = (&[self.sets[slot]][..], self.indices.raw());
+            record_run(dev, cmd, pipeline, draw_state, &run, self.per_draw);
         }
+    }
+}
+
+/// Binds `pipeline` with `draw_state` (descriptor sets, index buffer) and records the patches
+/// of `run` (drawn whole) in draws of at most `per_draw` patches (below lavapipe's domain-point
+/// budget per draw), which [`record_patch_draws`] further chunks by their index count.
+pub fn record_run(
+    dev: &ash::Device,
+    cmd: vk::CommandBuffer,
+    pipeline: &Pipeline,
+    draw_state: (&[vk::DescriptorSet], vk::Buffer),
+    run: &PatchDraws,
+    per_draw: u32,
+) {
+    bind_draw_state(dev, cmd, pipeline, draw_state.0, None, draw_state.1);
+    let mut done = 0;
+    while done < run.count {
+        let n = per_draw.min(run.count - done);
+        let draws = PatchDraws {
+            first_patch: run.first_patch + done,
+            first_index: run.first_index + done * run.points,
+            count: n,
+            ..*run
+        };
+        record_patch_draws(dev, cmd, pipeline, &draws, 1);
+        done += n;
     }
 }
 
 /// The largest level a patch edge or interior can get: the uniform level, or in screen-space
 /// mode the device's largest level.
-fn largest_level(pc: &PassContext<'_>) -> f32 {
+pub fn largest_level(pc: &PassContext<'_>) -> f32 {
     match pc.desc.tess.mode {
         TessMode::Uniform => pc.desc.tess.level,
         _ => pc.ctx.info().limits.max_tessellation_generation_level as f32,

@@ -71,6 +71,10 @@ pub struct PlanOptions {
     /// Edge-tangent lengths of the Gregory construction in `gregory-vs`, `gregory-stencil` and
     /// the adaptive scheme's end caps (`--gregory-tangents paper|optimal`).
     pub gregory_tangents: GregoryTangents,
+    /// Crease scalar of the untagged edges of `--scheme pm` (`--pm-crease-scalar`, eq. 14 of
+    /// Myles, Ni, Peters 2008; `None`: 2/3, the smooth surface); tagged edges get
+    /// `a · 2^{-sharpness}` ([`crate::patch::pm::crease_scalar`]).
+    pub pm_crease_scalar: Option<f64>,
 }
 
 impl PlanOptions {
@@ -87,6 +91,15 @@ impl PlanOptions {
             isolation: Self::DEFAULT_ISOLATION,
             single_crease: Self::DEFAULT_SINGLE_CREASE,
             gregory_tangents: GregoryTangents::default(),
+            pm_crease_scalar: None,
+        }
+    }
+
+    /// The same options with the Pm crease scalar of untagged edges (`None`: smooth, 2/3).
+    pub fn with_pm_crease_scalar(self, pm_crease_scalar: Option<f64>) -> PlanOptions {
+        PlanOptions {
+            pm_crease_scalar,
+            ..self
         }
     }
 

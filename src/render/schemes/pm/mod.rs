@@ -3,7 +3,9 @@
 //! patches on the quad domain, polar triangles as singular bicubics on the triangle domain, and
 //! every other facet as `m` quartic sectors, the triangle domain drawn once per sector. Facets
 //! the construction refuses (more than five sides, boundaries, open fans, holes) stay on the
-//! exact CPU path with a typed [`RefusalReason::NotPm`].
+//! exact CPU path with a typed [`RefusalReason::NotPm`]. The mesh's sharpness tags become crease
+//! scalars (eq. 14, [`crate::patch::pm::crease_scalar`]: `a = a_0 2^{-s}`, `0` when infinitely
+//! sharp), untagged edges `a_0 = 2/3` or `--pm-crease-scalar` ([`PlanOptions::pm_crease_scalar`]).
 //!
 //! Every coefficient is a stencil row over the control vertices ([`tables`]): the TCS sums
 //! weights × control positions (set 0 binding 8), so animation only re-uploads the control
@@ -81,25 +83,10 @@ impl PatchScheme for PmScheme {
         "pm"
     }
 
-    fn plan(&self, topo: &Arc<Topology>, candidates: &[u32], _: &PlanOptions) -> PassPlan {
-        let options = PmOptions::default();
-        let (tables, refused) = PmGpuTables::build(topo, candidates, &options);
-        let refused = refused
-            .into_iter()
-            .map(|e| Refusal {
-                face: e.face(),
-                pass: self.name(),
-                reason: RefusalReason::NotPm(e),
-            })
-            .collect();
+    fn plan(&self, topo: &Arc<Topology>, candidates: &[u32], opts: &PlanOptions) -> PassPlan {
+        let (tables, refused) = PmTables::plan(self.name(), topo, candidates, opts);
         PassPlan {
-            tables: (!tables.faces.is_empty()).then(|| {
-                Arc::new(PmTables {
-                    topo: topo.clone(),
-                    options,
-                    gpu: Arc::new(tables),
-                }) as Arc<dyn PassTables>
-            }),
+            tables: tables.map(|t| Arc::new(t) as Arc<dyn PassTables>),
             refused,
         }
     }
@@ -115,6 +102,43 @@ pub struct PmTables {
 }
 
 impl PmTables {
+    /// The tables of the facets among `candidates` the construction takes (`None` when none),
+    /// crease scalars from the sharpness tags and `--pm-crease-scalar` (eq. 14), and the
+    /// refusals, attributed to pass `pass`.
+    pub fn plan(
+        pass: &'static str,
+        topo: &Arc<Topology>,
+        candidates: &[u32],
+        opts: &PlanOptions,
+    ) -> (Option<PmTables>, Vec<Refusal>) {
+        let options = PmOptions::default().with_crease_tags(topo, opts.pm_crease_scalar);
+        let (tables, refused) = PmGpuTables::build(topo, candidates, &options);
+        let refused = refused
+            .into_iter()
+            .map(|e| Refusal {
+                face: e.face(),
+                pass,
+                reason: RefusalReason::NotPm(e),
+            })
+            .collect();
+        let tables = (!tables.faces.is_empty()).then(|| PmTables {
+            topo: topo.clone(),
+            options,
+            gpu: Arc::new(tables),
+        });
+        (tables, refused)
+    }
+
+    /// The topology.
+    pub fn topology(&self) -> &Arc<Topology> {
+        &self.topo
+    }
+
+    /// The construction's settings (crease scalars).
+    pub fn options(&self) -> &PmOptions {
+        &self.options
+    }
+
     /// The CPU construction of every drawn facet for control positions `positions`.
     pub fn patches(&self, positions: &[DVec3]) -> Vec<(u32, PmPatch)> {
         let all = pm_facets(&self.topo, positions, &self.options);

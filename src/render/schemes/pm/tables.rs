@@ -209,6 +209,12 @@ impl PmGpuTables {
                 Err(e) => refused.push(e),
             }
         }
+        // Pm facets by side count, so each m is one contiguous run (the vertex-stage variant
+        // draws each m with its own patch size).
+        groups[2].sort_by_key(|&(_, c)| match c {
+            FacetClass::Pm { m } => m,
+            _ => 0,
+        });
         let verts = pm_vertices(topo, &Weights::unit, options);
         let mut patches: Vec<Patch> = Vec::new();
         let mut counts = [0u32; 3];
