@@ -6,9 +6,7 @@
 
 mod common;
 
-use std::collections::HashMap;
-
-use common::capture::{capture, offscreen, param_key, scheme_surface, uniform};
+use common::capture::{capture, offscreen, param_key, points_by_param, scheme_surface, uniform};
 use common::gpu::{assert_validation_clean, context};
 use common::meshes::mesh;
 use common::watertight::assert_coincident_points_equal;
@@ -26,9 +24,6 @@ const SCHEMES: [Scheme; 7] = [
     Scheme::Pm,
 ];
 const SCALE: f32 = 0.08;
-
-/// A captured position and normal.
-type PointAndNormal = [[f32; 3]; 2];
 
 fn desc(level: f32, scale: f32) -> RenderDesc {
     RenderDesc {
@@ -80,20 +75,7 @@ fn displacement_matches_the_cpu_reference() {
     for scheme in SCHEMES {
         let surface = scheme_surface(&ctx, &m, 5, scheme);
         let run = |scale| capture(&ctx, &surface, &desc(5.0, scale), &offscreen(64, 64), false);
-        // Undisplaced points by parameter; a parameter captured twice (shared domain points of
-        // sub-faces, several TES invocations) is kept only if both agree.
-        let mut plain: HashMap<(u32, u32, u32), Option<PointAndNormal>> = HashMap::new();
-        for r in run(0.0).records {
-            let v = [r.position, r.normal];
-            plain
-                .entry(param_key(&r))
-                .and_modify(|e| {
-                    if *e != Some(v) {
-                        *e = None
-                    }
-                })
-                .or_insert(Some(v));
-        }
+        let plain = points_by_param(&run(0.0).records);
         let (mut worst_p, mut worst_n, mut largest, mut n) = (0.0f64, 0.0f64, 0.0f64, 0);
         for r in run(SCALE).records {
             let Some(Some([p, nrm])) = plain.get(&param_key(&r)) else {

@@ -214,7 +214,9 @@ impl Buffer {
 
 impl Drop for Buffer {
     fn drop(&mut self) {
-        self.shared.wait_pending();
+        if !self.shared.wait_pending() {
+            return;
+        }
         // SAFETY: the caller guarantees the GPU no longer uses the buffer (submit_once waits).
         unsafe { self.shared.device.destroy_buffer(self.raw, None) };
         if let Some(a) = self.allocation.take() {
@@ -467,7 +469,9 @@ impl Image {
 
 impl Drop for Image {
     fn drop(&mut self) {
-        self.shared.wait_pending();
+        if !self.shared.wait_pending() {
+            return;
+        }
         // SAFETY: the GPU no longer uses the image (all submissions are waited on).
         unsafe {
             self.shared.device.destroy_image_view(self.view, None);

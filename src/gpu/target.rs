@@ -458,7 +458,9 @@ impl RenderTarget {
 
 impl Drop for RenderTarget {
     fn drop(&mut self) {
-        self.shared.wait_pending();
+        if !self.shared.wait_pending() {
+            return;
+        }
         // SAFETY: no GPU work uses the target any more; images drop after this.
         unsafe {
             self.shared
