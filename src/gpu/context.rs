@@ -205,6 +205,12 @@ impl Drop for Shared {
 
 /// The Vulkan context: instance, device, queue, allocator, validation log, pipeline cache.
 /// Cheap to clone (shared handle). Resources created from it keep it alive.
+///
+/// Dropping never panics, also after a timeout or device loss: a resource dropped while one of
+/// the context's submissions has timed out waits for that work at most the context's timeout;
+/// finished or the device lost (logged), it is destroyed; still running, the error is logged
+/// and the resource is left alive ([`Self::leaked_objects`]) rather than freed under the GPU.
+/// The last handle's drop waits for the device (a failure is logged) and destroys the rest.
 #[derive(Clone)]
 pub struct Context {
     pub(crate) shared: Arc<Shared>,

@@ -105,6 +105,11 @@ impl From<TargetFormat> for EngineDesc {
 /// triangles) and the following [`Self::record_compute`] / [`Self::record`] use that slot. The
 /// caller guarantees, with its own fences, that the frame which last used the slot (N frames
 /// back) has finished before calling `set_frame`; frames N-1 back may still execute.
+///
+/// Dropping is safe on every path and never panics: it waits for the device (the caller's
+/// frames may still read the buffers; a failed wait, e.g. a lost device, is logged and the
+/// resources are destroyed anyway, as Vulkan allows after device loss), then each buffer,
+/// image and pool follows the context's rule after a timed-out submission ([`Context`]).
 pub struct SurfaceRenderer {
     ctx: Context,
     desc: RenderDesc,
