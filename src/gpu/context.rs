@@ -612,7 +612,7 @@ mod tests {
             ..ContextDesc::default()
         };
         let Ok(ctx) = Context::new(&desc) else {
-            eprintln!("no Vulkan device; skipped");
+            log::warn!("no Vulkan device; skipped");
             return;
         };
         let dev = ctx.device();

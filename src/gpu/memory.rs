@@ -153,6 +153,16 @@ impl Buffer {
         Ok(b)
     }
 
+    /// A host-visible transfer source holding `bytes`, named after what it fills.
+    pub(super) fn staging(ctx: &Context, bytes: &[u8], name: &str) -> Result<Buffer> {
+        Buffer::from_slice(
+            ctx,
+            bytes,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            &format!("{name} (staging)"),
+        )
+    }
+
     /// The Vulkan handle.
     pub fn raw(&self) -> vk::Buffer {
         self.raw
@@ -266,12 +276,7 @@ impl Context {
                 dst.size()
             ));
         }
-        let staging = Buffer::from_slice(
-            self,
-            bytes,
-            vk::BufferUsageFlags::TRANSFER_SRC,
-            &format!("{name} (staging)"),
-        )?;
+        let staging = Buffer::staging(self, bytes, name)?;
         self.submit_once(|dev, cmd| {
             let region = vk::BufferCopy::default().size(bytes.len() as u64);
             // SAFETY: both buffers are valid and large enough.

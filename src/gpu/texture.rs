@@ -48,6 +48,21 @@ impl Drop for SampledImage {
     }
 }
 
+/// The copy region of a whole single-level colour image, tightly packed in the buffer.
+pub(super) fn whole_color_image(width: u32, height: u32) -> vk::BufferImageCopy {
+    vk::BufferImageCopy::default()
+        .image_subresource(
+            vk::ImageSubresourceLayers::default()
+                .aspect_mask(vk::ImageAspectFlags::COLOR)
+                .layer_count(1),
+        )
+        .image_extent(vk::Extent3D {
+            width,
+            height,
+            depth: 1,
+        })
+}
+
 impl Context {
     /// Uploads `width x height` texels of `format` (tightly packed `bytes`, row 0 first) into a
     /// device-local image sampled with linear filtering and repeat addressing at level 0. The
@@ -87,12 +102,7 @@ impl Context {
             },
             name,
         )?;
-        let staging = Buffer::from_slice(
-            self,
-            bytes,
-            vk::BufferUsageFlags::TRANSFER_SRC,
-            &format!("{name} (staging)"),
-        )?;
+        let staging = Buffer::staging(self, bytes, name)?;
         let range = vk::ImageSubresourceRange::default()
             .aspect_mask(vk::ImageAspectFlags::COLOR)
             .level_count(1)
@@ -104,17 +114,7 @@ impl Context {
                 .old_layout(vk::ImageLayout::UNDEFINED)
                 .new_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL)
                 .dst_access_mask(vk::AccessFlags::TRANSFER_WRITE);
-            let region = vk::BufferImageCopy::default()
-                .image_subresource(
-                    vk::ImageSubresourceLayers::default()
-                        .aspect_mask(vk::ImageAspectFlags::COLOR)
-                        .layer_count(1),
-                )
-                .image_extent(vk::Extent3D {
-                    width,
-                    height,
-                    depth: 1,
-                });
+            let region = whole_color_image(width, height);
             let to_read = vk::ImageMemoryBarrier::default()
                 .image(image.raw())
                 .subresource_range(range)
