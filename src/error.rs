@@ -237,6 +237,21 @@ pub enum Error {
         /// The operating system's message.
         message: String,
     },
+    /// A file is not an image the reader can decode (corrupt, truncated, another format).
+    #[error("cannot decode image {path}: {message}")]
+    Image {
+        /// The file.
+        path: String,
+        /// The decoder's message.
+        message: String,
+    },
+    /// A displacement map was asked for a surface without face-varying texture coordinates to
+    /// sample it by.
+    #[error("displacement map {map}: the mesh has no texture coordinates (OBJ `vt` lines referenced by its faces as `f v/vt ...`) to sample it by")]
+    MissingTexCoords {
+        /// The map (its path, or "texels").
+        map: String,
+    },
     /// A file (or standard output) could not be written.
     #[error("cannot write {path}: {message}")]
     Write {

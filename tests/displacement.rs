@@ -6,12 +6,10 @@
 
 mod common;
 
-use std::collections::HashMap;
-
-use common::capture::{capture, offscreen, param_key, scheme_surface, uniform};
+use common::capture::{capture, offscreen, param_key, points_by_param, scheme_surface, uniform};
 use common::gpu::{assert_validation_clean, context};
 use common::meshes::mesh;
-use common::watertight::assert_coincident_points_equal;
+use common::watertight::assert_displacement_keeps_seams;
 use glam::DVec3;
 use tessera::render::displace::displaced;
 use tessera::render::{Displacement, RenderDesc, Scheme};
@@ -28,9 +26,6 @@ const SCHEMES: [Scheme; 8] = [
 ];
 const SCALE: f32 = 0.08;
 
-/// A captured position and normal.
-type PointAndNormal = [[f32; 3]; 2];
-
 fn desc(level: f32, scale: f32) -> RenderDesc {
     RenderDesc {
         tess: uniform(level),
@@ -46,28 +41,8 @@ fn displaced_surface_is_watertight_for_every_scheme() {
     for scheme in SCHEMES {
         for level in [2.0, 5.0, 8.0] {
             let surface = scheme_surface(&ctx, &m, level as u32, scheme);
-            let pairs = |scale| {
-                let run = capture(
-                    &ctx,
-                    &surface,
-                    &desc(level, scale),
-                    &offscreen(64, 64),
-                    false,
-                );
-                assert_coincident_points_equal(&m, &run.records)
-            };
-            // Points that met undisplaced must still meet (bitwise) displaced: a point moved
-            // differently on the two sides would leave the coincident set unnoticed otherwise.
-            let (plain, moved) = (pairs(0.0), pairs(SCALE));
-            eprintln!("{scheme:?} level {level}: {moved} coincident pairs bitwise equal");
-            assert!(
-                moved > 0,
-                "{scheme:?} level {level}: no shared point compared"
-            );
-            assert_eq!(
-                moved, plain,
-                "{scheme:?} level {level}: shared points split apart"
-            );
+            let what = format!("{scheme:?} level {level}");
+            assert_displacement_keeps_seams(&ctx, &m, &surface, |s| desc(level, s), SCALE, &what);
         }
     }
     assert_validation_clean(&ctx);
@@ -81,20 +56,7 @@ fn displacement_matches_the_cpu_reference() {
     for scheme in SCHEMES {
         let surface = scheme_surface(&ctx, &m, 5, scheme);
         let run = |scale| capture(&ctx, &surface, &desc(5.0, scale), &offscreen(64, 64), false);
-        // Undisplaced points by parameter; a parameter captured twice (shared domain points of
-        // sub-faces, several TES invocations) is kept only if both agree.
-        let mut plain: HashMap<(u32, u32, u32), Option<PointAndNormal>> = HashMap::new();
-        for r in run(0.0).records {
-            let v = [r.position, r.normal];
-            plain
-                .entry(param_key(&r))
-                .and_modify(|e| {
-                    if *e != Some(v) {
-                        *e = None
-                    }
-                })
-                .or_insert(Some(v));
-        }
+        let plain = points_by_param(&run(0.0).records);
         let (mut worst_p, mut worst_n, mut largest, mut n) = (0.0f64, 0.0f64, 0.0f64, 0);
         for r in run(SCALE).records {
             let Some(Some([p, nrm])) = plain.get(&param_key(&r)) else {

@@ -101,6 +101,11 @@ fn classes() -> Vec<Class> {
         c("texture coordinates on some faces only (warning)", text("v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nvt 0 0\nf 1/1 2/1 5/1 4/1\nf 2 3 6 5\n"), info, Ok),
         c("texture coordinates on some corners only", text("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2 3/1\n"), info, Err("face 0: texture coordinates on some corners only")),
         c("texture coordinate not a number", text("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 nan\nf 1/1 2/1 3/1\n"), info, Err("`nan` is not a finite number")),
+        // ---- displacement maps (`--displacement FILE.png`; run from the checkout)
+        c("displacement map missing", None, &["render", "--displacement", "DIR/none.png", "--out", "DIR/x.png"], Err("cannot read DIR/none.png: No such file")),
+        c("displacement map not an image", text(QUAD), &["render", "--displacement", "IN", "--out", "DIR/x.png"], Err("cannot decode image DIR/in.obj")),
+        c("displacement map on a mesh without vt", None, &["render", "--displacement", "assets/displacement_bumps.png", "--out", "DIR/x.png"], Err("the mesh has no texture coordinates (OBJ `vt` lines")),
+        c("displacement map on a mesh with vt", text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n"), &["render", "IN", "--displacement", "assets/displacement_bumps.png", "--size", "32x32", "--out", "DIR/x.png"], Ok),
         // ---- tags
         c("tag without counts", quad_with("t crease\n"), info, Err("a tag needs a name and nint/nfloat[/nstring] counts")),
         c("tag counts not numbers", quad_with("t crease a/b 0 1 1\n"), info, Err("bad argument counts `a/b`")),

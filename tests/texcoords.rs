@@ -7,40 +7,14 @@
 mod common;
 
 use std::collections::HashMap;
-use std::fmt::Write as _;
 
 use common::capture::{capture, offscreen, scheme_surface, uniform};
 use common::gpu::{assert_validation_clean, context};
-use common::meshes::mesh;
+use common::meshes::{mesh, with_shared_uvs};
 use glam::DVec2;
 use tessera::mesh::{MeshWarning, ObjOptions};
 use tessera::render::{CaptureRecord, RenderDesc, Scheme};
 use tessera::ControlMesh;
-
-/// `m` written as OBJ with one `vt` per vertex (a function of its position) that every face
-/// corner at the vertex references: shared texture coordinates everywhere.
-fn with_shared_uvs(m: &ControlMesh) -> String {
-    let mut text = String::new();
-    for p in m.positions() {
-        let _ = writeln!(text, "v {} {} {}", p.x, p.y, p.z);
-    }
-    for p in m.positions() {
-        let _ = writeln!(
-            text,
-            "vt {} {}",
-            0.5 * p.x + 0.25 * p.y,
-            0.5 * p.z - 0.125 * p.x
-        );
-    }
-    for f in 0..m.face_count() {
-        text.push('f');
-        for &v in m.face(f) {
-            let _ = write!(text, " {}/{}", v + 1, v + 1);
-        }
-        text.push('\n');
-    }
-    text
-}
 
 fn load(text: &str, left_handed: bool) -> tessera::Result<ControlMesh> {
     ControlMesh::from_obj_str(

@@ -92,7 +92,7 @@ void main() {
     } else if (u_edge) {
         acc_edge(pi, u == 1.0 ? 1 : 3, v, p, nrm);
     }
-    displace_point(p, nrm);
+    displace_point(acc[pi].face, NO_SUB_FACE, vec2(u, v), p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = acc[pi].cls;

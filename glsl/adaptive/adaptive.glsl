@@ -146,11 +146,21 @@ uint adaptive_class(uint kind, uint level) {
     return CLASS_ADAPTIVE + kind * 16u + min(level, 15u);
 }
 
+/// The base face's (u, v) (or its sub-face's) of patch `ap`'s own (s, t).
+vec2 adaptive_face_uv(AdaptivePatch ap, vec2 st) {
+    return ap.origin + st.x * ap.axis_u + st.y * ap.axis_v;
+}
+
+/// Displaces a point of patch `ap` at its own (s, t) (displace.glsl).
+void displace_adaptive(AdaptivePatch ap, vec2 st, inout vec3 p, inout vec3 n) {
+    displace_point(ap.base_face, ap.sub_face, adaptive_face_uv(ap, st), p, n);
+}
+
 #ifdef CAPTURE
 /// Captures a point of patch `ap` at its own (s, t) in its base face's (u, v) (or its sub-face's),
 /// tagged with the kind and level.
 void capture_adaptive(AdaptivePatch ap, uint kind, vec2 st, vec3 p, vec3 n) {
-    vec2 uv = ap.origin + st.x * ap.axis_u + st.y * ap.axis_v;
+    vec2 uv = adaptive_face_uv(ap, st);
     capture_tagged(ap.base_face, ap.sub_face, uv, p, n, CAPTURE_TAGGED | (ap.level << 8u) | kind);
 }
 #endif

@@ -37,7 +37,7 @@ void main() {
         }
     }
 
-    displace_point(p, nrm);
+    displace_adaptive(ap, vec2(u, v), p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = adaptive_class(ap.kind, ap.level);

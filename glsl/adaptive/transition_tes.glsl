@@ -78,7 +78,7 @@ void main() {
         PATCH_SURFACE(info, uv.x, uv.y, p, nrm);
     }
 
-    displace_point(p, nrm);
+    displace_adaptive(ap, uv, p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = adaptive_class(FAN_KIND(ap), ap.level);

@@ -38,7 +38,7 @@ void main() {
         edge_point(info.flags, bspline_edge(u, v), v_edge ? u : v, p, nrm);
     }
 
-    displace_point(p, nrm);
+    displace_point(info.face, NO_SUB_FACE, vec2(u, v), p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = CLASS_REGULAR;

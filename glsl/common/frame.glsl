@@ -35,10 +35,8 @@ layout(std140, set = 0, binding = 0) uniform Frame {
                          // reference distance), w: max level
     vec4 light_dir;      // xyz: direction towards the key light (world), normalised
     uvec4 flags;         // x: colour mode, y: bit 0 patch culling (cull.glsl), z: bit 0 texture coordinates (texcoord.glsl)
-    vec4 displace;       // x: procedural displacement scale along the normal (0: off)
+    vec4 displace;       // x: displacement scale along the normal (0: off), y: mode (displace.glsl)
 } frame;
-
-#include "displace.glsl"
 
 /// Per-draw constants (push_patch_chunk, src/render/patch_pipeline.rs). Patches are drawn in
 /// chunks and gl_PrimitiveID restarts at 0 in every draw, so `patch_base` is the chunk's first
@@ -75,5 +73,7 @@ layout(std430, set = 0, binding = 1) readonly buffer Patches {
 layout(std430, set = 0, binding = 2) readonly buffer VertexLimits {
     vec4 vertex_limit[];
 };
+
+#include "displace.glsl"
 
 #endif

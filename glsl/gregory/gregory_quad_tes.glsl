@@ -4,6 +4,7 @@
 // position and derivatives (F frozen) for the normal. Corners and edges: the watertight shared
 // evaluation of common/watertight.glsl and gregory/gregory.glsl (§4.5).
 // Hooks the stage file defines before including: GREGORY_CLASS(info) (colour class),
+// GREGORY_DISPLACE(info, u, v, p, n) (displace.glsl's displace_point at the face point),
 // GREGORY_CAPTURE(info, u, v, p, n) (with CAPTURE), and optionally
 // GREGORY_EDGE_OVERRIDE(info, k, x, from_corner, pos, nrm) (true: edge k evaluated elsewhere).
 // Needs frame.glsl first; defines SPACING, CAPTURE as the stage file's.
@@ -115,7 +116,7 @@ void main() {
         quad_edge(patch_index, info, 3, v, 0, p, nrm);
     }
 
-    displace_point(p, nrm);
+    GREGORY_DISPLACE(info, u, v, p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = GREGORY_CLASS(info);

@@ -19,7 +19,13 @@ layout(location = 0) in vec3 g_cp[];
 /// Writes the outputs (and the capture record, `sub` the sector or NO_SUB_FACE) of point uv;
 /// `w` the sector's barycentric point (texture coordinates; unused without a sector).
 void pm_emit(uint rec, uint sub, vec2 uv, vec3 w, vec3 p, vec3 nrm) {
-    displace_point(p, nrm);
+    uint face = pm_words[rec];
+    vec2 st = vec2(0.0);
+    if (has_texcoords()) {
+        st = sub == PM_NO_SUB_FACE ? surface_texcoord(face, NO_SUB_FACE, uv)
+                                   : pm_sector_texcoord(face, sub, w);
+    }
+    displace_with_texcoord(st, p, nrm);
     uint cls = pm_class(pm_words[rec + 1u]);
     t_world = p;
     t_normal = nrm;
@@ -27,12 +33,6 @@ void pm_emit(uint rec, uint sub, vec2 uv, vec3 w, vec3 p, vec3 nrm) {
     gl_Position = frame.view_proj * vec4(p, 1.0);
 #ifdef CAPTURE
     // Tag: the Pm capture kinds (16 + class, render::schemes::pm::kind_name), level 0.
-    uint face = pm_words[rec];
-    vec2 st = vec2(0.0);
-    if (has_texcoords()) {
-        st = sub == PM_NO_SUB_FACE ? surface_texcoord(face, NO_SUB_FACE, uv)
-                                   : pm_sector_texcoord(face, sub, w);
-    }
     capture_with_texcoord(face, sub, uv, p, nrm, CAPTURE_TAGGED | (16u + cls - CLASS_PM), st);
 #endif
 }

@@ -49,7 +49,7 @@ void main() {
         single_crease_edge_point(info.flags, sharpness, bspline_edge(u, v), v_edge ? u : v, p, nrm);
     }
 
-    displace_point(p, nrm);
+    displace_point(info.face, NO_SUB_FACE, face_uv(info.flags, u, v), p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = CLASS_SINGLE_CREASE;

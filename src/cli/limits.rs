@@ -104,9 +104,9 @@ pub fn check_mesh(mesh: &ControlMesh, limits: &InputLimits) -> Result<()> {
 /// Bytes per GPU patch assumed by the estimate (control-point indices, per-patch records,
 /// vertex frames; generous).
 const BYTES_PER_PATCH: u64 = 1024;
-/// Bytes per vertex of the CPU-evaluated triangles on the GPU (position, normal, class) and per
-/// index.
-const BYTES_PER_FALLBACK_VERTEX: u64 = 32;
+/// Bytes per vertex of the CPU-evaluated triangles on the GPU (position, normal, class, domain
+/// point) and per index.
+const BYTES_PER_FALLBACK_VERTEX: u64 = 48;
 /// Bytes per TES capture record.
 const BYTES_PER_CAPTURE: u64 = 64;
 

@@ -6,6 +6,7 @@ use clap::Args;
 use tessera::gpu::{Context, ContextDesc};
 use tessera::mesh::ObjOptions;
 use tessera::patch::gregory::GregoryTangents;
+use tessera::render::displace::DisplacementMap;
 use tessera::render::{
     render_to_image, CameraSpec, ColorBy, FrameReport, OffscreenDesc, RenderDesc, Scheme, Spacing,
     SurfaceData, TessMode, TessSettings, UpAxis,
@@ -256,9 +257,13 @@ impl CullArgs {
 pub struct DisplacementArgs {
     /// `procedural`: move the surface along its normal by S * d(p) with
     /// d(p) = (sin(5x + 1) + sin(5y + 2) + sin(5z + 3)) / 3 of the undisplaced limit position
-    /// (world units; continuous across faces, watertight where the normal is); `none`: the
-    /// limit surface.
-    #[arg(long, default_value = "none", value_parser = ["procedural", "none"])]
+    /// (world units; continuous across faces, watertight where the normal is). FILE.png: a
+    /// displacement map sampled at the mesh's texture coordinates (OBJ `vt`, required), moving
+    /// by S * (value - 0.5) with value its first channel (grey or red, 8 or 16 bit) in [0, 1]:
+    /// mid-grey stays, white moves S/2 outwards, black S/2 inwards; linear filtering, repeat
+    /// addressing, the image's top row at t = 0; watertight where faces share their `vt`; the
+    /// shading normal is not tilted by the map. `none`: the limit surface.
+    #[arg(long, default_value = "none", value_name = "none|procedural|FILE.png")]
     pub displacement: String,
     /// The scale S of `--displacement` (world units).
     #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
@@ -266,8 +271,12 @@ pub struct DisplacementArgs {
 }
 
 impl DisplacementArgs {
-    /// The renderer's displacement; a non-finite scale is refused.
-    pub fn displacement(&self) -> Result<tessera::render::Displacement> {
+    /// The renderer's displacement; a non-finite scale is refused. A map file is read and
+    /// given to `surface` (an error names the file, or the missing texture coordinates).
+    pub fn displacement(
+        &self,
+        surface: &mut tessera::render::SurfaceData,
+    ) -> Result<tessera::render::Displacement> {
         if !self.displacement_scale.is_finite() {
             return Err(Error::Invalid(format!(
                 "--displacement-scale {} is not a finite number",
@@ -278,7 +287,14 @@ impl DisplacementArgs {
             "procedural" => tessera::render::Displacement::Procedural {
                 scale: self.displacement_scale,
             },
-            _ => tessera::render::Displacement::None,
+            "none" => tessera::render::Displacement::None,
+            path => {
+                let map = DisplacementMap::load(std::path::Path::new(path))?;
+                surface.set_displacement_map(map)?;
+                tessera::render::Displacement::Map {
+                    scale: self.displacement_scale,
+                }
+            }
         })
     }
 }
@@ -389,7 +405,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
             )));
         }
     }
-    let surface = surface_for(&ctx, &mesh, level, args.scheme, &args.adaptive)?;
+    let mut surface = surface_for(&ctx, &mesh, level, args.scheme, &args.adaptive)?;
+    let displacement = args.displace.displacement(&mut surface)?;
     super::limits::check_drawable(&surface)?;
     super::limits::check_gpu_memory(
         &ctx,
@@ -405,7 +422,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
             "level" => ColorBy::Level,
             _ => ColorBy::None,
         },
-        displacement: args.displace.displacement()?,
+        displacement,
         cull_patches: args.cull.enabled(),
         ..RenderDesc::default()
     };

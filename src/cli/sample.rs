@@ -85,6 +85,7 @@ pub fn run(args: SampleArgs) -> Result<()> {
         )));
     }
     surface.fallback_faces.clear();
+    let displacement = args.displace.displacement(&mut surface)?;
     let tess = TessSettings {
         level,
         ..TessSettings::default()
@@ -95,7 +96,7 @@ pub fn run(args: SampleArgs) -> Result<()> {
             surface.patch_count(),
             &resolve_tess(&ctx, &surface, &tess),
         )),
-        displacement: args.displace.displacement()?,
+        displacement,
         ..RenderDesc::default()
     };
     let desc = OffscreenDesc {

@@ -2,6 +2,7 @@
 
 use std::ffi::{CStr, CString};
 use std::mem::ManuallyDrop;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
 use ash::vk;
@@ -80,23 +81,42 @@ pub(crate) struct Shared {
     pub info: DeviceInfo,
     pub timeout_ms: u64,
     pub validation: bool,
+    /// Objects left undestroyed because timed-out work might still use them.
+    pub leaked: AtomicU64,
+    /// A wait for timed-out work ran out of time: later waits only poll.
+    pub gave_up: AtomicBool,
 }
 
 impl Shared {
-    /// Called before an object is destroyed: when a submission timed out (its work may still
-    /// be running and may use the object), waits for every such submission to finish. Without
-    /// a timeout this is one uncontended lock. A lost device ends the wait with an error, which
-    /// is logged (the object is then destroyed, as the device no longer executes anything).
-    pub fn wait_pending(&self) {
+    /// Called before an object is destroyed; returns whether it may be destroyed now. Without
+    /// a timed-out submission this is one uncontended lock and `true`. When a submission timed
+    /// out (its work may still be running and may use the object), waits for every such
+    /// submission, at most the context's timeout: finished, `true`; the device lost, the error
+    /// is logged and `true` (a lost device executes nothing any more, and Vulkan allows
+    /// destroying its objects); still running (or another wait error), the error is logged and
+    /// `false`: the caller leaves the object alive (leaked, counted by
+    /// [`Context::leaked_objects`]) rather than destroy memory the GPU may still use. Never
+    /// panics, never waits unboundedly.
+    pub fn wait_pending(&self) -> bool {
         let pending = self.pending.lock().unwrap_or_else(|p| p.into_inner());
         if pending.is_empty() {
-            return;
+            return true;
         }
         let fences: Vec<vk::Fence> = pending.iter().map(|(f, _)| *f).collect();
+        // Once a wait gave up, later drops only poll: dropping many objects costs one timeout.
+        let timeout_ns = if self.gave_up.load(Ordering::Relaxed) {
+            0
+        } else {
+            self.timeout_ms.saturating_mul(1_000_000)
+        };
         // SAFETY: the fences belong to this device and stay alive while the lock is held.
-        if let Err(e) = unsafe { self.device.wait_for_fences(&fences, true, u64::MAX) } {
-            log::error!("waiting for timed-out GPU work before destroying its objects: {e}");
+        let waited = unsafe { self.device.wait_for_fences(&fences, true, timeout_ns) };
+        let destroy = may_destroy_after(waited);
+        if !destroy {
+            self.leaked.fetch_add(1, Ordering::Relaxed);
+            self.gave_up.store(true, Ordering::Relaxed);
         }
+        destroy
     }
 
     pub fn allocator(&self) -> MutexGuard<'_, Allocator> {
@@ -118,11 +138,33 @@ impl Shared {
     }
 }
 
+/// The drop path's decision after waiting for timed-out GPU work ([`Shared::wait_pending`]):
+/// whether the object may be destroyed. Errors are logged.
+pub(super) fn may_destroy_after(waited: std::result::Result<(), vk::Result>) -> bool {
+    match waited {
+        Ok(()) => true,
+        Err(vk::Result::ERROR_DEVICE_LOST) => {
+            log::error!(
+                "the device was lost while timed-out GPU work was pending; destroying its objects"
+            );
+            true
+        }
+        Err(e) => {
+            log::error!(
+                "timed-out GPU work is still pending ({e}); leaving an object undestroyed rather than free memory the GPU may use"
+            );
+            false
+        }
+    }
+}
+
 impl Drop for Shared {
     fn drop(&mut self) {
         // SAFETY: every resource holding an Arc<Shared> is gone; destroy in reverse order.
         unsafe {
-            let _ = self.device.device_wait_idle();
+            if let Err(e) = self.device.device_wait_idle() {
+                log::error!("destroying the context: waiting for the device failed ({e}); destroying its objects anyway");
+            }
             for (fence, _) in self
                 .pending
                 .get_mut()
@@ -160,6 +202,12 @@ impl Drop for Shared {
 
 /// The Vulkan context: instance, device, queue, allocator, validation log, pipeline cache.
 /// Cheap to clone (shared handle). Resources created from it keep it alive.
+///
+/// Dropping never panics, also after a timeout or device loss: a resource dropped while one of
+/// the context's submissions has timed out waits for that work at most the context's timeout;
+/// finished or the device lost (logged), it is destroyed; still running, the error is logged
+/// and the resource is left alive ([`Self::leaked_objects`]) rather than freed under the GPU.
+/// The last handle's drop waits for the device (a failure is logged) and destroys the rest.
 #[derive(Clone)]
 pub struct Context {
     pub(crate) shared: Arc<Shared>,
@@ -374,6 +422,8 @@ impl Context {
             queue: Mutex::new(queue),
             command_pool: Mutex::new(command_pool),
             pending: Mutex::new(Vec::new()),
+            leaked: AtomicU64::new(0),
+            gave_up: AtomicBool::new(false),
             allocator: ManuallyDrop::new(Arc::new(Mutex::new(allocator))),
             pipelines: Mutex::new(PipelineCache::default()),
             added_shaders: Mutex::new(Vec::new()),
@@ -514,10 +564,71 @@ impl Context {
         self.shared.set_name(handle, name);
     }
 
+    /// Number of objects (buffers, images, pools, ...) whose drop left them undestroyed because
+    /// a submission had timed out and its work had still not finished within the timeout when
+    /// they were dropped (their memory stays allocated rather than be freed under the GPU; it
+    /// is released with the device). 0 unless a submission timed out.
+    pub fn leaked_objects(&self) -> u64 {
+        self.shared.leaked.load(Ordering::Relaxed)
+    }
+
     /// Waits until the device is idle.
     pub fn wait_idle(&self) -> Result<()> {
         // SAFETY: valid device; queue access is serialised by holding the queue lock.
         let _q = self.shared.queue.lock().unwrap_or_else(|p| p.into_inner());
         unsafe { self.shared.device.device_wait_idle() }.map_err(vkerr("vkDeviceWaitIdle"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gpu::{Buffer, MemoryLocation};
+
+    #[test]
+    fn drop_decision_after_a_failed_wait() {
+        assert!(may_destroy_after(Ok(())));
+        assert!(may_destroy_after(Err(vk::Result::ERROR_DEVICE_LOST)));
+        assert!(!may_destroy_after(Err(vk::Result::TIMEOUT)));
+    }
+
+    /// A submission that timed out and never finishes (an unsignalled fence in the pending
+    /// list, the state `submit_once` leaves after a timeout): dropping a buffer waits one
+    /// timeout, logs and leaves it alive instead of destroying it under the GPU or hanging;
+    /// once the work is gone, drops destroy again.
+    #[test]
+    fn dropping_after_a_timeout_leaks_instead_of_hanging() {
+        let desc = ContextDesc {
+            timeout_ms: 20,
+            ..ContextDesc::default()
+        };
+        let Ok(ctx) = Context::new(&desc) else {
+            log::warn!("no Vulkan device; skipped");
+            return;
+        };
+        let dev = ctx.device();
+        // SAFETY: valid device; the fence is destroyed below.
+        let fence = unsafe { dev.create_fence(&vk::FenceCreateInfo::default(), None) }.unwrap();
+        ctx.shared
+            .pending
+            .lock()
+            .unwrap()
+            .push((fence, vk::CommandBuffer::null()));
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        for _ in 0..3 {
+            drop(Buffer::new(&ctx, 64, usage, MemoryLocation::CpuToGpu, "t").unwrap());
+        }
+        assert_eq!(ctx.leaked_objects(), 3);
+        ctx.shared.pending.lock().unwrap().clear();
+        // SAFETY: no submission uses the fence.
+        unsafe { dev.destroy_fence(fence, None) };
+        drop(Buffer::new(&ctx, 64, usage, MemoryLocation::CpuToGpu, "t").unwrap());
+        assert_eq!(ctx.leaked_objects(), 3);
+        assert_eq!(
+            ctx.validation_errors(),
+            0,
+            "{:?}",
+            ctx.validation_messages()
+        );
     }
 }

@@ -19,7 +19,7 @@ pub struct DescriptorPool {
 
 impl DescriptorPool {
     /// A pool for `max_sets` sets holding at most `storage` storage-buffer and `uniform`
-    /// uniform-buffer descriptors in total.
+    /// uniform-buffer descriptors in total, and one combined image sampler per set.
     pub fn new(ctx: &Context, max_sets: u32, storage: u32, uniform: u32) -> Result<Self> {
         let mut sizes = Vec::new();
         if storage > 0 {
@@ -34,6 +34,12 @@ impl DescriptorPool {
                 descriptor_count: uniform,
             });
         }
+        // One combined image sampler per set (set 0 of the surface passes samples the
+        // displacement map).
+        sizes.push(vk::DescriptorPoolSize {
+            ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            descriptor_count: max_sets.max(1),
+        });
         let ci = vk::DescriptorPoolCreateInfo::default()
             .max_sets(max_sets.max(1))
             .pool_sizes(&sizes);
@@ -78,7 +84,9 @@ impl DescriptorPool {
 
 impl Drop for DescriptorPool {
     fn drop(&mut self) {
-        self.shared.wait_pending();
+        if !self.shared.wait_pending() {
+            return;
+        }
         // SAFETY: sets from this pool are no longer used.
         unsafe { self.shared.device.destroy_descriptor_pool(self.raw, None) };
     }

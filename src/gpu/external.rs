@@ -209,6 +209,8 @@ impl Context {
             queue: Mutex::new(desc.queue),
             command_pool: Mutex::new(command_pool),
             pending: Mutex::new(Vec::new()),
+            leaked: std::sync::atomic::AtomicU64::new(0),
+            gave_up: std::sync::atomic::AtomicBool::new(false),
             allocator: ManuallyDrop::new(allocator),
             pipelines: Mutex::new(PipelineCache::default()),
             added_shaders: Mutex::new(Vec::new()),

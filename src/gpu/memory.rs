@@ -153,6 +153,16 @@ impl Buffer {
         Ok(b)
     }
 
+    /// A host-visible transfer source holding `bytes`, named after what it fills.
+    pub(super) fn staging(ctx: &Context, bytes: &[u8], name: &str) -> Result<Buffer> {
+        Buffer::from_slice(
+            ctx,
+            bytes,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            &format!("{name} (staging)"),
+        )
+    }
+
     /// The Vulkan handle.
     pub fn raw(&self) -> vk::Buffer {
         self.raw
@@ -214,7 +224,9 @@ impl Buffer {
 
 impl Drop for Buffer {
     fn drop(&mut self) {
-        self.shared.wait_pending();
+        if !self.shared.wait_pending() {
+            return;
+        }
         // SAFETY: the caller guarantees the GPU no longer uses the buffer (submit_once waits).
         unsafe { self.shared.device.destroy_buffer(self.raw, None) };
         if let Some(a) = self.allocation.take() {
@@ -264,12 +276,7 @@ impl Context {
                 dst.size()
             ));
         }
-        let staging = Buffer::from_slice(
-            self,
-            bytes,
-            vk::BufferUsageFlags::TRANSFER_SRC,
-            &format!("{name} (staging)"),
-        )?;
+        let staging = Buffer::staging(self, bytes, name)?;
         self.submit_once(|dev, cmd| {
             let region = vk::BufferCopy::default().size(bytes.len() as u64);
             // SAFETY: both buffers are valid and large enough.
@@ -467,7 +474,9 @@ impl Image {
 
 impl Drop for Image {
     fn drop(&mut self) {
-        self.shared.wait_pending();
+        if !self.shared.wait_pending() {
+            return;
+        }
         // SAFETY: the GPU no longer uses the image (all submissions are waited on).
         unsafe {
             self.shared.device.destroy_image_view(self.view, None);

@@ -17,6 +17,7 @@ mod query;
 pub mod shaders;
 pub mod spirv;
 mod target;
+mod texture;
 
 pub use ash::vk;
 pub use commands::{memory_barrier, tes_writes_to_host};
@@ -38,3 +39,4 @@ pub use pipeline::{
 };
 pub use query::{ticks_to_ms, GpuTimer, PipelineStats, StatsQuery};
 pub use target::{RenderTarget, TargetFormat, COLOR_FORMAT};
+pub use texture::SampledImage;

@@ -15,13 +15,15 @@ use crate::Result;
 
 const ENTRY: &CStr = c"main";
 
-/// Kind of a buffer descriptor.
+/// Kind of a descriptor.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum DescriptorKind {
     /// `layout(std430) buffer` (storage buffer).
     StorageBuffer,
     /// `uniform` block (uniform buffer).
     UniformBuffer,
+    /// `uniform sampler2D` (combined image sampler, [`super::SampledImage`]).
+    CombinedImageSampler,
 }
 
 impl DescriptorKind {
@@ -30,6 +32,7 @@ impl DescriptorKind {
         match self {
             DescriptorKind::StorageBuffer => vk::DescriptorType::STORAGE_BUFFER,
             DescriptorKind::UniformBuffer => vk::DescriptorType::UNIFORM_BUFFER,
+            DescriptorKind::CombinedImageSampler => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
         }
     }
 }

@@ -134,7 +134,9 @@ pub fn ticks_to_ms(start: u64, end: u64, mask: u64, period_ns: f64) -> f64 {
 
 impl Drop for GpuTimer {
     fn drop(&mut self) {
-        self.shared.wait_pending();
+        if !self.shared.wait_pending() {
+            return;
+        }
         // SAFETY: no pending work uses the pool.
         unsafe { self.shared.device.destroy_query_pool(self.pool, None) };
     }
@@ -263,7 +265,9 @@ impl StatsQuery {
 
 impl Drop for StatsQuery {
     fn drop(&mut self) {
-        self.shared.wait_pending();
+        if !self.shared.wait_pending() {
+            return;
+        }
         // SAFETY: no pending work uses the pool.
         unsafe { self.shared.device.destroy_query_pool(self.pool, None) };
     }

@@ -411,17 +411,7 @@ impl RenderTarget {
             "render target readback",
         )?;
         ctx.submit_once(|dev, cmd| {
-            let region = vk::BufferImageCopy::default()
-                .image_subresource(
-                    vk::ImageSubresourceLayers::default()
-                        .aspect_mask(vk::ImageAspectFlags::COLOR)
-                        .layer_count(1),
-                )
-                .image_extent(vk::Extent3D {
-                    width: self.width,
-                    height: self.height,
-                    depth: 1,
-                });
+            let region = super::texture::whole_color_image(self.width, self.height);
             // SAFETY: the image is in TRANSFER_SRC_OPTIMAL after the render pass.
             unsafe {
                 dev.cmd_copy_image_to_buffer(
@@ -458,7 +448,9 @@ impl RenderTarget {
 
 impl Drop for RenderTarget {
     fn drop(&mut self) {
-        self.shared.wait_pending();
+        if !self.shared.wait_pending() {
+            return;
+        }
         // SAFETY: no GPU work uses the target any more; images drop after this.
         unsafe {
             self.shared

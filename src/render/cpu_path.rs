@@ -3,7 +3,7 @@
 
 use ash::vk;
 
-use super::fallback::FallbackMesh;
+use super::fallback::{DomainPoint, FallbackMesh};
 use super::pass::shared::set0_layout;
 use super::pass::upload::{device_buffer, host_buffer, u32_bytes};
 use super::pass::{bind_draw_state, SharedResources};
@@ -14,12 +14,25 @@ use crate::gpu::{
 };
 use crate::{Error, Result};
 
-/// Bytes per vertex: position (3 f32), normal (3 f32), class (u32).
-const VERTEX_BYTES: usize = 28;
+/// Bytes per vertex: position (3 f32), normal (3 f32), class (u32), face and sub-face (2 u32),
+/// (u, v) (2 f32): the domain point the texture coordinate is looked up from (face u32::MAX:
+/// none).
+const VERTEX_BYTES: usize = 44;
 
 fn vertex_bytes(mesh: &FallbackMesh) -> Vec<u8> {
     let mut out = Vec::with_capacity(mesh.positions.len() * VERTEX_BYTES);
-    for ((p, n), c) in mesh.positions.iter().zip(&mesh.normals).zip(&mesh.classes) {
+    let none = DomainPoint {
+        face: u32::MAX,
+        sub_face: u32::MAX,
+        uv: [0.0; 2],
+    };
+    for (k, ((p, n), c)) in mesh
+        .positions
+        .iter()
+        .zip(&mesh.normals)
+        .zip(&mesh.classes)
+        .enumerate()
+    {
         for x in p
             .as_vec3()
             .to_array()
@@ -29,6 +42,10 @@ fn vertex_bytes(mesh: &FallbackMesh) -> Vec<u8> {
             out.extend_from_slice(&x.to_le_bytes());
         }
         out.extend_from_slice(&c.to_le_bytes());
+        let d = mesh.domain.get(k).unwrap_or(&none);
+        for w in [d.face, d.sub_face, d.uv[0].to_bits(), d.uv[1].to_bits()] {
+            out.extend_from_slice(&w.to_le_bytes());
+        }
     }
     out
 }
@@ -90,6 +107,8 @@ impl CpuPathPass {
                 (0, vk::Format::R32G32B32_SFLOAT, 0),
                 (1, vk::Format::R32G32B32_SFLOAT, 12),
                 (2, vk::Format::R32_UINT, 24),
+                (3, vk::Format::R32G32_UINT, 28),
+                (4, vk::Format::R32G32_SFLOAT, 36),
             ]
             .map(|(location, format, offset)| VertexAttribute {
                 location,

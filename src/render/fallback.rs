@@ -53,6 +53,21 @@ pub struct FallbackMesh {
     pub classes: Vec<u32>,
     /// Counter-clockwise (seen from outside) triangles.
     pub indices: Vec<u32>,
+    /// Per vertex, where it lies on the surface (the texture coordinates and a displacement
+    /// map are looked up from it); may be shorter than `positions` for triangles that are not
+    /// points of a face (e.g. error maps), whose vertices then have none.
+    pub domain: Vec<DomainPoint>,
+}
+
+/// A point of a face's domain, as the TES capture names it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DomainPoint {
+    /// Base-mesh face.
+    pub face: u32,
+    /// Sub-face (`NO_SUB_FACE` = `u32::MAX`: a quad's own domain).
+    pub sub_face: u32,
+    /// Parameter in the (sub-)face's unit square.
+    pub uv: [f32; 2],
 }
 
 /// Grid resolution per quad domain for tessellation level `level`: quads use the level itself;
@@ -83,6 +98,7 @@ where
         mesh.positions.extend(p.positions);
         mesh.normals.extend(p.normals);
         mesh.classes.extend(p.classes);
+        mesh.domain.extend(p.domain);
         mesh.indices.extend(p.indices.iter().map(|i| i + base));
     }
     Ok(mesh)
@@ -113,10 +129,16 @@ where
                 uv.len()
             )));
         }
-        for (p, n) in pts {
+        let sub_face = if f.corners == 4 { u32::MAX } else { sub };
+        for ((p, n), &(u, v)) in pts.into_iter().zip(&uv) {
             mesh.positions.push(p);
             mesh.normals.push(n);
             mesh.classes.push(f.class as u32);
+            mesh.domain.push(DomainPoint {
+                face: f.face,
+                sub_face,
+                uv: [u as f32, v as f32],
+            });
         }
         let row = r + 1;
         for j in 0..r {

@@ -13,7 +13,7 @@ use super::schemes::adaptive::AdaptiveTables;
 use super::schemes::single_crease::SingleCreaseTables;
 use super::schemes::{PassContext, PassTables, PatchPass};
 pub use super::settings::RenderDesc;
-use super::settings::{FrameFlags, FrameUniforms, TessMode, TessSettings};
+use super::settings::{Displacement, FrameFlags, FrameUniforms, TessMode, TessSettings};
 use super::surface::{vertex_frames, SurfaceData};
 use crate::gpu::{Context, DrawTarget, Feature, TargetFormat};
 use crate::mesh::Crease;
@@ -105,6 +105,11 @@ impl From<TargetFormat> for EngineDesc {
 /// triangles) and the following [`Self::record_compute`] / [`Self::record`] use that slot. The
 /// caller guarantees, with its own fences, that the frame which last used the slot (N frames
 /// back) has finished before calling `set_frame`; frames N-1 back may still execute.
+///
+/// Dropping is safe on every path and never panics: it waits for the device (the caller's
+/// frames may still read the buffers; a failed wait, e.g. a lost device, is logged and the
+/// resources are destroyed anyway, as Vulkan allows after device loss), then each buffer,
+/// image and pool follows the context's rule after a timed-out submission ([`Context`]).
 pub struct SurfaceRenderer {
     ctx: Context,
     desc: RenderDesc,
@@ -160,6 +165,22 @@ impl SurfaceRenderer {
         if desc.capture_capacity.is_some() {
             ctx.require(&[Feature::VertexPipelineStoresAndAtomics])?;
         }
+        let map = match desc.displacement {
+            Displacement::Map { .. } => {
+                let Some(map) = surface.displacement_map.as_deref() else {
+                    return Err(Error::Invalid(
+                        "Displacement::Map without a map: give the surface one with SurfaceData::set_displacement_map".into(),
+                    ));
+                };
+                if surface.texcoords.is_none() || surface.topology.is_none() {
+                    return Err(Error::MissingTexCoords {
+                        map: map.source().to_string(),
+                    });
+                }
+                Some(map)
+            }
+            _ => None,
+        };
         let frames = surface.vertex_frames(&surface.positions);
         let shared = SharedResources::new(
             ctx,
@@ -168,6 +189,7 @@ impl SurfaceRenderer {
             desc.capture_capacity,
             engine.frames_in_flight as usize,
             &surface.texcoord_words(),
+            map,
         )?;
         let pc = PassContext {
             ctx,

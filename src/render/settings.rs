@@ -211,14 +211,30 @@ pub enum Displacement {
         /// World units per unit of `d` (`d` lies in [-1, 1]).
         scale: f32,
     },
+    /// `p + scale * d(s, t) * n` with `d = value - 0.5` of the surface's displacement map
+    /// ([`super::SurfaceData::set_displacement_map`], [`super::displace::DisplacementMap`])
+    /// at the face-varying texture coordinate (`--displacement FILE.png`). The renderer
+    /// refuses a surface without a map or without texture coordinates.
+    Map {
+        /// World units per unit of `d` (`d` lies in [-0.5, 0.5]).
+        scale: f32,
+    },
 }
 
 impl Displacement {
-    /// The `Frame.displace` words: scale (0 when off).
-    fn scale(self) -> f32 {
+    /// The scale along the normal (0 when off).
+    pub fn scale(self) -> f32 {
         match self {
             Displacement::None => 0.0,
-            Displacement::Procedural { scale } => scale,
+            Displacement::Procedural { scale } | Displacement::Map { scale } => scale,
+        }
+    }
+
+    /// `Frame.displace.y`: 0 procedural, 1 map.
+    fn mode(self) -> f32 {
+        match self {
+            Displacement::Map { .. } => 1.0,
+            _ => 0.0,
         }
     }
 }
@@ -307,6 +323,7 @@ impl FrameUniforms {
         out[132..136].copy_from_slice(&u32::from(flags.cull).to_le_bytes());
         out[136..140].copy_from_slice(&u32::from(flags.texcoords).to_le_bytes());
         out[144..148].copy_from_slice(&displacement.scale().to_le_bytes());
+        out[148..152].copy_from_slice(&displacement.mode().to_le_bytes());
         out
     }
 }
@@ -352,7 +369,15 @@ mod tests {
         assert_eq!(u32::from_le_bytes(b[128..132].try_into().unwrap()), 1);
         assert_eq!(u32::from_le_bytes(b[132..136].try_into().unwrap()), 1);
         assert_eq!(u32::from_le_bytes(b[136..140].try_into().unwrap()), 1);
-        assert_eq!(f(144), 0.25);
+        assert_eq!((f(144), f(148)), (0.25, 0.0));
+        let map = u.to_bytes(
+            &tess,
+            64.0,
+            Displacement::Map { scale: 0.5 },
+            FrameFlags::default(),
+        );
+        let g = |o: usize| f32::from_le_bytes(map[o..o + 4].try_into().unwrap());
+        assert_eq!((g(144), g(148)), (0.5, 1.0));
         let distance = TessSettings {
             mode: TessMode::Distance,
             ..tess

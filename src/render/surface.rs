@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
+use super::displace::DisplacementMap;
 use super::fallback::{FallbackFace, FallbackMesh};
 use super::pass::{NormalRule, VertexFrames};
 use super::schemes::bspline::BSplineTables;
@@ -12,6 +13,7 @@ use super::schemes::{PassTables, Refusal};
 use crate::mesh::FaceUvs;
 use crate::patch::RegularPatch;
 use crate::topology::Topology;
+use crate::{Error, Result};
 
 /// Per-vertex limit frames of `positions` for `parts` (first part first), the normal rule from
 /// the topology when known.
@@ -52,6 +54,9 @@ pub struct SurfaceData {
     /// topology: the evaluation stages interpolate them ([`crate::mesh::uv`]) and the capture
     /// records them.
     pub texcoords: Option<Arc<FaceUvs>>,
+    /// The displacement map sampled at the texture coordinates when the render description
+    /// asks for [`super::Displacement::Map`] ([`Self::set_displacement_map`]).
+    pub displacement_map: Option<Arc<DisplacementMap>>,
 }
 
 impl SurfaceData {
@@ -68,6 +73,19 @@ impl SurfaceData {
             parts,
             ..SurfaceData::default()
         }
+    }
+
+    /// Gives the surface a displacement map ([`super::Displacement::Map`] samples it at the
+    /// face-varying texture coordinates). A surface without texture coordinates (a mesh
+    /// without `vt`) is refused: [`Error::MissingTexCoords`].
+    pub fn set_displacement_map(&mut self, map: DisplacementMap) -> Result<()> {
+        if self.texcoords.is_none() || self.topology.is_none() {
+            return Err(Error::MissingTexCoords {
+                map: map.source().to_string(),
+            });
+        }
+        self.displacement_map = Some(Arc::new(map));
+        Ok(())
     }
 
     /// The words of the evaluation stages' texture-coordinate table

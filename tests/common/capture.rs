@@ -225,6 +225,29 @@ pub fn param_key(r: &CaptureRecord) -> (u32, u32, u32) {
     (r.face, r.u.to_bits(), r.v.to_bits())
 }
 
+/// A captured position and normal.
+pub type PointAndNormal = [[f32; 3]; 2];
+
+/// The captured points and normals by parameter ([`param_key`]); a parameter captured twice
+/// with different results (shared domain points of sub-faces, several TES invocations) maps to
+/// `None`.
+pub fn points_by_param(
+    records: &[CaptureRecord],
+) -> std::collections::HashMap<(u32, u32, u32), Option<PointAndNormal>> {
+    let mut out = std::collections::HashMap::new();
+    for r in records {
+        let v = [r.position, r.normal];
+        out.entry(param_key(r))
+            .and_modify(|e: &mut Option<PointAndNormal>| {
+                if *e != Some(v) {
+                    *e = None
+                }
+            })
+            .or_insert(Some(v));
+    }
+    out
+}
+
 /// `records` sorted by [`param_key`].
 pub fn sorted(mut records: Vec<CaptureRecord>) -> Vec<CaptureRecord> {
     records.sort_by_key(param_key);

@@ -1,6 +1,7 @@
 //! The meshes the tests load: the OpenSubdiv regression shapes in `shared/meshes/osd` beside the
 //! checkout, and the embedded meshes.
 
+use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use tessera::assets::EmbeddedMesh;
@@ -132,4 +133,29 @@ pub fn capsule(n: usize, rings: usize) -> ControlMesh {
         s += &format!("f {} {} {}\n", id(0, k + 1), id(0, k), top + 1);
     }
     ControlMesh::from_obj_str(&s, "capsule", &ObjOptions::default()).unwrap()
+}
+
+/// `m` written as OBJ with one `vt` per vertex (a function of its position) that every face
+/// corner at the vertex references: shared texture coordinates everywhere.
+pub fn with_shared_uvs(m: &ControlMesh) -> String {
+    let mut text = String::new();
+    for p in m.positions() {
+        let _ = writeln!(text, "v {} {} {}", p.x, p.y, p.z);
+    }
+    for p in m.positions() {
+        let _ = writeln!(
+            text,
+            "vt {} {}",
+            0.5 * p.x + 0.25 * p.y,
+            0.5 * p.z - 0.125 * p.x
+        );
+    }
+    for f in 0..m.face_count() {
+        text.push('f');
+        for &v in m.face(f) {
+            let _ = write!(text, " {}/{}", v + 1, v + 1);
+        }
+        text.push('\n');
+    }
+    text
 }

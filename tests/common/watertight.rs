@@ -258,3 +258,32 @@ pub fn assert_coincident_points_equal(m: &ControlMesh, records: &[CaptureRecord]
     }
     pairs
 }
+
+/// Displacement keeps the surface watertight: `surface` captured with `render(0.0)` and
+/// `render(scale)` has the same number of bitwise-equal coincident pairs
+/// ([`assert_coincident_points_equal`]), more than 0 (a point moved differently on the two
+/// sides would leave the coincident set unnoticed otherwise). Returns the count.
+pub fn assert_displacement_keeps_seams(
+    ctx: &tessera::gpu::Context,
+    m: &ControlMesh,
+    surface: &SurfaceData,
+    render: impl Fn(f32) -> tessera::render::RenderDesc,
+    scale: f32,
+    what: &str,
+) -> usize {
+    let pairs = |s| {
+        let run = super::capture::capture(
+            ctx,
+            surface,
+            &render(s),
+            &super::capture::offscreen(64, 64),
+            false,
+        );
+        assert_coincident_points_equal(m, &run.records)
+    };
+    let (plain, moved) = (pairs(0.0), pairs(scale));
+    eprintln!("{what}: {moved} coincident pairs bitwise equal");
+    assert!(moved > 0, "{what}: no shared point compared");
+    assert_eq!(moved, plain, "{what}: shared points split apart");
+    moved
+}

@@ -3,8 +3,9 @@
 //! Set 0 of every patch pipeline holds the shared bindings of `glsl/common/frame.glsl`,
 //! `capture.glsl` and the watertight corner rules plus the scheme's own bindings
 //! ([`set0_layout`]): 0 `Frame` UBO, 2 vertex limit positions, 3 TES capture, 8 control
-//! positions, 9 vertex limit normals, 14 face-varying texture coordinates. A scheme's own tables take the other binding numbers of
-//! set 0 (1, 4-7) or sets of their own.
+//! positions, 9 vertex limit normals, 14 face-varying texture coordinates, 15 the displacement
+//! map (combined image sampler; a 1 x 1 mid-grey image without a map). A scheme's own tables
+//! take the other binding numbers of set 0 (1, 4-7) or sets of their own.
 
 use ash::vk;
 use glam::DVec3;
@@ -13,8 +14,9 @@ use super::capture::{capture_buffer, decode_capture, reset_capture, CaptureRecor
 use super::frames::VertexFrames;
 use super::upload::{host_buffer, vec3_bytes, vec4_bytes};
 use crate::gpu::{
-    Buffer, BufferBinding, Context, DescriptorBinding, DescriptorKind, DescriptorPool,
+    Buffer, BufferBinding, Context, DescriptorBinding, DescriptorKind, DescriptorPool, SampledImage,
 };
+use crate::render::displace::{DisplacementMap, Texels};
 use crate::render::settings::FRAME_UNIFORM_BYTES;
 use crate::{Error, Result};
 
@@ -30,6 +32,8 @@ pub const CONTROL_POSITIONS_BINDING: u32 = 8;
 pub const VERTEX_NORMALS_BINDING: u32 = 9;
 /// Binding of the face-varying texture coordinates (`glsl/common/texcoord.glsl`).
 pub const TEXCOORDS_BINDING: u32 = 14;
+/// Binding of the displacement map (`glsl/common/displace.glsl`).
+pub const DISPLACEMENT_MAP_BINDING: u32 = 15;
 
 /// Stages that read the shared storage buffers.
 pub fn storage_stages() -> vk::ShaderStageFlags {
@@ -67,7 +71,36 @@ pub fn set0_layout(own: &[u32]) -> Vec<DescriptorBinding> {
         .chain(own.iter().copied())
         .map(storage_binding),
     );
+    v.push(DescriptorBinding {
+        binding: DISPLACEMENT_MAP_BINDING,
+        kind: DescriptorKind::CombinedImageSampler,
+        stages: storage_stages(),
+    });
     v
+}
+
+/// The displacement map as a sampled image: 8-bit maps as `R8_UNORM`, 16-bit ones as
+/// `R16_UNORM`; without a map a 1 x 1 mid-grey texel (the binding is always valid).
+fn upload_map(ctx: &Context, map: Option<&DisplacementMap>) -> Result<SampledImage> {
+    let name = "displacement map";
+    let Some(map) = map else {
+        return ctx.upload_sampled_image(1, 1, vk::Format::R8_UNORM, &[128], name);
+    };
+    let (w, h) = map.size();
+    let max = ctx.info().limits.max_image_dimension_2d;
+    if w > max || h > max {
+        return Err(Error::Invalid(format!(
+            "displacement map {}: {w} x {h} texels exceeds the device's maxImageDimension2D {max}",
+            map.source()
+        )));
+    }
+    match map.texels() {
+        Texels::U8(t) => ctx.upload_sampled_image(w, h, vk::Format::R8_UNORM, t, name),
+        Texels::U16(t) => {
+            let bytes: Vec<u8> = t.iter().flat_map(|v| v.to_le_bytes()).collect();
+            ctx.upload_sampled_image(w, h, vk::Format::R16_UNORM, &bytes, name)
+        }
+    }
 }
 
 /// The host-written buffers of one frame in flight: what the CPU rewrites between frames.
@@ -134,12 +167,13 @@ pub struct SharedResources {
     capture_capacity: Option<u32>,
     vertex_count: usize,
     texcoords: Buffer,
+    displacement_map: SampledImage,
 }
 
 impl SharedResources {
     /// Uploads `positions` and `frames` into each of `frames_in_flight` slots (at least one);
     /// `capture_capacity` records of TES capture; the texture-coordinate table's words
-    /// (`SurfaceData::texcoord_words`).
+    /// (`SurfaceData::texcoord_words`); the displacement map, if any.
     pub fn new(
         ctx: &Context,
         positions: &[DVec3],
@@ -147,6 +181,7 @@ impl SharedResources {
         capture_capacity: Option<u32>,
         frames_in_flight: usize,
         texcoords: &[[u32; 4]],
+        displacement_map: Option<&DisplacementMap>,
     ) -> Result<SharedResources> {
         let staged = Staged {
             positions: vec3_bytes(positions),
@@ -168,6 +203,7 @@ impl SharedResources {
                 vk::BufferUsageFlags::STORAGE_BUFFER,
                 "texture coordinates",
             )?,
+            displacement_map: upload_map(ctx, displacement_map)?,
         })
     }
 
@@ -222,6 +258,7 @@ impl SharedResources {
             .map(|slot| {
                 let set = pool.allocate(layout)?;
                 ctx.write_buffer_descriptors(set, &self.bindings(slot, own));
+                ctx.write_image_descriptor(set, DISPLACEMENT_MAP_BINDING, &self.displacement_map);
                 Ok(set)
             })
             .collect()
