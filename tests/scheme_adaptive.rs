@@ -216,25 +216,11 @@ fn gpu_frames_equal_cpu_rows() {
     }
 }
 
-/// The shared meshes the scheme refuses today, each with a named face: end caps the Gregory
-/// construction does not cover (infinitely sharp vertices with fewer than two sharp edges,
-/// crease sectors of one face, corner sectors of more than two faces; `catmark_inf_crease0/1`
-/// have darts, now covered, next to such sectors). Holes are refined topologically with the
-/// ring, so end caps next to them build. The list fails the test both ways.
-const KNOWN_GAPS: [&str; 12] = [
-    "catmark_cube_corner4",
-    "catmark_cube_creases2",
-    "catmark_cubes_infsharp",
-    "catmark_dart_edgeonly",
-    "catmark_edgeonly",
-    "catmark_fvar_project0",
-    "catmark_gregory_test6",
-    "catmark_gregory_test7",
-    "catmark_inf_crease0",
-    "catmark_inf_crease1",
-    "catmark_tent",
-    "catmark_val2_interior",
-];
+/// The shared meshes the scheme refuses today, each with a named face: none. (The last twelve,
+/// cone points, crease sectors of one face and corner sectors of more than two faces, get end
+/// caps with the exact limit point and approximated tangents, `Coverage::EndCap`.) The list
+/// fails the test both ways.
+const KNOWN_GAPS: [&str; 0] = [];
 
 /// Every other loadable shared mesh draws with no face on the CPU path, validation clean; the
 /// known gaps fail with an error naming a face (never a panic or a silent fallback).

@@ -41,6 +41,10 @@ pub enum VertexKind {
     /// on that edge): limit position and tangent plane from the eigenvectors of the ring's
     /// subdivision matrix ([`dart_limit`]); not covered by the paper.
     Dart,
+    /// Corner rule with fewer than two sharp edges (a cone point, e.g. an infinitely sharp
+    /// vertex tag on a smooth or dart vertex): [`GregoryVertex::cone`], an approximation for
+    /// adaptive end caps only (the exact surface has no finite edge tangents there).
+    Cone,
 }
 
 /// Corner point, edge points and transversal vectors of one vertex.
@@ -149,13 +153,16 @@ pub fn crease_tangent_weights(k: usize) -> (f64, Vec<f64>, Vec<f64>) {
 
 impl<P: GregoryPoint> GregoryVertex<P> {
     /// The construction for any supported ring: [`Self::interior`] when no edge is sharp,
-    /// otherwise [`Self::sectored`]. `None` for rings the construction does not cover (a
-    /// single sharp edge, a crease sector with one face, or a ring that does not close: fewer
-    /// faces than edges without a sharp edge, e.g. next to a hole).
+    /// [`Self::dart`] at one sharp edge, [`Self::cone`] at a corner tag with fewer than two
+    /// sharp edges, otherwise [`Self::sectored`]. `None` for rings the construction does not
+    /// cover (a ring that does not close: fewer faces than edges without a sharp edge, e.g.
+    /// next to a hole).
     pub fn new(ring: &VertexRing<P>, tangents: GregoryTangents) -> Option<GregoryVertex<P>> {
         let sharp = ring.sharp.iter().filter(|&&s| s).count();
         if sharp == 1 && !ring.corner && ring.c.len() == ring.m.len() {
             Self::dart(ring, tangents)
+        } else if ring.corner && sharp < 2 {
+            Self::cone(ring)
         } else if sharp > 0 || ring.corner {
             Self::sectored(ring)
         } else if ring.c.len() == ring.m.len() {
@@ -201,18 +208,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
                 e
             })
             .collect();
-        let r: Vec<P> = (0..n)
-            .map(|j| {
-                let next = (j + 1) % n;
-                let prev = (j + n - 1) % n;
-                combine(&[
-                    (1.0 / 3.0, &ring.m[next]),
-                    (-1.0 / 3.0, &ring.m[prev]),
-                    (2.0 / 3.0, &ring.c[j]),
-                    (-2.0 / 3.0, &ring.c[prev]),
-                ])
-            })
-            .collect();
+        let r: Vec<P> = (0..n).map(|j| inner_r(ring, j, n)).collect();
         let r_minus = (0..n)
             .map(|j| combine(&[(-1.0, &r[(j + 1) % n])]))
             .collect();
@@ -260,6 +256,44 @@ impl<P: GregoryPoint> GregoryVertex<P> {
             p,
             e,
             ..smooth
+        })
+    }
+
+    /// The construction at a cone point: the corner rule (`v` stays) with fewer than two sharp
+    /// edges, so one sector wraps the whole (closed) ring.
+    ///
+    /// The exact surface has no tangent plane there: the ring's rotationally symmetric mode
+    /// (eigenvalue `μ₀ = (3 + √5)/8 ≈ 0.6545` on a ring of quads, from the 2 × 2 block
+    /// `[[1/2, 1/8], [1/2, 1/4]]` of the mean edge and face offsets once `v` is fixed) exceeds
+    /// every angular mode (`λ ≤ 1/2`), so every edge curve leaves `v` along the one cusp axis
+    /// with an infinite derivative (`|x(t) - v| ~ t^{-log₂ μ₀} = t^0.61`), and each face's
+    /// normal tends to a vector perpendicular to the axis that turns with the direction of
+    /// approach. No finite edge point is exact. The approximation (as OpenSubdiv's end caps at
+    /// sharp corners): `p = v` (exact), edge points along the refined edges `e_j = (v + 2m_j)/3`
+    /// (the edge chords, which turn towards the axis level by level), `r` and `cos(2π/n)` as
+    /// for a smooth vertex (§3.4). Each face keeps its own corner normal.
+    pub fn cone(ring: &VertexRing<P>) -> Option<GregoryVertex<P>> {
+        let n = ring.m.len();
+        if n < 2 || ring.c.len() != n {
+            return None;
+        }
+        let e = ring
+            .m
+            .iter()
+            .map(|m| combine(&[(1.0 / 3.0, &ring.v), (2.0 / 3.0, m)]))
+            .collect();
+        let r: Vec<P> = (0..n).map(|j| inner_r(ring, j, n)).collect();
+        let r_minus = (0..n)
+            .map(|j| combine(&[(-1.0, &r[(j + 1) % n])]))
+            .collect();
+        Some(GregoryVertex {
+            kind: VertexKind::Cone,
+            n,
+            p: ring.v.clone(),
+            e,
+            r_plus: r,
+            r_minus,
+            cosine: vec![(2.0 * PI / n as f64).cos(); n],
         })
     }
 
@@ -315,8 +349,12 @@ impl<P: GregoryPoint> GregoryVertex<P> {
             let face = |i: usize| (s + i) % ne;
             let alpha = match kind {
                 VertexKind::Corner => PI / (2.0 * k as f64),
-                // A one-face crease sector is not covered (its faces fail `check_vertex`).
-                _ if k < 2 => continue,
+                _ if k < 2 => {
+                    let (rp, rm) = one_face_crease_r(ring, &p, &e, s, t);
+                    r_plus[face(0)] = rp;
+                    r_minus[face(0)] = rm;
+                    continue;
+                }
                 _ => PI / k as f64,
             };
             let ds = combine(&[(1.0, &e[s]), (-1.0, &p)]);
@@ -335,20 +373,20 @@ impl<P: GregoryPoint> GregoryVertex<P> {
                 }
             };
             for i in 1..k {
-                let (sn, cs) = (i as f64 * alpha).sin_cos();
-                e[edge(i)] = combine(&[(1.0, &p), (cs, &ds), (sn, &second)]);
+                e[edge(i)] = if kind == VertexKind::Corner && k > 2 {
+                    // Wide corner sector: the refined edge's chord (see above).
+                    combine(&[(1.0 / 3.0, &ring.v), (2.0 / 3.0, &ring.m[edge(i)])])
+                } else {
+                    let (sn, cs) = (i as f64 * alpha).sin_cos();
+                    combine(&[(1.0, &p), (cs, &ds), (sn, &second)])
+                };
             }
             for i in 0..k {
                 cosine[face(i)] = alpha.cos();
             }
             // Transversal vectors: inner edges (§3.4), then the two reflected sharp sides.
             for i in 1..k {
-                let r = combine(&[
-                    (1.0 / 3.0, &ring.m[edge(i + 1)]),
-                    (-1.0 / 3.0, &ring.m[edge(i - 1)]),
-                    (2.0 / 3.0, &ring.c[face(i)]),
-                    (-2.0 / 3.0, &ring.c[face(i - 1)]),
-                ]);
+                let r = inner_r(ring, edge(i), ne);
                 r_minus[face(i - 1)] = combine(&[(-1.0, &r)]);
                 r_plus[face(i)] = r;
             }
@@ -375,6 +413,53 @@ impl<P: GregoryPoint> GregoryVertex<P> {
             cosine,
         })
     }
+}
+
+/// The transversal vector across inner edge `j` of a ring with `ne` edges, pointing into face
+/// `j` (§3.4): `r_j = 1/3 (m_{j+1} - m_{j-1}) + 2/3 (c_j - c_{j-1})`.
+fn inner_r<P: GregoryPoint>(ring: &VertexRing<P>, j: usize, ne: usize) -> P {
+    let (next, prev) = ((j + 1) % ne, (j + ne - 1) % ne);
+    combine(&[
+        (1.0 / 3.0, &ring.m[next]),
+        (-1.0 / 3.0, &ring.m[prev]),
+        (2.0 / 3.0, &ring.c[j]),
+        (-2.0 / 3.0, &ring.c[prev]),
+    ])
+}
+
+/// `(r_plus, r_minus)` of the face alone in a crease sector between sharp edges `s` and `t`
+/// (a valence-2 `EdgeOnly` boundary corner, or two infinitely sharp edges around one face).
+///
+/// With the sector's ring `v, a = w_s, b = w_t, f` the crease rule is closed on it: `a - b` is
+/// a left eigenvector of `1/2` (the crease curve) and `a + b - 2v`, `f - v` form a Jordan block
+/// of `1/4` (`(f - v)' = (f - v)/4 + (a + b - 2v)/8`), so the limit normal is
+/// `(a - b) × (a + b - 2v)`: the plane of `v, a, b`, which holds `p = (a + 4v + b)/6`. The edge
+/// points of both sharp edges are the crease curve's (`(2v + w)/3`, exact), so `e_s - p =
+/// -(e_t - p)` and the patch's corner is singular; near it the patch normal is
+/// `(e_s - p) × (A + 9 (f - p))` to first order, with `A = a + b - 2v` the curve's second
+/// derivative there and `f` the face point (`e_s + e_t - p = p` makes the twist `f - p`).
+/// Putting the face points in the tangent plane makes that normal the exact one whatever the
+/// direction of approach: `f = p + (m_s + m_t - 2v)/3` (`= p + A/6`, OpenSubdiv's face point
+/// on a flat corner, `(4v + 2a + 2b + f)/9`, when `f = a + b - v`). With the sector's
+/// `cos = 0`, eq. 6 gives `f = e + (c_b (p - e) + r)/d`, so `r = 3 (p - e) + m_s + m_t - 2v`
+/// (the `c_b` and `d = 4` terms move `f` along the crease tangent only: still in the plane).
+fn one_face_crease_r<P: GregoryPoint>(
+    ring: &VertexRing<P>,
+    p: &P,
+    e: &[P],
+    s: usize,
+    t: usize,
+) -> (P, P) {
+    let r = |x: usize| {
+        combine(&[
+            (3.0, p),
+            (-3.0, &e[x]),
+            (1.0, &ring.m[s]),
+            (1.0, &ring.m[t]),
+            (-2.0, &ring.v),
+        ])
+    };
+    (r(s), r(t))
 }
 
 /// Face point next to the edge from corner `a` to corner `b` of a patch (eq. 6, re-derived from
