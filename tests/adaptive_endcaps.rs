@@ -290,7 +290,12 @@ fn approximated_corners_converge() {
                     .join(" "),
             );
             for l in 0..4 {
-                assert!(at(l).0 <= 1e-9, "{name} {kind} L={}: corner {:e}", l + 1, at(l).0);
+                assert!(
+                    at(l).0 <= 1e-9,
+                    "{name} {kind} L={}: corner {:e}",
+                    l + 1,
+                    at(l).0
+                );
             }
             for l in 1..4 {
                 assert!(at(l).1 < at(l - 1).1, "{name} {kind}: distance not falling");

@@ -42,8 +42,8 @@ pub use build::{
     check_vertex_for, end_cap_patch_at, gregory_faces, gregory_patch, gregory_patch_at,
     gregory_patch_at_with, gregory_patch_for, gregory_patch_weights, gregory_patch_weights_with,
     gregory_vertex, gregory_vertex_for, gregory_vertex_with, gregory_vertices,
-    gregory_vertices_with, is_supported_vertex, one_face_crease_sector, vertex_ring, vertex_ring_with, Coverage,
-    GregoryPatch, NotGregory,
+    gregory_vertices_with, is_supported_vertex, one_face_crease_sector, vertex_ring,
+    vertex_ring_with, Coverage, GregoryPatch, NotGregory,
 };
 pub use eval::{CornerRef, GregoryQuad, GregoryTriangle, PatchPoint};
 pub use point::{combine, GregoryPoint, Weights};

@@ -677,4 +677,178 @@ mod tests {
             }
         }
     }
+
+    /// One Catmull-Clark step on a split ring, from the rules (face points `c_i`; edge points
+    /// `m_i` on sharp edges, `(2 m_i + c_{i-1} + c_i)/4` on smooth ones; vertex kept (corner),
+    /// `3/4 v + 1/8 (w_a + w_b)` (crease, `w = 2m - v`) or the smooth rule), then the child
+    /// ring `v', (v' + E_i)/2, (v' + E_i + F_i + E_{i+1})/4`; rescaled by 2 about `v'` (the rules
+    /// are affine invariant) so that long runs neither underflow nor change directions.
+    fn refine_ring(r: &VertexRing<DVec3>) -> VertexRing<DVec3> {
+        let (ne, nf) = (r.m.len(), r.c.len());
+        let sharp: Vec<usize> = (0..ne).filter(|&i| r.sharp[i]).collect();
+        let v = if r.corner {
+            r.v
+        } else if sharp.len() == 2 {
+            let w = |i: usize| 2.0 * r.m[i] - r.v;
+            0.75 * r.v + 0.125 * (w(sharp[0]) + w(sharp[1]))
+        } else {
+            let n = ne as f64;
+            let avg = |x: &[DVec3]| x.iter().sum::<DVec3>() / n;
+            (n - 3.0) / n * r.v + 2.0 / n * avg(&r.m) + 1.0 / n * avg(&r.c)
+        };
+        let edge: Vec<DVec3> = (0..ne)
+            .map(|i| {
+                if r.sharp[i] {
+                    r.m[i]
+                } else {
+                    (2.0 * r.m[i] + r.c[(i + nf - 1) % nf] + r.c[i % nf]) / 4.0
+                }
+            })
+            .collect();
+        let grow = |x: DVec3| v + 2.0 * (x - v);
+        VertexRing {
+            v,
+            m: edge.iter().map(|&e| grow((v + e) / 2.0)).collect(),
+            c: (0..nf)
+                .map(|i| grow((v + edge[i] + r.c[i] + edge[(i + 1) % ne]) / 4.0))
+                .collect(),
+            ..r.clone()
+        }
+    }
+
+    /// A quad face alone between the two sharp edges of a crease vertex (a valence-2 `EdgeOnly`
+    /// boundary corner): `p` is where refinement takes the vertex, both face points lie in the
+    /// limit tangent plane, and the patch's normal next to the corner,
+    /// `(e_s - p) x (A + 9 (f - p))` with `A = a + b - 2v`, is the limit normal of the refined
+    /// face (20,000 rescaled steps; the Jordan block of 1/4 converges like 1/k).
+    #[test]
+    fn one_face_crease_sector_is_the_refinement_limit() {
+        let v = DVec3::new(0.1, 0.2, -0.1);
+        let (a, b, f) = (
+            DVec3::new(1.0, 0.1, 0.3),
+            DVec3::new(-0.2, 1.1, 0.2),
+            DVec3::new(0.9, 1.2, 0.9),
+        );
+        let ring = VertexRing {
+            v,
+            m: vec![(v + a) / 2.0, (v + b) / 2.0],
+            c: vec![(v + a + b + f) / 4.0],
+            sharp: vec![true, true],
+            corner: false,
+            quads: true,
+        };
+        let g = GregoryVertex::new(&ring, GregoryTangents::Paper).expect("covered");
+        let mut x = ring.clone();
+        let mut limit = x.v;
+        for _ in 0..60 {
+            // Unscaled steps for the position.
+            let next = refine_ring(&x);
+            limit = next.v;
+            x = VertexRing {
+                m: next
+                    .m
+                    .iter()
+                    .map(|&m| next.v + 0.5 * (m - next.v))
+                    .collect(),
+                c: next
+                    .c
+                    .iter()
+                    .map(|&c| next.v + 0.5 * (c - next.v))
+                    .collect(),
+                ..next
+            };
+        }
+        assert!((g.p - limit).length() < 1e-12, "{} vs {limit}", g.p);
+        let mut y = ring.clone();
+        for _ in 0..20_000 {
+            y = refine_ring(&y);
+            let s = 1.0 / (y.m[0] - y.v).length();
+            y.m.iter_mut().for_each(|m| *m = y.v + s * (*m - y.v));
+            y.c.iter_mut().for_each(|c| *c = y.v + s * (*c - y.v));
+        }
+        let exact = (y.m[0] - y.m[1]).cross(y.c[0] - y.v).normalize();
+        let d = g.e[0] - g.p;
+        let far = (v + 2.0 * a) / 3.0;
+        for (e, r) in [(g.e[0], g.r_plus[0]), (g.e[1], g.r_minus[0])] {
+            for c_b in [0.0, 0.5, -0.3] {
+                let fp = face_point_cos(3.0, g.cosine[0], c_b, &g.p, &e, &far, &r);
+                let n = d.cross(2.0 * (a + b - 2.0 * v) / 2.0 + 9.0 * (fp - g.p));
+                assert!(
+                    n.dot((a - v).cross(b - v)).abs()
+                        > 0.99 * n.length() * (a - v).cross(b - v).length()
+                );
+                let angle = n.angle_between(exact);
+                assert!(angle < 1e-3, "c_b {c_b}: {angle}");
+            }
+        }
+    }
+
+    /// A cone point (corner tag on a smooth ring of five quads): `p = v`, the edge points are the
+    /// refined chords, and refinement confirms the cusp the approximation is built for: the
+    /// ring's mean offset shrinks by `(3 + √5)/8` per step, faster than any angular mode decays,
+    /// so the chords (and with them the edge points) turn onto one axis.
+    #[test]
+    fn cone_points_follow_the_refined_chords() {
+        let mut r = ring(5);
+        r.corner = true;
+        let g = GregoryVertex::new(&r, GregoryTangents::Paper).expect("covered");
+        assert_eq!(g.kind, VertexKind::Cone);
+        assert_eq!(g.p, r.v);
+        for (e, m) in g.e.iter().zip(&r.m) {
+            assert!((*e - (r.v + 2.0 * *m) / 3.0).length() < 1e-15);
+        }
+        let mean = |x: &VertexRing<DVec3>| x.m.iter().sum::<DVec3>() / 5.0 - x.v;
+        let mut x = r.clone();
+        let mut ratio = 0.0;
+        // Angular modes fall behind by (0.55 / 0.6545)^k: 200 steps leave ~1e-15.
+        for _ in 0..200 {
+            let next = refine_ring(&x);
+            // `refine_ring` grows offsets by 2.
+            ratio = 0.5 * mean(&next).length() / mean(&x).length();
+            let s = 1.0 / mean(&next).length();
+            x = VertexRing {
+                m: next.m.iter().map(|&m| next.v + s * (m - next.v)).collect(),
+                c: next.c.iter().map(|&c| next.v + s * (c - next.v)).collect(),
+                ..next
+            };
+        }
+        assert!((ratio - (3.0 + 5f64.sqrt()) / 8.0).abs() < 1e-9, "{ratio}");
+        let g = GregoryVertex::new(&x, GregoryTangents::Paper).unwrap();
+        let axis = mean(&x);
+        for e in &g.e {
+            assert!((*e - g.p).angle_between(axis) < 1e-6);
+        }
+    }
+
+    /// A corner sector of three quads: `p = v`, every edge point the refined chord, and the
+    /// inner chords shrink by the sector's leading eigenvalue 0.5797 (above the sharp edges'
+    /// 1/2), as `subdiv::limit::sector` tabulates.
+    #[test]
+    fn wide_corner_sectors_follow_the_refined_chords() {
+        let base = ring(4);
+        let r = VertexRing {
+            c: base.c[..3].to_vec(),
+            sharp: vec![true, false, false, true],
+            corner: true,
+            ..base
+        };
+        let g = GregoryVertex::new(&r, GregoryTangents::Paper).expect("covered");
+        assert_eq!((g.kind, g.p), (VertexKind::Corner, r.v));
+        for (e, m) in g.e.iter().zip(&r.m) {
+            assert!((*e - (r.v + 2.0 * *m) / 3.0).length() < 1e-15);
+        }
+        let mut x = r;
+        let mut ratio = 0.0;
+        for _ in 0..200 {
+            let next = refine_ring(&x);
+            ratio = 0.5 * (next.m[1] - next.v).length() / (x.m[1] - x.v).length();
+            let s = 1.0 / (next.m[1] - next.v).length();
+            x = VertexRing {
+                m: next.m.iter().map(|&m| next.v + s * (m - next.v)).collect(),
+                c: next.c.iter().map(|&c| next.v + s * (c - next.v)).collect(),
+                ..next
+            };
+        }
+        assert!((ratio - 0.579_682_326).abs() < 1e-6, "{ratio}");
+    }
 }
