@@ -33,18 +33,21 @@ pub enum NotGregory {
     /// A corner vertex has exactly one infinitely sharp edge (a dart; not covered by the paper,
     /// refused by the level-0 schemes only, [`check_face_level0`]).
     Dart { face: u32, vertex: u32 },
-    /// An infinitely sharp vertex with fewer than two sharp edges (a cone point).
+    /// An infinitely sharp vertex with fewer than two sharp edges (a cone point; adaptive end
+    /// caps approximate it, [`Coverage::EndCap`]).
     Cusp { face: u32, vertex: u32 },
     /// The face lies alone between two sharp edges of a crease vertex (crease sector of one
     /// face, e.g. a valence-2 boundary vertex with `EdgeOnly` interpolation). The crease rule
     /// gives the patch collinear edge tangents there (the exact tangent plane comes from a
     /// second-order term of the subdivision matrix's Jordan block), so the patch normal at that
     /// corner is undefined. (The paper's §4.6 sets `p = v` for any one-face vertex, which is the
-    /// `EdgeAndCorner` surface, not the `EdgeOnly` one.)
+    /// `EdgeAndCorner` surface, not the `EdgeOnly` one.) Adaptive end caps take it with face
+    /// points in the exact tangent plane ([`Coverage::EndCap`]).
     OneFaceCreaseSector { face: u32, vertex: u32 },
     /// The face lies in a sector of more than two faces at a corner vertex: the exact surface
     /// there has no tangent plane spanned by the two sharp curves (its leading interior mode
-    /// dominates), which the corner construction of §4.6 assumes.
+    /// dominates), which the corner construction of §4.6 assumes (adaptive end caps
+    /// approximate it, [`Coverage::EndCap`]).
     WideCornerSector { face: u32, vertex: u32 },
 }
 

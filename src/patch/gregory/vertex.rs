@@ -310,6 +310,12 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     /// - `r` across inner edges as in §3.4; across a sharp edge, the ring reflected across it
     ///   (`m_{s-1} → 2v - m_{s+1}`, `c_{s-1} → 2 m_s - c_s`, the phantom rule of boundary
     ///   B-splines): `r = 2/3 (m_{s+1} - v) + 4/3 (c_s - m_s)`.
+    /// - A crease sector of one face ([`one_face_crease_r`], end caps only): `cos = 0` and face
+    ///   points in the exact tangent plane.
+    /// - A corner sector of more than two faces (end caps only): inner edge points on the
+    ///   refined chords `(v + 2 m_j)/3`, as at a cone point ([`Self::cone`]): the sector's leading
+    ///   interior mode (0.58 to 0.63) exceeds the sharp edges' 1/2, so the exact inner edge
+    ///   curves have no finite tangent and the sharp edges' tangents do not span the surface.
     pub fn sectored(ring: &VertexRing<P>) -> Option<GregoryVertex<P>> {
         let ne = ring.m.len();
         let nf = ring.c.len();
