@@ -118,7 +118,7 @@ pub enum Coverage {
     /// Faces whose corners the construction interpolates exactly (limit position and tangent
     /// plane): what the level-0 Gregory schemes draw ([`check_face`]).
     Exact,
-    /// Adaptive end caps ([`check_face_end_cap`]): also cone points, crease sectors of one
+    /// Adaptive end caps ([`check_face_for`]): also cone points, crease sectors of one
     /// face and corner sectors of more than two faces, where the end cap's corner is the
     /// exact limit point but its tangents are approximations ([`GregoryVertex::cone`],
     /// [`GregoryVertex::sectored`]) whose area shrinks by four per isolation level.
@@ -201,12 +201,6 @@ fn in_sector(s: &Sector, j: usize, ne: usize) -> bool {
 /// Whether face `f` gets a Gregory patch (`Ok`) or why not.
 pub fn check_face(topo: &Topology, f: u32) -> Result<(), NotGregory> {
     check_face_for(topo, f, Coverage::Exact)
-}
-
-/// Whether face `f` gets an adaptive end cap (`Ok`) or why not: [`check_face`] plus the
-/// approximated corners of [`Coverage::EndCap`].
-pub fn check_face_end_cap(topo: &Topology, f: u32) -> Result<(), NotGregory> {
-    check_face_for(topo, f, Coverage::EndCap)
 }
 
 /// [`check_face`] for the given coverage.
@@ -430,19 +424,19 @@ pub fn gregory_patch_at_with(
     f: u32,
     tangents: GregoryTangents,
 ) -> Result<GregoryPatch<DVec3>, NotGregory> {
-    let point = |i: u32| positions[i as usize];
-    local_patch(topo, f, &point, tangents, Coverage::Exact)
+    gregory_patch_at_for(topo, positions, f, tangents, Coverage::Exact)
 }
 
-/// The adaptive end cap of face `f` ([`Coverage::EndCap`]) built directly from positions.
-pub fn end_cap_patch_at(
+/// [`gregory_patch_at_with`] for the given coverage ([`Coverage::EndCap`]: an adaptive end cap).
+pub fn gregory_patch_at_for(
     topo: &Topology,
     positions: &[DVec3],
     f: u32,
     tangents: GregoryTangents,
+    coverage: Coverage,
 ) -> Result<GregoryPatch<DVec3>, NotGregory> {
     let point = |i: u32| positions[i as usize];
-    local_patch(topo, f, &point, tangents, Coverage::EndCap)
+    local_patch(topo, f, &point, tangents, coverage)
 }
 
 /// The Gregory patch of face `f` with every control point as weights over control vertices.
