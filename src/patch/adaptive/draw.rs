@@ -25,7 +25,7 @@ use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure};
 use crate::patch::edge_grid::PATCH_EDGES;
 use crate::patch::gregory::edge_flags::{edge_flags, Across};
 use crate::patch::gregory::stencil_table::sparse_face_rows;
-use crate::patch::gregory::{GregoryTangents, Weights};
+use crate::patch::gregory::{one_face_crease_sector, GregoryTangents, Weights};
 use crate::patch::single_crease::{gpu_cvs, Rotation, SingleCreasePatch};
 use crate::patch::RegularPatch;
 use crate::subdiv::adaptive::{AdaptiveRefinement, Domain, PatchCensus, PatchType};
@@ -136,7 +136,10 @@ fn slot_rows(
                 frames[s] = Some(match (&p.crease, &p.bspline) {
                     (Some(line), _) => single_crease_corner_rows(line, k),
                     (None, Some(b)) => bspline_corner_rows(b, k),
-                    (None, None) => gregory_corner_rows(&caps[cap], fv.len(), k),
+                    (None, None) => {
+                        let singular = one_face_crease_sector(lev.topology(), v, p.face);
+                        gregory_corner_rows(&caps[cap], fv.len(), k, singular)
+                    }
                 });
                 shared[s] = single_normal_vertex(lev.topology(), v);
             }

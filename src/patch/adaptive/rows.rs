@@ -160,7 +160,11 @@ pub fn single_crease_corner_rows(line: &CreaseLine, k: usize) -> [Weights; 3] {
 /// patch at corner `k` from its rows ([`crate::patch::gregory::stencil_table`] order: kind by
 /// kind, `n` corners): `p`, `3 (e+ - p)`, `3 (e- - p)` (Loop et al. 2009 §3.2-3.3), so
 /// `cross(du, dv)` is the outward normal of a counter-clockwise face.
-pub fn gregory_corner_rows(rows: &[Weights], n: usize, k: usize) -> [Weights; 3] {
+///
+/// `singular`: the corner lies alone in a crease sector, where `e- - p = -(e+ - p)` (the crease
+/// curve passes through; `GregoryVertex::sectored`): the second row is then `3 (f+ - p)`, the
+/// face point the construction puts in the exact tangent plane, pointing into the face.
+pub fn gregory_corner_rows(rows: &[Weights], n: usize, k: usize, singular: bool) -> [Weights; 3] {
     let p = &rows[k];
     let tangent = |e: &Weights| {
         let mut w = Weights::zero();
@@ -168,5 +172,6 @@ pub fn gregory_corner_rows(rows: &[Weights], n: usize, k: usize) -> [Weights; 3]
         w.add_scaled(-3.0, p);
         w
     };
-    [p.clone(), tangent(&rows[n + k]), tangent(&rows[2 * n + k])]
+    let second = if singular { 3 * n + k } else { 2 * n + k };
+    [p.clone(), tangent(&rows[n + k]), tangent(&rows[second])]
 }

@@ -4,7 +4,9 @@
 use glam::{DVec2, DVec3};
 use thiserror::Error;
 
-use crate::patch::gregory::{gregory_patch_at_with, GregoryPatch, GregoryTangents, NotGregory};
+use crate::patch::gregory::{
+    gregory_patch_at_for, Coverage, GregoryPatch, GregoryTangents, NotGregory,
+};
 use crate::patch::regular::RegularPatch;
 use crate::patch::single_crease::SingleCreasePatch;
 use crate::subdiv::adaptive::{AdaptivePatch, AdaptiveRefinement, Domain, PatchCensus, PatchType};
@@ -131,7 +133,7 @@ pub fn end_caps(
             let t = lev.topology().without_semi_sharpness();
             let first = lev.first_vertex as usize;
             let local = &positions[first..first + lev.level.vertex_count()];
-            let patch = gregory_patch_at_with(&t, local, p.face, tangents)
+            let patch = gregory_patch_at_for(&t, local, p.face, tangents, Coverage::EndCap)
                 .map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?;
             Ok(SurfacePatch {
                 level: p.level,

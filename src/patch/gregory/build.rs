@@ -33,18 +33,21 @@ pub enum NotGregory {
     /// A corner vertex has exactly one infinitely sharp edge (a dart; not covered by the paper,
     /// refused by the level-0 schemes only, [`check_face_level0`]).
     Dart { face: u32, vertex: u32 },
-    /// An infinitely sharp vertex with fewer than two sharp edges (a cone point).
+    /// An infinitely sharp vertex with fewer than two sharp edges (a cone point; adaptive end
+    /// caps approximate it, [`Coverage::EndCap`]).
     Cusp { face: u32, vertex: u32 },
     /// The face lies alone between two sharp edges of a crease vertex (crease sector of one
     /// face, e.g. a valence-2 boundary vertex with `EdgeOnly` interpolation). The crease rule
     /// gives the patch collinear edge tangents there (the exact tangent plane comes from a
     /// second-order term of the subdivision matrix's Jordan block), so the patch normal at that
     /// corner is undefined. (The paper's §4.6 sets `p = v` for any one-face vertex, which is the
-    /// `EdgeAndCorner` surface, not the `EdgeOnly` one.)
+    /// `EdgeAndCorner` surface, not the `EdgeOnly` one.) Adaptive end caps take it with face
+    /// points in the exact tangent plane ([`Coverage::EndCap`]).
     OneFaceCreaseSector { face: u32, vertex: u32 },
     /// The face lies in a sector of more than two faces at a corner vertex: the exact surface
     /// there has no tangent plane spanned by the two sharp curves (its leading interior mode
-    /// dominates), which the corner construction of §4.6 assumes.
+    /// dominates), which the corner construction of §4.6 assumes (adaptive end caps
+    /// approximate it, [`Coverage::EndCap`]).
     WideCornerSector { face: u32, vertex: u32 },
 }
 
@@ -109,8 +112,31 @@ fn sharp_edges(topo: &Topology, v: u32) -> Vec<bool> {
         .collect()
 }
 
+/// Which faces the construction takes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Coverage {
+    /// Faces whose corners the construction interpolates exactly (limit position and tangent
+    /// plane): what the level-0 Gregory schemes draw ([`check_face`]).
+    Exact,
+    /// Adaptive end caps ([`check_face_for`]): also cone points, crease sectors of one
+    /// face and corner sectors of more than two faces, where the end cap's corner is the
+    /// exact limit point but its tangents are approximations ([`GregoryVertex::cone`],
+    /// [`GregoryVertex::sectored`]) whose area shrinks by four per isolation level.
+    EndCap,
+}
+
 /// Whether the construction covers vertex `v` as a corner of face `f` (`Ok`) or why not.
 pub fn check_vertex(topo: &Topology, v: u32, f: u32) -> Result<(), NotGregory> {
+    check_vertex_for(topo, v, f, Coverage::Exact)
+}
+
+/// [`check_vertex`] for the given coverage.
+pub fn check_vertex_for(
+    topo: &Topology,
+    v: u32,
+    f: u32,
+    coverage: Coverage,
+) -> Result<(), NotGregory> {
     let vs = topo.vertex_sharpness(v);
     let semi = |s: f32| s > 0.0 && !is_inf(s);
     if semi(vs)
@@ -120,6 +146,9 @@ pub fn check_vertex(topo: &Topology, v: u32, f: u32) -> Result<(), NotGregory> {
             .any(|&e| semi(topo.edge_sharpness(e)))
     {
         return Err(NotGregory::SemiSharp { face: f, vertex: v });
+    }
+    if coverage == Coverage::EndCap {
+        return Ok(());
     }
     let sharp = sharp_edges(topo, v);
     let count = sharp.iter().filter(|&&s| s).count();
@@ -134,21 +163,26 @@ pub fn check_vertex(topo: &Topology, v: u32, f: u32) -> Result<(), NotGregory> {
     {
         return Err(NotGregory::WideCornerSector { face: f, vertex: v });
     }
-    if count == 2 && !corner {
-        let j = topo
-            .vertex_faces(v)
-            .iter()
-            .position(|&g| g == f)
-            .unwrap_or(0);
-        let nf = topo.vertex_faces(v).len();
-        if sectors(&sharp, nf)
-            .iter()
-            .any(|s| s.faces == 1 && s.start == j)
-        {
-            return Err(NotGregory::OneFaceCreaseSector { face: f, vertex: v });
-        }
+    if one_face_crease_sector(topo, v, f) {
+        return Err(NotGregory::OneFaceCreaseSector { face: f, vertex: v });
     }
     Ok(())
+}
+
+/// Whether face `f` lies alone in a sector of crease vertex `v` (two infinitely sharp edges,
+/// crease rule), where the end cap's corner tangents are collinear
+/// ([`GregoryVertex::sectored`]).
+pub fn one_face_crease_sector(topo: &Topology, v: u32, f: u32) -> bool {
+    let sharp = sharp_edges(topo, v);
+    let count = sharp.iter().filter(|&&s| s).count();
+    if count != 2 || is_inf(topo.vertex_sharpness(v)) {
+        return false;
+    }
+    let j = j_of(topo, v, f);
+    let nf = topo.vertex_faces(v).len();
+    sectors(&sharp, nf)
+        .iter()
+        .any(|s| s.faces == 1 && s.start == j)
 }
 
 /// Index of face `f` in the ring of `v` (0 if absent).
@@ -166,6 +200,11 @@ fn in_sector(s: &Sector, j: usize, ne: usize) -> bool {
 
 /// Whether face `f` gets a Gregory patch (`Ok`) or why not.
 pub fn check_face(topo: &Topology, f: u32) -> Result<(), NotGregory> {
+    check_face_for(topo, f, Coverage::Exact)
+}
+
+/// [`check_face`] for the given coverage.
+pub fn check_face_for(topo: &Topology, f: u32, coverage: Coverage) -> Result<(), NotGregory> {
     if !topo.has_limit_surface(f) {
         return Err(NotGregory::NoSurface { face: f });
     }
@@ -176,7 +215,8 @@ pub fn check_face(topo: &Topology, f: u32) -> Result<(), NotGregory> {
             size: fv.len(),
         });
     }
-    fv.iter().try_for_each(|&v| check_vertex(topo, v, f))
+    fv.iter()
+        .try_for_each(|&v| check_vertex_for(topo, v, f, coverage))
 }
 
 /// [`check_face`] for the level-0 Gregory schemes (`gregory-stencil`, `gregory-vs`), which also
@@ -283,8 +323,23 @@ pub fn gregory_vertex_with<P: GregoryPoint>(
     point: &impl Fn(u32) -> P,
     tangents: GregoryTangents,
 ) -> Option<GregoryVertex<P>> {
+    gregory_vertex_for(topo, v, point, tangents, Coverage::Exact)
+}
+
+/// [`gregory_vertex_with`] for the given coverage.
+pub fn gregory_vertex_for<P: GregoryPoint>(
+    topo: &Topology,
+    v: u32,
+    point: &impl Fn(u32) -> P,
+    tangents: GregoryTangents,
+    coverage: Coverage,
+) -> Option<GregoryVertex<P>> {
     let faces = topo.vertex_faces(v);
-    if faces.is_empty() || faces.iter().all(|&f| check_vertex(topo, v, f).is_err()) {
+    if faces.is_empty()
+        || faces
+            .iter()
+            .all(|&f| check_vertex_for(topo, v, f, coverage).is_err())
+    {
         return None;
     }
     GregoryVertex::new(&vertex_ring_with(topo, v, point), tangents)
@@ -314,7 +369,17 @@ pub fn gregory_patch<P: GregoryPoint>(
     vertices: &[Option<GregoryVertex<P>>],
     f: u32,
 ) -> Result<GregoryPatch<P>, NotGregory> {
-    check_face(topo, f)?;
+    gregory_patch_for(topo, vertices, f, Coverage::Exact)
+}
+
+/// [`gregory_patch`] for the given coverage (`vertices` built with the same).
+pub fn gregory_patch_for<P: GregoryPoint>(
+    topo: &Topology,
+    vertices: &[Option<GregoryVertex<P>>],
+    f: u32,
+    coverage: Coverage,
+) -> Result<GregoryPatch<P>, NotGregory> {
+    check_face_for(topo, f, coverage)?;
     assemble_face(topo, f, |_, v| vertices[v as usize].as_ref())
 }
 
@@ -359,8 +424,19 @@ pub fn gregory_patch_at_with(
     f: u32,
     tangents: GregoryTangents,
 ) -> Result<GregoryPatch<DVec3>, NotGregory> {
+    gregory_patch_at_for(topo, positions, f, tangents, Coverage::Exact)
+}
+
+/// [`gregory_patch_at_with`] for the given coverage ([`Coverage::EndCap`]: an adaptive end cap).
+pub fn gregory_patch_at_for(
+    topo: &Topology,
+    positions: &[DVec3],
+    f: u32,
+    tangents: GregoryTangents,
+    coverage: Coverage,
+) -> Result<GregoryPatch<DVec3>, NotGregory> {
     let point = |i: u32| positions[i as usize];
-    local_patch(topo, f, &point, tangents)
+    local_patch(topo, f, &point, tangents, coverage)
 }
 
 /// The Gregory patch of face `f` with every control point as weights over control vertices.
@@ -374,7 +450,7 @@ pub fn gregory_patch_weights_with(
     f: u32,
     tangents: GregoryTangents,
 ) -> Result<GregoryPatch<Weights>, NotGregory> {
-    local_patch(topo, f, &Weights::unit, tangents)
+    local_patch(topo, f, &Weights::unit, tangents, Coverage::Exact)
 }
 
 fn local_patch<P: GregoryPoint>(
@@ -382,8 +458,9 @@ fn local_patch<P: GregoryPoint>(
     f: u32,
     point: &impl Fn(u32) -> P,
     tangents: GregoryTangents,
+    coverage: Coverage,
 ) -> Result<GregoryPatch<P>, NotGregory> {
-    check_face(topo, f)?;
+    check_face_for(topo, f, coverage)?;
     let fv = topo.face_vertices(f);
     let mut data: Vec<Option<GregoryVertex<P>>> = Vec::with_capacity(fv.len());
     for &v in fv {

@@ -12,7 +12,8 @@
 //! Boundaries and infinitely sharp creases follow §4.6 ([`GregoryVertex::sectored`]). Faces
 //! touching darts, semi-sharp tags, cone points or one-face crease sectors, polygons with more
 //! than four sides and holes get no patch ([`NotGregory`]); the renderer keeps its exact CPU
-//! path for them.
+//! path for them. Adaptive end caps ([`Coverage::EndCap`]) also take cone points, one-face crease
+//! sectors and wide corner sectors, with the exact limit point and approximated tangents there.
 //!
 //! The construction is generic over [`GregoryPoint`]: run on positions it gives the patch, run on
 //! unit weight vectors ([`Weights`]) it gives the stencil form of §4.3: one face's stencil in
@@ -37,10 +38,12 @@ pub mod tangents;
 mod vertex;
 
 pub use build::{
-    check_face, check_face_level0, check_vertex, gregory_faces, gregory_patch, gregory_patch_at,
-    gregory_patch_at_with, gregory_patch_weights, gregory_patch_weights_with, gregory_vertex,
-    gregory_vertex_with, gregory_vertices, gregory_vertices_with, is_supported_vertex, vertex_ring,
-    vertex_ring_with, GregoryPatch, NotGregory,
+    check_face, check_face_for, check_face_level0, check_vertex, check_vertex_for, gregory_faces,
+    gregory_patch, gregory_patch_at, gregory_patch_at_for, gregory_patch_at_with,
+    gregory_patch_for, gregory_patch_weights, gregory_patch_weights_with, gregory_vertex,
+    gregory_vertex_for, gregory_vertex_with, gregory_vertices, gregory_vertices_with,
+    is_supported_vertex, one_face_crease_sector, vertex_ring, vertex_ring_with, Coverage,
+    GregoryPatch, NotGregory,
 };
 pub use eval::{CornerRef, GregoryQuad, GregoryTriangle, PatchPoint};
 pub use point::{combine, GregoryPoint, Weights};

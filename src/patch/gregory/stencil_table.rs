@@ -12,7 +12,7 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use super::build::{gregory_patch, gregory_vertex_with, GregoryPatch, NotGregory};
+use super::build::{gregory_patch_for, gregory_vertex_for, Coverage, GregoryPatch, NotGregory};
 use super::point::{GregoryPoint, Weights};
 use super::stencil::{dense_rows, stencil_ring, NoStencil, MAX_RING, ROWS_PER_CORNER};
 use super::tangents::GregoryTangents;
@@ -163,6 +163,7 @@ fn corner_data(
     topo: &Topology,
     faces: impl Iterator<Item = u32>,
     tangents: GregoryTangents,
+    coverage: Coverage,
 ) -> Vec<Option<GregoryVertex<Weights>>> {
     let mut data: Vec<Option<GregoryVertex<Weights>>> =
         (0..topo.vertex_count()).map(|_| None).collect();
@@ -172,7 +173,8 @@ fn corner_data(
             for &g in topo.edge_faces(e) {
                 for &v in topo.face_vertices(g) {
                     if !std::mem::replace(&mut done[v as usize], true) {
-                        data[v as usize] = gregory_vertex_with(topo, v, &Weights::unit, tangents);
+                        data[v as usize] =
+                            gregory_vertex_for(topo, v, &Weights::unit, tangents, coverage);
                     }
                 }
             }
@@ -184,13 +186,14 @@ fn corner_data(
 /// The rows of each face of `faces` in the table layout ([`StencilType::weights`]: control
 /// points, then the neighbours' edge and face points) as sparse weight vectors over `topo`'s
 /// vertices, ascending ids, f64: the weights [`GregoryStencilTable::build`] rounds to f32, without
-/// its ring-size limit (sparse rows have no fixed patch size).
+/// its ring-size limit (sparse rows have no fixed patch size). Built for adaptive end caps
+/// ([`Coverage::EndCap`]).
 pub fn sparse_face_rows(
     topo: &Topology,
     faces: &[u32],
     tangents: GregoryTangents,
 ) -> Vec<Result<Vec<Weights>, NotGregory>> {
-    let patches = face_patches(topo, faces, tangents);
+    let patches = face_patches(topo, faces, tangents, Coverage::EndCap);
     faces
         .iter()
         .map(|&f| table_rows(topo, f, |g| patches[&g].as_ref().map_err(|e| *e)))
@@ -204,8 +207,9 @@ fn face_patches(
     topo: &Topology,
     faces: &[u32],
     tangents: GregoryTangents,
+    coverage: Coverage,
 ) -> HashMap<u32, Result<GregoryPatch<Weights>, NotGregory>> {
-    let vertices = corner_data(topo, faces.iter().copied(), tangents);
+    let vertices = corner_data(topo, faces.iter().copied(), tangents, coverage);
     let mut patches = HashMap::new();
     for &f in faces {
         for g in std::iter::once(f).chain(
@@ -215,7 +219,7 @@ fn face_patches(
         ) {
             patches
                 .entry(g)
-                .or_insert_with(|| gregory_patch(topo, &vertices, g));
+                .or_insert_with(|| gregory_patch_for(topo, &vertices, g, coverage));
         }
     }
     patches
@@ -252,7 +256,7 @@ impl GregoryStencilTable {
             }
         }
         let faces: Vec<u32> = accepted.iter().map(|(f, _)| *f).collect();
-        let patches = face_patches(topo, &faces, tangents);
+        let patches = face_patches(topo, &faces, tangents, Coverage::Exact);
         let mut types = HashMap::new();
         for (f, ring) in accepted {
             match table_rows(topo, f, |g| patches[&g].as_ref().map_err(|e| *e)) {

@@ -133,7 +133,8 @@ fn vertex_kind(topo: &Topology, v: u32) -> u32 {
         Some(VertexKind::Smooth) => KIND_SMOOTH,
         Some(VertexKind::Crease) => KIND_CREASE,
         Some(VertexKind::Corner) => KIND_CORNER,
-        // No GLSL port: the level-0 schemes refuse faces at darts (`check_face_level0`).
-        Some(VertexKind::Dart) => KIND_NONE,
+        // No GLSL port: the level-0 schemes refuse faces at darts (`check_face_level0`) and
+        // cone points (`check_face`).
+        Some(VertexKind::Dart | VertexKind::Cone) => KIND_NONE,
     }
 }

@@ -41,6 +41,10 @@ pub enum VertexKind {
     /// on that edge): limit position and tangent plane from the eigenvectors of the ring's
     /// subdivision matrix ([`dart_limit`]); not covered by the paper.
     Dart,
+    /// Corner rule with fewer than two sharp edges (a cone point, e.g. an infinitely sharp
+    /// vertex tag on a smooth or dart vertex): [`GregoryVertex::cone`], an approximation for
+    /// adaptive end caps only (the exact surface has no finite edge tangents there).
+    Cone,
 }
 
 /// Corner point, edge points and transversal vectors of one vertex.
@@ -149,13 +153,16 @@ pub fn crease_tangent_weights(k: usize) -> (f64, Vec<f64>, Vec<f64>) {
 
 impl<P: GregoryPoint> GregoryVertex<P> {
     /// The construction for any supported ring: [`Self::interior`] when no edge is sharp,
-    /// otherwise [`Self::sectored`]. `None` for rings the construction does not cover (a
-    /// single sharp edge, a crease sector with one face, or a ring that does not close: fewer
-    /// faces than edges without a sharp edge, e.g. next to a hole).
+    /// [`Self::dart`] at one sharp edge, [`Self::cone`] at a corner tag with fewer than two
+    /// sharp edges, otherwise [`Self::sectored`]. `None` for rings the construction does not
+    /// cover (a ring that does not close: fewer faces than edges without a sharp edge, e.g.
+    /// next to a hole).
     pub fn new(ring: &VertexRing<P>, tangents: GregoryTangents) -> Option<GregoryVertex<P>> {
         let sharp = ring.sharp.iter().filter(|&&s| s).count();
         if sharp == 1 && !ring.corner && ring.c.len() == ring.m.len() {
             Self::dart(ring, tangents)
+        } else if ring.corner && sharp < 2 {
+            Self::cone(ring)
         } else if sharp > 0 || ring.corner {
             Self::sectored(ring)
         } else if ring.c.len() == ring.m.len() {
@@ -201,18 +208,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
                 e
             })
             .collect();
-        let r: Vec<P> = (0..n)
-            .map(|j| {
-                let next = (j + 1) % n;
-                let prev = (j + n - 1) % n;
-                combine(&[
-                    (1.0 / 3.0, &ring.m[next]),
-                    (-1.0 / 3.0, &ring.m[prev]),
-                    (2.0 / 3.0, &ring.c[j]),
-                    (-2.0 / 3.0, &ring.c[prev]),
-                ])
-            })
-            .collect();
+        let r: Vec<P> = (0..n).map(|j| inner_r(ring, j, n)).collect();
         let r_minus = (0..n)
             .map(|j| combine(&[(-1.0, &r[(j + 1) % n])]))
             .collect();
@@ -263,6 +259,44 @@ impl<P: GregoryPoint> GregoryVertex<P> {
         })
     }
 
+    /// The construction at a cone point: the corner rule (`v` stays) with fewer than two sharp
+    /// edges, so one sector wraps the whole (closed) ring.
+    ///
+    /// The exact surface has no tangent plane there: the ring's rotationally symmetric mode
+    /// (eigenvalue `μ₀ = (3 + √5)/8 ≈ 0.6545` on a ring of quads, from the 2 × 2 block
+    /// `[[1/2, 1/8], [1/2, 1/4]]` of the mean edge and face offsets once `v` is fixed) exceeds
+    /// every angular mode (`λ ≤ 1/2`), so every edge curve leaves `v` along the one cusp axis
+    /// with an infinite derivative (`|x(t) - v| ~ t^{-log₂ μ₀} = t^0.61`), and each face's
+    /// normal tends to a vector perpendicular to the axis that turns with the direction of
+    /// approach. No finite edge point is exact. The approximation (as OpenSubdiv's end caps at
+    /// sharp corners): `p = v` (exact), edge points along the refined edges `e_j = (v + 2m_j)/3`
+    /// (the edge chords, which turn towards the axis level by level), `r` and `cos(2π/n)` as
+    /// for a smooth vertex (§3.4). Each face keeps its own corner normal.
+    pub fn cone(ring: &VertexRing<P>) -> Option<GregoryVertex<P>> {
+        let n = ring.m.len();
+        if n < 2 || ring.c.len() != n {
+            return None;
+        }
+        let e = ring
+            .m
+            .iter()
+            .map(|m| combine(&[(1.0 / 3.0, &ring.v), (2.0 / 3.0, m)]))
+            .collect();
+        let r: Vec<P> = (0..n).map(|j| inner_r(ring, j, n)).collect();
+        let r_minus = (0..n)
+            .map(|j| combine(&[(-1.0, &r[(j + 1) % n])]))
+            .collect();
+        Some(GregoryVertex {
+            kind: VertexKind::Cone,
+            n,
+            p: ring.v.clone(),
+            e,
+            r_plus: r,
+            r_minus,
+            cosine: vec![(2.0 * PI / n as f64).cos(); n],
+        })
+    }
+
     /// The construction at a boundary, crease or corner vertex (§4.6), sector by sector.
     ///
     /// - `p`: corner `v`; crease `(a + 4v + b)/6` of the two sharp-edge neighbours
@@ -276,6 +310,12 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     /// - `r` across inner edges as in §3.4; across a sharp edge, the ring reflected across it
     ///   (`m_{s-1} → 2v - m_{s+1}`, `c_{s-1} → 2 m_s - c_s`, the phantom rule of boundary
     ///   B-splines): `r = 2/3 (m_{s+1} - v) + 4/3 (c_s - m_s)`.
+    /// - A crease sector of one face ([`one_face_crease_r`], end caps only): `cos = 0` and face
+    ///   points in the exact tangent plane.
+    /// - A corner sector of more than two faces (end caps only): inner edge points on the
+    ///   refined chords `(v + 2 m_j)/3`, as at a cone point ([`Self::cone`]): the sector's leading
+    ///   interior mode (0.58 to 0.63) exceeds the sharp edges' 1/2, so the exact inner edge
+    ///   curves have no finite tangent and the sharp edges' tangents do not span the surface.
     pub fn sectored(ring: &VertexRing<P>) -> Option<GregoryVertex<P>> {
         let ne = ring.m.len();
         let nf = ring.c.len();
@@ -315,8 +355,12 @@ impl<P: GregoryPoint> GregoryVertex<P> {
             let face = |i: usize| (s + i) % ne;
             let alpha = match kind {
                 VertexKind::Corner => PI / (2.0 * k as f64),
-                // A one-face crease sector is not covered (its faces fail `check_vertex`).
-                _ if k < 2 => continue,
+                _ if k < 2 => {
+                    let (rp, rm) = one_face_crease_r(ring, &p, &e, s, t);
+                    r_plus[face(0)] = rp;
+                    r_minus[face(0)] = rm;
+                    continue;
+                }
                 _ => PI / k as f64,
             };
             let ds = combine(&[(1.0, &e[s]), (-1.0, &p)]);
@@ -335,20 +379,20 @@ impl<P: GregoryPoint> GregoryVertex<P> {
                 }
             };
             for i in 1..k {
-                let (sn, cs) = (i as f64 * alpha).sin_cos();
-                e[edge(i)] = combine(&[(1.0, &p), (cs, &ds), (sn, &second)]);
+                e[edge(i)] = if kind == VertexKind::Corner && k > 2 {
+                    // Wide corner sector: the refined edge's chord (see above).
+                    combine(&[(1.0 / 3.0, &ring.v), (2.0 / 3.0, &ring.m[edge(i)])])
+                } else {
+                    let (sn, cs) = (i as f64 * alpha).sin_cos();
+                    combine(&[(1.0, &p), (cs, &ds), (sn, &second)])
+                };
             }
             for i in 0..k {
                 cosine[face(i)] = alpha.cos();
             }
             // Transversal vectors: inner edges (§3.4), then the two reflected sharp sides.
             for i in 1..k {
-                let r = combine(&[
-                    (1.0 / 3.0, &ring.m[edge(i + 1)]),
-                    (-1.0 / 3.0, &ring.m[edge(i - 1)]),
-                    (2.0 / 3.0, &ring.c[face(i)]),
-                    (-2.0 / 3.0, &ring.c[face(i - 1)]),
-                ]);
+                let r = inner_r(ring, edge(i), ne);
                 r_minus[face(i - 1)] = combine(&[(-1.0, &r)]);
                 r_plus[face(i)] = r;
             }
@@ -375,6 +419,53 @@ impl<P: GregoryPoint> GregoryVertex<P> {
             cosine,
         })
     }
+}
+
+/// The transversal vector across inner edge `j` of a ring with `ne` edges, pointing into face
+/// `j` (§3.4): `r_j = 1/3 (m_{j+1} - m_{j-1}) + 2/3 (c_j - c_{j-1})`.
+fn inner_r<P: GregoryPoint>(ring: &VertexRing<P>, j: usize, ne: usize) -> P {
+    let (next, prev) = ((j + 1) % ne, (j + ne - 1) % ne);
+    combine(&[
+        (1.0 / 3.0, &ring.m[next]),
+        (-1.0 / 3.0, &ring.m[prev]),
+        (2.0 / 3.0, &ring.c[j]),
+        (-2.0 / 3.0, &ring.c[prev]),
+    ])
+}
+
+/// `(r_plus, r_minus)` of the face alone in a crease sector between sharp edges `s` and `t`
+/// (a valence-2 `EdgeOnly` boundary corner, or two infinitely sharp edges around one face).
+///
+/// With the sector's ring `v, a = w_s, b = w_t, f` the crease rule is closed on it: `a - b` is
+/// a left eigenvector of `1/2` (the crease curve) and `a + b - 2v`, `f - v` form a Jordan block
+/// of `1/4` (`(f - v)' = (f - v)/4 + (a + b - 2v)/8`), so the limit normal is
+/// `(a - b) × (a + b - 2v)`: the plane of `v, a, b`, which holds `p = (a + 4v + b)/6`. The edge
+/// points of both sharp edges are the crease curve's (`(2v + w)/3`, exact), so `e_s - p =
+/// -(e_t - p)` and the patch's corner is singular; near it the patch normal is
+/// `(e_s - p) × (A + 9 (f - p))` to first order, with `A = a + b - 2v` the curve's second
+/// derivative there and `f` the face point (`e_s + e_t - p = p` makes the twist `f - p`).
+/// Putting the face points in the tangent plane makes that normal the exact one whatever the
+/// direction of approach: `f = p + (m_s + m_t - 2v)/3` (`= p + A/6`, OpenSubdiv's face point
+/// on a flat corner, `(4v + 2a + 2b + f)/9`, when `f = a + b - v`). With the sector's
+/// `cos = 0`, eq. 6 gives `f = e + (c_b (p - e) + r)/d`, so `r = 3 (p - e) + m_s + m_t - 2v`
+/// (the `c_b` and `d = 4` terms move `f` along the crease tangent only: still in the plane).
+fn one_face_crease_r<P: GregoryPoint>(
+    ring: &VertexRing<P>,
+    p: &P,
+    e: &[P],
+    s: usize,
+    t: usize,
+) -> (P, P) {
+    let r = |x: usize| {
+        combine(&[
+            (3.0, p),
+            (-3.0, &e[x]),
+            (1.0, &ring.m[s]),
+            (1.0, &ring.m[t]),
+            (-2.0, &ring.v),
+        ])
+    };
+    (r(s), r(t))
 }
 
 /// Face point next to the edge from corner `a` to corner `b` of a patch (eq. 6, re-derived from
@@ -591,5 +682,179 @@ mod tests {
                 assert!(d.length() < 1e-14, "valence {n}: {d}");
             }
         }
+    }
+
+    /// One Catmull-Clark step on a split ring, from the rules (face points `c_i`; edge points
+    /// `m_i` on sharp edges, `(2 m_i + c_{i-1} + c_i)/4` on smooth ones; vertex kept (corner),
+    /// `3/4 v + 1/8 (w_a + w_b)` (crease, `w = 2m - v`) or the smooth rule), then the child
+    /// ring `v', (v' + E_i)/2, (v' + E_i + F_i + E_{i+1})/4`; rescaled by 2 about `v'` (the rules
+    /// are affine invariant) so that long runs neither underflow nor change directions.
+    fn refine_ring(r: &VertexRing<DVec3>) -> VertexRing<DVec3> {
+        let (ne, nf) = (r.m.len(), r.c.len());
+        let sharp: Vec<usize> = (0..ne).filter(|&i| r.sharp[i]).collect();
+        let v = if r.corner {
+            r.v
+        } else if sharp.len() == 2 {
+            let w = |i: usize| 2.0 * r.m[i] - r.v;
+            0.75 * r.v + 0.125 * (w(sharp[0]) + w(sharp[1]))
+        } else {
+            let n = ne as f64;
+            let avg = |x: &[DVec3]| x.iter().sum::<DVec3>() / n;
+            (n - 3.0) / n * r.v + 2.0 / n * avg(&r.m) + 1.0 / n * avg(&r.c)
+        };
+        let edge: Vec<DVec3> = (0..ne)
+            .map(|i| {
+                if r.sharp[i] {
+                    r.m[i]
+                } else {
+                    (2.0 * r.m[i] + r.c[(i + nf - 1) % nf] + r.c[i % nf]) / 4.0
+                }
+            })
+            .collect();
+        let grow = |x: DVec3| v + 2.0 * (x - v);
+        VertexRing {
+            v,
+            m: edge.iter().map(|&e| grow((v + e) / 2.0)).collect(),
+            c: (0..nf)
+                .map(|i| grow((v + edge[i] + r.c[i] + edge[(i + 1) % ne]) / 4.0))
+                .collect(),
+            ..r.clone()
+        }
+    }
+
+    /// A quad face alone between the two sharp edges of a crease vertex (a valence-2 `EdgeOnly`
+    /// boundary corner): `p` is where refinement takes the vertex, both face points lie in the
+    /// limit tangent plane, and the patch's normal next to the corner,
+    /// `(e_s - p) x (A + 9 (f - p))` with `A = a + b - 2v`, is the limit normal of the refined
+    /// face (20,000 rescaled steps; the Jordan block of 1/4 converges like 1/k).
+    #[test]
+    fn one_face_crease_sector_is_the_refinement_limit() {
+        let v = DVec3::new(0.1, 0.2, -0.1);
+        let (a, b, f) = (
+            DVec3::new(1.0, 0.1, 0.3),
+            DVec3::new(-0.2, 1.1, 0.2),
+            DVec3::new(0.9, 1.2, 0.9),
+        );
+        let ring = VertexRing {
+            v,
+            m: vec![(v + a) / 2.0, (v + b) / 2.0],
+            c: vec![(v + a + b + f) / 4.0],
+            sharp: vec![true, true],
+            corner: false,
+            quads: true,
+        };
+        let g = GregoryVertex::new(&ring, GregoryTangents::Paper).expect("covered");
+        let mut x = ring.clone();
+        let mut limit = x.v;
+        for _ in 0..60 {
+            // Unscaled steps for the position.
+            let next = refine_ring(&x);
+            limit = next.v;
+            x = VertexRing {
+                m: next
+                    .m
+                    .iter()
+                    .map(|&m| next.v + 0.5 * (m - next.v))
+                    .collect(),
+                c: next
+                    .c
+                    .iter()
+                    .map(|&c| next.v + 0.5 * (c - next.v))
+                    .collect(),
+                ..next
+            };
+        }
+        assert!((g.p - limit).length() < 1e-12, "{} vs {limit}", g.p);
+        let mut y = ring.clone();
+        for _ in 0..20_000 {
+            y = refine_ring(&y);
+            let s = 1.0 / (y.m[0] - y.v).length();
+            y.m.iter_mut().for_each(|m| *m = y.v + s * (*m - y.v));
+            y.c.iter_mut().for_each(|c| *c = y.v + s * (*c - y.v));
+        }
+        let exact = (y.m[0] - y.m[1]).cross(y.c[0] - y.v).normalize();
+        let d = g.e[0] - g.p;
+        let far = (v + 2.0 * a) / 3.0;
+        for (e, r) in [(g.e[0], g.r_plus[0]), (g.e[1], g.r_minus[0])] {
+            for c_b in [0.0, 0.5, -0.3] {
+                let fp = face_point_cos(3.0, g.cosine[0], c_b, &g.p, &e, &far, &r);
+                let n = d.cross(2.0 * (a + b - 2.0 * v) / 2.0 + 9.0 * (fp - g.p));
+                assert!(
+                    n.dot((a - v).cross(b - v)).abs()
+                        > 0.99 * n.length() * (a - v).cross(b - v).length()
+                );
+                let angle = n.angle_between(exact);
+                assert!(angle < 1e-3, "c_b {c_b}: {angle}");
+            }
+        }
+    }
+
+    /// A cone point (corner tag on a smooth ring of five quads): `p = v`, the edge points are the
+    /// refined chords, and refinement confirms the cusp the approximation is built for: the
+    /// ring's mean offset shrinks by `(3 + √5)/8` per step, faster than any angular mode decays,
+    /// so the chords (and with them the edge points) turn onto one axis.
+    #[test]
+    fn cone_points_follow_the_refined_chords() {
+        let mut r = ring(5);
+        r.corner = true;
+        let g = GregoryVertex::new(&r, GregoryTangents::Paper).expect("covered");
+        assert_eq!(g.kind, VertexKind::Cone);
+        assert_eq!(g.p, r.v);
+        for (e, m) in g.e.iter().zip(&r.m) {
+            assert!((*e - (r.v + 2.0 * *m) / 3.0).length() < 1e-15);
+        }
+        let mean = |x: &VertexRing<DVec3>| x.m.iter().sum::<DVec3>() / 5.0 - x.v;
+        let mut x = r.clone();
+        let mut ratio = 0.0;
+        // Angular modes fall behind by (0.55 / 0.6545)^k: 200 steps leave ~1e-15.
+        for _ in 0..200 {
+            let next = refine_ring(&x);
+            // `refine_ring` grows offsets by 2.
+            ratio = 0.5 * mean(&next).length() / mean(&x).length();
+            let s = 1.0 / mean(&next).length();
+            x = VertexRing {
+                m: next.m.iter().map(|&m| next.v + s * (m - next.v)).collect(),
+                c: next.c.iter().map(|&c| next.v + s * (c - next.v)).collect(),
+                ..next
+            };
+        }
+        assert!((ratio - (3.0 + 5f64.sqrt()) / 8.0).abs() < 1e-9, "{ratio}");
+        let g = GregoryVertex::new(&x, GregoryTangents::Paper).unwrap();
+        let axis = mean(&x);
+        for e in &g.e {
+            assert!((*e - g.p).angle_between(axis) < 1e-6);
+        }
+    }
+
+    /// A corner sector of three quads: `p = v`, every edge point the refined chord, and the
+    /// inner chords shrink by the sector's leading eigenvalue 0.5797 (above the sharp edges'
+    /// 1/2), as `subdiv::limit::sector` tabulates.
+    #[test]
+    fn wide_corner_sectors_follow_the_refined_chords() {
+        let base = ring(4);
+        let r = VertexRing {
+            c: base.c[..3].to_vec(),
+            sharp: vec![true, false, false, true],
+            corner: true,
+            ..base
+        };
+        let g = GregoryVertex::new(&r, GregoryTangents::Paper).expect("covered");
+        assert_eq!((g.kind, g.p), (VertexKind::Corner, r.v));
+        for (e, m) in g.e.iter().zip(&r.m) {
+            assert!((*e - (r.v + 2.0 * *m) / 3.0).length() < 1e-15);
+        }
+        let mut x = r;
+        let mut ratio = 0.0;
+        for _ in 0..200 {
+            let next = refine_ring(&x);
+            ratio = 0.5 * (next.m[1] - next.v).length() / (x.m[1] - x.v).length();
+            let s = 1.0 / (next.m[1] - next.v).length();
+            x = VertexRing {
+                m: next.m.iter().map(|&m| next.v + s * (m - next.v)).collect(),
+                c: next.c.iter().map(|&c| next.v + s * (c - next.v)).collect(),
+                ..next
+            };
+        }
+        assert!((ratio - 0.579_682_326).abs() < 1e-6, "{ratio}");
     }
 }
