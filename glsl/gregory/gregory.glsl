@@ -299,9 +299,17 @@ vec3 safe_normal(vec3 du, vec3 dv) {
 /// next corner (e_next) and the previous one (e_prev), all in the corner's frame: the direction
 /// of the Bézier net's corner derivatives, kept where the vertex has several sectors
 /// (shared_corner). Computed in the corner's own frame, every patch at the vertex works on the
-/// same operands.
-vec3 gregory_corner_normal(vec3 p, vec3 e_next, vec3 e_prev) {
-    return safe_normal(e_next - p, e_prev - p);
+/// same operands. Where the two edge tangents are collinear (a crease sector of one face, whose
+/// edges both follow the crease curve), the corner's face points f_plus, f_minus span the
+/// tangent plane with the edge instead (src/patch/gregory/vertex.rs puts them in it).
+vec3 gregory_corner_normal(vec3 p, vec3 e_next, vec3 e_prev, vec3 f_plus, vec3 f_minus) {
+    vec3 a = e_next - p;
+    vec3 b = e_prev - p;
+    vec3 n = cross(a, b);
+    if (length(n) > 1e-5 * length(a) * length(b)) {
+        return normalize(n);
+    }
+    return safe_normal(a, 0.5 * (f_plus + f_minus) - p);
 }
 
 #endif

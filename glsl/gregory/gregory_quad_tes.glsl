@@ -104,7 +104,7 @@ void main() {
     bool v_edge = (v == 0.0 || v == 1.0);
     if (u_edge && v_edge) {
         int k = (u == 0.0) ? (v == 0.0 ? 0 : 3) : (v == 0.0 ? 1 : 2);
-        nrm = gregory_corner_normal(P(k), EP(k), EM(k));
+        nrm = gregory_corner_normal(P(k), EP(k), EM(k), FP(k), FM(k));
         quad_corner_point(info.corners, u, v, p, nrm);
     } else if (v == 0.0) {
         quad_edge(patch_index, info, 0, u, 0, p, nrm);

@@ -85,7 +85,7 @@ void main() {
     int zeros = int(w0 == 0.0) + int(w1 == 0.0) + int(w2 == 0.0);
     if (zeros >= 2) {
         int k = (w0 != 0.0) ? 0 : (w1 != 0.0 ? 1 : 2);
-        nrm = gregory_corner_normal(P(k), EP(k), EM(k));
+        nrm = gregory_corner_normal(P(k), EP(k), EM(k), FP(k), FM(k));
         p = vertex_limit[info.corners[k]].xyz;
         // Shared vertex normal; zero where the vertex has several sectors (own normal).
         vec3 vn = vertex_normal[info.corners[k]].xyz;
