@@ -316,3 +316,35 @@ fn crease_golden() {
     );
     assert_validation_clean(&ctx);
 }
+
+/// Animated (`--animate`): embedded:mixed twisted about z (`render::animate::twist`, amplitude
+/// 1.5, phase 0.3) after a first frame, only the control positions re-uploaded, coloured by patch
+/// type at level 8; both variants draw the same golden, and the frame differs from the unmoved
+/// one.
+#[test]
+fn animated_golden() {
+    let Some(ctx) = context() else { return };
+    let m = mesh("embedded:mixed");
+    let render = RenderDesc {
+        tess: uniform(8.0),
+        color_by: ColorBy::PatchType,
+        ..RenderDesc::default()
+    };
+    let moved = twist(m.positions(), DVec3::Z, 1.5, 0.3);
+    for scheme in SCHEMES {
+        let surface = scheme_surface(&ctx, &m, 8, scheme);
+        let mut anim = Animation::new(&ctx, &surface, &render, &offscreen(256, 256));
+        anim.frame();
+        let still = anim.image();
+        anim.move_to(&moved).unwrap();
+        anim.frame();
+        let twisted = anim.image();
+        assert!(
+            twisted != still,
+            "{}: the twist changed nothing",
+            scheme.name()
+        );
+        check_golden("pm_mixed_animated_patch_type", &twisted);
+    }
+    assert_validation_clean(&ctx);
+}

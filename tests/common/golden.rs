@@ -61,6 +61,10 @@ const TOLERANCES: &[(&str, Tolerance)] = &[
     // new with the Pm crease scalars (catmark_cube_creases0 shaded, its two tagged edges a
     // sharp blade; measured 0 against today's render, which made it); as pm_mixed_patch_type
     ("pm_cube_creases0_blade", tol(0.006, 0.05)),
+    // new with the animated Pm golden (embedded:mixed twisted after a first frame, patch-type
+    // colours; made by the last of the two variants, both measured against it within the
+    // tolerance); as pm_mixed_patch_type
+    ("pm_mixed_animated_patch_type", tol(0.006, 0.05)),
     // new with --displacement FILE.png (embedded:mixed with one shared vt per vertex, the
     // 32 x 32 bumps map, scale 0.3, gregory-stencil at level 16, patch-type colours; measured 0
     // against today's render, which made it); as qas_mixed_patch_type
