@@ -147,12 +147,21 @@ impl FaceEdge {
     }
 }
 
-/// Limit tangents and valences of the vertices an ACC surface touches, computed once each.
+/// The rows of a face edge (`D`, the corrected `C`, `P = λ D`; [`TangentBuilder::edge_rows`]).
+type EdgeRows = ([DVec3; 3], [DVec3; 4], [DVec3; 4]);
+
+/// The tangent patches and edge frames of an ACC surface for one set of control positions;
+/// every vertex's limit data and every face edge's rows are computed once and shared by the
+/// faces (and both sides of an edge) that need them.
 pub struct TangentBuilder<'a> {
     topo: &'a Topology,
     p: &'a [DVec3],
     /// Per vertex: `3 (e_j − p)` per ring edge, in the topology's ring order.
     tangents: HashMap<u32, Vec<DVec3>>,
+    /// Per vertex: the geometry patches' corner point, the average of its interior points.
+    limits: HashMap<u32, DVec3>,
+    /// Per face edge, keyed by its counter-clockwise direction `(a, b)` (which names the face).
+    rows: HashMap<(u32, u32), EdgeRows>,
 }
 
 impl<'a> TangentBuilder<'a> {
@@ -162,7 +171,18 @@ impl<'a> TangentBuilder<'a> {
             topo,
             p,
             tangents: HashMap::new(),
+            limits: HashMap::new(),
+            rows: HashMap::new(),
         }
+    }
+
+    /// The unit normal of the tangent patches at corner `k` of ACC face `f`: the limit normal
+    /// `T(next) × T(prev)` of its vertex ([`AccTangentPatches::normal`] there, without building
+    /// the patches).
+    pub fn corner_normal(&mut self, f: u32, k: usize) -> DVec3 {
+        let fe = FaceEdge::of(self.topo, f, k);
+        let next = self.tangent(fe.a, fe.b);
+        next.cross(self.tangent(fe.a, fe.prev)).normalize_or_zero()
     }
 
     /// The limit tangent at `v` along its edge to `w` (module docs; `v` smooth interior with a
@@ -187,7 +207,7 @@ impl<'a> TangentBuilder<'a> {
     }
 
     /// The geometry's cross derivative beside face edge `fe`, into its face, from `a` to `b`.
-    fn geometry_cross(&self, fe: &FaceEdge) -> [DVec3; 4] {
+    fn geometry_cross(&mut self, fe: &FaceEdge) -> [DVec3; 4] {
         let (topo, p) = (self.topo, self.p);
         let edge = self.geometry_edge(fe);
         let inner = [
@@ -199,26 +219,41 @@ impl<'a> TangentBuilder<'a> {
         std::array::from_fn(|i| 3.0 * (inner[i] - edge[i]))
     }
 
-    /// The geometry's boundary cubic of face edge `fe`, from `a` to `b`.
-    fn geometry_edge(&self, fe: &FaceEdge) -> [DVec3; 4] {
+    /// The geometry patches' corner point at `v`: the average of its interior points.
+    fn limit(&mut self, v: u32) -> DVec3 {
         let (topo, p) = (self.topo, self.p);
-        let limit = |v: u32| {
+        *self.limits.entry(v).or_insert_with(|| {
             let ring = topo.vertex_faces(v);
             ring.iter()
                 .fold(DVec3::ZERO, |acc, &g| acc + interior(topo, p, v, g))
                 / ring.len() as f64
-        };
+        })
+    }
+
+    /// The geometry's boundary cubic of face edge `fe`, from `a` to `b`.
+    fn geometry_edge(&mut self, fe: &FaceEdge) -> [DVec3; 4] {
+        let (topo, p) = (self.topo, self.p);
         [
-            limit(fe.a),
+            self.limit(fe.a),
             edge_point(topo, p, fe.f, fe.a, fe.b),
             edge_point(topo, p, fe.f, fe.b, fe.a),
-            limit(fe.b),
+            self.limit(fe.b),
         ]
     }
 
     /// Versal derivative `D` and the corrected cross derivative `C` of face edge `fe` (module
-    /// docs), both from `a` to `b`, and `P = λ D`.
-    fn edge_rows(&mut self, fe: &FaceEdge) -> ([DVec3; 3], [DVec3; 4], [DVec3; 4]) {
+    /// docs), both from `a` to `b`, and `P = λ D`; computed once per face edge.
+    fn edge_rows(&mut self, fe: &FaceEdge) -> EdgeRows {
+        if let Some(rows) = self.rows.get(&(fe.a, fe.b)) {
+            return *rows;
+        }
+        let rows = self.compute_edge_rows(fe);
+        self.rows.insert((fe.a, fe.b), rows);
+        rows
+    }
+
+    /// [`Self::edge_rows`], computed.
+    fn compute_edge_rows(&mut self, fe: &FaceEdge) -> EdgeRows {
         let edge = self.geometry_edge(fe);
         let d = [
             self.tangent(fe.a, fe.b),

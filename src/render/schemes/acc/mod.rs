@@ -135,16 +135,11 @@ impl PassTables for AccTables {
     fn corner_frames(&self, positions: &[DVec3], rule: NormalRule<'_>, frames: &mut VertexFrames) {
         let mut tangents = TangentBuilder::new(&self.topo, positions);
         for &f in &self.faces {
-            let (Ok(patch), Ok(tangent)) =
-                (acc_patch(&self.topo, positions, f), tangents.patches(f))
-            else {
+            let Ok(patch) = acc_patch(&self.topo, positions, f) else {
                 continue;
             };
             let fv = self.topo.face_vertices(f);
-            for (k, (u, v)) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
-                .into_iter()
-                .enumerate()
-            {
+            for k in 0..4 {
                 if frames.is_set(fv[k]) {
                     continue;
                 }
@@ -155,7 +150,7 @@ impl PassTables for AccTables {
                 frames.set(
                     fv[k],
                     patch.bezier[CORNER_SLOTS[k]],
-                    tangent.normal(u, v),
+                    tangents.corner_normal(f, k),
                     shared,
                 );
             }
