@@ -1,5 +1,6 @@
-//! Passes of host-written per-patch records (QAS, ACC): the CPU builds every patch's
-//! coefficients into one record per patch (rewritten per animation frame), the tessellation
+//! Passes of host-written per-patch records (QAS, ACC; Pm's fixed records): the CPU builds every
+//! patch's coefficients into one record per patch (rewritten per animation frame unless they
+//! do not depend on the positions, [`FixedRecords`]), the tessellation
 //! stages read the record of `patch_base + gl_PrimitiveID` from set 0 binding 4; the patch
 //! primitive has one point and no vertex input (`record_patch.vert`). Groups (one pipeline each,
 //! e.g. quads then triangles) are drawn whole (not split into sub-patches), in runs kept under
@@ -197,6 +198,27 @@ pub fn largest_level(pc: &PassContext<'_>) -> f32 {
 pub trait RecordTables: Clone + 'static {
     /// One record per patch, in draw order, for control positions `positions`.
     fn records(&self, positions: &[DVec3]) -> Result<Vec<u8>>;
+
+    /// Whether the records change with the control positions (true: animation rewrites them;
+    /// false: the stages read the positions themselves, e.g. through stencil rows).
+    fn follow_positions(&self) -> bool {
+        true
+    }
+}
+
+/// Records that do not depend on the control positions (stencil rows and indices the stages
+/// apply to the shared control positions, as Pm's): written once.
+#[derive(Debug, Clone)]
+pub struct FixedRecords(pub std::sync::Arc<[u8]>);
+
+impl RecordTables for FixedRecords {
+    fn records(&self, _: &[DVec3]) -> Result<Vec<u8>> {
+        Ok(self.0.to_vec())
+    }
+
+    fn follow_positions(&self) -> bool {
+        false
+    }
 }
 
 /// The pass of a scheme drawn from records: its tables and the GPU resources; animation
@@ -242,6 +264,9 @@ impl<T: RecordTables> PatchPass for RecordTablesPass<T> {
     }
 
     fn update_positions(&mut self, positions: &[DVec3], _: &VertexFrames) -> Result<()> {
+        if !self.tables.follow_positions() {
+            return Ok(());
+        }
         let bytes = self.tables.records(positions)?;
         self.pass.write_records(&bytes)
     }

@@ -31,12 +31,11 @@ pub mod tables;
 use std::any::Any;
 use std::sync::Arc;
 
-use ash::vk;
 use glam::DVec3;
 
 pub use tables::{class_code, PmGpuTables};
 
-use super::records::{RecordGroup, RecordPass};
+use super::records::{FixedRecords, RecordGroup, RecordTablesPass};
 use super::traits::{
     CaptureLayout, PassContext, PassPlan, PassTables, PatchPass, PatchScheme, PlanOptions,
     ReferencePatch, Refusal, RefusalReason,
@@ -252,40 +251,16 @@ impl PassTables for PmTables {
             .iter()
             .flat_map(|w| w.to_le_bytes())
             .collect();
-        Ok(Box::new(PmPass {
-            pass: RecordPass::new(pc, "pm patches", &bytes, &groups)?,
-        }))
+        // The TCS applies the fixed stencil rows to the shared control positions.
+        Ok(Box::new(RecordTablesPass::new(
+            pc,
+            "pm patches",
+            &FixedRecords(bytes.into()),
+            &groups,
+        )?))
     }
 
     fn as_any(&self) -> &dyn Any {
         self
-    }
-}
-
-/// The GPU resources of the Pm pass: the word buffer and one pipeline per patch type.
-pub struct PmPass {
-    pass: RecordPass,
-}
-
-impl PatchPass for PmPass {
-    fn label(&self) -> &'static str {
-        "pm patches"
-    }
-
-    fn patch_count(&self) -> u32 {
-        self.pass.patch_count()
-    }
-
-    fn memory_bytes(&self) -> u64 {
-        self.pass.memory_bytes()
-    }
-
-    fn record(&self, cmd: vk::CommandBuffer, slot: usize) {
-        self.pass.record(cmd, slot);
-    }
-
-    fn update_positions(&mut self, _: &[DVec3], _: &VertexFrames) -> Result<()> {
-        // The TCS applies the fixed stencil rows to the shared control positions.
-        Ok(())
     }
 }
