@@ -331,53 +331,74 @@ fn parse_texcoord(args: &[&str]) -> std::result::Result<[f32; 2], String> {
     }
 }
 
+/// The words an OBJ reference's errors name it by.
+struct Reference {
+    /// What a malformed word is not, e.g. "vertex reference".
+    kind: &'static str,
+    /// How an index is named, e.g. "vertex index".
+    index: &'static str,
+    /// How a relative index is named, e.g. "relative index".
+    relative: &'static str,
+    /// What a relative index reaches before, e.g. "the first vertex".
+    first: &'static str,
+}
+
+const VERTEX_REFERENCE: Reference = Reference {
+    kind: "vertex reference",
+    index: "vertex index",
+    relative: "relative index",
+    first: "the first vertex",
+};
+
+const TEXCOORD_REFERENCE: Reference = Reference {
+    kind: "texture-coordinate reference",
+    index: "texture coordinate index",
+    relative: "relative texture coordinate",
+    first: "the first `vt`",
+};
+
+/// The 0-based index of reference `part` of face word `word` (1-based, or negative = relative to
+/// the `n` elements read so far).
+fn resolve_reference(
+    part: &str,
+    word: &str,
+    n: i64,
+    what: &Reference,
+) -> std::result::Result<u32, String> {
+    let k: i64 = part
+        .parse()
+        .map_err(|_| format!("`{}` is not a {}", excerpt(word), what.kind))?;
+    let i = match k {
+        0 => return Err(format!("{} 0 (OBJ indices start at 1)", what.index)),
+        k if k > 0 => k - 1,
+        k => n + k,
+    };
+    if i < 0 {
+        return Err(format!(
+            "{} {k} reaches before {}",
+            what.relative, what.first
+        ));
+    }
+    u32::try_from(i)
+        .ok()
+        .filter(|&i| i < u32::MAX)
+        .ok_or_else(|| format!("{} {k} is too large", what.index))
+}
+
 /// The 0-based texture-coordinate index of a face word `v/vt` or `v/vt/vn` (1-based, or
 /// negative = relative to the `nt` coordinates read so far); `None` for `v` and `v//vn`.
 fn resolve_texcoord(word: &str, nt: i64) -> std::result::Result<Option<u32>, String> {
     let Some(part) = word.split('/').nth(1).filter(|p| !p.is_empty()) else {
         return Ok(None);
     };
-    let k: i64 = part
-        .parse()
-        .map_err(|_| format!("`{}` is not a texture-coordinate reference", excerpt(word)))?;
-    let t = match k {
-        0 => return Err("texture coordinate index 0 (OBJ indices start at 1)".into()),
-        k if k > 0 => k - 1,
-        k => nt + k,
-    };
-    if t < 0 {
-        return Err(format!(
-            "relative texture coordinate {k} reaches before the first `vt`"
-        ));
-    }
-    u32::try_from(t)
-        .ok()
-        .filter(|&t| t < u32::MAX)
-        .map(Some)
-        .ok_or_else(|| format!("texture coordinate index {k} is too large"))
+    resolve_reference(part, word, nt, &TEXCOORD_REFERENCE).map(Some)
 }
 
 /// The 0-based vertex index of a face word `v`, `v/vt`, `v//vn` or `v/vt/vn` (1-based, or
 /// negative = relative to the `nv` vertices read so far).
 fn resolve_index(word: &str, nv: i64) -> std::result::Result<u32, String> {
     let first = word.split('/').next().unwrap_or("");
-    let k: i64 = first
-        .parse()
-        .map_err(|_| format!("`{}` is not a vertex reference", excerpt(word)))?;
-    let v = match k {
-        0 => return Err("vertex index 0 (OBJ indices start at 1)".into()),
-        k if k > 0 => k - 1,
-        k => nv + k,
-    };
-    if v < 0 {
-        return Err(format!(
-            "relative index {k} reaches before the first vertex"
-        ));
-    }
-    u32::try_from(v)
-        .ok()
-        .filter(|&v| v < u32::MAX)
-        .ok_or_else(|| format!("vertex index {k} is too large"))
+    resolve_reference(first, word, nv, &VERTEX_REFERENCE)
 }
 
 /// The independent check of [`ObjOptions::check_with_tobj`]: tobj reads a clean copy of the
