@@ -156,7 +156,10 @@ fn smooth_mask(level: &Level, v: u32, i: usize) -> VertexMask {
     let ((tue, tuf), (tve, tvf)) = if n == 2 {
         // Valence 2: Halstead's tangents vanish. The subdominant spectrum is 1/4 (twice, left
         // eigenvectors e_0 - e_1 and f_0 - f_1) and -1/4; the plane of the two positive modes,
-        // oriented as the face (e_a at angle 0, the face's far corner at angle pi/2).
+        // oriented as the face (e_a at angle 0, the face's far corner at angle pi/2). The -1/4
+        // mode is as strong, so the faces' own normals alternate about this plane as they
+        // approach the vertex and have no limit; the plane is their mean
+        // (tests/limit_corners.rs, `valence_two_normals_alternate_about_the_quarter_modes_plane`).
         let mut e = vec![0.0; 2];
         let mut f = vec![0.0; 2];
         e[i] = 0.5;
