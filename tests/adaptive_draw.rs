@@ -20,8 +20,10 @@ use tessera::subdiv::eval::LimitEvaluator;
 use tessera::subdiv::Level;
 use tessera::ControlMesh;
 
-const MESHES: [&str; 7] = [
+const MESHES: [&str; 9] = [
     "catmark_cube",
+    "catmark_inf_crease1",
+    "catmark_single_crease",
     "catmark_car",
     "catmark_bishop",
     "catmark_pole64",
@@ -101,13 +103,16 @@ impl Case {
     }
 }
 
-/// A patch corner: its slot and base-face `(u, v)`.
-type Occurrence = (u32, (f64, f64));
+/// A patch corner: its slot, the frame of its normal (the slot, or the sector frame of its
+/// sector) and base-face `(u, v)`.
+type Occurrence = (u32, u32, (f64, f64));
 
 /// (a) Every slot row applied to the refined positions is the exact limit position (and, where
-/// the normal is shared, normal) at every patch corner with that slot.
+/// the normal is shared, normal) at every patch corner with that slot; a corner with a sector
+/// frame (a point split by sharp edges) takes that frame's normal, the exact one of its face.
 #[test]
 fn slot_rows_are_the_exact_limit_frames() {
+    let sector_corners = AtomicUsize::new(0);
     for_each_case(|c| {
         let ev = LimitEvaluator::new(&c.mesh).unwrap();
         let diag = c.mesh.bbox_diagonal();
@@ -125,17 +130,24 @@ fn slot_rows_are_the_exact_limit_frames() {
                 }
                 let d = p.domain;
                 let uv = d.origin + CORNERS[k].0 * d.u + CORNERS[k].1 * d.v;
+                let frame = match c.tables.sector_corners[i][k] {
+                    NONE => s,
+                    f => {
+                        sector_corners.fetch_add(1, Relaxed);
+                        f
+                    }
+                };
                 groups
                     .entry((d.base_face, d.sub_face.unwrap_or(0)))
                     .or_default()
-                    .push((s, (uv.x, uv.y)));
+                    .push((s, frame, (uv.x, uv.y)));
             }
         }
         let mut checked = 0;
         for ((f, sub), occ) in &groups {
-            let uv: Vec<(f64, f64)> = occ.iter().map(|o| o.1).collect();
+            let uv: Vec<(f64, f64)> = occ.iter().map(|o| o.2).collect();
             let exact = ev.eval_points(*f as usize, *sub as usize, &uv).unwrap();
-            for (&(s, _), x) in occ.iter().zip(exact) {
+            for (&(s, frame, _), x) in occ.iter().zip(exact) {
                 let r = 3 * s as usize;
                 let p = rows.apply(r, pos);
                 let err = p.distance(x.position) / diag;
@@ -144,15 +156,16 @@ fn slot_rows_are_the_exact_limit_frames() {
                     "{}: slot {s} position off by {err:e}",
                     c.label()
                 );
-                if c.tables.shared_normal[s as usize] {
+                if c.tables.shared_normal[frame as usize] {
+                    let rf = 3 * frame as usize;
                     let n = rows
-                        .apply(r + 1, pos)
-                        .cross(rows.apply(r + 2, pos))
+                        .apply(rf + 1, pos)
+                        .cross(rows.apply(rf + 2, pos))
                         .normalize();
                     let angle = n.angle_between(x.normal);
                     assert!(
                         angle <= 1e-7,
-                        "{}: slot {s} normal off by {angle:e}",
+                        "{}: slot {s} (frame {frame}) normal off by {angle:e}",
                         c.label()
                     );
                 }
@@ -170,6 +183,9 @@ fn slot_rows_are_the_exact_limit_frames() {
             );
         }
     });
+    let sectors = sector_corners.into_inner();
+    eprintln!("{sectors} patch corners read a sector frame");
+    assert!(sectors > 0, "no sector frame was checked");
 }
 
 /// (b) End-cap rows are the `AdaptiveSurface` Gregory control points; the extra rows are the
@@ -402,7 +418,7 @@ fn coarse_edges_match_both_levels() {
 fn layout_invariants() {
     for_each_case(|c| {
         let t = &c.tables;
-        assert_eq!(t.patch_record_bytes().len(), 80 * c.surface.patches.len());
+        assert_eq!(t.patch_record_bytes().len(), 112 * c.surface.patches.len());
         assert_eq!(t.regular_info_bytes().len(), 32 * t.regular.len());
         assert_eq!(t.regular_index_bytes().len(), 64 * t.regular.len());
         assert_eq!(t.transition_info_bytes().len(), 32 * t.transition.len());
@@ -411,8 +427,8 @@ fn layout_invariants() {
         assert_eq!(t.end_cap_info_bytes().len(), 32 * t.end_caps.len());
         assert_eq!(t.end_cap_grid_bytes().len(), 192 * t.end_caps.len());
         assert_eq!(t.coarse_edge_bytes().len(), 64 * t.coarse_edges.len());
-        assert_eq!(t.rows.len(), 3 * t.slot_count() + 36 * t.end_caps.len());
-        assert_eq!(t.end_cap_first_row as usize, 3 * t.slot_count());
+        assert_eq!(t.rows.len(), 3 * t.frame_count() + 36 * t.end_caps.len());
+        assert_eq!(t.end_cap_first_row as usize, 3 * t.frame_count());
         assert_eq!(
             t.regular.len() + t.transition.len() + t.end_caps.len(),
             c.surface.patches.len()

@@ -25,10 +25,12 @@ const uint NO_ENTRY = 0xffffffffu;
 #define KIND_SINGLE_CREASE 4u
 #define KIND_TRANSITION 5u
 
-/// One drawn patch (80 bytes): base face and sub-face (NO_ENTRY for quads), level, kind, the map
+/// One drawn patch (112 bytes): base face and sub-face (NO_ENTRY for quads), level, kind, the map
 /// of the patch domain into the base face (origin + s axis_u + t axis_v), transition mask (bit
 /// e: the neighbour across edge e is one level finer), the slot of each transition edge's
-/// midpoint, and per edge the coarse-edge record it lies on (NO_ENTRY: none).
+/// midpoint, per edge the coarse-edge record it lies on (NO_ENTRY: none), and the sector frame
+/// each corner and transition midpoint takes its normal from (NO_ENTRY: none;
+/// src/patch/adaptive/sector_frames.rs).
 struct AdaptivePatch {
     uint base_face;
     uint sub_face;
@@ -41,11 +43,24 @@ struct AdaptivePatch {
     uint pad;
     uvec4 mid;
     uvec4 coarse;
+    uvec4 corner_frame;
+    uvec4 mid_frame;
 };
 
 layout(std430, set = 0, binding = 10) readonly buffer AdaptivePatches {
     AdaptivePatch apatches[];
 };
+
+/// The normal of sector frame `f` (a frame index like a slot; NO_ENTRY: keep `nrm`): where sharp
+/// edges split a point's faces, every patch of one sector reads one normal there.
+void sector_normal(uint f, inout vec3 nrm) {
+    if (f != NO_ENTRY) {
+        vec3 n = vertex_normal[f].xyz;
+        if (dot(n, n) > 0.0) {
+            nrm = n;
+        }
+    }
+}
 
 /// An edge of a coarse patch with finer patches along it (64 bytes): its 12 B-spline grid points
 /// (refined-buffer ids; rows left of / on / right of the direction from the smaller slot lo to

@@ -1,5 +1,6 @@
 // The TES body of a whole patch of the adaptive scheme with a quad domain: the patch type's
-// surface, the shared corners (slot frames), its own edge rule, except that an edge lying on a
+// surface, the shared corners (slot frames; sector frames for the normal where sharp edges split
+// the point), its own edge rule, except that an edge lying on a
 // one-level-coarser patch is evaluated from that patch's coarse-edge record (fine_edge_point), and
 // the capture in base-face parameters with kind and level. The stage file includes what its type
 // needs and defines, before including this:
@@ -26,6 +27,7 @@ void main() {
     bool v_edge = (v == 0.0 || v == 1.0);
     if (u_edge && v_edge) {
         quad_corner_point(info.corners, u, v, p, nrm);
+        sector_normal(ap.corner_frame[quad_corner_index(u, v)], nrm);
     } else if (u_edge || v_edge) {
         int e = bspline_edge(u, v);
         float x = v_edge ? u : v;

@@ -47,6 +47,9 @@ void main() {
         uv = at_a ? a : b;
         PATCH_SURFACE(info, uv.x, uv.y, p, nrm);
         shared_corner(at_a ? slot_a : slot_b, p, nrm);
+        uint frame_a = (h == 2u) ? ap.mid_frame[e] : ap.corner_frame[se.x];
+        uint frame_b = (h == 1u) ? ap.mid_frame[e] : ap.corner_frame[se.y];
+        sector_normal(at_a ? frame_a : frame_b, nrm);
     } else if (wc == 0.0) {
         float x = wb;
         uv = a + x * (b - a);

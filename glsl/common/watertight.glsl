@@ -74,11 +74,14 @@ void shared_corner(uint id, inout vec3 pos, inout vec3 nrm) {
     }
 }
 
-/// A quad patch's corner k (0: (0,0), 1: (1,0), 2: (1,1), 3: (0,1)) at (u, v) on a corner:
-/// shared_corner of its vertex.
+/// The quad corner k (0: (0,0), 1: (1,0), 2: (1,1), 3: (0,1)) at a domain corner (u, v).
+int quad_corner_index(float u, float v) {
+    return (u == 0.0) ? (v == 0.0 ? 0 : 3) : (v == 0.0 ? 1 : 2);
+}
+
+/// A quad patch's corner at (u, v) on a corner: shared_corner of its vertex.
 void quad_corner_point(uvec4 corners, float u, float v, inout vec3 pos, inout vec3 nrm) {
-    int k = (u == 0.0) ? (v == 0.0 ? 0 : 3) : (v == 0.0 ? 1 : 2);
-    shared_corner(corners[k], pos, nrm);
+    shared_corner(corners[quad_corner_index(u, v)], pos, nrm);
 }
 #endif
 

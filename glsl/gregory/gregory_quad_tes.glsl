@@ -6,7 +6,8 @@
 // Hooks the stage file defines before including: GREGORY_CLASS(info) (colour class),
 // GREGORY_DISPLACE(info, u, v, p, n) (displace.glsl's displace_point at the face point),
 // GREGORY_CAPTURE(info, u, v, p, n) (with CAPTURE), and optionally
-// GREGORY_EDGE_OVERRIDE(info, k, x, from_corner, pos, nrm) (true: edge k evaluated elsewhere).
+// GREGORY_EDGE_OVERRIDE(info, k, x, from_corner, pos, nrm) (true: edge k evaluated elsewhere) and
+// GREGORY_CORNER_NORMAL(info, k, nrm) (after the shared corner: a normal read elsewhere).
 // Needs frame.glsl first; defines SPACING, CAPTURE as the stage file's.
 #ifndef TESSERA_GREGORY_QUAD_TES_GLSL
 #define TESSERA_GREGORY_QUAD_TES_GLSL
@@ -19,6 +20,9 @@
 
 #ifndef SPACING
 #define SPACING equal_spacing
+#endif
+#ifndef GREGORY_CORNER_NORMAL
+#define GREGORY_CORNER_NORMAL(info, k, nrm)
 #endif
 
 // As bspline/patch_bspline.tese: `cw` in Vulkan's upper-left domain is counter-clockwise in (u right, v up).
@@ -103,9 +107,10 @@ void main() {
     bool u_edge = (u == 0.0 || u == 1.0);
     bool v_edge = (v == 0.0 || v == 1.0);
     if (u_edge && v_edge) {
-        int k = (u == 0.0) ? (v == 0.0 ? 0 : 3) : (v == 0.0 ? 1 : 2);
+        int k = quad_corner_index(u, v);
         nrm = gregory_corner_normal(P(k), EP(k), EM(k), FP(k), FM(k));
         quad_corner_point(info.corners, u, v, p, nrm);
+        GREGORY_CORNER_NORMAL(info, k, nrm);
     } else if (v == 0.0) {
         quad_edge(patch_index, info, 0, u, 0, p, nrm);
     } else if (u == 1.0) {

@@ -25,6 +25,27 @@ pub fn sector_count(topo: &Topology, v: u32) -> usize {
     }
 }
 
+/// The faces of the sector of face `f` around vertex `v`: `f` and the faces joined to it across
+/// the non-sharp edges at `v` (all of `v`'s faces when no sharp edge splits them).
+pub fn sector_faces(topo: &Topology, v: u32, f: u32) -> Vec<u32> {
+    let ring = topo.vertex_edges(v);
+    let (mut seen, mut stack) = (vec![f], vec![f]);
+    while let Some(g) = stack.pop() {
+        for &e in topo.face_edges(g) {
+            if !ring.contains(&e) || is_sharp_edge(topo, e) {
+                continue;
+            }
+            for &h in topo.edge_faces(e) {
+                if !seen.contains(&h) {
+                    seen.push(h);
+                    stack.push(h);
+                }
+            }
+        }
+    }
+    seen
+}
+
 /// Whether every patch at vertex `v` has the same limit normal there (one sector: smooth
 /// interior or a boundary/crease vertex whose sharp edges do not split its faces; not a cone).
 pub fn single_normal_vertex(topo: &Topology, v: u32) -> bool {

@@ -20,6 +20,7 @@ use super::records::{
 use super::rows::{
     bspline_corner_rows, gregory_corner_rows, single_crease_corner_rows, SparseRows,
 };
+use super::sector_frames::SectorFrames;
 use super::slots::{Slots, NONE};
 use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure};
 use crate::patch::edge_grid::PATCH_EDGES;
@@ -41,13 +42,16 @@ pub const END_CAP_ROWS: usize = 36;
 pub struct AdaptiveDrawTables {
     /// Frame slots of the patch corners.
     pub slots: Slots,
-    /// Per slot: the GPU writes `normalize(cross(du, dv))` (the vertex has one sector), else a
-    /// zero normal so each patch keeps its own.
+    /// Per frame (the slots, then the sector frames of `super::sector_frames`): the GPU
+    /// writes `normalize(cross(du, dv))` (one sector, or a sector frame), else a zero normal so
+    /// each patch keeps its own.
     pub shared_normal: Vec<bool>,
-    /// Rows `3 s .. 3 s + 2`: slot `s`'s limit position, du, dv (`cross(du, dv)` outward); then
+    /// Per census patch, face order: the sector frame of each corner (`u32::MAX`: none).
+    pub sector_corners: Vec<[u32; 4]>,
+    /// Rows `3 s .. 3 s + 2`: frame `s`'s limit position, du, dv (`cross(du, dv)` outward); then
     /// [`END_CAP_ROWS`] rows per end cap from [`Self::end_cap_first_row`].
     pub rows: SparseRows,
-    /// First end-cap row (`3 * slots`).
+    /// First end-cap row (`3 *` frames).
     pub end_cap_first_row: u32,
     /// One record per census patch, census order.
     pub records: Vec<PatchRecord>,
@@ -214,6 +218,7 @@ fn rotated_record(record: PatchRecord, d: &Domain, rot: Rotation) -> PatchRecord
             .fold(0, |m, e| m | 1 << e),
         mid_slots: std::array::from_fn(|e| record.mid_slots[face_edge(e)]),
         coarse: std::array::from_fn(|e| record.coarse[face_edge(e)]),
+        mid_frames: std::array::from_fn(|e| record.mid_frames[face_edge(e)]),
         ..record
     }
 }
@@ -232,7 +237,20 @@ impl AdaptiveDrawTables {
         let census = PatchCensus::new(refinement);
         let slots = Slots::new(refinement, &census);
         let caps = end_cap_rows(refinement, &census, tangents)?;
-        let (mut rows, shared_normal) = slot_rows(refinement, &census, &slots, &caps);
+        let (mut rows, mut shared_normal) = slot_rows(refinement, &census, &slots, &caps);
+        let mut coarse = CoarseEdges::new(refinement, &census, &slots);
+        let sectors = SectorFrames::new(
+            refinement,
+            &census,
+            &slots,
+            &coarse.mid_slots,
+            &caps,
+            slots.len() as u32,
+        );
+        for r in sectors.rows.iter().flatten() {
+            rows.push(r, 0);
+        }
+        shared_normal.resize(slots.len() + sectors.rows.len(), true);
         let end_cap_first_row = rows.len() as u32;
         for c in &caps {
             for r in c {
@@ -240,11 +258,11 @@ impl AdaptiveDrawTables {
             }
             rows.push_empty(END_CAP_ROWS - c.len());
         }
-        let mut coarse = CoarseEdges::new(refinement, &census, &slots);
         let at = patch_index(refinement, &census);
         let mut out = AdaptiveDrawTables {
             slots,
             shared_normal,
+            sector_corners: sectors.corners.clone(),
             rows,
             end_cap_first_row,
             records: Vec::with_capacity(census.patches.len()),
@@ -279,9 +297,26 @@ impl AdaptiveDrawTables {
                 transition: u32::from(p.transition),
                 mid_slots: coarse.mid_slots[i],
                 coarse: fine,
+                corner_frames: sectors.corners[i],
+                mid_frames: sectors.mids[i],
             };
             out.sharpness.push(p.crease.map_or(0.0, |l| l.sharpness));
             let slot = |v: u32| out.slots.of(v);
+            let face_slots: Vec<u32> = t
+                .face_vertices(p.face)
+                .iter()
+                .map(|&v| slot(lev.global(v)))
+                .collect();
+            // Sector frames in the drawn patch's corner order (a rotated single-crease patch's
+            // corners are the face's in another order): matched by slot.
+            let drawn_frames = |draw: &BSplineDraw| {
+                draw.corners.map(|c| {
+                    face_slots
+                        .iter()
+                        .position(|&x| x == c)
+                        .map_or(NONE, |j| sectors.corners[i][j])
+                })
+            };
             if let Some(line) = p.crease {
                 let rot = Rotation::of(line.side);
                 out.records.push(rotated_record(record, &d, rot));
@@ -292,6 +327,7 @@ impl AdaptiveDrawTables {
                 };
                 let mut draw = bspline_draw(i as u32, d.base_face, patch, slot);
                 draw.flags |= (rot as u32) << 8;
+                out.records[i].corner_frames = drawn_frames(&draw);
                 let transition = out.records[i].transition;
                 if transition == 0 {
                     out.single_crease.push(draw);
@@ -305,6 +341,7 @@ impl AdaptiveDrawTables {
             out.records.push(record);
             if let Some(b) = p.bspline {
                 let draw = bspline_draw(i as u32, d.base_face, b, slot);
+                out.records[i].corner_frames = drawn_frames(&draw);
                 if p.transition == 0 {
                     out.regular.push(draw);
                     continue;
@@ -375,6 +412,11 @@ impl AdaptiveDrawTables {
         self.slots.len()
     }
 
+    /// Number of frames the GPU computes: the slots, then the sector frames.
+    pub fn frame_count(&self) -> usize {
+        self.shared_normal.len()
+    }
+
     /// The slot of global vertex `g`, `None` when no patch corner is that point.
     pub fn slot_of(&self, g: u32) -> Option<u32> {
         self.slots
@@ -384,7 +426,7 @@ impl AdaptiveDrawTables {
             .filter(|&s| s != NONE)
     }
 
-    /// `PatchRecord`s, 80 bytes each, census order.
+    /// `PatchRecord`s, 112 bytes each, census order.
     pub fn patch_record_bytes(&self) -> Vec<u8> {
         words_bytes(self.records.iter().map(PatchRecord::words))
     }

@@ -16,6 +16,7 @@ pub mod draw;
 mod error;
 pub mod records;
 pub mod rows;
+mod sector_frames;
 pub mod slots;
 mod surface;
 

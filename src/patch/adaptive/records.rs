@@ -3,8 +3,8 @@
 
 use crate::patch::RegularPatch;
 
-/// Words of a [`PatchRecord`] (80 bytes).
-pub const PATCH_RECORD_WORDS: usize = 20;
+/// Words of a [`PatchRecord`] (112 bytes).
+pub const PATCH_RECORD_WORDS: usize = 28;
 /// Words of a B-spline or Gregory `PatchInfo` (32 bytes).
 pub const PATCH_INFO_WORDS: usize = 8;
 /// Words of a [`TransitionTriangle`] (16 bytes).
@@ -38,11 +38,17 @@ pub struct PatchRecord {
     /// Index into the coarse edges when patch edge `k` lies on an edge of a one-level-coarser
     /// patch, else `u32::MAX`.
     pub coarse: [u32; 4],
+    /// Per patch corner (GPU corner order: (0,0), (1,0), (1,1), (0,1) of the drawn patch): the
+    /// frame whose normal the corner takes in its sector ([`super::sector_frames`]), else
+    /// `u32::MAX` (the slot's normal, or the patch's own).
+    pub corner_frames: [u32; 4],
+    /// The same for the midpoint of transition edge `k`.
+    pub mid_frames: [u32; 4],
 }
 
 impl PatchRecord {
-    /// Words 0-19: base_face, sub_face, level, kind, origin xy, u xy, v xy, transition, 0,
-    /// mid_slots, coarse.
+    /// Words 0-27: base_face, sub_face, level, kind, origin xy, u xy, v xy, transition, 0,
+    /// mid_slots, coarse, corner_frames, mid_frames.
     pub fn words(&self) -> [u32; PATCH_RECORD_WORDS] {
         let mut w = [0u32; PATCH_RECORD_WORDS];
         w[..4].copy_from_slice(&[self.base_face, self.sub_face, self.level, self.kind]);
@@ -52,6 +58,8 @@ impl PatchRecord {
         w[10] = self.transition;
         w[12..16].copy_from_slice(&self.mid_slots);
         w[16..20].copy_from_slice(&self.coarse);
+        w[20..24].copy_from_slice(&self.corner_frames);
+        w[24..28].copy_from_slice(&self.mid_frames);
         w
     }
 }

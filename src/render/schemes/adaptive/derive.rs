@@ -30,7 +30,7 @@ pub struct DerivedPoints {
     limits: Buffer,
     normals: Buffer,
     end_cap_points: Buffer,
-    slots: u32,
+    frames: u32,
     end_cap_first_row: u32,
     end_cap_rows: u32,
     frames_kernel: Pipeline,
@@ -73,7 +73,7 @@ impl DerivedPoints {
     /// rows `3 s .. 3 s + 2` and its shared-normal flag; [`END_CAP_ROWS`] rows per end cap
     /// from `d.end_cap_first_row`. `refined` is the refinement's point buffer.
     pub fn new(ctx: &Context, d: &AdaptiveDrawTables, refined: &Buffer) -> Result<DerivedPoints> {
-        let slots = d.slot_count() as u32;
+        let frames = d.frame_count() as u32;
         let end_cap_first_row = d.end_cap_first_row;
         let end_cap_rows = d.end_caps.len() as u32 * END_CAP_ROWS;
         let [offsets, ids, weights, flags] = Self::row_bytes(d);
@@ -84,8 +84,8 @@ impl DerivedPoints {
             words_buffer(ctx, weights, ROW_LABELS[2])?,
             words_buffer(ctx, flags, ROW_LABELS[3])?,
         ];
-        let limits = vec4_storage(ctx, slots, "adaptive vertex limits")?;
-        let normals = vec4_storage(ctx, slots, "adaptive vertex normals")?;
+        let limits = vec4_storage(ctx, frames, "adaptive vertex limits")?;
+        let normals = vec4_storage(ctx, frames, "adaptive vertex normals")?;
         let end_cap_points = vec4_storage(ctx, end_cap_rows, "adaptive end-cap points")?;
         let frames_kernel = range_kernel(ctx, "limit_frames.comp", 7)?;
         let points_kernel = range_kernel(ctx, "endcap_points.comp", 7)?;
@@ -122,7 +122,7 @@ impl DerivedPoints {
             limits,
             normals,
             end_cap_points,
-            slots,
+            frames,
             end_cap_first_row,
             end_cap_rows,
             frames_kernel,
@@ -186,7 +186,7 @@ impl DerivedPoints {
         let written = (S::COMPUTE_SHADER, A::SHADER_WRITE);
         memory_barrier(dev, cmd, written, (S::COMPUTE_SHADER, A::SHADER_READ));
         for (k, (pipeline, first, count)) in [
-            (&self.frames_kernel, 0, self.slots),
+            (&self.frames_kernel, 0, self.frames),
             (
                 &self.points_kernel,
                 self.end_cap_first_row,
@@ -226,7 +226,7 @@ impl DerivedPoints {
         let read = |b: &Buffer| -> Result<Vec<[f32; 4]>> {
             let f: Vec<f32> = ctx.read_buffer(b)?;
             Ok(f.chunks_exact(4)
-                .take(self.slots as usize)
+                .take(self.frames as usize)
                 .map(|c| [c[0], c[1], c[2], c[3]])
                 .collect())
         };

@@ -161,14 +161,14 @@ impl AdaptiveTables {
 
     /// Bytes of GPU memory of the patch data (what [`pass::AdaptivePass`] uploads and derives,
     /// staging and index padding aside): the draw tables ([`AdaptiveDrawTables::memory_bytes`]),
-    /// the kernels' tables, the refined points (12 bytes each), the slot frames (two vec4 per
+    /// the kernels' tables, the refined points (12 bytes each), the frames (two vec4 per
     /// slot) and the end-cap points (a vec4 per end-cap row).
     pub fn gpu_memory_bytes(&self) -> usize {
         let d = &self.draw;
         d.memory_bytes()
             + self.refinement.gpu_tables().bytes()
             + 12 * self.refinement.total_vertices as usize
-            + 32 * d.slot_count()
+            + 32 * d.frame_count()
             + 16 * (d.rows.len() - d.end_cap_first_row as usize)
     }
 

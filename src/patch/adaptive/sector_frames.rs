@@ -1,0 +1,147 @@
+//! Sector frames: one limit normal per sector of a multi-sector point, shared by every patch of
+//! that sector there.
+//!
+//! A frame slot ([`super::slots`]) has one normal only where its point has one sector; where
+//! infinitely sharp edges split the point's faces (crease and corner vertices, points on a
+//! crease edge) the slot's normal is zero and each patch would keep its own corner normal, so
+//! two patches of one sector (across a smooth edge, or of two levels) drew normals a few ulp
+//! apart (3e-7 rad on `catmark_inf_crease1`). Here each such (point, sector) with an exact patch
+//! corner there (B-spline or single-crease: its corner rows are the sector's limit frame) or else
+//! an end cap's corner (the Gregory corner's plane, the same for every face of the sector) gets
+//! a frame of its own, appended after the slots; every patch corner and transition midpoint in
+//! that sector reads its normal (positions still come from the slot). One-face crease sectors
+//! keep the end cap's own corner normal (from its face points: its edge tangents are collinear).
+//!
+//! A sector is named across levels by its point's slot and a base face: the smallest base face
+//! of the sector around the point when the point is a base vertex, else the patch's base face
+//! (a point created by refinement lies inside a base edge or face, and only base edges are
+//! infinitely sharp, so its sectors are the base faces beside it).
+
+use std::collections::HashMap;
+
+use super::rows::{bspline_corner_rows, gregory_corner_rows, single_crease_corner_rows};
+use super::slots::{Slots, NONE};
+use crate::mesh::INFINITE_SHARPNESS;
+use crate::patch::gregory::{one_face_crease_sector, Weights};
+use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus};
+use crate::topology::{sector_count, sector_faces};
+
+/// The sector frames of a census and which patch corners and midpoints read them.
+#[derive(Debug, Clone, Default)]
+pub struct SectorFrames {
+    /// Per sector frame: rows (position, d/du, d/dv) of its exact patch corner.
+    pub rows: Vec<[Weights; 3]>,
+    /// Per census patch, face order: the frame (slot numbering) of each corner's sector,
+    /// [`NONE`] for none.
+    pub corners: Vec<[u32; 4]>,
+    /// Per census patch, face-edge order: the sector frame of the midpoint of each transition
+    /// edge (`mid_slots`), [`NONE`] for none.
+    pub mids: Vec<[u32; 4]>,
+}
+
+/// `(slot, base face)`: a sector of a multi-sector point.
+type SectorKey = (u32, u32);
+
+impl SectorFrames {
+    /// Sector frames of `census` over `slots`, numbered from `first` (they follow the slots in
+    /// the frame buffers); `mid_slots` per census patch as `CoarseEdges::mid_slots`, `caps` the
+    /// end caps' rows in census order.
+    pub fn new(
+        refinement: &AdaptiveRefinement,
+        census: &PatchCensus,
+        slots: &Slots,
+        mid_slots: &[[u32; 4]],
+        caps: &[Vec<Weights>],
+        first: u32,
+    ) -> SectorFrames {
+        let base = refinement.levels[0].topology();
+        let base_vertices = base.vertex_count() as u32;
+        // The sector key of slot `s` seen from base face `b`.
+        let key = |s: u32, b: u32| -> SectorKey {
+            let origin = slots.origins[s as usize];
+            if origin < base_vertices {
+                (
+                    s,
+                    sector_faces(base, origin, b).into_iter().min().unwrap_or(b),
+                )
+            } else {
+                (s, b)
+            }
+        };
+        let mut index: HashMap<SectorKey, u32> = HashMap::new();
+        let mut out = SectorFrames::default();
+        // Corner keys per census patch (NONE slot: one sector, nothing to share).
+        let mut corner_keys = Vec::with_capacity(census.patches.len());
+        for p in &census.patches {
+            let lev = &refinement.levels[p.level as usize];
+            let t = lev.topology();
+            let b = lev.domains[p.face as usize].base_face;
+            let mut keys = [None; 4];
+            for (k, &v) in t.face_vertices(p.face).iter().enumerate().take(4) {
+                if sector_count(t, v) >= 2 {
+                    keys[k] = Some(key(slots.of(lev.global(v)), b));
+                }
+            }
+            corner_keys.push(keys);
+        }
+        // Frames from exact patches' corners, in census order; then, for sectors without one,
+        // from end caps' corners (the Gregory corner's plane is the sector's: its edge points
+        // lie in it), except in one-face crease sectors, whose corner normal the GPU takes
+        // from the face points instead (`gregory_corner_normal`).
+        let mut cap_of = Vec::with_capacity(census.patches.len());
+        let mut cap = 0;
+        for p in &census.patches {
+            cap_of.push(cap);
+            cap += usize::from(p.bspline.is_none());
+        }
+        for end_caps in [false, true] {
+            for ((p, keys), &cap) in census.patches.iter().zip(&corner_keys).zip(&cap_of) {
+                if p.bspline.is_none() != end_caps {
+                    continue;
+                }
+                let lev = &refinement.levels[p.level as usize];
+                let fv = lev.topology().face_vertices(p.face);
+                for (k, key) in keys.iter().enumerate() {
+                    let Some(key) = key else { continue };
+                    if index.contains_key(key) {
+                        continue;
+                    }
+                    let rows = match (&p.crease, &p.bspline) {
+                        (Some(line), _) => single_crease_corner_rows(line, k),
+                        (None, Some(b)) => bspline_corner_rows(b, k),
+                        (None, None) => {
+                            if one_face_crease_sector(lev.topology(), fv[k], p.face) {
+                                continue;
+                            }
+                            gregory_corner_rows(&caps[cap], fv.len(), k, false)
+                        }
+                    };
+                    out.rows.push(rows);
+                    index.insert(*key, first + (out.rows.len() - 1) as u32);
+                }
+            }
+        }
+        let frame = |key: Option<SectorKey>| key.and_then(|k| index.get(&k).copied());
+        for ((p, keys), mids) in census.patches.iter().zip(&corner_keys).zip(mid_slots) {
+            out.corners.push(keys.map(|k| frame(k).unwrap_or(NONE)));
+            let lev = &refinement.levels[p.level as usize];
+            let t = lev.topology();
+            let b = lev.domains[p.face as usize].base_face;
+            let edges = t.face_edges(p.face);
+            out.mids.push(std::array::from_fn(|e| {
+                let m = mids[e];
+                // A midpoint has two sectors exactly when it lies on an interior sharp edge.
+                let split = m != NONE
+                    && e < edges.len()
+                    && !t.is_boundary_edge(edges[e])
+                    && t.edge_sharpness(edges[e]) >= INFINITE_SHARPNESS;
+                if split {
+                    frame(Some(key(m, b))).unwrap_or(NONE)
+                } else {
+                    NONE
+                }
+            }));
+        }
+        out
+    }
+}
