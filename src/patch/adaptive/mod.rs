@@ -4,7 +4,7 @@
 //! still irregular there, built over that level's refined points, so the inexact area shrinks
 //! by four per level (Köbler 2013 ch. 3; Nießner et al. 2012).
 //!
-//! Every patch keeps its face's [`Domain`], the map from the patch's own `(s, t)` to its base
+//! Every patch keeps its face's [`Domain`](crate::subdiv::adaptive::Domain), the map from the patch's own `(s, t)` to its base
 //! face's `(u, v)` (quads) or sub-face `(u, v)` (other faces), so the surface is evaluated at the
 //! same parameters as [`crate::subdiv::eval::LimitEvaluator`]. End caps of level 0 (isolation 0)
 //! on triangles use the Gregory triangle's own barycentric parameters.

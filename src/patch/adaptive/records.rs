@@ -39,7 +39,7 @@ pub struct PatchRecord {
     /// patch, else `u32::MAX`.
     pub coarse: [u32; 4],
     /// Per patch corner (GPU corner order: (0,0), (1,0), (1,1), (0,1) of the drawn patch): the
-    /// frame whose normal the corner takes in its sector ([`super::sector_frames`]), else
+    /// frame whose normal the corner takes in its sector (`patch::adaptive::sector_frames`), else
     /// `u32::MAX` (the slot's normal, or the patch's own).
     pub corner_frames: [u32; 4],
     /// The same for the midpoint of transition edge `k`.

@@ -85,7 +85,7 @@ pub struct HeatSample {
     pub distance: f64,
 }
 
-/// The samples of one Gregory face, in [`sample_params`] order: quads row by row
+/// The samples of one Gregory face, in `sample_params` order: quads row by row
 /// (`(N+1)^2` samples, `i` along u inner), triangles row by row in `t` with `N + 1 - j` samples
 /// in row `j`.
 #[derive(Debug, Clone, PartialEq)]
@@ -144,7 +144,7 @@ pub fn nearby_exact_samples(
 }
 
 /// The exact point closest to `x`: the nearest of `candidates` (from [`nearby_exact_samples`]
-/// of face `f`), refined by [`project`].
+/// of face `f`), refined by `project`.
 pub fn closest_exact(
     ev: &LimitEvaluator,
     x: DVec3,

@@ -39,7 +39,7 @@ pub enum VertexKind {
     Corner,
     /// Interior vertex with exactly one infinitely sharp edge (smooth vertex rule, crease rule
     /// on that edge): limit position and tangent plane from the eigenvectors of the ring's
-    /// subdivision matrix ([`dart_limit`]); not covered by the paper.
+    /// subdivision matrix (`dart_limit`); not covered by the paper.
     Dart,
     /// Corner rule with fewer than two sharp edges (a cone point, e.g. an infinitely sharp
     /// vertex tag on a smooth or dart vertex): [`GregoryVertex::cone`], an approximation for
@@ -227,7 +227,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     ///
     /// The dart keeps the smooth vertex rule, but its sharp edge takes the crease (midpoint)
     /// rule, so the smooth limit stencils of §3.2-3.3 are not eigenvectors of its subdivision
-    /// matrix. [`dart_limit`] computes, on the split ring, the exact limit position mask `l`
+    /// matrix. `dart_limit` computes, on the split ring, the exact limit position mask `l`
     /// (the dominant left eigenvector) and two masks `t_1, t_2` spanning the exact tangent plane
     /// (the two leading subdominant left eigenvectors, as `subdiv::limit` does). Then
     /// - `p = l · ring`;
@@ -310,7 +310,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     /// - `r` across inner edges as in §3.4; across a sharp edge, the ring reflected across it
     ///   (`m_{s-1} → 2v - m_{s+1}`, `c_{s-1} → 2 m_s - c_s`, the phantom rule of boundary
     ///   B-splines): `r = 2/3 (m_{s+1} - v) + 4/3 (c_s - m_s)`.
-    /// - A crease sector of one face ([`one_face_crease_r`], end caps only): `cos = 0` and face
+    /// - A crease sector of one face (`one_face_crease_r`, end caps only): `cos = 0` and face
     ///   points in the exact tangent plane.
     /// - A corner sector of more than two faces (end caps only): inner edge points on the
     ///   refined chords `(v + 2 m_j)/3`, as at a cone point ([`Self::cone`]): the sector's leading

@@ -115,7 +115,7 @@ pub fn check_vertex(topo: &Topology, face: u32, v: u32) -> Result<(), NotPm> {
     Ok(())
 }
 
-/// The vertex stage at `v` (checked with [`check_vertex`]) over points `point(vertex)`.
+/// The vertex stage at `v` (checked with `check_vertex`) over points `point(vertex)`.
 ///
 /// Facet `j` lies between spokes `j` and `j + 1`; `p̄_j` is the mean of its vertices that are
 /// neither `v` nor a spoke end (a quad's diagonal vertex, a pentagon's two far vertices), or

@@ -55,7 +55,7 @@ pub struct PatchDraws {
 }
 
 /// Records the indexed draws of `d` with `pipeline` bound (its push-constant range
-/// is [`super::pipeline::patch_push_constants`]), telling the shaders the uniform `split`.
+/// is `pipeline::patch_push_constants`), telling the shaders the uniform `split`.
 pub fn record_patch_draws(
     dev: &ash::Device,
     cmd: vk::CommandBuffer,

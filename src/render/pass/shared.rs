@@ -154,7 +154,7 @@ struct Staged {
     version: u64,
 }
 
-/// The buffers shared by every pass of one surface: per frame in flight ([`FrameSlot`]) the
+/// The buffers shared by every pass of one surface: per frame in flight (`FrameSlot`) the
 /// frame uniforms, control positions and vertex limit frames; one TES capture.
 ///
 /// Frames in flight: the host writes only the slot of the frame being prepared

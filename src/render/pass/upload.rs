@@ -9,7 +9,7 @@ use crate::Result;
 /// Smallest buffer created: shaders never read the padding, Vulkan forbids empty buffers.
 const MIN_BUFFER_BYTES: usize = 64;
 
-/// A host-visible buffer holding `bytes` (at least [`MIN_BUFFER_BYTES`]): data rewritten by
+/// A host-visible buffer holding `bytes` (at least `MIN_BUFFER_BYTES`): data rewritten by
 /// the host (positions, limit frames, uniforms).
 pub fn host_buffer(
     ctx: &Context,
@@ -28,7 +28,7 @@ pub fn host_buffer(
     Ok(b)
 }
 
-/// A device-local buffer holding `bytes` (at least [`MIN_BUFFER_BYTES`]): tables fixed for the
+/// A device-local buffer holding `bytes` (at least `MIN_BUFFER_BYTES`): tables fixed for the
 /// topology.
 pub fn device_buffer(
     ctx: &Context,

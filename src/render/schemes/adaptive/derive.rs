@@ -2,7 +2,7 @@
 //! kernels ([`super::refine::GpuRefiner`]): the limit frames of the patch corners (one per frame
 //! slot: position, and the normal where the vertex has one sector) and the control points of the
 //! end caps, both as sparse stencil rows over the refined buffer
-//! ([`crate::patch::adaptive::draw::SparseRows`]; `glsl/adaptive/limit_frames.comp`,
+//! ([`crate::patch::adaptive::rows::SparseRows`]; `glsl/adaptive/limit_frames.comp`,
 //! `endcap_points.comp`). The frames replace the shared per-vertex frames (set-0 bindings 2 and
 //! 9) for the adaptive draws, so patches of every level meeting at a point read the same bits.
 

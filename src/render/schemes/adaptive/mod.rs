@@ -7,7 +7,7 @@
 //!
 //! CPU side: [`crate::subdiv::adaptive`] (refinement, census), [`crate::subdiv::tables`]
 //! (kernels' tables), [`crate::patch::adaptive`] (patches, draw tables, CPU surface). GPU side:
-//! [`refine`] (refinement kernels), [`derive`] (corner frames and end-cap points), [`pass`]
+//! [`refine`] (refinement kernels), [`derive`](mod@derive) (corner frames and end-cap points), [`pass`]
 //! (draws).
 
 pub mod derive;

@@ -250,7 +250,7 @@ pub(crate) struct GridPatchSpec<'a> {
     pub own: &'a [BufferBinding<'a>],
 }
 
-/// GPU resources of a pass of 16-control-vertex patches ([`GridPatchSpec`]).
+/// GPU resources of a pass of 16-control-vertex patches (`GridPatchSpec`).
 pub struct GridPatchPass {
     ctx: Context,
     label: &'static str,
