@@ -168,7 +168,7 @@ fn cli_prints_every_scheme_and_writes_the_sheet() {
 /// the car (all quads) and `embedded:mixed`.
 #[test]
 fn continuity_reads_each_construction() {
-    use tessera::render::continuity::ContinuityReport;
+    use tessera::render::continuity::{exact_turns, ContinuityReport};
     use tessera::render::{plan_for_scheme, Scheme, SchemeLimits};
     use tessera::subdiv::eval::LimitEvaluator;
     use tessera::topology::Topology;
@@ -176,9 +176,10 @@ fn continuity_reads_each_construction() {
         let m = common::meshes::mesh(name);
         let topo = Topology::new(&m).unwrap();
         let ev = LimitEvaluator::new(&m).unwrap();
+        let turns = exact_turns(&topo, &ev);
         let report = |scheme| {
             let surface = plan_for_scheme(&m, scheme, &SchemeLimits::NO_DEVICE).unwrap();
-            let r = ContinuityReport::new(&surface, &topo, &ev);
+            let r = ContinuityReport::new(&surface, &topo, &turns);
             eprintln!("{name} {scheme:?}: {r:?}");
             r
         };

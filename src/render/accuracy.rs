@@ -251,6 +251,7 @@ pub struct ExactReference {
     /// Its exact evaluator.
     pub ev: LimitEvaluator,
     dense: Vec<Option<Vec<GridSample>>>,
+    turns: std::sync::OnceLock<Vec<Option<f64>>>,
 }
 
 impl ExactReference {
@@ -267,7 +268,19 @@ impl ExactReference {
     ) -> Result<ExactReference> {
         let ev = LimitEvaluator::new(mesh)?;
         let dense = ev.eval_all_grids(2 * grid.max(1))?;
-        Ok(ExactReference { topo, ev, dense })
+        Ok(ExactReference {
+            topo,
+            ev,
+            dense,
+            turns: std::sync::OnceLock::new(),
+        })
+    }
+
+    /// The limit's own normal turn across each edge the continuity reading measures
+    /// ([`super::continuity::exact_turns`]), computed on first use and kept for every scheme.
+    pub fn turns(&self) -> &[Option<f64>] {
+        self.turns
+            .get_or_init(|| super::continuity::exact_turns(&self.topo, &self.ev))
     }
 
     /// Measures captured points (faces in parallel): the closest exact point among the dense

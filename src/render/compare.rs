@@ -127,7 +127,7 @@ pub fn compare_scheme(
         compute_ms,
         memory_bytes,
         seams: SeamReport::new(&points, SEAM_TOLERANCE * diagonal),
-        continuity: ContinuityReport::new(&surface, &exact.topo, &exact.ev),
+        continuity: ContinuityReport::new(&surface, &exact.topo, exact.turns()),
     };
     Ok(SchemeComparison { row, points })
 }

@@ -12,6 +12,7 @@
 //! sharpness are left out (a semi-sharp crease turns the limit's normal fast across it).
 
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
 use super::schemes::ReferencePatch;
 use super::surface::SurfaceData;
@@ -60,11 +61,64 @@ fn geometric_normal(patch: &ReferencePatch, p: DVec2) -> DVec3 {
     du.cross(dv).normalize_or_zero()
 }
 
+/// The two faces of an edge and the point pairs measured across it.
+type EdgePairs = (u32, u32, Vec<(DVec2, DVec2)>);
+
+/// The two faces of edge `e` and the point pairs measured across it (face parameters a step
+/// inside each side, at the same places along the edge), if `e` is an interior edge without
+/// sharpness between two quads.
+fn edge_pairs(topo: &Topology, e: u32) -> Option<EdgePairs> {
+    let faces = topo.edge_faces(e);
+    let (f, g) = (*faces.first()?, *faces.get(1)?);
+    if is_sharp_edge(topo, e) || topo.edge_sharpness(e) > 0.0 {
+        return None;
+    }
+    let local = |face: u32| {
+        (topo.face_size(face) == 4)
+            .then(|| topo.face_edges(face).iter().position(|&x| x == e))
+            .flatten()
+    };
+    let (kf, kg) = (local(f)?, local(g)?);
+    let pairs = (0..SAMPLES_PER_EDGE)
+        .map(|s| {
+            let t = (s as f64 + 0.5) / SAMPLES_PER_EDGE as f64;
+            // The two faces run the shared edge in opposite directions.
+            (
+                quad_edge_point(kf, t, INSET),
+                quad_edge_point(kg, 1.0 - t, INSET),
+            )
+        })
+        .collect();
+    Some((f, g, pairs))
+}
+
+/// Per edge of `topo`: the largest angle between the exact limit's normals at the point pairs
+/// [`ContinuityReport::new`] measures there (`None` where it measures none). It depends on the
+/// mesh only, so `tessera compare` computes it once for every scheme
+/// ([`super::accuracy::ExactReference::turns`]).
+pub fn exact_turns(topo: &Topology, exact: &LimitEvaluator) -> Vec<Option<f64>> {
+    (0..topo.edge_count() as u32)
+        .into_par_iter()
+        .map(|e| {
+            let (f, g, pairs) = edge_pairs(topo, e)?;
+            let mut turn = 0.0f64;
+            for (a, b) in pairs {
+                let ea = exact.eval(f as usize, 0, a.x, a.y);
+                let eb = exact.eval(g as usize, 0, b.x, b.y);
+                if let (Ok(ea), Ok(eb)) = (ea, eb) {
+                    turn = turn.max(normal_angle(ea.normal, eb.normal));
+                }
+            }
+            Some(turn)
+        })
+        .collect()
+}
+
 impl ContinuityReport {
     /// Measures `surface` (its GPU parts' references over `surface.positions`) across every
-    /// interior, non-sharp edge whose two faces are quads drawn by GPU passes; `exact` evaluates
-    /// the limit of the same mesh.
-    pub fn new(surface: &SurfaceData, topo: &Topology, exact: &LimitEvaluator) -> Self {
+    /// interior, non-sharp edge whose two faces are quads drawn by GPU passes; `turns` are the
+    /// limit's own turns there ([`exact_turns`] of the same mesh).
+    pub fn new(surface: &SurfaceData, topo: &Topology, turns: &[Option<f64>]) -> Self {
         let mut refs: Vec<Option<ReferencePatch>> = (0..topo.face_count()).map(|_| None).collect();
         for part in &surface.parts {
             let quads: Vec<u32> = part
@@ -83,34 +137,18 @@ impl ContinuityReport {
         let mut report = ContinuityReport::default();
         let mut sum = 0.0;
         for e in 0..topo.edge_count() as u32 {
-            let faces = topo.edge_faces(e);
-            let (Some(f), Some(g)) = (faces.first().copied(), faces.get(1).copied()) else {
+            let Some((f, g, pairs)) = edge_pairs(topo, e) else {
                 continue;
             };
             let (Some(rf), Some(rg)) = (&refs[f as usize], &refs[g as usize]) else {
                 continue;
             };
-            if is_sharp_edge(topo, e) || topo.edge_sharpness(e) > 0.0 {
-                continue;
-            }
-            let local = |face: u32| topo.face_edges(face).iter().position(|&x| x == e);
-            let (Some(kf), Some(kg)) = (local(f), local(g)) else {
-                continue;
-            };
             report.edges += 1;
-            for s in 0..SAMPLES_PER_EDGE {
-                let t = (s as f64 + 0.5) / SAMPLES_PER_EDGE as f64;
-                // The two faces run the shared edge in opposite directions.
-                let a = quad_edge_point(kf, t, INSET);
-                let b = quad_edge_point(kg, 1.0 - t, INSET);
+            if let Some(turn) = turns[e as usize] {
+                report.max_exact_jump = report.max_exact_jump.max(turn);
+            }
+            for (a, b) in pairs {
                 let jump = normal_angle(geometric_normal(rf, a), geometric_normal(rg, b));
-                let ea = exact.eval(f as usize, 0, a.x, a.y);
-                let eb = exact.eval(g as usize, 0, b.x, b.y);
-                if let (Ok(ea), Ok(eb)) = (ea, eb) {
-                    report.max_exact_jump = report
-                        .max_exact_jump
-                        .max(normal_angle(ea.normal, eb.normal));
-                }
                 report.samples += 1;
                 report.max_jump = report.max_jump.max(jump);
                 sum += jump * jump;
