@@ -248,9 +248,9 @@ pub fn points_by_param(
     out
 }
 
-/// `records` sorted by [`param_key`].
+/// `records` sorted by [`param_key`], then sub-face (sub-faces of one face share parameters).
 pub fn sorted(mut records: Vec<CaptureRecord>) -> Vec<CaptureRecord> {
-    records.sort_by_key(param_key);
+    records.sort_by_key(|r| (param_key(r), r.sub_face));
     records
 }
 
