@@ -10,7 +10,7 @@ mod common;
 
 use std::time::Instant;
 
-use common::capture::{offscreen, patch_type_image, uniform};
+use common::capture::{offscreen, patch_type_image, uniform, watertight_settings};
 use common::conformance::{
     accuracy_within, animation_on, assert_watertight, draw, golden_patch_type,
 };
@@ -20,13 +20,11 @@ use common::meshes::{corpus_options, mesh, osd_names, osd_path};
 use common::watertight::assert_coincident_points_equal;
 use glam::DVec3;
 use tessera::mesh::INFINITE_SHARPNESS;
+use tessera::patch::qas::bezier::TRI_NODES;
 use tessera::patch::qas::{fan_to_sub_face, QasKind, QasSurface};
 use tessera::render::animate::twist;
 use tessera::render::schemes::qas::QasTables;
-use tessera::render::{
-    plan_for_scheme, CaptureRecord, Scheme, SchemeLimits, Spacing, SurfaceData, TessMode,
-    TessSettings,
-};
+use tessera::render::{plan_for_scheme, CaptureRecord, Scheme, SchemeLimits, SurfaceData};
 use tessera::subdiv::eval::LimitEvaluator;
 use tessera::topology::{is_sharp_edge, Topology};
 use tessera::ControlMesh;
@@ -304,14 +302,7 @@ fn ngon_fans_against_the_exact_limit() {
             // are the exact limit: positions to f64 rounding (1e-9), normals within 1e-7 rad
             // (the evaluator's normal and the mask's tangents are different routes: measured
             // 2.1e-8 rad on catmark_val2_interior, 0 elsewhere).
-            for (w1, w2) in [
-                (0.0, 0.0),
-                (1.0, 0.0),
-                (0.0, 1.0),
-                (0.5, 0.0),
-                (0.5, 0.5),
-                (0.0, 0.5),
-            ] {
+            for (w1, w2) in TRI_NODES {
                 let (sub, u, v) = fan_to_sub_face(k, sides, [1.0 - w1 - w2, w1, w2]);
                 let e = ev.eval(p.face as usize, sub as usize, u, v).unwrap();
                 let (pos, nrm) = c.eval(w1, w2);
@@ -455,26 +446,8 @@ fn qas_tables(surface: &SurfaceData) -> &QasTables {
 #[test]
 fn watertight() {
     let Some(ctx) = context() else { return };
-    let settings = [
-        uniform(1.0),
-        uniform(5.0),
-        uniform(8.0),
-        uniform(33.0),
-        TessSettings {
-            spacing: Spacing::FractionalOdd,
-            ..uniform(5.0)
-        },
-        TessSettings {
-            spacing: Spacing::FractionalEven,
-            ..uniform(6.0)
-        },
-        TessSettings {
-            mode: TessMode::Adaptive,
-            pixels_per_edge: 4.0,
-            ..uniform(8.0)
-        },
-        distance_mode(8.0),
-    ];
+    let mut settings = watertight_settings();
+    settings.extend([uniform(33.0), distance_mode(8.0)]);
     for name in [
         "embedded:mixed",
         "catmark_nonquads",
