@@ -10,7 +10,7 @@ mod common;
 
 use std::collections::{BTreeSet, HashMap};
 
-use common::capture::{image, patch_type_image, uniform, Animation};
+use common::capture::{image, patch_type_image, uniform, watertight_settings, Animation};
 use common::capture::{offscreen, scheme_surface};
 use common::conformance::draw;
 use common::golden::check_golden;
@@ -25,7 +25,7 @@ use tessera::render::schemes::pm::{class_code, kind_name, reference_sample, PmTa
 use tessera::render::schemes::pm_vs::PmVsTables;
 use tessera::render::{
     plan_for_scheme, CameraSpec, CaptureRecord, ColorBy, OffscreenDesc, RefusalReason, RenderDesc,
-    Scheme, SchemeLimits, Spacing, SurfaceData, TessMode, TessSettings,
+    Scheme, SchemeLimits, SurfaceData,
 };
 
 const SCHEME: Scheme = Scheme::Pm;
@@ -151,24 +151,7 @@ fn gpu_equals_cpu_construction() {
 #[test]
 fn watertight() {
     let Some(ctx) = context() else { return };
-    let settings = [
-        uniform(1.0),
-        uniform(5.0),
-        uniform(8.0),
-        TessSettings {
-            spacing: Spacing::FractionalOdd,
-            ..uniform(5.0)
-        },
-        TessSettings {
-            spacing: Spacing::FractionalEven,
-            ..uniform(6.0)
-        },
-        TessSettings {
-            mode: TessMode::Adaptive,
-            pixels_per_edge: 4.0,
-            ..uniform(8.0)
-        },
-    ];
+    let settings = watertight_settings();
     let mut cases = meshes();
     cases.push(("hexagon fan".into(), hexagon_mesh()));
     cases.push((

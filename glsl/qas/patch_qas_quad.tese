@@ -42,5 +42,5 @@ void main() {
     } else if (u == 1.0) {
         qas_edge(pi, 2, 5, 8, c.y, c.z, v, p, nrm);
     }
-    qas_emit(qas[pi].face, vec2(u, v), p, nrm, CLASS_IRREGULAR);
+    qas_emit(qas[pi].face, NO_SUB_FACE, vec2(u, v), p, nrm, CLASS_IRREGULAR);
 }

@@ -1,7 +1,11 @@
 #version 450
-// QAS triangle (glsl/qas/qas.glsl): the paper's quadratic triangles for position and normal;
-// corners and edges by the shared watertight rules. gl_TessCoord = barycentric weights of face
-// corners 0, 1, 2; the captured (u, v) are the weights of corners 1 and 2.
+// QAS triangle and n-gon fan triangle (glsl/qas/qas.glsl): the paper's quadratic triangles for
+// position and normal; corners and edges by the shared watertight rules. gl_TessCoord =
+// barycentric weights of corners 0, 1, 2. A triangle's captured (u, v) are the weights of
+// corners 1 and 2. A fan triangle (centre, V_k, V_{k+1}) is captured in sub-face k where
+// w1 >= w2, as (w0 + 2 w2, w0), else in sub-face k + 1 as (w0, w0 + 2 w1) (the piecewise linear
+// map of src/patch/qas, fan_to_sub_face); on its edges the weights are the canonical (t, s) of
+// the edge first, so both triangles of a spoke name its points alike (texture coordinates).
 // Defines: SPACING, CAPTURE.
 #include "qas_tes_io.glsl"
 
@@ -21,15 +25,41 @@ void main() {
         n += b[k] * qas[pi].n[k].xyz;
     }
     vec3 nrm = normalize(n);
+    bool fan = qas[pi].kind == QAS_FAN;
     int zeros = int(w0 == 0.0) + int(w1 == 0.0) + int(w2 == 0.0);
     if (zeros >= 2) {
-        qas_corner(pi, (w0 != 0.0) ? 0 : (w1 != 0.0 ? 1 : 2), p, nrm);
+        int k = (w0 != 0.0) ? 0 : (w1 != 0.0 ? 1 : 2);
+        qas_corner(pi, k, p, nrm);
+        w0 = float(k == 0);
+        w1 = float(k == 1);
+        w2 = float(k == 2);
     } else if (w2 == 0.0) {
-        qas_edge(pi, 0, 3, 1, c.x, c.y, w1, p, nrm);
+        // Edge 0-1 (a fan's spoke centre - V_k: the centre is the larger id, weight t).
+        vec2 ts = qas_edge(pi, 0, 3, 1, c.x, c.y, w1, p, nrm);
+        if (fan) {
+            w0 = ts.x;
+            w1 = ts.y;
+        }
     } else if (w0 == 0.0) {
-        qas_edge(pi, 1, 4, 2, c.y, c.z, w2, p, nrm);
+        // Edge 1-2 (a fan's outer edge V_k V_{k+1}).
+        vec2 ts = qas_edge(pi, 1, 4, 2, c.y, c.z, w2, p, nrm);
+        if (fan) {
+            w1 = c.y < c.z ? ts.y : ts.x;
+            w2 = c.y < c.z ? ts.x : ts.y;
+        }
     } else if (w1 == 0.0) {
-        qas_edge(pi, 2, 5, 0, c.z, c.x, w0, p, nrm);
+        // Edge 2-0 (a fan's spoke V_{k+1} - centre).
+        vec2 ts = qas_edge(pi, 2, 5, 0, c.z, c.x, w0, p, nrm);
+        if (fan) {
+            w0 = ts.x;
+            w2 = ts.y;
+        }
     }
-    qas_emit(qas[pi].face, vec2(w1, w2), p, nrm, CLASS_TRIANGLE);
+    if (!fan) {
+        qas_emit(qas[pi].face, NO_SUB_FACE, vec2(w1, w2), p, nrm, CLASS_TRIANGLE);
+        return;
+    }
+    precise vec2 uv = w1 >= w2 ? vec2(w0 + 2.0 * w2, w0) : vec2(w0, w0 + 2.0 * w1);
+    uint sub = w1 >= w2 ? qas[pi].sub : qas[pi].sub_next;
+    qas_emit(qas[pi].face, sub, min(uv, vec2(1.0)), p, nrm, CLASS_TRIANGLE);
 }

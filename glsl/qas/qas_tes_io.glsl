@@ -23,8 +23,9 @@ vec3 qas_curve(vec3 lo, vec3 mid, vec3 hi, float t, float s) {
 }
 
 /// Patch `pi`'s edge from coefficient slot a (corner vertex ia, x = 0) over slot m to slot b
-/// (corner vertex ib, x = 1) at x: position and unit normal, in the canonical frame.
-void qas_edge(uint pi, int a, int m, int b, uint ia, uint ib, float x, out vec3 pos,
+/// (corner vertex ib, x = 1) at x: position and unit normal, in the canonical frame. Returns
+/// that frame's (t, s): the weights of the end with the larger and the smaller id.
+vec2 qas_edge(uint pi, int a, int m, int b, uint ia, uint ib, float x, out vec3 pos,
               out vec3 nrm) {
     bool from_lo = ia < ib;
     float t, s;
@@ -35,6 +36,7 @@ void qas_edge(uint pi, int a, int m, int b, uint ia, uint ib, float x, out vec3 
     precise vec3 nn = normalize(qas_curve(qas[pi].n[lo].xyz, qas[pi].n[m].xyz,
                                           qas[pi].n[hi].xyz, t, s));
     nrm = nn;
+    return vec2(t, s);
 }
 
 /// Patch `pi`'s corner coefficient slot k: the limit point and its unit normal.
@@ -44,16 +46,17 @@ void qas_corner(uint pi, int k, out vec3 pos, out vec3 nrm) {
     nrm = nn;
 }
 
-/// Writes the outputs (and the capture record) of point (u, v) of face `face`, displaced
-/// (`displace.glsl`) after the watertight evaluation.
-void qas_emit(uint face, vec2 uv, vec3 p, vec3 nrm, uint cls) {
-    displace_point(face, NO_SUB_FACE, uv, p, nrm);
+/// Writes the outputs (and the capture record) of point (u, v) of face `face` (sub-face `sub`,
+/// NO_SUB_FACE: the face's own domain), displaced (`displace.glsl`) after the watertight
+/// evaluation.
+void qas_emit(uint face, uint sub, vec2 uv, vec3 p, vec3 nrm, uint cls) {
+    displace_point(face, sub, uv, p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = cls;
     gl_Position = frame.view_proj * vec4(p, 1.0);
 #ifdef CAPTURE
-    capture_point(face, uv, p, nrm);
+    capture_tagged(face, sub, uv, p, nrm, 0u);
 #endif
 }
 

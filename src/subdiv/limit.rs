@@ -191,6 +191,19 @@ fn row(m: &SparseMatrix, r: usize) -> impl Iterator<Item = (u32, f64)> + '_ {
     i.iter().copied().zip(w.iter().copied())
 }
 
+/// Mask `cm` over the vertices of a refined extraction, mapped back to the extracted level's
+/// vertices: through the refinement matrix `r`, then the extraction's vertex map `map`.
+fn pull_back(cm: &VertexMask, r: &SparseMatrix, map: &[u32]) -> VertexMask {
+    let mut t = Vec::new();
+    for (k, &c) in cm.indices.iter().enumerate() {
+        let w = [cm.position[k], cm.tangent_u[k], cm.tangent_v[k]];
+        for (col, x) in row(r, c as usize) {
+            t.push((map[col as usize], [w[0] * x, w[1] * x, w[2] * x]));
+        }
+    }
+    VertexMask::from_triples(t)
+}
+
 /// One local refinement step around `v`, then the mask of its child vertex, mapped back.
 fn refined_mask(level: &Level, v: u32, i: usize, depth: u32) -> Result<VertexMask> {
     let topo = level.topology();
@@ -213,14 +226,33 @@ fn refined_mask(level: &Level, v: u32, i: usize, depth: u32) -> Result<VertexMas
     let v_child = (st.face_count() + st.edge_count()) as u32 + v_sub;
     let child_face = sub.child_faces(face_sub).start + corner as u32;
     let cm = vertex_mask_rec(&child, v_child, child_face, depth + 1)?;
-    let mut t = Vec::new();
-    for (k, &c) in cm.indices.iter().enumerate() {
-        let w = [cm.position[k], cm.tangent_u[k], cm.tangent_v[k]];
-        for (col, x) in row(&r, c as usize) {
-            t.push((map[col as usize], [w[0] * x, w[1] * x, w[2] * x]));
+    Ok(pull_back(&cm, &r, &map))
+}
+
+/// The limit mask, over `level`'s vertices, of the face point that refining `level` once puts
+/// in face `f` (the limit at the centre of `f`'s domain, for a quad `(½, ½)`), tangents oriented
+/// by the child face at `f`'s corner 0. `f` and the faces around its corners are refined
+/// locally, which gives the face point's ring exactly (it lies inside `f`).
+pub fn face_point_mask(level: &Level, f: u32) -> Result<VertexMask> {
+    let topo = level.topology();
+    if f as usize >= topo.face_count() {
+        return Err(Error::Invalid(format!(
+            "face-point mask: face {f} out of range"
+        )));
+    }
+    let mut faces = vec![f];
+    for &v in topo.face_vertices(f) {
+        for &g in topo.vertex_faces(v) {
+            if !faces.contains(&g) {
+                faces.push(g);
+            }
         }
     }
-    Ok(VertexMask::from_triples(t))
+    // Extraction keeps the order of the given faces: `f` is sub face 0.
+    let (sub, map) = level.try_extract(&faces)?;
+    let (child, r) = sub.refine();
+    let cm = vertex_mask(&child, sub.child_face_point(0), sub.child_faces(0).start)?;
+    Ok(pull_back(&cm, &r, &map))
 }
 
 /// Face slots of `v`'s sector containing face slot `i` (between infinitely sharp edges), in

@@ -36,6 +36,29 @@ pub fn uniform(level: f32) -> TessSettings {
     }
 }
 
+/// The levels the bitwise-watertight tests draw at: uniform 1, 5 and 8, fractional odd 5 and
+/// even 6, and screen-space 8 at 4 pixels per edge.
+pub fn watertight_settings() -> Vec<TessSettings> {
+    vec![
+        uniform(1.0),
+        uniform(5.0),
+        uniform(8.0),
+        TessSettings {
+            spacing: Spacing::FractionalOdd,
+            ..uniform(5.0)
+        },
+        TessSettings {
+            spacing: Spacing::FractionalEven,
+            ..uniform(6.0)
+        },
+        TessSettings {
+            mode: TessMode::Adaptive,
+            pixels_per_edge: 4.0,
+            ..uniform(8.0)
+        },
+    ]
+}
+
 /// Capture records `patches` patches can emit at `tess`; screen-space and distance levels are
 /// taken at the device limit they can reach (64: at most 66^2 points per patch).
 pub fn patch_capacity(patches: usize, tess: &TessSettings) -> u32 {
@@ -248,9 +271,9 @@ pub fn points_by_param(
     out
 }
 
-/// `records` sorted by [`param_key`].
+/// `records` sorted by [`param_key`], then sub-face (sub-faces of one face share parameters).
 pub fn sorted(mut records: Vec<CaptureRecord>) -> Vec<CaptureRecord> {
-    records.sort_by_key(param_key);
+    records.sort_by_key(|r| (param_key(r), r.sub_face));
     records
 }
 

@@ -23,7 +23,9 @@ use super::capture::{
 use super::golden::check_golden;
 use super::gpu::{assert_validation_clean, context};
 use super::meshes::mesh;
-use super::watertight::{boundary, point_bits, position_bits, Boundary, EdgePoints};
+use super::watertight::{
+    boundary, point_bits, position_bits, record_boundary, Boundary, EdgePoints,
+};
 
 /// The captured points of `mesh` drawn with `scheme` at `tess`, and the surface.
 pub fn draw(
@@ -182,7 +184,8 @@ pub fn assert_gpu_equals_cpu(
 
 /// On every edge two GPU patches share, both emit bitwise the same positions, and the same
 /// position and normal bits at the edge's inner points where the edge is smooth (neither a
-/// boundary nor sharp). Returns the number of shared edges compared (at least one).
+/// boundary nor sharp). Points captured per sub-face (n-gons) are placed on their face's edges
+/// by their sub-face ([`record_boundary`]). Returns the number of shared edges compared (at least one).
 pub fn assert_watertight(what: &str, surface: &SurfaceData, records: &[CaptureRecord]) -> usize {
     let topo: &Topology = surface.topology.as_ref().expect("planned from a mesh");
     let gpu = part_of_face(surface);
@@ -191,7 +194,7 @@ pub fn assert_watertight(what: &str, surface: &SurfaceData, records: &[CaptureRe
     for r in records {
         let fv = topo.face_vertices(r.face);
         let n = fv.len();
-        let b = boundary(n, r.u, r.v);
+        let b = record_boundary(n, r);
         for (i, j) in b.edges(n) {
             let (a, c) = (fv[i], fv[j]);
             positions.add(a, c, r.face, position_bits(r));

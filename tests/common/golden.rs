@@ -53,6 +53,9 @@ const TOLERANCES: &[(&str, Tolerance)] = &[
     // new with --scheme qas and acc (measured 0 against today's render, which made it); as
     // bspline_only_mixed_patch_type
     ("qas_mixed_patch_type", tol(0.006, 0.05)),
+    // new with QAS n-gon fans (catmark_nonquads by patch type, default camera; measured 0
+    // against today's render, which made it); as qas_mixed_patch_type
+    ("qas_nonquads_patch_type", tol(0.006, 0.05)),
     ("acc_mixed_patch_type", tol(0.006, 0.05)),
     // new with --scheme pm (embedded:mixed by patch type from the default camera and from
     // below; measured 0 against today's render, which made them); as qas_mixed_patch_type

@@ -110,6 +110,35 @@ pub fn boundary(n: usize, u: f32, v: f32) -> Boundary {
     }
 }
 
+/// Where point `(u, v)` of sub-face `k` of a face with `n` corners lies on the face's boundary
+/// (sub-face `k`: `(0, 0)` at corner `k`, `v = 0` the first half of edge `k -> k+1`, `u = 0` the
+/// half of edge `k-1 -> k` at corner `k`, as `tessera limit` names the points of n-gons).
+pub fn sub_face_boundary(n: usize, k: usize, u: f32, v: f32) -> Boundary {
+    match (u == 0.0, v == 0.0) {
+        (true, true) => Boundary::Corner(k),
+        (false, true) => Boundary::Edge {
+            from: k,
+            to: (k + 1) % n,
+            t: 0.5 * u,
+        },
+        (true, false) => Boundary::Edge {
+            from: k,
+            to: (k + n - 1) % n,
+            t: 0.5 * v,
+        },
+        (false, false) => Boundary::Interior,
+    }
+}
+
+/// Where a captured point lies on its face's boundary: in its sub-face when it names one (faces
+/// other than quads drawn per sub-face), else in the face's own domain ([`boundary`]).
+pub fn record_boundary(n: usize, r: &CaptureRecord) -> Boundary {
+    match r.sub_face {
+        Some(k) if n != 4 => sub_face_boundary(n, k as usize, r.u, r.v),
+        _ => boundary(n, r.u, r.v),
+    }
+}
+
 /// Bit patterns of a record's position.
 pub fn position_bits(r: &CaptureRecord) -> [u32; 3] {
     r.position.map(f32::to_bits)

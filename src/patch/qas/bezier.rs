@@ -47,6 +47,17 @@ pub fn quad_coefficients<T: QuadPoint>(p: &[T; 9]) -> [T; 9] {
     c
 }
 
+/// The points a quadratic triangle interpolates, as barycentric weights `(u, v)` of corners 1
+/// and 2: corners 0, 1, 2, then the midpoints of edges 0-1, 1-2, 2-0 ([`tri_coefficients`]).
+pub const TRI_NODES: [(f64, f64); 6] = [
+    (0.0, 0.0),
+    (1.0, 0.0),
+    (0.0, 1.0),
+    (0.5, 0.0),
+    (0.5, 0.5),
+    (0.0, 0.5),
+];
+
 /// The quadratic triangle's Bézier coefficients from its corner values `p[0..3]` and edge
 /// midpoint values `p[3..6]` (edge `k` joins corners `k` and `k + 1`): corners, then the edge
 /// coefficients of edges 0, 1, 2.
@@ -145,17 +156,9 @@ mod tests {
     #[test]
     fn triangle_reproduces_quadratics_and_interpolates_edges() {
         let g = |u: f64, v: f64| 0.5 - u + 2.0 * v + 3.0 * u * v - u * u + 0.25 * v * v;
-        let at = [
-            (0.0, 0.0),
-            (1.0, 0.0),
-            (0.0, 1.0),
-            (0.5, 0.0),
-            (0.5, 0.5),
-            (0.0, 0.5),
-        ];
-        let p = at.map(|(u, v)| g(u, v));
+        let p = TRI_NODES.map(|(u, v)| g(u, v));
         let c = tri_coefficients(&p);
-        for (k, &(u, v)) in at.iter().enumerate() {
+        for (k, &(u, v)) in TRI_NODES.iter().enumerate() {
             assert!((eval_tri(&c, u, v).0 - p[k]).abs() < 1e-14);
         }
         let (u, v, h) = (0.2, 0.3, 1e-6);

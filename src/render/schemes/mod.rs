@@ -61,8 +61,8 @@ pub enum Scheme {
     Adaptive,
     /// QAS (Boubekeur, Schlick 2007): one Catmull-Clark step projected to the limit, then per
     /// triangle or quad a quadratic position patch and a quadratic normal patch through those
-    /// limit points (C0, smooth shading); faces of five or more sides from the exact CPU
-    /// reference.
+    /// limit points (C0, smooth shading); faces of five or more sides as a fan of quadratic
+    /// triangles around the face point.
     Qas,
     /// ACC patches (Loop, Schaefer 2008 §3-4) of smooth interior quads: bicubic Bézier geometry
     /// patches from the one-ring masks, normals from the u- and v-tangent patches (a continuous
@@ -135,7 +135,7 @@ pub static REGISTRY: [SchemeEntry; 8] = [
     SchemeEntry {
         scheme: Scheme::Qas,
         name: "qas",
-        control_points: "9 + 9 (biquadratic position and normal patches, quads), 6 + 6 (quadratic triangles), from one Catmull-Clark step's limit points",
+        control_points: "9 + 9 (biquadratic position and normal patches, quads), 6 + 6 (quadratic triangles; n-gons: n fan triangles), from one Catmull-Clark step's limit points",
         continuity: "C0 positions (bitwise watertight), normals continuous across edges from the normal patch; interpolates the step's limit points",
         passes: &[&qas::QAS],
     },

@@ -136,7 +136,7 @@ pub enum RefusalReason {
     NotSingleCrease,
     /// The Gregory construction does not cover the face.
     NotGregory(NotGregory),
-    /// QAS draws triangles and quads only ([`NotQas`]).
+    /// A QAS limit mask failed ([`NotQas`]).
     NotQas(NotQas),
     /// ACC draws smooth interior quads only ([`NotAcc`]).
     NotAcc(NotAcc),
@@ -225,7 +225,7 @@ pub enum CaptureLayout {
     /// Every record in the base face's own quad domain (quads) — (0,0) at corner 0.
     FaceDomain,
     /// Quads in the face's domain; a triangle drawn whole as barycentric weights of corners 1
-    /// and 2.
+    /// and 2; faces of five or more sides (QAS fans) per sub-face as [`Self::SubFaces`].
     FaceDomainOrBarycentric,
     /// Quads in the face's domain; other faces per sub-face (the record's `sub_face`; `f:k u v`
     /// as `tessera limit` writes it), sub-face `k` with `(0, 0)` at corner `k`, as

@@ -1,14 +1,16 @@
-//! QAS (`--scheme qas`, Boubekeur and Schlick 2007): every triangle and quad drawn as a
-//! quadratic position patch and a quadratic normal patch fitted to one Catmull-Clark step's
-//! limit points ([`crate::patch::qas`]); faces of five or more sides stay on the exact CPU path.
+//! QAS (`--scheme qas`, Boubekeur and Schlick 2007): every face drawn as quadratic position
+//! patches and quadratic normal patches fitted to one Catmull-Clark step's limit points
+//! ([`crate::patch::qas`]): quads whole, triangles whole, n-gons (n ≥ 5) as a fan of quadratic
+//! triangles around the face point.
 //!
 //! GPU data ([`super::records`]): set 0 binding 4 holds one 320-byte record per patch (`QasPatchRecord` in
-//! `glsl/qas/qas.glsl`: face, kind, corner vertex ids, 9 position and 9 normal Bézier
-//! coefficients), written by the host; animation re-applies the sparse limit stencils on the CPU
-//! and rewrites the records (`update_positions`). Quads are drawn first, then triangles, each
-//! whole (the pass is not split into sub-patches: a quadratic is cheap at any level).
-
+//! `glsl/qas/qas.glsl`: face, kind, a fan's two sub-faces, corner vertex ids, 9 position and 9
+//! normal Bézier coefficients), written by the host; animation re-applies the sparse limit
+//! stencils on the CPU and rewrites the records (`update_positions`). Quads are drawn first,
+//! then triangles and fan triangles (one pipeline), each whole (the pass is not split into
+//! sub-patches: a quadratic is cheap at any level).
 use std::any::Any;
+use std::collections::HashMap;
 use std::sync::Arc;
 
 use glam::DVec3;
@@ -31,7 +33,7 @@ pub static QAS: QasScheme = QasScheme;
 /// Bytes of one `QasPatchRecord` (`glsl/qas/qas.glsl`).
 pub const RECORD_BYTES: usize = 320;
 
-/// Takes every triangle and quad with a limit surface.
+/// Takes every face with a limit surface.
 #[derive(Debug, Clone, Copy)]
 pub struct QasScheme;
 
@@ -65,21 +67,29 @@ pub struct QasTables {
     pub surface: Arc<QasSurface>,
     faces: Vec<u32>,
     quads: usize,
+    /// Sides of each n-gon drawn as a fan.
+    fan_sides: HashMap<u32, u32>,
 }
 
 impl QasTables {
     /// Tables drawing `surface`'s patches.
     pub fn new(surface: QasSurface) -> QasTables {
-        let faces = surface.patches.iter().map(|p| p.face).collect();
+        let mut faces: Vec<u32> = surface.patches.iter().map(|p| p.face).collect();
+        faces.dedup();
         let quads = surface
             .patches
             .iter()
             .filter(|p| p.kind == QasKind::Quad)
             .count();
+        let mut fan_sides = HashMap::new();
+        for p in surface.patches.iter().filter(|p| p.kind == QasKind::Fan) {
+            *fan_sides.entry(p.face).or_insert(0) += 1;
+        }
         QasTables {
             surface: Arc::new(surface),
             faces,
             quads,
+            fan_sides,
         }
     }
 
@@ -91,8 +101,14 @@ impl QasTables {
             let kind = match p.kind {
                 QasKind::Quad => 0u32,
                 QasKind::Triangle => 1,
+                QasKind::Fan => 2,
             };
-            for w in [p.face, kind, 0, 0].iter().chain(&p.corners) {
+            // A fan's sub-faces at its corners 1 and 2.
+            let (sub, next) = match p.fan {
+                Some(k) => (k, (k + 1) % self.fan_sides[&p.face]),
+                None => (0, 0),
+            };
+            for w in [p.face, kind, sub, next].iter().chain(&p.corners) {
                 out.extend_from_slice(&w.to_le_bytes());
             }
             for (coeffs, w) in [(&c.position, 1.0f32), (&c.normal, 0.0)] {
@@ -104,6 +120,20 @@ impl QasTables {
             }
         }
         out
+    }
+
+    /// The CPU construction at a captured n-gon point (sub-face `sub`, `(u, v)`): position and
+    /// unit normal, or `None` if `face` is not drawn as a fan.
+    pub fn sub_face_reference(
+        &self,
+        positions: &[DVec3],
+        face: u32,
+        sub: u32,
+        u: f64,
+        v: f64,
+    ) -> Option<(DVec3, DVec3)> {
+        let n = *self.fan_sides.get(&face)?;
+        self.surface.eval_sub_face(positions, face, n, sub, u, v)
     }
 }
 
@@ -131,8 +161,7 @@ impl PassTables for QasTables {
     fn corner_frames(&self, positions: &[DVec3], rule: NormalRule<'_>, frames: &mut VertexFrames) {
         let points = self.surface.points(positions);
         for p in &self.surface.patches {
-            for (k, &slot) in p.corner_slots().iter().enumerate() {
-                let v = p.corners[k];
+            for (v, slot) in p.corner_vertices() {
                 if frames.is_set(v) {
                     continue;
                 }
@@ -154,8 +183,8 @@ impl PassTables for QasTables {
         self.surface
             .patches
             .iter()
-            .flat_map(|p| p.corners)
-            .map(|v| frames.limits[v as usize])
+            .flat_map(|p| p.corner_vertices())
+            .map(|(v, _)| frames.limits[v as usize])
             .collect()
     }
 
@@ -167,8 +196,13 @@ impl PassTables for QasTables {
         CaptureLayout::FaceDomainOrBarycentric
     }
 
+    /// Quads and triangles (their captured `(u, v)` are enough); `None` for n-gons, whose points
+    /// need the sub-face ([`QasTables::sub_face_reference`] with the record's sub-face).
     fn reference(&self, positions: &[DVec3], face: u32) -> Option<ReferencePatch> {
         let i = self.surface.patches.iter().position(|p| p.face == face)?;
+        if self.surface.patches[i].kind == QasKind::Fan {
+            return None;
+        }
         let c = self.surface.control_from(i, positions);
         Some(Box::new(move |u, v| c.eval(u, v)))
     }
