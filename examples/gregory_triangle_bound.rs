@@ -9,7 +9,7 @@
 //! python3 tools/osd_eval/metro.py exact.txt OUTDIR/fit_shared.txt DIAGONAL
 //! ```
 //!
-//! Four fits (files `OUTDIR/NAME.txt`; `construction.txt` is the construction itself, with the
+//! Six fits (files `OUTDIR/NAME.txt`; `construction.txt` is the construction itself, with the
 //! tangents of the third argument, `optimal` by default, or a number: `GregoryTangents::Scaled`),
 //! all keeping the corner points (the exact limit points, shared by every face at the vertex):
 //! - `fit_faces`: the edge curves stay the construction's (shared with the neighbours, what
@@ -21,7 +21,12 @@
 //!   other faces keep the construction's curves): the bound on any rule for edge-tangent lengths,
 //!   directions and interior points, G1 or not;
 //! - `fit_shared_normals`: the same with both derivatives' normal components in the objective
-//!   (weight `NORMAL_WEIGHT`), trading distance for normals.
+//!   (weight `NORMAL_WEIGHT`), trading distance for normals;
+//! - `fit_shared_plane`: `fit_shared_normals` with every fitted edge point in the exact tangent
+//!   plane at its corner (as every Gregory rule keeps it, so that the corner normal is exact);
+//! - `fit_shared_length`: `fit_shared_normals` with every fitted edge point on the
+//!   construction's edge tangent, its length free per directed edge (rules for tangent lengths
+//!   and interior points only).
 //!
 //! The fit is geometric, not parametric (a Gregory triangle is not parameterised like the three
 //! quads Catmull-Clark makes of a triangle): samples at barycentric `(i/G, j/G)`, each paired with
@@ -202,6 +207,17 @@ fn fit(
     Ok(cur)
 }
 
+/// How the shared fit may move an edge point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum EdgeFreedom {
+    /// Anywhere.
+    Free,
+    /// In the exact tangent plane at its corner.
+    Plane,
+    /// Along the construction's edge tangent (its length per directed edge).
+    Length,
+}
+
 /// The shared-edge bound: ICP fit of every triangle's face points (private) and of the edge points
 /// of every edge between two Gregory triangles (shared by both faces, so the surface stays
 /// watertight); edge points on edges next to other faces keep the construction's.
@@ -212,6 +228,7 @@ fn fit_shared(
     faces: &[u32],
     start: &[GregoryTriangle],
     normal_weight: f64,
+    edges: EdgeFreedom,
 ) -> tessera::Result<Vec<GregoryTriangle>> {
     let tri_edge = |a: u32, b: u32| {
         topo.find_edge(a, b).is_some_and(|e| {
@@ -249,7 +266,34 @@ fn fit_shared(
                 .collect()
         })
         .collect();
-    let n = 3 * next;
+    // Each unknown point is `origin + Σ u_k axis_k`: free in space, or an edge point in the
+    // exact tangent plane at its corner (what keeps the corner normal exact), or on the
+    // construction's edge tangent (its length free).
+    let mut frames: Vec<(DVec3, Vec<DVec3>)> =
+        vec![(DVec3::ZERO, vec![DVec3::X, DVec3::Y, DVec3::Z]); next];
+    if edges != EdgeFreedom::Free {
+        for (t, &f) in faces.iter().enumerate() {
+            for (i, &(k, c)) in all.iter().enumerate() {
+                if let (1 | 2, Some(g)) = (k, index[t][i]) {
+                    let p = start[t].p[c];
+                    frames[g] = if edges == EdgeFreedom::Plane {
+                        let nrm = ev.eval(f as usize, c, 0.0, 0.0)?.normal;
+                        let t1 = nrm.any_orthonormal_vector();
+                        (p, vec![t1, nrm.cross(t1)])
+                    } else {
+                        let mut tri = start[t];
+                        (p, vec![*slot(&mut tri, all[i]) - p])
+                    };
+                }
+            }
+        }
+    }
+    let mut offset = Vec::with_capacity(next);
+    let mut n = 0;
+    for (_, axes) in &frames {
+        offset.push(n);
+        n += axes.len();
+    }
     let params = tri_params(FIT_GRID);
     let bases: Vec<Vec<[f64; 3]>> = params.iter().map(|&(s, t)| basis_d(&all, s, t)).collect();
     let mut cur = start.to_vec();
@@ -277,25 +321,28 @@ fn fit_shared(
                 // Rows `(derivative, direction, rhs)`: the normal distance, EPS times each
                 // coordinate, and (with `normal_weight`) both derivatives' normal components
                 // (zero when the patch normal is the exact one).
-                let mut rows: Vec<(usize, [f64; 3], f64)> =
-                    vec![(0, nrm.to_array(), nrm.dot(target))];
-                for c in 0..3 {
-                    let mut e = [0.0; 3];
-                    e[c] = EPS;
-                    rows.push((0, e, EPS * target[c]));
+                let mut rows: Vec<(usize, DVec3, f64)> = vec![(0, nrm, nrm.dot(target))];
+                for e in [DVec3::X, DVec3::Y, DVec3::Z] {
+                    rows.push((0, EPS * e, EPS * e.dot(target)));
                 }
                 if normal_weight > 0.0 {
                     let w = normal_weight;
-                    let dir = (w * nrm).to_array();
-                    rows.push((1, dir, -w * nrm.dot(here.du - x[1])));
-                    rows.push((2, dir, -w * nrm.dot(here.dv - x[2])));
+                    rows.push((1, w * nrm, -w * nrm.dot(here.du - x[1])));
+                    rows.push((2, w * nrm, -w * nrm.dot(here.dv - x[2])));
                 }
-                for (d, dir, rhs) in rows {
-                    let coef: Vec<(usize, f64)> = (0..all.len())
-                        .filter_map(|i| index[t][i].map(|g| (i, g)))
-                        .flat_map(|(i, g)| (0..3).map(move |c| (3 * g + c, bs[i][d] * dir[c])))
-                        .filter(|&(_, w)| w != 0.0)
-                        .collect();
+                for (d, dir, mut rhs) in rows {
+                    let mut coef: Vec<(usize, f64)> = Vec::new();
+                    for (i, gi) in index[t].iter().enumerate() {
+                        let Some(gi) = *gi else { continue };
+                        let (origin, axes) = &frames[gi];
+                        rhs -= bs[i][d] * dir.dot(*origin);
+                        for (q, axis) in axes.iter().enumerate() {
+                            let w = bs[i][d] * dir.dot(*axis);
+                            if w != 0.0 {
+                                coef.push((offset[gi] + q, w));
+                            }
+                        }
+                    }
                     for &(p, wp) in &coef {
                         b[p] += wp * rhs;
                         for &(q, wq) in &coef {
@@ -312,12 +359,61 @@ fn fit_shared(
         for (t, tri) in cur.iter_mut().enumerate() {
             for (i, &sl) in all.iter().enumerate() {
                 if let Some(g) = index[t][i] {
-                    *slot(tri, sl) = DVec3::new(x[3 * g], x[3 * g + 1], x[3 * g + 2]);
+                    let (origin, axes) = &frames[g];
+                    *slot(tri, sl) = axes
+                        .iter()
+                        .enumerate()
+                        .fold(*origin, |acc, (q, axis)| acc + x[offset[g] + q] * *axis);
                 }
             }
         }
     }
     Ok(cur)
+}
+
+/// The fitted edge-tangent lengths of `fit_shared_length` relative to the construction's,
+/// `(e_fit − p)·(e − p) / |e − p|²`, grouped by the faces at the corner (the valence of an
+/// interior vertex) and the triangles among them: `faces triangles count mean min max`.
+fn print_lengths(
+    topo: &Topology,
+    faces: &[u32],
+    start: &[GregoryTriangle],
+    fitted: &[GregoryTriangle],
+) {
+    let mut groups: std::collections::BTreeMap<(usize, usize), Vec<f64>> = Default::default();
+    for (t, &f) in faces.iter().enumerate() {
+        for c in 0..3 {
+            let v = topo.face_vertices(f)[c];
+            let ring = topo.vertex_faces(v);
+            let tris = ring.iter().filter(|&&g| topo.face_size(g) == 3).count();
+            let p = start[t].p[c];
+            for (e0, e1) in [
+                (start[t].e_plus[c], fitted[t].e_plus[c]),
+                (start[t].e_minus[c], fitted[t].e_minus[c]),
+            ] {
+                if e0 != e1 {
+                    let d = e0 - p;
+                    groups
+                        .entry((ring.len(), tris))
+                        .or_default()
+                        .push((e1 - p).dot(d) / d.length_squared());
+                }
+            }
+        }
+    }
+    println!("fitted edge length / construction's: faces triangles count mean min max");
+    for ((n, k), a) in groups {
+        let mean = a.iter().sum::<f64>() / a.len() as f64;
+        let (lo, hi) = a
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(l, h), &x| (l.min(x), h.max(x)));
+        println!("{n} {k} {} {mean:.3} {lo:.3} {hi:.3}", a.len());
+    }
+}
+
+fn write(dir: &std::path::Path, name: &str, text: &str) -> tessera::Result<()> {
+    std::fs::write(dir.join(format!("{name}.txt")), text)
+        .map_err(|e| tessera::Error::Invalid(e.to_string()))
 }
 
 fn write_line(out: &mut String, key: &str, u: f64, v: f64, p: DVec3, n: DVec3) {
@@ -404,28 +500,39 @@ fn main() -> tessera::Result<()> {
             }
         }
     }
-    let mut shared_normals = shared.clone();
-    for (weight, out) in [(0.0, &mut shared), (NORMAL_WEIGHT, &mut shared_normals)] {
-        let fitted = fit_shared(&topo, &ev, &tri_cands, &tri_faces, &tri_start, weight)?;
+    let names = [
+        "fit_shared",
+        "fit_shared_normals",
+        "fit_shared_plane",
+        "fit_shared_length",
+    ];
+    let runs = [
+        (0.0, EdgeFreedom::Free),
+        (NORMAL_WEIGHT, EdgeFreedom::Free),
+        (NORMAL_WEIGHT, EdgeFreedom::Plane),
+        (NORMAL_WEIGHT, EdgeFreedom::Length),
+    ];
+    for (name, (weight, freedom)) in names.iter().zip(runs) {
+        let mut out = shared.clone();
+        let fitted = fit_shared(
+            &topo, &ev, &tri_cands, &tri_faces, &tri_start, weight, freedom,
+        )?;
         for (&f, tri) in tri_faces.iter().zip(&fitted) {
             for (u, v) in tri_params(OUT_GRID) {
                 let x = tri.eval(u, v);
-                write_line(out, &f.to_string(), u, v, x.position, x.normal());
+                write_line(&mut out, &f.to_string(), u, v, x.position, x.normal());
             }
         }
+        write(&dir, name, &out)?;
+        if freedom == EdgeFreedom::Length {
+            print_lengths(&topo, &tri_faces, &tri_start, &fitted);
+        }
     }
-    for (name, text) in [
-        "construction",
-        "fit_faces",
-        "fit_edges",
-        "fit_shared",
-        "fit_shared_normals",
-    ]
-    .iter()
-    .zip(files.iter().chain([&shared, &shared_normals]))
+    for (name, text) in ["construction", "fit_faces", "fit_edges"]
+        .iter()
+        .zip(&files)
     {
-        std::fs::write(dir.join(format!("{name}.txt")), text)
-            .map_err(|e| tessera::Error::Invalid(e.to_string()))?;
+        write(&dir, name, text)?;
     }
     println!("diagonal {}", mesh.bbox_diagonal());
     Ok(())
