@@ -60,11 +60,10 @@ const ROUNDS: usize = 8;
 /// Output lattice (uniform level 16).
 const OUT_GRID: usize = 16;
 
-/// Which control points are fitted: index into the 15 `(kind, corner)` slots, kinds
-/// `[p, e_plus, e_minus, f_plus, f_minus]`.
-fn free_slots(edges: bool) -> Vec<(usize, usize)> {
-    let kinds: &[usize] = if edges { &[1, 2, 3, 4] } else { &[3, 4] };
-    kinds
+/// The control points a fit may move: `(kind, corner)` of the 15, kinds
+/// `[p, e_plus, e_minus, f_plus, f_minus]` (every one but the corner points).
+fn free_slots() -> Vec<(usize, usize)> {
+    [1, 2, 3, 4]
         .iter()
         .flat_map(|&k| (0..3).map(move |i| (k, i)))
         .collect()
@@ -80,13 +79,9 @@ fn slot(t: &mut GregoryTriangle, (k, i): (usize, usize)) -> &mut DVec3 {
     }
 }
 
-/// The basis function of each free slot at barycentric `(s, t)` (the patch is linear in its
-/// control points once the face-point blends are fixed by the parameter).
-fn basis(slots: &[(usize, usize)], s: f64, t: f64) -> Vec<f64> {
-    basis_d(slots, s, t).into_iter().map(|b| b[0]).collect()
-}
-
-/// [`basis`] with the basis functions of the two (§4.4) derivatives: `[b, b_s, b_t]`.
+/// The basis function of each slot at barycentric `(s, t)` (the patch is linear in its control
+/// points once the face-point blends are fixed by the parameter), and those of the two (§4.4)
+/// derivatives: `[b, b_s, b_t]`.
 fn basis_d(slots: &[(usize, usize)], s: f64, t: f64) -> Vec<[f64; 3]> {
     slots
         .iter()
@@ -143,68 +138,15 @@ fn tri_params(g: usize) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// ICP fit of the free slots of triangle face `f`.
-fn fit(
-    ev: &LimitEvaluator,
-    candidates: &[tessera::patch::gregory::accuracy::Located],
-    start: &GregoryTriangle,
-    f: u32,
-    edges: bool,
-) -> tessera::Result<GregoryTriangle> {
-    let slots = free_slots(edges);
-    let m = slots.len();
-    let n = 3 * m;
-    let params = tri_params(FIT_GRID);
-    let bases: Vec<Vec<f64>> = params.iter().map(|&(s, t)| basis(&slots, s, t)).collect();
-    let mut cur = *start;
-    for _ in 0..ROUNDS {
-        let mut a = vec![0.0; n * n];
-        let mut b = vec![0.0; n];
-        // Residual rows: x = Σ B_i X_i over free slots, fixed part g0 = G - x.
-        for (k, &(s, t)) in params.iter().enumerate() {
-            let g = cur.eval(s, t).position;
-            let close = closest_exact(ev, g, candidates, f)?;
-            let (l, nrm) = (close.sample.position, close.sample.normal);
-            let bs = &bases[k];
-            let mut x = DVec3::ZERO;
-            let mut tri = cur;
-            for (i, &sl) in slots.iter().enumerate() {
-                x += bs[i] * *slot(&mut tri, sl);
-            }
-            let target = l - (g - x);
-            // Rows: the normal component, and EPS times each coordinate (tangential part).
-            let mut rows: Vec<([f64; 3], f64)> = vec![(nrm.to_array(), nrm.dot(target))];
-            for c in 0..3 {
-                let mut e = [0.0; 3];
-                e[c] = EPS;
-                rows.push((e, EPS * target[c]));
-            }
-            // The EPS rows weigh the whole offset, its normal part too (EPS is small, the
-            // normal row dominates).
-            for (dir, rhs) in rows {
-                let coef: Vec<(usize, f64)> = (0..m)
-                    .flat_map(|i| (0..3).map(move |c| (3 * i + c, bs[i] * dir[c])))
-                    .filter(|&(_, w)| w != 0.0)
-                    .collect();
-                for &(p, wp) in &coef {
-                    b[p] += wp * rhs;
-                    for &(q, wq) in &coef {
-                        a[p * n + q] += wp * wq;
-                    }
-                }
-            }
-        }
-        for i in 0..n {
-            a[i * n + i] += 1e-12;
-        }
-        let x = solve(a, b, n);
-        let mut next = cur;
-        for (i, &sl) in slots.iter().enumerate() {
-            *slot(&mut next, sl) = DVec3::new(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
-        }
-        cur = next;
-    }
-    Ok(cur)
+/// Which edge points a fit moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Edges {
+    /// None: the construction's edge curves.
+    Fixed,
+    /// Each patch its own (not watertight).
+    PerPatch,
+    /// Those of edges between two triangles, shared by both.
+    Shared(EdgeFreedom),
 }
 
 /// How the shared fit may move an edge point.
@@ -218,17 +160,17 @@ enum EdgeFreedom {
     Length,
 }
 
-/// The shared-edge bound: ICP fit of every triangle's face points (private) and of the edge points
-/// of every edge between two Gregory triangles (shared by both faces, so the surface stays
-/// watertight); edge points on edges next to other faces keep the construction's.
-fn fit_shared(
+/// ICP fit of every triangle's face points (private) and of the edge points `edges` names (with
+/// `Edges::Shared` those of every edge between two Gregory triangles, shared by both faces, so the
+/// surface stays watertight; edge points on edges next to other faces keep the construction's).
+fn fit(
     topo: &Topology,
     ev: &LimitEvaluator,
     candidates: &[Vec<tessera::patch::gregory::accuracy::Located>],
     faces: &[u32],
     start: &[GregoryTriangle],
     normal_weight: f64,
-    edges: EdgeFreedom,
+    edges: Edges,
 ) -> tessera::Result<Vec<GregoryTriangle>> {
     let tri_edge = |a: u32, b: u32| {
         topo.find_edge(a, b).is_some_and(|e| {
@@ -245,8 +187,8 @@ fn fit_shared(
             next - 1
         })
     };
-    // Per face, per slot of `free_slots(true)`: the unknown or None (fixed).
-    let all = free_slots(true);
+    // Per face, per slot of `free_slots()`: the unknown or None (fixed).
+    let all = free_slots();
     let index: Vec<Vec<Option<usize>>> = faces
         .iter()
         .map(|&f| {
@@ -259,7 +201,13 @@ fn fit_shared(
                         } else {
                             fv[(i + 2) % 3]
                         };
-                        tri_edge(fv[i], other).then(|| id((fv[i], other, u32::MAX)))
+                        match edges {
+                            Edges::Fixed => None,
+                            Edges::PerPatch => Some(id((f, k as u32, i as u32))),
+                            Edges::Shared(_) => {
+                                tri_edge(fv[i], other).then(|| id((fv[i], other, u32::MAX)))
+                            }
+                        }
                     }
                     _ => Some(id((f, k as u32, i as u32))),
                 })
@@ -271,12 +219,12 @@ fn fit_shared(
     // construction's edge tangent (its length free).
     let mut frames: Vec<(DVec3, Vec<DVec3>)> =
         vec![(DVec3::ZERO, vec![DVec3::X, DVec3::Y, DVec3::Z]); next];
-    if edges != EdgeFreedom::Free {
+    if let Edges::Shared(freedom @ (EdgeFreedom::Plane | EdgeFreedom::Length)) = edges {
         for (t, &f) in faces.iter().enumerate() {
             for (i, &(k, c)) in all.iter().enumerate() {
                 if let (1 | 2, Some(g)) = (k, index[t][i]) {
                     let p = start[t].p[c];
-                    frames[g] = if edges == EdgeFreedom::Plane {
+                    frames[g] = if freedom == EdgeFreedom::Plane {
                         let nrm = ev.eval(f as usize, c, 0.0, 0.0)?.normal;
                         let t1 = nrm.any_orthonormal_vector();
                         (p, vec![t1, nrm.cross(t1)])
@@ -486,8 +434,9 @@ fn main() -> tessera::Result<()> {
             }
             GregoryPatch::Triangle(t) => {
                 let candidates = nearby_exact_samples(&topo, &dense, f);
-                let fa = fit(&ev, &candidates, &t, f, false)?;
-                let fb = fit(&ev, &candidates, &t, f, true)?;
+                let one = std::slice::from_ref(&candidates);
+                let fa = fit(&topo, &ev, one, &[f], &[t], 0.0, Edges::Fixed)?[0];
+                let fb = fit(&topo, &ev, one, &[f], &[t], 0.0, Edges::PerPatch)?[0];
                 tri_faces.push(f);
                 tri_start.push(t);
                 tri_cands.push(candidates);
@@ -514,8 +463,14 @@ fn main() -> tessera::Result<()> {
     ];
     for (name, (weight, freedom)) in names.iter().zip(runs) {
         let mut out = shared.clone();
-        let fitted = fit_shared(
-            &topo, &ev, &tri_cands, &tri_faces, &tri_start, weight, freedom,
+        let fitted = fit(
+            &topo,
+            &ev,
+            &tri_cands,
+            &tri_faces,
+            &tri_start,
+            weight,
+            Edges::Shared(freedom),
         )?;
         for (&f, tri) in tri_faces.iter().zip(&fitted) {
             for (u, v) in tri_params(OUT_GRID) {
