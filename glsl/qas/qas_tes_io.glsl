@@ -45,9 +45,9 @@ void qas_corner(uint pi, int k, out vec3 pos, out vec3 nrm) {
 }
 
 /// Writes the outputs (and the capture record) of point (u, v) of face `face`, displaced
-/// (`displace.glsl`) after the watertight evaluation.
-void qas_emit(uint face, vec2 uv, vec3 p, vec3 nrm, uint cls) {
-    displace_point(face, NO_SUB_FACE, uv, p, nrm);
+/// (`displace.glsl`, `tg` the position patch's tangents) after the watertight evaluation.
+void qas_emit(uint face, vec2 uv, SurfaceTangents tg, vec3 p, vec3 nrm, uint cls) {
+    displace_point(face, NO_SUB_FACE, uv, tg, p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = cls;

@@ -210,11 +210,9 @@ pub fn assert_regular_watertight(
     points.assert_equal_sides(what, both).edges
 }
 
-/// Points patches emit at the same place are the same bits, whatever the patches' types and
-/// levels: every pair of records closer than 1e-6 of `m`'s diagonal has bitwise-equal positions,
-/// and normals bitwise equal or more than 0.01 rad apart (a crease). Returns the number of
-/// coincident pairs.
-pub fn assert_coincident_points_equal(m: &ControlMesh, records: &[CaptureRecord]) -> usize {
+/// Pairs of records closer than 1e-6 of `m`'s diagonal, whatever the patches' types and levels;
+/// asserts that each pair's positions are bitwise equal.
+pub fn coincident_pairs(m: &ControlMesh, records: &[CaptureRecord]) -> Vec<(usize, usize)> {
     // Bitwise-unequal copies of one point differ by a few ulp (~1e-7 of the diagonal); distinct
     // domain points of fractional spacing can come within ~5e-6.
     let eps = 1e-6 * m.bbox_diagonal();
@@ -223,7 +221,7 @@ pub fn assert_coincident_points_equal(m: &ControlMesh, records: &[CaptureRecord]
     for (i, r) in records.iter().enumerate() {
         grid.entry(cell(r.position)).or_default().push(i);
     }
-    let mut pairs = 0;
+    let mut pairs = Vec::new();
     for (i, r) in records.iter().enumerate() {
         let c = cell(r.position);
         let p = DVec3::from(r.position.map(f64::from));
@@ -240,23 +238,35 @@ pub fn assert_coincident_points_equal(m: &ControlMesh, records: &[CaptureRecord]
                         }
                         let same_pos = r.position.map(f32::to_bits) == q.position.map(f32::to_bits);
                         assert!(same_pos, "positions differ: {r:?} vs {q:?}");
-                        let (a, b) = (
-                            DVec3::from(r.normal.map(f64::from)),
-                            DVec3::from(q.normal.map(f64::from)),
-                        );
-                        let same_n = r.normal.map(f32::to_bits) == q.normal.map(f32::to_bits);
-                        assert!(
-                            same_n || a.angle_between(b) > 0.01,
-                            "normals differ by {:.2e} rad: {r:?} vs {q:?}",
-                            a.angle_between(b)
-                        );
-                        pairs += 1;
+                        pairs.push((i, j));
                     }
                 }
             }
         }
     }
     pairs
+}
+
+/// Points patches emit at the same place are the same bits, whatever the patches' types and
+/// levels: every pair of records closer than 1e-6 of `m`'s diagonal has bitwise-equal positions,
+/// and normals bitwise equal or more than 0.01 rad apart (a crease). Returns the number of
+/// coincident pairs.
+pub fn assert_coincident_points_equal(m: &ControlMesh, records: &[CaptureRecord]) -> usize {
+    let pairs = coincident_pairs(m, records);
+    for &(i, j) in &pairs {
+        let (r, q) = (&records[i], &records[j]);
+        let (a, b) = (
+            DVec3::from(r.normal.map(f64::from)),
+            DVec3::from(q.normal.map(f64::from)),
+        );
+        let same_n = r.normal.map(f32::to_bits) == q.normal.map(f32::to_bits);
+        assert!(
+            same_n || a.angle_between(b) > 0.01,
+            "normals differ by {:.2e} rad: {r:?} vs {q:?}",
+            a.angle_between(b)
+        );
+    }
+    pairs.len()
 }
 
 /// Displacement keeps the surface watertight: `surface` captured with `render(0.0)` and
@@ -286,4 +296,61 @@ pub fn assert_displacement_keeps_seams(
     assert!(moved > 0, "{what}: no shared point compared");
     assert_eq!(moved, plain, "{what}: shared points split apart");
     moved
+}
+
+/// Map displacement keeps the surface watertight: `surface` captured with `render(0.0)` and
+/// `render(scale)` has the same number of coincident pairs, each bitwise equal in position
+/// ([`coincident_pairs`]), more than 0. The map's tilted normals of the two sides agree only
+/// to a tolerance (each side's own tangents and texture-coordinate Jacobian): returns the
+/// count and the largest angle (rad) between the displaced normals of a pair whose
+/// undisplaced normals are bitwise equal (smooth there).
+pub fn map_displacement_seams(
+    ctx: &tessera::gpu::Context,
+    m: &ControlMesh,
+    surface: &SurfaceData,
+    render: impl Fn(f32) -> tessera::render::RenderDesc,
+    scale: f32,
+    what: &str,
+) -> (usize, f64) {
+    let run = |s| {
+        super::capture::capture(
+            ctx,
+            surface,
+            &render(s),
+            &super::capture::offscreen(64, 64),
+            false,
+        )
+        .records
+    };
+    let key = |r: &CaptureRecord| (r.face, r.sub_face, r.u.to_bits(), r.v.to_bits());
+    let plain = run(0.0);
+    let plain_normal: HashMap<_, _> = plain.iter().map(|r| (key(r), r.normal)).collect();
+    let moved = run(scale);
+    let (before, pairs) = (
+        coincident_pairs(m, &plain).len(),
+        coincident_pairs(m, &moved),
+    );
+    let mut worst = 0.0f64;
+    for &(i, j) in &pairs {
+        let (r, q) = (&moved[i], &moved[j]);
+        let smooth = match (plain_normal.get(&key(r)), plain_normal.get(&key(q))) {
+            (Some(a), Some(b)) => a.map(f32::to_bits) == b.map(f32::to_bits),
+            _ => false,
+        };
+        if smooth {
+            let (a, b) = (
+                DVec3::from(r.normal.map(f64::from)),
+                DVec3::from(q.normal.map(f64::from)),
+            );
+            worst = worst.max(a.angle_between(b));
+        }
+    }
+    eprintln!(
+        "{what}: {} coincident pairs bitwise equal in position, displaced normals of smooth \
+         pairs within {worst:.2e} rad",
+        pairs.len()
+    );
+    assert!(!pairs.is_empty(), "{what}: no shared point compared");
+    assert_eq!(pairs.len(), before, "{what}: shared points split apart");
+    (pairs.len(), worst)
 }
