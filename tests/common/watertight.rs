@@ -269,6 +269,16 @@ pub fn assert_coincident_points_equal(m: &ControlMesh, records: &[CaptureRecord]
     pairs.len()
 }
 
+/// The TES capture of one 64 x 64 frame of `surface`.
+fn capture_64(
+    ctx: &tessera::gpu::Context,
+    surface: &SurfaceData,
+    render: &tessera::render::RenderDesc,
+) -> Vec<CaptureRecord> {
+    let off = super::capture::offscreen(64, 64);
+    super::capture::capture(ctx, surface, render, &off, false).records
+}
+
 /// Displacement keeps the surface watertight: `surface` captured with `render(0.0)` and
 /// `render(scale)` has the same number of bitwise-equal coincident pairs
 /// ([`assert_coincident_points_equal`]), more than 0 (a point moved differently on the two
@@ -281,16 +291,7 @@ pub fn assert_displacement_keeps_seams(
     scale: f32,
     what: &str,
 ) -> usize {
-    let pairs = |s| {
-        let run = super::capture::capture(
-            ctx,
-            surface,
-            &render(s),
-            &super::capture::offscreen(64, 64),
-            false,
-        );
-        assert_coincident_points_equal(m, &run.records)
-    };
+    let pairs = |s| assert_coincident_points_equal(m, &capture_64(ctx, surface, &render(s)));
     let (plain, moved) = (pairs(0.0), pairs(scale));
     eprintln!("{what}: {moved} coincident pairs bitwise equal");
     assert!(moved > 0, "{what}: no shared point compared");
@@ -312,16 +313,7 @@ pub fn map_displacement_seams(
     scale: f32,
     what: &str,
 ) -> (usize, f64) {
-    let run = |s| {
-        super::capture::capture(
-            ctx,
-            surface,
-            &render(s),
-            &super::capture::offscreen(64, 64),
-            false,
-        )
-        .records
-    };
+    let run = |s| capture_64(ctx, surface, &render(s));
     let key = |r: &CaptureRecord| (r.face, r.sub_face, r.u.to_bits(), r.v.to_bits());
     let plain = run(0.0);
     let plain_normal: HashMap<_, _> = plain.iter().map(|r| (key(r), r.normal)).collect();
