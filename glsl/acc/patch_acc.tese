@@ -79,7 +79,8 @@ void main() {
     }
     vec3 p;
     vec3 nrm;
-    bezier_surface(cp, u, v, p, nrm);
+    vec3 du, dv;
+    bezier_surface_frame(cp, u, v, p, nrm, du, dv);
     nrm = tangent_normal(pi, u, v);
     bool u_edge = (u == 0.0 || u == 1.0);
     bool v_edge = (v == 0.0 || v == 1.0);
@@ -92,7 +93,7 @@ void main() {
     } else if (u_edge) {
         acc_edge(pi, u == 1.0 ? 1 : 3, v, p, nrm);
     }
-    displace_point(acc[pi].face, NO_SUB_FACE, vec2(u, v), p, nrm);
+    displace_point(acc[pi].face, NO_SUB_FACE, vec2(u, v), uv_tangents(du, dv), p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = acc[pi].cls;

@@ -166,9 +166,12 @@ vec2 adaptive_face_uv(AdaptivePatch ap, vec2 st) {
     return ap.origin + st.x * ap.axis_u + st.y * ap.axis_v;
 }
 
-/// Displaces a point of patch `ap` at its own (s, t) (displace.glsl).
-void displace_adaptive(AdaptivePatch ap, vec2 st, inout vec3 p, inout vec3 n) {
-    displace_point(ap.base_face, ap.sub_face, adaptive_face_uv(ap, st), p, n);
+/// Displaces a point of patch `ap` at its own (s, t) (displace.glsl), `tg` the tangents in
+/// the patch's own (s, t).
+void displace_adaptive(AdaptivePatch ap, vec2 st, SurfaceTangents tg, inout vec3 p,
+                       inout vec3 n) {
+    displace_point(ap.base_face, ap.sub_face, adaptive_face_uv(ap, st),
+                   mapped_tangents(tg, mat2(ap.axis_u, ap.axis_v)), p, n);
 }
 
 #ifdef CAPTURE

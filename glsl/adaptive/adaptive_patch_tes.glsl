@@ -4,7 +4,7 @@
 // one-level-coarser patch is evaluated from that patch's coarse-edge record (fine_edge_point), and
 // the capture in base-face parameters with kind and level. The stage file includes what its type
 // needs and defines, before including this:
-//   PATCH_SURFACE(info, u, v, p, nrm)  the patch's own point and unit normal;
+//   PATCH_SURFACE(info, u, v, p, nrm, du, dv)  the patch's own point, unit normal, partials;
 //   PATCH_EDGE(info, e, x, p, nrm)     its shared-edge rule on B-spline edge e at local x.
 // Defines: SPACING, CAPTURE.
 #ifndef TESSERA_ADAPTIVE_PATCH_TES_GLSL
@@ -21,7 +21,8 @@ void main() {
     AdaptivePatch ap = apatches[info.pad0];
     vec3 p;
     vec3 nrm;
-    PATCH_SURFACE(info, u, v, p, nrm);
+    vec3 du, dv;
+    PATCH_SURFACE(info, u, v, p, nrm, du, dv);
 
     bool u_edge = (u == 0.0 || u == 1.0);
     bool v_edge = (v == 0.0 || v == 1.0);
@@ -39,7 +40,7 @@ void main() {
         }
     }
 
-    displace_adaptive(ap, vec2(u, v), p, nrm);
+    displace_adaptive(ap, vec2(u, v), uv_tangents(du, dv), p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = adaptive_class(ap.kind, ap.level);

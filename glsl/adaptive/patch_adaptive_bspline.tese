@@ -7,6 +7,6 @@
 #include "adaptive_bspline.glsl"
 #include "bspline/bspline_tes.glsl"
 
-#define PATCH_SURFACE(info, u, v, p, nrm) bspline_surface(u, v, p, nrm)
+#define PATCH_SURFACE(info, u, v, p, nrm, du, dv) bspline_surface(u, v, p, nrm, du, dv)
 #define PATCH_EDGE(info, e, x, p, nrm) edge_point(info.flags, e, x, p, nrm)
 #include "adaptive_patch_tes.glsl"

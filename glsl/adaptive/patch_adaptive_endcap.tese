@@ -27,8 +27,8 @@ bool end_cap_edge(GregoryPatchInfo info, int k, float x, int from_corner, inout 
 #define GREGORY_CORNER_NORMAL(info, k, nrm) \
     sector_normal(apatches[info.pad0].corner_frame[k], nrm)
 #define GREGORY_CLASS(info) adaptive_class(KIND_END_CAP, apatches[info.pad0].level)
-#define GREGORY_DISPLACE(info, u, v, p, n) \
-    displace_adaptive(apatches[info.pad0], vec2(u, v), p, n)
+#define GREGORY_DISPLACE(info, u, v, tg, p, n) \
+    displace_adaptive(apatches[info.pad0], vec2(u, v), tg, p, n)
 #define GREGORY_CAPTURE(info, u, v, p, n) \
     capture_adaptive(apatches[info.pad0], KIND_END_CAP, vec2(u, v), p, n)
 #include "gregory/gregory_quad_tes.glsl"

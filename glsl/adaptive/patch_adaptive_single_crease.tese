@@ -8,8 +8,8 @@
 #include "adaptive_bspline.glsl"
 #include "single_crease/single_crease_tes.glsl"
 
-#define PATCH_SURFACE(info, u, v, p, nrm) \
-    single_crease_surface(crease_sharpness[info.pad0], u, v, p, nrm)
+#define PATCH_SURFACE(info, u, v, p, nrm, du, dv) \
+    single_crease_surface(crease_sharpness[info.pad0], u, v, p, nrm, du, dv)
 #define PATCH_EDGE(info, e, x, p, nrm) \
     single_crease_edge_point(info.flags, crease_sharpness[info.pad0], e, x, p, nrm)
 #include "adaptive_patch_tes.glsl"

@@ -7,7 +7,7 @@
 #include "transition.glsl"
 #include "bspline/bspline_tes.glsl"
 
-#define PATCH_SURFACE(info, u, v, p, nrm) bspline_surface(u, v, p, nrm)
+#define PATCH_SURFACE(info, u, v, p, nrm, du, dv) bspline_surface(u, v, p, nrm, du, dv)
 #define PATCH_EDGE(info, e, x, p, nrm) edge_point(info.flags, e, x, p, nrm)
 #define PATCH_EDGE_TS(info, e, t, s, p, nrm) edge_point_ts(info.flags, e, t, s, p, nrm)
 #define FAN_KIND(ap) KIND_TRANSITION

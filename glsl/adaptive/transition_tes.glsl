@@ -5,7 +5,7 @@
 // spokes a parameter canonical from the centre, so the two triangles of a spoke evaluate the same
 // domain points. The stage file includes what its patch type needs and defines, before including
 // this:
-//   PATCH_SURFACE(info, u, v, p, nrm)     the patch's own point and unit normal;
+//   PATCH_SURFACE(info, u, v, p, nrm, du, dv)  the patch's own point, unit normal, partials;
 //   PATCH_EDGE(info, e, x, p, nrm)        its shared-edge rule on B-spline edge e at local x;
 //   PATCH_EDGE_TS(info, e, t, s, p, nrm)  the same at canonical parameters (t, s);
 //   FAN_KIND(ap)                          the kind captured and coloured.
@@ -41,11 +41,12 @@ void main() {
 
     vec3 p;
     vec3 nrm;
+    vec3 du, dv;
     vec2 uv;
     if (wc == 0.0 && (wa == 0.0 || wb == 0.0)) {
         bool at_a = (wb == 0.0);
         uv = at_a ? a : b;
-        PATCH_SURFACE(info, uv.x, uv.y, p, nrm);
+        PATCH_SURFACE(info, uv.x, uv.y, p, nrm, du, dv);
         shared_corner(at_a ? slot_a : slot_b, p, nrm);
         uint frame_a = (h == 2u) ? ap.mid_frame[e] : ap.corner_frame[se.x];
         uint frame_b = (h == 1u) ? ap.mid_frame[e] : ap.corner_frame[se.y];
@@ -53,7 +54,7 @@ void main() {
     } else if (wc == 0.0) {
         float x = wb;
         uv = a + x * (b - a);
-        PATCH_SURFACE(info, uv.x, uv.y, p, nrm);
+        PATCH_SURFACE(info, uv.x, uv.y, p, nrm, du, dv);
         if (h == 0u && ap.coarse[e] != NO_ENTRY) {
             // A whole edge lying on a coarser patch (this patch is the finer side there).
             fine_edge_point(ap.coarse[e], slot_a, slot_b, x, p, nrm);
@@ -75,13 +76,13 @@ void main() {
         canonical_ts(y, true, ty, sy);
         precise vec2 spoke_uv = sy * vec2(0.5) + ty * q;
         uv = spoke_uv;
-        PATCH_SURFACE(info, uv.x, uv.y, p, nrm);
+        PATCH_SURFACE(info, uv.x, uv.y, p, nrm, du, dv);
     } else {
         uv = wc * vec2(0.5) + wa * a + wb * b;
-        PATCH_SURFACE(info, uv.x, uv.y, p, nrm);
+        PATCH_SURFACE(info, uv.x, uv.y, p, nrm, du, dv);
     }
 
-    displace_adaptive(ap, uv, p, nrm);
+    displace_adaptive(ap, uv, uv_tangents(du, dv), p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = adaptive_class(FAN_KIND(ap), ap.level);

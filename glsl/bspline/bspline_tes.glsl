@@ -41,15 +41,15 @@ void edge_point(uint flags, int e, float x, out vec3 pos, out vec3 nrm) {
     edge_point_ts(flags, e, t, s, pos, nrm);
 }
 
-/// The patch's own surface point and unit normal at (u, v) from the Bezier points (relative to
-/// the origin c_bspline[5], bspline_tcs.glsl).
-void bspline_surface(float u, float v, out vec3 pos, out vec3 nrm) {
+/// The patch's own surface point, unit normal and partials dP/du, dP/dv at (u, v) from the
+/// Bezier points (relative to the origin c_bspline[5], bspline_tcs.glsl).
+void bspline_surface(float u, float v, out vec3 pos, out vec3 nrm, out vec3 du, out vec3 dv) {
     vec3 cp[16];
     for (int k = 0; k < 16; ++k) {
         cp[k] = c_bezier[k];
     }
     vec3 rel;
-    bezier_surface(cp, u, v, rel, nrm);
+    bezier_surface_frame(cp, u, v, rel, nrm, du, dv);
     pos = c_bspline[5] + rel;
 }
 

@@ -27,7 +27,8 @@ void main() {
     float v = sd.y + gl_TessCoord.y * sd.z;
     vec3 p;
     vec3 nrm;
-    bspline_surface(u, v, p, nrm);
+    vec3 du, dv;
+    bspline_surface(u, v, p, nrm, du, dv);
 
     PatchInfo info = patches[chunk.patch_base + uint(gl_PrimitiveID)];
     bool u_edge = (u == 0.0 || u == 1.0);
@@ -38,7 +39,7 @@ void main() {
         edge_point(info.flags, bspline_edge(u, v), v_edge ? u : v, p, nrm);
     }
 
-    displace_point(info.face, NO_SUB_FACE, vec2(u, v), p, nrm);
+    displace_point(info.face, NO_SUB_FACE, vec2(u, v), uv_tangents(du, dv), p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = CLASS_REGULAR;

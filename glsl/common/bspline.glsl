@@ -34,15 +34,16 @@ int bspline_edge(float u, float v) {
     return (v == 0.0) ? 0 : (u == 1.0) ? 1 : (v == 1.0) ? 2 : 3;
 }
 
-/// Point and unit normal (cross(dP/du, dP/dv), +z where it vanishes) of the bicubic Bezier patch
-/// cp[4*j + i] (i along u) at (u, v).
-void bezier_surface(vec3 cp[16], float u, float v, out vec3 pos, out vec3 nrm) {
+/// Point, unit normal (cross(dP/du, dP/dv), +z where it vanishes) and the partials dP/du,
+/// dP/dv of the bicubic Bezier patch cp[4*j + i] (i along u) at (u, v).
+void bezier_surface_frame(vec3 cp[16], float u, float v, out vec3 pos, out vec3 nrm,
+                          out vec3 du, out vec3 dv) {
     vec4 bu, dbu, bv, dbv;
     bernstein3(u, 1.0 - u, bu, dbu);
     bernstein3(v, 1.0 - v, bv, dbv);
     vec3 p = vec3(0.0);
-    vec3 du = vec3(0.0);
-    vec3 dv = vec3(0.0);
+    du = vec3(0.0);
+    dv = vec3(0.0);
     for (int j = 0; j < 4; ++j) {
         for (int i = 0; i < 4; ++i) {
             vec3 c = cp[4 * j + i];

@@ -107,6 +107,34 @@ vec2 surface_texcoord(uint face, uint sub_face, vec2 uv) {
     return tc_bilinear(tc_value(first + k), mid_next, centre, mid_prev, uv);
 }
 
+/// d(s, t)/d(u, v) of the bilinear blend of c0..c3 (columns: by u, by v).
+mat2 tc_bilinear_jacobian(vec2 c0, vec2 c1, vec2 c2, vec2 c3, vec2 uv) {
+    return mat2((1.0 - uv.y) * (c1 - c0) + uv.y * (c2 - c3),
+                (1.0 - uv.x) * (c3 - c0) + uv.x * (c2 - c1));
+}
+
+/// d(s, t)/d(u, v) of surface_texcoord at (face, sub_face, uv) (columns: by u, by v): each
+/// mapping's own derivative (bilinear, barycentric, the sub-face's bilinear), the same on its
+/// edges as inside (the edges' canonical evaluation only reorders the same blend).
+mat2 surface_texcoord_jacobian(uint face, uint sub_face, vec2 uv) {
+    uvec4 fe = texcoord_table[face];
+    uint first = fe.x;
+    uint n = fe.y;
+    if (sub_face == NO_SUB_FACE && n == 4u) {
+        return tc_bilinear_jacobian(tc_value(first), tc_value(first + 1u), tc_value(first + 2u),
+                                    tc_value(first + 3u), uv);
+    }
+    if (sub_face == NO_SUB_FACE) {
+        vec2 c0 = tc_value(first);
+        return mat2(tc_value(first + 1u) - c0, tc_value(first + 2u) - c0);
+    }
+    uint k = sub_face;
+    uint next = (k + 1u) % n;
+    uint prev = (k + n - 1u) % n;
+    return tc_bilinear_jacobian(tc_value(first + k), tc_edge(first, k, next, 0.5),
+                                tc_centre(first, n), tc_edge(first, k, prev, 0.5), uv);
+}
+
 /// Texture coordinate of a point of sector k of a Pm facet (pm/patch_pm_sector.tese) at
 /// barycentric w over (corner k, corner k + 1, centre): linear over the sector triangle, the
 /// centre's value the mean of the corners'. Facet edges as every face (tc_edge); a spoke is
@@ -130,6 +158,16 @@ vec2 pm_sector_texcoord(uint face, uint k, vec3 w) {
     if (w.y == 0.0) return tc_inner_edge(centre, ck, w.x);
     precise vec2 r = (w.x * ck + w.y * cn) + w.z * centre;
     return r;
+}
+
+/// d(s, t)/d(w.y, w.z) of pm_sector_texcoord in sector k (w.x = 1 - w.y - w.z; columns: by
+/// w.y, by w.z): linear over the sector triangle.
+mat2 pm_sector_texcoord_jacobian(uint face, uint k) {
+    uvec4 fe = texcoord_table[face];
+    uint first = fe.x;
+    uint n = fe.y;
+    vec2 ck = tc_value(first + k);
+    return mat2(tc_value(first + (k + 1u) % n) - ck, tc_centre(first, n) - ck);
 }
 
 #endif

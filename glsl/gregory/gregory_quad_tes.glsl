@@ -4,7 +4,8 @@
 // position and derivatives (F frozen) for the normal. Corners and edges: the watertight shared
 // evaluation of common/watertight.glsl and gregory/gregory.glsl (§4.5).
 // Hooks the stage file defines before including: GREGORY_CLASS(info) (colour class),
-// GREGORY_DISPLACE(info, u, v, p, n) (displace.glsl's displace_point at the face point),
+// GREGORY_DISPLACE(info, u, v, tg, p, n) (displace.glsl's displace_point at the face point,
+// tg the patch's SurfaceTangents in its own (u, v)),
 // GREGORY_CAPTURE(info, u, v, p, n) (with CAPTURE), and optionally
 // GREGORY_EDGE_OVERRIDE(info, k, x, from_corner, pos, nrm) (true: edge k evaluated elsewhere) and
 // GREGORY_CORNER_NORMAL(info, k, nrm) (after the shared corner: a normal read elsewhere).
@@ -121,7 +122,7 @@ void main() {
         quad_edge(patch_index, info, 3, v, 0, p, nrm);
     }
 
-    GREGORY_DISPLACE(info, u, v, p, nrm);
+    GREGORY_DISPLACE(info, u, v, uv_tangents(du, dv), p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = GREGORY_CLASS(info);

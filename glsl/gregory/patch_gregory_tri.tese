@@ -100,7 +100,7 @@ void main() {
         tri_edge(info, 2, w0, p, nrm);
     }
 
-    displace_point(info.face, NO_SUB_FACE, vec2(w1, w2), p, nrm);
+    displace_point(info.face, NO_SUB_FACE, vec2(w1, w2), uv_tangents(t1 - t0, t2 - t0), p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = CLASS_TRIANGLE;

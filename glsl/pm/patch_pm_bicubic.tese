@@ -14,8 +14,8 @@ void main() {
     for (int i = 0; i < 16; ++i) {
         cp[i] = g_cp[i];
     }
-    vec3 p, nrm;
-    bezier_surface(cp, u, v, p, nrm);
+    vec3 p, nrm, du, dv;
+    bezier_surface_frame(cp, u, v, p, nrm, du, dv);
     uint rec = pm_record(chunk.patch_base + uint(gl_PrimitiveID));
     p += pm_origin(rec);
     bool u_edge = (u == 0.0 || u == 1.0);
@@ -33,5 +33,5 @@ void main() {
     } else if (u == 0.0) {
         pm_domain_edge(rec, 3u, v, false, p, nrm);
     }
-    pm_emit(rec, PM_NO_SUB_FACE, vec2(u, v), vec3(0.0), p, nrm);
+    pm_emit(rec, PM_NO_SUB_FACE, vec2(u, v), vec3(0.0), uv_tangents(du, dv), p, nrm);
 }

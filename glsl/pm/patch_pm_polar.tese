@@ -45,5 +45,14 @@ void main() {
     fw[(pole + 1u) % 3u] = w.x;
     fw[(pole + 2u) % 3u] = w.y;
     fw[pole] = w.z;
-    pm_emit(rec, PM_NO_SUB_FACE, vec2(fw[1], fw[2]), vec3(0.0), p, nrm);
+    // Their derivatives by the patch's (u, v): w = ((1 - u)(1 - v), u (1 - v), v).
+    vec3 fu, fv;
+    fu[(pole + 1u) % 3u] = -(1.0 - v);
+    fu[(pole + 2u) % 3u] = 1.0 - v;
+    fu[pole] = 0.0;
+    fv[(pole + 1u) % 3u] = -(1.0 - u);
+    fv[(pole + 2u) % 3u] = -u;
+    fv[pole] = 1.0;
+    SurfaceTangents tg = SurfaceTangents(du, dv, mat2(fu.y, fu.z, fv.y, fv.z));
+    pm_emit(rec, PM_NO_SUB_FACE, vec2(fw[1], fw[2]), vec3(0.0), tg, p, nrm);
 }

@@ -63,5 +63,5 @@ void main() {
         pm_domain_edge(rec, 2u, w.x, true, p, nrm);
     }
     uint sector = (pm_words[rec + 1u] >> 8) & 0xffu;
-    pm_emit(rec, sector, vec2(w.y, w.z), w, p, nrm);
+    pm_emit(rec, sector, vec2(w.y, w.z), w, uv_tangents(db, dc), p, nrm);
 }

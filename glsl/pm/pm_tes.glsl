@@ -17,15 +17,19 @@
 layout(location = 0) in vec3 g_cp[];
 
 /// Writes the outputs (and the capture record, `sub` the sector or NO_SUB_FACE) of point uv;
-/// `w` the sector's barycentric point (texture coordinates; unused without a sector).
-void pm_emit(uint rec, uint sub, vec2 uv, vec3 w, vec3 p, vec3 nrm) {
+/// `w` the sector's barycentric point (texture coordinates; unused without a sector); `tg` the
+/// patch's tangents (a sector's in its captured (u, v) = (w.y, w.z)).
+void pm_emit(uint rec, uint sub, vec2 uv, vec3 w, SurfaceTangents tg, vec3 p, vec3 nrm) {
     uint face = pm_words[rec];
     vec2 st = vec2(0.0);
+    mat2 st_jac = mat2(0.0);
     if (has_texcoords()) {
-        st = sub == PM_NO_SUB_FACE ? surface_texcoord(face, NO_SUB_FACE, uv)
-                                   : pm_sector_texcoord(face, sub, w);
+        bool whole = sub == PM_NO_SUB_FACE;
+        st = whole ? surface_texcoord(face, NO_SUB_FACE, uv) : pm_sector_texcoord(face, sub, w);
+        st_jac = whole ? surface_texcoord_jacobian(face, NO_SUB_FACE, uv)
+                       : pm_sector_texcoord_jacobian(face, sub);
     }
-    displace_with_texcoord(st, p, nrm);
+    displace_with_texcoord(st, st_jac, tg, p, nrm);
     uint cls = pm_class(pm_words[rec + 1u]);
     t_world = p;
     t_normal = nrm;

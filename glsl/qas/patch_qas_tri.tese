@@ -18,11 +18,19 @@ void main() {
     uint pi = chunk.patch_base + uint(gl_PrimitiveID);
     uvec4 c = qas[pi].corners;
     float b[6] = float[6](w0 * w0, w1 * w1, w2 * w2, 2.0 * w0 * w1, 2.0 * w1 * w2, 2.0 * w2 * w0);
+    // d/dw1 and d/dw2 of the weights with w0 = 1 - w1 - w2.
+    float d1[6] = float[6](-2.0 * w0, 2.0 * w1, 0.0, 2.0 * (w0 - w1), 2.0 * w2, -2.0 * w2);
+    float d2[6] = float[6](-2.0 * w0, 0.0, 2.0 * w2, -2.0 * w1, 2.0 * w1, 2.0 * (w0 - w2));
     vec3 p = vec3(0.0);
     vec3 n = vec3(0.0);
+    vec3 du = vec3(0.0);
+    vec3 dv = vec3(0.0);
     for (int k = 0; k < 6; ++k) {
-        p += b[k] * qas[pi].p[k].xyz;
+        vec3 c = qas[pi].p[k].xyz;
+        p += b[k] * c;
         n += b[k] * qas[pi].n[k].xyz;
+        du += d1[k] * c;
+        dv += d2[k] * c;
     }
     vec3 nrm = normalize(n);
     bool fan = qas[pi].kind == QAS_FAN;
@@ -55,11 +63,16 @@ void main() {
             w2 = ts.y;
         }
     }
+    SurfaceTangents tg = uv_tangents(du, dv);
     if (!fan) {
-        qas_emit(qas[pi].face, NO_SUB_FACE, vec2(w1, w2), p, nrm, CLASS_TRIANGLE);
+        qas_emit(qas[pi].face, NO_SUB_FACE, vec2(w1, w2), tg, p, nrm, CLASS_TRIANGLE);
         return;
     }
-    precise vec2 uv = w1 >= w2 ? vec2(w0 + 2.0 * w2, w0) : vec2(w0, w0 + 2.0 * w1);
-    uint sub = w1 >= w2 ? qas[pi].sub : qas[pi].sub_next;
-    qas_emit(qas[pi].face, sub, min(uv, vec2(1.0)), p, nrm, CLASS_TRIANGLE);
+    // The captured sub-face (u, v) of each half as a linear map of (w1, w2), w0 = 1 - w1 - w2
+    // (columns: d(u, v)/dw1, d(u, v)/dw2).
+    bool near_k = w1 >= w2;
+    precise vec2 uv = near_k ? vec2(w0 + 2.0 * w2, w0) : vec2(w0, w0 + 2.0 * w1);
+    uint sub = near_k ? qas[pi].sub : qas[pi].sub_next;
+    tg.uv_jac = near_k ? mat2(-1.0, -1.0, 1.0, -1.0) : mat2(-1.0, 1.0, -1.0, -1.0);
+    qas_emit(qas[pi].face, sub, min(uv, vec2(1.0)), tg, p, nrm, CLASS_TRIANGLE);
 }

@@ -47,10 +47,10 @@ void qas_corner(uint pi, int k, out vec3 pos, out vec3 nrm) {
 }
 
 /// Writes the outputs (and the capture record) of point (u, v) of face `face` (sub-face `sub`,
-/// NO_SUB_FACE: the face's own domain), displaced (`displace.glsl`) after the watertight
-/// evaluation.
-void qas_emit(uint face, uint sub, vec2 uv, vec3 p, vec3 nrm, uint cls) {
-    displace_point(face, sub, uv, p, nrm);
+/// NO_SUB_FACE: the face's own domain), displaced (`displace.glsl`, `tg` the position patch's
+/// tangents in that (u, v)) after the watertight evaluation.
+void qas_emit(uint face, uint sub, vec2 uv, SurfaceTangents tg, vec3 p, vec3 nrm, uint cls) {
+    displace_point(face, sub, uv, tg, p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = cls;

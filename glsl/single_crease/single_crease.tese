@@ -30,6 +30,14 @@ vec2 face_uv(uint flags, float u, float v) {
                                    : (rot == 2u ? vec2(1.0 - v, u) : vec2(v, 1.0 - u)));
 }
 
+/// d(face_uv)/d(u, v) (columns: by u, by v).
+mat2 face_uv_jacobian(uint flags) {
+    uint rot = (flags >> 8) & 3u;
+    return rot == 0u ? mat2(1.0) : (rot == 1u ? mat2(-1.0)
+                                  : (rot == 2u ? mat2(0.0, 1.0, -1.0, 0.0)
+                                               : mat2(0.0, -1.0, 1.0, 0.0)));
+}
+
 void main() {
     vec3 sd = sub_domain();
     float u = sd.x + gl_TessCoord.x * sd.z;
@@ -39,7 +47,8 @@ void main() {
     float sharpness = crease_sharpness[patch_index];
     vec3 p;
     vec3 nrm;
-    single_crease_surface(sharpness, u, v, p, nrm);
+    vec3 du, dv;
+    single_crease_surface(sharpness, u, v, p, nrm, du, dv);
 
     bool u_edge = (u == 0.0 || u == 1.0);
     bool v_edge = (v == 0.0 || v == 1.0);
@@ -49,7 +58,8 @@ void main() {
         single_crease_edge_point(info.flags, sharpness, bspline_edge(u, v), v_edge ? u : v, p, nrm);
     }
 
-    displace_point(info.face, NO_SUB_FACE, face_uv(info.flags, u, v), p, nrm);
+    SurfaceTangents tg = SurfaceTangents(du, dv, face_uv_jacobian(info.flags));
+    displace_point(info.face, NO_SUB_FACE, face_uv(info.flags, u, v), tg, p, nrm);
     t_world = p;
     t_normal = nrm;
     t_class = CLASS_SINGLE_CREASE;

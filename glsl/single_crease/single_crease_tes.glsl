@@ -60,9 +60,10 @@ void single_crease_edge_point(uint flags, float sharpness, int e, float x, out v
     single_crease_edge_ts(flags, sharpness, e, t, s, pos, nrm);
 }
 
-/// The patch's own surface point and unit normal at (u, v) (rotated frame) from the Bezier set
-/// of the piece holding u.
-void single_crease_surface(float sharpness, float u, float v, out vec3 pos, out vec3 nrm) {
+/// The patch's own surface point, unit normal and partials dP/du, dP/dv at (u, v) (rotated
+/// frame) from the Bezier set of the piece holding u.
+void single_crease_surface(float sharpness, float u, float v, out vec3 pos, out vec3 nrm,
+                           out vec3 du, out vec3 dv) {
     CreaseSplit cs = crease_split(sharpness);
     int g = set_at(cs, u);
     vec2 range = set_range(cs, g);
@@ -73,7 +74,9 @@ void single_crease_surface(float sharpness, float u, float v, out vec3 pos, out 
     }
     // d/dx = (range width) d/du: the same normal. The sets are relative to c_bspline[5].
     vec3 rel;
-    bezier_surface(cp, x, v, rel, nrm);
+    vec3 dx;
+    bezier_surface_frame(cp, x, v, rel, nrm, dx, dv);
+    du = dx / (range.y - range.x);
     pos = c_bspline[5] + rel;
 }
 

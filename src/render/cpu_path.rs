@@ -16,8 +16,9 @@ use crate::{Error, Result};
 
 /// Bytes per vertex: position (3 f32), normal (3 f32), class (u32), face and sub-face (2 u32),
 /// (u, v) (2 f32): the domain point the texture coordinate is looked up from (face u32::MAX:
-/// none).
-const VERTEX_BYTES: usize = 44;
+/// none), dP/du and dP/dv there (2 x 3 f32; zero without a domain point): the displacement
+/// map's shading normal.
+const VERTEX_BYTES: usize = 68;
 
 fn vertex_bytes(mesh: &FallbackMesh) -> Vec<u8> {
     let mut out = Vec::with_capacity(mesh.positions.len() * VERTEX_BYTES);
@@ -45,6 +46,10 @@ fn vertex_bytes(mesh: &FallbackMesh) -> Vec<u8> {
         let d = mesh.domain.get(k).unwrap_or(&none);
         for w in [d.face, d.sub_face, d.uv[0].to_bits(), d.uv[1].to_bits()] {
             out.extend_from_slice(&w.to_le_bytes());
+        }
+        let t = mesh.tangents.get(k).copied().unwrap_or_default();
+        for x in t.iter().flat_map(|d| d.as_vec3().to_array()) {
+            out.extend_from_slice(&x.to_le_bytes());
         }
     }
     out
@@ -109,6 +114,8 @@ impl CpuPathPass {
                 (2, vk::Format::R32_UINT, 24),
                 (3, vk::Format::R32G32_UINT, 28),
                 (4, vk::Format::R32G32_SFLOAT, 36),
+                (5, vk::Format::R32G32B32_SFLOAT, 44),
+                (6, vk::Format::R32G32B32_SFLOAT, 56),
             ]
             .map(|(location, format, offset)| VertexAttribute {
                 location,

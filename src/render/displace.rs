@@ -16,7 +16,15 @@
 //!   borders ([`DisplacementMap::sample`]). The displaced point is `p + scale * d(s, t) * n`.
 //!   Positions are watertight where the faces share their `vt`: the coordinates are bitwise
 //!   equal there (texcoord.glsl), so the sampled values and the displaced points are too.
-//!   The shading normal is the undisplaced limit normal (the map's derivatives do not tilt it).
+//!   The shading normal is `n` tilted by the surface gradient of `d`,
+//!   `normalize(n - scale grad_surf d)` ([`DisplacementMap::shading_normal`]): the exact normal
+//!   of `p + scale d n` without the surface's own curvature term `scale d dn` (first order).
+//!   `grad_surf d` comes from the map's `(s, t)`-gradient (the analytic derivative of the
+//!   bilinear filter, [`DisplacementMap::sample`]) by the chain rule through the texture
+//!   coordinates' Jacobian `d(s, t)/d(u, v)` and the surface's partials `dP/du`, `dP/dv`
+//!   ([`surface_gradient`]). The shading normal does not move the point: positions stay
+//!   watertight; normals agree across edges only to a tolerance (each side's partials and
+//!   texture-coordinate Jacobian are its own).
 
 use std::path::Path;
 
@@ -44,6 +52,18 @@ pub fn displaced(p: DVec3, n: DVec3, scale: f64) -> (DVec3, DVec3) {
     let (d, g) = procedural(p);
     let tangential = g - g.dot(n) * n;
     (p + scale * d * n, (n - scale * tangential).normalize())
+}
+
+/// The surface gradient of a scalar at a point with unit normal `n` and partials `ta = dP/da`,
+/// `tb = dP/db`, from its derivatives `dd = (dd/da, dd/db)`: the vector `g` perpendicular to
+/// `n` with `g . ta = dd/da`, `g . tb = dd/db`. Zero where the partials degenerate
+/// (`|n . ta x tb| <= 1e-6 |ta| |tb|`), as `glsl/common/displace.glsl` computes it.
+pub fn surface_gradient(n: DVec3, ta: DVec3, tb: DVec3, dd: DVec2) -> DVec3 {
+    let det = n.dot(ta.cross(tb));
+    if det.abs() <= 1e-6 * ta.length() * tb.length() || !det.is_finite() {
+        return DVec3::ZERO;
+    }
+    (tb.cross(n) * dd.x + n.cross(ta) * dd.y) / det
 }
 
 /// Texels of a [`DisplacementMap`]: the first channel, row-major from the image's top row.
@@ -199,9 +219,26 @@ impl DisplacementMap {
         self.sample(st).0 - 0.5
     }
 
-    /// The displaced point `p + scale d(s, t) n` (the normal is kept, module docs).
+    /// The displaced point `p + scale d(s, t) n`.
     pub fn displaced(&self, p: DVec3, n: DVec3, st: DVec2, scale: f64) -> DVec3 {
         p + scale * self.displacement(st) * n
+    }
+
+    /// The shading normal of the displaced surface at a point with unit normal `n`, partials
+    /// `du = dP/du`, `dv = dP/dv` and texture coordinate `st` whose Jacobian is
+    /// `st_jac = [d(s, t)/du, d(s, t)/dv]`: `normalize(n - scale grad_surf d)` (module docs;
+    /// `n` itself where the partials degenerate).
+    pub fn shading_normal(
+        &self,
+        n: DVec3,
+        [du, dv]: [DVec3; 2],
+        st: DVec2,
+        st_jac: [DVec2; 2],
+        scale: f64,
+    ) -> DVec3 {
+        let g = self.sample(st).1;
+        let dd = DVec2::new(g.dot(st_jac[0]), g.dot(st_jac[1]));
+        (n - scale * surface_gradient(n, du, dv, dd)).normalize()
     }
 }
 
@@ -277,6 +314,33 @@ mod tests {
                 "{st}: {g} vs ({fd_s}, {fd_t})"
             );
         }
+    }
+
+    #[test]
+    fn surface_gradient_reproduces_the_directional_derivatives() {
+        // A sheared, non-orthogonal frame: g is tangent and its projections are the inputs.
+        let n = DVec3::new(0.2, -0.3, 1.0).normalize();
+        let ta = DVec3::new(1.0, 0.1, 0.2);
+        let ta = ta - ta.dot(n) * n;
+        let tb = DVec3::new(0.4, 1.3, 0.0);
+        let tb = tb - tb.dot(n) * n;
+        let dd = DVec2::new(0.7, -1.9);
+        let g = surface_gradient(n, ta, tb, dd);
+        assert!(g.dot(n).abs() < 1e-12);
+        assert!((g.dot(ta) - dd.x).abs() < 1e-12 && (g.dot(tb) - dd.y).abs() < 1e-12);
+        // Flipping the normal keeps the gradient; parallel partials give none.
+        assert!((surface_gradient(-n, ta, tb, dd) - g).length() < 1e-12);
+        assert_eq!(surface_gradient(n, ta, 2.0 * ta, dd), DVec3::ZERO);
+        // The plane z = 0 with st = (x, y) and a ramp of 1/3 per texel (d/ds = 4/3 between the
+        // first and last texel centres): the tilted plane z = 0.3 d(x).
+        let ramp = DisplacementMap::from_u8(4, 1, vec![0, 85, 170, 255]).unwrap();
+        let frame = [DVec3::X, DVec3::Y];
+        let (st, jac) = (DVec2::new(0.4, 0.7), [DVec2::X, DVec2::Y]);
+        let tilted = ramp.shading_normal(DVec3::Z, frame, st, jac, 0.3);
+        let want = DVec3::new(-0.3 * 4.0 / 3.0, 0.0, 1.0).normalize();
+        assert!((tilted - want).length() < 1e-12, "{tilted} vs {want}");
+        let flat = DisplacementMap::from_u8(4, 1, vec![9; 4]).unwrap();
+        assert_eq!(flat.shading_normal(DVec3::Z, frame, st, jac, 0.3), DVec3::Z);
     }
 
     #[test]

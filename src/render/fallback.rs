@@ -3,6 +3,7 @@
 
 use glam::DVec3;
 
+use crate::subdiv::eval::LimitSample;
 use crate::Result;
 
 /// Colour class of a surface piece (`CLASS_*` in `glsl/common/frame.glsl`).
@@ -57,6 +58,10 @@ pub struct FallbackMesh {
     /// map are looked up from it); may be shorter than `positions` for triangles that are not
     /// points of a face (e.g. error maps), whose vertices then have none.
     pub domain: Vec<DomainPoint>,
+    /// Per vertex with a domain point, the limit surface's partials `[dP/du, dP/dv]` there (the
+    /// displacement map's shading normal, `glsl/surface/mesh.vert`); may be shorter, as
+    /// `domain`.
+    pub tangents: Vec<[DVec3; 2]>,
 }
 
 /// A point of a face's domain, as the TES capture names it.
@@ -81,11 +86,12 @@ pub fn grid_resolution(level: u32, corners: u32) -> u32 {
 }
 
 /// Evaluates every face on an `(r+1) x (r+1)` grid per quad domain with
-/// `eval(face, sub, &[(u, v)]) -> [(position, unit normal)]` (the CPU limit evaluator, called once
-/// per quad domain, in parallel over faces) and triangulates each grid cell.
+/// `eval(face, sub, &[(u, v)]) -> [LimitSample]` (position, partials, unit normal: the CPU limit
+/// evaluator, called once per quad domain, in parallel over faces) and triangulates each grid
+/// cell.
 pub fn tessellate<F>(faces: &[FallbackFace], level: u32, eval: F) -> Result<FallbackMesh>
 where
-    F: Fn(u32, u32, &[(f64, f64)]) -> Result<Vec<(DVec3, DVec3)>> + Sync,
+    F: Fn(u32, u32, &[(f64, f64)]) -> Result<Vec<LimitSample>> + Sync,
 {
     use rayon::prelude::*;
     let pieces: Vec<FallbackMesh> = faces
@@ -99,6 +105,7 @@ where
         mesh.normals.extend(p.normals);
         mesh.classes.extend(p.classes);
         mesh.domain.extend(p.domain);
+        mesh.tangents.extend(p.tangents);
         mesh.indices.extend(p.indices.iter().map(|i| i + base));
     }
     Ok(mesh)
@@ -107,7 +114,7 @@ where
 /// The grid triangles of one face (indices local to the face).
 fn face_grid<F>(f: &FallbackFace, level: u32, eval: &F) -> Result<FallbackMesh>
 where
-    F: Fn(u32, u32, &[(f64, f64)]) -> Result<Vec<(DVec3, DVec3)>>,
+    F: Fn(u32, u32, &[(f64, f64)]) -> Result<Vec<LimitSample>>,
 {
     let mut mesh = FallbackMesh::default();
     let r = grid_resolution(level, f.corners);
@@ -130,9 +137,10 @@ where
             )));
         }
         let sub_face = if f.corners == 4 { u32::MAX } else { sub };
-        for ((p, n), &(u, v)) in pts.into_iter().zip(&uv) {
-            mesh.positions.push(p);
-            mesh.normals.push(n);
+        for (s, &(u, v)) in pts.into_iter().zip(&uv) {
+            mesh.positions.push(s.position);
+            mesh.normals.push(s.normal);
+            mesh.tangents.push([s.du, s.dv]);
             mesh.classes.push(f.class as u32);
             mesh.domain.push(DomainPoint {
                 face: f.face,
@@ -176,7 +184,7 @@ mod tests {
             calls.lock().unwrap().push((f, s, uv.len()));
             Ok(uv
                 .iter()
-                .map(|&(u, v)| (DVec3::new(u, v, f64::from(f)), DVec3::Z))
+                .map(|&(u, v)| LimitSample::new(DVec3::new(u, v, f64::from(f)), DVec3::X, DVec3::Y))
                 .collect())
         })
         .unwrap();

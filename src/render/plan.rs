@@ -5,13 +5,11 @@
 
 use std::sync::Arc;
 
-use glam::DVec3;
-
 use super::fallback::{self, FallbackFace, FallbackMesh};
 use super::schemes::{PatchScheme, PlanOptions, Refusal, Scheme, SchemeLimits};
 use super::surface::SurfaceData;
 use crate::mesh::ControlMesh;
-use crate::subdiv::eval::LimitEvaluator;
+use crate::subdiv::eval::{LimitEvaluator, LimitSample};
 use crate::topology::Topology;
 use crate::Result;
 
@@ -138,10 +136,10 @@ pub fn surface_from_mesh(mesh: &ControlMesh, level: u32) -> Result<SurfaceData> 
 }
 
 /// As [`surface_from_mesh`], with the CPU-evaluated faces sampled at tessellation `level`
-/// through `eval(face, sub, &[(u, v)]) -> [(position, unit normal)]`.
+/// through `eval(face, sub, &[(u, v)]) -> [LimitSample]` (position, partials, unit normal).
 pub fn surface_with<F>(mesh: &ControlMesh, level: u32, eval: F) -> Result<SurfaceData>
 where
-    F: Fn(u32, u32, &[(f64, f64)]) -> Result<Vec<(DVec3, DVec3)>> + Sync,
+    F: Fn(u32, u32, &[(f64, f64)]) -> Result<Vec<LimitSample>> + Sync,
 {
     let mut surface = plan_for_scheme(mesh, Scheme::BsplineOnly, &SchemeLimits::NO_DEVICE)?;
     surface.fallback = fallback::tessellate(&surface.fallback_faces, level, eval)?;
@@ -155,10 +153,6 @@ pub fn cpu_faces(mesh: &ControlMesh, faces: &[FallbackFace], level: u32) -> Resu
     }
     let ev = LimitEvaluator::new(mesh)?;
     fallback::tessellate(faces, level, |f, sub, uv| {
-        Ok(ev
-            .eval_points(f as usize, sub as usize, uv)?
-            .into_iter()
-            .map(|s| (s.position, s.normal))
-            .collect())
+        ev.eval_points(f as usize, sub as usize, uv)
     })
 }

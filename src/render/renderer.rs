@@ -57,7 +57,8 @@ pub const MAX_FRAMES_IN_FLIGHT: u32 = 4;
 /// GPU buffer memory of a [`SurfaceRenderer`], in bytes.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct MemoryReport {
-    /// Shared buffers: frame uniforms, control positions, vertex limit frames, capture.
+    /// Shared buffers: frame uniforms, control positions, vertex limit frames, capture (one per
+    /// frame slot when capture is on).
     pub shared: u64,
     /// Each pass's own buffers, by label, in draw order.
     pub passes: Vec<(String, u64)>,
@@ -361,9 +362,10 @@ impl SurfaceRenderer {
     }
 
     /// Prepares the next frame: takes the next frame slot, writes its frame uniforms with the
-    /// renderer's tessellation settings and brings it to the latest positions. Call once per
-    /// frame before recording it, when the frame that last used this slot
-    /// ([`EngineDesc::frames_in_flight`] frames back) has finished; later frames may still run.
+    /// renderer's tessellation settings, brings it to the latest positions and, with capture
+    /// on, resets the slot's capture buffer. Call once per frame before recording it, when the
+    /// frame that last used this slot ([`EngineDesc::frames_in_flight`] frames back) has
+    /// finished; later frames may still run.
     pub fn set_frame(&mut self, frame: &FrameUniforms) -> Result<()> {
         let max_level = self.ctx.info().limits.max_tessellation_generation_level as f32;
         self.slot = self.next_slot;
@@ -375,6 +377,9 @@ impl SurfaceRenderer {
         };
         let bytes = frame.to_bytes(&self.desc.tess, max_level, self.desc.displacement, flags);
         self.shared.write_frame(self.slot, &bytes)?;
+        if self.desc.capture_capacity.is_some() {
+            self.shared.reset_capture(self.slot)?;
+        }
         self.sync_slot(self.slot)
     }
 
@@ -414,15 +419,25 @@ impl SurfaceRenderer {
         self.record_fallback(cmd);
     }
 
-    /// Resets the capture counter (host write; call between frames, before submitting).
+    /// Resets the capture counter of the current frame slot (host write; [`Self::set_frame`]
+    /// already does; call before submitting, e.g. to record the slot's frame again).
     pub fn reset_capture(&mut self) -> Result<()> {
-        self.shared.reset_capture()
+        self.shared.reset_capture(self.slot)
     }
 
-    /// Reads the captured TES invocations of the last finished frame, in draw order. Errors if
-    /// the capture buffer overflowed (more invocations than its capacity) or capture is off.
+    /// Reads the TES invocations captured by the frame of the current slot (the last
+    /// [`Self::set_frame`]), in draw order, once it has finished. Errors if the capture buffer
+    /// overflowed (more invocations than its capacity) or capture is off.
     pub fn read_capture(&self) -> Result<Vec<CaptureRecord>> {
-        self.shared.read_capture()
+        self.shared.read_capture(self.slot)
+    }
+
+    /// Reads the TES invocations captured by the frame that last used frame slot `slot`
+    /// ([`Self::frame_slot`] when it was recorded), once it has finished: with frames in
+    /// flight every slot has its own capture buffer, so a frame's records stay readable while
+    /// the next frames (other slots) run; wait only for that frame's fence.
+    pub fn read_capture_slot(&self, slot: usize) -> Result<Vec<CaptureRecord>> {
+        self.shared.read_capture(slot)
     }
 }
 

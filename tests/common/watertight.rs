@@ -241,12 +241,49 @@ pub fn assert_regular_watertight(
     points.assert_equal_sides(what, both).edges
 }
 
+/// Pairs of records closer than 1e-6 of `m`'s diagonal, whatever the patches' types and levels;
+/// asserts that each pair's positions are bitwise equal.
+pub fn coincident_pairs(m: &ControlMesh, records: &[CaptureRecord]) -> Vec<(usize, usize)> {
+    // Bitwise-unequal copies of one point differ by a few ulp (~1e-7 of the diagonal); distinct
+    // domain points of fractional spacing can come within ~5e-6.
+    let eps = 1e-6 * m.bbox_diagonal();
+    let cell = |p: [f32; 3]| p.map(|c| (f64::from(c) / eps).floor() as i64);
+    let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+    for (i, r) in records.iter().enumerate() {
+        grid.entry(cell(r.position)).or_default().push(i);
+    }
+    let mut pairs = Vec::new();
+    for (i, r) in records.iter().enumerate() {
+        let c = cell(r.position);
+        let p = DVec3::from(r.position.map(f64::from));
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let Some(list) = grid.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) else {
+                        continue;
+                    };
+                    for &j in list.iter().filter(|&&j| j > i) {
+                        let q = &records[j];
+                        if (DVec3::from(q.position.map(f64::from)) - p).length() > eps {
+                            continue;
+                        }
+                        let same_pos = r.position.map(f32::to_bits) == q.position.map(f32::to_bits);
+                        assert!(same_pos, "positions differ: {r:?} vs {q:?}");
+                        pairs.push((i, j));
+                    }
+                }
+            }
+        }
+    }
+    pairs
+}
+
 /// Points patches emit at the same place are the same bits, whatever the patches' types and
 /// levels: every pair of records closer than 1e-6 of `m`'s diagonal has bitwise-equal positions,
 /// and normals bitwise equal or more than 0.01 rad apart (a crease). Returns the number of
 /// coincident pairs.
 pub fn assert_coincident_points_equal(m: &ControlMesh, records: &[CaptureRecord]) -> usize {
-    coincident_pairs(m, records, |_, _| None)
+    assert_pair_normals(records, &coincident_pairs(m, records), |_, _| None)
 }
 
 /// [`assert_coincident_points_equal`] where the topology tells the sides of every sharp feature
@@ -255,7 +292,10 @@ pub fn assert_coincident_points_equal(m: &ControlMesh, records: &[CaptureRecord]
 /// close the two sides' normals are; points of different sides may differ by any angle.
 pub fn assert_coincident_points_equal_by_side(m: &ControlMesh, records: &[CaptureRecord]) -> usize {
     let topo = Topology::new(m).unwrap();
-    coincident_pairs(m, records, |r, q| Some(side(&topo, r)? == side(&topo, q)?))
+    let pairs = coincident_pairs(m, records);
+    assert_pair_normals(records, &pairs, |r, q| {
+        Some(side(&topo, r)? == side(&topo, q)?)
+    })
 }
 
 /// The side of the sharp features captured point `r` lies on: its base face inside the face or on
@@ -304,57 +344,39 @@ fn side(topo: &Topology, r: &CaptureRecord) -> Option<u32> {
     }
 }
 
-/// The coincident pairs of `records`, asserting equal position bits, and normal bits where
-/// `same_side(r, q)` says `Some(true)`; with `None` the normals must be bitwise equal or more
-/// than 0.01 rad apart.
-fn coincident_pairs(
-    m: &ControlMesh,
+/// Asserts bitwise-equal normals for each coincident pair `(i, j)` of `records` where
+/// `same_side(r, q)` says `Some(true)`; with `None` the normals must be bitwise equal or more than
+/// 0.01 rad apart (a crease). Returns the number of pairs.
+fn assert_pair_normals(
     records: &[CaptureRecord],
+    pairs: &[(usize, usize)],
     same_side: impl Fn(&CaptureRecord, &CaptureRecord) -> Option<bool>,
 ) -> usize {
-    // Bitwise-unequal copies of one point differ by a few ulp (~1e-7 of the diagonal); distinct
-    // domain points of fractional spacing can come within ~5e-6.
-    let eps = 1e-6 * m.bbox_diagonal();
-    let cell = |p: [f32; 3]| p.map(|c| (f64::from(c) / eps).floor() as i64);
-    let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
-    for (i, r) in records.iter().enumerate() {
-        grid.entry(cell(r.position)).or_default().push(i);
+    for &(i, j) in pairs {
+        let (r, q) = (&records[i], &records[j]);
+        let (a, b) = (
+            DVec3::from(r.normal.map(f64::from)),
+            DVec3::from(q.normal.map(f64::from)),
+        );
+        let same_n = r.normal.map(f32::to_bits) == q.normal.map(f32::to_bits);
+        let may_differ = same_side(r, q).map_or(a.angle_between(b) > 0.01, |s| !s);
+        assert!(
+            same_n || may_differ,
+            "normals differ by {:.2e} rad: {r:?} vs {q:?}",
+            a.angle_between(b)
+        );
     }
-    let mut pairs = 0;
-    for (i, r) in records.iter().enumerate() {
-        let c = cell(r.position);
-        let p = DVec3::from(r.position.map(f64::from));
-        for dx in -1..=1 {
-            for dy in -1..=1 {
-                for dz in -1..=1 {
-                    let Some(list) = grid.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) else {
-                        continue;
-                    };
-                    for &j in list.iter().filter(|&&j| j > i) {
-                        let q = &records[j];
-                        if (DVec3::from(q.position.map(f64::from)) - p).length() > eps {
-                            continue;
-                        }
-                        let same_pos = r.position.map(f32::to_bits) == q.position.map(f32::to_bits);
-                        assert!(same_pos, "positions differ: {r:?} vs {q:?}");
-                        let (a, b) = (
-                            DVec3::from(r.normal.map(f64::from)),
-                            DVec3::from(q.normal.map(f64::from)),
-                        );
-                        let same_n = r.normal.map(f32::to_bits) == q.normal.map(f32::to_bits);
-                        let may_differ = same_side(r, q).map_or(a.angle_between(b) > 0.01, |s| !s);
-                        assert!(
-                            same_n || may_differ,
-                            "normals differ by {:.2e} rad: {r:?} vs {q:?}",
-                            a.angle_between(b)
-                        );
-                        pairs += 1;
-                    }
-                }
-            }
-        }
-    }
-    pairs
+    pairs.len()
+}
+
+/// The TES capture of one 64 x 64 frame of `surface`.
+fn capture_64(
+    ctx: &tessera::gpu::Context,
+    surface: &SurfaceData,
+    render: &tessera::render::RenderDesc,
+) -> Vec<CaptureRecord> {
+    let off = super::capture::offscreen(64, 64);
+    super::capture::capture(ctx, surface, render, &off, false).records
 }
 
 /// Displacement keeps the surface watertight: `surface` captured with `render(0.0)` and
@@ -369,19 +391,58 @@ pub fn assert_displacement_keeps_seams(
     scale: f32,
     what: &str,
 ) -> usize {
-    let pairs = |s| {
-        let run = super::capture::capture(
-            ctx,
-            surface,
-            &render(s),
-            &super::capture::offscreen(64, 64),
-            false,
-        );
-        assert_coincident_points_equal(m, &run.records)
-    };
+    let pairs = |s| assert_coincident_points_equal(m, &capture_64(ctx, surface, &render(s)));
     let (plain, moved) = (pairs(0.0), pairs(scale));
     eprintln!("{what}: {moved} coincident pairs bitwise equal");
     assert!(moved > 0, "{what}: no shared point compared");
     assert_eq!(moved, plain, "{what}: shared points split apart");
     moved
+}
+
+/// Map displacement keeps the surface watertight: `surface` captured with `render(0.0)` and
+/// `render(scale)` has the same number of coincident pairs, each bitwise equal in position
+/// ([`coincident_pairs`]), more than 0. The map's tilted normals of the two sides agree only
+/// to a tolerance (each side's own tangents and texture-coordinate Jacobian): returns the
+/// count and the largest angle (rad) between the displaced normals of a pair whose
+/// undisplaced normals are bitwise equal (smooth there).
+pub fn map_displacement_seams(
+    ctx: &tessera::gpu::Context,
+    m: &ControlMesh,
+    surface: &SurfaceData,
+    render: impl Fn(f32) -> tessera::render::RenderDesc,
+    scale: f32,
+    what: &str,
+) -> (usize, f64) {
+    let run = |s| capture_64(ctx, surface, &render(s));
+    let key = |r: &CaptureRecord| (r.face, r.sub_face, r.u.to_bits(), r.v.to_bits());
+    let plain = run(0.0);
+    let plain_normal: HashMap<_, _> = plain.iter().map(|r| (key(r), r.normal)).collect();
+    let moved = run(scale);
+    let (before, pairs) = (
+        coincident_pairs(m, &plain).len(),
+        coincident_pairs(m, &moved),
+    );
+    let mut worst = 0.0f64;
+    for &(i, j) in &pairs {
+        let (r, q) = (&moved[i], &moved[j]);
+        let smooth = match (plain_normal.get(&key(r)), plain_normal.get(&key(q))) {
+            (Some(a), Some(b)) => a.map(f32::to_bits) == b.map(f32::to_bits),
+            _ => false,
+        };
+        if smooth {
+            let (a, b) = (
+                DVec3::from(r.normal.map(f64::from)),
+                DVec3::from(q.normal.map(f64::from)),
+            );
+            worst = worst.max(a.angle_between(b));
+        }
+    }
+    eprintln!(
+        "{what}: {} coincident pairs bitwise equal in position, displaced normals of smooth \
+         pairs within {worst:.2e} rad",
+        pairs.len()
+    );
+    assert!(!pairs.is_empty(), "{what}: no shared point compared");
+    assert_eq!(pairs.len(), before, "{what}: shared points split apart");
+    (pairs.len(), worst)
 }

@@ -50,11 +50,11 @@ pub struct CapturedPatch {
     pub level: u8,
 }
 
-/// The capture buffer for `capacity` records (a minimal one when capture is off), its header
-/// written: count 0, capacity. The capacity is lowered to what one storage-buffer binding can
+/// The capture buffer of frame slot `slot` for `capacity` records (a minimal one when capture
+/// is off), its header written: count 0, capacity. The capacity is lowered to what one storage-buffer binding can
 /// hold (`maxStorageBufferRange`); a frame that emits more is then a capture-overflow error
 /// ([`decode_capture`]), never an invalid binding.
-pub fn capture_buffer(ctx: &Context, capacity: u32) -> Result<Buffer> {
+pub fn capture_buffer(ctx: &Context, capacity: u32, slot: usize) -> Result<Buffer> {
     let range = ctx.info().limits.max_storage_buffer_range as usize;
     let fits = (range.saturating_sub(CAPTURE_HEADER_BYTES) / CAPTURE_RECORD_BYTES) as u32;
     if capacity > fits {
@@ -71,7 +71,7 @@ pub fn capture_buffer(ctx: &Context, capacity: u32) -> Result<Buffer> {
         bytes.len() as u64,
         vk::BufferUsageFlags::STORAGE_BUFFER,
         MemoryLocation::GpuToCpu,
-        "tes capture",
+        &format!("tes capture (frame slot {slot})"),
     )?;
     b.write(0, &bytes)?;
     Ok(b)

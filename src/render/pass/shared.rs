@@ -155,7 +155,8 @@ struct Staged {
 }
 
 /// The buffers shared by every pass of one surface: per frame in flight (`FrameSlot`) the
-/// frame uniforms, control positions and vertex limit frames; one TES capture.
+/// frame uniforms, control positions and vertex limit frames, and with capture on a TES capture
+/// buffer (without capture, one minimal buffer bound by every slot: no memory per slot).
 ///
 /// Frames in flight: the host writes only the slot of the frame being prepared
 /// ([`Self::write_frame`], [`Self::sync`]), so the frames still executing read their own slots
@@ -163,7 +164,8 @@ struct Staged {
 pub struct SharedResources {
     slots: Vec<FrameSlot>,
     staged: Staged,
-    capture: Buffer,
+    /// Capture on: one buffer per frame slot; off: one minimal buffer every slot binds.
+    captures: Vec<Buffer>,
     capture_capacity: Option<u32>,
     vertex_count: usize,
     texcoords: Buffer,
@@ -172,7 +174,8 @@ pub struct SharedResources {
 
 impl SharedResources {
     /// Uploads `positions` and `frames` into each of `frames_in_flight` slots (at least one);
-    /// `capture_capacity` records of TES capture; the texture-coordinate table's words
+    /// with `capture_capacity`, a capture buffer of that many records per slot; the
+    /// texture-coordinate table's words
     /// (`SurfaceData::texcoord_words`); the displacement map, if any.
     pub fn new(
         ctx: &Context,
@@ -192,10 +195,16 @@ impl SharedResources {
         let slots = (0..frames_in_flight.max(1))
             .map(|k| FrameSlot::new(ctx, &staged, k))
             .collect::<Result<Vec<_>>>()?;
+        let captures = match capture_capacity {
+            Some(capacity) => (0..slots.len())
+                .map(|k| capture_buffer(ctx, capacity, k))
+                .collect::<Result<Vec<_>>>()?,
+            None => vec![capture_buffer(ctx, 0, 0)?],
+        };
         Ok(SharedResources {
             slots,
             staged,
-            capture: capture_buffer(ctx, capture_capacity.unwrap_or(0))?,
+            captures,
             capture_capacity,
             vertex_count: positions.len(),
             texcoords: ctx.upload_buffer(
@@ -234,7 +243,7 @@ impl SharedResources {
                 buffer: &s.frame,
             },
             sb(VERTEX_LIMITS_BINDING, &s.vertex_limits),
-            sb(CAPTURE_BINDING, &self.capture),
+            sb(CAPTURE_BINDING, self.capture(slot)),
             sb(CONTROL_POSITIONS_BINDING, &s.positions),
             sb(VERTEX_NORMALS_BINDING, &s.vertex_normals),
             sb(TEXCOORDS_BINDING, &self.texcoords),
@@ -277,7 +286,7 @@ impl SharedResources {
             .flat_map(|s| s.buffers())
             .map(|b| b.size())
             .sum::<u64>()
-            + self.capture.size()
+            + self.captures.iter().map(|b| b.size()).sum::<u64>()
             + self.texcoords.size()
     }
 
@@ -325,18 +334,32 @@ impl SharedResources {
         Ok(true)
     }
 
-    /// Resets the capture counter (host write; between frames).
-    pub fn reset_capture(&mut self) -> Result<()> {
-        reset_capture(&mut self.capture)
+    /// The capture buffer frame slot `slot` binds.
+    fn capture(&self, slot: usize) -> &Buffer {
+        &self.captures[slot.min(self.captures.len() - 1)]
     }
 
-    /// The captured TES invocations of the last finished frame, in draw order.
-    pub fn read_capture(&self) -> Result<Vec<CaptureRecord>> {
+    /// Resets the capture counter of frame slot `slot` (host write; the GPU must be done with
+    /// that slot).
+    pub fn reset_capture(&mut self, slot: usize) -> Result<()> {
+        let k = slot.min(self.captures.len() - 1);
+        reset_capture(&mut self.captures[k])
+    }
+
+    /// The TES invocations captured by the frame that last used slot `slot` (it must have
+    /// finished), in draw order.
+    pub fn read_capture(&self, slot: usize) -> Result<Vec<CaptureRecord>> {
         let Some(capacity) = self.capture_capacity else {
             return Err(Error::Invalid(
                 "capture is not enabled in RenderDesc".into(),
             ));
         };
-        decode_capture(&self.capture.read::<u32>()?, capacity)
+        if slot >= self.slots.len() {
+            return Err(Error::Invalid(format!(
+                "read_capture: frame slot {slot} of {}",
+                self.slots.len()
+            )));
+        }
+        decode_capture(&self.capture(slot).read::<u32>()?, capacity)
     }
 }
