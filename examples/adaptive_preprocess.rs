@@ -1,9 +1,11 @@
 //! Times the CPU preprocessing of `--scheme adaptive` on one mesh (what `benches/adaptive.rs`
-//! does for the car, for any OBJ or a generated `N`-gon), single run per step: for profiling
+//! does for the car, for any OBJ), single run per step: for profiling
 //! (`perf record`) and peak memory (`/usr/bin/time -v`) of inputs too slow for criterion.
 //!
 //! ```sh
-//! cargo run --release --example adaptive_preprocess -- MESH.obj|gon:N [ISOLATION]
+//! cargo run --release --example adaptive_preprocess -- MESH.obj [ISOLATION]
+//! # a 1000-gon:
+//! python3 -c "import math; n=1000; print(*[f'v {math.cos(2*math.pi*k/n):.6f} {math.sin(2*math.pi*k/n):.6f} 0' for k in range(n)], 'f ' + ' '.join(map(str, range(1, n + 1))), sep='\n')" > gon1000.obj
 //! ```
 
 use std::sync::Arc;
@@ -18,31 +20,14 @@ use tessera::subdiv::Level;
 use tessera::topology::Topology;
 use tessera::ControlMesh;
 
-/// One `n`-sided polygon (unit circumradius, z = 0) as OBJ text.
-fn polygon(n: usize) -> String {
-    let mut t = String::new();
-    for k in 0..n {
-        let a = k as f64 / n as f64 * std::f64::consts::TAU;
-        t += &format!("v {:.6} {:.6} 0\n", a.cos(), a.sin());
-    }
-    t += "f";
-    for k in 1..=n {
-        t += &format!(" {k}");
-    }
-    t + "\n"
-}
-
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let spec = args
         .first()
-        .ok_or("usage: adaptive_preprocess MESH.obj|gon:N [ISOLATION]")?;
+        .ok_or("usage: adaptive_preprocess MESH.obj [ISOLATION]")?;
     let isolation: u32 = args.get(1).map_or(Ok(2), |s| s.parse())?;
     let options = ObjOptions::default();
-    let mesh = match spec.strip_prefix("gon:") {
-        Some(n) => ControlMesh::from_obj_str(&polygon(n.parse()?), spec, &options)?,
-        None => ControlMesh::from_obj_file(spec, &options)?,
-    };
+    let mesh = ControlMesh::from_obj_file(spec, &options)?;
     let topo = Arc::new(Topology::new(&mesh)?);
     let base = Level::from_topology((*topo).clone());
     let t = Instant::now();

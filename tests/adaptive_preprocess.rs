@@ -19,8 +19,11 @@ use tessera::subdiv::Level;
 use tessera::topology::Topology;
 use tessera::ControlMesh;
 
+/// One face's rows as `(id, f64 bits)` terms, or its error message.
+type RowBits = Result<Vec<Vec<(u32, u64)>>, String>;
+
 /// Rows as comparable bits.
-fn bits(rows: &[Result<Vec<Weights>, NotGregory>]) -> Vec<Result<Vec<Vec<(u32, u64)>>, String>> {
+fn bits(rows: &[Result<Vec<Weights>, NotGregory>]) -> Vec<RowBits> {
     rows.iter()
         .map(|r| match r {
             Ok(rows) => Ok(rows
