@@ -25,7 +25,7 @@ use super::slots::{Slots, NONE};
 use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure};
 use crate::patch::edge_grid::PATCH_EDGES;
 use crate::patch::gregory::edge_flags::{edge_flags, Across};
-use crate::patch::gregory::stencil_table::sparse_face_rows;
+use crate::patch::gregory::shared_rows::sparse_face_rows;
 use crate::patch::gregory::{one_face_crease_sector, GregoryTangents, Weights};
 use crate::patch::single_crease::{gpu_cvs, Rotation, SingleCreasePatch};
 use crate::patch::RegularPatch;
@@ -252,6 +252,8 @@ impl AdaptiveDrawTables {
         }
         shared_normal.resize(slots.len() + sectors.rows.len(), true);
         let end_cap_first_row = rows.len() as u32;
+        let terms = caps.iter().flatten().map(|w| w.0.len()).sum();
+        rows.reserve(END_CAP_ROWS * caps.len(), terms);
         for c in &caps {
             for r in c {
                 rows.push(r, 0);

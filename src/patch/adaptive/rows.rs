@@ -57,6 +57,14 @@ impl SparseRows {
         self.offsets.push(self.ids.len() as u32);
     }
 
+    /// Reserves room for `rows` more rows of `terms` terms together.
+    pub fn reserve(&mut self, rows: usize, terms: usize) {
+        self.offsets.reserve(rows);
+        self.ids.reserve(terms);
+        self.weights.reserve(terms);
+        self.weights_f64.reserve(terms);
+    }
+
     /// Appends `n` empty rows.
     pub fn push_empty(&mut self, n: usize) {
         let end = self.ids.len() as u32;

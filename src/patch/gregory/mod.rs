@@ -30,6 +30,7 @@ mod build;
 pub mod edge_flags;
 mod eval;
 mod point;
+pub mod shared_rows;
 pub mod stencil;
 pub mod stencil_table;
 pub mod table;

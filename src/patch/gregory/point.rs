@@ -109,10 +109,15 @@ thread_local! {
 
 /// `a += w * x` when every id of `x` is in `a` (both ascending); false, `a` untouched, otherwise.
 fn merge_in_place(a: &mut [(u32, f64)], w: f64, x: &[(u32, f64)]) -> bool {
+    // Galloping search from `i` (`x` is often a few ids against a row of thousands around a
+    // high-valence vertex): the first entry at or after `i` with id `>= v`.
     let find = |a: &[(u32, f64)], i: &mut usize, v: u32| {
-        while *i < a.len() && a[*i].0 < v {
-            *i += 1;
+        let rest = &a[*i..];
+        let mut bound = 1;
+        while bound < rest.len() && rest[bound].0 < v {
+            bound *= 2;
         }
+        *i += rest[..(bound + 1).min(rest.len())].partition_point(|e| e.0 < v);
         *i < a.len() && a[*i].0 == v
     };
     let mut i = 0;

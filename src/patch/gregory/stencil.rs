@@ -121,13 +121,19 @@ impl GregoryStencil {
 /// lists of local slots (§4.3).
 pub fn canonical_ring(topo: &Topology, f: u32) -> Vec<u32> {
     let mut out: Vec<u32> = Vec::new();
-    let push = |x: u32, out: &mut Vec<u32>| {
+    ring_walk(topo, f, |x| {
         if !out.contains(&x) {
             out.push(x);
         }
-    };
+    });
+    out
+}
+
+/// Every vertex of [`canonical_ring`]'s walk in order, repeats included (the ring is the
+/// first appearances).
+pub(super) fn ring_walk(topo: &Topology, f: u32, mut visit: impl FnMut(u32)) {
     for &v in topo.face_vertices(f) {
-        push(v, &mut out);
+        visit(v);
     }
     for &v in topo.face_vertices(f) {
         let faces = topo.vertex_faces(v);
@@ -137,11 +143,10 @@ pub fn canonical_ring(topo: &Topology, f: u32) -> Vec<u32> {
             let gv = topo.face_vertices(g);
             let k = gv.iter().position(|&x| x == v).unwrap_or(0);
             for t in 0..gv.len() {
-                push(gv[(k + t) % gv.len()], &mut out);
+                visit(gv[(k + t) % gv.len()]);
             }
         }
     }
-    out
 }
 
 /// The canonical one-ring of face `f` if it gets a stencil with at most `limit` (capped at

@@ -187,8 +187,10 @@ fn corner_data(
 /// points, then the neighbours' edge and face points) as sparse weight vectors over `topo`'s
 /// vertices, ascending ids, f64: the weights [`GregoryStencilTable::build`] rounds to f32, without
 /// its ring-size limit (sparse rows have no fixed patch size). Built for adaptive end caps
-/// ([`Coverage::EndCap`]).
-pub fn sparse_face_rows(
+/// ([`Coverage::EndCap`]). Face by face, the reference of
+/// [`super::shared_rows::sparse_face_rows`], which shares the work between faces of one
+/// connectivity type and gives the same bits.
+pub fn sparse_face_rows_direct(
     topo: &Topology,
     faces: &[u32],
     tangents: GregoryTangents,

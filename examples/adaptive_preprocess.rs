@@ -1,0 +1,51 @@
+//! Times the CPU preprocessing of `--scheme adaptive` on one mesh (what `benches/adaptive.rs`
+//! does for the car, for any OBJ), single run per step: for profiling
+//! (`perf record`) and peak memory (`/usr/bin/time -v`) of inputs too slow for criterion.
+//!
+//! ```sh
+//! cargo run --release --example adaptive_preprocess -- MESH.obj [ISOLATION]
+//! # a 1000-gon:
+//! python3 -c "import math; n=1000; print(*[f'v {math.cos(2*math.pi*k/n):.6f} {math.sin(2*math.pi*k/n):.6f} 0' for k in range(n)], 'f ' + ' '.join(map(str, range(1, n + 1))), sep='\n')" > gon1000.obj
+//! ```
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use tessera::mesh::ObjOptions;
+use tessera::patch::adaptive::AdaptiveDrawTables;
+use tessera::render::schemes::adaptive::AdaptiveTables;
+use tessera::render::{PlanOptions, SchemeLimits};
+use tessera::subdiv::adaptive::AdaptiveRefinement;
+use tessera::subdiv::Level;
+use tessera::topology::Topology;
+use tessera::ControlMesh;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let spec = args
+        .first()
+        .ok_or("usage: adaptive_preprocess MESH.obj [ISOLATION]")?;
+    let isolation: u32 = args.get(1).map_or(Ok(2), |s| s.parse())?;
+    let options = ObjOptions::default();
+    let mesh = ControlMesh::from_obj_file(spec, &options)?;
+    let topo = Arc::new(Topology::new(&mesh)?);
+    let base = Level::from_topology((*topo).clone());
+    let t = Instant::now();
+    let refinement = AdaptiveRefinement::new(&base, isolation)?;
+    println!("AdaptiveRefinement::new {:.3} s", t.elapsed().as_secs_f64());
+    let t = Instant::now();
+    let draw = AdaptiveDrawTables::new(&refinement)?;
+    println!(
+        "AdaptiveDrawTables::new {:.3} s ({} end caps, {} row terms)",
+        t.elapsed().as_secs_f64(),
+        draw.end_caps.len(),
+        draw.rows.ids.len()
+    );
+    drop(draw);
+    let faces: Vec<u32> = (0..topo.face_count() as u32).collect();
+    let opts = PlanOptions::new(SchemeLimits::NO_DEVICE).with_isolation(isolation);
+    let t = Instant::now();
+    AdaptiveTables::new(&topo, &faces, &opts).map_err(|(f, e)| format!("face {f}: {e}"))?;
+    println!("AdaptiveTables::new {:.3} s", t.elapsed().as_secs_f64());
+    Ok(())
+}

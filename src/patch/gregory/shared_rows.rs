@@ -1,0 +1,303 @@
+//! The sparse end-cap rows of [`super::stencil_table::sparse_face_rows_direct`] computed once per
+//! connectivity type (Loop et al. 2009 §4.3, as [`super::stencil_table::GregoryStencilTable`]
+//! shares f32 types): faces whose local topology reads the same in the slots of their canonical
+//! ring ([`super::stencil::canonical_ring`]) run the very same construction steps on the same slots, so their
+//! rows are one set of weights over slots, relabelled with each face's global ids.
+//!
+//! Why the bits agree: a row weight of the direct construction is the sequence of
+//! `a + w * b` updates the construction applies to that vertex's entry, in construction order;
+//! the order follows the topology walk (rings, faces, edges in the topology's order), never the
+//! vertex ids, and ids only decide where an entry sits in the sorted row. The [`TypeKey`]
+//! records everything the construction reads (face sizes and vertex slots of every face around
+//! every corner, each corner's edges with their other end, sharpness bits and face counts, and
+//! whether each edge neighbour gets a patch), so two faces with equal keys produce equal rows
+//! slot by slot. A face whose rows leave its ring, or that gets no patch, is built directly.
+
+use std::collections::HashMap;
+
+use super::build::{check_face_for, gregory_vertex_for, Coverage, NotGregory};
+use super::point::Weights;
+use super::stencil::ring_walk;
+use super::stencil_table::sparse_face_rows_direct;
+use super::tangents::GregoryTangents;
+use crate::topology::Topology;
+
+const NONE: u32 = u32::MAX;
+
+/// The local topology of a face as its construction reads it, in canonical-ring slots.
+type TypeKey = Vec<u32>;
+
+/// Rows over ring slots: `(slot, weight)` in the direct construction's values.
+type LocalRows = Vec<Vec<(u32, f64)>>;
+
+/// Per-call state: the slot of each vertex of the face being keyed, and which vertices get
+/// per-vertex Gregory data (decided on the topology alone, with scalar points).
+struct Keyer<'a> {
+    topo: &'a Topology,
+    tangents: GregoryTangents,
+    slot: Vec<u32>,
+    has_data: Vec<u8>,
+}
+
+impl Keyer<'_> {
+    /// Whether vertex `v` gets per-vertex data ([`gregory_vertex_for`] is `Some`): topology only,
+    /// so the scalar construction answers for the weight one.
+    fn has_data(&mut self, v: u32) -> bool {
+        let h = &mut self.has_data[v as usize];
+        if *h == 2 {
+            let point = |_: u32| 0.0f64;
+            *h = u8::from(
+                gregory_vertex_for(self.topo, v, &point, self.tangents, Coverage::EndCap).is_some(),
+            );
+        }
+        *h == 1
+    }
+
+    /// Whether face `g` gets a patch ([`super::build::gregory_patch_for`] is `Ok`).
+    fn has_patch(&mut self, g: u32) -> bool {
+        check_face_for(self.topo, g, Coverage::EndCap).is_ok()
+            && self.topo.face_vertices(g).iter().all(|&v| self.has_data(v))
+    }
+
+    /// The key of face `f` with canonical ring `ring` (slots set), `None` where a vertex the
+    /// construction reads lies outside the ring.
+    fn key(&mut self, f: u32, ring: &[u32]) -> Option<TypeKey> {
+        let topo = self.topo;
+        let fv = topo.face_vertices(f);
+        let mut key = Vec::with_capacity(16 * ring.len());
+        key.extend([fv.len() as u32, ring.len() as u32]);
+        let slot = |x: u32, slots: &[u32]| match slots[x as usize] {
+            NONE => None,
+            s => Some(s),
+        };
+        for &v in fv {
+            key.push(topo.vertex_sharpness(v).to_bits());
+            let edges = topo.vertex_edges(v);
+            key.push(edges.len() as u32);
+            for &e in edges {
+                key.push(slot(topo.other_vertex(e, v), &self.slot)?);
+                key.push(topo.edge_sharpness(e).to_bits());
+                key.push(topo.edge_faces(e).len() as u32);
+            }
+            let faces = topo.vertex_faces(v);
+            key.push(faces.len() as u32);
+            for &g in faces {
+                let gv = topo.face_vertices(g);
+                key.push(u32::from(g == f) | u32::from(topo.has_limit_surface(g)) << 1);
+                key.push(gv.len() as u32);
+                for &u in gv {
+                    key.push(slot(u, &self.slot)?);
+                }
+            }
+        }
+        let n = fv.len();
+        for k in 0..n {
+            let (x, y) = (fv[k], fv[(k + 1) % n]);
+            let across = topo
+                .find_edge(x, y)
+                .and_then(|e| topo.edge_faces(e).iter().copied().find(|&g| g != f));
+            match across {
+                Some(g) => {
+                    let at = topo.vertex_faces(x).iter().position(|&h| h == g)?;
+                    key.push(at as u32);
+                    key.push(u32::from(self.has_patch(g)));
+                }
+                None => key.push(NONE),
+            }
+        }
+        Some(key)
+    }
+}
+
+/// [`super::stencil::canonical_ring`] of face `f` with `slot` (all [`NONE`] on entry) set to each ring vertex's
+/// slot: the same list, with the membership test in `slot` instead of a scan (rings around a
+/// valence-1000 vertex have thousands of vertices).
+fn ring_slots(topo: &Topology, f: u32, slot: &mut [u32]) -> Vec<u32> {
+    let mut out: Vec<u32> = Vec::new();
+    ring_walk(topo, f, |x| {
+        if slot[x as usize] == NONE {
+            slot[x as usize] = out.len() as u32;
+            out.push(x);
+        }
+    });
+    out
+}
+
+/// `rows` over slots, or `None` when a weight lies outside the ring.
+fn to_slots(rows: &[Weights], slot: &[u32]) -> Option<LocalRows> {
+    rows.iter()
+        .map(|w| {
+            w.0.iter()
+                .map(|&(v, x)| match slot[v as usize] {
+                    NONE => None,
+                    s => Some((s, x)),
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// `rows` with slots replaced by the ids of `ring`, ascending ids.
+fn from_slots(rows: &LocalRows, ring: &[u32]) -> Vec<Weights> {
+    rows.iter()
+        .map(|r| {
+            let mut w: Vec<(u32, f64)> = r.iter().map(|&(s, x)| (ring[s as usize], x)).collect();
+            w.sort_unstable_by_key(|&(v, _)| v);
+            Weights(w)
+        })
+        .collect()
+}
+
+/// [`sparse_face_rows_direct`] with the construction run once per connectivity type (module
+/// docs): bitwise the same rows.
+pub fn sparse_face_rows(
+    topo: &Topology,
+    faces: &[u32],
+    tangents: GregoryTangents,
+) -> Vec<Result<Vec<Weights>, NotGregory>> {
+    let mut keyer = Keyer {
+        topo,
+        tangents,
+        slot: vec![NONE; topo.vertex_count()],
+        has_data: vec![2; topo.vertex_count()],
+    };
+    // Pass 1: each face's connectivity type (`None`: built directly), the first face of each
+    // type its representative.
+    let mut types: HashMap<TypeKey, u32> = HashMap::new();
+    let mut type_of: Vec<Option<u32>> = Vec::with_capacity(faces.len());
+    let mut representative: Vec<usize> = Vec::new();
+    for (i, &f) in faces.iter().enumerate() {
+        let ring = ring_slots(topo, f, &mut keyer.slot);
+        let t = keyer.key(f, &ring).map(|key| {
+            let next = types.len() as u32;
+            let t = *types.entry(key).or_insert(next);
+            if t == next {
+                representative.push(i);
+            }
+            t
+        });
+        clear(&mut keyer.slot, &ring);
+        type_of.push(t);
+    }
+    // Pass 2: the representatives and the faces without type, directly, in one batch (one
+    // vertex's data serves all its faces).
+    let is_rep = |i: usize, t: Option<u32>| t.is_none_or(|t| representative[t as usize] == i);
+    let batch = |pick: &dyn Fn(usize) -> bool| -> Vec<usize> {
+        (0..faces.len()).filter(|&i| pick(i)).collect()
+    };
+    let first = batch(&|i| is_rep(i, type_of[i]));
+    let mut rows: Vec<Option<Result<Vec<Weights>, NotGregory>>> =
+        (0..faces.len()).map(|_| None).collect();
+    let first_faces: Vec<u32> = first.iter().map(|&i| faces[i]).collect();
+    for (&i, r) in first
+        .iter()
+        .zip(sparse_face_rows_direct(topo, &first_faces, tangents))
+    {
+        rows[i] = Some(r);
+    }
+    // Rows over slots per type: `None` where the representative has no patch or its rows leave
+    // its ring (then every face of the type is built directly), or it is the type's only face.
+    let mut members = vec![0u32; representative.len()];
+    for t in type_of.iter().flatten() {
+        members[*t as usize] += 1;
+    }
+    let local: Vec<Option<LocalRows>> = representative
+        .iter()
+        .zip(&members)
+        .map(|(&i, &m)| {
+            if m == 1 {
+                return None;
+            }
+            let ring = ring_slots(topo, faces[i], &mut keyer.slot);
+            let local = match &rows[i] {
+                Some(Ok(r)) => to_slots(r, &keyer.slot),
+                _ => None,
+            };
+            clear(&mut keyer.slot, &ring);
+            local
+        })
+        .collect();
+    // Pass 3: faces of a type without local rows, directly in a second batch; the others
+    // relabelled.
+    let second =
+        batch(&|i| rows[i].is_none() && type_of[i].is_some_and(|t| local[t as usize].is_none()));
+    let second_faces: Vec<u32> = second.iter().map(|&i| faces[i]).collect();
+    for (&i, r) in second
+        .iter()
+        .zip(sparse_face_rows_direct(topo, &second_faces, tangents))
+    {
+        rows[i] = Some(r);
+    }
+    let out = rows
+        .into_iter()
+        .enumerate()
+        .map(|(i, r)| {
+            r.unwrap_or_else(|| {
+                let ring = ring_slots(topo, faces[i], &mut keyer.slot);
+                clear(&mut keyer.slot, &ring);
+                let t = type_of[i].expect("faces without type are built in the first batch");
+                let local = local[t as usize].as_ref();
+                Ok(from_slots(
+                    local.expect("types without rows are built in the second batch"),
+                    &ring,
+                ))
+            })
+        })
+        .collect();
+    log::trace!(
+        "end-cap rows: {} faces, {} connectivity types, {} + {} built directly",
+        faces.len(),
+        types.len(),
+        first.len(),
+        second.len()
+    );
+    out
+}
+
+/// Resets the slots of `ring`.
+fn clear(slot: &mut [u32], ring: &[u32]) {
+    for &v in ring {
+        slot[v as usize] = NONE;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{ControlMesh, ControlMeshDesc};
+    use crate::patch::gregory::stencil::canonical_ring;
+    use glam::DVec3;
+
+    #[test]
+    fn ring_slots_is_the_canonical_ring() {
+        // A pyramid over a pentagon: triangles, a pentagon, valences 3 and 5.
+        let mut positions: Vec<DVec3> = (0..5)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 5.0;
+                DVec3::new(a.cos(), a.sin(), 0.0)
+            })
+            .collect();
+        positions.push(DVec3::Z);
+        let mut face_vertices = vec![4, 3, 2, 1, 0];
+        for k in 0..5 {
+            face_vertices.extend([k, (k + 1) % 5, 5]);
+        }
+        let mesh = ControlMesh::new(ControlMeshDesc {
+            positions,
+            face_sizes: vec![5, 3, 3, 3, 3, 3],
+            face_vertices,
+            ..Default::default()
+        })
+        .unwrap();
+        let topo = Topology::new(&mesh).unwrap();
+        let mut slot = vec![NONE; topo.vertex_count()];
+        for f in 0..topo.face_count() as u32 {
+            let ring = ring_slots(&topo, f, &mut slot);
+            assert_eq!(ring, canonical_ring(&topo, f));
+            for (s, &v) in ring.iter().enumerate() {
+                assert_eq!(slot[v as usize], s as u32);
+                slot[v as usize] = NONE;
+            }
+        }
+    }
+}
