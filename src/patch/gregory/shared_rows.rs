@@ -7,7 +7,7 @@
 //! Why the bits agree: a row weight of the direct construction is the sequence of
 //! `a + w * b` updates the construction applies to that vertex's entry, in construction order;
 //! the order follows the topology walk (rings, faces, edges in the topology's order), never the
-//! vertex ids, and ids only decide where an entry sits in the sorted row. The [`TypeKey`]
+//! vertex ids, and ids only decide where an entry sits in the sorted row. The `TypeKey`
 //! records everything the construction reads (face sizes and vertex slots of every face around
 //! every corner, each corner's edges with their other end, sharpness bits and face counts, and
 //! whether each edge neighbour gets a patch), so two faces with equal keys produce equal rows
