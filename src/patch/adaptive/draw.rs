@@ -17,16 +17,14 @@ use super::error::DrawTablesError;
 use super::records::{
     words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
 };
-use super::rows::{
-    bspline_corner_rows, gregory_corner_rows, single_crease_corner_rows, SparseRows,
-};
+use super::rows::{corners_exact_first, SparseRows};
 use super::sector_frames::SectorFrames;
 use super::slots::{Slots, NONE};
 use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure};
 use crate::patch::edge_grid::PATCH_EDGES;
 use crate::patch::gregory::edge_flags::{edge_flags, Across};
 use crate::patch::gregory::shared_rows::sparse_face_rows;
-use crate::patch::gregory::{one_face_crease_sector, GregoryTangents, Weights};
+use crate::patch::gregory::{GregoryTangents, Weights};
 use crate::patch::single_crease::{gpu_cvs, Rotation, SingleCreasePatch};
 use crate::patch::RegularPatch;
 use crate::subdiv::adaptive::{AdaptiveRefinement, Domain, PatchCensus, PatchType};
@@ -119,36 +117,15 @@ fn slot_rows(
 ) -> (SparseRows, Vec<bool>) {
     let mut frames: Vec<Option<[Weights; 3]>> = vec![None; slots.len()];
     let mut shared = vec![false; slots.len()];
-    let mut cap_of = Vec::with_capacity(census.patches.len());
-    let mut cap = 0;
-    for p in &census.patches {
-        cap_of.push(cap);
-        cap += usize::from(p.bspline.is_none());
-    }
-    for end_caps in [false, true] {
-        for (p, &cap) in census.patches.iter().zip(&cap_of) {
-            if p.bspline.is_none() != end_caps {
-                continue;
-            }
-            let lev = &refinement.levels[p.level as usize];
-            let fv = lev.topology().face_vertices(p.face);
-            for (k, &v) in fv.iter().enumerate() {
-                let s = slots.of(lev.global(v)) as usize;
-                if frames[s].is_some() {
-                    continue;
-                }
-                frames[s] = Some(match (&p.crease, &p.bspline) {
-                    (Some(line), _) => single_crease_corner_rows(line, k),
-                    (None, Some(b)) => bspline_corner_rows(b, k),
-                    (None, None) => {
-                        let singular = one_face_crease_sector(lev.topology(), v, p.face);
-                        gregory_corner_rows(&caps[cap], fv.len(), k, singular)
-                    }
-                });
-                shared[s] = single_normal_vertex(lev.topology(), v);
-            }
+    corners_exact_first(refinement, census, caps, |c, rows| {
+        let p = &census.patches[c.patch];
+        let lev = &refinement.levels[p.level as usize];
+        let s = slots.of(lev.global(c.vertex)) as usize;
+        if frames[s].is_none() {
+            frames[s] = Some(rows());
+            shared[s] = single_normal_vertex(lev.topology(), c.vertex);
         }
-    }
+    });
     let mut rows = SparseRows::new();
     for f in frames.iter().flatten() {
         for r in f {

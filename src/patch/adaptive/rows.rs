@@ -3,11 +3,67 @@
 
 use glam::DVec3;
 
-use crate::patch::gregory::{GregoryPoint, Weights};
+use crate::patch::gregory::{one_face_crease_sector, GregoryPoint, Weights};
 use crate::patch::single_crease::SingleCreasePatch;
 use crate::patch::RegularPatch;
+use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus};
 use crate::subdiv::bspline::{bspline, bspline_deriv};
 use crate::subdiv::single_crease::CreaseLine;
+
+/// A patch corner as [`corners_exact_first`] visits it.
+pub struct PatchCorner {
+    /// Census index of the patch.
+    pub patch: usize,
+    /// Face corner.
+    pub k: usize,
+    /// Its vertex in the patch's level.
+    pub vertex: u32,
+    /// Whether the corner lies alone in a crease sector (end caps; `one_face_crease_sector`).
+    pub singular: bool,
+}
+
+/// Visits every corner of every census patch, exact patches (B-spline, single-crease) first,
+/// then end caps (whose Gregory corners are built without semi-sharpness): the order in which
+/// frames take their rows from the first patch with that corner. `visit` gets the corner and
+/// a function computing its rows (position, d/du, d/dv) over the global refined vertices;
+/// `caps` are the end caps' rows in census order.
+pub fn corners_exact_first(
+    refinement: &AdaptiveRefinement,
+    census: &PatchCensus,
+    caps: &[Vec<Weights>],
+    mut visit: impl FnMut(&PatchCorner, &dyn Fn() -> [Weights; 3]),
+) {
+    let mut cap_of = Vec::with_capacity(census.patches.len());
+    let mut cap = 0;
+    for p in &census.patches {
+        cap_of.push(cap);
+        cap += usize::from(p.bspline.is_none());
+    }
+    for end_caps in [false, true] {
+        for (i, (p, &cap)) in census.patches.iter().zip(&cap_of).enumerate() {
+            if p.bspline.is_none() != end_caps {
+                continue;
+            }
+            let t = refinement.levels[p.level as usize].topology();
+            let fv = t.face_vertices(p.face);
+            for (k, &v) in fv.iter().enumerate() {
+                let singular = end_caps && one_face_crease_sector(t, v, p.face);
+                let rows = || match (&p.crease, &p.bspline) {
+                    (Some(line), _) => single_crease_corner_rows(line, k),
+                    (None, Some(b)) => bspline_corner_rows(b, k),
+                    (None, None) => gregory_corner_rows(&caps[cap], fv.len(), k, singular),
+                };
+                let corner = PatchCorner {
+                    patch: i,
+                    k,
+                    vertex: v,
+                    singular,
+                };
+                visit(&corner, &rows);
+            }
+        }
+    }
+}
 
 /// Rows of sparse weights: row `r` is terms `offsets[r]..offsets[r + 1]` of `ids` / `weights`,
 /// ids ascending (the summation order, so a row two patches share sums to the same bits), zero

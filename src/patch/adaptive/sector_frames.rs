@@ -19,10 +19,10 @@
 
 use std::collections::HashMap;
 
-use super::rows::{bspline_corner_rows, gregory_corner_rows, single_crease_corner_rows};
+use super::rows::corners_exact_first;
 use super::slots::{Slots, NONE};
 use crate::mesh::INFINITE_SHARPNESS;
-use crate::patch::gregory::{one_face_crease_sector, Weights};
+use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus};
 use crate::topology::{sector_count, sector_faces};
 
@@ -88,39 +88,16 @@ impl SectorFrames {
         // from end caps' corners (the Gregory corner's plane is the sector's: its edge points
         // lie in it), except in one-face crease sectors, whose corner normal the GPU takes
         // from the face points instead (`gregory_corner_normal`).
-        let mut cap_of = Vec::with_capacity(census.patches.len());
-        let mut cap = 0;
-        for p in &census.patches {
-            cap_of.push(cap);
-            cap += usize::from(p.bspline.is_none());
-        }
-        for end_caps in [false, true] {
-            for ((p, keys), &cap) in census.patches.iter().zip(&corner_keys).zip(&cap_of) {
-                if p.bspline.is_none() != end_caps {
-                    continue;
-                }
-                let lev = &refinement.levels[p.level as usize];
-                let fv = lev.topology().face_vertices(p.face);
-                for (k, key) in keys.iter().enumerate() {
-                    let Some(key) = key else { continue };
-                    if index.contains_key(key) {
-                        continue;
-                    }
-                    let rows = match (&p.crease, &p.bspline) {
-                        (Some(line), _) => single_crease_corner_rows(line, k),
-                        (None, Some(b)) => bspline_corner_rows(b, k),
-                        (None, None) => {
-                            if one_face_crease_sector(lev.topology(), fv[k], p.face) {
-                                continue;
-                            }
-                            gregory_corner_rows(&caps[cap], fv.len(), k, false)
-                        }
-                    };
-                    out.rows.push(rows);
-                    index.insert(*key, first + (out.rows.len() - 1) as u32);
-                }
+        corners_exact_first(refinement, census, caps, |c, rows| {
+            let Some(key) = corner_keys[c.patch][c.k] else {
+                return;
+            };
+            if c.singular || index.contains_key(&key) {
+                return;
             }
-        }
+            out.rows.push(rows());
+            index.insert(key, first + (out.rows.len() - 1) as u32);
+        });
         let frame = |key: Option<SectorKey>| key.and_then(|k| index.get(&k).copied());
         for ((p, keys), mids) in census.patches.iter().zip(&corner_keys).zip(mid_slots) {
             out.corners.push(keys.map(|k| frame(k).unwrap_or(NONE)));
