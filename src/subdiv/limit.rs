@@ -31,7 +31,7 @@ use rayon::prelude::*;
 
 use super::{Level, SparseMatrix, StencilTable};
 use crate::mesh::INFINITE_SHARPNESS;
-use crate::topology::Topology;
+use crate::topology::sector_slots;
 use crate::{Error, Result};
 
 /// Limit position and two tangent masks of one vertex, as weights over vertices of a level.
@@ -255,28 +255,6 @@ pub fn face_point_mask(level: &Level, f: u32) -> Result<VertexMask> {
     Ok(pull_back(&cm, &r, &map))
 }
 
-/// Face slots of `v`'s sector containing face slot `i` (between infinitely sharp edges), in
-/// counter-clockwise order.
-fn sector(topo: &Topology, v: u32, i: usize) -> Vec<usize> {
-    let nf = topo.vertex_faces(v).len();
-    let edges = topo.vertex_edges(v);
-    let ne = edges.len();
-    let sharp = |k: usize| is_inf(topo.edge_sharpness(edges[k % ne]));
-    let mut lo = i;
-    let mut count = 1;
-    while !sharp(lo) && count < nf {
-        lo = (lo + nf - 1) % nf;
-        count += 1;
-    }
-    let mut out = vec![lo];
-    let mut j = lo;
-    while out.len() < nf && !sharp(j + 1) {
-        j = (j + 1) % nf;
-        out.push(j);
-    }
-    out
-}
-
 /// Mask from the eigenvectors of the local subdivision matrix restricted to the face's sector
 /// (sectors between infinitely sharp edges do not interact: crease and corner rules only read
 /// the sharp edges' ends).
@@ -298,7 +276,7 @@ fn eigen_mask(level: &Level, v: u32, i: usize, sharp: usize, depth: u32) -> Resu
         .iter()
         .position(|&g| g == i as u32)
         .ok_or_else(fail)?;
-    let sec = sector(st, v_sub, i_sub);
+    let sec = sector_slots(st, v_sub, i_sub);
     // Sector ring (sub-level vertex ids) and, for each, the child vertex that replaces it.
     let mut ring: Vec<u32> = vec![v_sub];
     let mut child_of: Vec<(u32, u32)> = vec![(nf_sub + ne_sub + v_sub, v_sub)];

@@ -19,7 +19,7 @@ pub mod sectors;
 pub(crate) use build::build;
 pub(crate) use connectivity::NONE;
 pub use connectivity::{FaceClass, Topology};
-pub use sectors::{is_sharp_edge, sector_count, sector_faces, single_normal_vertex};
+pub use sectors::{is_sharp_edge, sector_count, sector_faces, sector_slots, single_normal_vertex};
 
 #[cfg(test)]
 mod tests;

@@ -25,25 +25,40 @@ pub fn sector_count(topo: &Topology, v: u32) -> usize {
     }
 }
 
-/// The faces of the sector of face `f` around vertex `v`: `f` and the faces joined to it across
-/// the non-sharp edges at `v` (all of `v`'s faces when no sharp edge splits them).
-pub fn sector_faces(topo: &Topology, v: u32, f: u32) -> Vec<u32> {
-    let ring = topo.vertex_edges(v);
-    let (mut seen, mut stack) = (vec![f], vec![f]);
-    while let Some(g) = stack.pop() {
-        for &e in topo.face_edges(g) {
-            if !ring.contains(&e) || is_sharp_edge(topo, e) {
-                continue;
-            }
-            for &h in topo.edge_faces(e) {
-                if !seen.contains(&h) {
-                    seen.push(h);
-                    stack.push(h);
-                }
-            }
-        }
+/// Face slots (indices into `vertex_faces(v)`) of `v`'s sector containing face slot `i`
+/// (between infinitely sharp edges, boundary edges included by the boundary rule), in
+/// counter-clockwise order; every slot when no sharp edge splits the ring.
+pub fn sector_slots(topo: &Topology, v: u32, i: usize) -> Vec<usize> {
+    let nf = topo.vertex_faces(v).len();
+    let edges = topo.vertex_edges(v);
+    let ne = edges.len();
+    let sharp = |k: usize| topo.edge_sharpness(edges[k % ne]) >= INFINITE_SHARPNESS;
+    let mut lo = i;
+    let mut count = 1;
+    while !sharp(lo) && count < nf {
+        lo = (lo + nf - 1) % nf;
+        count += 1;
     }
-    seen
+    let mut out = vec![lo];
+    let mut j = lo;
+    while out.len() < nf && !sharp(j + 1) {
+        j = (j + 1) % nf;
+        out.push(j);
+    }
+    out
+}
+
+/// The faces of the sector of face `f` around vertex `v` ([`sector_slots`]; `f` alone if it is
+/// not one of `v`'s faces).
+pub fn sector_faces(topo: &Topology, v: u32, f: u32) -> Vec<u32> {
+    let faces = topo.vertex_faces(v);
+    match faces.iter().position(|&g| g == f) {
+        Some(i) => sector_slots(topo, v, i)
+            .into_iter()
+            .map(|k| faces[k])
+            .collect(),
+        None => vec![f],
+    }
 }
 
 /// Whether every patch at vertex `v` has the same limit normal there (one sector: smooth
