@@ -360,6 +360,11 @@ fn eigen_mask(level: &Level, v: u32, i: usize, sharp: usize, depth: u32) -> Resu
             orient(&s, &mut lim, [ring.a, opposite, ring.b]);
         }
         lim
+    } else if sharp == 1 && corner_rule && sec.len() == 4 && m == 9 {
+        // A corner tag with one sharp edge and four quads: tied modes, a normal per face
+        // ([`sector::corner_tag4`]; the ring starts at the sharp edge).
+        let face = sec.iter().position(|&k| k == i_sub).ok_or_else(fail)?;
+        sector::corner_tag4(&s, face).ok_or_else(fail)?
     } else {
         let a = pos_in_ring(st.other_vertex(sub_edges[i_sub], v_sub)).ok_or_else(fail)?;
         let b =

@@ -108,6 +108,85 @@ fn corner3(s: &Dense, r: &SectorRing) -> Option<EigenLimit> {
     })
 }
 
+/// Right eigenvector of the leading mode (0.6111) of a corner-tagged vertex with four quads and
+/// one sharp edge on the ring `(v, e_0 .. e_3, f_0 .. f_3)`, `e_0` the sharp edge's far end:
+/// zero on the sharp edge, symmetric about it (`f_0 = f_3 = sqrt 2 - 1`). Inverse iteration on
+/// the ring matrix written from the rules (tests/limit_corners.rs rebuilds it from `refine`).
+const TAG4_MODE: [f64; 9] = [
+    0.0,
+    0.0,
+    0.598_317_451_815_773_8,
+    0.846_148_654_962_378_3,
+    0.598_317_451_815_773_8,
+    0.414_213_562_373_095,
+    1.0,
+    1.0,
+    0.414_213_562_373_095,
+];
+
+/// `d phi / du : d phi / dv` of that eigenfunction at the diagonal points `(2^-k, 2^-k)` of faces
+/// 0 and 1 (`u` along `e_j`, `v` along `e_{j+1}`); faces 3 and 2 are their mirror images (`u`, `v`
+/// swapped). From the face's tangents at `(2^-16, 2^-16)` projected on the mode (the ratio agrees
+/// to 1e-12 between `2^-20` and `2^-24`; tests/limit_corners.rs).
+const TAG4_RATIO: [f64; 2] = [-0.262_698_010_402_848_6, 0.545_792_811_746_672_8];
+
+/// Corner tag with one sharp edge and four quads (spectrum 1, 0.6111, 1/2, 1/2, 0.3657, ...):
+/// the second place is a tie of two modes whose right eigenvectors are the linear functions `x`,
+/// `y` of the flat layout (`e_j` at `j` quarter turns from the sharp edge), so, as in the
+/// three-face corner sector, every face has its own normal: along face `j`'s diagonal the normal
+/// tends to `c_1 x (-G_y c_x + G_x c_y)`, `G` the layout gradient of the 0.6111 eigenfunction
+/// there ([`TAG4_RATIO`]) and `c_x`, `c_y` the coefficients of the `1/2` left eigenvectors dual
+/// to `x`, `y` (deflated power iteration of `2 S` from `e_0 - v` and `e_1 - v`, which pair with
+/// `x`, `y` as the duals do).
+pub fn corner_tag4(s: &Dense, face: usize) -> Option<EigenLimit> {
+    if s.m != TAG4_MODE.len() || face >= 4 {
+        return None;
+    }
+    let l0 = masks::dominant(s, 0)?;
+    let l1 = masks::subdominant(s, 0, TAG4_MODE.to_vec())?;
+    let p1 = masks::dot(&l1, &TAG4_MODE);
+    if p1.abs() < 1e-12 {
+        return None;
+    }
+    let t1: Vec<f64> = l1.iter().map(|x| p1.signum() * x).collect();
+    // Component on the left eigenspace of 1/2: the constant and the 0.6111 mode deflated every
+    // step, the rest (0.3657 and below) decays by 0.73 per step.
+    let half = |start: Vec<f64>| -> Option<Vec<f64>> {
+        let mut x = start;
+        for _ in 0..400 {
+            let mut y: Vec<f64> = s.left_mul(&x).iter().map(|v| 2.0 * v).collect();
+            let c: f64 = y.iter().sum();
+            let d = masks::dot(&y, &TAG4_MODE) / p1;
+            for ((yi, a), b) in y.iter_mut().zip(&l0).zip(&l1) {
+                *yi -= c * a + d * b;
+            }
+            let diff: f64 = y.iter().zip(&x).map(|(a, b)| (a - b).abs()).sum();
+            x = y;
+            if diff < 1e-15 {
+                return Some(x);
+            }
+        }
+        None
+    };
+    let (lx, ly) = (half(edge(s.m, 1))?, half(edge(s.m, 2))?);
+    let quarter = |j: usize| [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)][j % 4];
+    let (gu, gv) = match face {
+        0 => (TAG4_RATIO[0], 1.0),
+        1 => (TAG4_RATIO[1], 1.0),
+        2 => (1.0, TAG4_RATIO[1]),
+        _ => (1.0, TAG4_RATIO[0]),
+    };
+    let (a, b) = (quarter(face), quarter(face + 1));
+    let g = (gu * a.0 + gv * b.0, gu * a.1 + gv * b.1);
+    let t2 = combine(&lx, -g.1, &ly, g.0);
+    let mut position = vec![0.0; s.m];
+    position[0] = 1.0;
+    Some(EigenLimit {
+        position,
+        tangents: [t1, t2],
+    })
+}
+
 /// Whether [`sector_limit`] orients the pair exactly (corner sectors of up to three faces: the
 /// sharp edges' tangents in counter-clockwise order, or the three-face formula); elsewhere the
 /// caller orients it by the face ([`masks::face_orientation`]).
