@@ -44,7 +44,9 @@ use crate::{Error, Result};
 /// [`sector`] tabulates (crease tangent and cross mode, both sharp edges' tangents, or the
 /// leading modes); darts, corner tags without sharp edges (cusps, whose normal is
 /// perpendicular to the cusp axis) and other cases the two leading eigenvectors of the local
-/// subdivision matrix. Valence-2 vertices use the two positive 1/4 modes.
+/// subdivision matrix; a corner tag with one sharp edge and four quads, where the second place is
+/// a tie, a per-face mix ([`sector::corner_tag4`]). Valence-2 vertices use the two positive 1/4
+/// modes.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct VertexMask {
     /// Vertex indices of the level.

@@ -22,6 +22,9 @@
 //! eigenvector is `e_lo - e_hi`, the crease tangent. From five faces on two interior modes exceed
 //! 1/2 and the sharp edges' tangents leave the tangent plane (the surface is not tangent-plane
 //! continuous along the sharp edges at such a vertex; each face still has one limit normal).
+//!
+//! A corner-tagged vertex with one sharp edge and four quads (a four-face corner sector whose two
+//! sharp edges are one) has the tie without the Jordan block: 0.6111, 1/2, 1/2 ([`corner_tag4`]).
 
 use super::masks::{self, Dense, EigenLimit};
 
