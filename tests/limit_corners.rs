@@ -834,7 +834,6 @@ fn least_squares_lead(
     }
     // Q^T y by the same sweep on y (modified Gram-Schmidt on [A | y], which stays accurate when
     // the columns of Q lose their orthogonality; the scaled system's condition is ~1e11).
-    let mut y = y;
     let mut qty = vec![DVec3::ZERO; n];
     for (j, t) in qty.iter_mut().enumerate() {
         *t = (0..rows).map(|i| a[i][j] * y[i]).sum();

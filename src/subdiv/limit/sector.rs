@@ -138,7 +138,7 @@ const TAG4_RATIO: [f64; 2] = [-0.262_698_010_402_848_6, 0.545_792_811_746_672_8]
 /// `y` of the flat layout (`e_j` at `j` quarter turns from the sharp edge), so, as in the
 /// three-face corner sector, every face has its own normal: along face `j`'s diagonal the normal
 /// tends to `c_1 x (-G_y c_x + G_x c_y)`, `G` the layout gradient of the 0.6111 eigenfunction
-/// there ([`TAG4_RATIO`]) and `c_x`, `c_y` the coefficients of the `1/2` left eigenvectors dual
+/// there (`TAG4_RATIO`) and `c_x`, `c_y` the coefficients of the `1/2` left eigenvectors dual
 /// to `x`, `y` (deflated power iteration of `2 S` from `e_0 - v` and `e_1 - v`, which pair with
 /// `x`, `y` as the duals do).
 pub fn corner_tag4(s: &Dense, face: usize) -> Option<EigenLimit> {
