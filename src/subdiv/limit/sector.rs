@@ -114,7 +114,8 @@ fn corner3(s: &Dense, r: &SectorRing) -> Option<EigenLimit> {
 /// Right eigenvector of the leading mode (0.6111) of a corner-tagged vertex with four quads and
 /// one sharp edge on the ring `(v, e_0 .. e_3, f_0 .. f_3)`, `e_0` the sharp edge's far end:
 /// zero on the sharp edge, symmetric about it (`f_0 = f_3 = sqrt 2 - 1`). Inverse iteration on
-/// the ring matrix written from the rules (tests/limit_corners.rs rebuilds it from `refine`).
+/// the ring matrix written from the rules (checked below; tests/limit_corners.rs builds the ring
+/// matrix from `refine`).
 const TAG4_MODE: [f64; 9] = [
     0.0,
     0.0,
@@ -299,6 +300,75 @@ mod tests {
         ] {
             let got = leading(&sector_matrix(k, corner));
             assert!((got - want).abs() < 1e-5, "k={k} corner={corner}: {got}");
+        }
+    }
+
+    /// The ring matrix of a corner-tagged vertex with four quads and one sharp edge (`e_0`) from
+    /// the rules: the vertex stays, the sharp edge's midpoint, smooth edge points, face points.
+    fn corner_tag4_matrix() -> Dense {
+        let m = 9;
+        let (e, f) = (|i: usize| 1 + i % 4, |i: usize| 5 + i % 4);
+        let face = |i: usize| {
+            let mut r = vec![0.0; m];
+            for x in [0, e(i), e(i + 1), f(i)] {
+                r[x] += 0.25;
+            }
+            r
+        };
+        let mut a = vec![0.0; m * m];
+        a[0] = 1.0;
+        a[e(0) * m] = 0.5;
+        a[e(0) * m + e(0)] = 0.5;
+        for j in 1..4 {
+            let (p, q) = (face(j - 1), face(j));
+            for c in 0..m {
+                a[e(j) * m + c] = 0.25 * (p[c] + q[c]);
+            }
+            a[e(j) * m] += 0.25;
+            a[e(j) * m + e(j)] += 0.25;
+        }
+        for i in 0..4 {
+            a[f(i) * m..(f(i) + 1) * m].copy_from_slice(&face(i));
+        }
+        Dense { m, a }
+    }
+
+    #[test]
+    fn corner_tag4_modes_are_right_eigenvectors() {
+        let s = corner_tag4_matrix();
+        let m = s.m;
+        let apply = |r: &[f64]| -> Vec<f64> {
+            (0..m)
+                .map(|i| (0..m).map(|c| s.a[i * m + c] * r[c]).sum())
+                .collect()
+        };
+        let sr = apply(&TAG4_MODE);
+        for (x, y) in sr.iter().zip(TAG4_MODE) {
+            assert!((x - 0.611_116_526_694_538_8 * y).abs() < 1e-12, "{sr:?}");
+        }
+        // The flat layout's linear functions (e_j at j quarter turns, f_j = e_j + e_{j+1}).
+        let quarter = [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)];
+        for axis in 0..2 {
+            let c = |j: usize| {
+                if axis == 0 {
+                    quarter[j % 4].0
+                } else {
+                    quarter[j % 4].1
+                }
+            };
+            let mut r = vec![0.0; m];
+            for j in 0..4 {
+                r[1 + j] = c(j);
+                r[5 + j] = c(j) + c(j + 1);
+            }
+            for (x, y) in apply(&r).iter().zip(&r) {
+                assert!((x - 0.5 * y).abs() < 1e-15, "axis {axis}");
+            }
+        }
+        // Every face gets a tangent pair.
+        for face in 0..4 {
+            let lim = corner_tag4(&s, face).unwrap();
+            assert!(masks::dot(&lim.tangents[1], &lim.tangents[1]) > 1e-6);
         }
     }
 
