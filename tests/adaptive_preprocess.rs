@@ -58,7 +58,7 @@ fn check(name: &str, mesh: &ControlMesh, isolations: &[u32]) {
         let census = PatchCensus::new(&r);
         let mut caps = 0;
         for (l, lev) in r.levels.iter().enumerate() {
-            let t = lev.topology().without_semi_sharpness();
+            let t = r.end_cap_topology(l);
             let faces: Vec<u32> = census
                 .patches
                 .iter()
