@@ -203,10 +203,11 @@ impl AdaptiveOptions {
 /// level either way; only the end caps' corner and edge rules differ.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum EndCapSharpness {
-    /// Residual sharpness `s >= 1` infinitely sharp, `s < 1` smooth: the limit keeps such a
-    /// crease for `s` more levels and rounds it only within about `2^-s` of the patch
+    /// Edges of residual sharpness `s >= 1` infinitely sharp, `s < 1` smooth: the limit keeps
+    /// such a crease for `s` more levels and rounds it only within about `2^-s` of the patch
     /// (Nießner, Loop, Greiner 2012 §3), so the crease rules of the Gregory construction (Loop
-    /// et al. 2009 §4.6) are the closer stand-in.
+    /// et al. 2009 §4.6) are the closer stand-in. Semi-sharp vertex tags stay smooth: as
+    /// infinitely sharp ones they would make cone points, measured no closer (README).
     #[default]
     Crease,
     /// Residual semi-sharpness smooth, infinitely sharp tags kept, as OpenSubdiv's Gregory-basis
@@ -216,8 +217,7 @@ pub enum EndCapSharpness {
 }
 
 impl EndCapSharpness {
-    /// Residual sharpness from which [`EndCapSharpness::Crease`] makes an edge or vertex
-    /// infinitely sharp.
+    /// Residual sharpness from which [`EndCapSharpness::Crease`] makes an edge infinitely sharp.
     pub const CREASE_FROM: f32 = 1.0;
 
     /// `level`'s topology as the end caps see it.
