@@ -34,9 +34,7 @@ use std::collections::BTreeMap;
 use common::meshes::osd;
 use rayon::prelude::*;
 use tessera::patch::adaptive::{AdaptiveSurface, PatchShape, SurfacePatch};
-use tessera::subdiv::adaptive::{
-    AdaptiveOptions, AdaptiveRefinement, EndCapSharpness, PatchType,
-};
+use tessera::subdiv::adaptive::{AdaptiveOptions, AdaptiveRefinement, EndCapSharpness, PatchType};
 use tessera::subdiv::eval::LimitEvaluator;
 use tessera::subdiv::Level;
 use tessera::ControlMesh;
@@ -220,17 +218,15 @@ fn end_caps_keep_residual_creases() {
                 end_cap_sharpness: mode,
                 ..AdaptiveOptions::new(iso)
             };
-            let r = AdaptiveRefinement::with_options(&Level::from_mesh(&m).unwrap(), options)
-                .unwrap();
+            let r =
+                AdaptiveRefinement::with_options(&Level::from_mesh(&m).unwrap(), options).unwrap();
             let s = AdaptiveSurface::new(&r, m.positions()).unwrap();
             let next_to_crease = |p: &SurfacePatch| {
                 let t = r.levels[p.level as usize].topology();
                 is_end_cap(p)
-                    && t.face_vertices(p.face).iter().any(|&v| {
-                        t.vertex_edges(v)
-                            .iter()
-                            .any(|&e| semi(t.edge_sharpness(e)))
-                    })
+                    && t.face_vertices(p.face)
+                        .iter()
+                        .any(|&v| t.vertex_edges(v).iter().any(|&e| semi(t.edge_sharpness(e))))
             };
             let e = errors(&m, &s, next_to_crease, 8);
             assert!(e.len() > 100, "{name}: {} samples", e.len());
@@ -240,8 +236,16 @@ fn end_caps_keep_residual_creases() {
             "{name} L{iso}: end caps next to semi-sharp creases, RMS crease {:.3e}, smooth {:.3e}",
             rms[0], rms[1]
         );
-        assert!(rms[0] <= bound, "{name}: crease RMS {:e} > {bound:e}", rms[0]);
-        assert!(rms[1] > bound, "{name}: smooth RMS {:e} <= {bound:e}", rms[1]);
+        assert!(
+            rms[0] <= bound,
+            "{name}: crease RMS {:e} > {bound:e}",
+            rms[0]
+        );
+        assert!(
+            rms[1] > bound,
+            "{name}: smooth RMS {:e} <= {bound:e}",
+            rms[1]
+        );
     }
 }
 

@@ -6,12 +6,12 @@ use clap::Args;
 use tessera::gpu::{Context, ContextDesc};
 use tessera::mesh::ObjOptions;
 use tessera::patch::gregory::GregoryTangents;
-use tessera::subdiv::adaptive::EndCapSharpness;
 use tessera::render::displace::DisplacementMap;
 use tessera::render::{
     render_to_image, CameraSpec, ColorBy, FrameReport, OffscreenDesc, RenderDesc, Scheme, Spacing,
     SurfaceData, TessMode, TessSettings, UpAxis,
 };
+use tessera::subdiv::adaptive::EndCapSharpness;
 use tessera::{ControlMesh, Error, Result};
 
 /// Arguments of `tessera render`.

@@ -244,7 +244,9 @@ impl std::str::FromStr for EndCapSharpness {
         match s {
             "crease" => Ok(EndCapSharpness::Crease),
             "smooth" => Ok(EndCapSharpness::Smooth),
-            _ => Err(format!("end-cap sharpness {s:?}: expected crease or smooth")),
+            _ => Err(format!(
+                "end-cap sharpness {s:?}: expected crease or smooth"
+            )),
         }
     }
 }

@@ -350,7 +350,11 @@ impl EndCapCreases {
         .unwrap();
         let census = PatchCensus::new(&r);
         let mut caps = std::collections::HashSet::new();
-        for p in census.patches.iter().filter(|p| p.kind == PatchType::EndCap) {
+        for p in census
+            .patches
+            .iter()
+            .filter(|p| p.kind == PatchType::EndCap)
+        {
             caps.insert((p.level, p.face));
         }
         let mut spans: HashMap<u32, Vec<(f64, f64)>> = HashMap::new();
@@ -375,7 +379,8 @@ impl EndCapCreases {
                     d.origin + a * d.u + b * d.v
                 };
                 let (p, q) = (corner(k), corner(k + 1));
-                let ends = [p, q].map(|x| base_edge_points(&base, d.base_face, d.sub_face, x.x, x.y));
+                let ends =
+                    [p, q].map(|x| base_edge_points(&base, d.base_face, d.sub_face, x.x, x.y));
                 let (be, s0, s1) = ends[0]
                     .iter()
                     .find_map(|&(e0, s0)| {

@@ -20,9 +20,7 @@ use super::records::{
 use super::rows::{corners_exact_first, SparseRows};
 use super::sector_frames::SectorFrames;
 use super::slots::{Slots, NONE};
-use super::surface::{
-    check_end_cap, end_cap_error, EndCapError, EndCapFailure, EndCapTopologies,
-};
+use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure, EndCapTopologies};
 use crate::patch::edge_grid::PATCH_EDGES;
 use crate::patch::gregory::edge_flags::{edge_flags, Across};
 use crate::patch::gregory::shared_rows::sparse_face_rows;
@@ -235,7 +233,6 @@ impl AdaptiveDrawTables {
             &slots,
             &coarse.mid_slots,
             &caps,
-            slots.len() as u32,
         );
         for r in sectors.rows.iter().flatten() {
             rows.push(r, 0);

@@ -21,9 +21,9 @@ use std::collections::HashMap;
 
 use super::rows::corners_exact_first;
 use super::slots::{Slots, NONE};
+use super::surface::EndCapTopologies;
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::patch::gregory::Weights;
-use super::surface::EndCapTopologies;
 use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
 use crate::topology::{sector_count, sector_faces};
 
@@ -44,12 +44,12 @@ pub struct SectorFrames {
 type SectorKey = (u32, u32);
 
 impl SectorFrames {
-    /// Sector frames of `census` over `slots`, numbered from `first` (they follow the slots in
-    /// the frame buffers); `mid_slots` per census patch as `CoarseEdges::mid_slots`, `caps` the
-    /// end caps' rows in census order. End caps' sectors are those of their
-    /// [`EndCapTopologies`] (residual semi-sharp creases split them too), except where the
-    /// slot's normal is shared (`shared_normal`: an exact patch, e.g. single-crease, gave the
-    /// point its one normal, which the end cap reads there).
+    /// Sector frames of `census` over `slots`, numbered from the number of slots (they follow
+    /// the slots in the frame buffers); `mid_slots` per census patch as
+    /// `CoarseEdges::mid_slots`, `caps` the end caps' rows in census order. End caps' sectors
+    /// are those of their [`EndCapTopologies`] (residual semi-sharp creases split them too),
+    /// except where the slot's normal is shared (`shared_normal`, one per slot: an exact patch,
+    /// e.g. single-crease, gave the point its one normal, which the end cap reads there).
     pub fn new(
         refinement: &AdaptiveRefinement,
         census: &PatchCensus,
@@ -58,8 +58,8 @@ impl SectorFrames {
         slots: &Slots,
         mid_slots: &[[u32; 4]],
         caps: &[Vec<Weights>],
-        first: u32,
     ) -> SectorFrames {
+        let first = slots.len() as u32;
         let base = refinement.levels[0].topology();
         let base_vertices = base.vertex_count() as u32;
         // The sector key of slot `s` seen from base face `b`.

@@ -11,9 +11,9 @@ use crate::patch::gregory::{
 };
 use crate::patch::regular::RegularPatch;
 use crate::patch::single_crease::SingleCreasePatch;
-use crate::subdiv::adaptive::{AdaptivePatch, AdaptiveRefinement, Domain, PatchCensus, PatchType};
 #[cfg(doc)]
 use crate::subdiv::adaptive::EndCapSharpness;
+use crate::subdiv::adaptive::{AdaptivePatch, AdaptiveRefinement, Domain, PatchCensus, PatchType};
 use crate::topology::Topology;
 
 /// Per level, its topology as its end caps see it ([`AdaptiveRefinement::end_cap_topology`]),
@@ -29,7 +29,11 @@ impl<'a> EndCapTopologies<'a> {
     pub fn new(refinement: &'a AdaptiveRefinement, census: &PatchCensus) -> Self {
         let mut levels: Vec<Option<Cow<'a, Topology>>> =
             (0..refinement.levels.len()).map(|_| None).collect();
-        for p in census.patches.iter().filter(|p| p.kind == PatchType::EndCap) {
+        for p in census
+            .patches
+            .iter()
+            .filter(|p| p.kind == PatchType::EndCap)
+        {
             let l = p.level as usize;
             if levels[l].is_none() {
                 levels[l] = Some(refinement.end_cap_topology(l));

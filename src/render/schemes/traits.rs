@@ -12,11 +12,11 @@ use glam::DVec3;
 use crate::gpu::{Context, DrawTarget};
 use crate::patch::acc::NotAcc;
 use crate::patch::gregory::{GregoryTangents, NotGregory};
-use crate::subdiv::adaptive::EndCapSharpness;
 use crate::patch::pm::NotPm;
 use crate::patch::qas::NotQas;
 use crate::render::pass::{NormalRule, SharedResources, VertexFrames};
 use crate::render::settings::{PatchLevelLimit, RenderDesc, Spacing};
+use crate::subdiv::adaptive::EndCapSharpness;
 use crate::topology::Topology;
 use crate::Result;
 
