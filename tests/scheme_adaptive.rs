@@ -24,7 +24,7 @@ use common::capture::{capture, offscreen, uniform};
 use common::golden::check_golden;
 use common::gpu::{assert_validation_clean, context};
 use common::meshes::{corpus_options, mesh, osd_names, osd_path};
-use common::watertight::assert_adaptive_points_equal_by_side;
+use common::watertight::{assert_adaptive_points_equal_by_side, EndCapCreases};
 
 /// Kind code of end caps in the capture tag (`KIND_END_CAP`).
 const END_CAP: u8 = 3;
@@ -325,6 +325,18 @@ fn watertight_across_levels_and_types() {
         ("catmark_cube_creases0", 1, false),
     ] {
         let m = mesh(name);
+        // The semi-sharp meshes must have end-cap creases for the side rule to be exercised.
+        let creases = EndCapCreases::new(&m, iso).count;
+        let semi_sharp = [
+            "catmark_car",
+            "catmark_bishop",
+            "catmark_cubes_semisharp",
+            "catmark_cube_creases0",
+        ];
+        assert!(
+            !semi_sharp.contains(&name) || creases > 0,
+            "{name} iso {iso}: no end-cap crease"
+        );
         let mut cases = vec![
             uniform(1.0),
             uniform(3.0),
