@@ -23,9 +23,9 @@
 //!
 //! The car and the bishop keep semi-sharp edges at the isolation level below 6: their end caps
 //! treat residual sharpness >= 1 as infinitely sharp (`EndCapSharpness::Crease`, the default);
-//! with OpenSubdiv's smooth end caps (`EndCapSharpness::Smooth`) the car was 0.7104 / 5.5947,
-//! 0.3969 / 3.0770, 0.2078 / 1.6280, 0.0995 / 0.7881 and the bishop 1.4196 / 11.0629, 0.7159 /
-//! 7.9804, 0.3712 / 5.2306, 0.1773 / 3.0785.
+//! with OpenSubdiv's smooth end caps (`EndCapSharpness::Smooth`, same tangents) the car is
+//! 0.7126 / 5.5874, 0.3979 / 3.0749, 0.2081 / 1.6296, 0.0997 / 0.7904 and the bishop 1.4596 /
+//! 14.0017, 0.7326 / 9.1640, 0.3789 / 5.9698, 0.1809 / 3.8671.
 
 mod common;
 
