@@ -20,7 +20,7 @@ use super::records::{
 use super::rows::{corners_exact_first, SparseRows};
 use super::sector_frames::SectorFrames;
 use super::slots::{Slots, NONE};
-use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure};
+use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure, EndCapTopologies};
 use crate::patch::edge_grid::PATCH_EDGES;
 use crate::patch::gregory::edge_flags::{edge_flags, Across};
 use crate::patch::gregory::shared_rows::sparse_face_rows;
@@ -81,6 +81,7 @@ pub struct AdaptiveDrawTables {
 fn end_cap_rows(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
+    topologies: &EndCapTopologies,
     tangents: GregoryTangents,
 ) -> Result<Vec<Vec<Weights>>, EndCapError> {
     let caps: Vec<_> = census
@@ -95,8 +96,8 @@ fn end_cap_rows(
             check_end_cap(refinement, p)?;
         }
         let faces: Vec<u32> = group.iter().map(|p| p.face).collect();
-        let t = lev.topology().without_semi_sharpness();
-        for (p, rows) in group.iter().zip(sparse_face_rows(&t, &faces, tangents)) {
+        let t = topologies.get(group[0].level);
+        for (p, rows) in group.iter().zip(sparse_face_rows(t, &faces, tangents)) {
             let rows = rows.map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?;
             let global =
                 |w: Weights| Weights(w.0.into_iter().map(|(v, x)| (lev.global(v), x)).collect());
@@ -107,23 +108,29 @@ fn end_cap_rows(
 }
 
 /// Slot rows (position, du, dv) from the first census patch with the slot as a corner, exact
-/// patches (B-spline, single-crease) before end caps (whose Gregory corners are built without
-/// semi-sharpness), and whether the slot's normal is shared.
+/// patches (B-spline, single-crease) before end caps (whose Gregory corners are built over
+/// [`EndCapTopologies`]), and whether the slot's normal is shared (one sector in the topology
+/// the frame's patch was built over).
 fn slot_rows(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
+    topologies: &EndCapTopologies,
     slots: &Slots,
     caps: &[Vec<Weights>],
 ) -> (SparseRows, Vec<bool>) {
     let mut frames: Vec<Option<[Weights; 3]>> = vec![None; slots.len()];
     let mut shared = vec![false; slots.len()];
-    corners_exact_first(refinement, census, caps, |c, rows| {
+    corners_exact_first(refinement, census, topologies, caps, |c, rows| {
         let p = &census.patches[c.patch];
         let lev = &refinement.levels[p.level as usize];
         let s = slots.of(lev.global(c.vertex)) as usize;
         if frames[s].is_none() {
             frames[s] = Some(rows());
-            shared[s] = single_normal_vertex(lev.topology(), c.vertex);
+            let t = match p.kind {
+                PatchType::EndCap => topologies.get(p.level),
+                _ => lev.topology(),
+            };
+            shared[s] = single_normal_vertex(t, c.vertex);
         }
     });
     let mut rows = SparseRows::new();
@@ -212,17 +219,20 @@ impl AdaptiveDrawTables {
         tangents: GregoryTangents,
     ) -> Result<AdaptiveDrawTables, DrawTablesError> {
         let census = PatchCensus::new(refinement);
+        let topologies = EndCapTopologies::new(refinement, &census);
         let slots = Slots::new(refinement, &census);
-        let caps = end_cap_rows(refinement, &census, tangents)?;
-        let (mut rows, mut shared_normal) = slot_rows(refinement, &census, &slots, &caps);
+        let caps = end_cap_rows(refinement, &census, &topologies, tangents)?;
+        let (mut rows, mut shared_normal) =
+            slot_rows(refinement, &census, &topologies, &slots, &caps);
         let mut coarse = CoarseEdges::new(refinement, &census, &slots);
         let sectors = SectorFrames::new(
             refinement,
             &census,
+            &topologies,
+            &shared_normal,
             &slots,
             &coarse.mid_slots,
             &caps,
-            slots.len() as u32,
         );
         for r in sectors.rows.iter().flatten() {
             rows.push(r, 0);
@@ -341,7 +351,13 @@ impl AdaptiveDrawTables {
                 },
                 None => Across::Nothing,
             };
-            let ef = edge_flags(t, p.face, across, |v| lev.global(v), slot);
+            let ef = edge_flags(
+                topologies.get(p.level),
+                p.face,
+                across,
+                |v| lev.global(v),
+                slot,
+            );
             let fv = t.face_vertices(p.face);
             let mut corners = [slot(lev.global(fv[0])); 4];
             for (c, &v) in corners.iter_mut().zip(fv) {

@@ -3,6 +3,7 @@
 
 use glam::DVec3;
 
+use super::surface::EndCapTopologies;
 use crate::patch::gregory::{one_face_crease_sector, GregoryPoint, Weights};
 use crate::patch::single_crease::SingleCreasePatch;
 use crate::patch::RegularPatch;
@@ -23,13 +24,14 @@ pub struct PatchCorner {
 }
 
 /// Visits every corner of every census patch, exact patches (B-spline, single-crease) first,
-/// then end caps (whose Gregory corners are built without semi-sharpness): the order in which
+/// then end caps (whose Gregory corners are built over `topologies`): the order in which
 /// frames take their rows from the first patch with that corner. `visit` gets the corner and
 /// a function computing its rows (position, d/du, d/dv) over the global refined vertices;
 /// `caps` are the end caps' rows in census order.
 pub fn corners_exact_first(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
+    topologies: &EndCapTopologies,
     caps: &[Vec<Weights>],
     mut visit: impl FnMut(&PatchCorner, &dyn Fn() -> [Weights; 3]),
 ) {
@@ -47,7 +49,8 @@ pub fn corners_exact_first(
             let t = refinement.levels[p.level as usize].topology();
             let fv = t.face_vertices(p.face);
             for (k, &v) in fv.iter().enumerate() {
-                let singular = end_caps && one_face_crease_sector(t, v, p.face);
+                let singular =
+                    end_caps && one_face_crease_sector(topologies.get(p.level), v, p.face);
                 let rows = || match (&p.crease, &p.bspline) {
                     (Some(line), _) => single_crease_corner_rows(line, k),
                     (None, Some(b)) => bspline_corner_rows(b, k),
