@@ -700,9 +700,9 @@ mod tests {
             for (i, w) in wc.iter().enumerate() {
                 tan += w / 3.0 * r.c[i];
             }
-            let ds = g.e[0] - g.p;
+            let (ds, alpha) = (g.e[0] - g.p, PI / k as f64);
             for i in 1..k {
-                let (sn, cs) = (i as f64 * PI / k as f64).sin_cos();
+                let (sn, cs) = (i as f64 * alpha).sin_cos();
                 let e = g.p + cs * ds + sn * tan;
                 assert_eq!(g.e[i], e, "sector of {k} faces, edge {i}");
             }
