@@ -1,13 +1,16 @@
 //! Regenerates `patch::gregory::tangents::OPTIMAL_SCALE`: the least-squares edge-tangent factor
-//! per valence (module docs of `tessera::patch::gregory::tangents`), printed as the Rust array
-//! to paste, with the fitted RMS normal distance at the paper's factor (1) and at the fitted one.
+//! per valence (module docs of `tessera::patch::gregory::tangents`), and
+//! `patch::gregory::tangents_boundary::CREASE_SCALE`, the cross-boundary factor per crease sector
+//! size, printed as the Rust arrays to paste, with the fitted RMS normal distance at the paper's
+//! factor (1) and at the fitted one.
 //!
 //! ```sh
 //! cargo run --release --example gregory_tangent_table
 //! ```
 
-use tessera::patch::gregory::tangent_fit::{fit_error, fit_scale, fit_terms};
+use tessera::patch::gregory::tangent_fit::{crease_fit_terms, fit_error, fit_scale, fit_terms};
 use tessera::patch::gregory::tangents::MAX_FITTED_VALENCE;
+use tessera::patch::gregory::tangents_boundary::MAX_FITTED_CREASE_SECTOR;
 use tessera::patch::gregory::GregoryTangents;
 
 fn main() -> tessera::Result<()> {
@@ -40,6 +43,22 @@ fn main() -> tessera::Result<()> {
     println!(
         "\npub const OPTIMAL_SCALE: [f64; MAX_FITTED_VALENCE - 2] = [\n    {},\n];",
         entries.join(", ")
+    );
+    println!("\ncrease sector faces  s*        RMS paper   RMS fitted");
+    let mut crease = Vec::new();
+    for k in 3..=MAX_FITTED_CREASE_SECTOR {
+        let t = crease_fit_terms(k)?;
+        let s = -t[1] / t[2];
+        println!(
+            "{k:>19}  {s:.6}  {:.4e}  {:.4e}",
+            fit_error(&t, 1.0).sqrt(),
+            fit_error(&t, s).sqrt()
+        );
+        crease.push(format!("{s:.6}"));
+    }
+    println!(
+        "\npub const CREASE_SCALE: [f64; MAX_FITTED_CREASE_SECTOR - 2] = [\n    {},\n];",
+        crease.join(", ")
     );
     Ok(())
 }

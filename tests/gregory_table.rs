@@ -83,7 +83,9 @@ fn vertex_stage(t: &GregoryVertexTable, pos: &[DVec3], v: usize) -> Option<Verte
         let second = if kind == KIND_CORNER as usize {
             e[tt] - p
         } else if k >= 2 {
-            crease_tangent(x, &m, &c, s, k, ne) / 3.0
+            // The sector's cross-boundary factor: word `s` after the face records.
+            let factor = f32::from_bits(t.ring[at + s]) as f64;
+            factor * crease_tangent(x, &m, &c, s, k, ne) / 3.0
         } else {
             DVec3::ZERO
         };

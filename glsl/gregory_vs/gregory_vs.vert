@@ -3,7 +3,8 @@
 // connectivity buffer and the dynamic positions buffer, the limit position p (§3.2), one edge
 // point per ring edge (§3.3) and the transversal vectors r (§3.4); at boundary, crease and
 // corner vertices the sector-wise rules of §4.6 (as patch::gregory::GregoryVertex::sectored).
-// Edge tangents 2/3 s(n) lambda q with the factor s(n) the table stores per smooth vertex.
+// Edge tangents 2/3 s(n) lambda q with the factor s(n) the table stores per smooth vertex; crease
+// sectors' cross-boundary tangents T/3 times the factor s(k) it stores per face of a crease vertex.
 // Points relative to the vertex's control position (corner frames, gregory/gregory.glsl).
 // Packed into the varyings as documented in gregory_vs/gregory_vs.glsl. Vertices beyond the
 // varyings budget are never drawn by this variant (the host falls back).
@@ -158,7 +159,9 @@ void main() {
             second = e[t] - p;
         } else {
             alpha = GVS_PI / float(k);
-            second = crease_tangent(pv, s, k, ne) / 3.0;
+            // The sector's cross-boundary factor s(k) after the face records, one word per
+            // face (GregoryTangents::crease_scale; 1.0 keeps the paper's bits).
+            second = crease_tangent(pv, s, k, ne) / 3.0 * uintBitsToFloat(conn[fo + uint(s)]);
         }
         for (int q = 1; q < k; ++q) {
             float a = float(q) * alpha;

@@ -20,7 +20,9 @@
 //!    face other than `v`, `w_i`, `w_{(i+1) % ne}`, in face order after `w_{(i+1) % ne}` (one
 //!    diagonal for a quad, none for a triangle); `c_i` is the mean of all `size` vertices;
 //! 4. smooth vertices only: one word, the `f32` bits of the edge-tangent factor `s(n)`
-//!    ([`super::GregoryTangents::scale`]; 1.0 for the paper's construction).
+//!    ([`super::GregoryTangents::scale`]; 1.0 for the paper's construction); crease vertices
+//!    only: `nf` words, per incident face the `f32` bits of the cross-boundary factor `s(k)` of
+//!    its sector ([`super::GregoryTangents::crease_scale`]).
 //!
 //! `patch_offsets[4 k .. 4 k + 4]`: for patch `k` (face `faces[k]`), per corner the index of the
 //! face in that corner vertex's ring (the paper's Fig. 8 "rotation offset"); `u32::MAX` in the
@@ -81,15 +83,20 @@ impl GregoryVertexTable {
                 .extend([t.ring.len() as u32, ne as u32, nf as u32, kind]);
             let w: Vec<u32> = edges.iter().map(|&e| topo.other_vertex(e, v)).collect();
             t.ring.extend(&w);
+            let quads = vfaces.iter().all(|&f| topo.face_size(f) == 4);
             let mut sector_words = vec![(nf as u32) << 16; nf];
+            let mut crease_words = Vec::new();
             if kind != KIND_SMOOTH {
                 let sharp: Vec<bool> = edges
                     .iter()
                     .map(|&e| topo.edge_sharpness(e) >= INFINITE_SHARPNESS)
                     .collect();
+                let factor = |k: usize| (tangents.crease_scale(k, quads) as f32).to_bits();
+                crease_words = vec![factor(0); nf];
                 for s in sectors(&sharp, nf) {
                     for i in 0..s.faces {
                         sector_words[(s.start + i) % ne] = s.start as u32 | (s.faces as u32) << 16;
+                        crease_words[(s.start + i) % ne] = factor(s.faces);
                     }
                 }
             }
@@ -104,9 +111,11 @@ impl GregoryVertexTable {
                 }
             }
             if kind == KIND_SMOOTH {
-                let quads = vfaces.iter().all(|&f| topo.face_size(f) == 4);
                 t.ring
                     .push((tangents.ring_scale(nf, quads) as f32).to_bits());
+            }
+            if kind == KIND_CREASE {
+                t.ring.extend(&crease_words);
             }
         }
         for f in faces {

@@ -27,9 +27,32 @@ pub fn fit_heights() -> [fn(f64, f64) -> f64; 3] {
 /// The fit's control net at valence `n` with heights `h` ([`super::tangents`] docs). Faces `0..n` are the
 /// faces at the extraordinary vertex (vertex 0), face `i` in sector `i` with corner 0 there.
 pub fn fit_mesh(n: usize, h: impl Fn(f64, f64) -> f64) -> crate::Result<ControlMesh> {
-    let k = FIT_K;
+    fan_mesh(n, 2.0 * PI / n as f64, true, h)
+}
+
+/// The fit's control net for a crease sector of `k` faces ([`super::tangents_boundary`] docs):
+/// vertex 0 on the mesh boundary with `k` sectors of `FIT_K × FIT_K` quads spanning a half
+/// plane (sector `i` between the directions at angles `πi/k` and `π(i + 1)/k`), faces `0..k` at
+/// vertex 0 as in [`fit_mesh`].
+pub fn crease_fit_mesh(k: usize, h: impl Fn(f64, f64) -> f64) -> crate::Result<ControlMesh> {
+    fan_mesh(k, PI / k as f64, false, h)
+}
+
+/// `sectors` sectors of `FIT_K × FIT_K` quads around vertex 0, sector `i` spanning the
+/// directions at angles `i·angle` and `(i + 1)·angle`; `closed`: the last sector meets the first.
+fn fan_mesh(
+    sectors: usize,
+    angle: f64,
+    closed: bool,
+    h: impl Fn(f64, f64) -> f64,
+) -> crate::Result<ControlMesh> {
+    let (n, k) = (sectors, FIT_K);
     let per = k * (k + 1);
     let id = |i: usize, a: usize, b: usize| -> u32 {
+        if a == 0 && b > 0 && !closed && i + 1 == n {
+            // The last ray of an open fan.
+            return (1 + n * per + b - 1) as u32;
+        }
         let (i, a, b) = if a == 0 && b > 0 {
             ((i + 1) % n, b, 0)
         } else {
@@ -41,15 +64,22 @@ pub fn fit_mesh(n: usize, h: impl Fn(f64, f64) -> f64) -> crate::Result<ControlM
             (1 + i * per + (a - 1) * (k + 1) + b) as u32
         }
     };
+    let dir = |i: usize| (angle * i as f64).sin_cos();
     let mut positions = vec![DVec3::new(0.0, 0.0, h(0.0, 0.0))];
     for i in 0..n {
-        let (s0, c0) = (2.0 * PI * i as f64 / n as f64).sin_cos();
-        let (s1, c1) = (2.0 * PI * (i + 1) as f64 / n as f64).sin_cos();
+        let ((s0, c0), (s1, c1)) = (dir(i), dir(i + 1));
         for a in 1..=k {
             for b in 0..=k {
                 let (x, y) = (a as f64 * c0 + b as f64 * c1, a as f64 * s0 + b as f64 * s1);
                 positions.push(DVec3::new(x, y, h(x, y)));
             }
+        }
+    }
+    if !closed {
+        let (s1, c1) = dir(n);
+        for b in 1..=k {
+            let (x, y) = (b as f64 * c1, b as f64 * s1);
+            positions.push(DVec3::new(x, y, h(x, y)));
         }
     }
     let mut faces = Vec::new();
@@ -84,14 +114,27 @@ pub fn fit_mesh(n: usize, h: impl Fn(f64, f64) -> f64) -> crate::Result<ControlM
 /// where the normal distance at a sample is `a + s b` for tangents `Scaled(s)`; the samples are
 /// weighted so that `E(s) = Σ (a + s b)²` is the mean squared distance.
 pub fn fit_terms(n: usize) -> crate::Result<[f64; 3]> {
+    terms_on(n, |h| fit_mesh(n, h))
+}
+
+/// [`fit_terms`] for a crease sector of `k` faces, on [`crease_fit_mesh`].
+pub fn crease_fit_terms(k: usize) -> crate::Result<[f64; 3]> {
+    terms_on(k, |h| crease_fit_mesh(k, h))
+}
+
+/// The error terms over faces `0..faces` of the nets `net(h)` for the three heights.
+fn terms_on(
+    faces: usize,
+    net: impl Fn(fn(f64, f64) -> f64) -> crate::Result<ControlMesh>,
+) -> crate::Result<[f64; 3]> {
     let mut sums = [0.0; 3];
     let m = FIT_SAMPLES;
-    let weight = 1.0 / (3 * n * m * m) as f64;
+    let weight = 1.0 / (3 * faces * m * m) as f64;
     for h in fit_heights() {
-        let mesh = fit_mesh(n, h)?;
+        let mesh = net(h)?;
         let topo = Topology::new(&mesh)?;
         let exact = LimitEvaluator::new(&mesh)?;
-        for f in 0..n as u32 {
+        for f in 0..faces as u32 {
             let patch = |s: f64| {
                 gregory_patch_at_with(&topo, mesh.positions(), f, GregoryTangents::Scaled(s))
                     .map_err(|e| crate::Error::Invalid(e.to_string()))
@@ -124,6 +167,12 @@ pub fn fit_error(terms: &[f64; 3], s: f64) -> f64 {
 /// The least-squares factor `s*(n) = −Σ ab / Σ b²` ([`super::tangents`] docs).
 pub fn fit_scale(n: usize) -> crate::Result<f64> {
     let t = fit_terms(n)?;
+    Ok(-t[1] / t[2])
+}
+
+/// The least-squares factor of a crease sector of `k` faces ([`super::tangents_boundary`] docs).
+pub fn crease_fit_scale(k: usize) -> crate::Result<f64> {
+    let t = crease_fit_terms(k)?;
     Ok(-t[1] / t[2])
 }
 

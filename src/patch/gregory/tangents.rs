@@ -45,8 +45,10 @@
 //! The fit covers rings of quads, so `Optimal` scales only vertices whose faces are all quads
 //! ([`GregoryTangents::ring_scale`]); vertices with a triangle (or a larger face) in their ring
 //! keep the paper's tangents: applied there the quad factors make all-triangle meshes worse
-//! (`catmark_smoothtris0` 3.3e-3 → 5.8e-3 of the diagonal RMS). Boundary, crease and corner
-//! vertices (§4.6) keep the paper's tangents in both modes.
+//! (`catmark_smoothtris0` 3.3e-3 → 5.8e-3 of the diagonal RMS). At boundary and crease
+//! vertices (§4.6) `Optimal` scales the cross-boundary tangent of each crease sector instead
+//! (`super::tangents_boundary`, fitted the same way on half-rings); corner vertices keep the
+//! paper's tangents in both modes.
 
 /// Edge-tangent lengths of smooth (and dart) vertices.
 ///
@@ -59,8 +61,9 @@ pub enum GregoryTangents {
     Paper,
     /// The paper's tangents scaled per valence by [`OPTIMAL_SCALE`] (module docs).
     Optimal,
-    /// The paper's tangents scaled by one factor at every valence but 4 (for experiments and
-    /// the fit).
+    /// The paper's tangents scaled by one factor at every valence but 4, and the cross-boundary
+    /// tangents of crease sectors of three or more faces by the same factor (for experiments
+    /// and the fits).
     Scaled(f64),
 }
 

@@ -164,7 +164,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
         } else if ring.corner && sharp < 2 {
             Self::cone(ring)
         } else if sharp > 0 || ring.corner {
-            Self::sectored(ring)
+            Self::sectored(ring, tangents)
         } else if ring.c.len() == ring.m.len() {
             Some(Self::interior(ring, tangents))
         } else {
@@ -305,7 +305,8 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     /// - Inner edge at angle `θ = iα` of a sector with `k` faces starting at sharp edge `s` and
     ///   ending at sharp edge `t`: corners (`α = π/(2k)`, the sector spans a right angle)
     ///   `e = p + cosθ (e_s - p) + sinθ (e_t - p)`; creases (`α = π/k`)
-    ///   `e = p + cosθ (e_s - p) + sinθ T/3` with `T` from [`crease_tangent_weights`].
+    ///   `e = p + cosθ (e_s - p) + sinθ s(k) T/3` with `T` from [`crease_tangent_weights`] and
+    ///   `s(k)` the cross-boundary factor [`GregoryTangents::crease_scale`] (1: the paper's).
     ///   These edge points form the affine `n`-gon of condition (1) with `cos(2π/n) = cos α`.
     /// - `r` across inner edges as in §3.4; across a sharp edge, the ring reflected across it
     ///   (`m_{s-1} → 2v - m_{s+1}`, `c_{s-1} → 2 m_s - c_s`, the phantom rule of boundary
@@ -316,7 +317,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     ///   refined chords `(v + 2 m_j)/3`, as at a cone point ([`Self::cone`]): the sector's leading
     ///   interior mode (0.58 to 0.63) exceeds the sharp edges' 1/2, so the exact inner edge
     ///   curves have no finite tangent and the sharp edges' tangents do not span the surface.
-    pub fn sectored(ring: &VertexRing<P>) -> Option<GregoryVertex<P>> {
+    pub fn sectored(ring: &VertexRing<P>, tangents: GregoryTangents) -> Option<GregoryVertex<P>> {
         let ne = ring.m.len();
         let nf = ring.c.len();
         let sharp_edges: Vec<usize> = (0..ne).filter(|&j| ring.sharp[j]).collect();
@@ -368,12 +369,14 @@ impl<P: GregoryPoint> GregoryVertex<P> {
                 VertexKind::Corner => combine(&[(1.0, &e[t]), (-1.0, &p)]),
                 _ => {
                     let (wv, wm, wc) = crease_tangent_weights(k);
-                    let mut tan = combine(&[(wv / 3.0, &ring.v)]);
+                    // `f * w` is `w` bit for bit at the paper's `f = 1`.
+                    let f = tangents.crease_scale(k, ring.quads);
+                    let mut tan = combine(&[(f * wv / 3.0, &ring.v)]);
                     for (i, w) in wm.iter().enumerate() {
-                        tan.add_scaled(w / 3.0, &ring.m[edge(i)]);
+                        tan.add_scaled(f * w / 3.0, &ring.m[edge(i)]);
                     }
                     for (i, w) in wc.iter().enumerate() {
-                        tan.add_scaled(w / 3.0, &ring.c[face(i)]);
+                        tan.add_scaled(f * w / 3.0, &ring.c[face(i)]);
                     }
                     tan
                 }
@@ -666,6 +669,60 @@ mod tests {
                     e += scale * wc * r.c[i];
                 }
                 assert_eq!(g.e[j], e, "valence {n} edge {j}");
+            }
+        }
+    }
+
+    /// A boundary ring of `k` faces (sharp edges 0 and `k`) with uneven positions.
+    fn boundary_ring(k: usize) -> VertexRing<DVec3> {
+        let base = ring(k + 1);
+        let mut sharp = vec![false; k + 1];
+        (sharp[0], sharp[k]) = (true, true);
+        VertexRing {
+            c: base.c[..k].to_vec(),
+            sharp,
+            ..base
+        }
+    }
+
+    #[test]
+    fn paper_crease_tangents_keep_the_papers_bits() {
+        // The inner edge points of a crease sector as computed before the cross-boundary factor
+        // existed (weights `w / 3`, same order), against `Paper`: bit for bit.
+        for k in 2..=7 {
+            let r = boundary_ring(k);
+            let g = GregoryVertex::sectored(&r, GregoryTangents::Paper).unwrap();
+            let (wv, wm, wc) = crease_tangent_weights(k);
+            let mut tan = wv / 3.0 * r.v;
+            for (i, w) in wm.iter().enumerate() {
+                tan += w / 3.0 * r.m[i];
+            }
+            for (i, w) in wc.iter().enumerate() {
+                tan += w / 3.0 * r.c[i];
+            }
+            let (ds, alpha) = (g.e[0] - g.p, PI / k as f64);
+            for i in 1..k {
+                let (sn, cs) = (i as f64 * alpha).sin_cos();
+                let e = g.p + cs * ds + sn * tan;
+                assert_eq!(g.e[i], e, "sector of {k} faces, edge {i}");
+            }
+        }
+    }
+
+    #[test]
+    fn crease_factors_scale_only_the_cross_boundary_tangent() {
+        for k in [3, 5] {
+            let r = boundary_ring(k);
+            let paper = GregoryVertex::sectored(&r, GregoryTangents::Paper).unwrap();
+            let scaled = GregoryVertex::sectored(&r, GregoryTangents::Scaled(0.5)).unwrap();
+            assert_eq!(paper.p, scaled.p);
+            assert_eq!((paper.e[0], paper.e[k]), (scaled.e[0], scaled.e[k]));
+            let ds = paper.e[0] - paper.p;
+            for i in 1..k {
+                let (sn, cs) = (i as f64 * PI / k as f64).sin_cos();
+                // e_i - p - cos θ (e_s - p) = sin θ s T/3: halved.
+                let t = |g: &GregoryVertex<DVec3>| (g.e[i] - g.p - cs * ds) / sn;
+                assert!((t(&scaled) - 0.5 * t(&paper)).length() < 1e-14, "{k} {i}");
             }
         }
     }

@@ -1,0 +1,94 @@
+//! Cross-boundary tangent lengths of crease sectors (boundary and infinitely sharp crease
+//! vertices, §4.6), fitted to the exact limit as [`super::tangents`] fits smooth vertices.
+//!
+//! # The free parameter
+//!
+//! A crease sector of `k` faces between the sharp edges `s` and `t` has the edge points
+//! `e_s`, `e_t` of the crease curve (the cubic B-spline's, exact) and inner edge points
+//! `e_i = p + cos(iπ/k) (e_s − p) + sin(iπ/k) s(k) T/3` (`GregoryVertex::sectored`), with `T`
+//! the cross-boundary tangent ([`super::crease_tangent_weights`], the sine mode of the sector's
+//! subdivision matrix scaled like the paper's `λ q`). Any `s(k) > 0` keeps the limit position,
+//! the crease curve's tangent, the tangent plane and condition (1) (the inner points stay the
+//! affine half `2k`-gon of `cos(π/k)`); only the length of `T` changes. `s(2) = 1` is exact (the
+//! boundary bicubic B-spline) and a sector of one face has no inner edge, so the table covers
+//! `k = 3..=`[`MAX_FITTED_CREASE_SECTOR`]. The two sectors of a crease vertex refine
+//! independently (the crease rules read only the crease curve and the sector's own faces), so a
+//! crease vertex with sectors of `k₁` and `k₂` faces uses `s(k₁)` and `s(k₂)`, and a boundary
+//! vertex of `k` faces `s(k)`, whatever the boundary interpolation (the modes differ only at a
+//! boundary vertex of one face: a corner, or a one-face crease sector, neither with an inner
+//! edge).
+//!
+//! No length is exact at `k ≥ 3`: the cross-boundary mode's eigenvalue `μ` (0.580 at `k = 3`,
+//! 0.635 at 6) exceeds the crease curve's 1/2, so the exact inner edge curves leave the vertex
+//! along `T` like `t^(−log₂ μ)` with an infinite derivative, and the best cubic length depends
+//! on the ring's mix of the two modes: on meshes the fitted factors help some vertices and hurt
+//! others (README, issue 10).
+//!
+//! # The fit ([`GregoryTangents::Optimal`])
+//!
+//! As for smooth vertices, with the half-ring [`super::tangent_fit::crease_fit_mesh`]: vertex 0 on
+//! the mesh boundary with `k` sectors of `4 × 4` quads spanning a half plane (sector `i` between
+//! the directions at `πi/k` and `π(i+1)/k`, the crease curve along the x axis), lifted to the
+//! three quadratic heights of [`super::tangents`]; the mean squared normal distance of the `k`
+//! faces at vertex 0 to the exact limit is a parabola in `s` with its minimum at
+//! `s* = −Σ ab / Σ b²` ([`super::tangent_fit::crease_fit_scale`]), tabulated in
+//! [`CREASE_SCALE`] by `cargo run --example gregory_tangent_table`. Beyond the table the last
+//! entry is used. Like the smooth factors, `Optimal` applies them on rings of quads only.
+//!
+//! # Corners
+//!
+//! Corner sectors have no free length: in a sector of two faces the inner edge point is
+//! `p + (e_s − p + e_t − p)/√2`, fixed by condition (1) with the sector's `cos(π/4)` and the
+//! exact sharp-edge points; one face has no inner edge; wider corner sectors (end caps only)
+//! follow the refined chords (`GregoryVertex::sectored`).
+
+use super::tangents::GregoryTangents;
+
+/// The largest crease sector (faces) with a fitted entry in [`CREASE_SCALE`].
+pub const MAX_FITTED_CREASE_SECTOR: usize = 16;
+
+/// `s(k)` for crease sectors of `k = 3..=MAX_FITTED_CREASE_SECTOR` faces (index `k − 3`), fitted
+/// as the module docs describe by `cargo run --example gregory_tangent_table`.
+pub const CREASE_SCALE: [f64; MAX_FITTED_CREASE_SECTOR - 2] = [
+    0.831433, 0.685052, 0.595432, 0.536264, 0.494867, 0.466251, 0.445894, 0.430687, 0.419084,
+    0.410119, 0.403074, 0.397448, 0.392902, 0.389194,
+];
+
+impl GregoryTangents {
+    /// The factor `s(k)` on the cross-boundary tangent of a crease sector of `k` faces at a
+    /// vertex whose faces are all quads (`quads`), rounded to `f32` as [`Self::scale`]: 1 for
+    /// the paper's construction, for `k <= 2` and for `Optimal` on rings with other faces;
+    /// `Scaled(s)` gives `s` (the fit).
+    pub fn crease_scale(self, k: usize, quads: bool) -> f64 {
+        let s = match self {
+            GregoryTangents::Paper => 1.0,
+            _ if k <= 2 => 1.0,
+            GregoryTangents::Scaled(s) => s,
+            GregoryTangents::Optimal if !quads => 1.0,
+            GregoryTangents::Optimal => CREASE_SCALE[k.min(MAX_FITTED_CREASE_SECTOR) - 3],
+        };
+        s as f32 as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn paper_and_regular_sectors_keep_one() {
+        for k in 1..40 {
+            assert_eq!(GregoryTangents::Paper.crease_scale(k, true), 1.0);
+            assert_eq!(GregoryTangents::Optimal.crease_scale(k, false), 1.0);
+        }
+        for t in [GregoryTangents::Optimal, GregoryTangents::Scaled(0.5)] {
+            assert_eq!(t.crease_scale(1, true), 1.0);
+            assert_eq!(t.crease_scale(2, true), 1.0);
+        }
+        assert_eq!(GregoryTangents::Scaled(0.5).crease_scale(3, true), 0.5);
+        assert_eq!(
+            GregoryTangents::Optimal.crease_scale(99, true),
+            CREASE_SCALE[MAX_FITTED_CREASE_SECTOR - 3] as f32 as f64
+        );
+    }
+}
