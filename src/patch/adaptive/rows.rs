@@ -1,6 +1,9 @@
 //! Sparse stencil rows over the global refined vertices (Köbler 2013 §4.2: one vertex buffer
 //! for every level): slot frames (limit position and two tangents) and end-cap control points.
 
+use std::cell::RefCell;
+use std::collections::HashMap;
+
 use glam::DVec3;
 
 use crate::patch::gregory::{one_face_crease_sector, GregoryPoint, Weights};
@@ -8,7 +11,7 @@ use crate::patch::single_crease::SingleCreasePatch;
 use crate::patch::RegularPatch;
 use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus};
 use crate::subdiv::bspline::{bspline, bspline_deriv};
-use crate::subdiv::single_crease::CreaseLine;
+use crate::subdiv::single_crease::{CreaseLine, CreaseSide};
 
 /// A patch corner as [`corners_exact_first`] visits it.
 pub struct PatchCorner {
@@ -33,6 +36,17 @@ pub fn corners_exact_first(
     caps: &[Vec<Weights>],
     mut visit: impl FnMut(&PatchCorner, &dyn Fn() -> [Weights; 3]),
 ) {
+    // Single-crease corner weights depend on the line's side and sharpness and the corner
+    // only: evaluated once per such shape, not once per corner.
+    let crease_weights: RefCell<HashMap<CreaseKey, CornerColumns>> = RefCell::default();
+    let crease_rows = |line: &CreaseLine, k: usize| {
+        let key = (line.side, line.sharpness.to_bits(), k);
+        let mut cache = crease_weights.borrow_mut();
+        let columns = cache
+            .entry(key)
+            .or_insert_with(|| single_crease_corner_columns(line.side, line.sharpness, k));
+        corner_rows_of_columns(&line.cvs, columns)
+    };
     let mut cap_of = Vec::with_capacity(census.patches.len());
     let mut cap = 0;
     for p in &census.patches {
@@ -49,7 +63,7 @@ pub fn corners_exact_first(
             for (k, &v) in fv.iter().enumerate() {
                 let singular = end_caps && one_face_crease_sector(t, v, p.face);
                 let rows = || match (&p.crease, &p.bspline) {
-                    (Some(line), _) => single_crease_corner_rows(line, k),
+                    (Some(line), _) => crease_rows(line, k),
                     (None, Some(b)) => bspline_corner_rows(b, k),
                     (None, None) => gregory_corner_rows(&caps[cap], fv.len(), k, singular),
                 };
@@ -197,27 +211,42 @@ pub fn bspline_corner_rows(p: &RegularPatch, k: usize) -> [Weights; 3] {
     [tensor(bu, bv), tensor(du, bv), tensor(bu, dv)]
 }
 
+/// A single-crease corner's shape: crease side, sharpness bits, face corner.
+type CreaseKey = (CreaseSide, u32, usize);
+
+/// Per control point (`cvs` order) the weights of a corner's position, d/du and d/dv.
+type CornerColumns = [[f64; 3]; 16];
+
 /// Rows (position, d/du, d/dv) of the single-crease patch of `line` (global control vertices)
 /// at its face corner `k`: its exact evaluation ([`SingleCreasePatch::eval`], Nießner, Loop,
 /// Greiner 2012 §3) as weights, read off by linearity (one unit control point at a time).
 pub fn single_crease_corner_rows(line: &CreaseLine, k: usize) -> [Weights; 3] {
+    let columns = single_crease_corner_columns(line.side, line.sharpness, k);
+    corner_rows_of_columns(&line.cvs, &columns)
+}
+
+/// The weights of [`single_crease_corner_rows`] per control point: they depend on the crease's
+/// side and sharpness and the corner, not on the control vertices.
+fn single_crease_corner_columns(side: CreaseSide, sharpness: f32, k: usize) -> CornerColumns {
     let (u, v) = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)][k];
     let local = SingleCreasePatch {
         face: 0,
         cvs: std::array::from_fn(|i| i as u32),
-        side: line.side,
-        sharpness: line.sharpness,
+        side,
+        sharpness,
     };
     let mut unit = [DVec3::ZERO; 16];
-    let columns: Vec<(u32, [f64; 3])> = (line.cvs.iter().enumerate())
-        .map(|(i, &g)| {
-            unit[i] = DVec3::X;
-            let e = local.eval(&unit, u, v);
-            unit[i] = DVec3::ZERO;
-            (g, [e.position.x, e.du.x, e.dv.x])
-        })
-        .collect();
-    std::array::from_fn(|r| Weights::from_terms(columns.iter().map(|&(g, w)| (g, w[r]))))
+    std::array::from_fn(|i| {
+        unit[i] = DVec3::X;
+        let e = local.eval(&unit, u, v);
+        unit[i] = DVec3::ZERO;
+        [e.position.x, e.du.x, e.dv.x]
+    })
+}
+
+/// Rows (position, d/du, d/dv) over control vertices `cvs` with weights `columns`.
+fn corner_rows_of_columns(cvs: &[u32; 16], columns: &CornerColumns) -> [Weights; 3] {
+    std::array::from_fn(|r| Weights::from_terms(cvs.iter().zip(columns).map(|(&g, w)| (g, w[r]))))
 }
 
 /// Rows (position, tangent towards corner `k + 1`, tangent towards corner `k - 1`) of a Gregory
