@@ -15,6 +15,8 @@
 
 use std::collections::HashMap;
 
+use rayon::prelude::*;
+
 use super::build::{check_face_for, gregory_vertex_for, Coverage, NotGregory};
 use super::point::Weights;
 use super::stencil::ring_walk;
@@ -148,8 +150,26 @@ fn from_slots(rows: &LocalRows, ring: &[u32]) -> Vec<Weights> {
         .collect()
 }
 
+/// [`sparse_face_rows_direct`] on `faces` split into one batch per rayon thread (one batch on
+/// one thread): a face's rows do not depend on its batch, only the sharing of vertex data does.
+fn direct_batches(
+    topo: &Topology,
+    faces: &[u32],
+    tangents: GregoryTangents,
+) -> Vec<Result<Vec<Weights>, NotGregory>> {
+    let per = faces.len().div_ceil(rayon::current_num_threads()).max(64);
+    if faces.len() <= per {
+        return sparse_face_rows_direct(topo, faces, tangents);
+    }
+    let batches: Vec<_> = faces
+        .par_chunks(per)
+        .map(|batch| sparse_face_rows_direct(topo, batch, tangents))
+        .collect();
+    batches.into_iter().flatten().collect()
+}
+
 /// [`sparse_face_rows_direct`] with the construction run once per connectivity type (module
-/// docs): bitwise the same rows.
+/// docs): bitwise the same rows. The direct batches and the relabelling run on the rayon pool.
 pub fn sparse_face_rows(
     topo: &Topology,
     faces: &[u32],
@@ -191,7 +211,7 @@ pub fn sparse_face_rows(
     let first_faces: Vec<u32> = first.iter().map(|&i| faces[i]).collect();
     for (&i, r) in first
         .iter()
-        .zip(sparse_face_rows_direct(topo, &first_faces, tangents))
+        .zip(direct_batches(topo, &first_faces, tangents))
     {
         rows[i] = Some(r);
     }
@@ -224,25 +244,29 @@ pub fn sparse_face_rows(
     let second_faces: Vec<u32> = second.iter().map(|&i| faces[i]).collect();
     for (&i, r) in second
         .iter()
-        .zip(sparse_face_rows_direct(topo, &second_faces, tangents))
+        .zip(direct_batches(topo, &second_faces, tangents))
     {
         rows[i] = Some(r);
     }
     let out = rows
-        .into_iter()
+        .into_par_iter()
         .enumerate()
-        .map(|(i, r)| {
-            r.unwrap_or_else(|| {
-                let ring = ring_slots(topo, faces[i], &mut keyer.slot);
-                clear(&mut keyer.slot, &ring);
-                let t = type_of[i].expect("faces without type are built in the first batch");
-                let local = local[t as usize].as_ref();
-                Ok(from_slots(
-                    local.expect("types without rows are built in the second batch"),
-                    &ring,
-                ))
-            })
-        })
+        .with_min_len(256)
+        .map_init(
+            || vec![NONE; topo.vertex_count()],
+            |slot, (i, r)| {
+                r.unwrap_or_else(|| {
+                    let ring = ring_slots(topo, faces[i], slot);
+                    clear(slot, &ring);
+                    let t = type_of[i].expect("faces without type are built in the first batch");
+                    let local = local[t as usize].as_ref();
+                    Ok(from_slots(
+                        local.expect("types without rows are built in the second batch"),
+                        &ring,
+                    ))
+                })
+            },
+        )
         .collect();
     log::trace!(
         "end-cap rows: {} faces, {} connectivity types, {} + {} built directly",
