@@ -11,13 +11,14 @@
 //! is face-edge numbering, edges 2 and 3 run against the face), end caps face order.
 
 use glam::DVec2;
+use rayon::prelude::*;
 
 use super::coarse::{patch_index, CoarseEdges};
 use super::error::DrawTablesError;
 use super::records::{
     words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
 };
-use super::rows::{corners_exact_first, SparseRows};
+use super::rows::{CornerRows, PatchCorner, SparseRows};
 use super::sector_frames::SectorFrames;
 use super::slots::{Slots, NONE};
 use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure};
@@ -108,31 +109,32 @@ fn end_cap_rows(
 
 /// Slot rows (position, du, dv) from the first census patch with the slot as a corner, exact
 /// patches (B-spline, single-crease) before end caps (whose Gregory corners are built without
-/// semi-sharpness), and whether the slot's normal is shared.
+/// semi-sharpness), per slot (computed on the rayon pool), and whether the slot's normal is
+/// shared.
 fn slot_rows(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
     slots: &Slots,
     caps: &[Vec<Weights>],
-) -> (SparseRows, Vec<bool>) {
-    let mut frames: Vec<Option<[Weights; 3]>> = vec![None; slots.len()];
+) -> (Vec<Option<[Weights; 3]>>, Vec<bool>) {
+    let corner_rows = CornerRows::new(refinement, census, caps);
+    let mut first: Vec<Option<PatchCorner>> = vec![None; slots.len()];
     let mut shared = vec![false; slots.len()];
-    corners_exact_first(refinement, census, caps, |c, rows| {
+    corner_rows.visit(|c| {
         let p = &census.patches[c.patch];
         let lev = &refinement.levels[p.level as usize];
         let s = slots.of(lev.global(c.vertex)) as usize;
-        if frames[s].is_none() {
-            frames[s] = Some(rows());
+        if first[s].is_none() {
+            first[s] = Some(*c);
             shared[s] = single_normal_vertex(lev.topology(), c.vertex);
         }
     });
-    let mut rows = SparseRows::new();
-    for f in frames.iter().flatten() {
-        for r in f {
-            rows.push(r, 0);
-        }
-    }
-    (rows, shared)
+    let frames = first
+        .par_iter()
+        .with_min_len(256)
+        .map(|c| c.as_ref().map(|c| corner_rows.rows(c)))
+        .collect();
+    (frames, shared)
 }
 
 /// The [`BSplineDraw`] of census record `record` with control vertices `patch`: corner slots
@@ -214,7 +216,7 @@ impl AdaptiveDrawTables {
         let census = PatchCensus::new(refinement);
         let slots = Slots::new(refinement, &census);
         let caps = end_cap_rows(refinement, &census, tangents)?;
-        let (mut rows, mut shared_normal) = slot_rows(refinement, &census, &slots, &caps);
+        let (frames, mut shared_normal) = slot_rows(refinement, &census, &slots, &caps);
         let mut coarse = CoarseEdges::new(refinement, &census, &slots);
         let sectors = SectorFrames::new(
             refinement,
@@ -224,13 +226,23 @@ impl AdaptiveDrawTables {
             &caps,
             slots.len() as u32,
         );
-        for r in sectors.rows.iter().flatten() {
+        // Every row in one reservation: slot frames, sector frames, end caps.
+        let frame_rows = || frames.iter().flatten().chain(&sectors.rows).flatten();
+        let terms = frame_rows()
+            .chain(caps.iter().flatten())
+            .map(|w| w.0.len())
+            .sum();
+        let mut rows = SparseRows::new();
+        rows.reserve(
+            3 * (frames.len() + sectors.rows.len()) + END_CAP_ROWS * caps.len(),
+            terms,
+        );
+        for r in frame_rows() {
             rows.push(r, 0);
         }
+        drop(frames);
         shared_normal.resize(slots.len() + sectors.rows.len(), true);
         let end_cap_first_row = rows.len() as u32;
-        let terms = caps.iter().flatten().map(|w| w.0.len()).sum();
-        rows.reserve(END_CAP_ROWS * caps.len(), terms);
         for c in &caps {
             for r in c {
                 rows.push(r, 0);

@@ -1,7 +1,6 @@
 //! Sparse stencil rows over the global refined vertices (Köbler 2013 §4.2: one vertex buffer
 //! for every level): slot frames (limit position and two tangents) and end-cap control points.
 
-use std::cell::RefCell;
 use std::collections::HashMap;
 
 use glam::DVec3;
@@ -14,6 +13,7 @@ use crate::subdiv::bspline::{bspline, bspline_deriv};
 use crate::subdiv::single_crease::{CreaseLine, CreaseSide};
 
 /// A patch corner as [`corners_exact_first`] visits it.
+#[derive(Debug, Clone, Copy)]
 pub struct PatchCorner {
     /// Census index of the patch.
     pub patch: usize,
@@ -23,60 +23,103 @@ pub struct PatchCorner {
     pub vertex: u32,
     /// Whether the corner lies alone in a crease sector (end caps; `one_face_crease_sector`).
     pub singular: bool,
+    /// End caps: the index of the patch's rows in `caps`.
+    cap: usize,
 }
 
-/// Visits every corner of every census patch, exact patches (B-spline, single-crease) first,
-/// then end caps (whose Gregory corners are built without semi-sharpness): the order in which
-/// frames take their rows from the first patch with that corner. `visit` gets the corner and
-/// a function computing its rows (position, d/du, d/dv) over the global refined vertices;
-/// `caps` are the end caps' rows in census order.
+/// The frame rows of census patches' corners: what [`corners_exact_first`] hands its visitor,
+/// computable apart from the visit (and on several threads).
+pub struct CornerRows<'a> {
+    refinement: &'a AdaptiveRefinement,
+    census: &'a PatchCensus,
+    caps: &'a [Vec<Weights>],
+    /// Single-crease corner weights depend on the line's side and sharpness and the corner
+    /// only: evaluated once per such shape of the census, not once per corner.
+    crease: HashMap<CreaseKey, CornerColumns>,
+}
+
+impl<'a> CornerRows<'a> {
+    /// The corner rows of `census`; `caps` are the end caps' rows in census order.
+    pub fn new(
+        refinement: &'a AdaptiveRefinement,
+        census: &'a PatchCensus,
+        caps: &'a [Vec<Weights>],
+    ) -> CornerRows<'a> {
+        let mut crease = HashMap::new();
+        for line in census.patches.iter().filter_map(|p| p.crease.as_ref()) {
+            for k in 0..4 {
+                crease
+                    .entry((line.side, line.sharpness.to_bits(), k))
+                    .or_insert_with(|| single_crease_corner_columns(line.side, line.sharpness, k));
+            }
+        }
+        CornerRows {
+            refinement,
+            census,
+            caps,
+            crease,
+        }
+    }
+
+    /// Rows (position, d/du, d/dv) of corner `c` over the global refined vertices.
+    pub fn rows(&self, c: &PatchCorner) -> [Weights; 3] {
+        let p = &self.census.patches[c.patch];
+        match (&p.crease, &p.bspline) {
+            (Some(line), _) => {
+                let columns = &self.crease[&(line.side, line.sharpness.to_bits(), c.k)];
+                corner_rows_of_columns(&line.cvs, columns)
+            }
+            (None, Some(b)) => bspline_corner_rows(b, c.k),
+            (None, None) => {
+                let n = self.refinement.levels[p.level as usize]
+                    .topology()
+                    .face_size(p.face);
+                gregory_corner_rows(&self.caps[c.cap], n, c.k, c.singular)
+            }
+        }
+    }
+
+    /// Visits every corner of every census patch, exact patches (B-spline, single-crease)
+    /// first, then end caps (whose Gregory corners are built without semi-sharpness): the
+    /// order in which frames take their rows from the first patch with that corner.
+    pub fn visit(&self, mut visit: impl FnMut(&PatchCorner)) {
+        let mut cap_of = Vec::with_capacity(self.census.patches.len());
+        let mut cap = 0;
+        for p in &self.census.patches {
+            cap_of.push(cap);
+            cap += usize::from(p.bspline.is_none());
+        }
+        for end_caps in [false, true] {
+            for (i, (p, &cap)) in self.census.patches.iter().zip(&cap_of).enumerate() {
+                if p.bspline.is_none() != end_caps {
+                    continue;
+                }
+                let t = self.refinement.levels[p.level as usize].topology();
+                for (k, &v) in t.face_vertices(p.face).iter().enumerate() {
+                    visit(&PatchCorner {
+                        patch: i,
+                        k,
+                        vertex: v,
+                        singular: end_caps && one_face_crease_sector(t, v, p.face),
+                        cap,
+                    });
+                }
+            }
+        }
+    }
+}
+
+/// Visits every corner of every census patch in [`CornerRows::visit`] order. `visit` gets the
+/// corner and a function computing its rows (position, d/du, d/dv) over the global refined
+/// vertices; `caps` are the end caps' rows in census order.
 pub fn corners_exact_first(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
     caps: &[Vec<Weights>],
     mut visit: impl FnMut(&PatchCorner, &dyn Fn() -> [Weights; 3]),
 ) {
-    // Single-crease corner weights depend on the line's side and sharpness and the corner
-    // only: evaluated once per such shape, not once per corner.
-    let crease_weights: RefCell<HashMap<CreaseKey, CornerColumns>> = RefCell::default();
-    let crease_rows = |line: &CreaseLine, k: usize| {
-        let key = (line.side, line.sharpness.to_bits(), k);
-        let mut cache = crease_weights.borrow_mut();
-        let columns = cache
-            .entry(key)
-            .or_insert_with(|| single_crease_corner_columns(line.side, line.sharpness, k));
-        corner_rows_of_columns(&line.cvs, columns)
-    };
-    let mut cap_of = Vec::with_capacity(census.patches.len());
-    let mut cap = 0;
-    for p in &census.patches {
-        cap_of.push(cap);
-        cap += usize::from(p.bspline.is_none());
-    }
-    for end_caps in [false, true] {
-        for (i, (p, &cap)) in census.patches.iter().zip(&cap_of).enumerate() {
-            if p.bspline.is_none() != end_caps {
-                continue;
-            }
-            let t = refinement.levels[p.level as usize].topology();
-            let fv = t.face_vertices(p.face);
-            for (k, &v) in fv.iter().enumerate() {
-                let singular = end_caps && one_face_crease_sector(t, v, p.face);
-                let rows = || match (&p.crease, &p.bspline) {
-                    (Some(line), _) => crease_rows(line, k),
-                    (None, Some(b)) => bspline_corner_rows(b, k),
-                    (None, None) => gregory_corner_rows(&caps[cap], fv.len(), k, singular),
-                };
-                let corner = PatchCorner {
-                    patch: i,
-                    k,
-                    vertex: v,
-                    singular,
-                };
-                visit(&corner, &rows);
-            }
-        }
-    }
+    let rows = CornerRows::new(refinement, census, caps);
+    rows.visit(|c| visit(c, &|| rows.rows(c)));
 }
 
 /// Rows of sparse weights: row `r` is terms `offsets[r]..offsets[r + 1]` of `ids` / `weights`,
