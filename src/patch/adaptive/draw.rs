@@ -24,7 +24,7 @@ use super::slots::{Slots, NONE};
 use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure};
 use crate::patch::edge_grid::PATCH_EDGES;
 use crate::patch::gregory::edge_flags::{edge_flags, Across};
-use crate::patch::gregory::shared_rows::sparse_face_rows;
+use crate::patch::gregory::shared_rows::{sparse_face_rows_flat, FaceRows};
 use crate::patch::gregory::{GregoryTangents, Weights};
 use crate::patch::single_crease::{gpu_cvs, Rotation, SingleCreasePatch};
 use crate::patch::RegularPatch;
@@ -83,7 +83,7 @@ fn end_cap_rows(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
     tangents: GregoryTangents,
-) -> Result<Vec<Vec<Weights>>, EndCapError> {
+) -> Result<Vec<FaceRows>, EndCapError> {
     let caps: Vec<_> = census
         .patches
         .iter()
@@ -97,11 +97,15 @@ fn end_cap_rows(
         }
         let faces: Vec<u32> = group.iter().map(|p| p.face).collect();
         let t = lev.topology().without_semi_sharpness();
-        for (p, rows) in group.iter().zip(sparse_face_rows(&t, &faces, tangents)) {
-            let rows = rows.map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?;
-            let global =
-                |w: Weights| Weights(w.0.into_iter().map(|(v, x)| (lev.global(v), x)).collect());
-            out.push(rows.into_iter().map(global).collect());
+        for (p, rows) in group
+            .iter()
+            .zip(sparse_face_rows_flat(&t, &faces, tangents))
+        {
+            let mut rows =
+                rows.map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?;
+            // Global ids: one offset added, so ids stay ascending.
+            rows.terms.iter_mut().for_each(|(v, _)| *v = lev.global(*v));
+            out.push(rows);
         }
     }
     Ok(out)
@@ -115,7 +119,7 @@ fn slot_rows(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
     slots: &Slots,
-    caps: &[Vec<Weights>],
+    caps: &[FaceRows],
 ) -> (Vec<Option<[Weights; 3]>>, Vec<bool>) {
     let corner_rows = CornerRows::new(refinement, census, caps);
     let mut first: Vec<Option<PatchCorner>> = vec![None; slots.len()];
@@ -228,10 +232,8 @@ impl AdaptiveDrawTables {
         );
         // Every row in one reservation: slot frames, sector frames, end caps.
         let frame_rows = || frames.iter().flatten().chain(&sectors.rows).flatten();
-        let terms = frame_rows()
-            .chain(caps.iter().flatten())
-            .map(|w| w.0.len())
-            .sum();
+        let terms = frame_rows().map(|w| w.0.len()).sum::<usize>()
+            + caps.iter().map(|c| c.terms.len()).sum::<usize>();
         let mut rows = SparseRows::new();
         rows.reserve(
             3 * (frames.len() + sectors.rows.len()) + END_CAP_ROWS * caps.len(),
@@ -244,8 +246,8 @@ impl AdaptiveDrawTables {
         shared_normal.resize(slots.len() + sectors.rows.len(), true);
         let end_cap_first_row = rows.len() as u32;
         for c in &caps {
-            for r in c {
-                rows.push(r, 0);
+            for r in c.rows() {
+                rows.push_terms(r, 0);
             }
             rows.push_empty(END_CAP_ROWS - c.len());
         }

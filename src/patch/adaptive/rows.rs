@@ -5,6 +5,7 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
+use crate::patch::gregory::shared_rows::FaceRows;
 use crate::patch::gregory::{one_face_crease_sector, GregoryPoint, Weights};
 use crate::patch::single_crease::SingleCreasePatch;
 use crate::patch::RegularPatch;
@@ -32,7 +33,7 @@ pub struct PatchCorner {
 pub struct CornerRows<'a> {
     refinement: &'a AdaptiveRefinement,
     census: &'a PatchCensus,
-    caps: &'a [Vec<Weights>],
+    caps: &'a [FaceRows],
     /// Single-crease corner weights depend on the line's side and sharpness and the corner
     /// only: evaluated once per such shape of the census, not once per corner.
     crease: HashMap<CreaseKey, CornerColumns>,
@@ -43,7 +44,7 @@ impl<'a> CornerRows<'a> {
     pub fn new(
         refinement: &'a AdaptiveRefinement,
         census: &'a PatchCensus,
-        caps: &'a [Vec<Weights>],
+        caps: &'a [FaceRows],
     ) -> CornerRows<'a> {
         let mut crease = HashMap::new();
         for line in census.patches.iter().filter_map(|p| p.crease.as_ref()) {
@@ -115,7 +116,7 @@ impl<'a> CornerRows<'a> {
 pub fn corners_exact_first(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
-    caps: &[Vec<Weights>],
+    caps: &[FaceRows],
     mut visit: impl FnMut(&PatchCorner, &dyn Fn() -> [Weights; 3]),
 ) {
     let rows = CornerRows::new(refinement, census, caps);
@@ -159,7 +160,12 @@ impl SparseRows {
     /// Appends a row of weights over local vertices, `first` added to every id (ascending
     /// local ids stay ascending).
     pub fn push(&mut self, row: &Weights, first: u32) {
-        for &(v, w) in &row.0 {
+        self.push_terms(&row.0, first);
+    }
+
+    /// [`Self::push`] of a row given as its `(id, weight)` terms.
+    pub fn push_terms(&mut self, row: &[(u32, f64)], first: u32) {
+        for &(v, w) in row {
             let w32 = w as f32;
             if w32 != 0.0 {
                 self.ids.push(first + v);
@@ -300,14 +306,16 @@ fn corner_rows_of_columns(cvs: &[u32; 16], columns: &CornerColumns) -> [Weights;
 /// `singular`: the corner lies alone in a crease sector, where `e- - p = -(e+ - p)` (the crease
 /// curve passes through; `GregoryVertex::sectored`): the second row is then `3 (f+ - p)`, the
 /// face point the construction puts in the exact tangent plane, pointing into the face.
-pub fn gregory_corner_rows(rows: &[Weights], n: usize, k: usize, singular: bool) -> [Weights; 3] {
-    let p = &rows[k];
-    let tangent = |e: &Weights| {
+pub fn gregory_corner_rows(rows: &FaceRows, n: usize, k: usize, singular: bool) -> [Weights; 3] {
+    let p = rows.weights(k);
+    let tangent = |e: Weights| {
         let mut w = Weights::zero();
-        w.add_scaled(3.0, e);
-        w.add_scaled(-3.0, p);
+        w.add_scaled(3.0, &e);
+        w.add_scaled(-3.0, &p);
         w
     };
     let second = if singular { 3 * n + k } else { 2 * n + k };
-    [p.clone(), tangent(&rows[n + k]), tangent(&rows[second])]
+    let du = tangent(rows.weights(n + k));
+    let dv = tangent(rows.weights(second));
+    [p, du, dv]
 }

@@ -22,6 +22,7 @@ use std::collections::HashMap;
 use super::rows::corners_exact_first;
 use super::slots::{Slots, NONE};
 use crate::mesh::INFINITE_SHARPNESS;
+use crate::patch::gregory::shared_rows::FaceRows;
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus};
 use crate::topology::{sector_count, sector_faces};
@@ -51,7 +52,7 @@ impl SectorFrames {
         census: &PatchCensus,
         slots: &Slots,
         mid_slots: &[[u32; 4]],
-        caps: &[Vec<Weights>],
+        caps: &[FaceRows],
         first: u32,
     ) -> SectorFrames {
         let base = refinement.levels[0].topology();

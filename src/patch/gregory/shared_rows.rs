@@ -32,6 +32,63 @@ type TypeKey = Vec<u32>;
 /// Rows over ring slots: `(slot, weight)` in the direct construction's values.
 type LocalRows = Vec<Vec<(u32, f64)>>;
 
+/// One face's rows in two allocations rather than one per row: row `r` is
+/// `terms[offsets[r]..offsets[r + 1]]`, `(id, weight)` ids ascending, as a [`Weights`] holds
+/// them.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FaceRows {
+    /// `rows + 1` term offsets.
+    pub offsets: Vec<u32>,
+    /// The terms of every row.
+    pub terms: Vec<(u32, f64)>,
+}
+
+impl FaceRows {
+    /// The same rows as `rows`.
+    pub fn from_weights(rows: &[Weights]) -> FaceRows {
+        let mut out = FaceRows {
+            offsets: Vec::with_capacity(rows.len() + 1),
+            terms: Vec::with_capacity(rows.iter().map(|w| w.0.len()).sum()),
+        };
+        out.offsets.push(0);
+        for w in rows {
+            out.terms.extend_from_slice(&w.0);
+            out.offsets.push(out.terms.len() as u32);
+        }
+        out
+    }
+
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        self.offsets.len().saturating_sub(1)
+    }
+
+    /// Whether there is no row.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Row `r`.
+    pub fn row(&self, r: usize) -> &[(u32, f64)] {
+        &self.terms[self.offsets[r] as usize..self.offsets[r + 1] as usize]
+    }
+
+    /// Every row in order.
+    pub fn rows(&self) -> impl Iterator<Item = &[(u32, f64)]> {
+        (0..self.len()).map(|r| self.row(r))
+    }
+
+    /// Row `r` as a [`Weights`].
+    pub fn weights(&self, r: usize) -> Weights {
+        Weights(self.row(r).to_vec())
+    }
+
+    /// Every row as a [`Weights`].
+    pub fn to_weights(&self) -> Vec<Weights> {
+        (0..self.len()).map(|r| self.weights(r)).collect()
+    }
+}
+
 /// Per-call state: the slot of each vertex of the face being keyed, and which vertices get
 /// per-vertex Gregory data (decided on the topology alone, with scalar points).
 struct Keyer<'a> {
@@ -140,14 +197,20 @@ fn to_slots(rows: &[Weights], slot: &[u32]) -> Option<LocalRows> {
 }
 
 /// `rows` with slots replaced by the ids of `ring`, ascending ids.
-fn from_slots(rows: &LocalRows, ring: &[u32]) -> Vec<Weights> {
-    rows.iter()
-        .map(|r| {
-            let mut w: Vec<(u32, f64)> = r.iter().map(|&(s, x)| (ring[s as usize], x)).collect();
-            w.sort_unstable_by_key(|&(v, _)| v);
-            Weights(w)
-        })
-        .collect()
+fn from_slots(rows: &LocalRows, ring: &[u32]) -> FaceRows {
+    let mut out = FaceRows {
+        offsets: Vec::with_capacity(rows.len() + 1),
+        terms: Vec::with_capacity(rows.iter().map(Vec::len).sum()),
+    };
+    out.offsets.push(0);
+    for r in rows {
+        let start = out.terms.len();
+        out.terms
+            .extend(r.iter().map(|&(s, x)| (ring[s as usize], x)));
+        out.terms[start..].sort_unstable_by_key(|&(v, _)| v);
+        out.offsets.push(out.terms.len() as u32);
+    }
+    out
 }
 
 /// [`sparse_face_rows_direct`] on `faces` split into one batch per rayon thread (one batch on
@@ -169,12 +232,25 @@ fn direct_batches(
 }
 
 /// [`sparse_face_rows_direct`] with the construction run once per connectivity type (module
-/// docs): bitwise the same rows. The direct batches and the relabelling run on the rayon pool.
+/// docs): bitwise the same rows ([`sparse_face_rows_flat`] as [`Weights`]).
 pub fn sparse_face_rows(
     topo: &Topology,
     faces: &[u32],
     tangents: GregoryTangents,
 ) -> Vec<Result<Vec<Weights>, NotGregory>> {
+    sparse_face_rows_flat(topo, faces, tangents)
+        .into_iter()
+        .map(|r| r.map(|r| r.to_weights()))
+        .collect()
+}
+
+/// The rows of [`sparse_face_rows`], each face's in one [`FaceRows`]. The direct batches and
+/// the relabelling run on the rayon pool.
+pub fn sparse_face_rows_flat(
+    topo: &Topology,
+    faces: &[u32],
+    tangents: GregoryTangents,
+) -> Vec<Result<FaceRows, NotGregory>> {
     let mut keyer = Keyer {
         topo,
         tangents,
@@ -208,6 +284,8 @@ pub fn sparse_face_rows(
     let first = batch(&|i| is_rep(i, type_of[i]));
     let mut rows: Vec<Option<Result<Vec<Weights>, NotGregory>>> =
         (0..faces.len()).map(|_| None).collect();
+    // Rows built directly, in their final form.
+    let flat = |r: Result<Vec<Weights>, NotGregory>| r.map(|r| FaceRows::from_weights(&r));
     let first_faces: Vec<u32> = first.iter().map(|&i| faces[i]).collect();
     for (&i, r) in first
         .iter()
@@ -255,7 +333,7 @@ pub fn sparse_face_rows(
         .map_init(
             || vec![NONE; topo.vertex_count()],
             |slot, (i, r)| {
-                r.unwrap_or_else(|| {
+                r.map(flat).unwrap_or_else(|| {
                     let ring = ring_slots(topo, faces[i], slot);
                     clear(slot, &ring);
                     let t = type_of[i].expect("faces without type are built in the first batch");
