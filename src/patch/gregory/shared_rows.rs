@@ -17,8 +17,10 @@ use std::collections::HashMap;
 
 use rayon::prelude::*;
 
-use super::build::{check_face_for, gregory_vertex_for, Coverage, NotGregory};
-use super::point::Weights;
+use super::build::{
+    check_face_for, check_vertex_for, gregory_vertex_for, vertex_ring_with, Coverage, NotGregory,
+};
+use super::point::{GregoryPoint, Weights};
 use super::stencil::ring_walk;
 use super::stencil_table::sparse_face_rows_direct;
 use super::tangents::GregoryTangents;
@@ -104,10 +106,7 @@ impl Keyer<'_> {
     fn has_data(&mut self, v: u32) -> bool {
         let h = &mut self.has_data[v as usize];
         if *h == 2 {
-            let point = |_: u32| 0.0f64;
-            *h = u8::from(
-                gregory_vertex_for(self.topo, v, &point, self.tangents, Coverage::EndCap).is_some(),
-            );
+            *h = u8::from(has_vertex_data(self.topo, v, self.tangents));
         }
         *h == 1
     }
@@ -166,6 +165,40 @@ impl Keyer<'_> {
         }
         Some(key)
     }
+}
+
+/// A point that is no point: the ring of a vertex built over it carries the topology only.
+#[derive(Clone, Copy)]
+struct NoPoint;
+
+impl GregoryPoint for NoPoint {
+    fn zero() -> Self {
+        NoPoint
+    }
+
+    fn add_scaled(&mut self, _: f64, _: &Self) {}
+}
+
+/// Whether [`gregory_vertex_for`] (end-cap coverage) is `Some` at `v`. A ring with no sharp
+/// edge and no corner tag takes the interior construction, which exists exactly when the faces
+/// close around the vertex ([`super::GregoryVertex::new`]); its weights need cosines, so the
+/// ring's shape answers instead. Other rings run the scalar construction.
+fn has_vertex_data(topo: &Topology, v: u32, tangents: GregoryTangents) -> bool {
+    let faces = topo.vertex_faces(v);
+    // `gregory_vertex_for`'s own test before the construction.
+    if faces.is_empty()
+        || faces
+            .iter()
+            .all(|&f| check_vertex_for(topo, v, f, Coverage::EndCap).is_err())
+    {
+        return false;
+    }
+    let ring = vertex_ring_with(topo, v, &|_| NoPoint);
+    if !ring.corner && !ring.sharp.contains(&true) {
+        return ring.c.len() == ring.m.len();
+    }
+    let point = |_: u32| 0.0f64;
+    gregory_vertex_for(topo, v, &point, tangents, Coverage::EndCap).is_some()
 }
 
 /// [`super::stencil::canonical_ring`] of face `f` with `slot` (all [`NONE`] on entry) set to each ring vertex's
@@ -369,6 +402,52 @@ mod tests {
     use crate::mesh::{ControlMesh, ControlMeshDesc};
     use crate::patch::gregory::stencil::canonical_ring;
     use glam::DVec3;
+
+    /// The topological answer is the construction's, on every vertex of every level of the
+    /// feature-adaptive refinement (sparse levels: rings cut open at their edge) of meshes with
+    /// holes, boundaries, darts, corners, creases, n-gons, triangles and valence-2 vertices
+    /// (fails if the interior shortcut answers for a ring the construction rejects or skips the
+    /// coverage test).
+    #[test]
+    fn vertex_data_by_topology_is_the_constructions() {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
+        let mut seen = [0usize; 2];
+        for name in [
+            "catmark_hole_test1",
+            "catmark_hole_test4",
+            "catmark_dart_edgecorner",
+            "catmark_cube_corner4",
+            "catmark_cube_creases2",
+            "catmark_nonquads",
+            "catmark_smoothtris1",
+            "catmark_val2_interior",
+            "catmark_xord_boundary",
+            "catmark_cubes_semisharp",
+        ] {
+            let path = format!("{dir}{name}.obj");
+            let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
+            let level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
+            let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, 2).unwrap();
+            for topo in adaptive.levels.iter().map(|l| l.topology()) {
+                let topo = topo.without_semi_sharpness();
+                for v in 0..topo.vertex_count() as u32 {
+                    let point = |_: u32| 0.0f64;
+                    let want = gregory_vertex_for(
+                        &topo,
+                        v,
+                        &point,
+                        GregoryTangents::default(),
+                        Coverage::EndCap,
+                    )
+                    .is_some();
+                    let got = has_vertex_data(&topo, v, GregoryTangents::default());
+                    assert_eq!(got, want, "{name}: vertex {v}");
+                    seen[usize::from(want)] += 1;
+                }
+            }
+        }
+        assert!(seen[0] > 0 && seen[1] > 0, "{seen:?}");
+    }
 
     #[test]
     fn ring_slots_is_the_canonical_ring() {
