@@ -39,8 +39,8 @@ fn refine_with(m: &ControlMesh, options: AdaptiveOptions) -> (AdaptiveRefinement
 /// Single-crease patches on.
 fn single(isolation: u32) -> AdaptiveOptions {
     AdaptiveOptions {
-        isolation,
         single_crease: true,
+        ..AdaptiveOptions::new(isolation)
     }
 }
 
@@ -424,8 +424,8 @@ fn patch_count_is_linear_in_sharpness_with_single_crease_patches() {
                 let mut m = base.clone();
                 assert!(m.set_crease_sharpness(s as f32).unwrap() > 0);
                 let options = AdaptiveOptions {
-                    isolation: 8,
                     single_crease,
+                    ..AdaptiveOptions::new(8)
                 };
                 refine_with(&m, options).1.total()
             })

@@ -57,8 +57,8 @@ fn check(name: &str, mesh: &ControlMesh, isolations: &[u32]) {
         let r = AdaptiveRefinement::new(&Level::from_mesh(mesh).unwrap(), iso).unwrap();
         let census = PatchCensus::new(&r);
         let mut caps = 0;
-        for (l, lev) in r.levels.iter().enumerate() {
-            let t = lev.topology().without_semi_sharpness();
+        for l in 0..r.levels.len() {
+            let t = r.end_cap_topology(l);
             let faces: Vec<u32> = census
                 .patches
                 .iter()

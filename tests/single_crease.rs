@@ -203,8 +203,8 @@ fn adaptive_single_crease_patches_are_exact() {
         let mut total = 0;
         for isolation in levels {
             let options = AdaptiveOptions {
-                isolation,
                 single_crease: true,
+                ..AdaptiveOptions::new(isolation)
             };
             let r = AdaptiveRefinement::with_options(&Level::from_mesh(&mesh).unwrap(), options)
                 .unwrap();

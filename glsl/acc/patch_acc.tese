@@ -87,7 +87,7 @@ void main() {
     if (u_edge && v_edge) {
         // The shared limit position and normal of the corner vertex (as every scheme).
         p = acc[pi].b[int(3.0 * u + 12.0 * v)].xyz;
-        quad_corner_point(acc[pi].corners, u, v, p, nrm);
+        quad_corner_point(acc[pi].corners, acc[pi].face, u, v, p, nrm);
     } else if (v_edge) {
         acc_edge(pi, v == 0.0 ? 0 : 2, u, p, nrm);
     } else if (u_edge) {

@@ -27,7 +27,7 @@ void main() {
     bool u_edge = (u == 0.0 || u == 1.0);
     bool v_edge = (v == 0.0 || v == 1.0);
     if (u_edge && v_edge) {
-        quad_corner_point(info.corners, u, v, p, nrm);
+        quad_corner_point(info.corners, info.face, u, v, p, nrm);
         sector_normal(ap.corner_frame[quad_corner_index(u, v)], nrm);
     } else if (u_edge || v_edge) {
         int e = bspline_edge(u, v);

@@ -47,7 +47,7 @@ void main() {
         bool at_a = (wb == 0.0);
         uv = at_a ? a : b;
         PATCH_SURFACE(info, uv.x, uv.y, p, nrm, du, dv);
-        shared_corner(at_a ? slot_a : slot_b, p, nrm);
+        shared_corner(at_a ? slot_a : slot_b, info.face, p, nrm);
         uint frame_a = (h == 2u) ? ap.mid_frame[e] : ap.corner_frame[se.x];
         uint frame_b = (h == 1u) ? ap.mid_frame[e] : ap.corner_frame[se.y];
         sector_normal(at_a ? frame_a : frame_b, nrm);

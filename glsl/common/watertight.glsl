@@ -17,7 +17,8 @@
 
 #include "bspline.glsl"
 
-/// Unit limit normal per vertex (xyz), read at patch corners; zero at vertices with several sectors.
+/// Unit limit normal per vertex (xyz), read at patch corners; zero at vertices with several
+/// sectors, whose w bits then index their sector normals (sector_corner_normal).
 layout(std430, set = 0, binding = 9) readonly buffer VertexNormals {
     vec4 vertex_normal[];
 };
@@ -64,13 +65,34 @@ void edge_ts(float x, bool from_lo, out float t, out float s) {
     canonical_ts(x, from_lo, t, s);
 }
 
-/// The shared limit position of vertex `id` and its shared normal, unless the vertex has none
-/// (zero: several sectors, or no topology to tell; keep the patch's own).
-void shared_corner(uint id, inout vec3 pos, inout vec3 nrm) {
+/// The normal of face `face`'s sector at vertex `id` into nrm, if a pass wrote one: where the
+/// vertex has several sectors its normal is zero and the bits of w index a list after the
+/// vertices (render/pass/frames.rs, VertexFrames::normal_bytes): a header whose w bits are the
+/// count, then (normal, face bits) per face.
+void sector_corner_normal(uint id, uint face, inout vec3 nrm) {
+    uint list = floatBitsToUint(vertex_normal[id].w);
+    if (list == 0u) {
+        return;
+    }
+    uint count = floatBitsToUint(vertex_normal[list].w);
+    for (uint k = 1u; k <= count; ++k) {
+        vec4 entry = vertex_normal[list + k];
+        if (floatBitsToUint(entry.w) == face) {
+            nrm = entry.xyz;
+            return;
+        }
+    }
+}
+
+/// The shared limit position of vertex `id` and its shared normal; where the vertex has
+/// several sectors, the normal of face `face`'s sector, or the patch's own if no pass wrote one.
+void shared_corner(uint id, uint face, inout vec3 pos, inout vec3 nrm) {
     pos = vertex_limit[id].xyz;
     vec3 vn = vertex_normal[id].xyz;
     if (dot(vn, vn) > 0.0) {
         nrm = vn;
+    } else {
+        sector_corner_normal(id, face, nrm);
     }
 }
 
@@ -79,9 +101,9 @@ int quad_corner_index(float u, float v) {
     return (u == 0.0) ? (v == 0.0 ? 0 : 3) : (v == 0.0 ? 1 : 2);
 }
 
-/// A quad patch's corner at (u, v) on a corner: shared_corner of its vertex.
-void quad_corner_point(uvec4 corners, float u, float v, inout vec3 pos, inout vec3 nrm) {
-    shared_corner(corners[quad_corner_index(u, v)], pos, nrm);
+/// A quad patch's corner at (u, v) on a corner: shared_corner of its vertex for face `face`.
+void quad_corner_point(uvec4 corners, uint face, float u, float v, inout vec3 pos, inout vec3 nrm) {
+    shared_corner(corners[quad_corner_index(u, v)], face, pos, nrm);
 }
 #endif
 

@@ -55,9 +55,17 @@ void quad_edge(uint patch_index, GregoryPatchInfo info, int k, float x, int from
     bool from_lo = (from_corner == a) == a_is_lo;
     float t, s;
     edge_ts(x, from_lo, t, s);
-    if ((info.flags & (1u << uint(k))) != 0u) {
+    // An edge shared with a B-spline patch: its grid's limit curve and normal; across a sharp
+    // edge (bit 4+k) only the curve, the crease polygon's, which the B-spline side evaluates
+    // alike, while the normal is this patch's own one-sided one (shared_edge below).
+    bool grid = (info.flags & (1u << uint(k))) != 0u;
+    vec3 grid_pos = vec3(0.0);
+    if (grid) {
         grid_edge(patch_index, info.flags, k, t, s, pos, nrm);
-        return;
+        if ((info.flags & (1u << uint(4 + k))) == 0u) {
+            return;
+        }
+        grid_pos = pos;
     }
     bool nbr_quad = (info.flags & (1u << uint(8 + k))) == 0u;
     bool sharp = (info.flags & (1u << uint(12 + k))) != 0u;
@@ -65,6 +73,9 @@ void quad_edge(uint patch_index, GregoryPatchInfo info, int k, float x, int from
                 GREGORY_CORNER_ORIGIN(info, b), P(a), EP(a), EM(b), P(b),
                 EM(a), FP(a), FM(b), EP(b),
                 g_eout[2 * k], g_nbr[2 * k], g_nbr[2 * k + 1], g_eout[2 * k + 1], pos, nrm);
+    if (grid) {
+        pos = grid_pos;
+    }
 }
 
 void main() {
@@ -110,7 +121,7 @@ void main() {
     if (u_edge && v_edge) {
         int k = quad_corner_index(u, v);
         nrm = gregory_corner_normal(P(k), EP(k), EM(k), FP(k), FM(k));
-        quad_corner_point(info.corners, u, v, p, nrm);
+        quad_corner_point(info.corners, info.face, u, v, p, nrm);
         GREGORY_CORNER_NORMAL(info, k, nrm);
     } else if (v == 0.0) {
         quad_edge(patch_index, info, 0, u, 0, p, nrm);

@@ -86,12 +86,7 @@ void main() {
     if (zeros >= 2) {
         int k = (w0 != 0.0) ? 0 : (w1 != 0.0 ? 1 : 2);
         nrm = gregory_corner_normal(P(k), EP(k), EM(k), FP(k), FM(k));
-        p = vertex_limit[info.corners[k]].xyz;
-        // Shared vertex normal; zero where the vertex has several sectors (own normal).
-        vec3 vn = vertex_normal[info.corners[k]].xyz;
-        if (dot(vn, vn) > 0.0) {
-            nrm = vn;
-        }
+        shared_corner(info.corners[k], info.face, p, nrm);
     } else if (w2 == 0.0) {
         tri_edge(info, 0, w1, p, nrm);
     } else if (w0 == 0.0) {

@@ -23,7 +23,7 @@ void main() {
     if (u_edge && v_edge) {
         uvec4 c = uvec4(pm_words[rec + 4u], pm_words[rec + 5u], pm_words[rec + 6u],
                         pm_words[rec + 7u]);
-        quad_corner_point(c, u, v, p, nrm);
+        quad_corner_point(c, pm_words[rec], u, v, p, nrm);
     } else if (v == 0.0) {
         pm_domain_edge(rec, 0u, u, true, p, nrm);
     } else if (u == 1.0) {

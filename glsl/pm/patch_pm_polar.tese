@@ -31,7 +31,7 @@ void main() {
     int zeros = int(w.x == 0.0) + int(w.y == 0.0) + int(w.z == 0.0);
     if (zeros >= 2) {
         uint k = (w.x != 0.0) ? 0u : (w.y != 0.0 ? 1u : 2u);
-        shared_corner(pm_words[rec + 4u + k], p, nrm);
+        shared_corner(pm_words[rec + 4u + k], pm_words[rec], p, nrm);
     } else if (w.z == 0.0) {
         pm_domain_edge(rec, 0u, w.y, true, p, nrm);
     } else if (w.x == 0.0) {

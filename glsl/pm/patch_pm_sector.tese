@@ -53,7 +53,7 @@ void main() {
         if (w.z != 0.0) {
             pm_centre(pm_words[rec + 3u], p, nrm);
         } else {
-            shared_corner(pm_words[rec + 4u + (w.x != 0.0 ? 0u : 1u)], p, nrm);
+            shared_corner(pm_words[rec + 4u + (w.x != 0.0 ? 0u : 1u)], pm_words[rec], p, nrm);
         }
     } else if (w.z == 0.0) {
         pm_domain_edge(rec, 0u, w.y, true, p, nrm);

@@ -2,8 +2,8 @@
 // (pm_vs_*.tesc) variants: a bicubic's from its four corner vertices; a polar patch's from its
 // three (gl_TessCoord[i] is the weight of domain corner i, so outer[0] is edge 1-2, [1] edge 2-0,
 // [2] edge 0-1); a sector's [2] from the facet edge's corner vertices, [0] and [1] from the spokes
-// from v^{i+1} and v^i to the centre (in screen-space mode the chord from the corner's limit point
-// to the centre, which both sectors of a spoke compute alike). Needs frame.glsl,
+// from v^{i+1} and v^i to the centre (tess_factors.glsl's spoke_tess_level: the chord from the
+// corner's limit point to the centre, which both sectors of a spoke compute alike). Needs frame.glsl,
 // tess_factors.glsl and pm.glsl first.
 #ifndef TESSERA_PM_LEVELS_GLSL
 #define TESSERA_PM_LEVELS_GLSL
@@ -28,21 +28,13 @@ void pm_polar_levels(uint rec) {
     pm_tri_levels(edge_tess_level(c1, c2), edge_tess_level(c2, c0), edge_tess_level(c0, c1));
 }
 
-float pm_spoke_level(uint corner, vec3 centre) {
-    if (frame.tess.y != TESS_MODE_ADAPTIVE) {
-        return edge_tess_level(corner, corner);
-    }
-    float len = length(to_pixels(centre) - to_pixels(vertex_limit[corner].xyz));
-    return clamp(len / max(frame.tess.z, 1e-3), 1.0, frame.tess.w);
-}
-
 void pm_sector_levels(uint rec) {
     uint c0 = pm_words[rec + 4u];
     uint c1 = pm_words[rec + 5u];
     vec3 n_unused;
     vec3 centre;
     pm_centre(pm_words[rec + 3u], centre, n_unused);
-    pm_tri_levels(pm_spoke_level(c1, centre), pm_spoke_level(c0, centre), edge_tess_level(c0, c1));
+    pm_tri_levels(spoke_tess_level(c1, centre), spoke_tess_level(c0, centre), edge_tess_level(c0, c1));
 }
 
 #endif

@@ -53,7 +53,7 @@ void main() {
     bool u_edge = (u == 0.0 || u == 1.0);
     bool v_edge = (v == 0.0 || v == 1.0);
     if (u_edge && v_edge) {
-        quad_corner_point(info.corners, u, v, p, nrm);
+        quad_corner_point(info.corners, info.face, u, v, p, nrm);
     } else if (u_edge || v_edge) {
         single_crease_edge_point(info.flags, sharpness, bspline_edge(u, v), v_edge ? u : v, p, nrm);
     }

@@ -67,6 +67,7 @@ pub fn run(ctx: &Context, mesh: &ControlMesh, sweep: &Sweep<'_>) -> Result<Vec<S
                     isolation: sweep.isolation,
                     single_crease,
                     gregory_tangents: Default::default(),
+                    end_cap_sharpness: Default::default(),
                     pm_crease_scalar: None,
                 },
             )?;

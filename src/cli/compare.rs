@@ -91,6 +91,7 @@ pub fn run(args: CompareArgs) -> Result<()> {
             .with_isolation(args.adaptive.isolation)
             .with_single_crease(args.adaptive.single_crease)
             .with_gregory_tangents(args.adaptive.tangents())
+            .with_end_cap_sharpness(args.adaptive.end_cap_sharpness)
             .with_pm_crease_scalar(args.adaptive.pm_crease_scalar),
     };
     let schemes = if args.schemes.is_empty() {

@@ -53,8 +53,8 @@ pub fn run(args: InfoArgs) -> tessera::Result<()> {
         let refinement = AdaptiveRefinement::with_options(
             &base,
             AdaptiveOptions {
-                isolation,
                 single_crease: args.single_crease,
+                ..AdaptiveOptions::new(isolation)
             },
         )?;
         let tables = RefinementTables::adaptive(&refinement)?;

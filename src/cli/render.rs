@@ -11,6 +11,7 @@ use tessera::render::{
     render_to_image, CameraSpec, ColorBy, FrameReport, OffscreenDesc, RenderDesc, Scheme, Spacing,
     SurfaceData, TessMode, TessSettings, UpAxis,
 };
+use tessera::subdiv::adaptive::EndCapSharpness;
 use tessera::{ControlMesh, Error, Result};
 
 /// Arguments of `tessera render`.
@@ -208,6 +209,12 @@ pub struct AdaptiveArgs {
     #[arg(long, default_value_t = GregoryTangents::default(), value_name = "paper|optimal",
           value_parser = |s: &str| s.parse::<GregoryTangents>())]
     pub gregory_tangents: GregoryTangents,
+    /// `--scheme adaptive`: how end caps treat semi-sharpness left at the isolation level:
+    /// `crease` (default: residual sharpness >= 1 infinitely sharp, below smooth) or `smooth`
+    /// (all of it smooth, as OpenSubdiv's end caps).
+    #[arg(long, default_value_t = EndCapSharpness::default(), value_name = "crease|smooth",
+          value_parser = |s: &str| s.parse::<EndCapSharpness>())]
+    pub end_cap_sharpness: EndCapSharpness,
     /// `--scheme pm`: crease scalar `a` in [0, 1] of every untagged edge (Myles, Ni, Peters 2008
     /// eq. 14): 2/3 (default) is the smooth surface, 0 the control polyhedron, 4/5 rounder;
     /// tagged edges of sharpness `s` get `a · 2^-s` (0 when infinitely sharp).
@@ -299,13 +306,14 @@ impl DisplacementArgs {
     }
 }
 
-/// Planning options on `ctx`'s device with `--isolation`, `--single-crease` and
-/// `--gregory-tangents`.
+/// Planning options on `ctx`'s device with `--isolation`, `--single-crease`,
+/// `--gregory-tangents` and `--end-cap-sharpness`.
 pub fn plan_options(ctx: &Context, args: &AdaptiveArgs) -> tessera::render::PlanOptions {
     tessera::render::PlanOptions::new(tessera::render::SchemeLimits::from_context(ctx))
         .with_isolation(args.isolation)
         .with_single_crease(args.single_crease)
         .with_gregory_tangents(args.tangents())
+        .with_end_cap_sharpness(args.end_cap_sharpness)
         .with_pm_crease_scalar(args.pm_crease_scalar)
 }
 

@@ -183,15 +183,77 @@ pub struct AdaptiveOptions {
     /// patch at the first level where it is one, instead of being refined `ceil(s)` levels
     /// deep, so the patch count grows linearly, not exponentially, with the sharpness.
     pub single_crease: bool,
+    /// How end caps treat semi-sharpness left at the isolation level.
+    pub end_cap_sharpness: EndCapSharpness,
 }
 
 impl AdaptiveOptions {
-    /// Isolation `isolation`, single-crease patches off.
+    /// Isolation `isolation`, single-crease patches off, default end-cap sharpness.
     pub fn new(isolation: u32) -> AdaptiveOptions {
         AdaptiveOptions {
             isolation,
             single_crease: false,
+            end_cap_sharpness: EndCapSharpness::default(),
         }
+    }
+}
+
+/// How the end caps (Gregory patches at the isolation level) treat the residual semi-sharpness
+/// of their level's edges and vertices. The refined points keep the semi-sharp rules up to that
+/// level either way; only the end caps' corner and edge rules differ.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum EndCapSharpness {
+    /// Edges of residual sharpness `s >= 1` infinitely sharp, `s < 1` smooth: the limit keeps
+    /// such a crease for `s` more levels and rounds it only within about `2^-s` of the patch
+    /// (Nießner, Loop, Greiner 2012 §3), so the crease rules of the Gregory construction (Loop
+    /// et al. 2009 §4.6) are the closer stand-in. Semi-sharp vertex tags stay smooth: as
+    /// infinitely sharp ones they would make cone points, measured no closer (README).
+    #[default]
+    Crease,
+    /// Residual semi-sharpness smooth, infinitely sharp tags kept, as OpenSubdiv's Gregory-basis
+    /// end caps (`Far::PatchBuilder::GetIrregularPatchCornerSpans` sharpens corner spans from
+    /// infinitely sharp tags only).
+    Smooth,
+}
+
+impl EndCapSharpness {
+    /// Residual sharpness from which [`EndCapSharpness::Crease`] makes an edge infinitely sharp.
+    pub const CREASE_FROM: f32 = 1.0;
+
+    /// `level`'s topology as the end caps see it.
+    pub fn end_cap_topology(self, level: &Topology) -> std::borrow::Cow<'_, Topology> {
+        match self {
+            EndCapSharpness::Crease => level.with_semi_sharpness_as_crease(Self::CREASE_FROM),
+            EndCapSharpness::Smooth => level.without_semi_sharpness(),
+        }
+    }
+
+    /// Lower-case name (`crease`, `smooth`).
+    pub fn name(self) -> &'static str {
+        match self {
+            EndCapSharpness::Crease => "crease",
+            EndCapSharpness::Smooth => "smooth",
+        }
+    }
+}
+
+impl std::str::FromStr for EndCapSharpness {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Self, Self::Err> {
+        match s {
+            "crease" => Ok(EndCapSharpness::Crease),
+            "smooth" => Ok(EndCapSharpness::Smooth),
+            _ => Err(format!(
+                "end-cap sharpness {s:?}: expected crease or smooth"
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for EndCapSharpness {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
     }
 }
 
@@ -205,6 +267,8 @@ pub struct AdaptiveRefinement {
     pub isolation: u32,
     /// Whether single-crease faces end refinement ([`AdaptiveOptions::single_crease`]).
     pub single_crease: bool,
+    /// How the end caps treat residual semi-sharpness ([`AdaptiveOptions::end_cap_sharpness`]).
+    pub end_cap_sharpness: EndCapSharpness,
 }
 
 /// The patch of a face at some level when it is regular: `gather` succeeds (quad, valence-4 or
@@ -264,6 +328,7 @@ impl AdaptiveRefinement {
         let AdaptiveOptions {
             isolation,
             single_crease,
+            end_cap_sharpness,
         } = options;
         if isolation > MAX_ISOLATION {
             return Err(Error::Invalid(format!(
@@ -320,6 +385,7 @@ impl AdaptiveRefinement {
             levels,
             isolation,
             single_crease,
+            end_cap_sharpness,
         })
     }
 
@@ -347,6 +413,12 @@ impl AdaptiveRefinement {
         self.levels
             .last()
             .map_or(0, |l| l.first_vertex as usize + l.level.vertex_count())
+    }
+
+    /// Level `level`'s topology as its end caps see it ([`Self::end_cap_sharpness`]).
+    pub fn end_cap_topology(&self, level: usize) -> std::borrow::Cow<'_, Topology> {
+        self.end_cap_sharpness
+            .end_cap_topology(self.levels[level].topology())
     }
 }
 

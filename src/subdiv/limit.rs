@@ -44,7 +44,9 @@ use crate::{Error, Result};
 /// [`sector`] tabulates (crease tangent and cross mode, both sharp edges' tangents, or the
 /// leading modes); darts, corner tags without sharp edges (cusps, whose normal is
 /// perpendicular to the cusp axis) and other cases the two leading eigenvectors of the local
-/// subdivision matrix. Valence-2 vertices use the two positive 1/4 modes.
+/// subdivision matrix; a corner tag with one sharp edge and four quads, where the second place is
+/// a tie, a per-face mix ([`sector::corner_tag4`]). Valence-2 vertices use the two positive 1/4
+/// modes.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct VertexMask {
     /// Vertex indices of the level.
@@ -360,6 +362,11 @@ fn eigen_mask(level: &Level, v: u32, i: usize, sharp: usize, depth: u32) -> Resu
             orient(&s, &mut lim, [ring.a, opposite, ring.b]);
         }
         lim
+    } else if sharp == 1 && corner_rule && sec.len() == 4 && m == 9 {
+        // A corner tag with one sharp edge and four quads: tied modes, a normal per face
+        // ([`sector::corner_tag4`]; the ring starts at the sharp edge).
+        let face = sec.iter().position(|&k| k == i_sub).ok_or_else(fail)?;
+        sector::corner_tag4(&s, face).ok_or_else(fail)?
     } else {
         let a = pos_in_ring(st.other_vertex(sub_edges[i_sub], v_sub)).ok_or_else(fail)?;
         let b =

@@ -100,4 +100,31 @@ impl Topology {
         }
         Cow::Owned(t)
     }
+
+    /// This topology with every semi-sharp edge of sharpness at least `threshold` made
+    /// infinitely sharp, the other semi-sharp edges and every semi-sharp vertex smooth,
+    /// boundaries and infinitely sharp tags kept; borrowed when there is nothing to change. The
+    /// end caps of a feature-adaptive refinement see their level's residual semi-sharpness this
+    /// way by default ([`crate::subdiv::adaptive::EndCapSharpness::Crease`]).
+    pub fn with_semi_sharpness_as_crease(&self, threshold: f32) -> Cow<'_, Topology> {
+        if !self.has_semi_sharpness() {
+            return Cow::Borrowed(self);
+        }
+        let mut t = self.clone();
+        for s in t.edge_sharpness.iter_mut() {
+            if is_semi(*s) {
+                *s = if *s >= threshold {
+                    INFINITE_SHARPNESS
+                } else {
+                    0.0
+                };
+            }
+        }
+        for s in t.vertex_sharpness.iter_mut() {
+            if is_semi(*s) {
+                *s = 0.0;
+            }
+        }
+        Cow::Owned(t)
+    }
 }

@@ -82,6 +82,10 @@ const TOLERANCES: &[(&str, Tolerance)] = &[
     // bspline_only_mixed_patch_type
     ("adaptive_car_level", tol(0.006, 0.05)),
     ("adaptive_car_type", tol(0.006, 0.05)),
+    // remade when the end caps began treating residual semi-sharp edges as infinitely sharp
+    // (sharpness 5 at isolation 3 leaves 2; `EndCapSharpness::Crease`): its corners are now
+    // creased, not rounded; the previous image measured FLIP mean 0.0150, 99th percentile 0.515
+    // against it, the new one 0 against today's render, which made it
     ("adaptive_cube_creases1_type", tol(0.006, 0.05)),
     ("adaptive_pyramid_creases1_level", tol(0.006, 0.05)),
     ("adaptive_nonquads_type", tol(0.006, 0.05)),

@@ -298,6 +298,190 @@ pub fn assert_coincident_points_equal_by_side(m: &ControlMesh, records: &[Captur
     })
 }
 
+/// [`assert_coincident_points_equal_by_side`] for `--scheme adaptive` at `isolation` (default
+/// options), with the end caps' creases ([`EndCapCreases`]) counted as sharp edges too: a point
+/// on one lies on its own face's side, and base vertices' sectors are split by them.
+pub fn assert_adaptive_points_equal_by_side(
+    m: &ControlMesh,
+    isolation: u32,
+    records: &[CaptureRecord],
+) -> usize {
+    let creases = EndCapCreases::new(m, isolation);
+    let pairs = coincident_pairs(m, records);
+    assert_pair_normals(records, &pairs, |r, q| {
+        let side = |r: &CaptureRecord| match creases.on_crease(r) {
+            true => Some(r.face),
+            false => side(&creases.topo, r),
+        };
+        Some(side(r)? == side(q)?)
+    })
+}
+
+/// The edges end caps treat as infinitely sharp while the base mesh does not (residual
+/// semi-sharpness, `AdaptiveRefinement::end_cap_topology`), from the same refinement the GPU
+/// draws: edges of the end caps' level that are infinitely sharp in the end-cap topology, not in
+/// the level's own, with an end cap on both sides (beside a single-crease patch the end cap
+/// reads that patch's edge record, normals included), as spans along their base edges.
+pub struct EndCapCreases {
+    /// The base topology with every base edge holding a span made infinitely sharp (sectors at
+    /// base vertices).
+    pub topo: Topology,
+    /// Per base edge: spans along it, parameter from its smaller vertex id.
+    spans: HashMap<u32, Vec<(f64, f64)>>,
+    /// How many spans there are.
+    pub count: usize,
+}
+
+impl EndCapCreases {
+    /// The end caps' creases of `m` at `isolation` with the GPU scheme's default options.
+    pub fn new(m: &ControlMesh, isolation: u32) -> EndCapCreases {
+        use tessera::subdiv::adaptive::{
+            AdaptiveOptions, AdaptiveRefinement, PatchCensus, PatchType,
+        };
+        let base = Topology::new(m).unwrap();
+        let options = AdaptiveOptions {
+            single_crease: tessera::render::PlanOptions::DEFAULT_SINGLE_CREASE,
+            ..AdaptiveOptions::new(isolation)
+        };
+        let r = AdaptiveRefinement::with_options(
+            &tessera::subdiv::Level::from_topology(base.clone()),
+            options,
+        )
+        .unwrap();
+        let census = PatchCensus::new(&r);
+        let mut caps = std::collections::HashSet::new();
+        for p in census
+            .patches
+            .iter()
+            .filter(|p| p.kind == PatchType::EndCap)
+        {
+            caps.insert((p.level, p.face));
+        }
+        let mut spans: HashMap<u32, Vec<(f64, f64)>> = HashMap::new();
+        let mut count = 0;
+        for (l, lev) in r.levels.iter().enumerate() {
+            let t = lev.topology();
+            let tc = r.end_cap_topology(l);
+            for e in 0..t.edge_count() as u32 {
+                let faces = t.edge_faces(e);
+                let crease = tc.edge_sharpness(e) >= INFINITE_SHARPNESS
+                    && t.edge_sharpness(e) < INFINITE_SHARPNESS
+                    && faces.len() == 2
+                    && faces.iter().all(|&f| caps.contains(&(l as u32, f)));
+                if !crease {
+                    continue;
+                }
+                let f = faces[0];
+                let k = t.face_edges(f).iter().position(|&x| x == e).unwrap();
+                let d = lev.domains[f as usize];
+                let corner = |c: usize| {
+                    let (a, b) = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)][c % 4];
+                    d.origin + a * d.u + b * d.v
+                };
+                let (p, q) = (corner(k), corner(k + 1));
+                let ends =
+                    [p, q].map(|x| base_edge_points(&base, d.base_face, d.sub_face, x.x, x.y));
+                let (be, s0, s1) = ends[0]
+                    .iter()
+                    .find_map(|&(e0, s0)| {
+                        ends[1]
+                            .iter()
+                            .find(|&&(e1, _)| e1 == e0)
+                            .map(|&(_, s1)| (e0, s0, s1))
+                    })
+                    .expect("an end-cap crease lies on a base edge");
+                spans.entry(be).or_default().push((s0.min(s1), s0.max(s1)));
+                count += 1;
+            }
+        }
+        let creases: Vec<tessera::mesh::Crease> = spans
+            .keys()
+            .map(|&e| {
+                let [v0, v1] = base.edge_vertices(e);
+                tessera::mesh::Crease {
+                    v0,
+                    v1,
+                    sharpness: INFINITE_SHARPNESS,
+                }
+            })
+            .collect();
+        EndCapCreases {
+            topo: base.with_creases(&creases).unwrap(),
+            spans,
+            count,
+        }
+    }
+
+    /// Whether captured point `r` lies on an end-cap crease away from base vertices: inside a
+    /// span, or where two spans meet (an end of a single span is a dart, one normal).
+    pub fn on_crease(&self, r: &CaptureRecord) -> bool {
+        let (u, v) = (f64::from(r.u), f64::from(r.v));
+        let on = base_edge_points(&self.topo, r.face, r.sub_face, u, v);
+        if on.len() != 1 {
+            return false;
+        }
+        let (e, s) = on[0];
+        let Some(spans) = self.spans.get(&e) else {
+            return false;
+        };
+        const EPS: f64 = 1e-6;
+        let inside = spans.iter().any(|&(a, b)| s > a + EPS && s < b - EPS);
+        let ends = spans
+            .iter()
+            .filter(|&&(a, b)| (s - a).abs() <= EPS || (s - b).abs() <= EPS)
+            .count();
+        inside || ends >= 2
+    }
+}
+
+/// The base edges point `(u, v)` of `face` (sub-face `sub` of a non-quad) lies on, each with
+/// the point's parameter along it from its smaller vertex id: none inside, two at a corner.
+fn base_edge_points(
+    topo: &Topology,
+    face: u32,
+    sub: Option<u32>,
+    u: f64,
+    v: f64,
+) -> Vec<(u32, f64)> {
+    let fv = topo.face_vertices(face);
+    let n = fv.len();
+    // (face edge k, parameter from corner k).
+    let mut on: Vec<(usize, f64)> = Vec::new();
+    match sub {
+        None if n == 4 => {
+            if v == 0.0 {
+                on.push((0, u));
+            }
+            if u == 1.0 {
+                on.push((1, v));
+            }
+            if v == 1.0 {
+                on.push((2, 1.0 - u));
+            }
+            if u == 0.0 {
+                on.push((3, 1.0 - v));
+            }
+        }
+        Some(k) => {
+            let k = k as usize;
+            if v == 0.0 {
+                on.push((k, u / 2.0));
+            }
+            if u == 0.0 {
+                on.push(((k + n - 1) % n, 1.0 - v / 2.0));
+            }
+        }
+        None => {}
+    }
+    on.into_iter()
+        .map(|(k, s)| {
+            let (a, b) = (fv[k], fv[(k + 1) % n]);
+            let e = topo.face_edges(face)[k];
+            (e, if a < b { s } else { 1.0 - s })
+        })
+        .collect()
+}
+
 /// The side of the sharp features captured point `r` lies on: its base face inside the face or on
 /// a sharp base edge, the smaller face beside a smooth base edge, the smallest face of its sector
 /// at a base vertex (its own face at a cone); `None` where the record does not tell (a

@@ -21,7 +21,7 @@ use super::records::{
 use super::rows::{CornerRows, PatchCorner, SparseRows};
 use super::sector_frames::SectorFrames;
 use super::slots::{Slots, NONE};
-use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure};
+use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure, EndCapTopologies};
 use crate::patch::edge_grid::PATCH_EDGES;
 use crate::patch::gregory::edge_flags::{edge_flags, Across};
 use crate::patch::gregory::shared_rows::{sparse_face_rows_flat, FaceRows};
@@ -82,6 +82,7 @@ pub struct AdaptiveDrawTables {
 fn end_cap_rows(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
+    topologies: &EndCapTopologies,
     tangents: GregoryTangents,
 ) -> Result<Vec<FaceRows>, EndCapError> {
     let caps: Vec<_> = census
@@ -96,11 +97,8 @@ fn end_cap_rows(
             check_end_cap(refinement, p)?;
         }
         let faces: Vec<u32> = group.iter().map(|p| p.face).collect();
-        let t = lev.topology().without_semi_sharpness();
-        for (p, rows) in group
-            .iter()
-            .zip(sparse_face_rows_flat(&t, &faces, tangents))
-        {
+        let t = topologies.get(group[0].level);
+        for (p, rows) in group.iter().zip(sparse_face_rows_flat(t, &faces, tangents)) {
             let mut rows =
                 rows.map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?;
             // Global ids: one offset added, so ids stay ascending.
@@ -112,16 +110,17 @@ fn end_cap_rows(
 }
 
 /// Slot rows (position, du, dv) from the first census patch with the slot as a corner, exact
-/// patches (B-spline, single-crease) before end caps (whose Gregory corners are built without
-/// semi-sharpness), per slot (computed on the rayon pool), and whether the slot's normal is
-/// shared.
+/// patches (B-spline, single-crease) before end caps (whose Gregory corners are built over
+/// [`EndCapTopologies`]), per slot (computed on the rayon pool), and whether the slot's normal
+/// is shared (one sector in the topology the frame's patch was built over).
 fn slot_rows(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
+    topologies: &EndCapTopologies,
     slots: &Slots,
     caps: &[FaceRows],
 ) -> (Vec<Option<[Weights; 3]>>, Vec<bool>) {
-    let corner_rows = CornerRows::new(refinement, census, caps);
+    let corner_rows = CornerRows::new(refinement, census, topologies, caps);
     let mut first: Vec<Option<PatchCorner>> = vec![None; slots.len()];
     let mut shared = vec![false; slots.len()];
     corner_rows.visit(|c| {
@@ -130,7 +129,11 @@ fn slot_rows(
         let s = slots.of(lev.global(c.vertex)) as usize;
         if first[s].is_none() {
             first[s] = Some(*c);
-            shared[s] = single_normal_vertex(lev.topology(), c.vertex);
+            let t = match p.kind {
+                PatchType::EndCap => topologies.get(p.level),
+                _ => lev.topology(),
+            };
+            shared[s] = single_normal_vertex(t, c.vertex);
         }
     });
     let frames = first
@@ -218,17 +221,20 @@ impl AdaptiveDrawTables {
         tangents: GregoryTangents,
     ) -> Result<AdaptiveDrawTables, DrawTablesError> {
         let census = PatchCensus::new(refinement);
+        let topologies = EndCapTopologies::new(refinement, &census);
         let slots = Slots::new(refinement, &census);
-        let caps = end_cap_rows(refinement, &census, tangents)?;
-        let (frames, mut shared_normal) = slot_rows(refinement, &census, &slots, &caps);
+        let caps = end_cap_rows(refinement, &census, &topologies, tangents)?;
+        let (frames, mut shared_normal) =
+            slot_rows(refinement, &census, &topologies, &slots, &caps);
         let mut coarse = CoarseEdges::new(refinement, &census, &slots);
         let sectors = SectorFrames::new(
             refinement,
             &census,
+            &topologies,
+            &shared_normal,
             &slots,
             &coarse.mid_slots,
             &caps,
-            slots.len() as u32,
         );
         // Every row in one reservation: slot frames, sector frames, end caps.
         let frame_rows = || frames.iter().flatten().chain(&sectors.rows).flatten();
@@ -355,7 +361,13 @@ impl AdaptiveDrawTables {
                 },
                 None => Across::Nothing,
             };
-            let ef = edge_flags(t, p.face, across, |v| lev.global(v), slot);
+            let ef = edge_flags(
+                topologies.get(p.level),
+                p.face,
+                across,
+                |v| lev.global(v),
+                slot,
+            );
             let fv = t.face_vertices(p.face);
             let mut corners = [slot(lev.global(fv[0])); 4];
             for (c, &v) in corners.iter_mut().zip(fv) {

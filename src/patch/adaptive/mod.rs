@@ -23,5 +23,6 @@ mod surface;
 pub use draw::AdaptiveDrawTables;
 pub use error::DrawTablesError;
 pub use surface::{
-    end_caps, AdaptiveSurface, EndCapError, EndCapFailure, PatchShape, SurfacePatch, SurfacePoint,
+    end_caps, AdaptiveSurface, EndCapError, EndCapFailure, EndCapTopologies, PatchShape,
+    SurfacePatch, SurfacePoint,
 };

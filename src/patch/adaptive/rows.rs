@@ -5,6 +5,7 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
+use super::surface::EndCapTopologies;
 use crate::patch::gregory::shared_rows::FaceRows;
 use crate::patch::gregory::{one_face_crease_sector, GregoryPoint, Weights};
 use crate::patch::single_crease::SingleCreasePatch;
@@ -33,6 +34,7 @@ pub struct PatchCorner {
 pub struct CornerRows<'a> {
     refinement: &'a AdaptiveRefinement,
     census: &'a PatchCensus,
+    topologies: &'a EndCapTopologies<'a>,
     caps: &'a [FaceRows],
     /// Single-crease corner weights depend on the line's side and sharpness and the corner
     /// only: evaluated once per such shape of the census, not once per corner.
@@ -40,10 +42,12 @@ pub struct CornerRows<'a> {
 }
 
 impl<'a> CornerRows<'a> {
-    /// The corner rows of `census`; `caps` are the end caps' rows in census order.
+    /// The corner rows of `census`; `caps` are the end caps' rows in census order, built over
+    /// `topologies`.
     pub fn new(
         refinement: &'a AdaptiveRefinement,
         census: &'a PatchCensus,
+        topologies: &'a EndCapTopologies<'a>,
         caps: &'a [FaceRows],
     ) -> CornerRows<'a> {
         let mut crease = HashMap::new();
@@ -57,6 +61,7 @@ impl<'a> CornerRows<'a> {
         CornerRows {
             refinement,
             census,
+            topologies,
             caps,
             crease,
         }
@@ -81,7 +86,7 @@ impl<'a> CornerRows<'a> {
     }
 
     /// Visits every corner of every census patch, exact patches (B-spline, single-crease)
-    /// first, then end caps (whose Gregory corners are built without semi-sharpness): the
+    /// first, then end caps (whose Gregory corners are built over `topologies`): the
     /// order in which frames take their rows from the first patch with that corner.
     pub fn visit(&self, mut visit: impl FnMut(&PatchCorner)) {
         let mut cap_of = Vec::with_capacity(self.census.patches.len());
@@ -101,7 +106,8 @@ impl<'a> CornerRows<'a> {
                         patch: i,
                         k,
                         vertex: v,
-                        singular: end_caps && one_face_crease_sector(t, v, p.face),
+                        singular: end_caps
+                            && one_face_crease_sector(self.topologies.get(p.level), v, p.face),
                         cap,
                     });
                 }
@@ -112,14 +118,15 @@ impl<'a> CornerRows<'a> {
 
 /// Visits every corner of every census patch in [`CornerRows::visit`] order. `visit` gets the
 /// corner and a function computing its rows (position, d/du, d/dv) over the global refined
-/// vertices; `caps` are the end caps' rows in census order.
+/// vertices; `caps` are the end caps' rows in census order, built over `topologies`.
 pub fn corners_exact_first(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
+    topologies: &EndCapTopologies,
     caps: &[FaceRows],
     mut visit: impl FnMut(&PatchCorner, &dyn Fn() -> [Weights; 3]),
 ) {
-    let rows = CornerRows::new(refinement, census, caps);
+    let rows = CornerRows::new(refinement, census, topologies, caps);
     rows.visit(|c| visit(c, &|| rows.rows(c)));
 }
 

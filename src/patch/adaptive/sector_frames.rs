@@ -21,10 +21,11 @@ use std::collections::HashMap;
 
 use super::rows::corners_exact_first;
 use super::slots::{Slots, NONE};
+use super::surface::EndCapTopologies;
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::patch::gregory::shared_rows::FaceRows;
 use crate::patch::gregory::Weights;
-use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus};
+use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
 use crate::topology::{sector_count, sector_faces};
 
 /// The sector frames of a census and which patch corners and midpoints read them.
@@ -44,17 +45,22 @@ pub struct SectorFrames {
 type SectorKey = (u32, u32);
 
 impl SectorFrames {
-    /// Sector frames of `census` over `slots`, numbered from `first` (they follow the slots in
-    /// the frame buffers); `mid_slots` per census patch as `CoarseEdges::mid_slots`, `caps` the
-    /// end caps' rows in census order.
+    /// Sector frames of `census` over `slots`, numbered from the number of slots (they follow
+    /// the slots in the frame buffers); `mid_slots` per census patch as
+    /// `CoarseEdges::mid_slots`, `caps` the end caps' rows in census order. End caps' sectors
+    /// are those of their [`EndCapTopologies`] (residual semi-sharp creases split them too),
+    /// except where the slot's normal is shared (`shared_normal`, one per slot: an exact patch,
+    /// e.g. single-crease, gave the point its one normal, which the end cap reads there).
     pub fn new(
         refinement: &AdaptiveRefinement,
         census: &PatchCensus,
+        topologies: &EndCapTopologies,
+        shared_normal: &[bool],
         slots: &Slots,
         mid_slots: &[[u32; 4]],
         caps: &[FaceRows],
-        first: u32,
     ) -> SectorFrames {
+        let first = slots.len() as u32;
         let base = refinement.levels[0].topology();
         let base_vertices = base.vertex_count() as u32;
         // The sector key of slot `s` seen from base face `b`.
@@ -75,12 +81,34 @@ impl SectorFrames {
         let mut corner_keys = Vec::with_capacity(census.patches.len());
         for p in &census.patches {
             let lev = &refinement.levels[p.level as usize];
-            let t = lev.topology();
             let b = lev.domains[p.face as usize].base_face;
             let mut keys = [None; 4];
-            for (k, &v) in t.face_vertices(p.face).iter().enumerate().take(4) {
-                if sector_count(t, v) >= 2 {
-                    keys[k] = Some(key(slots.of(lev.global(v)), b));
+            if p.kind == PatchType::EndCap {
+                let t = topologies.get(p.level);
+                for (k, &v) in t.face_vertices(p.face).iter().enumerate().take(4) {
+                    let s = slots.of(lev.global(v));
+                    if sector_count(t, v) >= 2 && !shared_normal[s as usize] {
+                        // The sector's smallest base face, seen at this level (every base face
+                        // around a base vertex has one child around it: complete rings).
+                        let own = sector_faces(t, v, p.face)
+                            .into_iter()
+                            .map(|g| lev.domains[g as usize].base_face)
+                            .min()
+                            .unwrap_or(b);
+                        let origin = slots.origins[s as usize];
+                        keys[k] = Some(if origin < base_vertices {
+                            (s, own)
+                        } else {
+                            (s, b)
+                        });
+                    }
+                }
+            } else {
+                let t = lev.topology();
+                for (k, &v) in t.face_vertices(p.face).iter().enumerate().take(4) {
+                    if sector_count(t, v) >= 2 {
+                        keys[k] = Some(key(slots.of(lev.global(v)), b));
+                    }
                 }
             }
             corner_keys.push(keys);
@@ -89,7 +117,7 @@ impl SectorFrames {
         // from end caps' corners (the Gregory corner's plane is the sector's: its edge points
         // lie in it), except in one-face crease sectors, whose corner normal the GPU takes
         // from the face points instead (`gregory_corner_normal`).
-        corners_exact_first(refinement, census, caps, |c, rows| {
+        corners_exact_first(refinement, census, topologies, caps, |c, rows| {
             let Some(key) = corner_keys[c.patch][c.k] else {
                 return;
             };

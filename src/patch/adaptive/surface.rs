@@ -1,6 +1,8 @@
 //! The CPU surface of an adaptive refinement: B-spline patches and Gregory end caps, evaluable
 //! at base-face parameters.
 
+use std::borrow::Cow;
+
 use glam::{DVec2, DVec3};
 use thiserror::Error;
 
@@ -9,9 +11,45 @@ use crate::patch::gregory::{
 };
 use crate::patch::regular::RegularPatch;
 use crate::patch::single_crease::SingleCreasePatch;
-use crate::subdiv::adaptive::{AdaptivePatch, AdaptiveRefinement, Domain, PatchCensus, PatchType};
 #[cfg(doc)]
+use crate::subdiv::adaptive::EndCapSharpness;
+use crate::subdiv::adaptive::{AdaptivePatch, AdaptiveRefinement, Domain, PatchCensus, PatchType};
 use crate::topology::Topology;
+
+/// Per level, its topology as its end caps see it ([`AdaptiveRefinement::end_cap_topology`]),
+/// built once for the levels with end caps (the isolation level); the level's own topology
+/// elsewhere.
+pub struct EndCapTopologies<'a> {
+    refinement: &'a AdaptiveRefinement,
+    levels: Vec<Option<Cow<'a, Topology>>>,
+}
+
+impl<'a> EndCapTopologies<'a> {
+    /// The end-cap topologies of `refinement`'s levels holding end caps of `census`.
+    pub fn new(refinement: &'a AdaptiveRefinement, census: &PatchCensus) -> Self {
+        let mut levels: Vec<Option<Cow<'a, Topology>>> =
+            (0..refinement.levels.len()).map(|_| None).collect();
+        for p in census
+            .patches
+            .iter()
+            .filter(|p| p.kind == PatchType::EndCap)
+        {
+            let l = p.level as usize;
+            if levels[l].is_none() {
+                levels[l] = Some(refinement.end_cap_topology(l));
+            }
+        }
+        EndCapTopologies { refinement, levels }
+    }
+
+    /// Level `level`'s topology as its end caps see it.
+    pub fn get(&self, level: u32) -> &Topology {
+        match &self.levels[level as usize] {
+            Some(t) => t,
+            None => self.refinement.levels[level as usize].topology(),
+        }
+    }
+}
 
 /// Why an end cap could not be built.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -111,18 +149,18 @@ pub struct AdaptiveSurface {
 /// [`AdaptiveRefinement::refine_positions`]) in census order: for every end-cap face the Gregory
 /// patch of that face in its level's sparse topology.
 ///
-/// Residual semi-sharpness (edges and vertices still semi-sharp on the isolation level) is
-/// treated as smooth, infinitely sharp tags are kept ([`Topology::without_semi_sharpness`]): as
-/// OpenSubdiv's Gregory-basis end caps, whose corner spans
-/// (`Far::PatchBuilder::GetIrregularPatchCornerSpans`, `far/patchBuilder.cpp`) and source
-/// patch corners are built from the infinitely sharp vertex tags only. The refined points keep
-/// the semi-sharp rules up to that level.
+/// Residual semi-sharpness (edges and vertices still semi-sharp on the isolation level) is seen
+/// through [`AdaptiveRefinement::end_cap_topology`]: by default sharpness `>= 1` as infinitely
+/// sharp, the rest smooth ([`EndCapSharpness::Crease`]); with [`EndCapSharpness::Smooth`] all of
+/// it smooth, as OpenSubdiv's Gregory-basis end caps. The refined points keep the semi-sharp
+/// rules up to that level.
 pub fn end_caps(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
     positions: &[DVec3],
     tangents: GregoryTangents,
 ) -> Result<Vec<SurfacePatch>, EndCapError> {
+    let topologies = EndCapTopologies::new(refinement, census);
     census
         .patches
         .iter()
@@ -130,10 +168,10 @@ pub fn end_caps(
         .map(|p| {
             check_end_cap(refinement, p)?;
             let lev = &refinement.levels[p.level as usize];
-            let t = lev.topology().without_semi_sharpness();
+            let t = topologies.get(p.level);
             let first = lev.first_vertex as usize;
             let local = &positions[first..first + lev.level.vertex_count()];
-            let patch = gregory_patch_at_for(&t, local, p.face, tangents, Coverage::EndCap)
+            let patch = gregory_patch_at_for(t, local, p.face, tangents, Coverage::EndCap)
                 .map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?;
             Ok(SurfacePatch {
                 level: p.level,

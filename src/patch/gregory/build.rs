@@ -20,6 +20,28 @@ pub enum GregoryPatch<P = DVec3> {
     Triangle(GregoryTriangle<P>),
 }
 
+impl GregoryPatch {
+    /// The patch's own normal at corner `k` ([`super::eval::corner_normal`]).
+    pub fn corner_normal(&self, k: usize) -> DVec3 {
+        match self {
+            GregoryPatch::Quad(q) => super::eval::corner_normal(
+                q.p[k],
+                q.e_plus[k],
+                q.e_minus[k],
+                q.f_plus[k],
+                q.f_minus[k],
+            ),
+            GregoryPatch::Triangle(t) => super::eval::corner_normal(
+                t.p[k],
+                t.e_plus[k],
+                t.e_minus[k],
+                t.f_plus[k],
+                t.f_minus[k],
+            ),
+        }
+    }
+}
+
 /// Why a face gets no Gregory patch (the renderer keeps its exact CPU path for it).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum NotGregory {

@@ -23,8 +23,9 @@ pub enum Across {
 /// Flags and grids of one Gregory patch.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct EdgeFlags {
-    /// Bit k: edge k (corner k -> k+1) is shared with a regular B-spline patch; bit 4+k: that
-    /// shared edge is a boundary or infinitely sharp edge; bit 8+k: the face across edge k is a
+    /// Bit k: edge k (corner k -> k+1) is shared with a regular B-spline patch, whose grid gives
+    /// its points; bit 4+k: that shared edge is a boundary or infinitely sharp edge (the grid
+    /// gives the position, the patch keeps its own normal); bit 8+k: the face across edge k is a
     /// triangle; bit 12+k: edge k is a boundary or infinitely sharp edge, or nothing on the GPU
     /// lies across it (one-sided normal); bit 16+k: corner k's vertex has two or more sectors;
     /// bits 20+2k / 21+2k: the first / last grid point of edge k is a mirrored phantom.
@@ -63,7 +64,11 @@ pub fn edge_flags(
             flags |= 1 << (16 + k);
         }
         let Across::BSpline(p) = other else { continue };
-        let Some(grid) = edge_grid(&p, id(a), id(b), &key).filter(|g| !g.outer_phantom) else {
+        // Across a boundary or sharp edge the B-spline patch mirrors its own rows (its outer
+        // row is a phantom): the two sides share only the edge row, the crease polygon, whose
+        // curve both take from the grid; the normal stays each side's own (bit 4+k).
+        let Some(grid) = edge_grid(&p, id(a), id(b), &key).filter(|g| sharp || !g.outer_phantom)
+        else {
             continue;
         };
         flags |= 1 << k;

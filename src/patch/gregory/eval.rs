@@ -27,6 +27,26 @@ impl PatchPoint {
     }
 }
 
+/// A patch's own normal at its corner from the corner point `p` and its edge points towards the
+/// next corner (`e_next`) and the previous one (`e_prev`): the direction of the Bézier net's
+/// corner derivatives; where the two edge tangents are collinear (a crease sector of one face),
+/// the mean of the corner's face points spans the tangent plane with the edge instead. The CPU
+/// side of `gregory_corner_normal` (`glsl/gregory/gregory.glsl`), same test and fallback.
+pub fn corner_normal(
+    p: DVec3,
+    e_next: DVec3,
+    e_prev: DVec3,
+    f_plus: DVec3,
+    f_minus: DVec3,
+) -> DVec3 {
+    let (a, b) = (e_next - p, e_prev - p);
+    let n = a.cross(b);
+    if n.length() > 1e-5 * a.length() * b.length() {
+        return n.normalize();
+    }
+    a.cross(0.5 * (f_plus + f_minus) - p).normalize_or_zero()
+}
+
 /// The 20 control points of a quad Gregory patch (paper Fig. 4a), indexed by patch corner.
 /// Generic over the point type: positions, or stencil weights ([`super::Weights`]).
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -1,11 +1,16 @@
 //! Per-vertex limit frames: one limit position and normal per patch-corner vertex, computed once
 //! per surface (and per animation frame) and read by every pass (bindings 2 and 9), so corners
-//! shared by patches of different schemes are bitwise equal.
+//! shared by patches of different schemes are bitwise equal. Where infinitely sharp edges split
+//! a vertex's faces into sectors, each sector a pass wrote has its own normal, found by face
+//! ([`VertexFrames::normal_bytes`], `shared_corner` in `glsl/common/watertight.glsl`).
+
+use std::collections::BTreeMap;
 
 use glam::DVec3;
 
-use crate::topology::Topology;
+use crate::mesh::INFINITE_SHARPNESS;
 pub use crate::topology::{is_sharp_edge, sector_count, single_normal_vertex};
+use crate::topology::{sector_faces, Topology};
 
 /// When a corner vertex gets one shared normal (written to the frame) rather than each patch
 /// keeping its own there (zero entry, the shaders' signal).
@@ -27,6 +32,9 @@ pub struct VertexFrames {
     pub limits: Vec<DVec3>,
     /// Unit limit normals, zero where each patch keeps its own.
     pub normals: Vec<DVec3>,
+    /// At vertices of several sectors: the unit normal of each face whose sector a pass wrote
+    /// ([`Self::set_sector`]), by vertex, then face.
+    pub sector_normals: BTreeMap<u32, BTreeMap<u32, DVec3>>,
     done: Vec<bool>,
 }
 
@@ -36,8 +44,64 @@ impl VertexFrames {
         VertexFrames {
             limits: positions.to_vec(),
             normals: vec![DVec3::ZERO; positions.len()],
+            sector_normals: BTreeMap::new(),
             done: vec![false; positions.len()],
         }
+    }
+
+    /// Whether the corner of `face` at `v` takes the normal of its sector ([`Self::set_sector`])
+    /// and no pass wrote that sector yet: `v` has several sectors (not one shared normal), is
+    /// not a cone (an interior corner tag with fewer than two sharp edges, where every face has
+    /// its own normal), and the sector has two faces or more (one face keeps its own).
+    pub fn sector_pending(&self, topo: &Topology, v: u32, face: u32) -> bool {
+        let cone = !topo.is_boundary_vertex(v)
+            && topo.vertex_sharpness(v) >= INFINITE_SHARPNESS
+            && sector_count(topo, v) < 2;
+        !single_normal_vertex(topo, v)
+            && !cone
+            && !self
+                .sector_normals
+                .get(&v)
+                .is_some_and(|m| m.contains_key(&face))
+            && sector_faces(topo, v, face).len() >= 2
+    }
+
+    /// Gives every face of the sector of `face` at `v` the unit normal `normal`, unless the
+    /// sector is not pending ([`Self::sector_pending`]: the first pass that has a corner there
+    /// wins, as for [`Self::set`]).
+    pub fn set_sector(&mut self, topo: &Topology, v: u32, face: u32, normal: DVec3) {
+        if self.sector_pending(topo, v, face) {
+            let by_face = self.sector_normals.entry(v).or_default();
+            for f in sector_faces(topo, v, face) {
+                by_face.insert(f, normal);
+            }
+        }
+    }
+
+    /// The normal buffer (binding 9): per vertex `vec4(normal, 0)`, except that a vertex with
+    /// sector normals has a zero normal and the bits of `w` index its list after the vertices:
+    /// a header whose `w` bits are the count, then `vec4(normal, face bits)` per face.
+    pub fn normal_bytes(&self) -> Vec<u8> {
+        let lists: usize = self.sector_normals.values().map(|m| m.len() + 1).sum();
+        let mut words: Vec<[u32; 4]> = Vec::with_capacity(self.normals.len() + lists);
+        let xyz = |n: DVec3| n.as_vec3().to_array().map(f32::to_bits);
+        words.extend(self.normals.iter().map(|&n| {
+            let [x, y, z] = xyz(n);
+            [x, y, z, 0]
+        }));
+        for (&v, by_face) in &self.sector_normals {
+            words[v as usize] = [0, 0, 0, words.len() as u32];
+            words.push([0, 0, 0, by_face.len() as u32]);
+            words.extend(by_face.iter().map(|(&f, &n)| {
+                let [x, y, z] = xyz(n);
+                [x, y, z, f]
+            }));
+        }
+        words
+            .iter()
+            .flatten()
+            .flat_map(|w| w.to_le_bytes())
+            .collect()
     }
 
     /// Whether a pass already wrote vertex `v` (the first pass that has a corner wins).

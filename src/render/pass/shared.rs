@@ -189,7 +189,7 @@ impl SharedResources {
         let staged = Staged {
             positions: vec3_bytes(positions),
             limits: vec4_bytes(&frames.limits),
-            normals: vec4_bytes(&frames.normals),
+            normals: frames.normal_bytes(),
             version: 0,
         };
         let slots = (0..frames_in_flight.max(1))
@@ -313,7 +313,7 @@ impl SharedResources {
         self.staged = Staged {
             positions: vec3_bytes(positions),
             limits: vec4_bytes(&frames.limits),
-            normals: vec4_bytes(&frames.normals),
+            normals: frames.normal_bytes(),
             version: self.staged.version + 1,
         };
         Ok(())

@@ -16,6 +16,7 @@ use crate::patch::pm::NotPm;
 use crate::patch::qas::NotQas;
 use crate::render::pass::{NormalRule, SharedResources, VertexFrames};
 use crate::render::settings::{PatchLevelLimit, RenderDesc, Spacing};
+use crate::subdiv::adaptive::EndCapSharpness;
 use crate::topology::Topology;
 use crate::Result;
 
@@ -71,6 +72,9 @@ pub struct PlanOptions {
     /// Edge-tangent lengths of the Gregory construction in `gregory-vs`, `gregory-stencil` and
     /// the adaptive scheme's end caps (`--gregory-tangents paper|optimal`).
     pub gregory_tangents: GregoryTangents,
+    /// How the adaptive scheme's end caps treat semi-sharpness left at the isolation level
+    /// (`--end-cap-sharpness crease|smooth`).
+    pub end_cap_sharpness: EndCapSharpness,
     /// Crease scalar of the untagged edges of `--scheme pm` (`--pm-crease-scalar`, eq. 14 of
     /// Myles, Ni, Peters 2008; `None`: 2/3, the smooth surface); tagged edges get
     /// `a · 2^{-sharpness}` ([`crate::patch::pm::crease_scalar`]).
@@ -91,6 +95,7 @@ impl PlanOptions {
             isolation: Self::DEFAULT_ISOLATION,
             single_crease: Self::DEFAULT_SINGLE_CREASE,
             gregory_tangents: GregoryTangents::default(),
+            end_cap_sharpness: EndCapSharpness::default(),
             pm_crease_scalar: None,
         }
     }
@@ -114,6 +119,14 @@ impl PlanOptions {
     /// The same options with isolation level `isolation`.
     pub fn with_isolation(self, isolation: u32) -> PlanOptions {
         PlanOptions { isolation, ..self }
+    }
+
+    /// The same options with the given end-cap sharpness.
+    pub fn with_end_cap_sharpness(self, end_cap_sharpness: EndCapSharpness) -> PlanOptions {
+        PlanOptions {
+            end_cap_sharpness,
+            ..self
+        }
     }
 
     /// The same options with single-crease patches on or off.

@@ -22,6 +22,9 @@
 //! eigenvector is `e_lo - e_hi`, the crease tangent. From five faces on two interior modes exceed
 //! 1/2 and the sharp edges' tangents leave the tangent plane (the surface is not tangent-plane
 //! continuous along the sharp edges at such a vertex; each face still has one limit normal).
+//!
+//! A corner-tagged vertex with one sharp edge and four quads (a four-face corner sector whose two
+//! sharp edges are one) has the tie without the Jordan block: 0.6111, 1/2, 1/2 ([`corner_tag4`]).
 
 use super::masks::{self, Dense, EigenLimit};
 
@@ -101,6 +104,86 @@ fn corner3(s: &Dense, r: &SectorRing) -> Option<EigenLimit> {
     };
     let t2 = combine(&lo, -gy, &hi, -gx);
     let mut position = vec![0.0; r.m];
+    position[0] = 1.0;
+    Some(EigenLimit {
+        position,
+        tangents: [t1, t2],
+    })
+}
+
+/// Right eigenvector of the leading mode (0.6111) of a corner-tagged vertex with four quads and
+/// one sharp edge on the ring `(v, e_0 .. e_3, f_0 .. f_3)`, `e_0` the sharp edge's far end:
+/// zero on the sharp edge, symmetric about it (`f_0 = f_3 = sqrt 2 - 1`). Inverse iteration on
+/// the ring matrix written from the rules (checked below; tests/limit_corners.rs builds the ring
+/// matrix from `refine`).
+const TAG4_MODE: [f64; 9] = [
+    0.0,
+    0.0,
+    0.598_317_451_815_773_8,
+    0.846_148_654_962_378_3,
+    0.598_317_451_815_773_8,
+    0.414_213_562_373_095,
+    1.0,
+    1.0,
+    0.414_213_562_373_095,
+];
+
+/// `d phi / du : d phi / dv` of that eigenfunction at the diagonal points `(2^-k, 2^-k)` of faces
+/// 0 and 1 (`u` along `e_j`, `v` along `e_{j+1}`); faces 3 and 2 are their mirror images (`u`, `v`
+/// swapped). From the face's tangents at `(2^-16, 2^-16)` projected on the mode (the ratio agrees
+/// to 1e-12 between `2^-20` and `2^-24`; tests/limit_corners.rs).
+const TAG4_RATIO: [f64; 2] = [-0.262_698_010_402_848_6, 0.545_792_811_746_672_8];
+
+/// Corner tag with one sharp edge and four quads (spectrum 1, 0.6111, 1/2, 1/2, 0.3657, ...):
+/// the second place is a tie of two modes whose right eigenvectors are the linear functions `x`,
+/// `y` of the flat layout (`e_j` at `j` quarter turns from the sharp edge), so, as in the
+/// three-face corner sector, every face has its own normal: along face `j`'s diagonal the normal
+/// tends to `c_1 x (-G_y c_x + G_x c_y)`, `G` the layout gradient of the 0.6111 eigenfunction
+/// there (`TAG4_RATIO`) and `c_x`, `c_y` the coefficients of the `1/2` left eigenvectors dual
+/// to `x`, `y` (deflated power iteration of `2 S` from `e_0 - v` and `e_1 - v`, which pair with
+/// `x`, `y` as the duals do).
+pub fn corner_tag4(s: &Dense, face: usize) -> Option<EigenLimit> {
+    if s.m != TAG4_MODE.len() || face >= 4 {
+        return None;
+    }
+    let l0 = masks::dominant(s, 0)?;
+    let l1 = masks::subdominant(s, 0, TAG4_MODE.to_vec())?;
+    let p1 = masks::dot(&l1, &TAG4_MODE);
+    if p1.abs() < 1e-12 {
+        return None;
+    }
+    let t1: Vec<f64> = l1.iter().map(|x| p1.signum() * x).collect();
+    // Component on the left eigenspace of 1/2: the constant and the 0.6111 mode deflated every
+    // step, the rest (0.3657 and below) decays by 0.73 per step.
+    let half = |start: Vec<f64>| -> Option<Vec<f64>> {
+        let mut x = start;
+        for _ in 0..400 {
+            let mut y: Vec<f64> = s.left_mul(&x).iter().map(|v| 2.0 * v).collect();
+            let c: f64 = y.iter().sum();
+            let d = masks::dot(&y, &TAG4_MODE) / p1;
+            for ((yi, a), b) in y.iter_mut().zip(&l0).zip(&l1) {
+                *yi -= c * a + d * b;
+            }
+            let diff: f64 = y.iter().zip(&x).map(|(a, b)| (a - b).abs()).sum();
+            x = y;
+            if diff < 1e-15 {
+                return Some(x);
+            }
+        }
+        None
+    };
+    let (lx, ly) = (half(edge(s.m, 1))?, half(edge(s.m, 2))?);
+    let quarter = |j: usize| [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)][j % 4];
+    let (gu, gv) = match face {
+        0 => (TAG4_RATIO[0], 1.0),
+        1 => (TAG4_RATIO[1], 1.0),
+        2 => (1.0, TAG4_RATIO[1]),
+        _ => (1.0, TAG4_RATIO[0]),
+    };
+    let (a, b) = (quarter(face), quarter(face + 1));
+    let g = (gu * a.0 + gv * b.0, gu * a.1 + gv * b.1);
+    let t2 = combine(&lx, -g.1, &ly, g.0);
+    let mut position = vec![0.0; s.m];
     position[0] = 1.0;
     Some(EigenLimit {
         position,
@@ -217,6 +300,75 @@ mod tests {
         ] {
             let got = leading(&sector_matrix(k, corner));
             assert!((got - want).abs() < 1e-5, "k={k} corner={corner}: {got}");
+        }
+    }
+
+    /// The ring matrix of a corner-tagged vertex with four quads and one sharp edge (`e_0`) from
+    /// the rules: the vertex stays, the sharp edge's midpoint, smooth edge points, face points.
+    fn corner_tag4_matrix() -> Dense {
+        let m = 9;
+        let (e, f) = (|i: usize| 1 + i % 4, |i: usize| 5 + i % 4);
+        let face = |i: usize| {
+            let mut r = vec![0.0; m];
+            for x in [0, e(i), e(i + 1), f(i)] {
+                r[x] += 0.25;
+            }
+            r
+        };
+        let mut a = vec![0.0; m * m];
+        a[0] = 1.0;
+        a[e(0) * m] = 0.5;
+        a[e(0) * m + e(0)] = 0.5;
+        for j in 1..4 {
+            let (p, q) = (face(j - 1), face(j));
+            for c in 0..m {
+                a[e(j) * m + c] = 0.25 * (p[c] + q[c]);
+            }
+            a[e(j) * m] += 0.25;
+            a[e(j) * m + e(j)] += 0.25;
+        }
+        for i in 0..4 {
+            a[f(i) * m..(f(i) + 1) * m].copy_from_slice(&face(i));
+        }
+        Dense { m, a }
+    }
+
+    #[test]
+    fn corner_tag4_modes_are_right_eigenvectors() {
+        let s = corner_tag4_matrix();
+        let m = s.m;
+        let apply = |r: &[f64]| -> Vec<f64> {
+            (0..m)
+                .map(|i| (0..m).map(|c| s.a[i * m + c] * r[c]).sum())
+                .collect()
+        };
+        let sr = apply(&TAG4_MODE);
+        for (x, y) in sr.iter().zip(TAG4_MODE) {
+            assert!((x - 0.611_116_526_694_538_8 * y).abs() < 1e-12, "{sr:?}");
+        }
+        // The flat layout's linear functions (e_j at j quarter turns, f_j = e_j + e_{j+1}).
+        let quarter = [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)];
+        for axis in 0..2 {
+            let c = |j: usize| {
+                if axis == 0 {
+                    quarter[j % 4].0
+                } else {
+                    quarter[j % 4].1
+                }
+            };
+            let mut r = vec![0.0; m];
+            for j in 0..4 {
+                r[1 + j] = c(j);
+                r[5 + j] = c(j) + c(j + 1);
+            }
+            for (x, y) in apply(&r).iter().zip(&r) {
+                assert!((x - 0.5 * y).abs() < 1e-15, "axis {axis}");
+            }
+        }
+        // Every face gets a tangent pair.
+        for face in 0..4 {
+            let lim = corner_tag4(&s, face).unwrap();
+            assert!(masks::dot(&lim.tangents[1], &lim.tangents[1]) > 1e-6);
         }
     }
 

@@ -109,6 +109,7 @@ impl AdaptiveTables {
         let options = AdaptiveOptions {
             isolation: opts.isolation,
             single_crease: opts.single_crease,
+            end_cap_sharpness: opts.end_cap_sharpness,
         };
         Self::build((**topo).clone(), faces, options, opts.gregory_tangents)
     }
@@ -148,6 +149,7 @@ impl AdaptiveTables {
         let options = AdaptiveOptions {
             isolation: self.adaptive.isolation,
             single_crease: self.adaptive.single_crease,
+            end_cap_sharpness: self.adaptive.end_cap_sharpness,
         };
         Self::build(topo, &self.faces, options, self.tangents)
             .map_err(|(f, why)| crate::Error::Invalid(format!("face {f}: {why}")))

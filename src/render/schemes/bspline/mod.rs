@@ -86,11 +86,14 @@ pub fn grid_index_bytes<'a>(cvs: impl Iterator<Item = &'a [u32; 16]>) -> Vec<u8>
     cvs.flatten().flat_map(|v| v.to_le_bytes()).collect()
 }
 
-/// Writes the limit frames of the corners of a 16-point patch (`cvs` 5, 6, 10, 9 at `(u, v)` =
-/// (0, 0), (1, 0), (1, 1), (0, 1)) that no earlier patch wrote, from `eval(u, v)`; without
-/// topology corner `k` gets a shared normal when `sides_smooth(k)`.
+/// Writes the limit frames of the corners of a 16-point patch of `face` (`cvs` 5, 6, 10, 9 at
+/// `(u, v)` = (0, 0), (1, 0), (1, 1), (0, 1)) that no earlier patch wrote, from `eval(u, v)`:
+/// with topology, the normal of the corner's sector where sharp edges split the vertex
+/// ([`VertexFrames::set_sector`]); without, corner `k` gets a shared normal when
+/// `sides_smooth(k)`.
 pub(crate) fn grid_corner_frames(
     cvs: &[u32; 16],
+    face: u32,
     rule: NormalRule<'_>,
     frames: &mut VertexFrames,
     eval: impl Fn(f64, f64) -> LimitSample,
@@ -106,7 +109,11 @@ pub(crate) fn grid_corner_frames(
     .enumerate()
     {
         let vid = cvs[slot];
-        if frames.is_set(vid) {
+        let sector = match rule {
+            NormalRule::Topology(topo) => frames.sector_pending(topo, vid, face).then_some(topo),
+            NormalRule::PatchSides => None,
+        };
+        if frames.is_set(vid) && sector.is_none() {
             continue;
         }
         let s = eval(u, v);
@@ -115,6 +122,9 @@ pub(crate) fn grid_corner_frames(
             NormalRule::PatchSides => sides_smooth(k),
         };
         frames.set(vid, s.position, s.normal, shared);
+        if let Some(topo) = sector {
+            frames.set_sector(topo, vid, face, s.normal);
+        }
     }
 }
 
@@ -185,6 +195,7 @@ impl PassTables for BSplineTables {
         for p in &self.patches {
             grid_corner_frames(
                 &p.cvs,
+                p.face,
                 rule,
                 frames,
                 |u, v| p.eval(positions, u, v),

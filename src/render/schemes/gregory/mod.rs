@@ -51,20 +51,31 @@ pub fn covered_faces(
 
 /// Limit frames of the Gregory corners not written by an earlier pass (§3.2-3.3, §4.6); the
 /// normal is shared where the vertex has one sector ([`single_normal_vertex`]: Gregory patches
-/// always know their topology).
+/// always know their topology); where sharp edges split it, the sector takes the normal of its
+/// first patch's corner ([`GregoryPatch::corner_normal`], what the TES computes there).
 pub fn corner_frames(
     topo: &Topology,
     layout: &GregoryLayout,
     positions: &[DVec3],
     frames: &mut VertexFrames,
 ) {
-    for c in &layout.corners {
-        for &v in c {
-            if frames.is_set(v) {
-                continue;
+    for (&f, c) in layout.faces.iter().zip(&layout.corners) {
+        let mut patch = None;
+        for (k, &v) in c.iter().take(topo.face_size(f)).enumerate() {
+            if !frames.is_set(v) {
+                let (p, n) = gregory_vertex_frame(topo, positions, v);
+                frames.set(v, p, n, single_normal_vertex(topo, v));
             }
-            let (p, n) = gregory_vertex_frame(topo, positions, v);
-            frames.set(v, p, n, single_normal_vertex(topo, v));
+            if frames.sector_pending(topo, v, f) {
+                let patch = patch.get_or_insert_with(|| {
+                    gregory_patch_at_with(topo, positions, f, layout.tangents).ok()
+                });
+                if let Some(n) = patch.as_ref().map(|p| p.corner_normal(k)) {
+                    if n != DVec3::ZERO {
+                        frames.set_sector(topo, v, f, n);
+                    }
+                }
+            }
         }
     }
 }

@@ -223,6 +223,7 @@ impl PassTables for SingleCreaseTables {
             // semi-sharp crease keeps one tangent plane.
             grid_corner_frames(
                 &p.cvs,
+                p.face,
                 rule,
                 frames,
                 |u, v| p.eval(positions, u, v),
