@@ -3,7 +3,7 @@
 //! (`perf record`) and peak memory (`/usr/bin/time -v`) of inputs too slow for criterion.
 //!
 //! ```sh
-//! cargo run --release --example adaptive_preprocess -- MESH.obj [ISOLATION]
+//! cargo run --release --example adaptive_preprocess -- MESH.obj [ISOLATION] [REPEAT]
 //! # a 1000-gon:
 //! python3 -c "import math; n=1000; print(*[f'v {math.cos(2*math.pi*k/n):.6f} {math.sin(2*math.pi*k/n):.6f} 0' for k in range(n)], 'f ' + ' '.join(map(str, range(1, n + 1))), sep='\n')" > gon1000.obj
 //! ```
@@ -24,8 +24,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let spec = args
         .first()
-        .ok_or("usage: adaptive_preprocess MESH.obj [ISOLATION]")?;
+        .ok_or("usage: adaptive_preprocess MESH.obj [ISOLATION] [REPEAT]")?;
     let isolation: u32 = args.get(1).map_or(Ok(2), |s| s.parse())?;
+    // REPEAT > 1 runs the whole `AdaptiveTables::new` that many more times (for `perf record`).
+    let repeat: u32 = args.get(2).map_or(Ok(1), |s| s.parse())?;
     let options = ObjOptions::default();
     let mesh = ControlMesh::from_obj_file(spec, &options)?;
     let topo = Arc::new(Topology::new(&mesh)?);
@@ -47,5 +49,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let t = Instant::now();
     AdaptiveTables::new(&topo, &faces, &opts).map_err(|(f, e)| format!("face {f}: {e}"))?;
     println!("AdaptiveTables::new {:.3} s", t.elapsed().as_secs_f64());
+    if repeat > 1 {
+        let t = Instant::now();
+        for _ in 1..repeat {
+            AdaptiveTables::new(&topo, &faces, &opts).map_err(|(f, e)| format!("face {f}: {e}"))?;
+        }
+        let each = t.elapsed().as_secs_f64() / f64::from(repeat - 1);
+        println!("AdaptiveTables::new {:.3} ms each", 1e3 * each);
+    }
     Ok(())
 }

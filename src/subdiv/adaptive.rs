@@ -274,13 +274,38 @@ pub struct AdaptiveRefinement {
 /// The patch of a face at some level when it is regular: `gather` succeeds (quad, valence-4 or
 /// boundary/crease/corner configurations, no semi-sharp edge or vertex at a corner; §3.3) and
 /// every corner is regular for all its faces, not only this one (§3.7, see
-/// [`is_regular_vertex`]).
-fn regular(topo: &Topology, f: u32) -> Option<RegularPatch> {
-    let p = RegularPatch::gather(topo, f)?;
-    p.corners()
-        .iter()
-        .all(|&v| is_regular_vertex(topo, v))
-        .then_some(p)
+/// [`is_regular_vertex`]). Each vertex's regularity is judged once per level (a vertex is a
+/// corner of up to four faces, and every face tested).
+struct RegularTest<'a> {
+    topo: &'a Topology,
+    /// Per vertex: 0 irregular, 1 regular, 2 not judged yet.
+    vertex: Vec<u8>,
+}
+
+impl<'a> RegularTest<'a> {
+    fn new(topo: &'a Topology) -> RegularTest<'a> {
+        RegularTest {
+            topo,
+            vertex: vec![2; topo.vertex_count()],
+        }
+    }
+
+    fn regular_vertex(&mut self, v: u32) -> bool {
+        let r = &mut self.vertex[v as usize];
+        if *r == 2 {
+            *r = u8::from(is_regular_vertex(self.topo, v));
+        }
+        *r == 1
+    }
+
+    /// The regular patch of face `f`, if any.
+    fn patch(&mut self, f: u32) -> Option<RegularPatch> {
+        let corners = self.topo.face_vertices(f);
+        if !corners.iter().all(|&v| self.regular_vertex(v)) {
+            return None;
+        }
+        RegularPatch::gather(self.topo, f)
+    }
 }
 
 impl AdaptiveRefinement {
@@ -332,11 +357,12 @@ impl AdaptiveRefinement {
         for l in 0..=isolation {
             if l < isolation {
                 let t = current.level.topology();
+                let mut regular = RegularTest::new(t);
                 for (f, r) in current.refined.iter_mut().enumerate() {
                     let f = f as u32;
                     *r = current.own[f as usize]
                         && t.has_limit_surface(f)
-                        && regular(t, f).is_none()
+                        && regular.patch(f).is_none()
                         && !(single_crease && single_crease_line(t, f).is_some());
                 }
             }
@@ -562,13 +588,14 @@ impl PatchCensus {
         let mut levels = Vec::new();
         for (l, lev) in refinement.levels.iter().enumerate() {
             let t = lev.topology();
+            let mut regular = RegularTest::new(t);
             let mut census = LevelCensus::default();
             for f in 0..t.face_count() as u32 {
                 let i = f as usize;
                 if !lev.own[i] || lev.refined[i] || !t.has_limit_surface(f) {
                     continue;
                 }
-                let patch = classify(lev, f, l as u32, refinement.single_crease);
+                let patch = classify(lev, &mut regular, f, l as u32, refinement.single_crease);
                 census.by_type[patch.kind as usize] += 1;
                 census.transition += (patch.transition != 0) as usize;
                 patches.push(patch);
@@ -595,10 +622,16 @@ impl PatchCensus {
 /// the isolation level: OpenSubdiv caps it at `isolation - level` (`patchTableFactory.cpp`,
 /// which then draws a single-crease face of the isolation level as a plain regular patch),
 /// which only changes the surface, not the count; uncapped, the patch is the exact limit.
-fn classify(lev: &AdaptiveLevel, f: u32, level: u32, single_crease: bool) -> AdaptivePatch {
+fn classify(
+    lev: &AdaptiveLevel,
+    regular: &mut RegularTest,
+    f: u32,
+    level: u32,
+    single_crease: bool,
+) -> AdaptivePatch {
     let t = lev.topology();
     let global = |cvs: &mut [u32; 16]| cvs.iter_mut().for_each(|c| *c = lev.global(*c));
-    let (mut p, kind, crease) = if let Some(p) = regular(t, f) {
+    let (mut p, kind, crease) = if let Some(p) = regular.patch(f) {
         let edges = t.face_edges(f);
         let crease =
             (0..4).any(|k| p.boundary_mask & (1 << k) != 0 && !t.is_boundary_edge(edges[k]));

@@ -183,13 +183,19 @@ impl Level {
             old_verts.extend_from_slice(t.face_vertices(f));
             offsets.push(old_verts.len() as u32);
         }
-        let mut map = old_verts.clone();
-        map.sort_unstable();
-        map.dedup();
-        let local: Vec<u32> = old_verts
-            .iter()
-            .map(|v| map.binary_search(v).unwrap_or(0) as u32)
-            .collect();
+        // New vertex ids in increasing old id: `map` new to old, `local_of` old to new.
+        let mut local_of = vec![u32::MAX; t.vertex_count()];
+        for &v in &old_verts {
+            local_of[v as usize] = 0;
+        }
+        let mut map = Vec::new();
+        for (v, l) in local_of.iter_mut().enumerate() {
+            if *l == 0 {
+                *l = map.len() as u32;
+                map.push(v as u32);
+            }
+        }
+        let local: Vec<u32> = old_verts.iter().map(|&v| local_of[v as usize]).collect();
         let mut sub = topology::build(map.len(), offsets, local, false)?;
         sub.options = t.options;
         for (i, &f) in faces.iter().enumerate() {
@@ -198,15 +204,18 @@ impl Level {
         if !t.no_limit.is_empty() {
             sub.no_limit = faces.iter().map(|&f| t.no_limit[f as usize]).collect();
         }
+        // Each new edge's old edge: edge `k` of new face `i` is edge `k` of `faces[i]` (the same
+        // corners; an edge is the only one joining its two ends).
+        let mut old_edge = vec![u32::MAX; sub.edge_count()];
+        for (i, &f) in faces.iter().enumerate() {
+            for (&e, &pe) in sub.face_edges(i as u32).iter().zip(t.face_edges(f)) {
+                old_edge[e as usize] = pe;
+            }
+        }
         let mut cut = vec![false; sub.edge_count()];
         let mut any_cut = false;
         for (e, c) in cut.iter_mut().enumerate() {
-            let [a, b] = sub.edge_verts[e];
-            let pe = t
-                .find_edge(map[a as usize], map[b as usize])
-                .ok_or_else(|| {
-                    crate::Error::Invalid("extract: edge missing in the parent".into())
-                })?;
+            let pe = old_edge[e];
             sub.edge_sharpness[e] = t.edge_sharpness[pe as usize];
             let opened = sub.edge_faces[e][1] == topology::NONE && !t.is_boundary_edge(pe);
             if opened || self.is_cut_edge(pe) {

@@ -11,19 +11,20 @@
 //! is face-edge numbering, edges 2 and 3 run against the face), end caps face order.
 
 use glam::DVec2;
+use rayon::prelude::*;
 
 use super::coarse::{patch_index, CoarseEdges};
 use super::error::DrawTablesError;
 use super::records::{
     words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
 };
-use super::rows::{corners_exact_first, SparseRows};
+use super::rows::{CornerRows, PatchCorner, SparseRows};
 use super::sector_frames::SectorFrames;
 use super::slots::{Slots, NONE};
 use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure, EndCapTopologies};
 use crate::patch::edge_grid::PATCH_EDGES;
 use crate::patch::gregory::edge_flags::{edge_flags, Across};
-use crate::patch::gregory::shared_rows::sparse_face_rows;
+use crate::patch::gregory::shared_rows::{sparse_face_rows_flat, FaceRows};
 use crate::patch::gregory::{GregoryTangents, Weights};
 use crate::patch::single_crease::{gpu_cvs, Rotation, SingleCreasePatch};
 use crate::patch::RegularPatch;
@@ -83,7 +84,7 @@ fn end_cap_rows(
     census: &PatchCensus,
     topologies: &EndCapTopologies,
     tangents: GregoryTangents,
-) -> Result<Vec<Vec<Weights>>, EndCapError> {
+) -> Result<Vec<FaceRows>, EndCapError> {
     let caps: Vec<_> = census
         .patches
         .iter()
@@ -97,11 +98,12 @@ fn end_cap_rows(
         }
         let faces: Vec<u32> = group.iter().map(|p| p.face).collect();
         let t = topologies.get(group[0].level);
-        for (p, rows) in group.iter().zip(sparse_face_rows(t, &faces, tangents)) {
-            let rows = rows.map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?;
-            let global =
-                |w: Weights| Weights(w.0.into_iter().map(|(v, x)| (lev.global(v), x)).collect());
-            out.push(rows.into_iter().map(global).collect());
+        for (p, rows) in group.iter().zip(sparse_face_rows_flat(t, &faces, tangents)) {
+            let mut rows =
+                rows.map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?;
+            // Global ids: one offset added, so ids stay ascending.
+            rows.terms.iter_mut().for_each(|(v, _)| *v = lev.global(*v));
+            out.push(rows);
         }
     }
     Ok(out)
@@ -109,23 +111,24 @@ fn end_cap_rows(
 
 /// Slot rows (position, du, dv) from the first census patch with the slot as a corner, exact
 /// patches (B-spline, single-crease) before end caps (whose Gregory corners are built over
-/// [`EndCapTopologies`]), and whether the slot's normal is shared (one sector in the topology
-/// the frame's patch was built over).
+/// [`EndCapTopologies`]), per slot (computed on the rayon pool), and whether the slot's normal
+/// is shared (one sector in the topology the frame's patch was built over).
 fn slot_rows(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
     topologies: &EndCapTopologies,
     slots: &Slots,
-    caps: &[Vec<Weights>],
-) -> (SparseRows, Vec<bool>) {
-    let mut frames: Vec<Option<[Weights; 3]>> = vec![None; slots.len()];
+    caps: &[FaceRows],
+) -> (Vec<Option<[Weights; 3]>>, Vec<bool>) {
+    let corner_rows = CornerRows::new(refinement, census, topologies, caps);
+    let mut first: Vec<Option<PatchCorner>> = vec![None; slots.len()];
     let mut shared = vec![false; slots.len()];
-    corners_exact_first(refinement, census, topologies, caps, |c, rows| {
+    corner_rows.visit(|c| {
         let p = &census.patches[c.patch];
         let lev = &refinement.levels[p.level as usize];
         let s = slots.of(lev.global(c.vertex)) as usize;
-        if frames[s].is_none() {
-            frames[s] = Some(rows());
+        if first[s].is_none() {
+            first[s] = Some(*c);
             let t = match p.kind {
                 PatchType::EndCap => topologies.get(p.level),
                 _ => lev.topology(),
@@ -133,13 +136,12 @@ fn slot_rows(
             shared[s] = single_normal_vertex(t, c.vertex);
         }
     });
-    let mut rows = SparseRows::new();
-    for f in frames.iter().flatten() {
-        for r in f {
-            rows.push(r, 0);
-        }
-    }
-    (rows, shared)
+    let frames = first
+        .par_iter()
+        .with_min_len(256)
+        .map(|c| c.as_ref().map(|c| corner_rows.rows(c)))
+        .collect();
+    (frames, shared)
 }
 
 /// The [`BSplineDraw`] of census record `record` with control vertices `patch`: corner slots
@@ -222,7 +224,7 @@ impl AdaptiveDrawTables {
         let topologies = EndCapTopologies::new(refinement, &census);
         let slots = Slots::new(refinement, &census);
         let caps = end_cap_rows(refinement, &census, &topologies, tangents)?;
-        let (mut rows, mut shared_normal) =
+        let (frames, mut shared_normal) =
             slot_rows(refinement, &census, &topologies, &slots, &caps);
         let mut coarse = CoarseEdges::new(refinement, &census, &slots);
         let sectors = SectorFrames::new(
@@ -234,16 +236,24 @@ impl AdaptiveDrawTables {
             &coarse.mid_slots,
             &caps,
         );
-        for r in sectors.rows.iter().flatten() {
+        // Every row in one reservation: slot frames, sector frames, end caps.
+        let frame_rows = || frames.iter().flatten().chain(&sectors.rows).flatten();
+        let terms = frame_rows().map(|w| w.0.len()).sum::<usize>()
+            + caps.iter().map(|c| c.terms.len()).sum::<usize>();
+        let mut rows = SparseRows::new();
+        rows.reserve(
+            3 * (frames.len() + sectors.rows.len()) + END_CAP_ROWS * caps.len(),
+            terms,
+        );
+        for r in frame_rows() {
             rows.push(r, 0);
         }
+        drop(frames);
         shared_normal.resize(slots.len() + sectors.rows.len(), true);
         let end_cap_first_row = rows.len() as u32;
-        let terms = caps.iter().flatten().map(|w| w.0.len()).sum();
-        rows.reserve(END_CAP_ROWS * caps.len(), terms);
         for c in &caps {
-            for r in c {
-                rows.push(r, 0);
+            for r in c.rows() {
+                rows.push_terms(r, 0);
             }
             rows.push_empty(END_CAP_ROWS - c.len());
         }

@@ -1,17 +1,21 @@
 //! Sparse stencil rows over the global refined vertices (Köbler 2013 §4.2: one vertex buffer
 //! for every level): slot frames (limit position and two tangents) and end-cap control points.
 
+use std::collections::HashMap;
+
 use glam::DVec3;
 
 use super::surface::EndCapTopologies;
+use crate::patch::gregory::shared_rows::FaceRows;
 use crate::patch::gregory::{one_face_crease_sector, GregoryPoint, Weights};
 use crate::patch::single_crease::SingleCreasePatch;
 use crate::patch::RegularPatch;
 use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus};
 use crate::subdiv::bspline::{bspline, bspline_deriv};
-use crate::subdiv::single_crease::CreaseLine;
+use crate::subdiv::single_crease::{CreaseLine, CreaseSide};
 
 /// A patch corner as [`corners_exact_first`] visits it.
+#[derive(Debug, Clone, Copy)]
 pub struct PatchCorner {
     /// Census index of the patch.
     pub patch: usize,
@@ -21,51 +25,109 @@ pub struct PatchCorner {
     pub vertex: u32,
     /// Whether the corner lies alone in a crease sector (end caps; `one_face_crease_sector`).
     pub singular: bool,
+    /// End caps: the index of the patch's rows in `caps`.
+    cap: usize,
 }
 
-/// Visits every corner of every census patch, exact patches (B-spline, single-crease) first,
-/// then end caps (whose Gregory corners are built over `topologies`): the order in which
-/// frames take their rows from the first patch with that corner. `visit` gets the corner and
-/// a function computing its rows (position, d/du, d/dv) over the global refined vertices;
-/// `caps` are the end caps' rows in census order.
+/// The frame rows of census patches' corners: what [`corners_exact_first`] hands its visitor,
+/// computable apart from the visit (and on several threads).
+pub struct CornerRows<'a> {
+    refinement: &'a AdaptiveRefinement,
+    census: &'a PatchCensus,
+    topologies: &'a EndCapTopologies<'a>,
+    caps: &'a [FaceRows],
+    /// Single-crease corner weights depend on the line's side and sharpness and the corner
+    /// only: evaluated once per such shape of the census, not once per corner.
+    crease: HashMap<CreaseKey, CornerColumns>,
+}
+
+impl<'a> CornerRows<'a> {
+    /// The corner rows of `census`; `caps` are the end caps' rows in census order, built over
+    /// `topologies`.
+    pub fn new(
+        refinement: &'a AdaptiveRefinement,
+        census: &'a PatchCensus,
+        topologies: &'a EndCapTopologies<'a>,
+        caps: &'a [FaceRows],
+    ) -> CornerRows<'a> {
+        let mut crease = HashMap::new();
+        for line in census.patches.iter().filter_map(|p| p.crease.as_ref()) {
+            for k in 0..4 {
+                crease
+                    .entry((line.side, line.sharpness.to_bits(), k))
+                    .or_insert_with(|| single_crease_corner_columns(line.side, line.sharpness, k));
+            }
+        }
+        CornerRows {
+            refinement,
+            census,
+            topologies,
+            caps,
+            crease,
+        }
+    }
+
+    /// Rows (position, d/du, d/dv) of corner `c` over the global refined vertices.
+    pub fn rows(&self, c: &PatchCorner) -> [Weights; 3] {
+        let p = &self.census.patches[c.patch];
+        match (&p.crease, &p.bspline) {
+            (Some(line), _) => {
+                let columns = &self.crease[&(line.side, line.sharpness.to_bits(), c.k)];
+                corner_rows_of_columns(&line.cvs, columns)
+            }
+            (None, Some(b)) => bspline_corner_rows(b, c.k),
+            (None, None) => {
+                let n = self.refinement.levels[p.level as usize]
+                    .topology()
+                    .face_size(p.face);
+                gregory_corner_rows(&self.caps[c.cap], n, c.k, c.singular)
+            }
+        }
+    }
+
+    /// Visits every corner of every census patch, exact patches (B-spline, single-crease)
+    /// first, then end caps (whose Gregory corners are built over `topologies`): the
+    /// order in which frames take their rows from the first patch with that corner.
+    pub fn visit(&self, mut visit: impl FnMut(&PatchCorner)) {
+        let mut cap_of = Vec::with_capacity(self.census.patches.len());
+        let mut cap = 0;
+        for p in &self.census.patches {
+            cap_of.push(cap);
+            cap += usize::from(p.bspline.is_none());
+        }
+        for end_caps in [false, true] {
+            for (i, (p, &cap)) in self.census.patches.iter().zip(&cap_of).enumerate() {
+                if p.bspline.is_none() != end_caps {
+                    continue;
+                }
+                let t = self.refinement.levels[p.level as usize].topology();
+                for (k, &v) in t.face_vertices(p.face).iter().enumerate() {
+                    visit(&PatchCorner {
+                        patch: i,
+                        k,
+                        vertex: v,
+                        singular: end_caps
+                            && one_face_crease_sector(self.topologies.get(p.level), v, p.face),
+                        cap,
+                    });
+                }
+            }
+        }
+    }
+}
+
+/// Visits every corner of every census patch in [`CornerRows::visit`] order. `visit` gets the
+/// corner and a function computing its rows (position, d/du, d/dv) over the global refined
+/// vertices; `caps` are the end caps' rows in census order, built over `topologies`.
 pub fn corners_exact_first(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
     topologies: &EndCapTopologies,
-    caps: &[Vec<Weights>],
+    caps: &[FaceRows],
     mut visit: impl FnMut(&PatchCorner, &dyn Fn() -> [Weights; 3]),
 ) {
-    let mut cap_of = Vec::with_capacity(census.patches.len());
-    let mut cap = 0;
-    for p in &census.patches {
-        cap_of.push(cap);
-        cap += usize::from(p.bspline.is_none());
-    }
-    for end_caps in [false, true] {
-        for (i, (p, &cap)) in census.patches.iter().zip(&cap_of).enumerate() {
-            if p.bspline.is_none() != end_caps {
-                continue;
-            }
-            let t = refinement.levels[p.level as usize].topology();
-            let fv = t.face_vertices(p.face);
-            for (k, &v) in fv.iter().enumerate() {
-                let singular =
-                    end_caps && one_face_crease_sector(topologies.get(p.level), v, p.face);
-                let rows = || match (&p.crease, &p.bspline) {
-                    (Some(line), _) => single_crease_corner_rows(line, k),
-                    (None, Some(b)) => bspline_corner_rows(b, k),
-                    (None, None) => gregory_corner_rows(&caps[cap], fv.len(), k, singular),
-                };
-                let corner = PatchCorner {
-                    patch: i,
-                    k,
-                    vertex: v,
-                    singular,
-                };
-                visit(&corner, &rows);
-            }
-        }
-    }
+    let rows = CornerRows::new(refinement, census, topologies, caps);
+    rows.visit(|c| visit(c, &|| rows.rows(c)));
 }
 
 /// Rows of sparse weights: row `r` is terms `offsets[r]..offsets[r + 1]` of `ids` / `weights`,
@@ -105,7 +167,12 @@ impl SparseRows {
     /// Appends a row of weights over local vertices, `first` added to every id (ascending
     /// local ids stay ascending).
     pub fn push(&mut self, row: &Weights, first: u32) {
-        for &(v, w) in &row.0 {
+        self.push_terms(&row.0, first);
+    }
+
+    /// [`Self::push`] of a row given as its `(id, weight)` terms.
+    pub fn push_terms(&mut self, row: &[(u32, f64)], first: u32) {
+        for &(v, w) in row {
             let w32 = w as f32;
             if w32 != 0.0 {
                 self.ids.push(first + v);
@@ -200,27 +267,42 @@ pub fn bspline_corner_rows(p: &RegularPatch, k: usize) -> [Weights; 3] {
     [tensor(bu, bv), tensor(du, bv), tensor(bu, dv)]
 }
 
+/// A single-crease corner's shape: crease side, sharpness bits, face corner.
+type CreaseKey = (CreaseSide, u32, usize);
+
+/// Per control point (`cvs` order) the weights of a corner's position, d/du and d/dv.
+type CornerColumns = [[f64; 3]; 16];
+
 /// Rows (position, d/du, d/dv) of the single-crease patch of `line` (global control vertices)
 /// at its face corner `k`: its exact evaluation ([`SingleCreasePatch::eval`], Nießner, Loop,
 /// Greiner 2012 §3) as weights, read off by linearity (one unit control point at a time).
 pub fn single_crease_corner_rows(line: &CreaseLine, k: usize) -> [Weights; 3] {
+    let columns = single_crease_corner_columns(line.side, line.sharpness, k);
+    corner_rows_of_columns(&line.cvs, &columns)
+}
+
+/// The weights of [`single_crease_corner_rows`] per control point: they depend on the crease's
+/// side and sharpness and the corner, not on the control vertices.
+fn single_crease_corner_columns(side: CreaseSide, sharpness: f32, k: usize) -> CornerColumns {
     let (u, v) = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)][k];
     let local = SingleCreasePatch {
         face: 0,
         cvs: std::array::from_fn(|i| i as u32),
-        side: line.side,
-        sharpness: line.sharpness,
+        side,
+        sharpness,
     };
     let mut unit = [DVec3::ZERO; 16];
-    let columns: Vec<(u32, [f64; 3])> = (line.cvs.iter().enumerate())
-        .map(|(i, &g)| {
-            unit[i] = DVec3::X;
-            let e = local.eval(&unit, u, v);
-            unit[i] = DVec3::ZERO;
-            (g, [e.position.x, e.du.x, e.dv.x])
-        })
-        .collect();
-    std::array::from_fn(|r| Weights::from_terms(columns.iter().map(|&(g, w)| (g, w[r]))))
+    std::array::from_fn(|i| {
+        unit[i] = DVec3::X;
+        let e = local.eval(&unit, u, v);
+        unit[i] = DVec3::ZERO;
+        [e.position.x, e.du.x, e.dv.x]
+    })
+}
+
+/// Rows (position, d/du, d/dv) over control vertices `cvs` with weights `columns`.
+fn corner_rows_of_columns(cvs: &[u32; 16], columns: &CornerColumns) -> [Weights; 3] {
+    std::array::from_fn(|r| Weights::from_terms(cvs.iter().zip(columns).map(|(&g, w)| (g, w[r]))))
 }
 
 /// Rows (position, tangent towards corner `k + 1`, tangent towards corner `k - 1`) of a Gregory
@@ -231,14 +313,16 @@ pub fn single_crease_corner_rows(line: &CreaseLine, k: usize) -> [Weights; 3] {
 /// `singular`: the corner lies alone in a crease sector, where `e- - p = -(e+ - p)` (the crease
 /// curve passes through; `GregoryVertex::sectored`): the second row is then `3 (f+ - p)`, the
 /// face point the construction puts in the exact tangent plane, pointing into the face.
-pub fn gregory_corner_rows(rows: &[Weights], n: usize, k: usize, singular: bool) -> [Weights; 3] {
-    let p = &rows[k];
-    let tangent = |e: &Weights| {
+pub fn gregory_corner_rows(rows: &FaceRows, n: usize, k: usize, singular: bool) -> [Weights; 3] {
+    let p = rows.weights(k);
+    let tangent = |e: Weights| {
         let mut w = Weights::zero();
-        w.add_scaled(3.0, e);
-        w.add_scaled(-3.0, p);
+        w.add_scaled(3.0, &e);
+        w.add_scaled(-3.0, &p);
         w
     };
     let second = if singular { 3 * n + k } else { 2 * n + k };
-    [p.clone(), tangent(&rows[n + k]), tangent(&rows[second])]
+    let du = tangent(rows.weights(n + k));
+    let dv = tangent(rows.weights(second));
+    [p, du, dv]
 }

@@ -23,6 +23,7 @@ use super::rows::corners_exact_first;
 use super::slots::{Slots, NONE};
 use super::surface::EndCapTopologies;
 use crate::mesh::INFINITE_SHARPNESS;
+use crate::patch::gregory::shared_rows::FaceRows;
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
 use crate::topology::{sector_count, sector_faces};
@@ -57,7 +58,7 @@ impl SectorFrames {
         shared_normal: &[bool],
         slots: &Slots,
         mid_slots: &[[u32; 4]],
-        caps: &[Vec<Weights>],
+        caps: &[FaceRows],
     ) -> SectorFrames {
         let first = slots.len() as u32;
         let base = refinement.levels[0].topology();

@@ -55,7 +55,10 @@ impl Weights {
     /// `Σ w_i unit(v_i)` over `terms` in their order, zero weights dropped: the same bits as
     /// adding the units one by one with [`GregoryPoint::add_scaled`], without merging.
     pub fn from_terms(terms: impl IntoIterator<Item = (u32, f64)>) -> Weights {
-        let mut t: Vec<(u32, f64)> = terms.into_iter().filter(|&(_, w)| w != 0.0).collect();
+        let terms = terms.into_iter();
+        // Room for every term up front (a filtered `collect` would grow from nothing).
+        let mut t: Vec<(u32, f64)> = Vec::with_capacity(terms.size_hint().0);
+        t.extend(terms.filter(|&(_, w)| w != 0.0));
         t.sort_by_key(|&(v, _)| v);
         t.dedup_by(|next, kept| {
             let same = next.0 == kept.0;

@@ -1,0 +1,145 @@
+//! The whole CPU preprocessing of the adaptive scheme (`AdaptiveTables::new`: the refinement with
+//! its levels, census inputs and steps, the kernels' subdivision tables, and the draw tables —
+//! slots, frame and end-cap rows with their f64 and f32 weights, records, patches, fans, coarse
+//! edges) is bitwise what it was before the preprocessing was made faster (issue 8): each part's
+//! `Debug` text (which prints every float in its shortest round-trip form, so equal text is
+//! equal bits) hashed with FNV-1a, against the fingerprints the code before the speed-up
+//! produced (computed by this test on that code: first commit 23a28a3; re-taken on main at
+//! ceab382 after its end-cap sharpness change, which changes end caps' rows and the topology's
+//! `Debug` text, was merged).
+//!
+//! The fingerprints change with any change of output, deliberate or not: a change that is meant
+//! to alter the tables (new end-cap rules, another row order) re-derives them and says so.
+
+mod common;
+
+use std::fmt::Write;
+use std::sync::Arc;
+
+use common::meshes::osd;
+use tessera::render::schemes::adaptive::AdaptiveTables;
+use tessera::render::{PlanOptions, SchemeLimits};
+use tessera::topology::Topology;
+
+/// FNV-1a over everything written to it.
+struct Fnv(u64);
+
+impl Write for Fnv {
+    fn write_str(&mut self, s: &str) -> std::fmt::Result {
+        for &b in s.as_bytes() {
+            self.0 ^= u64::from(b);
+            self.0 = self.0.wrapping_mul(0x100_0000_01b3);
+        }
+        Ok(())
+    }
+}
+
+fn fingerprint(x: &impl std::fmt::Debug) -> u64 {
+    let mut h = Fnv(0xcbf2_9ce4_8422_2325);
+    write!(h, "{x:?}").unwrap();
+    h.0
+}
+
+/// `[refinement, refinement tables, draw tables]` fingerprints of `name` at `isolation`.
+fn tables(name: &str, isolation: u32, single_crease: bool) -> [u64; 3] {
+    let topo = Arc::new(Topology::new(&osd(name)).unwrap());
+    let faces: Vec<u32> = (0..topo.face_count() as u32).collect();
+    let opts = PlanOptions::new(SchemeLimits::NO_DEVICE)
+        .with_isolation(isolation)
+        .with_single_crease(single_crease);
+    let t = AdaptiveTables::new(&topo, &faces, &opts).unwrap();
+    [
+        fingerprint(&t.adaptive),
+        fingerprint(&t.refinement),
+        fingerprint(&t.draw),
+    ]
+}
+
+#[test]
+fn adaptive_tables_are_bitwise_unchanged() {
+    let cases: &[(&str, u32, bool, [u64; 3])] = &[
+        (
+            "catmark_car",
+            2,
+            true,
+            [0xa5cc656dde2ba5a7, 0xca4a93965f2b110e, 0x3ba0b385170ab29b],
+        ),
+        (
+            "catmark_car",
+            4,
+            true,
+            [0xa8afcee00ee7224d, 0xc8ccf101f97d4dd2, 0x27b25bbf288866e7],
+        ),
+        (
+            "catmark_car",
+            2,
+            false,
+            [0xf703b1be7dd8a71d, 0x974d66fe24c13fc5, 0x70acfd6f20856815],
+        ),
+        (
+            "catmark_cube_creases1",
+            3,
+            true,
+            [0x6167d9b511a98615, 0xa1a708fbce690d15, 0xc1f053b50c0d8356],
+        ),
+        (
+            "catmark_cube_creases2",
+            4,
+            false,
+            [0xccb9af25446e9c12, 0xcba37c665f754f7e, 0x69af53f89c96bb5f],
+        ),
+        (
+            "catmark_dart_edgecorner",
+            3,
+            true,
+            [0x1a9e8a85216ea371, 0xe436c2a865f7cf86, 0x96a52c943af1a462],
+        ),
+        (
+            "catmark_hole_test1",
+            2,
+            true,
+            [0xc7b5b5b77d2c1b13, 0xece5b3e142e97c01, 0x421b898f7965a516],
+        ),
+        (
+            "catmark_nonquads",
+            3,
+            true,
+            [0x70c523a105607b34, 0x3b633e102e099bde, 0x5edee491d1cbf69e],
+        ),
+        (
+            "catmark_cubes_semisharp",
+            3,
+            true,
+            [0xadc07afdce471a42, 0x47e42ffd83d0ff2a, 0x796e07b6dc50a73e],
+        ),
+        (
+            "catmark_tent_creases1",
+            2,
+            true,
+            [0xe3bd9a2c1c69751, 0x7393eafc11b56ea4, 0xb6a55069ccfad7d9],
+        ),
+        (
+            "catmark_single_crease",
+            4,
+            true,
+            [0xa49f2413685dbe9c, 0xe6c95c4a3b7daf47, 0xce8ca9c95ae33c83],
+        ),
+        (
+            "catmark_pole64",
+            2,
+            true,
+            [0x9e7ec2ce227c2fa4, 0x49aa8020f1082c0, 0x12d5e3fd85c2dcf1],
+        ),
+    ];
+    let mut wrong = Vec::new();
+    for &(name, iso, sc, want) in cases {
+        let got = tables(name, iso, sc);
+        if got != want {
+            wrong.push(format!(
+                "(\"{name}\", {iso}, {sc}, [{:#x}, {:#x}, {:#x}]),",
+                got[0], got[1], got[2]
+            ));
+        }
+    }
+    assert!(wrong.is_empty(), "changed:\n{}", wrong.join("\n"));
+}
