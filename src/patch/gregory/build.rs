@@ -21,7 +21,8 @@ pub enum GregoryPatch<P = DVec3> {
 }
 
 impl GregoryPatch {
-    /// The patch's own normal at corner `k` ([`super::eval::corner_normal`]).
+    /// The patch's own normal at corner `k`: the Bézier net's corner derivatives, else the face
+    /// points (the CPU side of `gregory_corner_normal` in `glsl/gregory/gregory.glsl`).
     pub fn corner_normal(&self, k: usize) -> DVec3 {
         match self {
             GregoryPatch::Quad(q) => super::eval::corner_normal(
