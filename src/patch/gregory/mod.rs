@@ -36,6 +36,7 @@ pub mod stencil_table;
 pub mod table;
 pub mod tangent_fit;
 pub mod tangents;
+pub mod tangents_tri;
 mod vertex;
 
 pub use build::{

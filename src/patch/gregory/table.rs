@@ -19,8 +19,9 @@
 //! 3. per incident face `i` in ring order: one word `size`, then the `size - 3` vertices of the
 //!    face other than `v`, `w_i`, `w_{(i+1) % ne}`, in face order after `w_{(i+1) % ne}` (one
 //!    diagonal for a quad, none for a triangle); `c_i` is the mean of all `size` vertices;
-//! 4. smooth vertices only: one word, the `f32` bits of the edge-tangent factor `s(n)`
-//!    ([`super::GregoryTangents::scale`]; 1.0 for the paper's construction).
+//! 4. smooth vertices only: two words, the `f32` bits of the edge-tangent factor `s` and of the
+//!    transversal factor `ρ` ([`super::GregoryTangents::ring_factors`]; both 1.0 for the
+//!    paper's construction).
 //!
 //! `patch_offsets[4 k .. 4 k + 4]`: for patch `k` (face `faces[k]`), per corner the index of the
 //! face in that corner vertex's ring (the paper's Fig. 8 "rotation offset"); `u32::MAX` in the
@@ -104,9 +105,10 @@ impl GregoryVertexTable {
                 }
             }
             if kind == KIND_SMOOTH {
-                let quads = vfaces.iter().all(|&f| topo.face_size(f) == 4);
-                t.ring
-                    .push((tangents.ring_scale(nf, quads) as f32).to_bits());
+                let sizes: Vec<usize> = vfaces.iter().map(|&f| topo.face_size(f)).collect();
+                let factors = tangents.ring_factors(&sizes);
+                t.ring.push((factors.tangent as f32).to_bits());
+                t.ring.push((factors.transversal as f32).to_bits());
             }
         }
         for f in faces {

@@ -42,11 +42,12 @@
 //! `tests/gregory_tangents.rs` recomputes entries and checks that ±2 % on any entry increases
 //! the fitted error, and measures the meshes of the README.
 //!
-//! The fit covers rings of quads, so `Optimal` scales only vertices whose faces are all quads
-//! ([`GregoryTangents::ring_scale`]); vertices with a triangle (or a larger face) in their ring
-//! keep the paper's tangents: applied there the quad factors make all-triangle meshes worse
-//! (`catmark_smoothtris0` 3.3e-3 → 5.8e-3 of the diagonal RMS). Boundary, crease and corner
-//! vertices (§4.6) keep the paper's tangents in both modes.
+//! The fit covers rings of quads, so these factors scale only vertices whose faces are all quads
+//! ([`GregoryTangents::ring_scale`]): applied to rings with triangles they make all-triangle
+//! meshes worse (`catmark_smoothtris0` 3.3e-3 → 5.8e-3 of the diagonal RMS). Vertices with a
+//! triangle (and otherwise quads) in their ring take the fitted tangent and transversal factors
+//! of [`super::tangents_tri`] ([`GregoryTangents::ring_factors`]); rings with a larger face, and
+//! boundary, crease and corner vertices (§4.6) keep the paper's tangents in both modes.
 
 /// Edge-tangent lengths of smooth (and dart) vertices.
 ///
@@ -107,6 +108,23 @@ impl GregoryTangents {
         match self {
             GregoryTangents::Optimal if !quads => 1.0,
             _ => self.scale(n),
+        }
+    }
+
+    /// Both factors of a smooth vertex whose incident faces have the sizes `face_sizes` (ring
+    /// order): quad rings scale the tangents by [`Self::ring_scale`]; under
+    /// [`GregoryTangents::Optimal`] rings of triangles and quads with a triangle take the
+    /// fitted tangent and transversal factors of [`super::tangents_tri`]; everything else
+    /// keeps the paper's `(1, 1)` on the transversal vectors.
+    pub fn ring_factors(self, face_sizes: &[usize]) -> super::tangents_tri::RingFactors {
+        let n = face_sizes.len();
+        let quads = face_sizes.iter().all(|&k| k == 4);
+        match self {
+            GregoryTangents::Optimal if !quads => super::tangents_tri::fitted_factors(face_sizes),
+            _ => super::tangents_tri::RingFactors {
+                tangent: self.ring_scale(n, quads),
+                transversal: 1.0,
+            },
         }
     }
 
