@@ -12,7 +12,7 @@ use std::collections::BTreeSet;
 use tessera::mesh::ObjOptions;
 use tessera::patch::gregory::accuracy::{measure_tangents, AccuracyOptions};
 use tessera::patch::gregory::tangents_tri::{
-    fit_error, fit_factors, fit_terms, ring_key, RingFactors,
+    fit_error, fit_factors, fit_terms, ring_face_sizes, ring_key, RingFactors,
 };
 use tessera::patch::gregory::GregoryTangents;
 use tessera::topology::Topology;
@@ -36,11 +36,7 @@ fn main() -> tessera::Result<()> {
         let mesh = load(path)?;
         let topo = Topology::new(&mesh)?;
         for v in 0..topo.vertex_count() as u32 {
-            let sizes: Vec<usize> = topo
-                .vertex_faces(v)
-                .iter()
-                .map(|&f| topo.face_size(f))
-                .collect();
+            let sizes = ring_face_sizes(&topo, v);
             if !topo.is_boundary_vertex(v)
                 && sizes.len() >= 3
                 && sizes.contains(&3)

@@ -29,6 +29,7 @@
 
 use super::build::check_face_level0;
 use super::tangents::GregoryTangents;
+use super::tangents_tri::ring_face_sizes;
 use super::vertex::{sectors, GregoryVertex, VertexKind};
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::topology::Topology;
@@ -105,8 +106,7 @@ impl GregoryVertexTable {
                 }
             }
             if kind == KIND_SMOOTH {
-                let sizes: Vec<usize> = vfaces.iter().map(|&f| topo.face_size(f)).collect();
-                let factors = tangents.ring_factors(&sizes);
+                let factors = tangents.ring_factors(&ring_face_sizes(topo, v));
                 t.ring.push((factors.tangent as f32).to_bits());
                 t.ring.push((factors.transversal as f32).to_bits());
             }

@@ -102,8 +102,9 @@ impl GregoryTangents {
         s as f32 as f64
     }
 
-    /// The factor at a smooth vertex of valence `n` whose faces are all quads (`quads`), or
-    /// not: the fit covers quad rings only, rings with other faces keep the paper's tangents.
+    /// The quad table's factor at a smooth vertex of valence `n` whose faces are all quads
+    /// (`quads`), or 1 for other rings (darts use it as is; smooth vertices ask
+    /// [`Self::ring_factors`], which fits rings with triangles separately).
     pub fn ring_scale(self, n: usize, quads: bool) -> f64 {
         match self {
             GregoryTangents::Optimal if !quads => 1.0,
@@ -189,6 +190,25 @@ mod tests {
         );
         let tail = GregoryTangents::Optimal.scale(2 * MAX_FITTED_VALENCE);
         assert!(tail < GregoryTangents::Optimal.scale(MAX_FITTED_VALENCE) && tail > 0.0);
+    }
+
+    #[test]
+    fn paper_keeps_one_on_every_ring_and_quads_keep_the_table() {
+        use crate::patch::gregory::tangents_tri::RingFactors;
+        for sizes in [vec![3, 3, 3], vec![3, 4, 3, 4], vec![4; 5], vec![5, 3, 4]] {
+            assert_eq!(
+                GregoryTangents::Paper.ring_factors(&sizes),
+                RingFactors::ONE
+            );
+        }
+        let q = GregoryTangents::Optimal.ring_factors(&[4; 5]);
+        assert_eq!(q.tangent, GregoryTangents::Optimal.scale(5));
+        assert_eq!(q.transversal, 1.0);
+        // A pentagon in the ring: the paper's construction.
+        assert_eq!(
+            GregoryTangents::Optimal.ring_factors(&[5, 3, 4]),
+            RingFactors::ONE
+        );
     }
 
     #[test]

@@ -92,6 +92,15 @@ impl RingFactors {
     };
 }
 
+/// The sizes of the faces around vertex `v`, in ring order (what [`ring_key`] and
+/// [`super::GregoryTangents::ring_factors`] take).
+pub fn ring_face_sizes(topo: &Topology, v: u32) -> Vec<usize> {
+    topo.vertex_faces(v)
+        .iter()
+        .map(|&f| topo.face_size(f))
+        .collect()
+}
+
 /// The canonical key of a ring's face-size sequence: the lexicographically least of its
 /// rotations and reversed rotations (the fit is invariant under both).
 pub fn ring_key(sizes: &[usize]) -> Vec<u8> {
