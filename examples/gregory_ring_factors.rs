@@ -7,6 +7,8 @@
 //! ```sh
 //! cargo run --release --example gregory_ring_factors -- [MESH.obj | embedded:NAME]...
 //! ```
+//! Without arguments it fits the rings `tangents_tri::FITTED_FACTORS` tabulates and prints the
+//! table to paste.
 
 use std::collections::BTreeSet;
 use tessera::mesh::ObjOptions;
@@ -26,6 +28,21 @@ fn load(path: &str) -> tessera::Result<ControlMesh> {
     } else {
         ControlMesh::from_obj_file(path, &ObjOptions::default())
     }
+}
+
+/// The keys `tangents_tri::FITTED_FACTORS` tabulates: all-triangle rings of valence 3 to 24,
+/// and every ring of triangles and quads with both, of valence 3 to 8.
+fn tabulated_keys() -> BTreeSet<Vec<u8>> {
+    let mut keys: BTreeSet<Vec<u8>> = (3..=24).map(|n| vec![3; n]).collect();
+    for n in 3..=8usize {
+        for bits in 0..1u32 << n {
+            let sizes: Vec<usize> = (0..n).map(|i| 3 + (bits >> i & 1) as usize).collect();
+            if sizes.contains(&3) && sizes.contains(&4) {
+                keys.insert(ring_key(&sizes));
+            }
+        }
+    }
+    keys
 }
 
 fn main() -> tessera::Result<()> {
@@ -48,14 +65,10 @@ fn main() -> tessera::Result<()> {
         meshes.push((path.clone(), mesh));
     }
     if args.is_empty() {
-        for n in 3..=8 {
-            keys.insert(vec![3; n]);
-        }
-        keys.insert(vec![3, 3, 4]);
-        keys.insert(vec![3, 4, 4]);
-        keys.insert(vec![3, 3, 4, 4]);
+        keys.extend(tabulated_keys());
     }
     println!("ring            s         rho       RMS paper   RMS fitted");
+    let mut table = Vec::new();
     for key in &keys {
         let sizes: Vec<usize> = key.iter().map(|&k| k as usize).collect();
         let f = fit_factors(&sizes)?;
@@ -67,6 +80,16 @@ fn main() -> tessera::Result<()> {
             f.transversal,
             fit_error(&t, RingFactors::ONE).max(0.0).sqrt(),
             fit_error(&t, f).max(0.0).sqrt()
+        );
+        table.push(format!(
+            "    (&{key:?}, {:?}, {:?}),",
+            f.tangent as f32, f.transversal as f32
+        ));
+    }
+    if args.is_empty() {
+        println!(
+            "\npub const FITTED_FACTORS: &[(&[u8], f32, f32)] = &[\n{}\n];",
+            table.join("\n")
         );
     }
     let options = AccuracyOptions {
