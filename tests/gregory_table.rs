@@ -45,9 +45,11 @@ fn vertex_stage(t: &GregoryVertexTable, pos: &[DVec3], v: usize) -> Option<Verte
         at += size - 2;
     }
     if kind == KIND_SMOOTH as usize {
-        // The word after the face records: the f32 bits of the edge-tangent factor.
+        // The two words after the face records: the f32 bits of the edge-tangent factor and of
+        // the transversal factor.
         let scale = f32::from_bits(t.ring[at]) as f64;
-        return Some(smooth(x, &m, &c, scale));
+        let rho = f32::from_bits(t.ring[at + 1]) as f64;
+        return Some(smooth(x, &m, &c, scale, rho));
     }
     // Sectors and sharp edges from the sector words.
     let mut sharp = vec![false; ne];
@@ -116,7 +118,7 @@ fn vertex_stage(t: &GregoryVertexTable, pos: &[DVec3], v: usize) -> Option<Verte
 }
 
 /// Paper §3.2-3.4 for a closed smooth ring.
-fn smooth(x: DVec3, m: &[DVec3], c: &[DVec3], scale: f64) -> VertexOut {
+fn smooth(x: DVec3, m: &[DVec3], c: &[DVec3], scale: f64, rho: f64) -> VertexOut {
     let n = m.len();
     let nf = n as f64;
     let sum: DVec3 = (0..n).map(|i| m[i] + c[i]).sum();
@@ -138,7 +140,8 @@ fn smooth(x: DVec3, m: &[DVec3], c: &[DVec3], scale: f64) -> VertexOut {
         .collect();
     let r: Vec<DVec3> = (0..n)
         .map(|j| {
-            (m[(j + 1) % n] - m[(j + n - 1) % n]) / 3.0 + 2.0 / 3.0 * (c[j] - c[(j + n - 1) % n])
+            rho * ((m[(j + 1) % n] - m[(j + n - 1) % n]) / 3.0
+                + 2.0 / 3.0 * (c[j] - c[(j + n - 1) % n]))
         })
         .collect();
     VertexOut {

@@ -8,9 +8,10 @@
 //   ring edge j, crate ring order: face i lies between edges i and i + 1, counter-clockwise seen
 //   from outside); nf sector words `start | faces << 16` (the sector holding face i, from sharp
 //   edge `start`; smooth vertices: 0 | nf << 16); per face i: its size, then its size - 3
-//   vertices other than v, w_i, w_{i+1} (c_i = mean of all of them); smooth vertices then one
-//   word, the f32 bits of the edge-tangent factor s(n) (patch::gregory::GregoryTangents); crease
-//   vertices then nf words, the f32 bits of the cross-boundary factor s(k) of face i's sector.
+//   vertices other than v, w_i, w_{i+1} (c_i = mean of all of them); smooth vertices then two
+//   words, the f32 bits of the edge-tangent factor s and of the transversal factor rho
+//   (patch::gregory::GregoryTangents::ring_factors); crease vertices then nf words, the f32 bits
+//   of the cross-boundary factor s(k) of face i's sector.
 // Per-patch ring offsets (Fig. 8, binding 5, `uint corner_ring[]`): corner_ring[4 * patch + k] =
 //   index of the patch's face in the ring of corner k's vertex.
 // Varyings from the vertex stage (GVS_SLOTS vec4; one location of the budget is left to the

@@ -3,8 +3,9 @@
 // connectivity buffer and the dynamic positions buffer, the limit position p (§3.2), one edge
 // point per ring edge (§3.3) and the transversal vectors r (§3.4); at boundary, crease and
 // corner vertices the sector-wise rules of §4.6 (as patch::gregory::GregoryVertex::sectored).
-// Edge tangents 2/3 s(n) lambda q with the factor s(n) the table stores per smooth vertex; crease
-// sectors' cross-boundary tangents T/3 times the factor s(k) it stores per face of a crease vertex.
+// Edge tangents 2/3 s lambda q and transversal vectors rho r with the factors s, rho the table
+// stores per smooth vertex; crease sectors' cross-boundary tangents T/3 times the factor s(k) it
+// stores per face of a crease vertex.
 // Points relative to the vertex's control position (corner frames, gregory/gregory.glsl).
 // Packed into the varyings as documented in gregory_vs/gregory_vs.glsl. Vertices beyond the
 // varyings budget are never drawn by this variant (the host falls back).
@@ -102,6 +103,8 @@ void main() {
         // The edge-tangent factor s(n) after the face records (GregoryTangents::scale; 1.0 for
         // the paper's construction, which leaves lambda's bits unchanged).
         lambda *= uintBitsToFloat(conn[fo]);
+        // The transversal factor rho (patch::gregory::tangents_tri; 1.0 leaves r's bits).
+        float rho = uintBitsToFloat(conn[fo + 1u]);
         for (int j = 0; j < n; ++j) {
             vec3 q = vec3(0.0);
             for (int i = 0; i < n; ++i) {
@@ -114,7 +117,7 @@ void main() {
             put3(6 * j, p + (2.0 / 3.0) * lambda * q);
             int nx = (j + 1) % n;
             int pr = (j + n - 1) % n;
-            put3(6 * j + 3, (m[nx] - m[pr]) * (1.0 / 3.0) + (2.0 / 3.0) * (c[j] - c[pr]));
+            put3(6 * j + 3, rho * ((m[nx] - m[pr]) * (1.0 / 3.0) + (2.0 / 3.0) * (c[j] - c[pr])));
         }
         v_data[0] = vec4(p, nf_);
         return;

@@ -37,6 +37,7 @@ pub mod table;
 pub mod tangent_fit;
 pub mod tangents;
 pub mod tangents_boundary;
+pub mod tangents_tri;
 mod vertex;
 
 pub use build::{

@@ -19,10 +19,10 @@
 //! 3. per incident face `i` in ring order: one word `size`, then the `size - 3` vertices of the
 //!    face other than `v`, `w_i`, `w_{(i+1) % ne}`, in face order after `w_{(i+1) % ne}` (one
 //!    diagonal for a quad, none for a triangle); `c_i` is the mean of all `size` vertices;
-//! 4. smooth vertices only: one word, the `f32` bits of the edge-tangent factor `s(n)`
-//!    ([`super::GregoryTangents::scale`]; 1.0 for the paper's construction); crease vertices
-//!    only: `nf` words, per incident face the `f32` bits of the cross-boundary factor `s(k)` of
-//!    its sector ([`super::GregoryTangents::crease_scale`]).
+//! 4. smooth vertices only: two words, the `f32` bits of the edge-tangent factor `s` and of the
+//!    transversal factor `ρ` ([`super::GregoryTangents::ring_factors`]; both 1.0 for the
+//!    paper's construction); crease vertices only: `nf` words, per incident face the `f32` bits
+//!    of the cross-boundary factor `s(k)` of its sector ([`super::GregoryTangents::crease_scale`]).
 //!
 //! `patch_offsets[4 k .. 4 k + 4]`: for patch `k` (face `faces[k]`), per corner the index of the
 //! face in that corner vertex's ring (the paper's Fig. 8 "rotation offset"); `u32::MAX` in the
@@ -30,6 +30,7 @@
 
 use super::build::check_face_level0;
 use super::tangents::GregoryTangents;
+use super::tangents_tri::ring_face_sizes;
 use super::vertex::{sectors, GregoryVertex, VertexKind};
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::topology::Topology;
@@ -111,8 +112,9 @@ impl GregoryVertexTable {
                 }
             }
             if kind == KIND_SMOOTH {
-                t.ring
-                    .push((tangents.ring_scale(nf, quads) as f32).to_bits());
+                let factors = tangents.ring_factors(&ring_face_sizes(topo, v));
+                t.ring.push((factors.tangent as f32).to_bits());
+                t.ring.push((factors.transversal as f32).to_bits());
             }
             if kind == KIND_CREASE {
                 t.ring.extend(&crease_words);

@@ -42,13 +42,14 @@
 //! `tests/gregory_tangents.rs` recomputes entries and checks that ±2 % on any entry increases
 //! the fitted error, and measures the meshes of the README.
 //!
-//! The fit covers rings of quads, so `Optimal` scales only vertices whose faces are all quads
-//! ([`GregoryTangents::ring_scale`]); vertices with a triangle (or a larger face) in their ring
-//! keep the paper's tangents: applied there the quad factors make all-triangle meshes worse
-//! (`catmark_smoothtris0` 3.3e-3 → 5.8e-3 of the diagonal RMS). At boundary and crease
-//! vertices (§4.6) `Optimal` scales the cross-boundary tangent of each crease sector instead
-//! (`super::tangents_boundary`, fitted the same way on half-rings); corner vertices keep the
-//! paper's tangents in both modes.
+//! The fit covers rings of quads, so these factors scale only vertices whose faces are all quads
+//! ([`GregoryTangents::ring_scale`]): applied to rings with triangles they make all-triangle
+//! meshes worse (`catmark_smoothtris0` 3.3e-3 → 5.8e-3 of the diagonal RMS). Vertices with a
+//! triangle (and otherwise quads) in their ring take the fitted tangent and transversal factors
+//! of [`super::tangents_tri`] ([`GregoryTangents::ring_factors`]); rings with a larger face keep
+//! the paper's tangents. At boundary and crease vertices (§4.6) `Optimal` scales the
+//! cross-boundary tangent of each crease sector instead (`super::tangents_boundary`, fitted the
+//! same way on half-rings); corner vertices keep the paper's tangents in both modes.
 
 /// Edge-tangent lengths of smooth (and dart) vertices.
 ///
@@ -104,12 +105,30 @@ impl GregoryTangents {
         s as f32 as f64
     }
 
-    /// The factor at a smooth vertex of valence `n` whose faces are all quads (`quads`), or
-    /// not: the fit covers quad rings only, rings with other faces keep the paper's tangents.
+    /// The quad table's factor at a smooth vertex of valence `n` whose faces are all quads
+    /// (`quads`), or 1 for other rings (darts use it as is; smooth vertices ask
+    /// [`Self::ring_factors`], which fits rings with triangles separately).
     pub fn ring_scale(self, n: usize, quads: bool) -> f64 {
         match self {
             GregoryTangents::Optimal if !quads => 1.0,
             _ => self.scale(n),
+        }
+    }
+
+    /// Both factors of a smooth vertex whose incident faces have the sizes `face_sizes` (ring
+    /// order): quad rings scale the tangents by [`Self::ring_scale`]; under
+    /// [`GregoryTangents::Optimal`] rings of triangles and quads with a triangle take the
+    /// fitted tangent and transversal factors of [`super::tangents_tri`]; everything else
+    /// keeps the paper's `(1, 1)` on the transversal vectors.
+    pub fn ring_factors(self, face_sizes: &[usize]) -> super::tangents_tri::RingFactors {
+        let n = face_sizes.len();
+        let quads = face_sizes.iter().all(|&k| k == 4);
+        match self {
+            GregoryTangents::Optimal if !quads => super::tangents_tri::fitted_factors(face_sizes),
+            _ => super::tangents_tri::RingFactors {
+                tangent: self.ring_scale(n, quads),
+                transversal: 1.0,
+            },
         }
     }
 
@@ -174,6 +193,25 @@ mod tests {
         );
         let tail = GregoryTangents::Optimal.scale(2 * MAX_FITTED_VALENCE);
         assert!(tail < GregoryTangents::Optimal.scale(MAX_FITTED_VALENCE) && tail > 0.0);
+    }
+
+    #[test]
+    fn paper_keeps_one_on_every_ring_and_quads_keep_the_table() {
+        use crate::patch::gregory::tangents_tri::RingFactors;
+        for sizes in [vec![3, 3, 3], vec![3, 4, 3, 4], vec![4; 5], vec![5, 3, 4]] {
+            assert_eq!(
+                GregoryTangents::Paper.ring_factors(&sizes),
+                RingFactors::ONE
+            );
+        }
+        let q = GregoryTangents::Optimal.ring_factors(&[4; 5]);
+        assert_eq!(q.tangent, GregoryTangents::Optimal.scale(5));
+        assert_eq!(q.transversal, 1.0);
+        // A pentagon in the ring: the paper's construction.
+        assert_eq!(
+            GregoryTangents::Optimal.ring_factors(&[5, 3, 4]),
+            RingFactors::ONE
+        );
     }
 
     #[test]

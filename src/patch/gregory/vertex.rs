@@ -25,6 +25,9 @@ pub struct VertexRing<P = DVec3> {
     pub corner: bool,
     /// Every incident face is a quad (the rings [`GregoryTangents::Optimal`] is fitted on).
     pub quads: bool,
+    /// Sizes of the incident faces, one per face in ring order (what
+    /// [`GregoryTangents::ring_factors`] is keyed on).
+    pub face_sizes: Vec<usize>,
 }
 
 /// How the construction treats a vertex.
@@ -192,9 +195,8 @@ impl<P: GregoryPoint> GregoryVertex<P> {
         }
         let cos_pi_n = (PI / nf).cos();
         let sigma = 1.0 / (4.0 + cos_pi_n * cos_pi_n).sqrt();
-        let scale =
-            (2.0 / 3.0) * (tangents.ring_scale(n, ring.quads) * subdominant_eigenvalue(n)) * 2.0
-                / nf;
+        let factors = tangents.ring_factors(&ring.face_sizes);
+        let scale = (2.0 / 3.0) * (factors.tangent * subdominant_eigenvalue(n)) * 2.0 / nf;
         let e = (0..n)
             .map(|j| {
                 let mut e = p.clone();
@@ -208,7 +210,13 @@ impl<P: GregoryPoint> GregoryVertex<P> {
                 e
             })
             .collect();
-        let r: Vec<P> = (0..n).map(|j| inner_r(ring, j, n)).collect();
+        let mut r: Vec<P> = (0..n).map(|j| inner_r(ring, j, n)).collect();
+        if factors.transversal != 1.0 {
+            r = r
+                .iter()
+                .map(|x| combine(&[(factors.transversal, x)]))
+                .collect();
+        }
         let r_minus = (0..n)
             .map(|j| combine(&[(-1.0, &r[(j + 1) % n])]))
             .collect();
@@ -645,6 +653,7 @@ mod tests {
             sharp: vec![false; n],
             corner: false,
             quads: true,
+            face_sizes: vec![4; n],
         }
     }
 
@@ -799,6 +808,7 @@ mod tests {
             sharp: vec![true, true],
             corner: false,
             quads: true,
+            face_sizes: vec![4],
         };
         let g = GregoryVertex::new(&ring, GregoryTangents::Paper).expect("covered");
         let mut x = ring.clone();

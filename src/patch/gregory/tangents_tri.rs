@@ -1,0 +1,640 @@
+//! Fitted edge-tangent and transversal factors at smooth vertices whose ring holds triangles
+//! (the rule [`super::GregoryTangents::Optimal`] uses there; quad rings keep
+//! [`super::tangents::OPTIMAL_SCALE`]).
+//!
+//! # The two G1-safe parameters
+//!
+//! At a smooth vertex the construction (§3.2-3.4) has edge points `e_j = p + 2/3 λ q_j` and
+//! transversal vectors `r_j = 1/3 (m_{j+1} − m_{j−1}) + 2/3 (c_j − c_{j−1})`, and each face point
+//! next to edge `j` is (eq. 6, [`super::face_point_cos`])
+//! `f = (c_b p + (d − 2c_a − c_b) e_ab + 2 c_a e_ba ± r_j) / d`, `d = 3` (quad) or 4 (triangle).
+//! Two changes keep every property the construction promises:
+//!
+//! - `e_j = p + 2/3 s λ q_j` with **one** `s > 0` for all edges of the vertex: the edge points
+//!   stay in the exact tangent plane and stay the affine `n`-gon of condition (1)
+//!   (`e_{j−1} + e_{j+1} − 2p = 2 cos(2π/n) (e_j − p)` is homogeneous in `e − p`), which eq. 6
+//!   is derived from; so the corner interpolates the limit point and tangent plane and the
+//!   patches stay tangent-plane continuous across edges. A length per edge would break
+//!   condition (1) and with it eq. 6's continuity; it is not used.
+//! - `r_j → ρ r_j` with one `ρ` for the vertex: `r_j` enters the face points on both sides of
+//!   edge `j` (`+r_j` into face `j`, `−r_j` into face `j − 1`), so scaling it is the same as
+//!   running eq. 6 with another transversal vector; eq. 6 holds for any `r`.
+//!
+//! `s = ρ = 1` is the paper's construction. Both are topological constants of the vertex (the
+//! stencil form stays fixed weights: `e_j`, `r_j` are the paper's masks times `s`, `ρ`).
+//!
+//! # The fit
+//!
+//! `(s, ρ)` depend on the ring's face-size sequence `k_0 … k_{n−1}` (up to rotation and
+//! reflection, [`ring_key`]) and minimise the squared distance from the Gregory patches around a
+//! vertex with that ring to the exact Catmull-Clark limit, on a characteristic configuration:
+//!
+//! - the control net ([`characteristic_mesh`]): the vertex at the origin, sector `i` spanning the
+//!   directions `w_i, w_{i+1}` (`w_i` at angle `2πi/n`), filled with `K × K` quads (`k_i = 4`,
+//!   vertices `a w_i + b w_{i+1}`, `0 ≤ a, b ≤ K`, as `super::tangent_fit::fit_mesh`) or with a
+//!   triangular grid of side `K` (`k_i = 3`, `a + b ≤ K`), `K = 4`, lifted to the heights `z =
+//!   h(x, y)` of the three quadratics `½(x² + y²)`, `½(x² − y²)`, `xy` (every curvature at the
+//!   vertex, as for quads);
+//! - every other smooth vertex of the net with a triangle in its ring takes the same `(s, ρ)`
+//!   (the fitted vertex's triangles meet neighbours that follow the rule too; fitting against
+//!   paper neighbours instead, as the quad table does against valence-4 neighbours that need no
+//!   factor, gave factors that made `catmark_pyramid` and `catmark_smoothtris0` worse than the
+//!   paper's: `s` compensated for the neighbours' face points; a second stage in which the
+//!   neighbours take this fit of their own rings was worse again on both); quad-ring vertices
+//!   keep the paper's construction;
+//! - every control point is affine in `(s, ρ)`, so at a sample `G(s, ρ) = G₁₁ + (s − 1) B +
+//!   (ρ − 1) C`; the error is the distance to the closest exact point `L` along its normal `N`
+//!   (a Gregory triangle is not parameterised like the three quads Catmull-Clark makes of a
+//!   triangle, so the quads' equal-parameter pairing does not apply): `d = (G − L)·N`, paired by
+//!   `super::accuracy::closest_exact` at the current `(s, ρ)` and re-paired `ROUNDS` times
+//!   (ICP); each round is a 2 × 2 least-squares solve
+//!   `[Σ B_N², Σ B_N C_N; Σ B_N C_N, Σ C_N²] (s − 1, ρ − 1) = −[Σ a B_N, Σ a C_N]`;
+//! - samples: every face at the vertex, an `M × M` grid of cell midpoints (quads) or the
+//!   centroids of the `M²` cells of a barycentric grid (triangles), each weighted by its face's
+//!   planar area over its sample count (an area integral).
+//!
+//! The common rings are tabulated ([`FITTED_FACTORS`]), others fitted once on first use and
+//! cached ([`fitted_factors`]); rings with a face of more than four sides, and all-quad rings,
+//! are not fitted here.
+
+use super::accuracy::{closest_exact, nearby_exact_samples};
+use super::build::{gregory_patch, gregory_vertices_with};
+use super::tangents::GregoryTangents;
+use super::vertex::{GregoryVertex, VertexKind};
+use crate::mesh::{ControlMesh, ControlMeshDesc};
+use crate::subdiv::eval::LimitEvaluator;
+use crate::topology::Topology;
+use glam::DVec3;
+use std::collections::HashMap;
+use std::f64::consts::PI;
+use std::sync::{Mutex, OnceLock};
+
+/// Sector size of the characteristic configuration.
+pub const FIT_K: usize = 4;
+/// Samples per face side.
+pub const FIT_SAMPLES: usize = 8;
+/// ICP rounds (the pairs settle after two or three).
+pub const ROUNDS: usize = 3;
+
+/// The factors of one vertex: `s` on the edge tangents, `ρ` on the transversal vectors.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RingFactors {
+    /// `s`: edge points `p + 2/3 s λ q_j`.
+    pub tangent: f64,
+    /// `ρ`: transversal vectors `ρ r_j`.
+    pub transversal: f64,
+}
+
+impl RingFactors {
+    /// The paper's construction.
+    pub const ONE: RingFactors = RingFactors {
+        tangent: 1.0,
+        transversal: 1.0,
+    };
+}
+
+/// The sizes of the faces around vertex `v`, in ring order (what [`ring_key`] and
+/// [`super::GregoryTangents::ring_factors`] take).
+pub fn ring_face_sizes(topo: &Topology, v: u32) -> Vec<usize> {
+    topo.vertex_faces(v)
+        .iter()
+        .map(|&f| topo.face_size(f))
+        .collect()
+}
+
+/// The canonical key of a ring's face-size sequence: the lexicographically least of its
+/// rotations and reversed rotations (the fit is invariant under both).
+pub fn ring_key(sizes: &[usize]) -> Vec<u8> {
+    let n = sizes.len();
+    let s: Vec<u8> = sizes.iter().map(|&k| k.min(255) as u8).collect();
+    let mut best: Option<Vec<u8>> = None;
+    for rev in [false, true] {
+        for start in 0..n {
+            let cand: Vec<u8> = (0..n)
+                .map(|i| {
+                    if rev {
+                        s[(start + n - i) % n]
+                    } else {
+                        s[(start + i) % n]
+                    }
+                })
+                .collect();
+            if best.as_ref().is_none_or(|b| cand < *b) {
+                best = Some(cand);
+            }
+        }
+    }
+    best.unwrap_or_default()
+}
+
+/// The characteristic control net of a ring with face sizes `sizes` (3 or 4 each), heights `h`
+/// (module docs). Faces `0..n` are the faces at vertex 0, face `i` in sector `i` with corner 0
+/// there.
+pub fn characteristic_mesh(
+    sizes: &[usize],
+    h: impl Fn(f64, f64) -> f64,
+) -> crate::Result<ControlMesh> {
+    let n = sizes.len();
+    let k = FIT_K;
+    if n < 3 || sizes.iter().any(|&s| s != 3 && s != 4) {
+        return Err(crate::Error::Invalid(format!(
+            "characteristic ring {sizes:?}: triangles and quads, valence 3 or more"
+        )));
+    }
+    let mut index: HashMap<(usize, usize, usize), u32> = HashMap::new();
+    let mut positions = vec![DVec3::new(0.0, 0.0, h(0.0, 0.0))];
+    let dir = |i: usize| {
+        let (s, c) = (2.0 * PI * (i % n) as f64 / n as f64).sin_cos();
+        (c, s)
+    };
+    for (i, &size) in sizes.iter().enumerate() {
+        let ((c0, s0), (c1, s1)) = (dir(i), dir(i + 1));
+        for a in 1..=k {
+            let bmax = if size == 3 { k - a } else { k };
+            for b in 0..=bmax {
+                let (x, y) = (a as f64 * c0 + b as f64 * c1, a as f64 * s0 + b as f64 * s1);
+                index.insert((i, a, b), positions.len() as u32);
+                positions.push(DVec3::new(x, y, h(x, y)));
+            }
+        }
+    }
+    let id = |i: usize, a: usize, b: usize| -> u32 {
+        match (a, b) {
+            (0, 0) => 0,
+            (0, b) => index[&((i + 1) % n, b, 0)],
+            _ => index[&(i, a, b)],
+        }
+    };
+    let (mut first, mut rest) = (Vec::new(), Vec::new());
+    let (mut first_sizes, mut rest_sizes) = (Vec::new(), Vec::new());
+    for (i, &size) in sizes.iter().enumerate() {
+        for a in 0..k {
+            for b in 0..k {
+                let faces: Vec<Vec<u32>> = if size == 4 {
+                    vec![vec![
+                        id(i, a, b),
+                        id(i, a + 1, b),
+                        id(i, a + 1, b + 1),
+                        id(i, a, b + 1),
+                    ]]
+                } else if a + b < k {
+                    let mut t = vec![vec![id(i, a, b), id(i, a + 1, b), id(i, a, b + 1)]];
+                    if a + b + 1 < k {
+                        t.push(vec![id(i, a + 1, b), id(i, a + 1, b + 1), id(i, a, b + 1)]);
+                    }
+                    t
+                } else {
+                    Vec::new()
+                };
+                for (t, face) in faces.into_iter().enumerate() {
+                    let (fv, fs) = if a == 0 && b == 0 && t == 0 {
+                        (&mut first, &mut first_sizes)
+                    } else {
+                        (&mut rest, &mut rest_sizes)
+                    };
+                    fs.push(face.len() as u32);
+                    fv.extend(face);
+                }
+            }
+        }
+    }
+    first.extend(rest);
+    first_sizes.extend(rest_sizes);
+    ControlMesh::new(ControlMeshDesc {
+        positions,
+        face_sizes: first_sizes,
+        face_vertices: first,
+        ..Default::default()
+    })
+}
+
+/// The three height functions of the fit.
+fn heights() -> [fn(f64, f64) -> f64; 3] {
+    [
+        |x, y| 0.5 * (x * x + y * y),
+        |x, y| 0.5 * (x * x - y * y),
+        |x, y| x * y,
+    ]
+}
+
+/// Sample parameters of one face with their weight (module docs).
+pub fn face_samples(triangle: bool) -> Vec<(f64, f64)> {
+    let m = FIT_SAMPLES;
+    let mf = m as f64;
+    if triangle {
+        let mut out = Vec::new();
+        for i in 0..m {
+            for j in 0..m - i {
+                out.push(((i as f64 + 1.0 / 3.0) / mf, (j as f64 + 1.0 / 3.0) / mf));
+                if i + j + 1 < m {
+                    out.push(((i as f64 + 2.0 / 3.0) / mf, (j as f64 + 2.0 / 3.0) / mf));
+                }
+            }
+        }
+        out
+    } else {
+        (0..m * m)
+            .map(|q| (((q % m) as f64 + 0.5) / mf, ((q / m) as f64 + 0.5) / mf))
+            .collect()
+    }
+}
+
+/// The vertex `g` with factors `f` applied (module docs).
+pub fn with_factors(g: &GregoryVertex<DVec3>, f: RingFactors) -> GregoryVertex<DVec3> {
+    let mut out = g.clone();
+    for e in &mut out.e {
+        *e = g.p + f.tangent * (*e - g.p);
+    }
+    for r in out.r_plus.iter_mut().chain(out.r_minus.iter_mut()) {
+        *r *= f.transversal;
+    }
+    out
+}
+
+/// One height's characteristic configuration, ready to evaluate.
+struct Config {
+    topo: Topology,
+    exact: LimitEvaluator,
+    paper: Vec<Option<GregoryVertex<DVec3>>>,
+    faces: Vec<u32>,
+    dense: Vec<Option<Vec<crate::subdiv::eval::GridSample>>>,
+    areas: Vec<f64>,
+}
+
+fn config(sizes: &[usize], h: fn(f64, f64) -> f64) -> crate::Result<Config> {
+    let mesh = characteristic_mesh(sizes, h)?;
+    let topo = Topology::new(&mesh)?;
+    let exact = LimitEvaluator::new(&mesh)?;
+    let paper = gregory_vertices_with(&topo, mesh.positions(), GregoryTangents::Paper);
+    let faces: Vec<u32> = topo.vertex_faces(0).to_vec();
+    let mut dense = vec![None; topo.face_count()];
+    for &f in &faces {
+        for &v in topo.face_vertices(f) {
+            for &g in topo.vertex_faces(v) {
+                if dense[g as usize].is_none() && exact.has_limit_surface(g as usize) {
+                    dense[g as usize] = Some(exact.eval_grid(g as usize, 2 * FIT_SAMPLES)?);
+                }
+            }
+        }
+    }
+    let areas = faces
+        .iter()
+        .map(|&f| {
+            let fv = topo.face_vertices(f);
+            let q = |i: usize| {
+                let p = mesh.positions()[fv[i % fv.len()] as usize];
+                DVec3::new(p.x, p.y, 0.0)
+            };
+            (1..fv.len() - 1)
+                .map(|i| 0.5 * (q(i) - q(0)).cross(q(i + 1) - q(0)).length())
+                .sum()
+        })
+        .collect();
+    Ok(Config {
+        topo,
+        exact,
+        paper,
+        faces,
+        dense,
+        areas,
+    })
+}
+
+/// The normal equations of one ICP round at factors `at`: `[Σ a², Σ aB, Σ aC, Σ B², Σ BC, Σ C²]`
+/// (normal components, area-weighted), so that the weighted squared distance at `(s, ρ)` with
+/// the round's pairs is `E = Σ (a + (s − 1) B + (ρ − 1) C)²`.
+pub fn fit_terms(sizes: &[usize], at: RingFactors) -> crate::Result<[f64; 6]> {
+    terms_on(&configs(sizes)?, at)
+}
+
+/// The three configurations of a ring (one per height).
+fn configs(sizes: &[usize]) -> crate::Result<Vec<Config>> {
+    heights().into_iter().map(|h| config(sizes, h)).collect()
+}
+
+fn terms_on(configs: &[Config], at: RingFactors) -> crate::Result<[f64; 6]> {
+    let mut sums = [0.0; 6];
+    for c in configs {
+        let center = c.paper[0]
+            .as_ref()
+            .ok_or_else(|| crate::Error::Invalid("characteristic vertex has no data".into()))?;
+        let patches = |f: RingFactors| -> crate::Result<Vec<super::GregoryPatch<DVec3>>> {
+            let mut verts = c.paper.clone();
+            verts[0] = Some(with_factors(center, f));
+            for (v, g) in verts.iter_mut().enumerate().skip(1) {
+                let tri = c
+                    .topo
+                    .vertex_faces(v as u32)
+                    .iter()
+                    .any(|&x| c.topo.face_size(x) == 3);
+                if let (true, Some(x)) = (tri, c.paper[v].as_ref()) {
+                    if x.kind == VertexKind::Smooth {
+                        *g = Some(with_factors(x, f));
+                    }
+                }
+            }
+            c.faces
+                .iter()
+                .map(|&g| {
+                    gregory_patch(&c.topo, &verts, g)
+                        .map_err(|e| crate::Error::Invalid(e.to_string()))
+                })
+                .collect()
+        };
+        let one = patches(RingFactors::ONE)?;
+        let ds = patches(RingFactors {
+            tangent: 2.0,
+            transversal: 1.0,
+        })?;
+        let dr = patches(RingFactors {
+            tangent: 1.0,
+            transversal: 2.0,
+        })?;
+        for (k, &f) in c.faces.iter().enumerate() {
+            let candidates = nearby_exact_samples(&c.topo, &c.dense, f);
+            let uv = face_samples(c.topo.face_size(f) == 3);
+            let w = c.areas[k] / uv.len() as f64;
+            for &(u, v) in &uv {
+                let g1 = one[k].eval(u, v).position;
+                let b = ds[k].eval(u, v).position - g1;
+                let cc = dr[k].eval(u, v).position - g1;
+                let x = g1 + (at.tangent - 1.0) * b + (at.transversal - 1.0) * cc;
+                let l = closest_exact(&c.exact, x, &candidates, f)?;
+                let n = l.sample.normal;
+                let (a, b, cc) = ((g1 - l.sample.position).dot(n), b.dot(n), cc.dot(n));
+                for (slot, val) in
+                    sums.iter_mut()
+                        .zip([a * a, a * b, a * cc, b * b, b * cc, cc * cc])
+                {
+                    *slot += w * val;
+                }
+            }
+        }
+    }
+    Ok(sums)
+}
+
+/// The squared distance of [`fit_terms`] at factors `f`.
+pub fn fit_error(t: &[f64; 6], f: RingFactors) -> f64 {
+    let (x, y) = (f.tangent - 1.0, f.transversal - 1.0);
+    t[0] + 2.0 * (x * t[1] + y * t[2]) + x * x * t[3] + 2.0 * x * y * t[4] + y * y * t[5]
+}
+
+/// The minimiser of [`fit_error`] (2 × 2 normal equations).
+pub fn minimise(t: &[f64; 6]) -> RingFactors {
+    let det = t[3] * t[5] - t[4] * t[4];
+    if det.abs() <= 1e-300 {
+        return RingFactors::ONE;
+    }
+    let x = (-t[1] * t[5] + t[2] * t[4]) / det;
+    let y = (-t[2] * t[3] + t[1] * t[4]) / det;
+    RingFactors {
+        tangent: 1.0 + x,
+        transversal: 1.0 + y,
+    }
+}
+
+/// The fit of a ring's factors (module docs): `ROUNDS` ICP rounds from the paper's `(1, 1)`.
+pub fn fit_factors(sizes: &[usize]) -> crate::Result<RingFactors> {
+    let configs = configs(sizes)?;
+    let mut f = RingFactors::ONE;
+    for _ in 0..ROUNDS {
+        f = minimise(&terms_on(&configs, f)?);
+    }
+    Ok(f)
+}
+
+/// The fit ([`fit_factors`], rounded to `f32`) of the common rings, sorted by [`ring_key`]:
+/// all-triangle rings of valence 3 to 24, and every ring of triangles and quads with both of
+/// valence 3 to 8. Regenerated by `cargo run --release --example gregory_ring_factors` (no
+/// arguments); other rings are fitted on first use ([`fitted_factors`]), which costs about a
+/// second each.
+pub const FITTED_FACTORS: &[(&[u8], f32, f32)] = &[
+    (&[3, 3, 3], 1.0217593, 2.015667),
+    (&[3, 3, 3, 3], 0.9456983, 2.3013165),
+    (&[3, 3, 3, 3, 3], 0.93660593, 2.472538),
+    (&[3, 3, 3, 3, 3, 3], 0.92651725, 2.5704026),
+    (&[3, 3, 3, 3, 3, 3, 3], 0.90434074, 2.7850246),
+    (&[3, 3, 3, 3, 3, 3, 3, 3], 0.87552947, 3.0626292),
+    (&[3, 3, 3, 3, 3, 3, 3, 3, 3], 0.8463575, 3.332074),
+    (&[3, 3, 3, 3, 3, 3, 3, 3, 3, 3], 0.81874645, 3.567723),
+    (&[3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3], 0.79396576, 3.7572923),
+    (&[3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3], 0.7721923, 3.9018004),
+    (
+        &[3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3],
+        0.75333977,
+        4.00559,
+    ),
+    (
+        &[3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3],
+        0.7370415,
+        4.076913,
+    ),
+    (
+        &[3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3],
+        0.72297,
+        4.1228356,
+    ),
+    (
+        &[3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3],
+        0.7108031,
+        4.1497536,
+    ),
+    (
+        &[3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3],
+        0.70008725,
+        4.1646786,
+    ),
+    (
+        &[3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3],
+        0.69073,
+        4.169119,
+    ),
+    (
+        &[3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3],
+        0.6824034,
+        4.1687317,
+    ),
+    (
+        &[3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3],
+        0.6749353,
+        4.1656055,
+    ),
+    (
+        &[
+            3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3,
+        ],
+        0.6682169,
+        4.160039,
+    ),
+    (
+        &[
+            3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3,
+        ],
+        0.6621142,
+        4.1536746,
+    ),
+    (
+        &[
+            3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3,
+        ],
+        0.6565294,
+        4.14745,
+    ),
+    (
+        &[
+            3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3,
+        ],
+        0.6514052,
+        4.1413713,
+    ),
+    (&[3, 3, 3, 3, 3, 3, 3, 4], 0.88268435, 2.5135229),
+    (&[3, 3, 3, 3, 3, 3, 4], 0.91617733, 2.2013793),
+    (&[3, 3, 3, 3, 3, 3, 4, 4], 0.874418, 2.4635565),
+    (&[3, 3, 3, 3, 3, 4], 0.946719, 1.9079906),
+    (&[3, 3, 3, 3, 3, 4, 3, 4], 0.88518876, 2.291991),
+    (&[3, 3, 3, 3, 3, 4, 4], 0.9107626, 2.1294582),
+    (&[3, 3, 3, 3, 3, 4, 4, 4], 0.86625856, 2.4325118),
+    (&[3, 3, 3, 3, 4], 0.9659765, 1.6906792),
+    (&[3, 3, 3, 3, 4, 3, 3, 4], 0.88399124, 2.300499),
+    (&[3, 3, 3, 3, 4, 3, 4], 0.92210335, 1.9901757),
+    (&[3, 3, 3, 3, 4, 3, 4, 4], 0.8740976, 2.2830288),
+    (&[3, 3, 3, 3, 4, 4], 0.9466468, 1.8119684),
+    (&[3, 3, 3, 3, 4, 4, 4], 0.9045751, 2.0767593),
+    (&[3, 3, 3, 3, 4, 4, 4, 4], 0.855552, 2.381808),
+    (&[3, 3, 3, 4], 0.9659697, 1.5269076),
+    (&[3, 3, 3, 4, 3, 3, 3, 4], 0.8841118, 2.250005),
+    (&[3, 3, 3, 4, 3, 3, 4], 0.92082936, 1.9734021),
+    (&[3, 3, 3, 4, 3, 3, 4, 4], 0.872414, 2.278994),
+    (&[3, 3, 3, 4, 3, 4], 0.9586241, 1.6868336),
+    (&[3, 3, 3, 4, 3, 4, 3, 4], 0.8849574, 2.150375),
+    (&[3, 3, 3, 4, 3, 4, 4], 0.9130807, 1.9526405),
+    (&[3, 3, 3, 4, 3, 4, 4, 4], 0.8631456, 2.269586),
+    (&[3, 3, 3, 4, 4], 0.9735889, 1.563765),
+    (&[3, 3, 3, 4, 4, 3, 4, 4], 0.85991204, 2.2895474),
+    (&[3, 3, 3, 4, 4, 4], 0.9439629, 1.7265589),
+    (&[3, 3, 3, 4, 4, 4, 4], 0.8941846, 2.0093365),
+    (&[3, 3, 3, 4, 4, 4, 4, 4], 0.8417492, 2.3469589),
+    (&[3, 3, 4], 0.98759854, 1.2747473),
+    (&[3, 3, 4, 3, 3, 4], 0.95951766, 1.6598457),
+    (&[3, 3, 4, 3, 3, 4, 3, 4], 0.88384616, 2.1934602),
+    (&[3, 3, 4, 3, 3, 4, 4], 0.91113275, 1.9689671),
+    (&[3, 3, 4, 3, 3, 4, 4, 4], 0.8616854, 2.3122284),
+    (&[3, 3, 4, 3, 4], 0.98990655, 1.4249017),
+    (&[3, 3, 4, 3, 4, 3, 4], 0.9253328, 1.8742334),
+    (&[3, 3, 4, 3, 4, 3, 4, 4], 0.8714959, 2.1883016),
+    (&[3, 3, 4, 3, 4, 4], 0.9544069, 1.6365058),
+    (&[3, 3, 4, 3, 4, 4, 3, 4], 0.8720042, 2.1979172),
+    (&[3, 3, 4, 3, 4, 4, 4], 0.9036701, 1.9533105),
+    (&[3, 3, 4, 3, 4, 4, 4, 4], 0.85065436, 2.2813632),
+    (&[3, 3, 4, 4], 0.9837717, 1.3643157),
+    (&[3, 3, 4, 4, 3, 3, 4, 4], 0.85756683, 2.3216608),
+    (&[3, 3, 4, 4, 3, 4, 4], 0.8991605, 1.9713058),
+    (&[3, 3, 4, 4, 3, 4, 4, 4], 0.84644735, 2.329908),
+    (&[3, 3, 4, 4, 4], 0.9808518, 1.4176645),
+    (&[3, 3, 4, 4, 4, 4], 0.9360251, 1.6602823),
+    (&[3, 3, 4, 4, 4, 4, 4], 0.87998706, 2.0011656),
+    (&[3, 3, 4, 4, 4, 4, 4, 4], 0.825842, 2.3749948),
+    (&[3, 4, 3, 4], 0.992859, 1.2940152),
+    (&[3, 4, 3, 4, 3, 4], 0.96569777, 1.5871891),
+    (&[3, 4, 3, 4, 3, 4, 3, 4], 0.88407844, 2.070981),
+    (&[3, 4, 3, 4, 3, 4, 4], 0.9145347, 1.8684849),
+    (&[3, 4, 3, 4, 3, 4, 4, 4], 0.8601877, 2.1851199),
+    (&[3, 4, 3, 4, 4], 0.99654186, 1.3481863),
+    (&[3, 4, 3, 4, 4, 3, 4, 4], 0.8576427, 2.2096636),
+    (&[3, 4, 3, 4, 4, 4], 0.94847023, 1.6103996),
+    (&[3, 4, 3, 4, 4, 4, 4], 0.89190364, 1.9288591),
+    (&[3, 4, 3, 4, 4, 4, 4, 4], 0.83665764, 2.2622843),
+    (&[3, 4, 4], 0.97939247, 1.1823772),
+    (&[3, 4, 4, 3, 4, 4], 0.945513, 1.6198593),
+    (&[3, 4, 4, 3, 4, 4, 4], 0.8877113, 1.9740908),
+    (&[3, 4, 4, 3, 4, 4, 4, 4], 0.8334475, 2.3156679),
+    (&[3, 4, 4, 4], 1.0031805, 1.2003535),
+    (&[3, 4, 4, 4, 3, 4, 4, 4], 0.8325882, 2.343106),
+    (&[3, 4, 4, 4, 4], 0.9824891, 1.3209033),
+    (&[3, 4, 4, 4, 4, 4], 0.92257315, 1.6325594),
+    (&[3, 4, 4, 4, 4, 4, 4], 0.863372, 1.9900384),
+    (&[3, 4, 4, 4, 4, 4, 4, 4], 0.8086942, 2.364866),
+];
+
+/// The fitted factors of a ring of triangles and quads with at least one triangle, rounded to
+/// `f32` (the two-stage GPU variant reads them from its `f32` table): from [`FITTED_FACTORS`], or
+/// fitted once per [`ring_key`] and cached; [`RingFactors::ONE`] for other rings or if the fit
+/// fails (logged).
+pub fn fitted_factors(sizes: &[usize]) -> RingFactors {
+    if sizes.len() < 3 || !sizes.iter().all(|&k| k == 3 || k == 4) || !sizes.contains(&3) {
+        return RingFactors::ONE;
+    }
+    let key = ring_key(sizes);
+    if let Ok(i) = FITTED_FACTORS.binary_search_by(|(k, _, _)| (*k).cmp(key.as_slice())) {
+        let (_, s, r) = FITTED_FACTORS[i];
+        return RingFactors {
+            tangent: s as f64,
+            transversal: r as f64,
+        };
+    }
+    static CACHE: OnceLock<Mutex<HashMap<Vec<u8>, RingFactors>>> = OnceLock::new();
+    let cache = CACHE.get_or_init(Default::default);
+    if let Some(f) = cache.lock().ok().and_then(|c| c.get(&key).copied()) {
+        return f;
+    }
+    let canonical: Vec<usize> = key.iter().map(|&k| k as usize).collect();
+    let f = match fit_factors(&canonical) {
+        Ok(f) if f.tangent > 0.0 && f.transversal > 0.0 => RingFactors {
+            tangent: f.tangent as f32 as f64,
+            transversal: f.transversal as f32 as f64,
+        },
+        other => {
+            log::warn!("Gregory ring {canonical:?}: no usable fit ({other:?}); paper's tangents");
+            RingFactors::ONE
+        }
+    };
+    if let Ok(mut c) = cache.lock() {
+        c.insert(key, f);
+    }
+    f
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keys_are_rotation_and_reflection_invariant() {
+        assert_eq!(ring_key(&[4, 3, 3]), vec![3, 3, 4]);
+        assert_eq!(ring_key(&[3, 4, 3, 3, 4]), ring_key(&[4, 3, 3, 4, 3]));
+        assert_eq!(ring_key(&[3, 3, 4, 3, 4]), ring_key(&[4, 3, 4, 3, 3]));
+        assert_ne!(ring_key(&[3, 3, 4, 4]), ring_key(&[3, 4, 3, 4]));
+    }
+
+    #[test]
+    fn table_is_sorted_by_canonical_keys() {
+        for w in FITTED_FACTORS.windows(2) {
+            assert!(w[0].0 < w[1].0, "{:?} {:?}", w[0].0, w[1].0);
+        }
+        for (k, s, r) in FITTED_FACTORS {
+            let sizes: Vec<usize> = k.iter().map(|&x| x as usize).collect();
+            assert_eq!(ring_key(&sizes), k.to_vec());
+            assert!(*s > 0.0 && *r > 0.0);
+        }
+    }
+
+    #[test]
+    fn characteristic_mesh_has_the_ring() {
+        let sizes = [3, 4, 3, 3, 4];
+        let mesh = characteristic_mesh(&sizes, |_, _| 0.0).unwrap();
+        let topo = Topology::new(&mesh).unwrap();
+        let faces = topo.vertex_faces(0);
+        assert_eq!(faces.len(), 5);
+        let mut got: Vec<usize> = faces.iter().map(|&f| topo.face_size(f)).collect();
+        got.sort_unstable();
+        assert_eq!(got, vec![3, 3, 3, 4, 4]);
+        // Every corner of the faces at the vertex is interior (its ring closes).
+        for &f in faces {
+            for &v in topo.face_vertices(f) {
+                assert!(!topo.is_boundary_vertex(v), "vertex {v}");
+            }
+        }
+        assert!(characteristic_mesh(&[3, 5, 3], |_, _| 0.0).is_err());
+    }
+}
