@@ -203,9 +203,11 @@ pub struct AdaptiveArgs {
           action = clap::ArgAction::Set, value_name = "BOOL")]
     pub single_crease: bool,
     /// Edge-tangent lengths of the Gregory construction (`gregory-vs`, `gregory-stencil` and the
-    /// adaptive end caps): `optimal` (the paper's tangents scaled per valence by a factor
-    /// fitted to the exact limit, `patch::gregory::tangents`) or `paper` (the paper's 2/3 λ q,
-    /// Loop et al. 2009 §3.3).
+    /// adaptive end caps): `optimal` (fitted to the exact limit: the paper's tangents scaled per
+    /// valence at all-quad vertices, tangents and transversal vectors scaled per ring at vertices
+    /// with triangles, cross-boundary tangents scaled per sector size at boundary and crease
+    /// vertices; `patch::gregory::tangents`) or `paper` (the paper's 2/3 λ q, Loop et al. 2009
+    /// §3.3).
     #[arg(long, default_value_t = GregoryTangents::default(), value_name = "paper|optimal",
           value_parser = |s: &str| s.parse::<GregoryTangents>())]
     pub gregory_tangents: GregoryTangents,

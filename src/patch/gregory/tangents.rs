@@ -60,7 +60,9 @@
 pub enum GregoryTangents {
     /// The paper's `e = p + 2/3 λ q` (§3.3).
     Paper,
-    /// The paper's tangents scaled per valence by [`OPTIMAL_SCALE`] (module docs).
+    /// Fitted to the exact limit (module docs): the paper's tangents scaled per valence by
+    /// [`OPTIMAL_SCALE`] at all-quad vertices, per ring by `super::tangents_tri` at vertices with
+    /// triangles, per crease sector by `super::tangents_boundary` at boundary and crease vertices.
     Optimal,
     /// The paper's tangents scaled by one factor at every valence but 4, and the cross-boundary
     /// tangents of crease sectors of three or more faces by the same factor (for experiments
