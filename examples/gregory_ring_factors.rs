@@ -13,9 +13,8 @@
 use std::collections::BTreeSet;
 use tessera::mesh::ObjOptions;
 use tessera::patch::gregory::accuracy::{measure_tangents, AccuracyOptions};
-use tessera::patch::gregory::tangents_tri::{
-    fit_error, fit_factors, fit_terms, ring_face_sizes, ring_key, RingFactors,
-};
+use tessera::patch::gregory::tangents_tri::{ring_face_sizes, ring_key, RingFactors};
+use tessera::patch::gregory::tangents_tri_fit::{fit_error, fit_factors, fit_terms};
 use tessera::patch::gregory::GregoryTangents;
 use tessera::topology::Topology;
 use tessera::ControlMesh;

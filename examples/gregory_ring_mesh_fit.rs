@@ -13,9 +13,8 @@
 use std::collections::BTreeMap;
 use tessera::mesh::ObjOptions;
 use tessera::patch::gregory::accuracy::{closest_exact, nearby_exact_samples};
-use tessera::patch::gregory::tangents_tri::{
-    face_samples, ring_face_sizes, ring_key, with_factors, RingFactors,
-};
+use tessera::patch::gregory::tangents_tri::{ring_face_sizes, ring_key, RingFactors};
+use tessera::patch::gregory::tangents_tri_fit::{face_samples, with_factors};
 use tessera::patch::gregory::{
     check_face, gregory_faces, gregory_patch, gregory_vertices_with, GregoryTangents,
 };

@@ -12,9 +12,8 @@ use common::meshes::mesh as load;
 use common::reference::assert_meet_on_edge;
 use tessera::mesh::{ControlMesh, ObjOptions};
 use tessera::patch::gregory::accuracy::{measure_tangents, AccuracyOptions, AccuracyReport};
-use tessera::patch::gregory::tangents_tri::{
-    fit_error, fit_factors, fit_terms, fitted_factors, ring_key, RingFactors,
-};
+use tessera::patch::gregory::tangents_tri::{fitted_factors, ring_key, RingFactors};
+use tessera::patch::gregory::tangents_tri_fit::{fit_error, fit_factors, fit_terms};
 use tessera::patch::gregory::{gregory_patch, gregory_vertices_with, GregoryTangents};
 use tessera::topology::Topology;
 

@@ -38,6 +38,7 @@ pub mod tangent_fit;
 pub mod tangents;
 pub mod tangents_boundary;
 pub mod tangents_tri;
+pub mod tangents_tri_fit;
 mod vertex;
 
 pub use build::{
