@@ -325,7 +325,6 @@ pub fn vertex_ring_with<P: GregoryPoint>(
         c,
         sharp,
         corner: is_inf(topo.vertex_sharpness(v)) || count > 2,
-        quads: topo.vertex_faces(v).iter().all(|&f| topo.face_size(f) == 4),
         face_sizes: super::tangents_tri::ring_face_sizes(topo, v),
     }
 }

@@ -84,7 +84,8 @@ impl GregoryVertexTable {
                 .extend([t.ring.len() as u32, ne as u32, nf as u32, kind]);
             let w: Vec<u32> = edges.iter().map(|&e| topo.other_vertex(e, v)).collect();
             t.ring.extend(&w);
-            let quads = vfaces.iter().all(|&f| topo.face_size(f) == 4);
+            let face_sizes = ring_face_sizes(topo, v);
+            let quads = face_sizes.iter().all(|&k| k == 4);
             let mut sector_words = vec![(nf as u32) << 16; nf];
             let mut crease_words = Vec::new();
             if kind != KIND_SMOOTH {
@@ -112,7 +113,7 @@ impl GregoryVertexTable {
                 }
             }
             if kind == KIND_SMOOTH {
-                let factors = tangents.ring_factors(&ring_face_sizes(topo, v));
+                let factors = tangents.ring_factors(&face_sizes);
                 t.ring.push((factors.tangent as f32).to_bits());
                 t.ring.push((factors.transversal as f32).to_bits());
             }

@@ -23,11 +23,16 @@ pub struct VertexRing<P = DVec3> {
     pub sharp: Vec<bool>,
     /// The vertex follows the corner rule (infinitely sharp vertex or more than two sharp edges).
     pub corner: bool,
-    /// Every incident face is a quad (the rings [`GregoryTangents::Optimal`] is fitted on).
-    pub quads: bool,
     /// Sizes of the incident faces, one per face in ring order (what
     /// [`GregoryTangents::ring_factors`] is keyed on).
     pub face_sizes: Vec<usize>,
+}
+
+impl<P> VertexRing<P> {
+    /// Every incident face is a quad (the rings [`GregoryTangents::Optimal`] is fitted on).
+    pub fn quads(&self) -> bool {
+        self.face_sizes.iter().all(|&k| k == 4)
+    }
 }
 
 /// How the construction treats a vertex.
@@ -252,7 +257,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
         // The smooth edge points' offsets `e_j - p` as masks: the same sums as `interior`.
         let e = (0..n)
             .map(|j| {
-                let q = smooth_edge_mask(n, j, tangents.ring_scale(n, ring.quads));
+                let q = smooth_edge_mask(n, j, tangents.ring_scale(n, ring.quads()));
                 let proj = lim.project(&q);
                 let mut e = p.clone();
                 e.add_scaled(1.0, &lim.apply(&proj, ring));
@@ -378,7 +383,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
                 _ => {
                     let (wv, wm, wc) = crease_tangent_weights(k);
                     // `f * w` is `w` bit for bit at the paper's `f = 1`.
-                    let f = tangents.crease_scale(k, ring.quads);
+                    let f = tangents.crease_scale(k, ring.quads());
                     let mut tan = combine(&[(f * wv / 3.0, &ring.v)]);
                     for (i, w) in wm.iter().enumerate() {
                         tan.add_scaled(f * w / 3.0, &ring.m[edge(i)]);
@@ -652,7 +657,6 @@ mod tests {
             c: (0..n).map(|i| p(i + 17) * 0.5).collect(),
             sharp: vec![false; n],
             corner: false,
-            quads: true,
             face_sizes: vec![4; n],
         }
     }
@@ -807,7 +811,6 @@ mod tests {
             c: vec![(v + a + b + f) / 4.0],
             sharp: vec![true, true],
             corner: false,
-            quads: true,
             face_sizes: vec![4],
         };
         let g = GregoryVertex::new(&ring, GregoryTangents::Paper).expect("covered");
