@@ -8,7 +8,6 @@ use std::collections::BTreeMap;
 
 use glam::DVec3;
 
-use crate::mesh::INFINITE_SHARPNESS;
 pub use crate::topology::{is_sharp_edge, sector_count, single_normal_vertex};
 use crate::topology::{sector_faces, Topology};
 
@@ -49,32 +48,27 @@ impl VertexFrames {
         }
     }
 
-    /// Whether the corner of `face` at `v` takes the normal of its sector ([`Self::set_sector`])
-    /// and no pass wrote that sector yet: `v` has several sectors (not one shared normal), is
-    /// not a cone (an interior corner tag with fewer than two sharp edges, where every face has
-    /// its own normal), and the sector has two faces or more (one face keeps its own).
-    pub fn sector_pending(&self, topo: &Topology, v: u32, face: u32) -> bool {
-        let cone = !topo.is_boundary_vertex(v)
-            && topo.vertex_sharpness(v) >= INFINITE_SHARPNESS
-            && sector_count(topo, v) < 2;
-        !single_normal_vertex(topo, v)
-            && !cone
-            && !self
-                .sector_normals
-                .get(&v)
-                .is_some_and(|m| m.contains_key(&face))
-            && sector_faces(topo, v, face).len() >= 2
+    /// The faces of the sector of `face` at `v`, when that corner takes its sector's normal
+    /// ([`Self::set_sector`]) and no pass wrote it yet: infinitely sharp edges split `v` into two
+    /// sectors or more (elsewhere one normal is shared, or at a cone every face has its own) and
+    /// the sector has two faces or more (one face keeps its own).
+    pub fn pending_sector(&self, topo: &Topology, v: u32, face: u32) -> Option<Vec<u32>> {
+        let written = self
+            .sector_normals
+            .get(&v)
+            .is_some_and(|m| m.contains_key(&face));
+        if sector_count(topo, v) < 2 || written {
+            return None;
+        }
+        Some(sector_faces(topo, v, face)).filter(|sector| sector.len() >= 2)
     }
 
-    /// Gives every face of the sector of `face` at `v` the unit normal `normal`, unless the
-    /// sector is not pending ([`Self::sector_pending`]: the first pass that has a corner there
-    /// wins, as for [`Self::set`]).
-    pub fn set_sector(&mut self, topo: &Topology, v: u32, face: u32, normal: DVec3) {
-        if self.sector_pending(topo, v, face) {
-            let by_face = self.sector_normals.entry(v).or_default();
-            for f in sector_faces(topo, v, face) {
-                by_face.insert(f, normal);
-            }
+    /// Gives every face of `sector` (from [`Self::pending_sector`]) at `v` the unit normal
+    /// `normal`; the first pass that has a corner there writes it, as for [`Self::set`].
+    pub fn set_sector(&mut self, v: u32, sector: &[u32], normal: DVec3) {
+        let by_face = self.sector_normals.entry(v).or_default();
+        for &f in sector {
+            by_face.insert(f, normal);
         }
     }
 

@@ -110,7 +110,7 @@ pub(crate) fn grid_corner_frames(
     {
         let vid = cvs[slot];
         let sector = match rule {
-            NormalRule::Topology(topo) => frames.sector_pending(topo, vid, face).then_some(topo),
+            NormalRule::Topology(topo) => frames.pending_sector(topo, vid, face),
             NormalRule::PatchSides => None,
         };
         if frames.is_set(vid) && sector.is_none() {
@@ -122,8 +122,8 @@ pub(crate) fn grid_corner_frames(
             NormalRule::PatchSides => sides_smooth(k),
         };
         frames.set(vid, s.position, s.normal, shared);
-        if let Some(topo) = sector {
-            frames.set_sector(topo, vid, face, s.normal);
+        if let Some(sector) = sector {
+            frames.set_sector(vid, &sector, s.normal);
         }
     }
 }

@@ -66,13 +66,13 @@ pub fn corner_frames(
                 let (p, n) = gregory_vertex_frame(topo, positions, v);
                 frames.set(v, p, n, single_normal_vertex(topo, v));
             }
-            if frames.sector_pending(topo, v, f) {
+            if let Some(sector) = frames.pending_sector(topo, v, f) {
                 let patch = patch.get_or_insert_with(|| {
                     gregory_patch_at_with(topo, positions, f, layout.tangents).ok()
                 });
                 if let Some(n) = patch.as_ref().map(|p| p.corner_normal(k)) {
                     if n != DVec3::ZERO {
-                        frames.set_sector(topo, v, f, n);
+                        frames.set_sector(v, &sector, n);
                     }
                 }
             }
