@@ -3,7 +3,11 @@
 osd_eval at the same grid): distance at equal (face, u, v) as a fraction of the bbox diagonal given,
 and the angle between the normals; RMS and max over the keys both files have.
 
-    compare.py EXACT.txt OTHER.txt DIAGONAL [--quads-only]
+    compare.py EXACT.txt OTHER.txt DIAGONAL [--quads-only] [--only TYPE TYPED.txt]
+
+`--only TYPE TYPED.txt` keeps the keys whose line in TYPED.txt (a file with the patch type appended
+as the tenth column, as `examples/adaptive_grid.rs` and `tessera sample --scheme adaptive` write)
+names TYPE, e.g. `end-cap`: OpenSubdiv's figure over the points where tessera draws an end cap.
 """
 import math
 import sys
@@ -24,7 +28,17 @@ def main():
     exact_path, other_path, diag = sys.argv[1], sys.argv[2], float(sys.argv[3])
     quads_only = "--quads-only" in sys.argv
     exact, other = read(exact_path, quads_only), read(other_path, quads_only)
-    keys = sorted(set(exact) & set(other))
+    keys = set(exact) & set(other)
+    if "--only" in sys.argv:
+        i = sys.argv.index("--only")
+        kind, typed = sys.argv[i + 1], sys.argv[i + 2]
+        keep = set()
+        for line in open(typed):
+            t = line.split()
+            if len(t) >= 10 and t[9] == kind and not (quads_only and ":" in t[0]):
+                keep.add((t[0], round(float(t[1]), 9), round(float(t[2]), 9)))
+        keys &= keep
+    keys = sorted(keys)
     d2 = dmax = a2 = amax = 0.0
     for k in keys:
         (p, n), (q, m) = exact[k], other[k]

@@ -3,6 +3,8 @@
 // compared point by point (tools/osd_eval/compare.py). A dev-only yardstick, never part of the crate:
 //   g++ -O2 -std=c++14 osd_eval.cpp -o osd_eval -losdCPU      (Debian: libosd-dev)
 //   osd_eval MESH.obj ISOLATION GRID [single-crease] > osd.txt
+//   osd_eval MESH.obj ISOLATION - [single-crease] < points.txt > osd.txt   (the points of the
+//   first three columns of each input line, e.g. what examples/adaptive_grid.rs writes)
 // Reads `v`, `f` and the OpenSubdiv tags tessera reads (crease, corner, hole, interpolateboundary,
 // creasemethod; interpolateboundary 0 none, 1 edge-and-corner (the default), 2 edge-only, as tessera).
 // Quads print `f u v ...`; sub-face k of another face prints `f:k u v ...` (ptex order).
@@ -99,7 +101,7 @@ static bool load(const char *path, Mesh &m) {
 
 int main(int argc, char **argv) {
     if (argc < 4) {
-        std::fprintf(stderr, "usage: osd_eval MESH.obj ISOLATION GRID [single-crease]\n");
+        std::fprintf(stderr, "usage: osd_eval MESH.obj ISOLATION GRID|- [single-crease]\n");
         return 2;
     }
     Mesh m;
@@ -162,36 +164,50 @@ int main(int argc, char **argv) {
     std::fprintf(stderr, "patches %d, local points %d\n", table->GetNumPatchesTotal(), table->GetNumLocalPoints());
     const Far::TopologyLevel &base = refiner->GetLevel(0);
     std::vector<double> w(20), wu(20), wv(20);
-    for (int f = 0; f < base.GetNumFaces(); ++f) {
-        if (base.IsFaceHole(f)) continue;
-        const int n = base.GetFaceVertices(f).size();
-        const int subs = n == 4 ? 1 : n;
-        for (int k = 0; k < subs; ++k) {
-            for (int j = 0; j <= grid; ++j)
-                for (int i = 0; i <= grid; ++i) {
-                    const double u = double(i) / grid, v = double(j) / grid;
-                    Far::PatchTable::PatchHandle const *h = map.FindPatch(ptex.GetFaceId(f) + k, u, v);
-                    if (!h) continue;
-                    table->EvaluateBasis(*h, u, v, w.data(), wu.data(), wv.data());
-                    Far::ConstIndexArray cvs = table->GetPatchVertices(*h);
-                    Point p, du, dv;
-                    p.Clear(), du.Clear(), dv.Clear();
-                    for (int c = 0; c < cvs.size(); ++c) {
-                        p.AddWithWeight(points[cvs[c]], w[c]);
-                        du.AddWithWeight(points[cvs[c]], wu[c]);
-                        dv.AddWithWeight(points[cvs[c]], wv[c]);
-                    }
-                    double nn[3] = {du.p[1] * dv.p[2] - du.p[2] * dv.p[1], du.p[2] * dv.p[0] - du.p[0] * dv.p[2],
-                                    du.p[0] * dv.p[1] - du.p[1] * dv.p[0]};
-                    const double len = std::sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
-                    for (double &x : nn) x = len > 0 ? x / len : 0.0;
-                    if (n == 4)
-                        std::printf("%d", f);
-                    else
-                        std::printf("%d:%d", f, k);
-                    std::printf(" %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", u, v, p.p[0], p.p[1], p.p[2],
-                                nn[0], nn[1], nn[2]);
-                }
+    // Sub-face k of base face f (k = 0 for quads) at (u, v): one output line, or none where no
+    // patch covers the point (holes).
+    auto eval = [&](int f, int k, double u, double v) {
+        const bool quad = base.GetFaceVertices(f).size() == 4;
+        Far::PatchTable::PatchHandle const *h = map.FindPatch(ptex.GetFaceId(f) + k, u, v);
+        if (!h) return;
+        table->EvaluateBasis(*h, u, v, w.data(), wu.data(), wv.data());
+        Far::ConstIndexArray cvs = table->GetPatchVertices(*h);
+        Point p, du, dv;
+        p.Clear(), du.Clear(), dv.Clear();
+        for (int c = 0; c < cvs.size(); ++c) {
+            p.AddWithWeight(points[cvs[c]], w[c]);
+            du.AddWithWeight(points[cvs[c]], wu[c]);
+            dv.AddWithWeight(points[cvs[c]], wv[c]);
+        }
+        double nn[3] = {du.p[1] * dv.p[2] - du.p[2] * dv.p[1], du.p[2] * dv.p[0] - du.p[0] * dv.p[2],
+                        du.p[0] * dv.p[1] - du.p[1] * dv.p[0]};
+        const double len = std::sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
+        for (double &x : nn) x = len > 0 ? x / len : 0.0;
+        if (quad)
+            std::printf("%d", f);
+        else
+            std::printf("%d:%d", f, k);
+        std::printf(" %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", u, v, p.p[0], p.p[1], p.p[2], nn[0],
+                    nn[1], nn[2]);
+    };
+    if (std::string(argv[3]) == "-") {
+        // Points from standard input: the first three columns of `f u v ...` / `f:k u v ...` lines.
+        char face[64];
+        double u, v;
+        char rest[4096];
+        while (std::fgets(rest, sizeof rest, stdin)) {
+            if (std::sscanf(rest, "%63s %lf %lf", face, &u, &v) != 3) continue;
+            int f = 0, k = 0;
+            if (std::sscanf(face, "%d:%d", &f, &k) < 1 || f < 0 || f >= base.GetNumFaces()) continue;
+            if (!base.IsFaceHole(f)) eval(f, k, u, v);
+        }
+    } else {
+        for (int f = 0; f < base.GetNumFaces(); ++f) {
+            if (base.IsFaceHole(f)) continue;
+            const int n = base.GetFaceVertices(f).size();
+            for (int k = 0; k < (n == 4 ? 1 : n); ++k)
+                for (int j = 0; j <= grid; ++j)
+                    for (int i = 0; i <= grid; ++i) eval(f, k, double(i) / grid, double(j) / grid);
         }
     }
     delete table;
