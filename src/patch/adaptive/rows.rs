@@ -85,6 +85,30 @@ impl<'a> CornerRows<'a> {
         }
     }
 
+    /// Appends the rows of corner `c` ([`Self::rows`], the same bits) to `out`; exact patches'
+    /// rows go straight from their 16 control vertices into `out`, without a [`Weights`] each.
+    pub fn push_rows(&self, c: &PatchCorner, out: &mut SparseRows) {
+        let p = &self.census.patches[c.patch];
+        match (&p.crease, &p.bspline) {
+            (Some(line), _) => {
+                let columns = &self.crease[&(line.side, line.sharpness.to_bits(), c.k)];
+                for r in 0..3 {
+                    push_merged(out, std::array::from_fn(|i| (line.cvs[i], columns[i][r])));
+                }
+            }
+            (None, Some(b)) => {
+                for row in bspline_corner_columns(b, c.k) {
+                    push_merged(out, std::array::from_fn(|i| (b.cvs[i], row[i])));
+                }
+            }
+            (None, None) => {
+                for w in self.rows(c) {
+                    out.push(&w, 0);
+                }
+            }
+        }
+    }
+
     /// Visits every corner of every census patch, exact patches (B-spline, single-crease)
     /// first, then end caps (whose Gregory corners are built over `topologies`): the
     /// order in which frames take their rows from the first patch with that corner.
@@ -183,6 +207,16 @@ impl SparseRows {
         self.offsets.push(self.ids.len() as u32);
     }
 
+    /// Appends every row of `other`.
+    pub fn append(&mut self, other: &SparseRows) {
+        let base = *self.offsets.last().expect("offsets start with 0");
+        self.offsets
+            .extend(other.offsets[1..].iter().map(|&o| base + o));
+        self.ids.extend_from_slice(&other.ids);
+        self.weights.extend_from_slice(&other.weights);
+        self.weights_f64.extend_from_slice(&other.weights_f64);
+    }
+
     /// Reserves room for `rows` more rows of `terms` terms together.
     pub fn reserve(&mut self, rows: usize, terms: usize) {
         self.offsets.reserve(rows);
@@ -252,6 +286,11 @@ fn fold_phantoms(mut c: [f64; 16], mask: u8) -> [f64; 16] {
 /// Rows (position, d/du, d/dv) of B-spline patch `p` (global control vertices) at its face
 /// corner `k` (Köbler 2013 §3.1: the basis at the domain corner), phantoms folded in.
 pub fn bspline_corner_rows(p: &RegularPatch, k: usize) -> [Weights; 3] {
+    bspline_corner_columns(p, k).map(|c| Weights::from_terms(p.cvs.iter().copied().zip(c)))
+}
+
+/// The weights of [`bspline_corner_rows`] per control point (`cvs` order), phantoms folded in.
+fn bspline_corner_columns(p: &RegularPatch, k: usize) -> [[f64; 16]; 3] {
     let (s, t) = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)][k];
     let (bu, du, bv, dv) = (bspline(s), bspline_deriv(s), bspline(t), bspline_deriv(t));
     let tensor = |a: [f64; 4], b: [f64; 4]| {
@@ -261,10 +300,36 @@ pub fn bspline_corner_rows(p: &RegularPatch, k: usize) -> [Weights; 3] {
                 c[4 * j + i] = x * y;
             }
         }
-        let c = fold_phantoms(c, p.boundary_mask);
-        Weights::from_terms(p.cvs.iter().copied().zip(c))
+        fold_phantoms(c, p.boundary_mask)
     };
     [tensor(bu, bv), tensor(du, bv), tensor(bu, dv)]
+}
+
+/// Pushes the row [`Weights::from_terms`] makes of `terms` (zero weights dropped, ids sorted
+/// stably, a repeated id's weights summed in that order) onto `out`, sorted on the stack.
+fn push_merged(out: &mut SparseRows, terms: [(u32, f64); 16]) {
+    let mut t = [(0u32, 0.0f64); 16];
+    let mut n = 0;
+    for term in terms.into_iter().filter(|&(_, w)| w != 0.0) {
+        // Stable insertion: after every term with an id not larger.
+        let mut j = n;
+        while j > 0 && t[j - 1].0 > term.0 {
+            t[j] = t[j - 1];
+            j -= 1;
+        }
+        t[j] = term;
+        n += 1;
+    }
+    let mut m = 0;
+    for i in 0..n {
+        if m > 0 && t[m - 1].0 == t[i].0 {
+            t[m - 1].1 += t[i].1;
+        } else {
+            t[m] = t[i];
+            m += 1;
+        }
+    }
+    out.push_terms(&t[..m], 0);
 }
 
 /// A single-crease corner's shape: crease side, sharpness bits, face corner.
