@@ -319,7 +319,7 @@ impl<'a> RegularTest<'a> {
         if !corners.iter().all(|&v| self.regular_vertex(v)) {
             return None;
         }
-        RegularPatch::gather(self.topo, f)
+        RegularPatch::gather_at_regular_corners(self.topo, f)
     }
 }
 

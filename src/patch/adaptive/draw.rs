@@ -113,15 +113,16 @@ fn end_cap_rows(
 /// patches (B-spline, single-crease) before end caps (whose Gregory corners are built over
 /// [`EndCapTopologies`]), in slot order (computed on the rayon pool in runs of slots, each
 /// written into flat rows of its own; one run on one thread), and whether the slot's normal is
-/// shared (one sector in the topology the frame's patch was built over).
+/// shared (one sector in the topology the frame's patch was built over). The first run reserves
+/// room for `more` (rows, terms) after it.
 fn slot_rows(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
     topologies: &EndCapTopologies,
     slots: &Slots,
-    caps: &[FaceRows],
+    corner_rows: &CornerRows,
+    more: (usize, usize),
 ) -> (Vec<SparseRows>, Vec<bool>) {
-    let corner_rows = CornerRows::new(refinement, census, topologies, caps);
     let mut first: Vec<Option<PatchCorner>> = vec![None; slots.len()];
     let mut shared = vec![false; slots.len()];
     corner_rows.visit(|c| {
@@ -144,8 +145,16 @@ fn slot_rows(
     };
     let frames = first
         .par_chunks(run)
-        .map(|run| {
+        .enumerate()
+        .map(|(i, run)| {
             let mut rows = SparseRows::new();
+            let (more_rows, more_terms) = if i == 0 { more } else { (0, 0) };
+            let terms: usize = run
+                .iter()
+                .flatten()
+                .map(|c| corner_rows.terms_bound(c))
+                .sum();
+            rows.reserve(3 * run.len() + more_rows, terms + more_terms);
             for c in run.iter().flatten() {
                 corner_rows.push_rows(c, &mut rows);
             }
@@ -235,7 +244,19 @@ impl AdaptiveDrawTables {
         let topologies = EndCapTopologies::new(refinement, census);
         let slots = Slots::new(refinement, census);
         let caps = end_cap_rows(refinement, census, &topologies, tangents)?;
-        let (frames, mut shared_normal) = slot_rows(refinement, census, &topologies, &slots, &caps);
+        let cap_rows = (
+            END_CAP_ROWS * caps.len(),
+            caps.iter().map(|c| c.terms.len()).sum::<usize>(),
+        );
+        let corner_rows = CornerRows::new(refinement, census, &topologies, &caps);
+        let (frames, mut shared_normal) = slot_rows(
+            refinement,
+            census,
+            &topologies,
+            &slots,
+            &corner_rows,
+            cap_rows,
+        );
         let mut coarse = CoarseEdges::new(refinement, census, &slots);
         let sectors = SectorFrames::new(
             refinement,
@@ -244,8 +265,9 @@ impl AdaptiveDrawTables {
             &shared_normal,
             &slots,
             &coarse.mid_slots,
-            &caps,
+            &corner_rows,
         );
+        drop(corner_rows);
         // Slot frames (the first run's flat rows extended by the others), sector frames, end
         // caps, in one reservation past the first run.
         let mut runs = frames.into_iter();
@@ -258,11 +280,9 @@ impl AdaptiveDrawTables {
                 .flatten()
                 .map(|w| w.0.len())
                 .sum::<usize>()
-            + caps.iter().map(|c| c.terms.len()).sum::<usize>();
+            + cap_rows.1;
         rows.reserve(
-            runs.iter().map(SparseRows::len).sum::<usize>()
-                + 3 * sectors.rows.len()
-                + END_CAP_ROWS * caps.len(),
+            runs.iter().map(SparseRows::len).sum::<usize>() + 3 * sectors.rows.len() + cap_rows.0,
             terms,
         );
         for run in &runs {

@@ -14,7 +14,7 @@ use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus};
 use crate::subdiv::bspline::{bspline, bspline_deriv};
 use crate::subdiv::single_crease::{CreaseLine, CreaseSide};
 
-/// A patch corner as [`corners_exact_first`] visits it.
+/// A patch corner as [`CornerRows::visit`] visits it.
 #[derive(Debug, Clone, Copy)]
 pub struct PatchCorner {
     /// Census index of the patch.
@@ -29,16 +29,17 @@ pub struct PatchCorner {
     cap: usize,
 }
 
-/// The frame rows of census patches' corners: what [`corners_exact_first`] hands its visitor,
-/// computable apart from the visit (and on several threads).
+/// The corners of census patches in the order frames take their rows, and their frame rows
+/// (computable apart from the visit, and on several threads).
 pub struct CornerRows<'a> {
     refinement: &'a AdaptiveRefinement,
     census: &'a PatchCensus,
-    topologies: &'a EndCapTopologies<'a>,
     caps: &'a [FaceRows],
     /// Single-crease corner weights depend on the line's side and sharpness and the corner
     /// only: evaluated once per such shape of the census, not once per corner.
     crease: HashMap<CreaseKey, CornerColumns>,
+    /// Every corner in [`Self::visit`] order, walked once for every visit.
+    corners: Vec<PatchCorner>,
 }
 
 impl<'a> CornerRows<'a> {
@@ -47,7 +48,7 @@ impl<'a> CornerRows<'a> {
     pub fn new(
         refinement: &'a AdaptiveRefinement,
         census: &'a PatchCensus,
-        topologies: &'a EndCapTopologies<'a>,
+        topologies: &EndCapTopologies,
         caps: &'a [FaceRows],
     ) -> CornerRows<'a> {
         let mut crease = HashMap::new();
@@ -61,9 +62,9 @@ impl<'a> CornerRows<'a> {
         CornerRows {
             refinement,
             census,
-            topologies,
             caps,
             crease,
+            corners: exact_first(refinement, census, topologies),
         }
     }
 
@@ -109,49 +110,62 @@ impl<'a> CornerRows<'a> {
         }
     }
 
+    /// At least the number of terms [`Self::push_rows`] appends for corner `c` (16 per row of an
+    /// exact patch; a Gregory corner's `e - p` rows at most the sum of their two rows' terms).
+    pub fn terms_bound(&self, c: &PatchCorner) -> usize {
+        let p = &self.census.patches[c.patch];
+        if p.bspline.is_some() {
+            return 3 * 16;
+        }
+        let n = self.refinement.levels[p.level as usize]
+            .topology()
+            .face_size(p.face);
+        let rows = &self.caps[c.cap];
+        let second = if c.singular { 3 * n + c.k } else { 2 * n + c.k };
+        3 * rows.row(c.k).len() + rows.row(n + c.k).len() + rows.row(second).len()
+    }
+
     /// Visits every corner of every census patch, exact patches (B-spline, single-crease)
     /// first, then end caps (whose Gregory corners are built over `topologies`): the
     /// order in which frames take their rows from the first patch with that corner.
-    pub fn visit(&self, mut visit: impl FnMut(&PatchCorner)) {
-        let mut cap_of = Vec::with_capacity(self.census.patches.len());
-        let mut cap = 0;
-        for p in &self.census.patches {
-            cap_of.push(cap);
-            cap += usize::from(p.bspline.is_none());
-        }
-        for end_caps in [false, true] {
-            for (i, (p, &cap)) in self.census.patches.iter().zip(&cap_of).enumerate() {
-                if p.bspline.is_none() != end_caps {
-                    continue;
-                }
-                let t = self.refinement.levels[p.level as usize].topology();
-                for (k, &v) in t.face_vertices(p.face).iter().enumerate() {
-                    visit(&PatchCorner {
-                        patch: i,
-                        k,
-                        vertex: v,
-                        singular: end_caps
-                            && one_face_crease_sector(self.topologies.get(p.level), v, p.face),
-                        cap,
-                    });
-                }
-            }
-        }
+    pub fn visit(&self, visit: impl FnMut(&PatchCorner)) {
+        self.corners.iter().for_each(visit);
     }
 }
 
-/// Visits every corner of every census patch in [`CornerRows::visit`] order. `visit` gets the
-/// corner and a function computing its rows (position, d/du, d/dv) over the global refined
-/// vertices; `caps` are the end caps' rows in census order, built over `topologies`.
-pub fn corners_exact_first(
+/// Every corner of every census patch, exact patches (B-spline, single-crease) first, then end
+/// caps (`singular` judged over `topologies`).
+fn exact_first(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
     topologies: &EndCapTopologies,
-    caps: &[FaceRows],
-    mut visit: impl FnMut(&PatchCorner, &dyn Fn() -> [Weights; 3]),
-) {
-    let rows = CornerRows::new(refinement, census, topologies, caps);
-    rows.visit(|c| visit(c, &|| rows.rows(c)));
+) -> Vec<PatchCorner> {
+    let mut cap_of = Vec::with_capacity(census.patches.len());
+    let mut cap = 0;
+    for p in &census.patches {
+        cap_of.push(cap);
+        cap += usize::from(p.bspline.is_none());
+    }
+    let mut out = Vec::with_capacity(4 * census.patches.len());
+    for end_caps in [false, true] {
+        for (i, (p, &cap)) in census.patches.iter().zip(&cap_of).enumerate() {
+            if p.bspline.is_none() != end_caps {
+                continue;
+            }
+            let t = refinement.levels[p.level as usize].topology();
+            for (k, &v) in t.face_vertices(p.face).iter().enumerate() {
+                out.push(PatchCorner {
+                    patch: i,
+                    k,
+                    vertex: v,
+                    singular: end_caps
+                        && one_face_crease_sector(topologies.get(p.level), v, p.face),
+                    cap,
+                });
+            }
+        }
+    }
+    out
 }
 
 /// Rows of sparse weights: row `r` is terms `offsets[r]..offsets[r + 1]` of `ids` / `weights`,
