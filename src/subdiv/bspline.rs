@@ -484,4 +484,50 @@ mod tests {
         let s = p.eval(&pos, 0.0, 0.0);
         assert!((s.position - pos[0]).length() < 1e-12);
     }
+
+    /// The once-per-vertex judgement is the per-face one (every face around the vertex sees a
+    /// regular corner), and a face whose corners pass it gathers the patch `gather` does, on
+    /// every vertex and face of the adaptive levels of meshes with boundaries, creases, corners,
+    /// semi-sharp edges, darts, n-gons and triangles (fails if the sharpness-free shortcut drops
+    /// a condition of `corner_kind`'s smooth case, e.g. the face sizes).
+    #[test]
+    fn vertex_regularity_once_is_per_face_regularity() {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
+        let mut regular = 0;
+        for name in [
+            "catmark_car",
+            "catmark_nonquads",
+            "catmark_smoothtris1",
+            "catmark_cube_creases2",
+            "catmark_cubes_semisharp",
+            "catmark_dart_edgecorner",
+            "catmark_hole_test1",
+            "catmark_val2_interior",
+        ] {
+            let path = format!("{dir}{name}.obj");
+            let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
+            let level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
+            let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, 2).unwrap();
+            for t in adaptive.levels.iter().map(|l| l.topology()) {
+                for v in 0..t.vertex_count() as u32 {
+                    let per_face = t
+                        .vertex_faces(v)
+                        .iter()
+                        .all(|&f| corner_kind(t, v, f) != CornerKind::Irregular);
+                    assert_eq!(is_regular_vertex(t, v), per_face, "{name} vertex {v}");
+                    regular += usize::from(per_face);
+                }
+                for f in 0..t.face_count() as u32 {
+                    if t.face_vertices(f).iter().all(|&v| is_regular_vertex(t, v)) {
+                        assert_eq!(
+                            RegularPatch::gather_at_regular_corners(t, f),
+                            RegularPatch::gather(t, f),
+                            "{name} face {f}"
+                        );
+                    }
+                }
+            }
+        }
+        assert!(regular > 1000);
+    }
 }

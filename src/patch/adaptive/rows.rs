@@ -93,8 +93,10 @@ impl<'a> CornerRows<'a> {
         match (&p.crease, &p.bspline) {
             (Some(line), _) => {
                 let columns = &self.crease[&(line.side, line.sharpness.to_bits(), c.k)];
-                for r in 0..3 {
-                    push_merged(out, std::array::from_fn(|i| (line.cvs[i], columns[i][r])));
+                let rows: [[f64; 16]; 3] =
+                    std::array::from_fn(|r| std::array::from_fn(|i| columns[i][r]));
+                for row in rows {
+                    push_merged(out, std::array::from_fn(|i| (line.cvs[i], row[i])));
                 }
             }
             (None, Some(b)) => {
@@ -404,4 +406,31 @@ pub fn gregory_corner_rows(rows: &FaceRows, n: usize, k: usize, singular: bool) 
     let du = tangent(rows.weights(n + k));
     let dv = tangent(rows.weights(second));
     [p, du, dv]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The stack merge is `Weights::from_terms` bit for bit: zeros dropped, ids sorted stably,
+    /// a repeated id summed in its terms' order (0.1 + 0.2 + 0.3 and 0.3 + 0.2 + 0.1 differ in
+    /// the last bit, so an unstable sort or a reversed sum fails).
+    #[test]
+    fn merged_row_is_from_terms() {
+        let ws = [0.1, 0.2, 0.3, 0.0, -0.5, 1.0 / 3.0, 0.7, 0.0];
+        for shift in 0..16 {
+            let terms: [(u32, f64); 16] = std::array::from_fn(|i| {
+                let j = (i + shift) % 16;
+                (
+                    [7, 3, 7, 9, 3, 7, 1, 9][j % 8],
+                    ws[j % 8] * (1.0 + j as f64),
+                )
+            });
+            let mut got = SparseRows::new();
+            push_merged(&mut got, terms);
+            let mut want = SparseRows::new();
+            want.push(&Weights::from_terms(terms), 0);
+            assert_eq!(got, want, "shift {shift}");
+        }
+    }
 }
