@@ -258,7 +258,7 @@ impl std::fmt::Display for EndCapSharpness {
 }
 
 /// A mesh refined feature-adaptively to an isolation level (Köbler 2013 §3.3).
-#[derive(Debug, Clone)]
+#[derive(Clone)]
 pub struct AdaptiveRefinement {
     /// Levels `0..=` the last one reached (at most the isolation level: refinement stops early
     /// when every face is a patch).
@@ -269,6 +269,21 @@ pub struct AdaptiveRefinement {
     pub single_crease: bool,
     /// How the end caps treat residual semi-sharpness ([`AdaptiveOptions::end_cap_sharpness`]).
     pub end_cap_sharpness: EndCapSharpness,
+    /// The drawn patches, classified by the same per-level regularity test that chose the
+    /// refined faces ([`Self::census`]).
+    census: PatchCensus,
+}
+
+/// The levels and options; the census is derived from them and left out.
+impl std::fmt::Debug for AdaptiveRefinement {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("AdaptiveRefinement")
+            .field("levels", &self.levels)
+            .field("isolation", &self.isolation)
+            .field("single_crease", &self.single_crease)
+            .field("end_cap_sharpness", &self.end_cap_sharpness)
+            .finish()
+    }
 }
 
 /// The patch of a face at some level when it is regular: `gather` succeeds (quad, valence-4 or
@@ -304,7 +319,7 @@ impl<'a> RegularTest<'a> {
         if !corners.iter().all(|&v| self.regular_vertex(v)) {
             return None;
         }
-        RegularPatch::gather(self.topo, f)
+        RegularPatch::gather_at_regular_corners(self.topo, f)
     }
 }
 
@@ -354,18 +369,19 @@ impl AdaptiveRefinement {
             refinement: None,
         };
         let mut levels = Vec::new();
+        let mut census = PatchCensus {
+            patches: Vec::new(),
+            levels: Vec::new(),
+        };
         for l in 0..=isolation {
-            if l < isolation {
-                let t = current.level.topology();
-                let mut regular = RegularTest::new(t);
-                for (f, r) in current.refined.iter_mut().enumerate() {
-                    let f = f as u32;
-                    *r = current.own[f as usize]
-                        && t.has_limit_surface(f)
-                        && regular.patch(f).is_none()
-                        && !(single_crease && single_crease_line(t, f).is_some());
-                }
-            }
+            let level_census = classify_level(
+                &mut current,
+                l,
+                l < isolation,
+                single_crease,
+                &mut census.patches,
+            );
+            census.levels.push(level_census);
             let any = current.refined.iter().any(|&r| r);
             if !any {
                 levels.push(current);
@@ -386,7 +402,13 @@ impl AdaptiveRefinement {
             isolation,
             single_crease,
             end_cap_sharpness,
+            census,
         })
+    }
+
+    /// The drawn patches and their counts by type and level.
+    pub fn census(&self) -> &PatchCensus {
+        &self.census
     }
 
     /// Positions of every vertex of every level (the global vertex buffer) from the base mesh's
@@ -583,26 +605,11 @@ impl PatchCensus {
     /// when [`RegularPatch::gather`] takes it, else (with single-crease patches on) a
     /// single-crease patch when [`single_crease_line`] takes it, an end cap otherwise (only
     /// possible on the isolation level).
+    ///
+    /// The refinement classified them while choosing its refined faces: this is a copy of
+    /// [`AdaptiveRefinement::census`].
     pub fn new(refinement: &AdaptiveRefinement) -> PatchCensus {
-        let mut patches = Vec::new();
-        let mut levels = Vec::new();
-        for (l, lev) in refinement.levels.iter().enumerate() {
-            let t = lev.topology();
-            let mut regular = RegularTest::new(t);
-            let mut census = LevelCensus::default();
-            for f in 0..t.face_count() as u32 {
-                let i = f as usize;
-                if !lev.own[i] || lev.refined[i] || !t.has_limit_surface(f) {
-                    continue;
-                }
-                let patch = classify(lev, &mut regular, f, l as u32, refinement.single_crease);
-                census.by_type[patch.kind as usize] += 1;
-                census.transition += (patch.transition != 0) as usize;
-                patches.push(patch);
-            }
-            levels.push(census);
-        }
-        PatchCensus { patches, levels }
+        refinement.census.clone()
     }
 
     /// All patches.
@@ -616,7 +623,52 @@ impl PatchCensus {
     }
 }
 
-/// The patch of own, unrefined face `f` of `lev`.
+/// Classifies the own faces with a limit surface of level `l` in one pass: with `refine` (below
+/// the isolation level) a face that is neither a regular patch nor (with `single_crease`) a
+/// single-crease patch is marked refined, the others are appended to `patches` (end caps too,
+/// on the isolation level), face order, with their transition bits once every face of the
+/// level is judged. Returns the level's counts.
+fn classify_level(
+    lev: &mut AdaptiveLevel,
+    l: u32,
+    refine: bool,
+    single_crease: bool,
+    patches: &mut Vec<AdaptivePatch>,
+) -> LevelCensus {
+    let first = patches.len();
+    {
+        let t = lev.level.topology();
+        let mut regular = RegularTest::new(t);
+        for f in 0..t.face_count() as u32 {
+            if !lev.own[f as usize] || !t.has_limit_surface(f) {
+                continue;
+            }
+            match classify(lev, &mut regular, f, l, single_crease) {
+                p if p.kind == PatchType::EndCap && refine => lev.refined[f as usize] = true,
+                p => patches.push(p),
+            }
+        }
+    }
+    let t = lev.level.topology();
+    let mut census = LevelCensus::default();
+    for p in &mut patches[first..] {
+        if p.kind != PatchType::EndCap {
+            for k in 0..4 {
+                if t.adjacent_face(p.face, k)
+                    .is_some_and(|g| lev.refined[g as usize])
+                {
+                    p.transition |= 1 << k;
+                }
+            }
+        }
+        census.by_type[p.kind as usize] += 1;
+        census.transition += usize::from(p.transition != 0);
+    }
+    census
+}
+
+/// The patch of own face `f` of `lev` (transition bits not set: they need the level's refined
+/// faces, `classify_level`).
 ///
 /// Single-crease patches keep their full sharpness, also where it exceeds the levels left to
 /// the isolation level: OpenSubdiv caps it at `isolation - level` (`patchTableFactory.cpp`,
@@ -659,14 +711,6 @@ fn classify(
             transition: 0,
         };
     };
-    let mut transition = 0u8;
-    for k in 0..4 {
-        if t.adjacent_face(f, k)
-            .is_some_and(|g| lev.refined[g as usize])
-        {
-            transition |= 1 << k;
-        }
-    }
     global(&mut p.cvs);
     AdaptivePatch {
         level,
@@ -674,6 +718,6 @@ fn classify(
         kind,
         bspline: Some(p),
         crease,
-        transition,
+        transition: 0,
     }
 }

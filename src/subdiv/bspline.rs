@@ -142,7 +142,22 @@ fn corner_kind(topo: &Topology, v: u32, f: u32) -> CornerKind {
 /// refinement judges regularity per vertex so that neighbouring patch levels differ by at most
 /// one (Köbler 2013 §3.7): a crease vertex with sectors of 2 and 4 faces is irregular for both.
 pub(crate) fn is_regular_vertex(topo: &Topology, v: u32) -> bool {
-    topo.vertex_faces(v)
+    // Without sharpness the vertex looks the same from each of its faces (`corner_kind`'s
+    // smooth case): judged once, not once per face.
+    let vs = topo.vertex_sharpness(v);
+    let plain = vs == 0.0
+        && topo
+            .vertex_edges(v)
+            .iter()
+            .all(|&e| topo.edge_sharpness(e) == 0.0);
+    let faces = topo.vertex_faces(v);
+    if plain && !faces.is_empty() {
+        return !topo.is_boundary_vertex(v)
+            && faces.len() == 4
+            && topo.vertex_edges(v).len() == 4
+            && faces.iter().all(|&g| topo.face_size(g) == 4);
+    }
+    faces
         .iter()
         .all(|&f| corner_kind(topo, v, f) != CornerKind::Irregular)
 }
@@ -156,24 +171,29 @@ fn slot(p: (i32, i32)) -> usize {
     (4 * p.1 + p.0) as usize
 }
 
-/// The neighbour across the edge that quad `f` runs `a -> b`: its index and its corners rotated
-/// to `[b, a, r2, r3]` (`r2` adjacent to `a`, `r3` adjacent to `b`).
-fn across(topo: &Topology, f: u32, a: u32, b: u32) -> Option<(u32, [u32; 4])> {
-    let e = topo.find_edge(a, b)?;
+/// The neighbour across edge `e` that quad `f` runs `a -> b`: its index, its corners rotated
+/// to `[b, a, r2, r3]` (`r2` adjacent to `a`, `r3` adjacent to `b`) and its edges in the same
+/// rotation (edge `i` from corner `i` to `i + 1`, so edge 1 runs `a -> r2`).
+fn across(topo: &Topology, f: u32, e: u32, a: u32, b: u32) -> Option<(u32, [u32; 4], [u32; 4])> {
     let g = *topo.edge_faces(e).iter().find(|&&g| g != f)?;
     let gv = topo.face_vertices(g);
     if gv.len() != 4 {
         return None;
     }
     let s = gv.iter().position(|&x| x == b)?;
-    let r = [gv[s], gv[(s + 1) % 4], gv[(s + 2) % 4], gv[(s + 3) % 4]];
-    (r[1] == a).then_some((g, r))
+    let r: [u32; 4] = std::array::from_fn(|i| gv[(s + i) % 4]);
+    let ge = topo.face_edges(g);
+    (r[1] == a).then(|| (g, r, std::array::from_fn(|i| ge[(s + i) % 4])))
 }
 
 /// The 16 grid vertices around quad `face` (corners `c`, layout of [`RegularPatch::cvs`]); sides
 /// in `mask` are left phantom (holding `c[0]`). `None` when a needed neighbour is missing or not
 /// a quad.
+///
+/// Edges are taken from the faces (an edge is the only one between its two vertices, so this is
+/// the edge `find_edge` would find).
 fn grid_cvs(topo: &Topology, face: u32, c: [u32; 4], mask: u8) -> Option<[u32; 16]> {
+    let fe = topo.face_edges(face);
     let mut cvs = [c[0]; 16];
     for k in 0..4 {
         cvs[slot(CORNER_POS[k])] = c[k];
@@ -184,13 +204,13 @@ fn grid_cvs(topo: &Topology, face: u32, c: [u32; 4], mask: u8) -> Option<[u32; 1
             continue;
         }
         let (a, b) = (c[k], c[(k + 1) % 4]);
-        let (g, n) = across(topo, face, a, b)?;
+        let (g, n, ne) = across(topo, face, fe[k], a, b)?;
         cvs[slot(add(CORNER_POS[k], OUT[k]))] = n[2];
         cvs[slot(add(CORNER_POS[(k + 1) % 4], OUT[k]))] = n[3];
         let prev = (k + 3) % 4;
         if mask & (1 << prev) == 0 {
             // Diagonal face at corner k: the neighbour of `n` across its edge c_k -> n[2].
-            let (_, d) = across(topo, g, c[k], n[2])?;
+            let (_, d, _) = across(topo, g, ne[1], c[k], n[2])?;
             cvs[slot(add(add(CORNER_POS[k], OUT[k]), OUT[prev]))] = d[3];
         }
     }
@@ -236,6 +256,18 @@ impl RegularPatch {
                 return None;
             }
         }
+        Self::grid(topo, face, c)
+    }
+
+    /// [`Self::gather`] of a face whose corners are known to pass [`is_regular_vertex`] (a
+    /// corner regular for every face around it is regular for this one): the corners are not
+    /// judged again.
+    pub(crate) fn gather_at_regular_corners(topo: &Topology, face: u32) -> Option<RegularPatch> {
+        Self::grid(topo, face, quad_corners(topo, face)?)
+    }
+
+    /// The patch of quad `face` with regular corners `c`: phantom mask and grid.
+    fn grid(topo: &Topology, face: u32, c: [u32; 4]) -> Option<RegularPatch> {
         let fe = topo.face_edges(face);
         let mut mask = 0u8;
         for (k, &e) in fe.iter().enumerate() {
@@ -451,5 +483,52 @@ mod tests {
         // The corner of the patch interpolates the mesh corner (corner rule).
         let s = p.eval(&pos, 0.0, 0.0);
         assert!((s.position - pos[0]).length() < 1e-12);
+    }
+
+    /// The once-per-vertex judgement is the per-face one (every face around the vertex sees a
+    /// regular corner), and a face whose corners pass it gathers the patch `gather` does, on
+    /// every vertex and face of levels 0-2 of meshes with boundaries, creases, corners,
+    /// semi-sharp edges, darts, n-gons and triangles (fails if the sharpness-free shortcut drops
+    /// a condition of `corner_kind`'s smooth case, e.g. the face sizes).
+    #[test]
+    fn vertex_regularity_once_is_per_face_regularity() {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
+        let mut regular = 0;
+        for name in [
+            "catmark_car",
+            "catmark_nonquads",
+            "catmark_smoothtris1",
+            "catmark_cube_creases2",
+            "catmark_cubes_semisharp",
+            "catmark_dart_edgecorner",
+            "catmark_hole_test1",
+            "catmark_val2_interior",
+        ] {
+            let path = format!("{dir}{name}.obj");
+            let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
+            let level0 = crate::subdiv::Level::from_mesh(&mesh).unwrap();
+            let level1 = level0.refine_topology();
+            let level2 = level1.refine_topology();
+            for t in [&level0, &level1, &level2].map(|l| l.topology()) {
+                for v in 0..t.vertex_count() as u32 {
+                    let per_face = t
+                        .vertex_faces(v)
+                        .iter()
+                        .all(|&f| corner_kind(t, v, f) != CornerKind::Irregular);
+                    assert_eq!(is_regular_vertex(t, v), per_face, "{name} vertex {v}");
+                    regular += usize::from(per_face);
+                }
+                for f in 0..t.face_count() as u32 {
+                    if t.face_vertices(f).iter().all(|&v| is_regular_vertex(t, v)) {
+                        assert_eq!(
+                            RegularPatch::gather_at_regular_corners(t, f),
+                            RegularPatch::gather(t, f),
+                            "{name} face {f}"
+                        );
+                    }
+                }
+            }
+        }
+        assert!(regular > 1000);
     }
 }

@@ -151,10 +151,11 @@ impl SubdivisionTables {
                 .get_mut(f as usize)
                 .ok_or_else(|| range("face", f))? = dst;
         }
-        let needed = |f: u32, what: &str| -> Result<u32> {
+        // `what` and `i` name the element asking (formatted only on error).
+        let needed = |f: u32, what: &str, i: u32| -> Result<u32> {
             match face_point[f as usize] {
                 NO_POINT => Err(Error::Invalid(format!(
-                    "subdivision tables: {what} needs the face point of face {f}"
+                    "subdivision tables: {what} {i} needs the face point of face {f}"
                 ))),
                 p => Ok(p),
             }
@@ -183,7 +184,7 @@ impl SubdivisionTables {
             let mut faces = [NO_POINT; 2];
             if sharp < 1.0 {
                 for (slot, &f) in faces.iter_mut().zip(t.edge_faces(e)) {
-                    *slot = needed(f, &format!("edge {e}"))?;
+                    *slot = needed(f, "edge", e)?;
                 }
             }
             out.edges.push(EdgeEntry {
@@ -203,7 +204,7 @@ impl SubdivisionTables {
             out.indices
                 .extend(edges.iter().map(|&e| base + t.other_vertex(e, v)));
             for &f in faces {
-                out.indices.push(needed(f, &format!("vertex {v}"))?);
+                out.indices.push(needed(f, "vertex", v)?);
             }
             let (rules, weight, crease) = vertex_rules(parent, v);
             out.vertices.push(VertexEntry {

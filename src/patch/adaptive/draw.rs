@@ -25,7 +25,7 @@ use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure, E
 use crate::patch::edge_grid::PATCH_EDGES;
 use crate::patch::gregory::edge_flags::{edge_flags, Across};
 use crate::patch::gregory::shared_rows::{sparse_face_rows_flat, FaceRows};
-use crate::patch::gregory::{GregoryTangents, Weights};
+use crate::patch::gregory::GregoryTangents;
 use crate::patch::single_crease::{gpu_cvs, Rotation, SingleCreasePatch};
 use crate::patch::RegularPatch;
 use crate::subdiv::adaptive::{AdaptiveRefinement, Domain, PatchCensus, PatchType};
@@ -111,16 +111,18 @@ fn end_cap_rows(
 
 /// Slot rows (position, du, dv) from the first census patch with the slot as a corner, exact
 /// patches (B-spline, single-crease) before end caps (whose Gregory corners are built over
-/// [`EndCapTopologies`]), per slot (computed on the rayon pool), and whether the slot's normal
-/// is shared (one sector in the topology the frame's patch was built over).
+/// [`EndCapTopologies`]), in slot order (computed on the rayon pool in runs of slots, each
+/// written into flat rows of its own; one run on one thread), and whether the slot's normal is
+/// shared (one sector in the topology the frame's patch was built over). The first run reserves
+/// room for `more` (rows, terms) after it.
 fn slot_rows(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
     topologies: &EndCapTopologies,
     slots: &Slots,
-    caps: &[FaceRows],
-) -> (Vec<Option<[Weights; 3]>>, Vec<bool>) {
-    let corner_rows = CornerRows::new(refinement, census, topologies, caps);
+    corner_rows: &CornerRows,
+    more: (usize, usize),
+) -> (Vec<SparseRows>, Vec<bool>) {
     let mut first: Vec<Option<PatchCorner>> = vec![None; slots.len()];
     let mut shared = vec![false; slots.len()];
     corner_rows.visit(|c| {
@@ -136,10 +138,28 @@ fn slot_rows(
             shared[s] = single_normal_vertex(t, c.vertex);
         }
     });
+    let run = if rayon::current_num_threads() == 1 {
+        first.len().max(1)
+    } else {
+        256
+    };
     let frames = first
-        .par_iter()
-        .with_min_len(256)
-        .map(|c| c.as_ref().map(|c| corner_rows.rows(c)))
+        .par_chunks(run)
+        .enumerate()
+        .map(|(i, run)| {
+            let mut rows = SparseRows::new();
+            let (more_rows, more_terms) = if i == 0 { more } else { (0, 0) };
+            let terms: usize = run
+                .iter()
+                .flatten()
+                .map(|c| corner_rows.terms_bound(c))
+                .sum();
+            rows.reserve(3 * run.len() + more_rows, terms + more_terms);
+            for c in run.iter().flatten() {
+                corner_rows.push_rows(c, &mut rows);
+            }
+            rows
+        })
         .collect();
     (frames, shared)
 }
@@ -220,35 +240,58 @@ impl AdaptiveDrawTables {
         refinement: &AdaptiveRefinement,
         tangents: GregoryTangents,
     ) -> Result<AdaptiveDrawTables, DrawTablesError> {
-        let census = PatchCensus::new(refinement);
-        let topologies = EndCapTopologies::new(refinement, &census);
-        let slots = Slots::new(refinement, &census);
-        let caps = end_cap_rows(refinement, &census, &topologies, tangents)?;
-        let (frames, mut shared_normal) =
-            slot_rows(refinement, &census, &topologies, &slots, &caps);
-        let mut coarse = CoarseEdges::new(refinement, &census, &slots);
+        let census = refinement.census();
+        let topologies = EndCapTopologies::new(refinement, census);
+        let slots = Slots::new(refinement, census);
+        let caps = end_cap_rows(refinement, census, &topologies, tangents)?;
+        let cap_rows = (
+            END_CAP_ROWS * caps.len(),
+            caps.iter().map(|c| c.terms.len()).sum::<usize>(),
+        );
+        let corner_rows = CornerRows::new(refinement, census, &topologies, &caps);
+        let (frames, mut shared_normal) = slot_rows(
+            refinement,
+            census,
+            &topologies,
+            &slots,
+            &corner_rows,
+            cap_rows,
+        );
+        let mut coarse = CoarseEdges::new(refinement, census, &slots);
         let sectors = SectorFrames::new(
             refinement,
-            &census,
+            census,
             &topologies,
             &shared_normal,
             &slots,
             &coarse.mid_slots,
-            &caps,
+            &corner_rows,
         );
-        // Every row in one reservation: slot frames, sector frames, end caps.
-        let frame_rows = || frames.iter().flatten().chain(&sectors.rows).flatten();
-        let terms = frame_rows().map(|w| w.0.len()).sum::<usize>()
-            + caps.iter().map(|c| c.terms.len()).sum::<usize>();
-        let mut rows = SparseRows::new();
+        drop(corner_rows);
+        // Slot frames (the first run's flat rows extended by the others), sector frames, end
+        // caps, in one reservation past the first run.
+        let mut runs = frames.into_iter();
+        let mut rows = runs.next().unwrap_or_else(SparseRows::new);
+        let runs: Vec<SparseRows> = runs.collect();
+        let terms = runs.iter().map(|r| r.ids.len()).sum::<usize>()
+            + sectors
+                .rows
+                .iter()
+                .flatten()
+                .map(|w| w.0.len())
+                .sum::<usize>()
+            + cap_rows.1;
         rows.reserve(
-            3 * (frames.len() + sectors.rows.len()) + END_CAP_ROWS * caps.len(),
+            runs.iter().map(SparseRows::len).sum::<usize>() + 3 * sectors.rows.len() + cap_rows.0,
             terms,
         );
-        for r in frame_rows() {
+        for run in &runs {
+            rows.append(run);
+        }
+        drop(runs);
+        for r in sectors.rows.iter().flatten() {
             rows.push(r, 0);
         }
-        drop(frames);
         shared_normal.resize(slots.len() + sectors.rows.len(), true);
         let end_cap_first_row = rows.len() as u32;
         for c in &caps {
@@ -257,7 +300,7 @@ impl AdaptiveDrawTables {
             }
             rows.push_empty(END_CAP_ROWS - c.len());
         }
-        let at = patch_index(refinement, &census);
+        let at = patch_index(refinement, census);
         let mut out = AdaptiveDrawTables {
             slots,
             shared_normal,
@@ -283,7 +326,7 @@ impl AdaptiveDrawTables {
             for (k, c) in fine.iter_mut().enumerate().take(n) {
                 *c = coarse.lookup(refinement, p.level, p.face, k)?;
                 if *c == NONE && p.kind == PatchType::EndCap {
-                    *c = coarse.whole(refinement, &census, &at, &out.slots, (p.level, p.face, k));
+                    *c = coarse.whole(refinement, census, &at, &out.slots, (p.level, p.face, k));
                 }
             }
             let d = lev.domains[p.face as usize];

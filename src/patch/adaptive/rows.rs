@@ -14,7 +14,7 @@ use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus};
 use crate::subdiv::bspline::{bspline, bspline_deriv};
 use crate::subdiv::single_crease::{CreaseLine, CreaseSide};
 
-/// A patch corner as [`corners_exact_first`] visits it.
+/// A patch corner as [`CornerRows::visit`] visits it.
 #[derive(Debug, Clone, Copy)]
 pub struct PatchCorner {
     /// Census index of the patch.
@@ -29,16 +29,17 @@ pub struct PatchCorner {
     cap: usize,
 }
 
-/// The frame rows of census patches' corners: what [`corners_exact_first`] hands its visitor,
-/// computable apart from the visit (and on several threads).
+/// The corners of census patches in the order frames take their rows, and their frame rows
+/// (computable apart from the visit, and on several threads).
 pub struct CornerRows<'a> {
     refinement: &'a AdaptiveRefinement,
     census: &'a PatchCensus,
-    topologies: &'a EndCapTopologies<'a>,
     caps: &'a [FaceRows],
     /// Single-crease corner weights depend on the line's side and sharpness and the corner
     /// only: evaluated once per such shape of the census, not once per corner.
     crease: HashMap<CreaseKey, CornerColumns>,
+    /// Every corner in [`Self::visit`] order, walked once for every visit.
+    corners: Vec<PatchCorner>,
 }
 
 impl<'a> CornerRows<'a> {
@@ -47,7 +48,7 @@ impl<'a> CornerRows<'a> {
     pub fn new(
         refinement: &'a AdaptiveRefinement,
         census: &'a PatchCensus,
-        topologies: &'a EndCapTopologies<'a>,
+        topologies: &EndCapTopologies,
         caps: &'a [FaceRows],
     ) -> CornerRows<'a> {
         let mut crease = HashMap::new();
@@ -61,9 +62,9 @@ impl<'a> CornerRows<'a> {
         CornerRows {
             refinement,
             census,
-            topologies,
             caps,
             crease,
+            corners: exact_first(refinement, census, topologies),
         }
     }
 
@@ -85,49 +86,88 @@ impl<'a> CornerRows<'a> {
         }
     }
 
-    /// Visits every corner of every census patch, exact patches (B-spline, single-crease)
-    /// first, then end caps (whose Gregory corners are built over `topologies`): the
-    /// order in which frames take their rows from the first patch with that corner.
-    pub fn visit(&self, mut visit: impl FnMut(&PatchCorner)) {
-        let mut cap_of = Vec::with_capacity(self.census.patches.len());
-        let mut cap = 0;
-        for p in &self.census.patches {
-            cap_of.push(cap);
-            cap += usize::from(p.bspline.is_none());
-        }
-        for end_caps in [false, true] {
-            for (i, (p, &cap)) in self.census.patches.iter().zip(&cap_of).enumerate() {
-                if p.bspline.is_none() != end_caps {
-                    continue;
+    /// Appends the rows of corner `c` ([`Self::rows`], the same bits) to `out`; exact patches'
+    /// rows go straight from their 16 control vertices into `out`, without a [`Weights`] each.
+    pub fn push_rows(&self, c: &PatchCorner, out: &mut SparseRows) {
+        let p = &self.census.patches[c.patch];
+        match (&p.crease, &p.bspline) {
+            (Some(line), _) => {
+                let columns = &self.crease[&(line.side, line.sharpness.to_bits(), c.k)];
+                let rows: [[f64; 16]; 3] =
+                    std::array::from_fn(|r| std::array::from_fn(|i| columns[i][r]));
+                for row in rows {
+                    push_merged(out, std::array::from_fn(|i| (line.cvs[i], row[i])));
                 }
-                let t = self.refinement.levels[p.level as usize].topology();
-                for (k, &v) in t.face_vertices(p.face).iter().enumerate() {
-                    visit(&PatchCorner {
-                        patch: i,
-                        k,
-                        vertex: v,
-                        singular: end_caps
-                            && one_face_crease_sector(self.topologies.get(p.level), v, p.face),
-                        cap,
-                    });
+            }
+            (None, Some(b)) => {
+                for row in bspline_corner_columns(b, c.k) {
+                    push_merged(out, std::array::from_fn(|i| (b.cvs[i], row[i])));
+                }
+            }
+            (None, None) => {
+                for w in self.rows(c) {
+                    out.push(&w, 0);
                 }
             }
         }
     }
+
+    /// At least the number of terms [`Self::push_rows`] appends for corner `c` (16 per row of an
+    /// exact patch; a Gregory corner's `e - p` rows at most the sum of their two rows' terms).
+    pub fn terms_bound(&self, c: &PatchCorner) -> usize {
+        let p = &self.census.patches[c.patch];
+        if p.bspline.is_some() {
+            return 3 * 16;
+        }
+        let n = self.refinement.levels[p.level as usize]
+            .topology()
+            .face_size(p.face);
+        let rows = &self.caps[c.cap];
+        let second = if c.singular { 3 * n + c.k } else { 2 * n + c.k };
+        3 * rows.row(c.k).len() + rows.row(n + c.k).len() + rows.row(second).len()
+    }
+
+    /// Visits every corner of every census patch, exact patches (B-spline, single-crease)
+    /// first, then end caps (whose Gregory corners are built over `topologies`): the
+    /// order in which frames take their rows from the first patch with that corner.
+    pub fn visit(&self, visit: impl FnMut(&PatchCorner)) {
+        self.corners.iter().for_each(visit);
+    }
 }
 
-/// Visits every corner of every census patch in [`CornerRows::visit`] order. `visit` gets the
-/// corner and a function computing its rows (position, d/du, d/dv) over the global refined
-/// vertices; `caps` are the end caps' rows in census order, built over `topologies`.
-pub fn corners_exact_first(
+/// Every corner of every census patch, exact patches (B-spline, single-crease) first, then end
+/// caps (`singular` judged over `topologies`).
+fn exact_first(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
     topologies: &EndCapTopologies,
-    caps: &[FaceRows],
-    mut visit: impl FnMut(&PatchCorner, &dyn Fn() -> [Weights; 3]),
-) {
-    let rows = CornerRows::new(refinement, census, topologies, caps);
-    rows.visit(|c| visit(c, &|| rows.rows(c)));
+) -> Vec<PatchCorner> {
+    let mut cap_of = Vec::with_capacity(census.patches.len());
+    let mut cap = 0;
+    for p in &census.patches {
+        cap_of.push(cap);
+        cap += usize::from(p.bspline.is_none());
+    }
+    let mut out = Vec::with_capacity(4 * census.patches.len());
+    for end_caps in [false, true] {
+        for (i, (p, &cap)) in census.patches.iter().zip(&cap_of).enumerate() {
+            if p.bspline.is_none() != end_caps {
+                continue;
+            }
+            let t = refinement.levels[p.level as usize].topology();
+            for (k, &v) in t.face_vertices(p.face).iter().enumerate() {
+                out.push(PatchCorner {
+                    patch: i,
+                    k,
+                    vertex: v,
+                    singular: end_caps
+                        && one_face_crease_sector(topologies.get(p.level), v, p.face),
+                    cap,
+                });
+            }
+        }
+    }
+    out
 }
 
 /// Rows of sparse weights: row `r` is terms `offsets[r]..offsets[r + 1]` of `ids` / `weights`,
@@ -181,6 +221,16 @@ impl SparseRows {
             }
         }
         self.offsets.push(self.ids.len() as u32);
+    }
+
+    /// Appends every row of `other`.
+    pub fn append(&mut self, other: &SparseRows) {
+        let base = *self.offsets.last().expect("offsets start with 0");
+        self.offsets
+            .extend(other.offsets[1..].iter().map(|&o| base + o));
+        self.ids.extend_from_slice(&other.ids);
+        self.weights.extend_from_slice(&other.weights);
+        self.weights_f64.extend_from_slice(&other.weights_f64);
     }
 
     /// Reserves room for `rows` more rows of `terms` terms together.
@@ -252,6 +302,11 @@ fn fold_phantoms(mut c: [f64; 16], mask: u8) -> [f64; 16] {
 /// Rows (position, d/du, d/dv) of B-spline patch `p` (global control vertices) at its face
 /// corner `k` (Köbler 2013 §3.1: the basis at the domain corner), phantoms folded in.
 pub fn bspline_corner_rows(p: &RegularPatch, k: usize) -> [Weights; 3] {
+    bspline_corner_columns(p, k).map(|c| Weights::from_terms(p.cvs.iter().copied().zip(c)))
+}
+
+/// The weights of [`bspline_corner_rows`] per control point (`cvs` order), phantoms folded in.
+fn bspline_corner_columns(p: &RegularPatch, k: usize) -> [[f64; 16]; 3] {
     let (s, t) = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)][k];
     let (bu, du, bv, dv) = (bspline(s), bspline_deriv(s), bspline(t), bspline_deriv(t));
     let tensor = |a: [f64; 4], b: [f64; 4]| {
@@ -261,10 +316,36 @@ pub fn bspline_corner_rows(p: &RegularPatch, k: usize) -> [Weights; 3] {
                 c[4 * j + i] = x * y;
             }
         }
-        let c = fold_phantoms(c, p.boundary_mask);
-        Weights::from_terms(p.cvs.iter().copied().zip(c))
+        fold_phantoms(c, p.boundary_mask)
     };
     [tensor(bu, bv), tensor(du, bv), tensor(bu, dv)]
+}
+
+/// Pushes the row [`Weights::from_terms`] makes of `terms` (zero weights dropped, ids sorted
+/// stably, a repeated id's weights summed in that order) onto `out`, sorted on the stack.
+fn push_merged(out: &mut SparseRows, terms: [(u32, f64); 16]) {
+    let mut t = [(0u32, 0.0f64); 16];
+    let mut n = 0;
+    for term in terms.into_iter().filter(|&(_, w)| w != 0.0) {
+        // Stable insertion: after every term with an id not larger.
+        let mut j = n;
+        while j > 0 && t[j - 1].0 > term.0 {
+            t[j] = t[j - 1];
+            j -= 1;
+        }
+        t[j] = term;
+        n += 1;
+    }
+    let mut m = 0;
+    for i in 0..n {
+        if m > 0 && t[m - 1].0 == t[i].0 {
+            t[m - 1].1 += t[i].1;
+        } else {
+            t[m] = t[i];
+            m += 1;
+        }
+    }
+    out.push_terms(&t[..m], 0);
 }
 
 /// A single-crease corner's shape: crease side, sharpness bits, face corner.
@@ -325,4 +406,31 @@ pub fn gregory_corner_rows(rows: &FaceRows, n: usize, k: usize, singular: bool) 
     let du = tangent(rows.weights(n + k));
     let dv = tangent(rows.weights(second));
     [p, du, dv]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The stack merge is `Weights::from_terms` bit for bit: zeros dropped, ids sorted stably,
+    /// a repeated id summed in its terms' order (0.1 + 0.2 + 0.3 and 0.3 + 0.2 + 0.1 differ in
+    /// the last bit, so an unstable sort or a reversed sum fails).
+    #[test]
+    fn merged_row_is_from_terms() {
+        let ws = [0.1, 0.2, 0.3, 0.0, -0.5, 1.0 / 3.0, 0.7, 0.0];
+        for shift in 0..16 {
+            let terms: [(u32, f64); 16] = std::array::from_fn(|i| {
+                let j = (i + shift) % 16;
+                (
+                    [7, 3, 7, 9, 3, 7, 1, 9][j % 8],
+                    ws[j % 8] * (1.0 + j as f64),
+                )
+            });
+            let mut got = SparseRows::new();
+            push_merged(&mut got, terms);
+            let mut want = SparseRows::new();
+            want.push(&Weights::from_terms(terms), 0);
+            assert_eq!(got, want, "shift {shift}");
+        }
+    }
 }

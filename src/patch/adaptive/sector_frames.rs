@@ -19,11 +19,10 @@
 
 use std::collections::HashMap;
 
-use super::rows::corners_exact_first;
+use super::rows::CornerRows;
 use super::slots::{Slots, NONE};
 use super::surface::EndCapTopologies;
 use crate::mesh::INFINITE_SHARPNESS;
-use crate::patch::gregory::shared_rows::FaceRows;
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
 use crate::topology::{sector_count, sector_faces};
@@ -47,7 +46,7 @@ type SectorKey = (u32, u32);
 impl SectorFrames {
     /// Sector frames of `census` over `slots`, numbered from the number of slots (they follow
     /// the slots in the frame buffers); `mid_slots` per census patch as
-    /// `CoarseEdges::mid_slots`, `caps` the end caps' rows in census order. End caps' sectors
+    /// `CoarseEdges::mid_slots`, `corner_rows` the census's corners and their rows. End caps' sectors
     /// are those of their [`EndCapTopologies`] (residual semi-sharp creases split them too),
     /// except where the slot's normal is shared (`shared_normal`, one per slot: an exact patch,
     /// e.g. single-crease, gave the point its one normal, which the end cap reads there).
@@ -58,7 +57,7 @@ impl SectorFrames {
         shared_normal: &[bool],
         slots: &Slots,
         mid_slots: &[[u32; 4]],
-        caps: &[FaceRows],
+        corner_rows: &CornerRows,
     ) -> SectorFrames {
         let first = slots.len() as u32;
         let base = refinement.levels[0].topology();
@@ -117,14 +116,14 @@ impl SectorFrames {
         // from end caps' corners (the Gregory corner's plane is the sector's: its edge points
         // lie in it), except in one-face crease sectors, whose corner normal the GPU takes
         // from the face points instead (`gregory_corner_normal`).
-        corners_exact_first(refinement, census, topologies, caps, |c, rows| {
+        corner_rows.visit(|c| {
             let Some(key) = corner_keys[c.patch][c.k] else {
                 return;
             };
             if c.singular || index.contains_key(&key) {
                 return;
             }
-            out.rows.push(rows());
+            out.rows.push(corner_rows.rows(c));
             index.insert(key, first + (out.rows.len() - 1) as u32);
         });
         let frame = |key: Option<SectorKey>| key.and_then(|k| index.get(&k).copied());
