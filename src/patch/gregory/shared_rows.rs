@@ -12,6 +12,9 @@
 //! every corner, each corner's edges with their other end, sharpness bits and face counts, and
 //! whether each edge neighbour gets a patch), so two faces with equal keys produce equal rows
 //! slot by slot. A face whose rows leave its ring, or that gets no patch, is built directly.
+//! The rows are two-stage ([`sparse_face_rows_direct`]): a smooth corner's vertex points
+//! (`vertex_count + 3 v + b`) take the slots `ring_len + 3 slot(v) + b`; whether a corner is
+//! smooth is part of its topology, hence of the key.
 
 use std::collections::HashMap;
 
@@ -38,7 +41,7 @@ type LocalRows = Vec<Vec<(u32, f64)>>;
 
 /// One face's rows in two allocations rather than one per row: row `r` is
 /// `terms[offsets[r]..offsets[r + 1]]`, `(id, weight)` ids ascending, as a [`Weights`] holds
-/// them.
+/// them (vertices, then vertex points: [`super::stencil_table::vertex_point_id`]).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct FaceRows {
     /// `rows + 1` term offsets.
