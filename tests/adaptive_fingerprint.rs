@@ -12,7 +12,9 @@
 //! end-cap corner's limit point and two tangent sums are vertex points computed once (rows
 //! after the end caps'), the end-cap and frame rows read them instead of the vertex's ring, and
 //! the smooth edge points are `p + cos q_c + sin q_s` of those sums (the paper's per-edge sums
-//! regrouped). The refinement and kernels' fingerprints did not change.
+//! regrouped). The refinement and kernels' fingerprints did not change; the CPU
+//! `AdaptiveSurface` of these meshes (25 points per patch) moved by at most 4.3e-16 of the bbox
+//! diagonal, unit normals by at most 1.3e-11 (rounding of the regrouped sums).
 //!
 //! The fingerprints change with any change of output, deliberate or not: a change that is meant
 //! to alter the tables (new end-cap rules, another row order) re-derives them and says so.
