@@ -47,8 +47,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let faces: Vec<u32> = (0..topo.face_count() as u32).collect();
     let opts = PlanOptions::new(SchemeLimits::NO_DEVICE).with_isolation(isolation);
     let t = Instant::now();
-    AdaptiveTables::new(&topo, &faces, &opts).map_err(|(f, e)| format!("face {f}: {e}"))?;
-    println!("AdaptiveTables::new {:.3} s", t.elapsed().as_secs_f64());
+    let tables =
+        AdaptiveTables::new(&topo, &faces, &opts).map_err(|(f, e)| format!("face {f}: {e}"))?;
+    println!(
+        "AdaptiveTables::new {:.3} s ({} row terms)",
+        t.elapsed().as_secs_f64(),
+        tables.draw.rows.ids.len()
+    );
+    drop(tables);
     if repeat > 1 {
         let t = Instant::now();
         for _ in 1..repeat {

@@ -118,7 +118,7 @@ fn slot_rows_are_the_exact_limit_frames() {
         let ev = LimitEvaluator::new(&c.mesh).unwrap();
         let diag = c.mesh.bbox_diagonal();
         let rows = &c.tables.rows;
-        let pos = &c.surface.positions;
+        let pos = &c.tables.with_vertex_points(&c.surface.positions);
         // Occurrences grouped by (base face, sub-face): (slot, (u, v)).
         let mut groups: BTreeMap<(u32, u32), Vec<Occurrence>> = BTreeMap::new();
         let mut skipped = 0;
@@ -202,7 +202,7 @@ fn end_cap_rows_are_the_gregory_control_points() {
     for_each_case(|c| {
         let diag = c.mesh.bbox_diagonal();
         let rows = &c.tables.rows;
-        let pos = &c.surface.positions;
+        let pos = &c.tables.with_vertex_points(&c.surface.positions);
         let by_face: HashMap<(u32, u32), usize> = c
             .surface
             .patches
@@ -433,8 +433,26 @@ fn layout_invariants() {
         assert_eq!(t.end_cap_info_bytes().len(), 32 * t.end_caps.len());
         assert_eq!(t.end_cap_grid_bytes().len(), 192 * t.end_caps.len());
         assert_eq!(t.coarse_edge_bytes().len(), 64 * t.coarse_edges.len());
-        assert_eq!(t.rows.len(), 3 * t.frame_count() + 36 * t.end_caps.len());
         assert_eq!(t.end_cap_first_row as usize, 3 * t.frame_count());
+        assert_eq!(
+            t.vertex_first_row as usize,
+            3 * t.frame_count() + 36 * t.end_caps.len()
+        );
+        // Vertex points in threes; the first stage reads refined points only, the rest any.
+        assert_eq!(t.vertex_point_count() % 3, 0);
+        let n = t.refined_points as usize;
+        for r in 0..t.rows.len() {
+            let bound = if r < t.vertex_first_row as usize {
+                n + t.vertex_point_count()
+            } else {
+                n
+            };
+            assert!(
+                t.rows.row(r).all(|(v, _)| (v as usize) < bound),
+                "{}",
+                c.label()
+            );
+        }
         assert_eq!(
             t.regular.len() + t.transition.len() + t.end_caps.len(),
             c.surface.patches.len()

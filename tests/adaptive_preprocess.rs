@@ -11,6 +11,7 @@ mod common;
 
 use common::meshes::{osd, polygon_obj};
 use tessera::mesh::ObjOptions;
+use tessera::patch::adaptive::AdaptiveDrawTables;
 use tessera::patch::gregory::shared_rows::sparse_face_rows;
 use tessera::patch::gregory::stencil_table::sparse_face_rows_direct;
 use tessera::patch::gregory::{GregoryTangents, NotGregory, Weights};
@@ -105,4 +106,33 @@ fn high_valence_pole_and_polygon() {
     let gon =
         ControlMesh::from_obj_str(&polygon_obj(64), "64-gon", &ObjOptions::default()).unwrap();
     check("64-gon", &gon, &[1, 2]);
+}
+
+/// The end caps' rows are linear in the valence: an n-gon at isolation 1 has one vertex of
+/// valence n with n end caps around it; each of its rows reads the vertex's three vertex points
+/// (limit point, cosine and sine sums, computed once by the first stage) instead of its whole
+/// ring, so the terms of all rows together grow like n (ratio 2 per doubling), where per-cap
+/// rows over the ring grow like n² (ratio 4: 26.1 M terms at n = 1000 before the two stages).
+#[test]
+fn row_terms_grow_linearly_with_valence() {
+    let terms: Vec<usize> = [50, 100, 200]
+        .iter()
+        .map(|&n| {
+            let name = format!("{n}-gon");
+            let gon =
+                ControlMesh::from_obj_str(&polygon_obj(n), &name, &ObjOptions::default()).unwrap();
+            let r = AdaptiveRefinement::new(&Level::from_mesh(&gon).unwrap(), 1).unwrap();
+            let t = AdaptiveDrawTables::new(&r).unwrap();
+            eprintln!(
+                "{name}: {} row terms, {} rows",
+                t.rows.ids.len(),
+                t.rows.len()
+            );
+            t.rows.ids.len()
+        })
+        .collect();
+    for w in terms.windows(2) {
+        let ratio = w[1] as f64 / w[0] as f64;
+        assert!(ratio < 2.2, "terms {terms:?}: ratio {ratio} per doubling");
+    }
 }

@@ -187,7 +187,9 @@ fn gpu_frames_equal_cpu_rows() {
         })
         .unwrap();
         let (limits, normals) = derived.read_frames(&ctx).unwrap();
-        let refined = t.adaptive.refine_positions(m.positions());
+        let refined = t
+            .draw
+            .with_vertex_points(&t.adaptive.refine_positions(m.positions()));
         let diag = m.bbox_diagonal();
         let (mut worst_p, mut worst_n) = (0.0f64, 0.0f64);
         for s in 0..t.draw.frame_count() {

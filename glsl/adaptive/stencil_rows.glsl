@@ -5,7 +5,9 @@
 // row, row count, first row of this dispatch).
 //
 // set 0: 0 offsets, 1 ids, 2 weights, 3 refined points (tightly packed xyz), 4 and 5 outputs
-// (vec4), 6 per-row flags (limit_frames.comp).
+// (vec4), 6 per-row flags (limit_frames.comp), 7 vertex points (vec4: the first stage, the
+// per-vertex sums of smooth end-cap corners, written by endcap_points.comp before the other
+// rows run). An id with bit 31 set (DERIVED_ID) reads vertex point id & 0x7fffffff.
 
 layout(local_size_x = 64) in;
 
@@ -16,6 +18,7 @@ layout(std430, set = 0, binding = 3) readonly buffer Points { float points[]; };
 layout(std430, set = 0, binding = 4) writeonly buffer OutA { vec4 out_a[]; };
 layout(std430, set = 0, binding = 5) writeonly buffer OutB { vec4 out_b[]; };
 layout(std430, set = 0, binding = 6) readonly buffer Flags { uint flags[]; };
+layout(std430, set = 0, binding = 7) readonly buffer VertexPoints { vec4 vertex_points[]; };
 
 layout(push_constant) uniform Range {
     uint first;
@@ -31,7 +34,12 @@ uint item() {
     return i < range.count ? i : NO_ROW;
 }
 
+const uint DERIVED_ID = 0x80000000u;
+
 vec3 load(uint i) {
+    if ((i & DERIVED_ID) != 0u) {
+        return vertex_points[i & ~DERIVED_ID].xyz;
+    }
     return vec3(points[3u * i], points[3u * i + 1u], points[3u * i + 2u]);
 }
 

@@ -10,7 +10,7 @@
 //! Patch edges: B-spline patches use [`crate::patch::edge_grid::PATCH_EDGES`] numbering (which
 //! is face-edge numbering, edges 2 and 3 run against the face), end caps face order.
 
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::coarse::{patch_index, CoarseEdges};
@@ -25,7 +25,8 @@ use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure, E
 use crate::patch::edge_grid::PATCH_EDGES;
 use crate::patch::gregory::edge_flags::{edge_flags, Across};
 use crate::patch::gregory::shared_rows::{sparse_face_rows_flat, FaceRows};
-use crate::patch::gregory::GregoryTangents;
+use crate::patch::gregory::stencil_table::{vertex_point_of, vertex_point_rows, VERTEX_POINTS};
+use crate::patch::gregory::{GregoryTangents, Weights};
 use crate::patch::single_crease::{gpu_cvs, Rotation, SingleCreasePatch};
 use crate::patch::RegularPatch;
 use crate::subdiv::adaptive::{AdaptiveRefinement, Domain, PatchCensus, PatchType};
@@ -48,10 +49,19 @@ pub struct AdaptiveDrawTables {
     /// Per census patch, face order: the sector frame of each corner (`u32::MAX`: none).
     pub sector_corners: Vec<[u32; 4]>,
     /// Rows `3 s .. 3 s + 2`: frame `s`'s limit position, du, dv (`cross(du, dv)` outward); then
-    /// [`END_CAP_ROWS`] rows per end cap from [`Self::end_cap_first_row`].
+    /// [`END_CAP_ROWS`] rows per end cap from [`Self::end_cap_first_row`]; then from
+    /// [`Self::vertex_first_row`] the first stage: row `3 k + b` of it is vertex point
+    /// `3 k + b`, derived point `b` (limit position, cosine and sine sums,
+    /// [`crate::patch::gregory::InteriorBasis`]) of a smooth end-cap corner. The other rows
+    /// read vertex point `j` as id `refined_points + j`: every patch at a smooth vertex of
+    /// valence `n` holds `O(1)` terms for it, not `O(n)`.
     pub rows: SparseRows,
     /// First end-cap row (`3 *` frames).
     pub end_cap_first_row: u32,
+    /// First vertex-point row (after the end caps').
+    pub vertex_first_row: u32,
+    /// Refined points (every level's vertices): ids from here are vertex points.
+    pub refined_points: u32,
     /// One record per census patch, census order.
     pub records: Vec<PatchRecord>,
     /// B-spline patches without finer neighbour.
@@ -78,35 +88,99 @@ pub struct AdaptiveDrawTables {
     pub coarse_edges: Vec<CoarseEdge>,
 }
 
-/// Rows of every end cap in census order over global ids (table layout, unpadded).
+/// Id bit marking a derived vertex point in the uploaded row ids ([`AdaptiveDrawTables::row_id_bytes`]):
+/// `DERIVED_ID | k` reads vertex point `k` (`glsl/adaptive/stencil_rows.glsl`).
+pub const DERIVED_ID: u32 = 1 << 31;
+
+/// The end caps' rows in two stages (Loop et al. 2009 §4.1 per vertex, §4.3 per patch).
+struct EndCapRows {
+    /// Rows of every end cap in census order (table layout, unpadded) over global ids: refined
+    /// vertices, then vertex points (`refined + 3 k + b`).
+    caps: Vec<FaceRows>,
+    /// Per vertex point `k` (three per smooth end-cap corner, in (level, vertex) order): its
+    /// first-stage rows `p`, `q_c`, `q_s` over global refined ids.
+    vertices: Vec<[Weights; 3]>,
+}
+
+/// Rows of every end cap in census order, with the first-stage rows of the smooth corners they
+/// reference (`sparse_face_rows_flat`, whose derived ids are numbered here per level, ascending
+/// in (level, vertex), so rows stay ascending).
 fn end_cap_rows(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
     topologies: &EndCapTopologies,
     tangents: GregoryTangents,
-) -> Result<Vec<FaceRows>, EndCapError> {
+) -> Result<EndCapRows, EndCapError> {
     let caps: Vec<_> = census
         .patches
         .iter()
         .filter(|p| p.kind == PatchType::EndCap)
         .collect();
-    let mut out = Vec::with_capacity(caps.len());
+    let mut local = Vec::with_capacity(caps.len());
     for group in caps.chunk_by(|a, b| a.level == b.level) {
-        let lev = &refinement.levels[group[0].level as usize];
         for p in group {
             check_end_cap(refinement, p)?;
         }
         let faces: Vec<u32> = group.iter().map(|p| p.face).collect();
         let t = topologies.get(group[0].level);
         for (p, rows) in group.iter().zip(sparse_face_rows_flat(t, &faces, tangents)) {
-            let mut rows =
-                rows.map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?;
-            // Global ids: one offset added, so ids stay ascending.
-            rows.terms.iter_mut().for_each(|(v, _)| *v = lev.global(*v));
-            out.push(rows);
+            local.push((
+                p.level,
+                rows.map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?,
+            ));
         }
     }
-    Ok(out)
+    // Number the smooth corners the rows read, level by level in vertex order.
+    let mut index: Vec<Vec<u32>> = vec![Vec::new(); refinement.levels.len()];
+    for (l, rows) in &local {
+        let t = topologies.get(*l);
+        let at = &mut index[*l as usize];
+        for &(id, _) in &rows.terms {
+            if let Some((v, _)) = vertex_point_of(t, id) {
+                if at.is_empty() {
+                    at.resize(t.vertex_count(), NONE);
+                }
+                at[v as usize] = 0;
+            }
+        }
+    }
+    let mut smooth: Vec<(u32, u32)> = Vec::new();
+    for (l, at) in index.iter_mut().enumerate() {
+        for (v, k) in at.iter_mut().enumerate() {
+            if *k == 0 {
+                *k = smooth.len() as u32;
+                smooth.push((l as u32, v as u32));
+            }
+        }
+    }
+    let first = refinement.vertex_count() as u32;
+    let caps = local
+        .into_iter()
+        .map(|(l, mut rows)| {
+            let (lev, t, at) = (
+                &refinement.levels[l as usize],
+                topologies.get(l),
+                &index[l as usize],
+            );
+            // Global ids: monotone in the local ones, so rows stay ascending.
+            for (id, _) in rows.terms.iter_mut() {
+                *id = match vertex_point_of(t, *id) {
+                    None => lev.global(*id),
+                    Some((v, b)) => first + VERTEX_POINTS * at[v as usize] + b,
+                };
+            }
+            rows
+        })
+        .collect();
+    let vertices = smooth
+        .par_iter()
+        .map(|&(l, v)| {
+            let lev = &refinement.levels[l as usize];
+            vertex_point_rows(topologies.get(l), v, tangents)
+                .map(|w| Weights(w.0.into_iter().map(|(u, x)| (lev.global(u), x)).collect()))
+        })
+        .collect();
+    Ok(EndCapRows { caps, vertices })
 }
 
 /// Slot rows (position, du, dv) from the first census patch with the slot as a corner, exact
@@ -243,10 +317,19 @@ impl AdaptiveDrawTables {
         let census = refinement.census();
         let topologies = EndCapTopologies::new(refinement, census);
         let slots = Slots::new(refinement, census);
-        let caps = end_cap_rows(refinement, census, &topologies, tangents)?;
+        let EndCapRows {
+            caps,
+            vertices: vertex_rows,
+        } = end_cap_rows(refinement, census, &topologies, tangents)?;
+        let vertex_terms = vertex_rows
+            .iter()
+            .flatten()
+            .map(|w| w.0.len())
+            .sum::<usize>();
+        // End caps and vertex points, reserved with the first run of slot frames.
         let cap_rows = (
-            END_CAP_ROWS * caps.len(),
-            caps.iter().map(|c| c.terms.len()).sum::<usize>(),
+            END_CAP_ROWS * caps.len() + 3 * vertex_rows.len(),
+            caps.iter().map(|c| c.terms.len()).sum::<usize>() + vertex_terms,
         );
         let corner_rows = CornerRows::new(refinement, census, &topologies, &caps);
         let (frames, mut shared_normal) = slot_rows(
@@ -269,7 +352,7 @@ impl AdaptiveDrawTables {
         );
         drop(corner_rows);
         // Slot frames (the first run's flat rows extended by the others), sector frames, end
-        // caps, in one reservation past the first run.
+        // caps, vertex points, in one reservation past the first run.
         let mut runs = frames.into_iter();
         let mut rows = runs.next().unwrap_or_else(SparseRows::new);
         let runs: Vec<SparseRows> = runs.collect();
@@ -300,6 +383,10 @@ impl AdaptiveDrawTables {
             }
             rows.push_empty(END_CAP_ROWS - c.len());
         }
+        let vertex_first_row = rows.len() as u32;
+        for r in vertex_rows.iter().flatten() {
+            rows.push(r, 0);
+        }
         let at = patch_index(refinement, census);
         let mut out = AdaptiveDrawTables {
             slots,
@@ -307,6 +394,8 @@ impl AdaptiveDrawTables {
             sector_corners: sectors.corners.clone(),
             rows,
             end_cap_first_row,
+            vertex_first_row,
+            refined_points: refinement.vertex_count() as u32,
             records: Vec::with_capacity(census.patches.len()),
             regular: Vec::new(),
             transition: Vec::new(),
@@ -574,9 +663,32 @@ impl AdaptiveDrawTables {
         words_bytes(self.rows.offsets.iter().map(|&o| [o]))
     }
 
-    /// Row term ids (u32).
+    /// Row term ids (u32): refined points as they are, vertex point `k` as
+    /// [`DERIVED_ID`]` | k`.
     pub fn row_id_bytes(&self) -> Vec<u8> {
-        words_bytes(self.rows.ids.iter().map(|&v| [v]))
+        let n = self.refined_points;
+        words_bytes(
+            self.rows
+                .ids
+                .iter()
+                .map(|&v| [if v < n { v } else { DERIVED_ID | (v - n) }]),
+        )
+    }
+
+    /// Number of vertex points (first-stage rows, [`Self::vertex_first_row`] on).
+    pub fn vertex_point_count(&self) -> usize {
+        self.rows.len() - self.vertex_first_row as usize
+    }
+
+    /// The refined points followed by the vertex points (f64 weights): the positions every row
+    /// of [`Self::rows`] applies to, from the refined ones
+    /// ([`AdaptiveRefinement::refine_positions`]).
+    pub fn with_vertex_points(&self, refined: &[DVec3]) -> Vec<DVec3> {
+        let first = self.vertex_first_row as usize;
+        let mut out = Vec::with_capacity(refined.len() + self.vertex_point_count());
+        out.extend_from_slice(refined);
+        out.extend((first..self.rows.len()).map(|r| self.rows.apply(r, refined)));
+        out
     }
 
     /// Row term weights (f32).

@@ -4,7 +4,7 @@
 use super::eval::{CornerRef, GregoryQuad, GregoryTriangle};
 use super::point::{GregoryPoint, Weights};
 use super::tangents::GregoryTangents;
-use super::vertex::{sectors, GregoryVertex, Sector, VertexRing};
+use super::vertex::{is_interior_ring, sectors, GregoryVertex, InteriorBasis, Sector, VertexRing};
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::patch::regular::RegularPatch;
 use crate::topology::Topology;
@@ -357,15 +357,45 @@ pub fn gregory_vertex_for<P: GregoryPoint>(
     tangents: GregoryTangents,
     coverage: Coverage,
 ) -> Option<GregoryVertex<P>> {
-    let faces = topo.vertex_faces(v);
-    if faces.is_empty()
-        || faces
-            .iter()
-            .all(|&f| check_vertex_for(topo, v, f, coverage).is_err())
-    {
+    if !vertex_covered(topo, v, coverage) {
         return None;
     }
     GregoryVertex::new(&vertex_ring_with(topo, v, point), tangents)
+}
+
+/// Whether some face of `v` passes [`check_vertex_for`]: the test before per-vertex data.
+fn vertex_covered(topo: &Topology, v: u32, coverage: Coverage) -> bool {
+    let faces = topo.vertex_faces(v);
+    !faces.is_empty()
+        && faces
+            .iter()
+            .any(|&f| check_vertex_for(topo, v, f, coverage).is_ok())
+}
+
+/// [`gregory_vertex_for`] with a smooth vertex's per-vertex sums given by `basis(v)`
+/// ([`GregoryVertex::interior_from_basis`]; other rings as [`gregory_vertex_for`]): in weight
+/// space with `basis` the units of derived points, the two-stage form whose patch rows hold
+/// `O(1)` terms per corner.
+pub fn gregory_vertex_two_stage<P: GregoryPoint>(
+    topo: &Topology,
+    v: u32,
+    point: &impl Fn(u32) -> P,
+    tangents: GregoryTangents,
+    coverage: Coverage,
+    basis: &impl Fn(u32) -> InteriorBasis<P>,
+) -> Option<GregoryVertex<P>> {
+    if !vertex_covered(topo, v, coverage) {
+        return None;
+    }
+    let ring = vertex_ring_with(topo, v, point);
+    if is_interior_ring(&ring) {
+        return Some(GregoryVertex::interior_from_basis(
+            &ring,
+            tangents,
+            basis(v),
+        ));
+    }
+    GregoryVertex::new(&ring, tangents)
 }
 
 /// Per-vertex Gregory data for every vertex (`None` where the construction does not apply).

@@ -45,14 +45,14 @@ pub use build::{
     check_face, check_face_for, check_face_level0, check_vertex, check_vertex_for, gregory_faces,
     gregory_patch, gregory_patch_at, gregory_patch_at_for, gregory_patch_at_with,
     gregory_patch_for, gregory_patch_weights, gregory_patch_weights_with, gregory_vertex,
-    gregory_vertex_for, gregory_vertex_with, gregory_vertices, gregory_vertices_with,
-    is_supported_vertex, one_face_crease_sector, vertex_ring, vertex_ring_with, Coverage,
-    GregoryPatch, NotGregory,
+    gregory_vertex_for, gregory_vertex_two_stage, gregory_vertex_with, gregory_vertices,
+    gregory_vertices_with, is_supported_vertex, one_face_crease_sector, vertex_ring,
+    vertex_ring_with, Coverage, GregoryPatch, NotGregory,
 };
 pub use eval::{CornerRef, GregoryQuad, GregoryTriangle, PatchPoint};
 pub use point::{combine, GregoryPoint, Weights};
 pub use tangents::GregoryTangents;
 pub use vertex::{
-    crease_tangent_weights, face_point, face_point_cos, sectors, subdominant_eigenvalue,
-    GregoryVertex, Sector, VertexKind, VertexRing,
+    crease_tangent_weights, face_point, face_point_cos, is_interior_ring, sectors,
+    subdominant_eigenvalue, GregoryVertex, InteriorBasis, Sector, VertexKind, VertexRing,
 };

@@ -12,6 +12,9 @@
 //! every corner, each corner's edges with their other end, sharpness bits and face counts, and
 //! whether each edge neighbour gets a patch), so two faces with equal keys produce equal rows
 //! slot by slot. A face whose rows leave its ring, or that gets no patch, is built directly.
+//! The rows are two-stage ([`sparse_face_rows_direct`]): a smooth corner's vertex points
+//! (`vertex_count + 3 v + b`) take the slots `ring_len + 3 slot(v) + b`; whether a corner is
+//! smooth is part of its topology, hence of the key.
 
 use std::collections::HashMap;
 
@@ -22,7 +25,9 @@ use super::build::{
 };
 use super::point::{GregoryPoint, Weights};
 use super::stencil::ring_walk;
-use super::stencil_table::sparse_face_rows_direct;
+use super::stencil_table::{
+    sparse_face_rows_direct, vertex_point_id, vertex_point_of, VERTEX_POINTS,
+};
 use super::tangents::GregoryTangents;
 use crate::topology::Topology;
 
@@ -36,7 +41,7 @@ type LocalRows = Vec<Vec<(u32, f64)>>;
 
 /// One face's rows in two allocations rather than one per row: row `r` is
 /// `terms[offsets[r]..offsets[r + 1]]`, `(id, weight)` ids ascending, as a [`Weights`] holds
-/// them.
+/// them (vertices, then vertex points: [`super::stencil_table::vertex_point_id`]).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct FaceRows {
     /// `rows + 1` term offsets.
@@ -215,22 +220,29 @@ fn ring_slots(topo: &Topology, f: u32, slot: &mut [u32]) -> Vec<u32> {
     out
 }
 
-/// `rows` over slots, or `None` when a weight lies outside the ring.
-fn to_slots(rows: &[Weights], slot: &[u32]) -> Option<LocalRows> {
+/// `rows` over slots, or `None` when a weight lies outside the ring: vertex `v` at its slot,
+/// derived point `b` of `v` ([`vertex_point_id`]) at `ring_len + 3 slot(v) + b`.
+fn to_slots(topo: &Topology, rows: &[Weights], slot: &[u32], ring_len: usize) -> Option<LocalRows> {
+    let slot_of = |id: u32| match vertex_point_of(topo, id) {
+        None => Some(slot[id as usize]).filter(|&s| s != NONE),
+        Some((v, b)) => match slot[v as usize] {
+            NONE => None,
+            s => Some(ring_len as u32 + VERTEX_POINTS * s + b),
+        },
+    };
     rows.iter()
-        .map(|w| {
-            w.0.iter()
-                .map(|&(v, x)| match slot[v as usize] {
-                    NONE => None,
-                    s => Some((s, x)),
-                })
-                .collect()
-        })
+        .map(|w| w.0.iter().map(|&(v, x)| Some((slot_of(v)?, x))).collect())
         .collect()
 }
 
-/// `rows` with slots replaced by the ids of `ring`, ascending ids.
-fn from_slots(rows: &LocalRows, ring: &[u32]) -> FaceRows {
+/// `rows` with slots replaced by the ids of `ring` (and its vertices' derived points),
+/// ascending ids.
+fn from_slots(topo: &Topology, rows: &LocalRows, ring: &[u32]) -> FaceRows {
+    let l = ring.len() as u32;
+    let id = |s: u32| match s.checked_sub(l) {
+        None => ring[s as usize],
+        Some(d) => vertex_point_id(topo, ring[(d / VERTEX_POINTS) as usize], d % VERTEX_POINTS),
+    };
     let mut out = FaceRows {
         offsets: Vec::with_capacity(rows.len() + 1),
         terms: Vec::with_capacity(rows.iter().map(Vec::len).sum()),
@@ -238,8 +250,7 @@ fn from_slots(rows: &LocalRows, ring: &[u32]) -> FaceRows {
     out.offsets.push(0);
     for r in rows {
         let start = out.terms.len();
-        out.terms
-            .extend(r.iter().map(|&(s, x)| (ring[s as usize], x)));
+        out.terms.extend(r.iter().map(|&(s, x)| (id(s), x)));
         out.terms[start..].sort_unstable_by_key(|&(v, _)| v);
         out.offsets.push(out.terms.len() as u32);
     }
@@ -341,7 +352,7 @@ pub fn sparse_face_rows_flat(
             }
             let ring = ring_slots(topo, faces[i], &mut keyer.slot);
             let local = match &rows[i] {
-                Some(Ok(r)) => to_slots(r, &keyer.slot),
+                Some(Ok(r)) => to_slots(topo, r, &keyer.slot, ring.len()),
                 _ => None,
             };
             clear(&mut keyer.slot, &ring);
@@ -372,6 +383,7 @@ pub fn sparse_face_rows_flat(
                     let t = type_of[i].expect("faces without type are built in the first batch");
                     let local = local[t as usize].as_ref();
                     Ok(from_slots(
+                        topo,
                         local.expect("types without rows are built in the second batch"),
                         &ring,
                     ))

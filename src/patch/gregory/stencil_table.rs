@@ -12,11 +12,14 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use super::build::{gregory_patch_for, gregory_vertex_for, Coverage, GregoryPatch, NotGregory};
+use super::build::{
+    gregory_patch_for, gregory_vertex_for, gregory_vertex_two_stage, vertex_ring_with, Coverage,
+    GregoryPatch, NotGregory,
+};
 use super::point::{GregoryPoint, Weights};
 use super::stencil::{dense_rows, stencil_ring, NoStencil, MAX_RING, ROWS_PER_CORNER};
 use super::tangents::GregoryTangents;
-use super::vertex::GregoryVertex;
+use super::vertex::{GregoryVertex, InteriorBasis};
 use crate::topology::Topology;
 
 /// Control points of a quad Gregory patch.
@@ -159,12 +162,24 @@ fn table_rows<P: GregoryPoint, B: Borrow<GregoryPatch<P>>>(
 /// Per-vertex data in weight space of every corner of `faces` and of their edge neighbours
 /// (what [`table_rows`] assembles their patches from), computed once per vertex: a
 /// high-valence vertex is shared by many faces and its data costs `O(valence^3)` here.
+///
+/// `two_stage`: smooth vertices get their sums as derived points ([`vertex_point_id`]), so
+/// the rows built over them hold `O(1)` terms per corner instead of `O(valence)`.
 fn corner_data(
     topo: &Topology,
     faces: impl Iterator<Item = u32>,
     tangents: GregoryTangents,
     coverage: Coverage,
+    two_stage: bool,
 ) -> Vec<Option<GregoryVertex<Weights>>> {
+    let basis = |v: u32| {
+        let unit = |b: u32| Weights::unit(vertex_point_id(topo, v, b));
+        InteriorBasis {
+            p: unit(0),
+            qc: unit(1),
+            qs: unit(2),
+        }
+    };
     let mut data: Vec<Option<GregoryVertex<Weights>>> =
         (0..topo.vertex_count()).map(|_| None).collect();
     let mut done = vec![false; topo.vertex_count()];
@@ -173,8 +188,18 @@ fn corner_data(
             for &g in topo.edge_faces(e) {
                 for &v in topo.face_vertices(g) {
                     if !std::mem::replace(&mut done[v as usize], true) {
-                        data[v as usize] =
-                            gregory_vertex_for(topo, v, &Weights::unit, tangents, coverage);
+                        data[v as usize] = if two_stage {
+                            gregory_vertex_two_stage(
+                                topo,
+                                v,
+                                &Weights::unit,
+                                tangents,
+                                coverage,
+                                &basis,
+                            )
+                        } else {
+                            gregory_vertex_for(topo, v, &Weights::unit, tangents, coverage)
+                        };
                     }
                 }
             }
@@ -187,7 +212,10 @@ fn corner_data(
 /// points, then the neighbours' edge and face points) as sparse weight vectors over `topo`'s
 /// vertices, ascending ids, f64: the weights [`GregoryStencilTable::build`] rounds to f32, without
 /// its ring-size limit (sparse rows have no fixed patch size). Built for adaptive end caps
-/// ([`Coverage::EndCap`]). Face by face, the reference of
+/// ([`Coverage::EndCap`]) in two stages: a smooth corner's limit point and edge points are
+/// combinations of its derived points (ids from [`vertex_point_id`], rows
+/// [`vertex_point_rows`]), so each row holds `O(1)` terms per corner and the rows of all faces
+/// around a vertex of valence `n` `O(n)` together, not `O(n²)`. Face by face, the reference of
 /// [`super::shared_rows::sparse_face_rows`], which shares the work between faces of one
 /// connectivity type and gives the same bits.
 pub fn sparse_face_rows_direct(
@@ -195,11 +223,36 @@ pub fn sparse_face_rows_direct(
     faces: &[u32],
     tangents: GregoryTangents,
 ) -> Vec<Result<Vec<Weights>, NotGregory>> {
-    let patches = face_patches(topo, faces, tangents, Coverage::EndCap);
+    let patches = face_patches(topo, faces, tangents, Coverage::EndCap, true);
     faces
         .iter()
         .map(|&f| table_rows(topo, f, |g| patches[&g].as_ref().map_err(|e| *e)))
         .collect()
+}
+
+/// Derived points per smooth vertex in the two-stage rows: limit position, cosine and sine
+/// sums ([`InteriorBasis`]).
+pub const VERTEX_POINTS: u32 = 3;
+
+/// The id of derived point `b` (0: `p`, 1: `q_c`, 2: `q_s`) of vertex `v` in the rows of
+/// [`sparse_face_rows_direct`]: past every vertex of `topo` (`vertex_count + 3 v + b`), so it
+/// sorts after the vertices and with `v`.
+pub fn vertex_point_id(topo: &Topology, v: u32, b: u32) -> u32 {
+    topo.vertex_count() as u32 + VERTEX_POINTS * v + b
+}
+
+/// The vertex and derived point of `id`, `None` for a vertex id ([`vertex_point_id`]).
+pub fn vertex_point_of(topo: &Topology, id: u32) -> Option<(u32, u32)> {
+    let d = id.checked_sub(topo.vertex_count() as u32)?;
+    Some((d / VERTEX_POINTS, d % VERTEX_POINTS))
+}
+
+/// The first-stage rows of smooth vertex `v` over `topo`'s vertices: its [`InteriorBasis`]
+/// (`p`, `q_c`, `q_s`) in weight space, the construction of [`GregoryVertex::interior`].
+pub fn vertex_point_rows(topo: &Topology, v: u32, tangents: GregoryTangents) -> [Weights; 3] {
+    let ring = vertex_ring_with(topo, v, &Weights::unit);
+    let InteriorBasis { p, qc, qs } = InteriorBasis::new(&ring, tangents);
+    [p, qc, qs]
 }
 
 /// The Gregory patch in weight space of every face of `faces` and of their edge neighbours
@@ -210,8 +263,9 @@ fn face_patches(
     faces: &[u32],
     tangents: GregoryTangents,
     coverage: Coverage,
+    two_stage: bool,
 ) -> HashMap<u32, Result<GregoryPatch<Weights>, NotGregory>> {
-    let vertices = corner_data(topo, faces.iter().copied(), tangents, coverage);
+    let vertices = corner_data(topo, faces.iter().copied(), tangents, coverage, two_stage);
     let mut patches = HashMap::new();
     for &f in faces {
         for g in std::iter::once(f).chain(
@@ -258,7 +312,7 @@ impl GregoryStencilTable {
             }
         }
         let faces: Vec<u32> = accepted.iter().map(|(f, _)| *f).collect();
-        let patches = face_patches(topo, &faces, tangents, Coverage::Exact);
+        let patches = face_patches(topo, &faces, tangents, Coverage::Exact, false);
         let mut types = HashMap::new();
         for (f, ring) in accepted {
             match table_rows(topo, f, |g| patches[&g].as_ref().map_err(|e| *e)) {

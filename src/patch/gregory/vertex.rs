@@ -159,6 +159,64 @@ pub fn crease_tangent_weights(k: usize) -> (f64, Vec<f64>, Vec<f64>) {
     (wv, wm, wc)
 }
 
+/// The per-vertex sums of a smooth vertex's edge points (§3.2-3.3): the limit position `p` and
+/// the two Fourier sums of the ring
+/// `q_c = κ Σ_i (a cos(2πi/n) m_i + b cos((2πi+π)/n) c_i)`,
+/// `q_s = κ Σ_i (a sin(2πi/n) m_i + b sin((2πi+π)/n) c_i)`, with `a = 1 - σ cos(π/n)`,
+/// `b = 2σ`, `σ = (4 + cos²(π/n))^(-1/2)`, `κ = 2/3 s(n) λ 2/n` (`s(n)` the tangent factor of
+/// [`GregoryTangents::ring_factors`]: 1 for the paper's construction). Since
+/// `cos(2π(i-j)/n) = cos(2πi/n) cos(2πj/n) + sin(2πi/n) sin(2πj/n)`, the paper's edge point
+/// `e_j = p + 2/3 s(n) λ q_j` with
+/// `q_j = 2/n Σ_i (a cos(2π(i-j)/n) m_i + b cos((2π(i-j)+π)/n) c_i)` is
+/// `p + cos(2πj/n) q_c + sin(2πj/n) q_s` (the per-vertex stage of §4.1).
+#[derive(Debug, Clone)]
+pub struct InteriorBasis<P = DVec3> {
+    /// Limit position `p = (n-3)/(n+5) v + 4/(n(n+5)) Σ (m_i + c_i)` (§3.2, the stencil
+    /// generalised to mixed quad/triangle rings).
+    pub p: P,
+    /// The cosine sum `q_c`.
+    pub qc: P,
+    /// The sine sum `q_s`.
+    pub qs: P,
+}
+
+impl<P: GregoryPoint> InteriorBasis<P> {
+    /// The sums of a ring whose faces close around the vertex.
+    pub fn new(ring: &VertexRing<P>, tangents: GregoryTangents) -> InteriorBasis<P> {
+        let n = ring.m.len();
+        debug_assert_eq!(ring.c.len(), n);
+        let nf = n as f64;
+        let mut p = combine(&[((nf - 3.0) / (nf + 5.0), &ring.v)]);
+        let w = 4.0 / (nf * (nf + 5.0));
+        for i in 0..n {
+            p.add_scaled(w, &ring.m[i]);
+            p.add_scaled(w, &ring.c[i]);
+        }
+        let cos_pi_n = (PI / nf).cos();
+        let sigma = 1.0 / (4.0 + cos_pi_n * cos_pi_n).sqrt();
+        let factors = tangents.ring_factors(&ring.face_sizes);
+        let scale = (2.0 / 3.0) * (factors.tangent * subdominant_eigenvalue(n)) * 2.0 / nf;
+        let (a, b) = (scale * (1.0 - sigma * cos_pi_n), scale * 2.0 * sigma);
+        let (mut qc, mut qs) = (P::zero(), P::zero());
+        for i in 0..n {
+            let t = 2.0 * PI * i as f64 / nf;
+            let (sm, cm) = t.sin_cos();
+            let (sc, cc) = (t + PI / nf).sin_cos();
+            qc.add_scaled(a * cm, &ring.m[i]);
+            qc.add_scaled(b * cc, &ring.c[i]);
+            qs.add_scaled(a * sm, &ring.m[i]);
+            qs.add_scaled(b * sc, &ring.c[i]);
+        }
+        InteriorBasis { p, qc, qs }
+    }
+}
+
+/// Whether [`GregoryVertex::new`] takes [`GregoryVertex::interior`] on `ring`: no sharp edge,
+/// no corner tag, and the faces close around the vertex.
+pub fn is_interior_ring<P>(ring: &VertexRing<P>) -> bool {
+    !ring.corner && !ring.sharp.contains(&true) && ring.c.len() == ring.m.len()
+}
+
 impl<P: GregoryPoint> GregoryVertex<P> {
     /// The construction for any supported ring: [`Self::interior`] when no edge is sharp,
     /// [`Self::dart`] at one sharp edge, [`Self::cone`] at a corner tag with fewer than two
@@ -173,46 +231,38 @@ impl<P: GregoryPoint> GregoryVertex<P> {
             Self::cone(ring)
         } else if sharp > 0 || ring.corner {
             Self::sectored(ring, tangents)
-        } else if ring.c.len() == ring.m.len() {
+        } else if is_interior_ring(ring) {
             Some(Self::interior(ring, tangents))
         } else {
             None
         }
     }
 
-    /// The construction for a vertex whose faces close around it (no boundary, no crease).
-    ///
-    /// Limit position `p = (n-3)/(n+5) v + 4/(n(n+5)) Σ (m_i + c_i)` (§3.2, the stencil
-    /// generalised to mixed quad/triangle rings); limit tangent along edge `j`
-    /// `q_j = 2/n Σ_i ((1 - σ cos(π/n)) cos(2π(i-j)/n) m_i + 2σ cos((2π(i-j)+π)/n) c_i)` with
-    /// `σ = (4 + cos²(π/n))^(-1/2)` and edge point `e_j = p + 2/3 s(n) λ q_j` (§3.3; `s(n)` is
-    /// [`GregoryTangents::scale`]: 1 for the paper's construction);
-    /// `r_j = 1/3 (m_{j+1} - m_{j-1}) + 2/3 (c_j - c_{j-1})` (§3.4).
+    /// The construction for a vertex whose faces close around it (no boundary, no crease):
+    /// [`Self::interior_from_basis`] of [`InteriorBasis::new`].
     pub fn interior(ring: &VertexRing<P>, tangents: GregoryTangents) -> GregoryVertex<P> {
+        Self::interior_from_basis(ring, tangents, InteriorBasis::new(ring, tangents))
+    }
+
+    /// [`Self::interior`] with its per-vertex sums given: every edge point is
+    /// `e_j = p + cos(2πj/n) q_c + sin(2πj/n) q_s` ([`InteriorBasis`]), a fixed combination of
+    /// the three; `r_j = 1/3 (m_{j+1} - m_{j-1}) + 2/3 (c_j - c_{j-1})` (§3.4). With `basis`
+    /// the unit weights of three derived points, the rows of every patch at the vertex hold
+    /// `O(1)` terms instead of `O(n)` (the two-stage form of the adaptive end caps).
+    pub fn interior_from_basis(
+        ring: &VertexRing<P>,
+        tangents: GregoryTangents,
+        basis: InteriorBasis<P>,
+    ) -> GregoryVertex<P> {
         let n = ring.m.len();
         debug_assert_eq!(ring.c.len(), n);
         let nf = n as f64;
-        let mut p = combine(&[((nf - 3.0) / (nf + 5.0), &ring.v)]);
-        let w = 4.0 / (nf * (nf + 5.0));
-        for i in 0..n {
-            p.add_scaled(w, &ring.m[i]);
-            p.add_scaled(w, &ring.c[i]);
-        }
-        let cos_pi_n = (PI / nf).cos();
-        let sigma = 1.0 / (4.0 + cos_pi_n * cos_pi_n).sqrt();
         let factors = tangents.ring_factors(&ring.face_sizes);
-        let scale = (2.0 / 3.0) * (factors.tangent * subdominant_eigenvalue(n)) * 2.0 / nf;
+        let InteriorBasis { p, qc, qs } = basis;
         let e = (0..n)
             .map(|j| {
-                let mut e = p.clone();
-                for i in 0..n {
-                    let k = ((i + n - j) % n) as f64;
-                    let wm = (1.0 - sigma * cos_pi_n) * (2.0 * PI * k / nf).cos();
-                    let wc = 2.0 * sigma * ((2.0 * PI * k + PI) / nf).cos();
-                    e.add_scaled(scale * wm, &ring.m[i]);
-                    e.add_scaled(scale * wc, &ring.c[i]);
-                }
-                e
+                let (sn, cs) = (2.0 * PI * j as f64 / nf).sin_cos();
+                combine(&[(1.0, &p), (cs, &qc), (sn, &qs)])
             })
             .collect();
         let mut r: Vec<P> = (0..n).map(|j| inner_r(ring, j, n)).collect();
@@ -662,10 +712,12 @@ mod tests {
     }
 
     #[test]
-    fn paper_tangents_keep_the_papers_bits() {
-        // The edge points as the construction computed them before the tangent factor
-        // existed (the same sums in the same order), against `Paper`: bit for bit.
-        for n in 3..=12 {
+    fn interior_edge_points_are_the_papers_sums() {
+        // The edge points as §3.3 writes them (one sum over the ring per edge, as the
+        // construction computed them before the per-vertex sums `InteriorBasis`), against
+        // `Paper`: equal to rounding (1e-14 of the ring's size; a wrong sign or phase in a
+        // Fourier sum moves them by O(1)).
+        for n in (3..=12).chain([50, 333]) {
             let r = ring(n);
             let g = GregoryVertex::interior(&r, GregoryTangents::Paper);
             let nf = n as f64;
@@ -681,7 +733,8 @@ mod tests {
                     e += scale * wm * r.m[i];
                     e += scale * wc * r.c[i];
                 }
-                assert_eq!(g.e[j], e, "valence {n} edge {j}");
+                let err = g.e[j].distance(e) / r.m.iter().map(|m| m.length()).fold(1.0, f64::max);
+                assert!(err <= 1e-14, "valence {n} edge {j}: {err:e}");
             }
         }
     }

@@ -3,7 +3,8 @@
 //! slot: position, and the normal where the vertex has one sector) and the control points of the
 //! end caps, both as sparse stencil rows over the refined buffer
 //! ([`crate::patch::adaptive::rows::SparseRows`]; `glsl/adaptive/limit_frames.comp`,
-//! `endcap_points.comp`). The frames replace the shared per-vertex frames (set-0 bindings 2 and
+//! `endcap_points.comp`), after a first stage that computes the vertex points (per smooth
+//! end-cap corner its limit point and two tangent sums) the other rows read. The frames replace the shared per-vertex frames (set-0 bindings 2 and
 //! 9) for the adaptive draws, so patches of every level meeting at a point read the same bits.
 
 use ash::vk;
@@ -30,13 +31,17 @@ pub struct DerivedPoints {
     limits: Buffer,
     normals: Buffer,
     end_cap_points: Buffer,
+    vertex_points: Buffer,
     frames: u32,
     end_cap_first_row: u32,
     end_cap_rows: u32,
+    vertex_first_row: u32,
+    vertex_rows: u32,
     frames_kernel: Pipeline,
     points_kernel: Pipeline,
     _pool: DescriptorPool,
-    sets: [vk::DescriptorSet; 2],
+    /// Frames, end-cap points, vertex points.
+    sets: [vk::DescriptorSet; 3],
 }
 
 /// Labels of the four row tables (offsets, ids, weights, slot flags).
@@ -76,6 +81,7 @@ impl DerivedPoints {
         let frames = d.frame_count() as u32;
         let end_cap_first_row = d.end_cap_first_row;
         let end_cap_rows = d.end_caps.len() as u32 * END_CAP_ROWS;
+        let (vertex_first_row, vertex_rows) = (d.vertex_first_row, d.vertex_point_count() as u32);
         let [offsets, ids, weights, flags] = Self::row_bytes(d);
         let row_lens = [offsets.len(), ids.len(), weights.len(), flags.len()];
         let row_buffers = [
@@ -87,17 +93,21 @@ impl DerivedPoints {
         let limits = vec4_storage(ctx, frames, "adaptive vertex limits")?;
         let normals = vec4_storage(ctx, frames, "adaptive vertex normals")?;
         let end_cap_points = vec4_storage(ctx, end_cap_rows, "adaptive end-cap points")?;
-        let frames_kernel = range_kernel(ctx, "limit_frames.comp", 7)?;
-        let points_kernel = range_kernel(ctx, "endcap_points.comp", 7)?;
-        let pool = DescriptorPool::new(ctx, 2, 14, 0)?;
+        let vertex_points = vec4_storage(ctx, vertex_rows, "adaptive vertex points")?;
+        let frames_kernel = range_kernel(ctx, "limit_frames.comp", 8)?;
+        let points_kernel = range_kernel(ctx, "endcap_points.comp", 8)?;
+        let pool = DescriptorPool::new(ctx, 3, 24, 0)?;
         let sets = [
             pool.allocate(frames_kernel.set_layouts[0])?,
             pool.allocate(points_kernel.set_layouts[0])?,
+            pool.allocate(points_kernel.set_layouts[0])?,
         ];
-        for (set, (a, b)) in sets
-            .iter()
-            .zip([(&limits, &normals), (&end_cap_points, &normals)])
-        {
+        // The first stage writes the vertex points (binding 4) and reads none (binding 7).
+        for (set, (a, b)) in sets.iter().zip([
+            (&limits, &normals),
+            (&end_cap_points, &normals),
+            (&vertex_points, &normals),
+        ]) {
             let sb = |binding, buffer| BufferBinding {
                 binding,
                 kind: DescriptorKind::StorageBuffer,
@@ -113,6 +123,7 @@ impl DerivedPoints {
                     sb(4, a),
                     sb(5, b),
                     sb(6, &row_buffers[3]),
+                    sb(7, &vertex_points),
                 ],
             );
         }
@@ -122,9 +133,12 @@ impl DerivedPoints {
             limits,
             normals,
             end_cap_points,
+            vertex_points,
             frames,
             end_cap_first_row,
             end_cap_rows,
+            vertex_first_row,
+            vertex_rows,
             frames_kernel,
             points_kernel,
             _pool: pool,
@@ -177,25 +191,32 @@ impl DerivedPoints {
             + self.limits.size()
             + self.normals.size()
             + self.end_cap_points.size()
+            + self.vertex_points.size()
     }
 
-    /// Records both kernels after the refinement (its points written by compute), ending with a
-    /// barrier to the tessellation stages.
+    /// Records the kernels after the refinement (its points written by compute): the vertex
+    /// points, then the frames and end-cap points that read them, ending with a barrier to the
+    /// tessellation stages.
     pub fn record(&self, dev: &ash::Device, cmd: vk::CommandBuffer) {
         use vk::{AccessFlags as A, PipelineStageFlags as S};
         let written = (S::COMPUTE_SHADER, A::SHADER_WRITE);
         memory_barrier(dev, cmd, written, (S::COMPUTE_SHADER, A::SHADER_READ));
-        for (k, (pipeline, first, count)) in [
-            (&self.frames_kernel, 0, self.frames),
+        let stages = [
             (
+                2,
+                &self.points_kernel,
+                self.vertex_first_row,
+                self.vertex_rows,
+            ),
+            (0, &self.frames_kernel, 0, self.frames),
+            (
+                1,
                 &self.points_kernel,
                 self.end_cap_first_row,
                 self.end_cap_rows,
             ),
-        ]
-        .into_iter()
-        .enumerate()
-        {
+        ];
+        for (k, pipeline, first, count) in stages {
             if count == 0 {
                 continue;
             }
@@ -211,6 +232,10 @@ impl DerivedPoints {
                 );
             }
             dispatch_range(dev, cmd, pipeline, first, count);
+            if k == 2 {
+                // The frames and end-cap points read the vertex points.
+                memory_barrier(dev, cmd, written, (S::COMPUTE_SHADER, A::SHADER_READ));
+            }
         }
         let tess = S::TESSELLATION_CONTROL_SHADER | S::TESSELLATION_EVALUATION_SHADER;
         memory_barrier(
