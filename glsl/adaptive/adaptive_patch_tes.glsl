@@ -1,4 +1,5 @@
-// The TES body of a whole patch of the adaptive scheme with a quad domain: the patch type's
+// The TES body of a whole patch of the adaptive scheme with a quad domain (or of one of its
+// split x split sub-patches, frame.glsl's sub_domain): the patch type's
 // surface, the shared corners (slot frames; sector frames for the normal where sharp edges split
 // the point), its own edge rule, except that an edge lying on a
 // one-level-coarser patch is evaluated from that patch's coarse-edge record (fine_edge_point), and
@@ -15,10 +16,15 @@
 layout(quads, SPACING, cw) in;
 
 void main() {
-    float u = gl_TessCoord.x;
-    float v = gl_TessCoord.y;
+    // A sub-patch of a split patch covers part of the domain (frame.glsl's sub_domain; the
+    // whole domain when the draw does not split); its edge points snap to the whole patch's
+    // lattice, where its neighbours place theirs.
+    vec3 sd = sub_domain();
+    float u = sd.x + gl_TessCoord.x * sd.z;
+    float v = sd.y + gl_TessCoord.y * sd.z;
     PatchInfo info = patches[chunk.patch_base + uint(gl_PrimitiveID)];
     AdaptivePatch ap = apatches[info.pad0];
+    edge_lattice_override = split_lattice(ap.level, chunk.split);
     vec3 p;
     vec3 nrm;
     vec3 du, dv;

@@ -24,6 +24,10 @@ void main() {
     AdaptivePatch ap = apatches[info.pad0];
     int e = int(tt.edge);
     uint h = tt.half_edge;
+    // The outer segment's points on the lattice of the patches that own it: this patch's level
+    // for a whole edge, the finer one for a half (split_lattice; 0 where they are drawn whole).
+    uint owner = ap.level + (h == 0u ? 0u : 1u);
+    edge_lattice_override = split_lattice(owner, fan_level_split(owner));
     ivec2 se = bspline_edge_corners(e);
     vec2 start = corner_uv(se.x);
     vec2 end = corner_uv(se.y);
