@@ -367,12 +367,14 @@ fn watertight_across_levels_and_types() {
 /// Above the largest patch level (16 by default) a level-k patch, whose own level is the
 /// uniform level / 2^k, is drawn as `split / 2^k` sub-patches per side (B-spline, single-crease
 /// and end-cap quads; transition fans stay whole with the split lattice on their edges). At
-/// uniform 32 and 64 the seams stay bitwise watertight (every type and level: whole level-0
+/// uniform 32, 48 and 64 the seams stay bitwise watertight (every type and level: whole level-0
 /// B-spline, boundary and single-crease patches split 2x2 and 4x4, level-0 transition fans
 /// beside them and along their halves, level-1 patches and end caps split 2x2 at 64), and the
-/// split draws the surface the unsplit draw does: the same (face, u, v) lattice points, at
-/// positions within 1e-6 of the diagonal (interior points evaluate the same patch at the same
-/// parameters; edge points differ only by the lattice snap).
+/// split draws the same surface: exact patch types within 1e-6 of the diagonal and 1e-4 rad of
+/// `LimitEvaluator` at every captured (u, v), and at 32 and 64 the same (face, u, v) lattice
+/// points as the unsplit draw at positions within 1e-6 of the diagonal (measured: bitwise
+/// equal). Uniform 48 puts the edge points on a lattice the tessellator's coordinates do not hit
+/// exactly (the unsplit draw's are off it by up to 4e-5), where the snap keeps the seams.
 #[test]
 fn split_patches_are_watertight_and_draw_the_same_surface() {
     let Some(ctx) = context() else { return };
@@ -383,23 +385,45 @@ fn split_patches_are_watertight_and_draw_the_same_surface() {
         ("catmark_nonquads", 1),
     ] {
         let m = mesh(name);
-        for level in [32.0, 64.0] {
+        // 48: split 4, sub-patch level 12, so edge points sit on a lattice of 48 (level 0) or 24
+        // (level 1) the tessellator does not place exactly: the snap to it is what keeps the
+        // seams bitwise there.
+        for level in [32.0, 48.0, 64.0] {
             let split = uniform(level);
             assert!(split.split() > 1, "{name}: level {level} must split");
             let (_, records) = draw(&ctx, &m, iso, split);
             let pairs = assert_adaptive_points_equal_by_side(&m, iso, &records);
             assert!(pairs > 0);
-            let whole = TessSettings {
-                max_patch_level: f32::INFINITY,
-                ..split
-            };
-            let (_, reference) = draw(&ctx, &m, iso, whole);
-            let worst = assert_same_lattice_points(&m, &records, &reference, 1e-6);
+            for (&kind, &(d, a, n)) in &errors_by_kind(&m, &records) {
+                eprintln!(
+                    "{name} iso {iso} uniform {level}: {n} points of {}: max {d:.2e} of the \
+                     diagonal, {a:.2e} rad from the limit",
+                    kind_name(kind)
+                );
+                assert!(
+                    kind == END_CAP || (d <= 1e-6 && a <= 1e-4),
+                    "{name} uniform {level}: {} off the limit",
+                    kind_name(kind)
+                );
+            }
+            // The unsplit draw as reference where the tessellator's own coordinates are exact
+            // (power-of-two levels; at 48 they are off the lattice by up to 4e-5).
+            if level != 48.0 {
+                let whole = TessSettings {
+                    max_patch_level: f32::INFINITY,
+                    ..split
+                };
+                let (_, reference) = draw(&ctx, &m, iso, whole);
+                let worst = assert_same_lattice_points(&m, &records, &reference, 1e-6);
+                eprintln!(
+                    "{name} iso {iso} uniform {level}: {} records, worst {worst:.2e} of the \
+                     diagonal from the unsplit draw",
+                    records.len()
+                );
+            }
             eprintln!(
-                "{name} iso {iso} uniform {level} split {}: {pairs} coincident pairs bitwise \
-                 equal; {} records, worst {worst:.2e} of the diagonal from the unsplit draw",
-                split.split(),
-                records.len()
+                "{name} iso {iso} uniform {level} split {}: {pairs} coincident pairs bitwise equal",
+                split.split()
             );
         }
     }

@@ -99,6 +99,13 @@ uint fan_level_split(uint level) {
     return max(1u, chunk.split >> level);
 }
 
+/// `x` on the lattice edge_lattice_override when it is set (the parameter a snapped edge point
+/// is evaluated at, so its captured and displaced (u, v) is that point's too).
+float lattice_x(float x) {
+    float n = edge_lattice_override;
+    return n > 0.0 ? round(x * n) / n : x;
+}
+
 /// Edge parameters as canonical_ts, snapped to the lattice edge_lattice_override when it is set
 /// (as edge_ts does: from the integer lattice index, so both sides of the edge get the same bits).
 void adaptive_ts(float x, bool from_lo, out float t, out float s) {

@@ -25,13 +25,17 @@ void main() {
     PatchInfo info = patches[chunk.patch_base + uint(gl_PrimitiveID)];
     AdaptivePatch ap = apatches[info.pad0];
     edge_lattice_override = split_lattice(ap.level, chunk.split);
+    bool u_edge = (u == 0.0 || u == 1.0);
+    bool v_edge = (v == 0.0 || v == 1.0);
+    if (u_edge || v_edge) {
+        u = lattice_x(u);
+        v = lattice_x(v);
+    }
     vec3 p;
     vec3 nrm;
     vec3 du, dv;
     PATCH_SURFACE(info, u, v, p, nrm, du, dv);
 
-    bool u_edge = (u == 0.0 || u == 1.0);
-    bool v_edge = (v == 0.0 || v == 1.0);
     if (u_edge && v_edge) {
         quad_corner_point(info.corners, info.face, u, v, p, nrm);
         sector_normal(ap.corner_frame[quad_corner_index(u, v)], nrm);

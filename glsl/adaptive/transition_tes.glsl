@@ -56,7 +56,7 @@ void main() {
         uint frame_b = (h == 1u) ? ap.mid_frame[e] : ap.corner_frame[se.y];
         sector_normal(at_a ? frame_a : frame_b, nrm);
     } else if (wc == 0.0) {
-        float x = wb;
+        float x = lattice_x(wb);
         uv = a + x * (b - a);
         PATCH_SURFACE(info, uv.x, uv.y, p, nrm, du, dv);
         if (h == 0u && ap.coarse[e] != NO_ENTRY) {
