@@ -99,35 +99,21 @@ uint fan_level_split(uint level) {
     return max(1u, chunk.split >> level);
 }
 
-/// `x` on the lattice edge_lattice_override when it is set (the parameter a snapped edge point
-/// is evaluated at, so its captured and displaced (u, v) is that point's too).
+/// `x` on the lattice edge_lattice_override when it is set (the parameter edge_ts snaps an edge
+/// point to, so its captured and displaced (u, v) is that point's too).
 float lattice_x(float x) {
     float n = edge_lattice_override;
     return n > 0.0 ? round(x * n) / n : x;
 }
 
-/// Edge parameters as canonical_ts, snapped to the lattice edge_lattice_override when it is set
-/// (as edge_ts does: from the integer lattice index, so both sides of the edge get the same bits).
-void adaptive_ts(float x, bool from_lo, out float t, out float s) {
-    float n = edge_lattice_override;
-    if (n > 0.0) {
-        float k = round(x * n);
-        float k_lo = from_lo ? k : n - k;
-        t = k_lo / n;
-        s = (n - k_lo) / n;
-        return;
-    }
-    canonical_ts(x, from_lo, t, s);
-}
-
 /// Parameters (t, s) on a coarse edge of the point at x on one of its halves: the half's own
-/// canonical parameters (adaptive_ts; x measured from the half's lo end when `x_from_lo`), then
-/// halved onto the coarse edge (`first_half`: the half [lo, mid]). The coarse patch and the
+/// canonical parameters (edge_ts: on the lattice edge_lattice_override where it is set; x
+/// measured from the half's lo end when `x_from_lo`), then halved onto the coarse edge (`first_half`: the half [lo, mid]). The coarse patch and the
 /// finer patch along the half call this with x and 1 - x and get the same bits.
 void coarse_half_ts(bool first_half, bool x_from_lo, float x, out float t, out float s) {
     float th;
     float sh;
-    adaptive_ts(x, x_from_lo, th, sh);
+    edge_ts(x, x_from_lo, th, sh);
     precise float ht = 0.5 * th;
     precise float hs = 0.5 * sh;
     precise float tc = first_half ? ht : 0.5 + ht;
@@ -182,7 +168,7 @@ void fine_edge_point(uint index, uint a, uint b, float x, inout vec3 pos, inout 
     float s;
     if ((ce.flags & 64u) != 0u) {
         // A whole edge shared at one level: the canonical parameters of the other patch's own rule.
-        adaptive_ts(x, a == ce.lo, t, s);
+        edge_ts(x, a == ce.lo, t, s);
     } else {
         bool first_half = (a == ce.lo || b == ce.lo);
         bool x_from_lo = first_half ? (a == ce.lo) : (a == ce.mid);

@@ -7,6 +7,7 @@
 //! stage runs: what the tessellated frame costs beyond this is the price of tessellating on the
 //! GPU every frame.
 
+use super::bench::timed_frames;
 use super::fallback::FallbackMesh;
 use super::offscreen::{OffscreenDesc, OffscreenSession, CPU_PATH_LABEL};
 use super::plan::{cpu_faces, plan_passes};
@@ -60,14 +61,6 @@ impl StaticDraw {
             return Err(Error::Invalid("static draw: at least one frame".into()));
         }
         let mut session = OffscreenSession::new(ctx, &self.surface, render, desc, true)?;
-        session.frame()?;
-        let mut ms = Vec::new();
-        for _ in 0..frames {
-            let r = session
-                .frame()?
-                .ok_or_else(|| Error::Invalid("static draw: no timings returned".into()))?;
-            ms.push(r.ms(CPU_PATH_LABEL));
-        }
-        Ok(super::bench::median(&mut ms))
+        timed_frames(&mut session, frames, CPU_PATH_LABEL)
     }
 }
