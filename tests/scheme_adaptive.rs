@@ -366,6 +366,119 @@ fn watertight_across_levels_and_types() {
     }
 }
 
+/// Above the largest patch level (16 by default) a level-k patch, whose own level is the
+/// uniform level / 2^k, is drawn as `split / 2^k` sub-patches per side (B-spline, single-crease
+/// and end-cap quads; transition fans stay whole with the split lattice on their edges). At
+/// uniform 32, 48 and 64 the seams stay bitwise watertight (every type and level: whole level-0
+/// B-spline, boundary and single-crease patches split 2x2 and 4x4, level-0 transition fans
+/// beside them and along their halves, level-1 patches and end caps split 2x2 at 64), and the
+/// split draws the same surface: exact patch types within 1e-6 of the diagonal and 1e-4 rad of
+/// `LimitEvaluator` at every captured (u, v), and at 32 and 64 the same (face, u, v) lattice
+/// points as the unsplit draw at positions within 1e-6 of the diagonal (measured: bitwise
+/// equal). Uniform 48 puts the edge points on a lattice the tessellator's coordinates do not hit
+/// exactly (the unsplit draw's are off it by up to 4e-5), where the snap keeps the seams.
+#[test]
+fn split_patches_are_watertight_and_draw_the_same_surface() {
+    let Some(ctx) = context() else { return };
+    for (name, iso) in [
+        ("catmark_single_crease", 1),
+        ("catmark_tent", 1),
+        ("catmark_torus_creases1", 1),
+        ("catmark_nonquads", 1),
+    ] {
+        let m = mesh(name);
+        // 48: split 4, sub-patch level 12, so edge points sit on a lattice of 48 (level 0) or 24
+        // (level 1) the tessellator does not place exactly: the snap to it is what keeps the
+        // seams bitwise there.
+        for level in [32.0, 48.0, 64.0] {
+            let split = uniform(level);
+            assert!(split.split() > 1, "{name}: level {level} must split");
+            let (_, records) = draw(&ctx, &m, iso, split);
+            let pairs = assert_adaptive_points_equal_by_side(&m, iso, &records);
+            assert!(pairs > 0);
+            for (&kind, &(d, a, n)) in &errors_by_kind(&m, &records) {
+                eprintln!(
+                    "{name} iso {iso} uniform {level}: {n} points of {}: max {d:.2e} of the \
+                     diagonal, {a:.2e} rad from the limit",
+                    kind_name(kind)
+                );
+                assert!(
+                    kind == END_CAP || (d <= 1e-6 && a <= 1e-4),
+                    "{name} uniform {level}: {} off the limit",
+                    kind_name(kind)
+                );
+            }
+            // The unsplit draw as reference where the tessellator's own coordinates are exact
+            // (power-of-two levels; at 48 they are off the lattice by up to 4e-5).
+            if level != 48.0 {
+                let whole = TessSettings {
+                    max_patch_level: f32::INFINITY,
+                    ..split
+                };
+                let (_, reference) = draw(&ctx, &m, iso, whole);
+                let worst = assert_same_lattice_points(&m, &records, &reference, 1e-6);
+                eprintln!(
+                    "{name} iso {iso} uniform {level}: {} records, worst {worst:.2e} of the \
+                     diagonal from the unsplit draw",
+                    records.len()
+                );
+            }
+            eprintln!(
+                "{name} iso {iso} uniform {level} split {}: {pairs} coincident pairs bitwise equal",
+                split.split()
+            );
+        }
+    }
+}
+
+/// Asserts that `a` and `b` capture the same set of (face, sub-face, u, v) points (parameters
+/// on a 1/4096 lattice) at positions within `tol` of the diagonal of `m`; returns the worst
+/// distance.
+fn assert_same_lattice_points(
+    m: &ControlMesh,
+    a: &[CaptureRecord],
+    b: &[CaptureRecord],
+    tol: f64,
+) -> f64 {
+    type Key = (u32, Option<u32>, i64, i64);
+    let points = |records: &[CaptureRecord]| -> HashMap<Key, DVec3> {
+        records
+            .iter()
+            .map(|r| {
+                let key = (
+                    r.face,
+                    r.sub_face,
+                    (f64::from(r.u) * 4096.0).round() as i64,
+                    (f64::from(r.v) * 4096.0).round() as i64,
+                );
+                (key, DVec3::from(r.position.map(f64::from)))
+            })
+            .collect()
+    };
+    let (pa, pb) = (points(a), points(b));
+    let missing = pb.keys().filter(|k| !pa.contains_key(*k)).count();
+    let extra = pa.keys().filter(|k| !pb.contains_key(*k)).count();
+    assert!(
+        missing == 0 && extra == 0,
+        "{missing} of {} lattice points missing, {extra} extra",
+        pb.len()
+    );
+    let diag = m.bbox_diagonal();
+    let mut worst = 0.0f64;
+    for (k, p) in &pa {
+        let d = (*p - pb[k]).length() / diag;
+        assert!(
+            d <= tol,
+            "face {} ({}, {}): {d:.2e} of the diagonal",
+            k.0,
+            k.2,
+            k.3
+        );
+        worst = worst.max(d);
+    }
+    worst
+}
+
 /// Animation: new control points only (the refinement runs on the GPU every frame) give the same
 /// captured bits as a surface rebuilt at those points.
 #[test]

@@ -81,14 +81,39 @@ layout(std430, set = 0, binding = 11) readonly buffer CoarseEdges {
     CoarseEdge coarse_edges[];
 };
 
+/// The full edge lattice of a level-`level` patch drawn as s x s sub-patches (uniform mode,
+/// s > 1; src/render/schemes/adaptive/pass.rs draws level k with s = split / 2^k, split the
+/// level-0 patches' TessSettings::split): s times the sub-patch level, rounded up as the
+/// equal-spacing tessellator does, so the split patch, an unsplit transition triangle beside it
+/// and the coarse side of its half edges place the same points. 0 when the level is drawn whole.
+float split_lattice(uint level, uint s) {
+    if (s <= 1u || frame.tess.y != TESS_MODE_UNIFORM) {
+        return 0.0;
+    }
+    return ceil(clamp(frame.tess.x / float(s << level), 1.0, frame.tess.w)) * float(s);
+}
+
+/// Sub-patches per side of a level-`level` patch, in a draw whose push constant `split` is that
+/// of the level-0 patches (transition fans, drawn whole): split / 2^level, at least 1.
+uint fan_level_split(uint level) {
+    return max(1u, chunk.split >> level);
+}
+
+/// `x` on the lattice edge_lattice_override when it is set (the parameter edge_ts snaps an edge
+/// point to, so its captured and displaced (u, v) is that point's too).
+float lattice_x(float x) {
+    float n = edge_lattice_override;
+    return n > 0.0 ? round(x * n) / n : x;
+}
+
 /// Parameters (t, s) on a coarse edge of the point at x on one of its halves: the half's own
-/// canonical parameters (canonical_ts; x measured from the half's lo end when `x_from_lo`), then
-/// halved onto the coarse edge (`first_half`: the half [lo, mid]). The coarse patch and the
+/// canonical parameters (edge_ts: on the lattice edge_lattice_override where it is set; x
+/// measured from the half's lo end when `x_from_lo`), then halved onto the coarse edge (`first_half`: the half [lo, mid]). The coarse patch and the
 /// finer patch along the half call this with x and 1 - x and get the same bits.
 void coarse_half_ts(bool first_half, bool x_from_lo, float x, out float t, out float s) {
     float th;
     float sh;
-    canonical_ts(x, x_from_lo, th, sh);
+    edge_ts(x, x_from_lo, th, sh);
     precise float ht = 0.5 * th;
     precise float hs = 0.5 * sh;
     precise float tc = first_half ? ht : 0.5 + ht;
@@ -143,7 +168,7 @@ void fine_edge_point(uint index, uint a, uint b, float x, inout vec3 pos, inout 
     float s;
     if ((ce.flags & 64u) != 0u) {
         // A whole edge shared at one level: the canonical parameters of the other patch's own rule.
-        canonical_ts(x, a == ce.lo, t, s);
+        edge_ts(x, a == ce.lo, t, s);
     } else {
         bool first_half = (a == ce.lo || b == ce.lo);
         bool x_from_lo = first_half ? (a == ce.lo) : (a == ce.mid);

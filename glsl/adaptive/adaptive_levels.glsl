@@ -27,8 +27,21 @@ vec4 patch_edge_levels(uvec4 c, uint level) {
 }
 
 /// Sets the levels of a whole level-`level` quad patch with corner slots c (Vulkan quad domain:
-/// outer[0] is the u=0 edge, [1] v=0, [2] u=1, [3] v=1; inner the larger opposite outer level).
+/// outer[0] is the u=0 edge, [1] v=0, [2] u=1, [3] v=1; inner the larger opposite outer level), or
+/// of one of its sub-patches when the draw splits it (push constant `split` > 1).
 void set_level_quad_tess_levels(uvec4 c, uint level) {
+    if (chunk.split > 1u) {
+        // One of split x split sub-patches (uniform mode): every level the sub-patch level, level
+        // / 2^level / split (split_lattice in adaptive.glsl is split times its ceiling).
+        float l = clamp(frame.tess.x / float(chunk.split << level), 1.0, frame.tess.w);
+        gl_TessLevelOuter[0] = l;
+        gl_TessLevelOuter[1] = l;
+        gl_TessLevelOuter[2] = l;
+        gl_TessLevelOuter[3] = l;
+        gl_TessLevelInner[0] = l;
+        gl_TessLevelInner[1] = l;
+        return;
+    }
     vec4 o = patch_edge_levels(c, level);
     gl_TessLevelOuter[0] = o.w;
     gl_TessLevelOuter[1] = o.x;

@@ -14,6 +14,9 @@
 /// patch.
 bool end_cap_edge(GregoryPatchInfo info, int k, float x, int from_corner, inout vec3 pos,
                   inout vec3 nrm) {
+    // Every edge point passes here first: its lattice for edge_ts and fine_edge_point (the
+    // draw's split is this level's, frame.glsl's sub_domain).
+    edge_lattice_override = split_lattice(apatches[info.pad0].level, chunk.split);
     uint c = apatches[info.pad0].coarse[k];
     if (c == NO_ENTRY) {
         return false;

@@ -14,9 +14,18 @@ void main() {
         AdaptivePatch ap = apatches[info.pad0];
         int e = int(tt.edge);
         vec4 o = patch_edge_levels(info.corners, ap.level);
+        // Where the patches of a level are drawn split (push constant `split`: the level-0
+        // patches' split), the fan is drawn whole with that level's full lattice on its edges.
+        float lattice = split_lattice(ap.level, fan_level_split(ap.level));
+        if (lattice > 0.0) {
+            o = vec4(lattice);
+        }
+        float half_lattice = split_lattice(ap.level + 1u, fan_level_split(ap.level + 1u));
         ivec2 se = bspline_edge_corners(e);
         float segment = o[e];
-        if (tt.half_edge == 1u) {
+        if (tt.half_edge != 0u && half_lattice > 0.0) {
+            segment = half_lattice;
+        } else if (tt.half_edge == 1u) {
             segment = level_edge_tess(info.corners[se.x], ap.mid[e], ap.level + 1u);
         } else if (tt.half_edge == 2u) {
             segment = level_edge_tess(ap.mid[e], info.corners[se.y], ap.level + 1u);

@@ -24,6 +24,10 @@ void main() {
     AdaptivePatch ap = apatches[info.pad0];
     int e = int(tt.edge);
     uint h = tt.half_edge;
+    // The outer segment's points on the lattice of the patches that own it: this patch's level
+    // for a whole edge, the finer one for a half (split_lattice; 0 where they are drawn whole).
+    uint owner = ap.level + (h == 0u ? 0u : 1u);
+    edge_lattice_override = split_lattice(owner, fan_level_split(owner));
     ivec2 se = bspline_edge_corners(e);
     vec2 start = corner_uv(se.x);
     vec2 end = corner_uv(se.y);
@@ -52,7 +56,7 @@ void main() {
         uint frame_b = (h == 1u) ? ap.mid_frame[e] : ap.corner_frame[se.y];
         sector_normal(at_a ? frame_a : frame_b, nrm);
     } else if (wc == 0.0) {
-        float x = wb;
+        float x = lattice_x(wb);
         uv = a + x * (b - a);
         PATCH_SURFACE(info, uv.x, uv.y, p, nrm, du, dv);
         if (h == 0u && ap.coarse[e] != NO_ENTRY) {

@@ -47,14 +47,19 @@ float split_edge_level() {
     return sub * float(chunk.split);
 }
 
+/// The full edge level edge_ts snaps to when a stage sets it (0: none), for patches that split
+/// per patch level (adaptive/adaptive.glsl); negative (never set): split_edge_level's rule.
+float edge_lattice_override = -1.0;
+
 /// Edge parameters in the canonical frame as canonical_ts, except with sub-patches and equal
 /// spacing: the tessellator's fixed-point coordinates of a sub-patch edge (origin + x * size)
 /// and of a whole triangle edge need not agree bitwise, so both snap to the lattice point k / L
-/// of the full edge level L and derive (t, s) from the integer k.
+/// of the full edge level L (or edge_lattice_override) and derive (t, s) from the integer k.
 void edge_ts(float x, bool from_lo, out float t, out float s) {
 #ifdef SPACING_EQUAL
-    if (chunk.split > 1u) {
-        float level = split_edge_level();
+    float level = edge_lattice_override >= 0.0 ? edge_lattice_override
+                  : ((chunk.split > 1u) ? split_edge_level() : 0.0);
+    if (level > 0.0) {
         float k = round(x * level);
         float k_lo = from_lo ? k : level - k;
         t = k_lo / level;

@@ -4,6 +4,7 @@
 
 use clap::Args;
 use tessera::render::bench::median;
+use tessera::render::static_draw::StaticDraw;
 use tessera::render::{
     CameraSpec, MemoryReport, OffscreenDesc, OffscreenSession, RenderDesc, Scheme, TessSettings,
     CPU_PATH_LABEL,
@@ -55,6 +56,14 @@ pub struct BenchArgs {
     /// the sharpness; teal with single-crease patches, orange without).
     #[arg(long, requires = "crease_sharpness")]
     pub plot: Option<std::path::PathBuf>,
+    /// Also time the static draw of the same surface at each level (`render::static_draw`):
+    /// every face tessellated once on the CPU at the uniform level (2 level² triangles per quad,
+    /// as a whole patch of that level), drawn from a static vertex + index buffer by the plain
+    /// vertex/fragment pipeline, same target, frames and median; adds the triangles of the
+    /// tessellated frame (clipping-stage primitives), the static triangles, the static ms and
+    /// the ratio frame / static.
+    #[arg(long = "static")]
+    pub static_draw: bool,
     /// Image size WxH.
     #[arg(long, default_value = "800x600")]
     pub size: String,
@@ -129,7 +138,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         return check_validation(&ctx);
     }
     println!(
-        "{:>6} {:>9} {:>12} {:>14} {:>14} {:>14} {:>14}{}",
+        "{:>6} {:>9} {:>12} {:>14} {:>14} {:>14} {:>14}{}{}",
         "level",
         "patches",
         "TES invoc.",
@@ -139,6 +148,14 @@ pub fn run(args: BenchArgs) -> Result<()> {
         "frame ms (med)",
         if args.animate {
             format!(" {:>15}", "update ms (cpu)")
+        } else {
+            String::new()
+        },
+        if args.static_draw {
+            format!(
+                " {:>10} {:>11} {:>15} {:>14}",
+                "frame tris", "static tris", "static ms (med)", "frame / static"
+            )
         } else {
             String::new()
         }
@@ -174,6 +191,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         let (mut compute, mut patch, mut cpu, mut total) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut tes = 0;
+        let mut triangles = 0;
         let mut update = Vec::new();
         for k in 0..args.frames {
             if args.animate {
@@ -210,21 +228,39 @@ pub fn run(args: BenchArgs) -> Result<()> {
             cpu.push(c);
             total.push(k + p + c);
             tes = r.patch_stats.tes_invocations;
+            triangles =
+                r.patch_stats.clipping_invocations as usize + surface.fallback.indices.len() / 3;
         }
+        let frame_ms = median(&mut total);
+        let static_columns = if args.static_draw {
+            drop(session);
+            let fixed = StaticDraw::new(&mesh, level.ceil() as u32)?;
+            let ms = fixed.time(&ctx, &render, &desc, args.frames)?;
+            format!(
+                " {:>10} {:>11} {:>15.3} {:>14.2}",
+                triangles,
+                fixed.triangles(),
+                ms,
+                frame_ms / ms
+            )
+        } else {
+            String::new()
+        };
         println!(
-            "{:>6} {:>9} {:>12} {:>14.3} {:>14.3} {:>14.3} {:>14.3}{}",
+            "{:>6} {:>9} {:>12} {:>14.3} {:>14.3} {:>14.3} {:>14.3}{}{}",
             level,
             surface.patch_count(),
             tes,
             median(&mut compute),
             median(&mut patch),
             median(&mut cpu),
-            median(&mut total),
+            frame_ms,
             if args.animate {
                 format!(" {:>15.3}", median(&mut update))
             } else {
                 String::new()
-            }
+            },
+            static_columns
         );
     }
     check_validation(&ctx)

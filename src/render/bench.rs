@@ -133,7 +133,13 @@ pub struct PathsBenchRow {
     pub regular_ms: f64,
 }
 
-fn timed_frames(session: &mut OffscreenSession, frames: u32, label: &str) -> Result<f64> {
+/// Median GPU ms of the passes labelled `label` over `frames` frames of `session`, after one
+/// warm-up frame.
+pub(crate) fn timed_frames(
+    session: &mut OffscreenSession,
+    frames: u32,
+    label: &str,
+) -> Result<f64> {
     session.frame()?;
     let mut v = Vec::new();
     for _ in 0..frames {

@@ -21,6 +21,7 @@ pub mod schemes;
 pub mod seams;
 pub mod session;
 pub mod settings;
+pub mod static_draw;
 pub mod surface;
 
 pub use camera::{Camera, CameraSpec, UpAxis};

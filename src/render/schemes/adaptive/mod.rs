@@ -216,9 +216,15 @@ impl PassTables for AdaptiveTables {
         points
     }
 
-    fn patch_level_limit(&self, _: Spacing) -> PatchLevelLimit {
-        // Levels scale down per patch level instead: patches are never split.
-        PatchLevelLimit::WHOLE
+    /// A level-k patch gets the uniform level / 2^k, so only patches whose own level exceeds
+    /// the limit are split, into `split / 2^k` per side (`pass::level_split`); transition fans
+    /// stay whole with the split level's lattice on their edges. Fractional spacing cannot put
+    /// a whole fan's edge points on split quads' points: drawn unsplit there.
+    fn patch_level_limit(&self, spacing: Spacing) -> PatchLevelLimit {
+        PatchLevelLimit {
+            max_patch_level: f32::INFINITY,
+            splittable: spacing == Spacing::Equal,
+        }
     }
 
     fn capture_layout(&self) -> CaptureLayout {

@@ -31,16 +31,42 @@ use crate::Result;
 const OWN_BINDINGS: [u32; 8] = [1, 6, 7, 10, 11, 12, 4, 13];
 
 /// One pipeline's patches: index buffer (control points or one dummy index per patch) and
-/// counts.
+/// the runs it is drawn in.
 struct DrawGroup {
     pipeline: Pipeline,
     /// Which of [`index_bytes`] it draws.
     table: usize,
     first_patch: u32,
     indices: Buffer,
-    count: u32,
     points: u32,
     vertices: Option<vk::Buffer>,
+    /// Runs of consecutive patches drawn with one split: (first, count, split). Quad patches of
+    /// level k are drawn as s x s sub-patches, s = [`level_split`] (push constant `split` = s);
+    /// transition fans are drawn whole with `split` the level-0 split, from which their shaders
+    /// derive every level's (`glsl/adaptive/adaptive.glsl`, `fan_level_split`).
+    runs: Vec<(u32, u32, u32)>,
+    /// Whether the patches are quads drawn as sub-patches (else whole, once per run).
+    split_quads: bool,
+}
+
+/// Sub-patches per side of a level-`level` patch when level-0 patches are split `split` x
+/// `split` (`TessSettings::split`): a level-k patch gets the uniform level / 2^k, so it needs
+/// `split / 2^k`, at least 1.
+pub fn level_split(split: u32, level: u32) -> u32 {
+    split.checked_shr(level).unwrap_or(0).max(1)
+}
+
+/// Runs of consecutive patches with the same split (`levels` per patch in draw order).
+fn split_runs(levels: impl Iterator<Item = u32>, split: u32) -> Vec<(u32, u32, u32)> {
+    let mut runs: Vec<(u32, u32, u32)> = Vec::new();
+    for (k, level) in levels.enumerate() {
+        let s = level_split(split, level);
+        match runs.last_mut() {
+            Some((_, n, last)) if *last == s => *n += 1,
+            _ => runs.push((k as u32, 1, s)),
+        }
+    }
+    runs
 }
 
 /// GPU resources of the adaptive scheme for one surface.
@@ -201,6 +227,13 @@ impl AdaptivePass {
                 set_layouts: vec![layout.clone()],
             };
         let points = Some(refiner.points().raw());
+        let split = pc.desc.tess.split();
+        let level_of = |record: u32| d.records[record as usize].level;
+        let quad_levels: [Vec<u32>; 3] = [
+            d.regular.iter().map(|p| level_of(p.record)).collect(),
+            d.single_crease.iter().map(|p| level_of(p.record)).collect(),
+            d.end_caps.iter().map(|p| level_of(p.record)).collect(),
+        ];
         let mut groups = Vec::new();
         let bspline_records = (d.regular.len() + d.transition.len()) as u32;
         let index_bytes = index_bytes(d);
@@ -275,14 +308,25 @@ impl AdaptivePass {
                 continue;
             }
             let points = s.points;
+            let quads = match table {
+                0 => Some(&quad_levels[0]),
+                2 => Some(&quad_levels[1]),
+                4 => Some(&quad_levels[2]),
+                _ => None,
+            };
+            let runs = match quads {
+                Some(levels) => split_runs(levels.iter().copied(), split),
+                None => vec![(0, count, split)],
+            };
             groups.push(DrawGroup {
                 pipeline: patch_pipeline(ctx, pc.desc, pc.target, s)?,
                 table,
                 first_patch,
                 indices: table_buffer(ctx, indices, index, "adaptive indices")?,
-                count,
                 points,
                 vertices,
+                runs,
+                split_quads: quads.is_some(),
             });
         }
         let n = pc.shared.slot_count() as u32;
@@ -382,15 +426,17 @@ impl PatchPass for AdaptivePass {
                 g.vertices,
                 g.indices.raw(),
             );
-            let draws = PatchDraws {
-                first_patch: g.first_patch,
-                first_index: 0,
-                count: g.count,
-                points: g.points,
-                sub_draws: 1,
-                sub_flag: 0,
-            };
-            record_patch_draws(dev, cmd, &g.pipeline, &draws, 1);
+            for &(first, count, split) in &g.runs {
+                let draws = PatchDraws {
+                    first_patch: g.first_patch + first,
+                    first_index: first * g.points,
+                    count,
+                    points: g.points,
+                    sub_draws: if g.split_quads { split * split } else { 1 },
+                    sub_flag: 0,
+                };
+                record_patch_draws(dev, cmd, &g.pipeline, &draws, split);
+            }
         }
     }
 
