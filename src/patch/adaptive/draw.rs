@@ -15,6 +15,7 @@ use rayon::prelude::*;
 
 use super::coarse::{patch_index, CoarseEdges};
 use super::error::DrawTablesError;
+use super::promoted::{exact_frame, promoted_edge, promoted_vertex};
 use super::records::{
     words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
 };
@@ -123,24 +124,47 @@ fn slot_rows(
     let corner_rows = CornerRows::new(refinement, census, topologies, caps);
     let mut first: Vec<Option<PatchCorner>> = vec![None; slots.len()];
     let mut shared = vec![false; slots.len()];
+    // Whether the slot's first corner is an end cap's on a promoted crease (`super::promoted`)
+    // where the exact limit has one normal: the frame takes the exact tangents.
+    let mut exact = vec![false; slots.len()];
     corner_rows.visit(|c| {
         let p = &census.patches[c.patch];
         let lev = &refinement.levels[p.level as usize];
         let s = slots.of(lev.global(c.vertex)) as usize;
         if first[s].is_none() {
             first[s] = Some(*c);
-            let t = match p.kind {
-                PatchType::EndCap => topologies.get(p.level),
-                _ => lev.topology(),
+            shared[s] = match p.kind {
+                PatchType::EndCap => {
+                    let (t, caps) = (lev.topology(), topologies.get(p.level));
+                    exact[s] =
+                        promoted_vertex(t, caps, c.vertex) && single_normal_vertex(t, c.vertex);
+                    exact[s] || single_normal_vertex(caps, c.vertex)
+                }
+                _ => single_normal_vertex(lev.topology(), c.vertex),
             };
-            shared[s] = single_normal_vertex(t, c.vertex);
         }
     });
-    let frames = first
+    let frames: Vec<_> = first
         .par_iter()
+        .zip(&exact)
         .with_min_len(256)
-        .map(|c| c.as_ref().map(|c| corner_rows.rows(c)))
+        .map(|(c, &exact)| {
+            c.as_ref().map(|c| {
+                let rows = corner_rows.rows(c);
+                if !exact {
+                    return rows;
+                }
+                let p = &census.patches[c.patch];
+                exact_frame(&refinement.levels[p.level as usize], p.face, c.k, rows)
+            })
+        })
         .collect();
+    // A promoted corner whose exact mask failed keeps its end cap's corner, one per sector.
+    for (s, f) in frames.iter().enumerate() {
+        if exact[s] && f.as_ref().is_some_and(|r| r[1].0.is_empty()) {
+            shared[s] = false;
+        }
+    }
     (frames, shared)
 }
 
@@ -361,13 +385,23 @@ impl AdaptiveDrawTables {
                 },
                 None => Across::Nothing,
             };
-            let ef = edge_flags(
-                topologies.get(p.level),
-                p.face,
-                across,
-                |v| lev.global(v),
-                slot,
-            );
+            let caps = topologies.get(p.level);
+            let mut ef = edge_flags(caps, p.face, across, |v| lev.global(v), slot);
+            // A promoted crease (`super::promoted`) between two end caps of this level: the
+            // normal both share (bit 12 + k off: the neighbour's cross-edge derivative counts).
+            for (k, &e) in t.face_edges(p.face).iter().enumerate() {
+                let across_cap = t.edge_faces(e).iter().any(|&g| {
+                    g != p.face
+                        && lev.own[g as usize]
+                        && t.face_size(g) == 4
+                        && at[p.level as usize][g as usize] != NONE
+                        && census.patches[at[p.level as usize][g as usize] as usize].kind
+                            == PatchType::EndCap
+                });
+                if n == 4 && fine[k] == NONE && across_cap && promoted_edge(t, caps, e) {
+                    ef.flags &= !(1 << (12 + k));
+                }
+            }
             let fv = t.face_vertices(p.face);
             let mut corners = [slot(lev.global(fv[0])); 4];
             for (c, &v) in corners.iter_mut().zip(fv) {
