@@ -36,7 +36,7 @@ use rayon::prelude::*;
 use tessera::patch::adaptive::promoted::promoted_vertex;
 use tessera::patch::adaptive::{AdaptiveSurface, PatchShape, SurfacePatch};
 use tessera::subdiv::adaptive::{AdaptiveOptions, AdaptiveRefinement, EndCapSharpness, PatchType};
-use tessera::subdiv::eval::LimitEvaluator;
+use tessera::subdiv::eval::{LimitEvaluator, LimitSample};
 use tessera::subdiv::Level;
 use tessera::ControlMesh;
 
@@ -67,16 +67,16 @@ fn grid(n: usize) -> Vec<(f64, f64)> {
 /// A sample to measure: patch index, its own (s, t), the base (u, v).
 type Sample = (usize, (f64, f64), (f64, f64));
 
-/// Per sample of every patch `keep` selects: (patch index, own (s, t), distance to the exact
-/// limit at the same base (u, v) / diagonal).
-fn errors(
+/// `measure(patch, own (s, t), exact limit there)` per sample of every patch `keep` selects: an
+/// `(n+1)^2` grid of its own `(s, t)`, against `LimitEvaluator` at the same base (u, v).
+fn at_equal_uv<T: Send>(
     m: &ControlMesh,
     s: &AdaptiveSurface,
     keep: impl Fn(&SurfacePatch) -> bool,
     n: usize,
-) -> Vec<(usize, (f64, f64), f64)> {
+    measure: impl Fn(usize, (f64, f64), &LimitSample) -> T + Sync,
+) -> Vec<T> {
     let ev = LimitEvaluator::new(m).unwrap();
-    let diag = m.bbox_diagonal();
     let st = grid(n);
     // Samples grouped by (base face, sub-face) so each group is one exact evaluation.
     let mut groups: BTreeMap<(u32, u32), Vec<Sample>> = BTreeMap::new();
@@ -99,13 +99,27 @@ fn errors(
             samples
                 .iter()
                 .zip(exact)
-                .map(|(&(i, st, _), x)| {
-                    let got = s.eval_patch(i, st.0, st.1).position;
-                    (i, st, got.distance(x.position) / diag)
-                })
+                .map(|(&(i, st, _), x)| measure(i, st, &x))
                 .collect::<Vec<_>>()
         })
         .collect()
+}
+
+/// Per sample of every patch `keep` selects: (patch index, own (s, t), distance to the exact
+/// limit at the same base (u, v) / diagonal, angle of the drawn normal
+/// (`AdaptiveSurface::normal`) to the exact one).
+fn errors(
+    m: &ControlMesh,
+    s: &AdaptiveSurface,
+    keep: impl Fn(&SurfacePatch) -> bool,
+    n: usize,
+) -> Vec<(usize, (f64, f64), f64, f64)> {
+    let diag = m.bbox_diagonal();
+    at_equal_uv(m, s, keep, n, |i, st, x| {
+        let got = s.eval_patch(i, st.0, st.1).position;
+        let angle = s.normal(i, st.0, st.1).angle_between(x.normal);
+        (i, st, got.distance(x.position) / diag, angle)
+    })
 }
 
 fn is_end_cap(p: &SurfacePatch) -> bool {
@@ -170,17 +184,28 @@ fn end_cap_error_falls_with_isolation() {
     for name in MESHES {
         let m = osd(name);
         let mut row = Vec::new();
-        for iso in 1..=4 {
+        for iso in 1..=5 {
             let (_, s) = surface(&m, iso);
             let e = errors(&m, &s, is_end_cap, 8);
-            let rms = (e.iter().map(|x| x.2 * x.2).sum::<f64>() / e.len().max(1) as f64).sqrt();
-            let max = e.iter().map(|x| x.2).fold(0.0, f64::max);
-            row.push((rms, max));
+            let rms = |pick: fn(&(usize, (f64, f64), f64, f64)) -> f64| {
+                (e.iter().map(|x| pick(x).powi(2)).sum::<f64>() / e.len().max(1) as f64).sqrt()
+            };
+            let max = |pick: fn(&(usize, (f64, f64), f64, f64)) -> f64| {
+                e.iter().map(pick).fold(0.0, f64::max)
+            };
+            row.push([rms(|x| x.2), max(|x| x.2), rms(|x| x.3), max(|x| x.3)]);
         }
         eprintln!(
             "| `{name}` | {} |",
             row.iter()
-                .map(|(r, m)| format!("{:.4} / {:.4}", r * 1e3, m * 1e3))
+                .map(|x| format!("{:.4} / {:.4}", x[0] * 1e3, x[1] * 1e3))
+                .collect::<Vec<_>>()
+                .join(" | ")
+        );
+        eprintln!(
+            "| `{name}` normal (rad) | {} |",
+            row.iter()
+                .map(|x| format!("{:.2e} / {:.2e}", x[2], x[3]))
                 .collect::<Vec<_>>()
                 .join(" | ")
         );
@@ -189,10 +214,10 @@ fn end_cap_error_falls_with_isolation() {
     for (name, row) in &table {
         for w in row.windows(2) {
             assert!(
-                w[1].0 < w[0].0,
+                w[1][0] < w[0][0],
                 "{name}: RMS {:e} then {:e}",
-                w[0].0,
-                w[1].0
+                w[0][0],
+                w[1][0]
             );
         }
     }
@@ -253,44 +278,20 @@ fn end_caps_keep_residual_creases() {
 /// Per sample of every end cap `keep` selects (9x9 grid of its own `(s, t)`, corners and edges
 /// included): the angle at equal (u, v) between the exact limit normal and (a) the surface's
 /// drawn normal (`AdaptiveSurface::normal`: shared on promoted creases), (b) the end cap's own
-/// `du x dv` (the one-sided normal drawn before), each with whether the sample lies on the end
-/// cap's boundary.
+/// `du x dv` (the one-sided normal drawn before), and whether the sample lies on the end cap's
+/// boundary.
 fn normal_errors(
     m: &ControlMesh,
     s: &AdaptiveSurface,
     keep: impl Fn(&SurfacePatch) -> bool,
 ) -> Vec<(f64, f64, bool)> {
-    let ev = LimitEvaluator::new(m).unwrap();
-    let mut groups: BTreeMap<(u32, u32), Vec<Sample>> = BTreeMap::new();
-    for (i, p) in s.patches.iter().enumerate().filter(|(_, p)| keep(p)) {
-        let d = p.domain;
-        for &(a, b) in &grid(8) {
-            let uv = d.origin + a * d.u + b * d.v;
-            groups
-                .entry((d.base_face, d.sub_face.unwrap_or(0)))
-                .or_default()
-                .push((i, (a, b), (uv.x, uv.y)));
-        }
-    }
-    let groups: Vec<_> = groups.into_iter().collect();
-    groups
-        .par_iter()
-        .flat_map_iter(|((f, sub), samples)| {
-            let uv: Vec<(f64, f64)> = samples.iter().map(|x| x.2).collect();
-            let exact = ev.eval_points(*f as usize, *sub as usize, &uv).unwrap();
-            samples
-                .iter()
-                .zip(exact)
-                .map(|(&(i, (a, b), _), x)| {
-                    let drawn = s.normal(i, a, b).angle_between(x.normal);
-                    let own = s.eval_patch(i, a, b);
-                    let own = own.du.cross(own.dv).angle_between(x.normal);
-                    let edge = a == 0.0 || a == 1.0 || b == 0.0 || b == 1.0;
-                    (drawn, own, edge)
-                })
-                .collect::<Vec<_>>()
-        })
-        .collect()
+    at_equal_uv(m, s, keep, 8, |i, (a, b), x| {
+        let drawn = s.normal(i, a, b).angle_between(x.normal);
+        let own = s.eval_patch(i, a, b);
+        let own = own.du.cross(own.dv).angle_between(x.normal);
+        let edge = a == 0.0 || a == 1.0 || b == 0.0 || b == 1.0;
+        (drawn, own, edge)
+    })
 }
 
 /// Normals on promoted creases (residual semi-sharp edges the end caps keep infinitely sharp,

@@ -317,17 +317,21 @@ impl AdaptiveSurface {
         })
     }
 
-    /// The unit normal of patch `i` at its own `(s, t)` as the GPU draws it on promoted creases
-    /// (`super::promoted`): at an end-cap corner on one the exact limit normal, on an end-cap
-    /// edge that is one (an end cap on both sides) the normal both sides share,
-    /// `cross(tangent, d_own - d_across)` of the two cross-edge derivatives; elsewhere the
-    /// patch's own `du x dv`.
+    /// The unit normal of patch `i` at its own `(s, t)`: [`Self::promoted_normal`] where that
+    /// applies, else the patch's own `du x dv`.
     pub fn normal(&self, i: usize, s: f64, t: f64) -> DVec3 {
-        let (_, ds, dt) = self.eval_own(i, s, t);
-        let own = ds.cross(dt).normalize_or_zero();
-        let Some(cap) = self.promoted.get(&i) else {
-            return own;
-        };
+        self.promoted_normal(i, s, t).unwrap_or_else(|| {
+            let (_, ds, dt) = self.eval_own(i, s, t);
+            ds.cross(dt).normalize_or_zero()
+        })
+    }
+
+    /// The normal the GPU draws on a promoted crease (`super::promoted`), at own `(s, t)` of end
+    /// cap `i`: at a corner on one the exact limit normal; on an edge that is one (an end cap on
+    /// both sides) the normal both sides share, `cross(tangent, d_own - d_across)` of the two
+    /// cross-edge derivatives (`gregory_edge` of `glsl/gregory/gregory.glsl`). `None` elsewhere.
+    pub fn promoted_normal(&self, i: usize, s: f64, t: f64) -> Option<DVec3> {
+        let cap = self.promoted.get(&i)?;
         let corner = match (s, t) {
             (0.0, 0.0) => Some(0),
             (1.0, 0.0) => Some(1),
@@ -336,20 +340,17 @@ impl AdaptiveSurface {
             _ => None,
         };
         if let Some(k) = corner {
-            return cap.corners[k].unwrap_or(own);
+            return cap.corners[k];
         }
-        let Some((k, x)) = on_quad_edge(s, t) else {
-            return own;
-        };
-        let Some((j, k2)) = cap.edges[k] else {
-            return own;
-        };
+        let (k, x) = on_quad_edge(s, t)?;
+        let (j, k2) = cap.edges[k]?;
+        let (_, ds, dt) = self.eval_own(i, s, t);
         let (tangent, d_own) = edge_frame(k, ds, dt);
         // The patch across runs the edge the other way: its edge k2 at 1 - x.
         let (s2, t2) = quad_edge_point(k2, 1.0 - x);
         let (_, ds2, dt2) = self.eval_own(j, s2, t2);
         let (_, d_across) = edge_frame(k2, ds2, dt2);
-        tangent.cross(d_own - d_across).normalize_or_zero()
+        Some(tangent.cross(d_own - d_across).normalize_or_zero())
     }
 
     /// Position and derivatives of patch `i` in its own `(s, t)`.
