@@ -286,11 +286,68 @@ fn every_shared_mesh_draws_on_the_gpu() {
     );
 }
 
+/// Normals on promoted creases (residual semi-sharp edges the end caps keep infinitely sharp,
+/// `patch::adaptive::promoted`): at every captured end-cap point on one (edge or corner) the GPU
+/// draws the CPU's shared normal (`AdaptiveSurface::promoted_normal`) within 2e-4 rad (measured
+/// at most 1.6e-6 on cubes_semisharp L2, 2.8e-7 on cube_creases0 L1, 3.9e-5 on the car L2: f32
+/// stencil rows and cross-edge derivatives), and follows the exact limit at equal (u, v): RMS
+/// 2.09e-2 / 9.58e-2 / 1.13e-2 rad, bounded at 1.5x. (The end caps' own one-sided normals, drawn
+/// before, are 0.32-0.47 rad RMS on these creases: `tests/adaptive_endcaps.rs`.)
+#[test]
+fn promoted_crease_normals_equal_the_cpu() {
+    let Some(ctx) = context() else { return };
+    let ev_cases = [
+        ("catmark_cubes_semisharp", 2, 32.0, 3.1e-2),
+        ("catmark_cube_creases0", 1, 32.0, 0.144),
+        ("catmark_car", 2, 8.0, 1.7e-2),
+    ];
+    for (name, iso, level, rms_bound) in ev_cases {
+        let m = mesh(name);
+        let (surface, records) = draw(&ctx, &m, iso, uniform(level));
+        let cpu = tables(&surface).cpu_surface(m.positions()).unwrap();
+        let ev = LimitEvaluator::new(&m).unwrap();
+        let (mut count, mut worst, mut sum_sq) = (0usize, 0.0f64, 0.0f64);
+        for r in &records {
+            if r.patch.expect("adaptive records are tagged").kind != END_CAP {
+                continue;
+            }
+            let (u, v) = (f64::from(r.u), f64::from(r.v));
+            let (i, s, t) = cpu.locate(r.face, r.sub_face, u, v).unwrap();
+            let Some(shared) = cpu.promoted_normal(i, s, t) else {
+                continue;
+            };
+            let n = DVec3::from(r.normal.map(f64::from));
+            let a = n.angle_between(shared);
+            assert!(
+                a <= 2e-4,
+                "{name}: face {} ({u}, {v}): GPU normal {a:.2e} rad from the CPU's",
+                r.face
+            );
+            worst = worst.max(a);
+            let sub = r.sub_face.unwrap_or(0) as usize;
+            let exact = ev.eval(r.face as usize, sub, u, v).unwrap();
+            sum_sq += n.angle_between(exact.normal).powi(2);
+            count += 1;
+        }
+        assert!(count > 100, "{name}: {count} points on promoted creases");
+        let rms = (sum_sq / count as f64).sqrt();
+        eprintln!(
+            "{name} L{iso}: {count} points on promoted creases, GPU vs CPU at most {worst:.2e} rad, vs the exact limit RMS {rms:.2e} rad"
+        );
+        assert!(
+            rms <= rms_bound,
+            "{name}: RMS {rms:e} rad from the exact limit"
+        );
+    }
+}
+
 /// Points two patches emit at the same place are the same bits (any types and levels): every
 /// pair of records closer than 1e-6 of the diagonal has bitwise-equal positions, and normals
-/// bitwise equal on the same side of every sharp feature, the end caps' creases (residual
-/// semi-sharpness, `EndCapCreases`) included. Uniform levels 1-8, screen-space and
-/// camera-distance factors, every spacing.
+/// bitwise equal on the same side of every sharp feature; the end caps' creases (residual
+/// semi-sharpness, `EndCapCreases`) are no such feature: the limit is smooth across them and
+/// both sides share one normal (`patch::adaptive::promoted`), which pairs on them must show
+/// (before it, each side drew its own). Uniform levels 1-8, screen-space and camera-distance
+/// factors, every spacing.
 #[test]
 fn watertight_across_levels_and_types() {
     let Some(ctx) = context() else { return };
@@ -321,13 +378,13 @@ fn watertight_across_levels_and_types() {
         ("catmark_cubes_infsharp", 2, false),
         ("catmark_single_crease", 2, false),
         // End caps across residual semi-sharp creases (sharpness 6, 2 and 5, corner tags):
-        // infinitely sharp for the end caps, so their normals may differ across them.
+        // infinitely sharp for the end caps' positions, one shared normal.
         ("catmark_bishop", 2, false),
         ("catmark_cubes_semisharp", 2, false),
         ("catmark_cube_creases0", 1, false),
     ] {
         let m = mesh(name);
-        // The semi-sharp meshes must have end-cap creases for the side rule to be exercised.
+        // The semi-sharp meshes must have end-cap creases for the shared normals to be exercised.
         let creases = EndCapCreases::new(&m, iso).count;
         let semi_sharp = [
             "catmark_car",
@@ -354,15 +411,21 @@ fn watertight_across_levels_and_types() {
                 ..uniform(8.0)
             });
         }
+        let mut on_creases = 0;
         for tess in cases {
             let (_, records) = draw(&ctx, &m, iso, tess);
-            let pairs = assert_adaptive_points_equal_by_side(&m, iso, &records);
+            let (pairs, on_crease) = assert_adaptive_points_equal_by_side(&m, iso, &records);
             eprintln!(
-                "{name} iso {iso} {:?} {:?} level {}: {pairs} coincident pairs bitwise equal",
+                "{name} iso {iso} {:?} {:?} level {}: {pairs} coincident pairs bitwise equal ({on_crease} on end-cap creases)",
                 tess.mode, tess.spacing, tess.level
             );
             assert!(pairs > 0);
+            on_creases += on_crease;
         }
+        assert!(
+            !semi_sharp.contains(&name) || on_creases > 0,
+            "{name} iso {iso}: no coincident pair on an end-cap crease"
+        );
     }
 }
 
@@ -394,7 +457,7 @@ fn split_patches_are_watertight_and_draw_the_same_surface() {
             let split = uniform(level);
             assert!(split.split() > 1, "{name}: level {level} must split");
             let (_, records) = draw(&ctx, &m, iso, split);
-            let pairs = assert_adaptive_points_equal_by_side(&m, iso, &records);
+            let (pairs, _) = assert_adaptive_points_equal_by_side(&m, iso, &records);
             assert!(pairs > 0);
             for (&kind, &(d, a, n)) in &errors_by_kind(&m, &records) {
                 eprintln!(

@@ -15,6 +15,7 @@ use rayon::prelude::*;
 
 use super::coarse::{patch_index, CoarseEdges};
 use super::error::DrawTablesError;
+use super::promoted::{exact_frame, promoted_edge, promoted_vertex};
 use super::records::{
     words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
 };
@@ -199,29 +200,38 @@ fn slot_rows(
 ) -> (Vec<SparseRows>, Vec<bool>) {
     let mut first: Vec<Option<PatchCorner>> = vec![None; slots.len()];
     let mut shared = vec![false; slots.len()];
+    // Whether the slot's first corner is an end cap's on a promoted crease (`super::promoted`)
+    // where the exact limit has one normal: the frame takes the exact tangents.
+    let mut exact = vec![false; slots.len()];
     corner_rows.visit(|c| {
         let p = &census.patches[c.patch];
         let lev = &refinement.levels[p.level as usize];
         let s = slots.of(lev.global(c.vertex)) as usize;
         if first[s].is_none() {
             first[s] = Some(*c);
-            let t = match p.kind {
-                PatchType::EndCap => topologies.get(p.level),
-                _ => lev.topology(),
+            shared[s] = match p.kind {
+                PatchType::EndCap => {
+                    let (t, caps) = (lev.topology(), topologies.get(p.level));
+                    exact[s] =
+                        promoted_vertex(t, caps, c.vertex) && single_normal_vertex(t, c.vertex);
+                    exact[s] || single_normal_vertex(caps, c.vertex)
+                }
+                _ => single_normal_vertex(lev.topology(), c.vertex),
             };
-            shared[s] = single_normal_vertex(t, c.vertex);
         }
     });
-    let run = if rayon::current_num_threads() == 1 {
+    let chunk = if rayon::current_num_threads() == 1 {
         first.len().max(1)
     } else {
         256
     };
-    let frames = first
-        .par_chunks(run)
+    // Per run: its flat rows, and the slots whose promoted corner's exact mask failed.
+    let runs: Vec<(SparseRows, Vec<usize>)> = first
+        .par_chunks(chunk)
         .enumerate()
         .map(|(i, run)| {
             let mut rows = SparseRows::new();
+            let mut failed = Vec::new();
             let (more_rows, more_terms) = if i == 0 { more } else { (0, 0) };
             let terms: usize = run
                 .iter()
@@ -229,12 +239,34 @@ fn slot_rows(
                 .map(|c| corner_rows.terms_bound(c))
                 .sum();
             rows.reserve(3 * run.len() + more_rows, terms + more_terms);
-            for c in run.iter().flatten() {
-                corner_rows.push_rows(c, &mut rows);
+            for (j, c) in run.iter().enumerate() {
+                let Some(c) = c else { continue };
+                let s = i * chunk + j;
+                if !exact[s] {
+                    corner_rows.push_rows(c, &mut rows);
+                    continue;
+                }
+                let p = &census.patches[c.patch];
+                let lev = &refinement.levels[p.level as usize];
+                let frame = exact_frame(lev, p.face, c.k, corner_rows.rows(c));
+                if frame[1].0.is_empty() {
+                    failed.push(s);
+                }
+                for w in &frame {
+                    rows.push(w, 0);
+                }
             }
-            rows
+            (rows, failed)
         })
         .collect();
+    let mut frames = Vec::with_capacity(runs.len());
+    for (rows, failed) in runs {
+        // A promoted corner whose exact mask failed keeps its end cap's corner, one per sector.
+        for s in failed {
+            shared[s] = false;
+        }
+        frames.push(rows);
+    }
     (frames, shared)
 }
 
@@ -493,13 +525,23 @@ impl AdaptiveDrawTables {
                 },
                 None => Across::Nothing,
             };
-            let ef = edge_flags(
-                topologies.get(p.level),
-                p.face,
-                across,
-                |v| lev.global(v),
-                slot,
-            );
+            let caps = topologies.get(p.level);
+            let mut ef = edge_flags(caps, p.face, across, |v| lev.global(v), slot);
+            // A promoted crease (`super::promoted`) between two end caps of this level: the
+            // normal both share (bit 12 + k off: the neighbour's cross-edge derivative counts).
+            for (k, &e) in t.face_edges(p.face).iter().enumerate() {
+                let across_cap = t.edge_faces(e).iter().any(|&g| {
+                    g != p.face
+                        && lev.own[g as usize]
+                        && t.face_size(g) == 4
+                        && at[p.level as usize][g as usize] != NONE
+                        && census.patches[at[p.level as usize][g as usize] as usize].kind
+                            == PatchType::EndCap
+                });
+                if n == 4 && fine[k] == NONE && across_cap && promoted_edge(t, caps, e) {
+                    ef.flags &= !(1 << (12 + k));
+                }
+            }
             let fv = t.face_vertices(p.face);
             let mut corners = [slot(lev.global(fv[0])); 4];
             for (c, &v) in corners.iter_mut().zip(fv) {

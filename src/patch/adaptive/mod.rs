@@ -14,6 +14,7 @@
 mod coarse;
 pub mod draw;
 mod error;
+pub mod promoted;
 pub mod records;
 pub mod rows;
 mod sector_frames;

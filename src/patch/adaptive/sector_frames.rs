@@ -19,6 +19,7 @@
 
 use std::collections::HashMap;
 
+use super::promoted::{exact_frame, promoted_vertex};
 use super::rows::CornerRows;
 use super::slots::{Slots, NONE};
 use super::surface::EndCapTopologies;
@@ -78,14 +79,20 @@ impl SectorFrames {
         let mut out = SectorFrames::default();
         // Corner keys per census patch (NONE slot: one sector, nothing to share).
         let mut corner_keys = Vec::with_capacity(census.patches.len());
+        let mut promoted_corners = vec![[false; 4]; census.patches.len()];
         for p in &census.patches {
             let lev = &refinement.levels[p.level as usize];
             let b = lev.domains[p.face as usize].base_face;
             let mut keys = [None; 4];
             if p.kind == PatchType::EndCap {
-                let t = topologies.get(p.level);
-                for (k, &v) in t.face_vertices(p.face).iter().enumerate().take(4) {
+                let caps = topologies.get(p.level);
+                for (k, &v) in caps.face_vertices(p.face).iter().enumerate().take(4) {
                     let s = slots.of(lev.global(v));
+                    // On a promoted crease the sectors are the limit's (the level's own
+                    // topology), each with its exact frame.
+                    let promoted = promoted_vertex(lev.topology(), caps, v);
+                    promoted_corners[corner_keys.len()][k] = promoted;
+                    let t = if promoted { lev.topology() } else { caps };
                     if sector_count(t, v) >= 2 && !shared_normal[s as usize] {
                         // The sector's smallest base face, seen at this level (every base face
                         // around a base vertex has one child around it: complete rings).
@@ -120,10 +127,21 @@ impl SectorFrames {
             let Some(key) = corner_keys[c.patch][c.k] else {
                 return;
             };
-            if c.singular || index.contains_key(&key) {
+            let promoted = promoted_corners[c.patch][c.k];
+            if (c.singular && !promoted) || index.contains_key(&key) {
                 return;
             }
-            out.rows.push(corner_rows.rows(c));
+            if promoted {
+                let p = &census.patches[c.patch];
+                let lev = &refinement.levels[p.level as usize];
+                let frame = exact_frame(lev, p.face, c.k, corner_rows.rows(c));
+                if frame[1].0.is_empty() {
+                    return;
+                }
+                out.rows.push(frame);
+            } else {
+                out.rows.push(corner_rows.rows(c));
+            }
             index.insert(key, first + (out.rows.len() - 1) as u32);
         });
         let frame = |key: Option<SectorKey>| key.and_then(|k| index.get(&k).copied());

@@ -2,10 +2,12 @@
 //! at base-face parameters.
 
 use std::borrow::Cow;
+use std::collections::HashMap;
 
 use glam::{DVec2, DVec3};
 use thiserror::Error;
 
+use super::promoted::{exact_corner_tangents, promoted_edge, promoted_vertex};
 use crate::patch::gregory::{
     gregory_patch_at_for, Coverage, GregoryPatch, GregoryTangents, NotGregory,
 };
@@ -143,6 +145,48 @@ pub struct AdaptiveSurface {
     pub patches: Vec<SurfacePatch>,
     /// Per base face: its patches (indices into `patches`).
     by_base: Vec<Vec<u32>>,
+    /// End caps with a corner or edge on a promoted crease (`super::promoted`), by patch index.
+    promoted: HashMap<usize, PromotedCap>,
+}
+
+/// What an end cap shares on promoted creases: per face edge the end cap across it (patch
+/// index, its edge), per corner the exact limit normal.
+#[derive(Debug, Clone, Default)]
+struct PromotedCap {
+    edges: [Option<(usize, usize)>; 4],
+    corners: [Option<DVec3>; 4],
+}
+
+/// The own `(s, t)` of the point at `x` along quad edge `k` (corner `k` -> `k + 1`).
+fn quad_edge_point(k: usize, x: f64) -> (f64, f64) {
+    match k {
+        0 => (x, 0.0),
+        1 => (1.0, x),
+        2 => (1.0 - x, 1.0),
+        _ => (0.0, 1.0 - x),
+    }
+}
+
+/// The quad edge `(k, x)` an own `(s, t)` lies on, corners excluded (`None` inside).
+fn on_quad_edge(s: f64, t: f64) -> Option<(usize, f64)> {
+    match (s, t) {
+        (_, 0.0) => Some((0, s)),
+        (1.0, _) => Some((1, t)),
+        (_, 1.0) => Some((2, 1.0 - s)),
+        (0.0, _) => Some((3, 1.0 - t)),
+        _ => None,
+    }
+}
+
+/// Along quad edge `k`: (the edge's direction, the cross-edge derivative into the patch) from
+/// the own derivatives `ds`, `dt`.
+fn edge_frame(k: usize, ds: DVec3, dt: DVec3) -> (DVec3, DVec3) {
+    match k {
+        0 => (ds, dt),
+        1 => (dt, -ds),
+        2 => (-ds, -dt),
+        _ => (-dt, ds),
+    }
 }
 
 /// Builds the end caps of `refinement` (`census` its [`PatchCensus`], `positions` its
@@ -264,17 +308,54 @@ impl AdaptiveSurface {
         for (i, p) in patches.iter().enumerate() {
             by_base[p.domain.base_face as usize].push(i as u32);
         }
+        let promoted = promoted_caps(refinement, &census, &patches, &positions);
         Ok(AdaptiveSurface {
             positions,
             patches,
             by_base,
+            promoted,
         })
     }
 
-    /// Evaluates patch `i` at its own `(s, t)`, derivatives mapped to base parameters.
-    pub fn eval_patch(&self, i: usize, s: f64, t: f64) -> SurfacePoint {
-        let p = &self.patches[i];
-        let (position, ds, dt) = match &p.shape {
+    /// The unit normal of patch `i` at its own `(s, t)`: [`Self::promoted_normal`] where that
+    /// applies, else the patch's own `du x dv`.
+    pub fn normal(&self, i: usize, s: f64, t: f64) -> DVec3 {
+        self.promoted_normal(i, s, t).unwrap_or_else(|| {
+            let (_, ds, dt) = self.eval_own(i, s, t);
+            ds.cross(dt).normalize_or_zero()
+        })
+    }
+
+    /// The normal the GPU draws on a promoted crease (`super::promoted`), at own `(s, t)` of end
+    /// cap `i`: at a corner on one the exact limit normal; on an edge that is one (an end cap on
+    /// both sides) the normal both sides share, `cross(tangent, d_own - d_across)` of the two
+    /// cross-edge derivatives (`gregory_edge` of `glsl/gregory/gregory.glsl`). `None` elsewhere.
+    pub fn promoted_normal(&self, i: usize, s: f64, t: f64) -> Option<DVec3> {
+        let cap = self.promoted.get(&i)?;
+        let corner = match (s, t) {
+            (0.0, 0.0) => Some(0),
+            (1.0, 0.0) => Some(1),
+            (1.0, 1.0) => Some(2),
+            (0.0, 1.0) => Some(3),
+            _ => None,
+        };
+        if let Some(k) = corner {
+            return cap.corners[k];
+        }
+        let (k, x) = on_quad_edge(s, t)?;
+        let (j, k2) = cap.edges[k]?;
+        let (_, ds, dt) = self.eval_own(i, s, t);
+        let (tangent, d_own) = edge_frame(k, ds, dt);
+        // The patch across runs the edge the other way: its edge k2 at 1 - x.
+        let (s2, t2) = quad_edge_point(k2, 1.0 - x);
+        let (_, ds2, dt2) = self.eval_own(j, s2, t2);
+        let (_, d_across) = edge_frame(k2, ds2, dt2);
+        Some(tangent.cross(d_own - d_across).normalize_or_zero())
+    }
+
+    /// Position and derivatives of patch `i` in its own `(s, t)`.
+    fn eval_own(&self, i: usize, s: f64, t: f64) -> (DVec3, DVec3, DVec3) {
+        match &self.patches[i].shape {
             PatchShape::BSpline(b) => {
                 let x = b.eval(&self.positions, s, t);
                 (x.position, x.du, x.dv)
@@ -287,7 +368,13 @@ impl AdaptiveSurface {
                 let x = c.eval(&self.positions, s, t);
                 (x.position, x.du, x.dv)
             }
-        };
+        }
+    }
+
+    /// Evaluates patch `i` at its own `(s, t)`, derivatives mapped to base parameters.
+    pub fn eval_patch(&self, i: usize, s: f64, t: f64) -> SurfacePoint {
+        let p = &self.patches[i];
+        let (position, ds, dt) = self.eval_own(i, s, t);
         // (s, t) -> origin + s U + t V: d/du = (ds, dt) J^-1 with J = [U V].
         let (a, b) = (p.domain.u, p.domain.v);
         let det = a.perp_dot(b);
@@ -341,4 +428,54 @@ impl AdaptiveSurface {
         let (i, s, t) = self.locate(base_face, sub_face, u, v)?;
         Some(self.eval_patch(i, s, t))
     }
+}
+
+/// The end caps of `patches` (census order) on promoted creases: per quad end cap the end cap
+/// across each promoted edge and the exact limit normal at each promoted corner.
+fn promoted_caps(
+    refinement: &AdaptiveRefinement,
+    census: &PatchCensus,
+    patches: &[SurfacePatch],
+    positions: &[DVec3],
+) -> HashMap<usize, PromotedCap> {
+    let topologies = EndCapTopologies::new(refinement, census);
+    let mut at: HashMap<(u32, u32), usize> = HashMap::new();
+    for (i, p) in patches.iter().enumerate() {
+        if matches!(p.shape, PatchShape::Gregory(_)) {
+            at.insert((p.level, p.face), i);
+        }
+    }
+    let mut out = HashMap::new();
+    for (&(level, face), &i) in &at {
+        let lev = &refinement.levels[level as usize];
+        let (t, caps) = (lev.topology(), topologies.get(level));
+        if t.face_size(face) != 4 {
+            continue;
+        }
+        let mut cap = PromotedCap::default();
+        for (k, &e) in t.face_edges(face).iter().enumerate() {
+            if !promoted_edge(t, caps, e) {
+                continue;
+            }
+            let across = t.edge_faces(e).iter().copied().find(|&g| g != face);
+            cap.edges[k] = across.and_then(|g| {
+                let j = *at.get(&(level, g))?;
+                let k2 = t.face_edges(g).iter().position(|&x| x == e)?;
+                (t.face_size(g) == 4).then_some((j, k2))
+            });
+        }
+        for (k, &v) in t.face_vertices(face).iter().enumerate() {
+            if promoted_vertex(t, caps, v) {
+                cap.corners[k] = exact_corner_tangents(lev, face, k).map(|[du, dv]| {
+                    du.apply(positions)
+                        .cross(dv.apply(positions))
+                        .normalize_or_zero()
+                });
+            }
+        }
+        if cap.edges.iter().any(Option::is_some) || cap.corners.iter().any(Option::is_some) {
+            out.insert(i, cap);
+        }
+    }
+    out
 }
