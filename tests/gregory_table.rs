@@ -21,6 +21,10 @@ struct VertexOut {
     r_plus: Vec<DVec3>,
     r_minus: Vec<DVec3>,
     cos: Vec<f64>,
+    /// Per face: bit 0 / bit 1 its first / second edge is sharp, when the vertex's face points
+    /// beside sharp edges are one-sided (the flag word); empty otherwise.
+    sides: Vec<u8>,
+    corner: bool,
 }
 
 /// The vertex stage, from the flat arrays only.
@@ -85,9 +89,12 @@ fn vertex_stage(t: &GregoryVertexTable, pos: &[DVec3], v: usize) -> Option<Verte
         let second = if kind == KIND_CORNER as usize {
             e[tt] - p
         } else if k >= 2 {
-            // The sector's cross-boundary factor: word `s` after the face records.
+            // The sector's cross-boundary factor: word `s` after the face records; the weight of
+            // Biermann et al.'s tangent: word `nf + s`.
             let factor = f32::from_bits(t.ring[at + s]) as f64;
+            let g = f32::from_bits(t.ring[at + nf + s]) as f64;
             factor * crease_tangent(x, &m, &c, s, k, ne) / 3.0
+                + g * biermann_tangent(x, &m, &c, s, k, ne) / 3.0
         } else {
             DVec3::ZERO
         };
@@ -108,12 +115,27 @@ fn vertex_stage(t: &GregoryVertexTable, pos: &[DVec3], v: usize) -> Option<Verte
         let last = (s + k - 1) % ne;
         r_minus[last] = 2.0 / 3.0 * (m[last] - x) + 4.0 / 3.0 * (c[last] - m[tt]);
     }
+    // The one-sided flag: after the crease words (two per face) or the face records (corners).
+    let flag = t.ring[if kind == KIND_CREASE as usize {
+        at + 2 * nf
+    } else {
+        at
+    }];
+    let sides = if flag != 0 {
+        (0..nf)
+            .map(|j| u8::from(sharp[j]) | (u8::from(sharp[(j + 1) % ne]) << 1))
+            .collect()
+    } else {
+        Vec::new()
+    };
     Some(VertexOut {
         p,
         e,
         r_plus,
         r_minus,
         cos,
+        sides,
+        corner: kind == KIND_CORNER as usize,
     })
 }
 
@@ -150,7 +172,29 @@ fn smooth(x: DVec3, m: &[DVec3], c: &[DVec3], scale: f64, rho: f64) -> VertexOut
         r_minus: (0..n).map(|j| -r[(j + 1) % n]).collect(),
         r_plus: r,
         cos: vec![c2; n],
+        sides: Vec::new(),
+        corner: false,
     }
+}
+
+/// Biermann et al. 2000's cross-boundary tangent in vertex form (as OpenSubdiv's
+/// `CatmarkLimits::ComputeBoundaryPointWeights` writes it): `d = 3k + cos θ`, edge neighbours
+/// `4 sin(iθ)/d`, the two sharp ones `α`, diagonals `(sin iθ + sin (i+1)θ)/d`.
+fn biermann_tangent(x: DVec3, m: &[DVec3], c: &[DVec3], s: usize, k: usize, ne: usize) -> DVec3 {
+    let th = PI / k as f64;
+    let ct = th.cos();
+    let d = 3.0 * k as f64 + ct;
+    let alpha = -(1.0 + 2.0 * ct) * (1.0 + ct).sqrt() / d / (1.0 - ct).sqrt();
+    let w = |i: usize| 2.0 * m[(s + i) % ne] - x;
+    let f = |i: usize| 4.0 * c[(s + i) % ne] - x - w(i) - w(i + 1);
+    let mut t = alpha * (w(0) - x) + alpha * (w(k) - x);
+    for i in 1..k {
+        t += 4.0 * (i as f64 * th).sin() / d * (w(i) - x);
+    }
+    for i in 0..k {
+        t += ((i as f64 * th).sin() + ((i + 1) as f64 * th).sin()) / d * (f(i) - x);
+    }
+    t
 }
 
 /// Cross-boundary tangent of a crease sector (sine mode of the sector's subdivision matrix),
@@ -197,9 +241,20 @@ fn tcs_stage(
         let em = o.e[(j + 1) % o.e.len()];
         let e_next_minus = on.e[(jn + 1) % on.e.len()];
         let e_prev_plus = op.e[jp];
-        let (ca, cn, cp) = (o.cos[j], on.cos[jn], op.cos[jp]);
+        let (ca, mut cn, mut cp) = (o.cos[j], on.cos[jn], op.cos[jp]);
+        let sides = o.sides.get(j).copied().unwrap_or(0);
+        if sides == 3 && o.corner {
+            // Alone in its corner sector: the B-spline corner's face points.
+            (cn, cp) = (0.0, 0.0);
+        }
         let fp = (cn * o.p + (d - 2.0 * ca - cn) * ep + 2.0 * ca * e_next_minus + o.r_plus[j]) / d;
         let fm = (cp * o.p + (d - 2.0 * ca - cp) * em + 2.0 * ca * e_prev_plus + o.r_minus[j]) / d;
+        // Beside one sharp edge, the corner's other face point.
+        let (fp, fm) = match sides {
+            1 => (fm, fm),
+            2 => (fp, fp),
+            _ => (fp, fm),
+        };
         rows.extend([o.p, ep, em, fp, fm]);
     }
     rows

@@ -91,9 +91,8 @@ fn measured(name: &str, tangents: GregoryTangents) -> AccuracyReport {
 fn fitted_tangents_beat_the_papers_on_quad_meshes() {
     // Not everywhere: on meshes whose valence-3 vertices sit in nearly flat regions
     // (`catmark_gregory_test0`, the pawn and the rook) the paper's longer tangents are closer,
-    // see the README's table. `catmark_gregory_test1` left this list with the crease factors:
-    // its boundary vertex of three faces takes s(3) = 0.83, and its RMS distance (grid 6) went
-    // from below the paper's to 1.66e-3 against 1.45e-3 (README).
+    // see the README's table. Meshes with crease sectors of three or more faces:
+    // `crease_rule_reaches_its_measured_bounds`.
     for name in ["catmark_cube", "catmark_gregory_test8"] {
         let paper = measured(name, GregoryTangents::Paper);
         let optimal = measured(name, GregoryTangents::Optimal);
@@ -113,27 +112,76 @@ fn jittered(name: &str) -> ControlMesh {
     ControlMesh::from_obj_file(&path, &ObjOptions::default()).unwrap()
 }
 
+/// Optimal's crease rule (one-sided face points, `0.3 s(k) T + 0.6 T_Biermann`) on the
+/// meshes of the README's boundary table whose Gregory faces touch crease sectors of three or more
+/// quads: RMS distance and normal (grid 6, closest exact point, `gregory::accuracy`) below bounds
+/// measured with it (about 5 % above) and distances below the paper's (normals are not: the
+/// tilted corners cost xord_boundary's, 3.9e-2 against 2.96e-2 at grid 6, while the metro figures
+/// of the README improve on OpenSubdiv's). Before this rule (`s(k) T` and
+/// reflected face points) `catmark_xord_boundary` measured above the paper's and both meshes
+/// above these bounds; a mutation of either weight or of the face-point rule moves them.
 #[test]
-fn fitted_crease_tangents_beat_the_papers_on_gregory_test3() {
-    // `catmark_gregory_test3`'s only irregular vertex is a boundary vertex of three faces, so
-    // paper and optimal differ only by the crease factor s(3) (0.831). Measured (grid 6): RMS
-    // distance 8.67e-4 against the paper's 1.41e-3; jittered 8.4e-4 against 1.4e-3. Not on every
-    // mesh: `catmark_xord_boundary` (sectors of 3 to 6 faces) gets worse, see the README.
+fn crease_rule_reaches_its_measured_bounds() {
     let options = AccuracyOptions {
         grid: 6,
         include_regular: false,
     };
-    for (name, mesh) in [
-        ("catmark_gregory_test3", load("catmark_gregory_test3")),
-        ("jittered gregory_test3", jittered("gregory_test3")),
+    for (name, mesh, bound_distance, bound_normal) in [
+        (
+            "catmark_gregory_test3",
+            load("catmark_gregory_test3"),
+            BOUND_T3.0,
+            BOUND_T3.1,
+        ),
+        (
+            "jittered gregory_test3",
+            jittered("gregory_test3"),
+            BOUND_T3J.0,
+            BOUND_T3J.1,
+        ),
+        (
+            "catmark_xord_boundary",
+            load("catmark_xord_boundary"),
+            BOUND_XB.0,
+            BOUND_XB.1,
+        ),
+        (
+            "jittered xord_boundary",
+            jittered("xord_boundary"),
+            BOUND_XBJ.0,
+            BOUND_XBJ.1,
+        ),
+        (
+            "catmark_gregory_test1",
+            load("catmark_gregory_test1"),
+            BOUND_T1.0,
+            BOUND_T1.1,
+        ),
     ] {
         let run = |t| measure_tangents(&mesh, &options, t, false).unwrap().0;
         let (paper, optimal) = (run(GregoryTangents::Paper), run(GregoryTangents::Optimal));
+        eprintln!(
+            "{name}: optimal {:.3e} / {:.3e}, paper {:.3e} / {:.3e}",
+            optimal.rms_distance, optimal.rms_normal, paper.rms_distance, paper.rms_normal
+        );
         assert!(paper.faces == optimal.faces && paper.faces > 0);
         assert!(
-            optimal.rms_distance < 0.7 * paper.rms_distance
-                && optimal.rms_normal < 0.9 * paper.rms_normal,
+            optimal.rms_distance < bound_distance && optimal.rms_normal < bound_normal,
+            "{name}: optimal {optimal:?}"
+        );
+        assert!(
+            optimal.rms_distance < paper.rms_distance,
             "{name}: optimal {optimal:?} paper {paper:?}"
         );
     }
 }
+
+// Measured (RMS distance, normal): 6.61e-4 / 3.27e-2, jittered 5.17e-4 / 3.29e-2 (paper 1.41e-3 /
+// 4.84e-2); xord_boundary 8.97e-4 / 3.92e-2, jittered 8.74e-4 / 3.88e-2 (paper 1.10e-3); test1
+// 1.42e-3 / 1.57e-2 (paper 1.46e-3). With `s(k) T` and reflected face points: test3 8.67e-4,
+// xord_boundary above the paper's.
+const BOUND_T3: (f64, f64) = (6.95e-4, 3.43e-2);
+const BOUND_T3J: (f64, f64) = (5.45e-4, 3.46e-2);
+const BOUND_XB: (f64, f64) = (9.45e-4, 4.12e-2);
+const BOUND_XBJ: (f64, f64) = (9.2e-4, 4.08e-2);
+const BOUND_T1: (f64, f64) = (1.45e-3, 1.65e-2);
