@@ -11,9 +11,7 @@ use glam::DVec3;
 use tessera::mesh::{
     BoundaryInterpolation, ControlMesh, ControlMeshDesc, Crease, INFINITE_SHARPNESS,
 };
-use tessera::patch::gregory::{
-    check_face, gregory_patch, gregory_vertices, GregoryPatch, GregoryTangents,
-};
+use tessera::patch::gregory::{check_face, gregory_patch, gregory_vertices, GregoryPatch};
 use tessera::patch::RegularPatch;
 use tessera::subdiv::eval::{LimitEvaluator, LimitSample};
 use tessera::topology::Topology;
@@ -292,24 +290,6 @@ fn exact_corner(ev: &LimitEvaluator, f: u32, n: usize, k: usize) -> LimitSample 
 /// and more: `subdiv::limit::sector`). A Gregory corner interpolates the sharp curves with one
 /// tangent plane, so there it keeps the plane through them.
 fn beyond_sharp_edge_plane(topo: &Topology, v: u32, f: u32) -> bool {
-    match sector_of(topo, v, f) {
-        Some((faces, corner)) => (corner && faces >= 3) || faces >= 5,
-        None => false,
-    }
-}
-
-/// Whether the corner's tangent plane is tilted on purpose: a crease sector of three or more
-/// faces at a vertex of quads under `Optimal`, whose cross-boundary tangent mixes in Biermann et
-/// al.'s (`patch::gregory::tangents_boundary`; not in the exact tangent plane).
-fn tilted_by_biermann(topo: &Topology, v: u32, f: u32) -> bool {
-    GregoryTangents::default() == GregoryTangents::Optimal
-        && topo.vertex_faces(v).iter().all(|&g| topo.face_size(g) == 4)
-        && matches!(sector_of(topo, v, f), Some((faces, false)) if faces >= 3)
-}
-
-/// `(faces, corner)` of the sector holding face `f` at vertex `v`, if `v` has two or more sharp
-/// edges.
-fn sector_of(topo: &Topology, v: u32, f: u32) -> Option<(usize, bool)> {
     let edges = topo.vertex_edges(v);
     let sharp: Vec<bool> = edges
         .iter()
@@ -317,7 +297,7 @@ fn sector_of(topo: &Topology, v: u32, f: u32) -> Option<(usize, bool)> {
         .collect();
     let count = sharp.iter().filter(|&&s| s).count();
     if count < 2 {
-        return None;
+        return false;
     }
     let corner = count > 2 || topo.vertex_sharpness(v) >= INFINITE_SHARPNESS;
     let j = topo.vertex_faces(v).iter().position(|&g| g == f).unwrap();
@@ -329,7 +309,7 @@ fn sector_of(topo: &Topology, v: u32, f: u32) -> Option<(usize, bool)> {
         .unwrap();
     let hi = (1..=ne).map(|d| (j + d) % ne).find(|&k| sharp[k]).unwrap();
     let faces = (hi + ne - lo - 1) % ne + 1;
-    Some((faces, corner))
+    (corner && faces >= 3) || faces >= 5
 }
 
 /// At every corner of every Gregory face the patch normal is the exact limit normal, except at
@@ -340,7 +320,6 @@ fn check_corner_normals(mesh: &ControlMesh) -> usize {
     let ev = LimitEvaluator::new(mesh).unwrap();
     let mut checked = 0;
     let mut beyond = (0, 0.0f64);
-    let mut tilted = (0, 0.0f64);
     for f in 0..topo.face_count() as u32 {
         let Some(p) = &patches[f as usize] else {
             continue;
@@ -360,13 +339,6 @@ fn check_corner_normals(mesh: &ControlMesh) -> usize {
                 beyond = (beyond.0 + 1, beyond.1.max(angle));
                 continue;
             }
-            if tilted_by_biermann(&topo, topo.face_vertices(f)[k], f) {
-                // Measured up to 0.142 rad on these meshes (inf_crease1) (README, boundary and crease
-                // vertices); the exact plane is kept under the paper's construction.
-                assert!(angle < 0.15, "face {f} corner {k}: tilted by {angle} rad");
-                tilted = (tilted.0 + 1, tilted.1.max(angle));
-                continue;
-            }
             // The exact masks at sectors come from an iterative eigen-solve (~1e-8 rad).
             assert!(
                 angle < 1e-6,
@@ -374,12 +346,6 @@ fn check_corner_normals(mesh: &ControlMesh) -> usize {
             );
             checked += 1;
         }
-    }
-    if tilted.0 > 0 {
-        eprintln!(
-            "  {} corners in crease sectors of 3+ quads: up to {:.4} rad from the limit",
-            tilted.0, tilted.1
-        );
     }
     if beyond.0 > 0 {
         eprintln!(

@@ -89,12 +89,9 @@ fn vertex_stage(t: &GregoryVertexTable, pos: &[DVec3], v: usize) -> Option<Verte
         let second = if kind == KIND_CORNER as usize {
             e[tt] - p
         } else if k >= 2 {
-            // The sector's cross-boundary factor: word `s` after the face records; the weight of
-            // Biermann et al.'s tangent: word `nf + s`.
+            // The sector's cross-boundary factor: word `s` after the face records.
             let factor = f32::from_bits(t.ring[at + s]) as f64;
-            let g = f32::from_bits(t.ring[at + nf + s]) as f64;
             factor * crease_tangent(x, &m, &c, s, k, ne) / 3.0
-                + g * biermann_tangent(x, &m, &c, s, k, ne) / 3.0
         } else {
             DVec3::ZERO
         };
@@ -115,9 +112,9 @@ fn vertex_stage(t: &GregoryVertexTable, pos: &[DVec3], v: usize) -> Option<Verte
         let last = (s + k - 1) % ne;
         r_minus[last] = 2.0 / 3.0 * (m[last] - x) + 4.0 / 3.0 * (c[last] - m[tt]);
     }
-    // The one-sided flag: after the crease words (two per face) or the face records (corners).
+    // The one-sided flag: after the crease words (one per face) or the face records (corners).
     let flag = t.ring[if kind == KIND_CREASE as usize {
-        at + 2 * nf
+        at + nf
     } else {
         at
     }];
@@ -175,26 +172,6 @@ fn smooth(x: DVec3, m: &[DVec3], c: &[DVec3], scale: f64, rho: f64) -> VertexOut
         sides: Vec::new(),
         corner: false,
     }
-}
-
-/// Biermann et al. 2000's cross-boundary tangent in vertex form (as OpenSubdiv's
-/// `CatmarkLimits::ComputeBoundaryPointWeights` writes it): `d = 3k + cos θ`, edge neighbours
-/// `4 sin(iθ)/d`, the two sharp ones `α`, diagonals `(sin iθ + sin (i+1)θ)/d`.
-fn biermann_tangent(x: DVec3, m: &[DVec3], c: &[DVec3], s: usize, k: usize, ne: usize) -> DVec3 {
-    let th = PI / k as f64;
-    let ct = th.cos();
-    let d = 3.0 * k as f64 + ct;
-    let alpha = -(1.0 + 2.0 * ct) * (1.0 + ct).sqrt() / d / (1.0 - ct).sqrt();
-    let w = |i: usize| 2.0 * m[(s + i) % ne] - x;
-    let f = |i: usize| 4.0 * c[(s + i) % ne] - x - w(i) - w(i + 1);
-    let mut t = alpha * (w(0) - x) + alpha * (w(k) - x);
-    for i in 1..k {
-        t += 4.0 * (i as f64 * th).sin() / d * (w(i) - x);
-    }
-    for i in 0..k {
-        t += ((i as f64 * th).sin() + ((i + 1) as f64 * th).sin()) / d * (f(i) - x);
-    }
-    t
 }
 
 /// Cross-boundary tangent of a crease sector (sine mode of the sector's subdivision matrix),

@@ -62,31 +62,6 @@ vec3 crease_tangent(vec3 v, int s, int k, int ne) {
     return t - wsum * v;
 }
 
-/// Biermann et al.'s cross-boundary tangent of a crease sector with k faces from edge s
-/// (weights as patch::gregory::biermann_tangent_weights, converted to the split ring).
-vec3 biermann_tangent(vec3 v, int s, int k, int ne) {
-    float th = GVS_PI / float(k);
-    float cth = cos(th);
-    float d = 3.0 * float(k) + cth;
-    float alpha = -((1.0 + 2.0 * cth) * sqrt(1.0 + cth)) / (d * sqrt(1.0 - cth));
-    vec3 t = vec3(0.0);
-    float wsum = 0.0;
-    for (int i = 0; i <= k; ++i) {
-        float a = (i == 0 || i == k) ? alpha : 4.0 * sin(float(i) * th) / d;
-        float bp = i > 0 ? (sin(float(i - 1) * th) + sin(float(i) * th)) / d : 0.0;
-        float bn = i < k ? (sin(float(i) * th) + sin(float(i + 1) * th)) / d : 0.0;
-        float wm = 2.0 * (a - bp - bn);
-        t += wm * m[(s + i) % ne];
-        wsum += wm;
-        if (i < k) {
-            float wc = 4.0 * bn;
-            t += wc * c[(s + i) % ne];
-            wsum += wc;
-        }
-    }
-    return t - wsum * v;
-}
-
 void main() {
     uint v = uint(gl_VertexIndex);
     uint off = conn[4u * v];
@@ -190,12 +165,6 @@ void main() {
             // The sector's cross-boundary factor s(k) after the face records, one word per
             // face (GregoryTangents::crease_scale; 1.0 keeps the paper's bits).
             second = crease_tangent(pv, s, k, ne) / 3.0 * uintBitsToFloat(conn[fo + uint(s)]);
-            // Then nf words: the weight of Biermann et al.'s tangent
-            // (GregoryTangents::crease_biermann; 0.0 keeps the paper's bits).
-            float g = uintBitsToFloat(conn[fo + uint(nf + s)]);
-            if (g != 0.0) {
-                second += biermann_tangent(pv, s, k, ne) / 3.0 * g;
-            }
         }
         for (int q = 1; q < k; ++q) {
             float a = float(q) * alpha;
@@ -221,6 +190,6 @@ void main() {
     }
     // One-sided face points beside sharp edges (GregoryVertex::one_sided): the word after the
     // crease words, passed to the TCS as the sign of slot 0's w.
-    uint one_sided = conn[kind == GVS_KIND_CREASE ? fo + uint(2 * nf) : fo];
+    uint one_sided = conn[kind == GVS_KIND_CREASE ? fo + uint(nf) : fo];
     v_data[0] = vec4(p, one_sided != 0u ? -float(nf) : float(nf));
 }

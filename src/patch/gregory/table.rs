@@ -22,9 +22,7 @@
 //! 4. smooth vertices only: two words, the `f32` bits of the edge-tangent factor `s` and of the
 //!    transversal factor `ρ` ([`super::GregoryTangents::ring_factors`]; both 1.0 for the
 //!    paper's construction); crease vertices only: `nf` words, per incident face the `f32` bits
-//!    of the factor of the sine-mode cross-boundary tangent of its sector
-//!    ([`super::GregoryTangents::crease_scale`]), then `nf` words, the `f32` bits of the weight
-//!    of Biermann et al.'s tangent ([`super::GregoryTangents::crease_biermann`]);
+//!    of the cross-boundary factor `s(k)` of its sector ([`super::GregoryTangents::crease_scale`]);
 //! 5. crease and corner vertices: one word, 1 if the face points beside sharp edges are
 //!    one-sided ([`super::GregoryVertex::one_sided`] not empty), else 0.
 //!
@@ -92,21 +90,17 @@ impl GregoryVertexTable {
             let quads = face_sizes.iter().all(|&k| k == 4);
             let mut sector_words = vec![(nf as u32) << 16; nf];
             let mut crease_words = Vec::new();
-            let mut biermann_words = Vec::new();
             if kind != KIND_SMOOTH {
                 let sharp: Vec<bool> = edges
                     .iter()
                     .map(|&e| topo.edge_sharpness(e) >= INFINITE_SHARPNESS)
                     .collect();
                 let factor = |k: usize| (tangents.crease_scale(k, quads) as f32).to_bits();
-                let biermann = |k: usize| (tangents.crease_biermann(k, quads) as f32).to_bits();
                 crease_words = vec![factor(0); nf];
-                biermann_words = vec![biermann(0); nf];
                 for s in sectors(&sharp, nf) {
                     for i in 0..s.faces {
                         sector_words[(s.start + i) % ne] = s.start as u32 | (s.faces as u32) << 16;
                         crease_words[(s.start + i) % ne] = factor(s.faces);
-                        biermann_words[(s.start + i) % ne] = biermann(s.faces);
                     }
                 }
             }
@@ -127,7 +121,6 @@ impl GregoryVertexTable {
             }
             if kind == KIND_CREASE {
                 t.ring.extend(&crease_words);
-                t.ring.extend(&biermann_words);
             }
             if kind == KIND_CREASE || kind == KIND_CORNER {
                 t.ring.push(u32::from(tangents.one_sided_face_points()));

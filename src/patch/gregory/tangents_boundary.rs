@@ -35,24 +35,19 @@
 //! [`CREASE_SCALE`] by `cargo run --example gregory_tangent_table`. Beyond the table the last
 //! entry is used. Like the smooth factors, `Optimal` applies them on rings of quads only.
 //!
-//! # The rule `Optimal` uses (issue 10)
+//! # One-sided face points (`Optimal`, issue 10)
 //!
-//! OpenSubdiv's Gregory basis beats the fitted `s(k) T` on meshes whose crease vertices are far
-//! from the characteristic half-ring; compared point by point (README) it differs in three
-//! stencil rules, which `Optimal` now takes in part:
-//! - the cross-boundary tangent is `EIGEN_WEIGHT · s(k) T + BIERMANN_WEIGHT · T_B` in sectors of
-//!   `k >= 3` quads, `T_B` Biermann et al. 2000's tangent ([`super::vertex::biermann_tangent_weights`],
-//!   OpenSubdiv's, weight 1 there). `T_B` is not in the exact tangent plane (it is an eigenvector
-//!   of Biermann's modified rules), so the corner normal of those sectors tilts from the limit
-//!   normal (up to 0.14 rad on the corpus); that tilt is what the accuracy gain comes from —
-//!   one factor on `T` keeping the exact plane does not reach OpenSubdiv on `xord_boundary`;
+//! Compared point by point with OpenSubdiv's Gregory basis (README), two of its rules at
+//! boundary and crease vertices keep the exact corner plane and are taken by `Optimal`:
 //! - beside a sharp edge the face point is the corner's other face point in the same face
 //!   (`GregoryVertex::one_sided`, applied in the patch assembly), not eq. 6 with the reflected
 //!   ring;
 //! - at a vertex alone in its corner sector both face points are eq. 6 with the far corner's
 //!   cosine 0 (`e + r/3`, the B-spline corner's `(4v + 2a + 2b + d)/9`).
 //!
-//! The weights 0.3 and 0.6 come from a sweep on the README's meshes, not from the half-ring fit.
+//! Its third, Biermann et al.'s cross-boundary tangent, is not in the exact tangent plane (an
+//! eigenvector of Biermann's modified rules): it gains accuracy by tilting the corner normal
+//! (up to 0.14 rad on the corpus), which the exact corner normals tessera keeps rule out.
 //!
 //! # Corners
 //!
@@ -73,35 +68,7 @@ pub const CREASE_SCALE: [f64; MAX_FITTED_CREASE_SECTOR - 2] = [
     0.410119, 0.403074, 0.397448, 0.392902, 0.389194,
 ];
 
-/// Under [`GregoryTangents::Optimal`], the weight of the fitted sine-mode tangent `s(k) T` in the
-/// cross-boundary tangent of a crease sector of `k >= 3` quads (the rest is
-/// [`BIERMANN_WEIGHT`] times Biermann et al.'s tangent); chosen on the README's meshes.
-pub const EIGEN_WEIGHT: f64 = 0.3;
-
-/// Under [`GregoryTangents::Optimal`], the weight of Biermann et al.'s tangent
-/// ([`super::vertex::biermann_tangent_weights`]) in the cross-boundary tangent of a crease sector
-/// of `k >= 3` quads.
-pub const BIERMANN_WEIGHT: f64 = 0.6;
-
 impl GregoryTangents {
-    /// The factor on the sine-mode cross-boundary tangent `T` of a crease sector of `k` faces
-    /// at a vertex whose faces are all quads (`quads`), rounded to `f32` as [`Self::scale`]: 1
-    /// for the paper's construction, for `k <= 2` and for `Optimal` on rings with other faces;
-    /// `Scaled(s)` gives `s` (the fit); `Optimal` on quads `EIGEN_WEIGHT · s(k)` (with
-    /// [`Self::crease_biermann`] beside it).
-    pub fn crease_scale(self, k: usize, quads: bool) -> f64 {
-        let s = match self {
-            GregoryTangents::Paper => 1.0,
-            _ if k <= 2 => 1.0,
-            GregoryTangents::Scaled(s) => s,
-            GregoryTangents::Optimal if !quads => 1.0,
-            GregoryTangents::Optimal => {
-                EIGEN_WEIGHT * CREASE_SCALE[k.min(MAX_FITTED_CREASE_SECTOR) - 3]
-            }
-        };
-        s as f32 as f64
-    }
-
     /// Whether face points beside sharp edges are one-sided (`Optimal` only: the paper's
     /// construction and `Scaled`, on which the fit of [`CREASE_SCALE`] runs, reflect the ring;
     /// `GregoryVertex::one_sided`).
@@ -109,15 +76,19 @@ impl GregoryTangents {
         self == GregoryTangents::Optimal
     }
 
-    /// The weight of Biermann et al.'s tangent in the cross-boundary tangent of a crease sector
-    /// of `k` faces at a vertex whose faces are all quads (`quads`), rounded to `f32`:
-    /// [`BIERMANN_WEIGHT`] under `Optimal` for `k >= 3` quads, 0 otherwise (the paper's
-    /// construction and `Scaled` keep the sine mode alone).
-    pub fn crease_biermann(self, k: usize, quads: bool) -> f64 {
-        match self {
-            GregoryTangents::Optimal if quads && k >= 3 => BIERMANN_WEIGHT as f32 as f64,
-            _ => 0.0,
-        }
+    /// The factor `s(k)` on the cross-boundary tangent of a crease sector of `k` faces at a
+    /// vertex whose faces are all quads (`quads`), rounded to `f32` as [`Self::scale`]: 1 for
+    /// the paper's construction, for `k <= 2` and for `Optimal` on rings with other faces;
+    /// `Scaled(s)` gives `s` (the fit).
+    pub fn crease_scale(self, k: usize, quads: bool) -> f64 {
+        let s = match self {
+            GregoryTangents::Paper => 1.0,
+            _ if k <= 2 => 1.0,
+            GregoryTangents::Scaled(s) => s,
+            GregoryTangents::Optimal if !quads => 1.0,
+            GregoryTangents::Optimal => CREASE_SCALE[k.min(MAX_FITTED_CREASE_SECTOR) - 3],
+        };
+        s as f32 as f64
     }
 }
 
@@ -138,20 +109,7 @@ mod tests {
         assert_eq!(GregoryTangents::Scaled(0.5).crease_scale(3, true), 0.5);
         assert_eq!(
             GregoryTangents::Optimal.crease_scale(99, true),
-            (EIGEN_WEIGHT * CREASE_SCALE[MAX_FITTED_CREASE_SECTOR - 3]) as f32 as f64
+            CREASE_SCALE[MAX_FITTED_CREASE_SECTOR - 3] as f32 as f64
         );
-        for k in 1..40 {
-            assert_eq!(GregoryTangents::Paper.crease_biermann(k, true), 0.0);
-            assert_eq!(GregoryTangents::Optimal.crease_biermann(k, false), 0.0);
-            let b = GregoryTangents::Optimal.crease_biermann(k, true);
-            assert_eq!(
-                b,
-                if k >= 3 {
-                    BIERMANN_WEIGHT as f32 as f64
-                } else {
-                    0.0
-                }
-            );
-        }
     }
 }

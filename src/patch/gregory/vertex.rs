@@ -151,43 +151,6 @@ pub fn crease_tangent_weights(k: usize) -> (f64, Vec<f64>, Vec<f64>) {
     let b: Vec<f64> = (0..k)
         .map(|i| scale * bb * ((i as f64 * th).sin() + ((i + 1) as f64 * th).sin()))
         .collect();
-    split_ring_weights(&a, &b)
-}
-
-/// Weights of Biermann et al. 2000's cross-boundary tangent of a crease sector with `k >= 2`
-/// faces (the stencil §4.6 of the paper cites, as OpenSubdiv's Gregory basis uses it), over the
-/// split ring like [`crease_tangent_weights`]: `(w_v, w_m[0..=k], w_c[0..k])`, summing to 0.
-///
-/// In vertex form, with edge neighbours `e_i`, diagonal vertices `f_i`, `θ = π/k` and
-/// `d = 3k + cos θ`: `T = γ v + α (e_0 + e_k) + Σ_{i=1}^{k-1} 4 sin(iθ)/d e_i +
-/// Σ_{i<k} (sin(iθ) + sin((i+1)θ))/d f_i`, `γ = −4 sin θ/d`,
-/// `α = −(1 + 2 cos θ) √(1 + cos θ) / (d √(1 − cos θ))`; an eigenvector of Biermann et al.'s
-/// modified boundary rules, not of the standard crease rules (`tangents_boundary`). On quads
-/// `e_i = 2 m_i − v`, `f_i = 4 c_i − v − e_i − e_{i+1}`.
-pub fn biermann_tangent_weights(k: usize) -> (f64, Vec<f64>, Vec<f64>) {
-    let th = PI / k as f64;
-    let c = th.cos();
-    let d = 3.0 * k as f64 + c;
-    let alpha = -((1.0 + 2.0 * c) * (1.0 + c).sqrt()) / (d * (1.0 - c).sqrt());
-    let a: Vec<f64> = (0..=k)
-        .map(|i| {
-            if i == 0 || i == k {
-                alpha
-            } else {
-                4.0 * (i as f64 * th).sin() / d
-            }
-        })
-        .collect();
-    let b: Vec<f64> = (0..k)
-        .map(|i| ((i as f64 * th).sin() + ((i + 1) as f64 * th).sin()) / d)
-        .collect();
-    split_ring_weights(&a, &b)
-}
-
-/// Vertex-form weights (`a` on the edge neighbours `e_0..=e_k`, `b` on the diagonal vertices
-/// `f_0..f_k` of a quad sector) as split-ring weights `(w_v, w_m, w_c)` of a mask summing to 0.
-fn split_ring_weights(a: &[f64], b: &[f64]) -> (f64, Vec<f64>, Vec<f64>) {
-    let k = b.len();
     // f_i = 4 c_i - v - e_i - e_{i+1}, e_i = 2 m_i - v.
     let wm: Vec<f64> = (0..=k)
         .map(|i| {
@@ -363,9 +326,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     ///   ending at sharp edge `t`: corners (`α = π/(2k)`, the sector spans a right angle)
     ///   `e = p + cosθ (e_s - p) + sinθ (e_t - p)`; creases (`α = π/k`)
     ///   `e = p + cosθ (e_s - p) + sinθ s(k) T/3` with `T` from [`crease_tangent_weights`] and
-    ///   `s(k)` the cross-boundary factor [`GregoryTangents::crease_scale`] (1: the paper's),
-    ///   plus [`GregoryTangents::crease_biermann`] times [`biermann_tangent_weights`]' tangent
-    ///   over 3 (`Optimal`, sectors of three or more quads; `tangents_boundary`).
+    ///   `s(k)` the cross-boundary factor [`GregoryTangents::crease_scale`] (1: the paper's).
     ///   These edge points form the affine `n`-gon of condition (1) with `cos(2π/n) = cos α`.
     /// - `r` across inner edges as in §3.4; across a sharp edge, the ring reflected across it
     ///   (`m_{s-1} → 2v - m_{s+1}`, `c_{s-1} → 2 m_s - c_s`, the phantom rule of boundary
@@ -433,27 +394,12 @@ impl<P: GregoryPoint> GregoryVertex<P> {
                     let (wv, wm, wc) = crease_tangent_weights(k);
                     // `f * w` is `w` bit for bit at the paper's `f = 1`.
                     let f = tangents.crease_scale(k, ring.quads());
-                    let g = tangents.crease_biermann(k, ring.quads());
-                    let (bv, bm, bc) = if g != 0.0 {
-                        biermann_tangent_weights(k)
-                    } else {
-                        (0.0, vec![0.0; k + 1], vec![0.0; k])
-                    };
                     let mut tan = combine(&[(f * wv / 3.0, &ring.v)]);
                     for (i, w) in wm.iter().enumerate() {
                         tan.add_scaled(f * w / 3.0, &ring.m[edge(i)]);
                     }
                     for (i, w) in wc.iter().enumerate() {
                         tan.add_scaled(f * w / 3.0, &ring.c[face(i)]);
-                    }
-                    if g != 0.0 {
-                        tan.add_scaled(g * bv / 3.0, &ring.v);
-                        for (i, w) in bm.iter().enumerate() {
-                            tan.add_scaled(g * w / 3.0, &ring.m[edge(i)]);
-                        }
-                        for (i, w) in bc.iter().enumerate() {
-                            tan.add_scaled(g * w / 3.0, &ring.c[face(i)]);
-                        }
                     }
                     tan
                 }
@@ -812,8 +758,8 @@ mod tests {
     }
 
     #[test]
-    fn optimal_mixes_biermann_and_marks_sharp_sides() {
-        for k in [3, 5] {
+    fn optimal_marks_the_sharp_sides() {
+        for k in [1, 3, 5] {
             let r = boundary_ring(k);
             let paper = GregoryVertex::sectored(&r, GregoryTangents::Paper).unwrap();
             let opt = GregoryVertex::sectored(&r, GregoryTangents::Optimal).unwrap();
@@ -822,31 +768,6 @@ mod tests {
             sides[0] |= 1;
             sides[k - 1] |= 2;
             assert_eq!(opt.one_sided, sides);
-            // e_i - p - cos θ (e_s - p) = sin θ (a s(k) T + b T_B)/3, T_B in vertex form
-            // (OpenSubdiv's `ComputeBoundaryPointWeights`, independent of the split-ring form).
-            let th = PI / k as f64;
-            let d = 3.0 * k as f64 + th.cos();
-            let (c, sn) = (th.cos(), th.sin());
-            let w = |i: usize| 2.0 * r.m[i] - r.v;
-            let f = |i: usize| 4.0 * r.c[i] - r.v - w(i) - w(i + 1);
-            let alpha = -(1.0 + 2.0 * c) * (1.0 + c).sqrt() / (d * (1.0 - c).sqrt());
-            let mut tb = -4.0 * sn / d * r.v + alpha * (w(0) + w(k));
-            for i in 1..k {
-                tb += 4.0 * (i as f64 * th).sin() / d * w(i);
-            }
-            for i in 0..k {
-                tb += ((i as f64 * th).sin() + ((i + 1) as f64 * th).sin()) / d * f(i);
-            }
-            let a = GregoryTangents::Optimal.crease_scale(k, true);
-            let b = GregoryTangents::Optimal.crease_biermann(k, true);
-            let ds = paper.e[0] - paper.p;
-            for i in 1..k {
-                let (s, cs) = (i as f64 * th).sin_cos();
-                let t_paper = (paper.e[i] - paper.p - cs * ds) / s;
-                let t_opt = (opt.e[i] - opt.p - cs * ds) / s;
-                let expected = a * t_paper + b * tb / 3.0;
-                assert!((t_opt - expected).length() < 1e-12, "{k} {i}");
-            }
         }
     }
 
