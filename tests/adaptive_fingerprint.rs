@@ -14,7 +14,11 @@
 //! the smooth edge points are `p + cos q_c + sin q_s` of those sums (the paper's per-edge sums
 //! regrouped). The refinement and kernels' fingerprints did not change; the CPU
 //! `AdaptiveSurface` of these meshes (25 points per patch) moved by at most 4.3e-16 of the bbox
-//! diagonal, unit normals by at most 1.3e-11 (rounding of the regrouped sums).
+//! diagonal, unit normals by at most 1.3e-11 (rounding of the regrouped sums). They were
+//! re-taken again for the normals on promoted creases (issue 8): end caps on an edge the end caps
+//! keep infinitely sharp (residual sharpness >= 1) no longer flag it as a crease, and a frame at a
+//! vertex on one takes the exact limit tangents; only the draw tables of the meshes with such
+//! edges changed (car, cube_creases1, cubes_semisharp, single_crease).
 //!
 //! The fingerprints change with any change of output, deliberate or not: a change that is meant
 //! to alter the tables (new end-cap rules, another row order) re-derives them and says so.
@@ -70,25 +74,25 @@ fn adaptive_tables_are_bitwise_unchanged() {
             "catmark_car",
             2,
             true,
-            [0xa5cc656dde2ba5a7, 0xca4a93965f2b110e, 0xd2fef82f6dc65d2e],
+            [0xa5cc656dde2ba5a7, 0xca4a93965f2b110e, 0xc199b6ea6ea0fc18],
         ),
         (
             "catmark_car",
             4,
             true,
-            [0xa8afcee00ee7224d, 0xc8ccf101f97d4dd2, 0xcc55c418c02cc300],
+            [0xa8afcee00ee7224d, 0xc8ccf101f97d4dd2, 0xc3bdd089409f4eb8],
         ),
         (
             "catmark_car",
             2,
             false,
-            [0xf703b1be7dd8a71d, 0x974d66fe24c13fc5, 0x91ad6e4b4ffe637e],
+            [0xf703b1be7dd8a71d, 0x974d66fe24c13fc5, 0xb976b06c71096b1c],
         ),
         (
             "catmark_cube_creases1",
             3,
             true,
-            [0x6167d9b511a98615, 0xa1a708fbce690d15, 0x23c34e844ce3246d],
+            [0x6167d9b511a98615, 0xa1a708fbce690d15, 0xce1f4ab409b5ed39],
         ),
         (
             "catmark_cube_creases2",
@@ -118,7 +122,7 @@ fn adaptive_tables_are_bitwise_unchanged() {
             "catmark_cubes_semisharp",
             3,
             true,
-            [0xadc07afdce471a42, 0x47e42ffd83d0ff2a, 0xfdf1f53593a6d86a],
+            [0xadc07afdce471a42, 0x47e42ffd83d0ff2a, 0x85ebf6491b4e04f8],
         ),
         (
             "catmark_tent_creases1",
@@ -130,7 +134,7 @@ fn adaptive_tables_are_bitwise_unchanged() {
             "catmark_single_crease",
             4,
             true,
-            [0xa49f2413685dbe9c, 0xe6c95c4a3b7daf47, 0xea7baae8b82568b4],
+            [0xa49f2413685dbe9c, 0xe6c95c4a3b7daf47, 0xb0e8d6cfad515b10],
         ),
         (
             "catmark_pole64",

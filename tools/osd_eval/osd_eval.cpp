@@ -5,6 +5,9 @@
 //   osd_eval MESH.obj ISOLATION GRID [single-crease] > osd.txt
 //   osd_eval MESH.obj ISOLATION - [single-crease] < points.txt > osd.txt   (the points of the
 //   first three columns of each input line, e.g. what examples/adaptive_grid.rs writes)
+//   osd_eval MESH.obj 0 0 points > points.txt   (the 20 Gregory-basis points of every quad drawn
+//     as a Gregory-basis patch: `f corner P|Ep|Em|Fp|Fm x y z`, corner i = face vertex i, Ep
+//     towards corner i + 1, Fp next to the edge i -> i + 1, as tessera's e_plus / f_plus)
 // Reads `v`, `f` and the OpenSubdiv tags tessera reads (crease, corner, hole, interpolateboundary,
 // creasemethod; interpolateboundary 0 none, 1 edge-and-corner (the default), 2 edge-only, as tessera).
 // Quads print `f u v ...`; sub-face k of another face prints `f:k u v ...` (ptex order).
@@ -101,7 +104,7 @@ static bool load(const char *path, Mesh &m) {
 
 int main(int argc, char **argv) {
     if (argc < 4) {
-        std::fprintf(stderr, "usage: osd_eval MESH.obj ISOLATION GRID|- [single-crease]\n");
+        std::fprintf(stderr, "usage: osd_eval MESH.obj ISOLATION GRID|- [single-crease|points]\n");
         return 2;
     }
     Mesh m;
@@ -111,6 +114,7 @@ int main(int argc, char **argv) {
     }
     const int isolation = std::atoi(argv[2]), grid = std::atoi(argv[3]);
     const bool singleCrease = argc > 4 && std::string(argv[4]) == "single-crease";
+    const bool printPoints = argc > 4 && std::string(argv[4]) == "points";
 
     Far::TopologyDescriptor desc;
     desc.numVertices = (int)m.verts.size();
@@ -162,8 +166,29 @@ int main(int argc, char **argv) {
     Far::PatchMap map(*table);
     Far::PtexIndices ptex(*refiner);
     std::fprintf(stderr, "patches %d, local points %d\n", table->GetNumPatchesTotal(), table->GetNumLocalPoints());
+    if (table->GetNumPatchesTotal() == 0)
+        // OpenSubdiv draws no patch at level 0 of a mesh with a non-quad face (its faces are
+        // isolated from level 1 on): e.g. gregory_test2 and gregory_test8 at isolation 0.
+        std::fprintf(stderr, "no patches: a mesh with non-quad faces needs isolation >= 1\n");
     const Far::TopologyLevel &base = refiner->GetLevel(0);
     std::vector<double> w(20), wu(20), wv(20);
+    if (printPoints) {
+        static const char *names[5] = {"P", "Ep", "Em", "Fp", "Fm"};
+        for (int f = 0; f < base.GetNumFaces(); ++f) {
+            if (base.IsFaceHole(f) || base.GetFaceVertices(f).size() != 4) continue;
+            Far::PatchTable::PatchHandle const *h = map.FindPatch(ptex.GetFaceId(f), 0.5, 0.5);
+            if (!h || table->GetPatchDescriptor(*h).GetType() != Far::PatchDescriptor::GREGORY_BASIS) continue;
+            if (table->GetPatchParam(*h).GetDepth() != 0) continue;
+            Far::ConstIndexArray cvs = table->GetPatchVertices(*h);
+            for (int c = 0; c < 20; ++c) {
+                Point const &q = points[cvs[c]];
+                std::printf("%d %d %s %.17g %.17g %.17g\n", f, c / 5, names[c % 5], q.p[0], q.p[1], q.p[2]);
+            }
+        }
+        delete table;
+        delete refiner;
+        return 0;
+    }
     // Sub-face k of base face f (k = 0 for quads) at (u, v): one output line, or none where no
     // patch covers the point (holes).
     auto eval = [&](int f, int k, double u, double v) {
