@@ -101,7 +101,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = std::io::stdout();
     let mut w = std::io::BufWriter::new(out.lock());
     for (f, sub, u, v) in at {
-        let Some(x) = surface.eval(f, sub, u, v) else {
+        let Some((i, s, t)) = surface.locate(f, sub, u, v) else {
             continue;
         };
         let (p, n) = match &exact {
@@ -109,9 +109,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let e = ev.eval(f as usize, sub.unwrap_or(0) as usize, u, v)?;
                 (e.position, e.normal)
             }
-            None => (x.position, x.du.cross(x.dv).normalize_or_zero()),
+            // The normal the GPU draws (shared on promoted creases, `AdaptiveSurface::normal`).
+            None => (surface.eval_patch(i, s, t).position, surface.normal(i, s, t)),
         };
-        let patch = &surface.patches[x.patch];
+        let patch = &surface.patches[i];
         let face = match sub {
             None => format!("{f}"),
             Some(k) => format!("{f}:{k}"),
