@@ -188,15 +188,13 @@ fn end_cap_rows(
 /// patches (B-spline, single-crease) before end caps (whose Gregory corners are built over
 /// [`EndCapTopologies`]), in slot order (computed on the rayon pool in runs of slots, each
 /// written into flat rows of its own; one run on one thread), and whether the slot's normal is
-/// shared (one sector in the topology the frame's patch was built over). The first run reserves
-/// room for `more` (rows, terms) after it.
+/// shared (one sector in the topology the frame's patch was built over).
 fn slot_rows(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
     topologies: &EndCapTopologies,
     slots: &Slots,
     corner_rows: &CornerRows,
-    more: (usize, usize),
 ) -> (Vec<SparseRows>, Vec<bool>) {
     let mut first: Vec<Option<PatchCorner>> = vec![None; slots.len()];
     let mut shared = vec![false; slots.len()];
@@ -232,13 +230,12 @@ fn slot_rows(
         .map(|(i, run)| {
             let mut rows = SparseRows::new();
             let mut failed = Vec::new();
-            let (more_rows, more_terms) = if i == 0 { more } else { (0, 0) };
             let terms: usize = run
                 .iter()
                 .flatten()
                 .map(|c| corner_rows.terms_bound(c))
                 .sum();
-            rows.reserve(3 * run.len() + more_rows, terms + more_terms);
+            rows.reserve(3 * run.len(), terms);
             for (j, c) in run.iter().enumerate() {
                 let Some(c) = c else { continue };
                 let s = i * chunk + j;
@@ -358,20 +355,14 @@ impl AdaptiveDrawTables {
             .flatten()
             .map(|w| w.0.len())
             .sum::<usize>();
-        // End caps and vertex points, reserved with the first run of slot frames.
+        // End caps and vertex points: (rows, terms).
         let cap_rows = (
             END_CAP_ROWS * caps.len() + 3 * vertex_rows.len(),
             caps.iter().map(|c| c.terms.len()).sum::<usize>() + vertex_terms,
         );
         let corner_rows = CornerRows::new(refinement, census, &topologies, &caps);
-        let (frames, mut shared_normal) = slot_rows(
-            refinement,
-            census,
-            &topologies,
-            &slots,
-            &corner_rows,
-            cap_rows,
-        );
+        let (frames, mut shared_normal) =
+            slot_rows(refinement, census, &topologies, &slots, &corner_rows);
         let mut coarse = CoarseEdges::new(refinement, census, &slots);
         let sectors = SectorFrames::new(
             refinement,
