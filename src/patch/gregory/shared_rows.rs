@@ -14,7 +14,8 @@
 //! slot by slot. A face whose rows leave its ring, or that gets no patch, is built directly.
 //! The rows are two-stage ([`sparse_face_rows_direct`]): a smooth corner's vertex points
 //! (`vertex_count + 3 v + b`) take the slots `ring_len + 3 slot(v) + b`; whether a corner is
-//! smooth is part of its topology, hence of the key.
+//! smooth is part of its topology, hence of the key. The vertex points' own (first-stage) rows
+//! are shared the same way, per ring type ([`shared_vertex_point_rows`]).
 
 use std::collections::HashMap;
 
