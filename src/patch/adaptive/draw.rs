@@ -25,8 +25,10 @@ use super::slots::{Slots, NONE};
 use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure, EndCapTopologies};
 use crate::patch::edge_grid::PATCH_EDGES;
 use crate::patch::gregory::edge_flags::{edge_flags, Across};
-use crate::patch::gregory::shared_rows::{sparse_face_rows_flat, FaceRows};
-use crate::patch::gregory::stencil_table::{vertex_point_of, vertex_point_rows, VERTEX_POINTS};
+use crate::patch::gregory::shared_rows::{
+    shared_vertex_point_rows, sparse_face_rows_flat, FaceRows,
+};
+use crate::patch::gregory::stencil_table::{vertex_point_of, VERTEX_POINTS};
 use crate::patch::gregory::{GregoryTangents, Weights};
 use crate::patch::single_crease::{gpu_cvs, Rotation, SingleCreasePatch};
 use crate::patch::RegularPatch;
@@ -173,14 +175,20 @@ fn end_cap_rows(
             rows
         })
         .collect();
-    let vertices = smooth
-        .par_iter()
-        .map(|&(l, v)| {
-            let lev = &refinement.levels[l as usize];
-            vertex_point_rows(topologies.get(l), v, tangents)
-                .map(|w| Weights(w.0.into_iter().map(|(u, x)| (lev.global(u), x)).collect()))
-        })
-        .collect();
+    let mut vertices = Vec::with_capacity(smooth.len());
+    for group in smooth.chunk_by(|a, b| a.0 == b.0) {
+        let l = group[0].0;
+        let lev = &refinement.levels[l as usize];
+        let at: Vec<u32> = group.iter().map(|&(_, v)| v).collect();
+        let rows = shared_vertex_point_rows(topologies.get(l), &at, tangents);
+        vertices.extend(rows.into_iter().map(|r| {
+            r.map(|mut w| {
+                // Monotone: rows stay ascending.
+                w.0.iter_mut().for_each(|(u, _)| *u = lev.global(*u));
+                w
+            })
+        }));
+    }
     Ok(EndCapRows { caps, vertices })
 }
 
