@@ -63,6 +63,7 @@ layout(std430, set = 0, binding = 7) readonly buffer GregoryGrids {
 #include "control_points.glsl"
 
 #include "watertight.glsl"
+#include "tri_sub.glsl"
 
 #ifndef GREGORY_CORNER_ORIGIN
 /// Origin of corner k's points (the contract above): the control position of its vertex.
@@ -76,34 +77,6 @@ layout(std430, set = 0, binding = 7) readonly buffer GregoryGrids {
 
 bool tri_sub_mode() {
     return chunk.split > 1u && (chunk.sub_index & TRI_SUB_MODE) != 0u;
-}
-
-/// Corners, as (b1, b2) in units of 1/split, of sub-triangle `idx` of the split x split grid of
-/// the barycentric domain: per row j first the split - j upright ones, then the split - 1 - j
-/// inverted ones (upright rotated by 180 degrees: the orientation is kept).
-void tri_sub_corners(uint idx, uint n, out ivec2 c0, out ivec2 c1, out ivec2 c2) {
-    uint rem = idx;
-    c0 = ivec2(0);
-    c1 = ivec2(0);
-    c2 = ivec2(0);
-    for (uint j = 0u; j < n; ++j) {
-        uint up = n - j;
-        if (rem < up) {
-            c0 = ivec2(int(rem), int(j));
-            c1 = ivec2(int(rem) + 1, int(j));
-            c2 = ivec2(int(rem), int(j) + 1);
-            return;
-        }
-        rem -= up;
-        uint down = n - 1u - j;
-        if (rem < down) {
-            c0 = ivec2(int(rem) + 1, int(j) + 1);
-            c1 = ivec2(int(rem), int(j) + 1);
-            c2 = ivec2(int(rem) + 1, int(j));
-            return;
-        }
-        rem -= down;
-    }
 }
 
 /// Barycentric weights (of face corners 0, 1, 2) of this TES invocation's domain point. In
