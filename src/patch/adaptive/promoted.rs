@@ -115,16 +115,23 @@ pub fn fillet_sharpness(code: u32) -> f64 {
 }
 
 /// The residual sharpness of the fillet at vertex `v` of `level` (its topology as `caps` sees it
-/// for the end caps): the mean of its promoted edges' ([`promoted_edge`]), as the crease vertex
-/// rule averages its two edges' sharpness (DeRose et al. 1998 §3); `None` without one.
+/// for the end caps) where the crease through it is regular (valence 4, two promoted edges
+/// ([`promoted_edge`]) and no other sharp one, so its other edges cross the crease): the mean of
+/// the two, as the crease vertex rule averages its edges' sharpness (DeRose et al. 1998 §3);
+/// `None` elsewhere (at an extraordinary crease vertex the other edges are no cross-section of
+/// the fillet: measured worse with the bend, bishop L5 max 2.08 rad against 1.82 without).
 pub fn vertex_fillet_sharpness(level: &Topology, caps: &Topology, v: u32) -> Option<f32> {
-    let s: Vec<f32> = level
-        .vertex_edges(v)
+    let edges = level.vertex_edges(v);
+    let s: Vec<f32> = edges
         .iter()
         .filter(|&&e| promoted_edge(level, caps, e))
         .map(|&e| level.edge_sharpness(e))
         .collect();
-    (!s.is_empty()).then(|| s.iter().sum::<f32>() / s.len() as f32)
+    let sharp = edges
+        .iter()
+        .filter(|&&e| caps.edge_sharpness(e) > 0.0)
+        .count();
+    (edges.len() == 4 && s.len() == 2 && sharp == 2).then(|| (s[0] + s[1]) / 2.0)
 }
 
 /// [`vertex_fillet_sharpness`] as the GPU reads it at an end of an edge that is no promoted

@@ -122,7 +122,8 @@ pub struct EndCapDraw {
     /// Base face.
     pub base_face: u32,
     /// `GregoryLayout` flags, canonical orders by slot
-    /// ([`crate::patch::gregory::edge_flags::EdgeFlags::flags`]).
+    /// ([`crate::patch::gregory::edge_flags::EdgeFlags::flags`]), and bit `28 + k`: edge `k` is
+    /// a promoted crease between two end caps ([`PatchRecord::fillet`]).
     pub flags: u32,
     /// First of its 36 rows.
     pub first_row: u32,

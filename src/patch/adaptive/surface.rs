@@ -328,7 +328,9 @@ impl AdaptiveSurface {
     /// The unit normal of patch `i` at its own `(s, t)`: [`Self::promoted_normal`] where that
     /// applies, else the patch's own `du x dv`; inside an end cap, with the cross-edge
     /// derivative of every promoted edge within its fillet changed by
-    /// `super::promoted::fillet_cross_derivative` (as `glsl/gregory/gregory_quad_tes.glsl`).
+    /// `super::promoted::fillet_cross_derivative` (as `glsl/gregory/gregory_quad_tes.glsl`), and
+    /// on its other edges from a promoted crease the shared normal with the tangent bent
+    /// (`bent_edge_normal`).
     pub fn normal(&self, i: usize, s: f64, t: f64) -> DVec3 {
         self.promoted_normal(i, s, t).unwrap_or_else(|| {
             let (_, mut ds, mut dt) = self.eval_own(i, s, t);
@@ -364,10 +366,8 @@ impl AdaptiveSurface {
     /// `glsl/gregory/gregory.glsl`), `cross(tangent, d_own - d_across)`, with the tangent bent by
     /// the crease's fillet within it (`super::promoted::fillet_bend`); `None` elsewhere.
     fn bent_edge_normal(&self, cap: &PromotedCap, i: usize, k: usize, x: f64) -> Option<DVec3> {
-        let (j, k2) = cap.others[k]?;
-        let (s, t) = quad_edge_point(k, x);
-        let (_, ds, dt) = self.eval_own(i, s, t);
-        let (mut tangent, d_own) = edge_frame(k, ds, dt);
+        let across = cap.others[k]?;
+        let (mut tangent, d_own, d_across) = self.edge_derivatives(i, k, x, across);
         let mut bent = false;
         for (side, w) in [(0, x), (1, 1.0 - x)] {
             let (sharp, c) = (cap.ends[k][side], (k + side) % 4);
@@ -382,13 +382,7 @@ impl AdaptiveSurface {
             tangent += sign * fillet_bend(sharp, w, along, normal);
             bent = true;
         }
-        if !bent {
-            return None;
-        }
-        let (s2, t2) = quad_edge_point(k2, 1.0 - x);
-        let (_, ds2, dt2) = self.eval_own(j, s2, t2);
-        let (_, d_across) = edge_frame(k2, ds2, dt2);
-        Some(tangent.cross(d_own - d_across).normalize_or_zero())
+        bent.then(|| tangent.cross(d_own - d_across).normalize_or_zero())
     }
 
     /// The change of end cap `i`'s derivative into the patch across its edge `k` at own `(s, t)`
@@ -402,7 +396,7 @@ impl AdaptiveSurface {
         s: f64,
         t: f64,
     ) -> Option<DVec3> {
-        let (j, k2) = cap.edges[k]?;
+        let across = cap.edges[k]?;
         // (distance from edge k, position along it from corner k), own parameters.
         let (w, x) = match k {
             0 => (t, s),
@@ -413,12 +407,7 @@ impl AdaptiveSurface {
         if w >= cap.sharpness[k].floor().exp2().recip() {
             return None;
         }
-        let (s1, t1) = quad_edge_point(k, x);
-        let (_, ds1, dt1) = self.eval_own(i, s1, t1);
-        let (_, d_own) = edge_frame(k, ds1, dt1);
-        let (s2, t2) = quad_edge_point(k2, 1.0 - x);
-        let (_, ds2, dt2) = self.eval_own(j, s2, t2);
-        let (_, d_across) = edge_frame(k2, ds2, dt2);
+        let (_, d_own, d_across) = self.edge_derivatives(i, k, x, across);
         Some(fillet_cross_derivative(
             cap.sharpness[k],
             w,
@@ -443,14 +432,27 @@ impl AdaptiveSurface {
             return cap.corners[k];
         }
         let (k, x) = on_quad_edge(s, t)?;
-        let (j, k2) = cap.edges[k]?;
+        let (tangent, d_own, d_across) = self.edge_derivatives(i, k, x, cap.edges[k]?);
+        Some(tangent.cross(d_own - d_across).normalize_or_zero())
+    }
+
+    /// At `x` along edge `k` of patch `i` (from corner `k`), with patch `j` across it on its
+    /// edge `k2`: (the edge's direction, the cross-edge derivative into `i`, into `j`).
+    fn edge_derivatives(
+        &self,
+        i: usize,
+        k: usize,
+        x: f64,
+        (j, k2): (usize, usize),
+    ) -> (DVec3, DVec3, DVec3) {
+        let (s, t) = quad_edge_point(k, x);
         let (_, ds, dt) = self.eval_own(i, s, t);
         let (tangent, d_own) = edge_frame(k, ds, dt);
         // The patch across runs the edge the other way: its edge k2 at 1 - x.
         let (s2, t2) = quad_edge_point(k2, 1.0 - x);
         let (_, ds2, dt2) = self.eval_own(j, s2, t2);
         let (_, d_across) = edge_frame(k2, ds2, dt2);
-        Some(tangent.cross(d_own - d_across).normalize_or_zero())
+        (tangent, d_own, d_across)
     }
 
     /// Position and derivatives of patch `i` in its own `(s, t)`.
