@@ -40,7 +40,7 @@ struct AdaptivePatch {
     vec2 axis_u;
     vec2 axis_v;
     uint transition;
-    uint pad;
+    uint fillet;
     uvec4 mid;
     uvec4 coarse;
     uvec4 corner_frame;

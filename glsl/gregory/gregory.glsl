@@ -189,11 +189,42 @@ vec3 cross_tri(vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 eo0, vec3 f0, vec3 f1, v
 /// two patches' cross-edge derivatives (into each patch). The construction is tangent-plane
 /// continuous across the edge (§3.4), so this is the normal of both patches; both compute the
 /// same bits.
+/// Set by a stage before an edge (the adaptive end caps, glsl/adaptive/endcap.glsl), per
+/// canonical end (0: the smaller id): the residual sharpness of a promoted crease's fillet there
+/// (0: none) and the limit normal there. gregory_edge bends its tangent with that fillet, as
+/// `patch::adaptive::promoted::fillet_bend`: both sides set the same values.
+float edge_fillet_sharpness[2] = float[2](0.0, 0.0);
+vec3 edge_fillet_normal[2] = vec3[2](vec3(0.0), vec3(0.0));
+
+/// The fillet's change of the derivative `along` (from an edge end, unit parameter) at distance
+/// w from that end with limit normal n there (`patch::adaptive::promoted::fillet_bend`).
+vec3 fillet_bend(float sharp, float w, vec3 along, vec3 n) {
+    precise float lo = floor(sharp);
+    precise float frac = sharp - lo;
+    precise float r0 = max(1.0 - w * exp2(lo), 0.0);
+    precise float r1 = max(1.0 - w * exp2(lo + 1.0), 0.0);
+    precise float k = (1.0 - frac) * (-0.5 * r0 * r0) + frac * (-0.5 * r1 * r1);
+    precise vec3 d = (k * (2.0 * dot(along, n))) * n;
+    return d;
+}
+
 void gregory_edge(vec3 origin, vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 d_left, vec3 d_right,
                   float t, float s, out vec3 pos, out vec3 nrm) {
     precise vec4 b = vec4(s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t);
     precise vec3 p = (((b.x * p0 + b.y * e0) + b.z * e1) + b.w * p1) + origin;
     precise vec3 tangent = ((s * s) * (e0 - p0) + (2.0 * t * s) * (e1 - e0)) + (t * t) * (p1 - e1);
+    // (tangent is a third of d/dt; the derivative from end 0 is 3 (e0 - p0), from end 1
+    // 3 (e1 - p1) along -t.)
+    if (edge_fillet_sharpness[0] > 0.0) {
+        precise vec3 d = fillet_bend(edge_fillet_sharpness[0], t, 3.0 * (e0 - p0),
+                                     edge_fillet_normal[0]);
+        tangent = tangent + d * (1.0 / 3.0);
+    }
+    if (edge_fillet_sharpness[1] > 0.0) {
+        precise vec3 d = fillet_bend(edge_fillet_sharpness[1], s, 3.0 * (e1 - p1),
+                                     edge_fillet_normal[1]);
+        tangent = tangent - d * (1.0 / 3.0);
+    }
     precise vec3 cross_dir = d_left - d_right;
     precise vec3 nn = normalize(cross(tangent, cross_dir));
     pos = p;

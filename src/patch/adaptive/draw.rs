@@ -15,7 +15,10 @@ use rayon::prelude::*;
 
 use super::coarse::{patch_index, CoarseEdges};
 use super::error::DrawTablesError;
-use super::promoted::{exact_frame, promoted_edge, promoted_vertex};
+use super::promoted::{
+    exact_frame, fillet_code, fillet_end_code, promoted_edge, promoted_vertex,
+    vertex_fillet_sharpness,
+};
 use super::records::{
     words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
 };
@@ -33,7 +36,7 @@ use crate::patch::gregory::{GregoryTangents, Weights};
 use crate::patch::single_crease::{gpu_cvs, Rotation, SingleCreasePatch};
 use crate::patch::RegularPatch;
 use crate::subdiv::adaptive::{AdaptiveRefinement, Domain, PatchCensus, PatchType};
-use crate::topology::single_normal_vertex;
+use crate::topology::{is_sharp_edge, single_normal_vertex};
 
 /// Rows per end cap: 20 control points and 16 extra rows (quads), 15 + 12 then empty rows
 /// (triangles, isolation 0 only), in [`crate::patch::gregory::stencil_table`] order.
@@ -461,6 +464,7 @@ impl AdaptiveDrawTables {
                 coarse: fine,
                 corner_frames: sectors.corners[i],
                 mid_frames: sectors.mids[i],
+                fillet: 0,
             };
             out.sharpness.push(p.crease.map_or(0.0, |l| l.sharpness));
             let slot = |v: u32| out.slots.of(v);
@@ -539,6 +543,17 @@ impl AdaptiveDrawTables {
                 });
                 if n == 4 && fine[k] == NONE && across_cap && promoted_edge(t, caps, e) {
                     ef.flags &= !(1 << (12 + k));
+                    ef.flags |= 1 << (28 + k);
+                    out.records[i].fillet |= fillet_code(t.edge_sharpness(e)) << (8 * k);
+                } else if n == 4 && fine[k] == NONE && across_cap && !is_sharp_edge(caps, e) {
+                    // An edge between two end caps from a vertex on a promoted crease: the
+                    // fillet's sharpness at either end (4 bits each), both sides alike.
+                    let fv = t.face_vertices(p.face);
+                    for (half, v) in [fv[k], fv[(k + 1) % 4]].into_iter().enumerate() {
+                        if let Some(sharp) = vertex_fillet_sharpness(t, caps, v) {
+                            out.records[i].fillet |= fillet_end_code(sharp) << (8 * k + 4 * half);
+                        }
+                    }
                 }
             }
             let fv = t.face_vertices(p.face);
