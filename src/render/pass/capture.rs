@@ -1,5 +1,7 @@
 //! TES capture: every evaluation-shader invocation appends one record (`glsl/common/capture.glsl`)
-//! to a host-readable buffer shared by all passes of a surface.
+//! to a host-readable buffer shared by all passes of a surface; or triangle capture: every
+//! triangle the evaluation stage emits is appended by a pass-through geometry stage
+//! (`glsl/surface/capture_triangles.geom`) to the same binding.
 
 use ash::vk;
 
@@ -16,6 +18,70 @@ const NO_SUB_FACE: u32 = u32::MAX;
 const CAPTURE_TAGGED: u32 = 0x8000_0000;
 /// Bytes before the first capture record (count, capacity, two pad words).
 pub const CAPTURE_HEADER_BYTES: usize = 16;
+
+/// Bytes of one captured triangle (`capture_triangles.geom`): per vertex the position (3 f32)
+/// and the octahedral normal (2 x snorm16), then the colour class.
+pub const TRIANGLE_RECORD_BYTES: usize = 52;
+
+/// What the capture buffer of a frame records, and for how many records it has room.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Capture {
+    /// One [`CaptureRecord`] per TES invocation.
+    TesPoints(u32),
+    /// One [`CapturedTriangle`] per triangle the evaluation stage emits.
+    Triangles(u32),
+}
+
+impl Capture {
+    /// Records the buffer has room for.
+    pub fn capacity(self) -> u32 {
+        match self {
+            Capture::TesPoints(c) | Capture::Triangles(c) => c,
+        }
+    }
+
+    /// Bytes of one record.
+    pub fn record_bytes(self) -> usize {
+        match self {
+            Capture::TesPoints(_) => CAPTURE_RECORD_BYTES,
+            Capture::Triangles(_) => TRIANGLE_RECORD_BYTES,
+        }
+    }
+
+    /// The most records of this kind one storage-buffer binding holds (`maxStorageBufferRange`).
+    pub fn max_records(self, ctx: &Context) -> u32 {
+        let range = ctx.info().limits.max_storage_buffer_range as usize;
+        (range.saturating_sub(CAPTURE_HEADER_BYTES) / self.record_bytes()).min(u32::MAX as usize)
+            as u32
+    }
+}
+
+/// One triangle drawn by a tessellated frame, as the geometry stage saw it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CapturedTriangle {
+    /// World positions, in the order the evaluation stage emitted them (its winding).
+    pub positions: [[f32; 3]; 3],
+    /// Unit normals (decoded from the octahedral encoding: within about 5e-5 rad).
+    pub normals: [[f32; 3]; 3],
+    /// Colour class of the first vertex (`t_class`, flat).
+    pub class: u32,
+}
+
+/// The unit vector of the octahedral encoding `packSnorm2x16(e)` of
+/// `glsl/surface/capture_triangles.geom` (Cigolle et al. 2014, "A survey of efficient
+/// representations for independent unit vectors", Listing 1).
+pub fn octahedral_normal(word: u32) -> [f32; 3] {
+    let snorm = |h: u32| (f32::from(h as u16 as i16) / 32767.0).clamp(-1.0, 1.0);
+    let (x, y) = (snorm(word & 0xffff), snorm(word >> 16));
+    let z = 1.0 - x.abs() - y.abs();
+    let (x, y) = if z < 0.0 {
+        ((1.0 - y.abs()) * x.signum(), (1.0 - x.abs()) * y.signum())
+    } else {
+        (x, y)
+    };
+    let l = (x * x + y * y + z * z).sqrt();
+    [x / l, y / l, z / l]
+}
 
 /// One captured TES invocation.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -50,21 +116,22 @@ pub struct CapturedPatch {
     pub level: u8,
 }
 
-/// The capture buffer of frame slot `slot` for `capacity` records (a minimal one when capture
-/// is off), its header written: count 0, capacity. The capacity is lowered to what one storage-buffer binding can
-/// hold (`maxStorageBufferRange`); a frame that emits more is then a capture-overflow error
-/// ([`decode_capture`]), never an invalid binding.
-pub fn capture_buffer(ctx: &Context, capacity: u32, slot: usize) -> Result<Buffer> {
-    let range = ctx.info().limits.max_storage_buffer_range as usize;
-    let fits = (range.saturating_sub(CAPTURE_HEADER_BYTES) / CAPTURE_RECORD_BYTES) as u32;
+/// The capture buffer of frame slot `slot` for `capture` (a minimal one when capture is off),
+/// its header written: count 0, capacity. The capacity is lowered to what one storage-buffer
+/// binding can hold ([`Capture::max_records`]); a frame that emits more is then a
+/// capture-overflow error ([`decode_capture`], [`decode_triangles`]), never an invalid binding.
+pub fn capture_buffer(ctx: &Context, capture: Capture, slot: usize) -> Result<Buffer> {
+    let fits = capture.max_records(ctx);
+    let capacity = capture.capacity();
     if capacity > fits {
         log::warn!(
-            "TES capture: {capacity} records do not fit one storage buffer \
-             (maxStorageBufferRange {range} bytes); capturing at most {fits}"
+            "capture: {capacity} records do not fit one storage buffer \
+             (maxStorageBufferRange {} bytes); capturing at most {fits}",
+            ctx.info().limits.max_storage_buffer_range
         );
     }
     let capacity = capacity.min(fits);
-    let mut bytes = vec![0u8; CAPTURE_HEADER_BYTES + CAPTURE_RECORD_BYTES * capacity as usize];
+    let mut bytes = vec![0u8; CAPTURE_HEADER_BYTES + capture.record_bytes() * capacity as usize];
     bytes[4..8].copy_from_slice(&capacity.to_le_bytes());
     let mut b = Buffer::new(
         ctx,
@@ -106,6 +173,33 @@ pub fn decode_capture(words: &[u32], capacity: u32) -> Result<Vec<CaptureRecord>
                 level: ((r[10] >> 8) & 0xff) as u8,
             }),
             texcoord: [f(r[11]), f(r[12])],
+        })
+        .collect())
+}
+
+/// Decodes the triangles of a triangle-capture buffer's words; errors on overflow, naming the
+/// triangles the frame drew and the capacity.
+pub fn decode_triangles(words: &[u32]) -> Result<Vec<CapturedTriangle>> {
+    let (count, capacity) = (words[0], words[1]);
+    if count > capacity {
+        return Err(Error::Invalid(format!(
+            "triangle capture overflow: the frame drew {count} triangles, capacity {capacity}"
+        )));
+    }
+    let f = f32::from_bits;
+    Ok(words[CAPTURE_HEADER_BYTES / 4..]
+        .chunks_exact(TRIANGLE_RECORD_BYTES / 4)
+        .take(count as usize)
+        .map(|r| {
+            let vertex = |i: usize| &r[4 * i..4 * i + 4];
+            CapturedTriangle {
+                positions: [0, 1, 2].map(|i| {
+                    let v = vertex(i);
+                    [f(v[0]), f(v[1]), f(v[2])]
+                }),
+                normals: [0, 1, 2].map(|i| octahedral_normal(vertex(i)[3])),
+                class: r[12],
+            }
         })
         .collect())
 }
