@@ -214,3 +214,35 @@ pub fn capture_capacity_for(patches: usize, tess: &TessSettings) -> u32 {
     let n = (sub.ceil() as u64) + if tess.spacing == Spacing::Equal { 1 } else { 2 };
     (patches as u64 * split * split * n * n).min(u64::from(u32::MAX / 64)) as u32
 }
+
+#[cfg(test)]
+mod tests {
+    use super::octahedral_normal;
+
+    /// `packSnorm2x16(e)` of a point `e` of [-1, 1]^2.
+    fn pack(e: [f32; 2]) -> u32 {
+        let h = |x: f32| u32::from((x * 32767.0).round() as i16 as u16);
+        h(e[0]) | (h(e[1]) << 16)
+    }
+
+    /// The octahedral map (Cigolle et al. 2014): the upper half as is, the lower half folded
+    /// across the diagonals; decoded against the closed-form inverse of a few points.
+    #[test]
+    fn octahedral_normals_decode() {
+        for (e, n) in [
+            ([0.0, 0.0], [0.0f32, 0.0, 1.0]),
+            ([1.0, 0.0], [1.0, 0.0, 0.0]),
+            ([0.0, -1.0], [0.0, -1.0, 0.0]),
+            ([1.0, 1.0], [0.0, 0.0, -1.0]),
+            // z < 0: (x, y) = ((1 - |ey|) sgn ex, (1 - |ex|) sgn ey) = (0.25, -0.5), z = -0.25.
+            ([0.5, -0.75], [0.25, -0.5, -0.25]),
+            ([0.25, -0.25], [0.25, -0.25, 0.5]),
+        ] {
+            let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            let d = octahedral_normal(pack(e));
+            for k in 0..3 {
+                assert!((d[k] - n[k] / l).abs() < 1e-4, "{e:?}: {d:?} against {n:?}");
+            }
+        }
+    }
+}
