@@ -149,59 +149,66 @@ pub fn reset_capture(buffer: &mut Buffer) -> Result<()> {
     buffer.write(0, &[0u32])
 }
 
-/// Decodes the records of a capture buffer's words; errors on overflow.
-pub fn decode_capture(words: &[u32], capacity: u32) -> Result<Vec<CaptureRecord>> {
+/// The records (`record_bytes` each) of a capture buffer's words; errors when the count exceeds
+/// `capacity`, naming `what` the records are.
+fn records<'a>(
+    words: &'a [u32],
+    capacity: u32,
+    record_bytes: usize,
+    what: &str,
+) -> Result<impl Iterator<Item = &'a [u32]>> {
     let count = words[0];
     if count > capacity {
         return Err(Error::Invalid(format!(
-            "TES capture overflow: {count} invocations, capacity {capacity}"
+            "capture overflow: the frame emitted {count} {what}, capacity {capacity}"
         )));
     }
-    let f = f32::from_bits;
     Ok(words[CAPTURE_HEADER_BYTES / 4..]
-        .chunks_exact(CAPTURE_RECORD_BYTES / 4)
-        .take(count as usize)
-        .map(|r| CaptureRecord {
-            face: r[0],
-            u: f(r[1]),
-            v: f(r[2]),
-            position: [f(r[3]), f(r[4]), f(r[5])],
-            normal: [f(r[6]), f(r[7]), f(r[8])],
-            sub_face: (r[9] != NO_SUB_FACE).then_some(r[9]),
-            patch: (r[10] & CAPTURE_TAGGED != 0).then(|| CapturedPatch {
-                kind: (r[10] & 0xff) as u8,
-                level: ((r[10] >> 8) & 0xff) as u8,
-            }),
-            texcoord: [f(r[11]), f(r[12])],
-        })
-        .collect())
+        .chunks_exact(record_bytes / 4)
+        .take(count as usize))
+}
+
+/// Decodes the records of a capture buffer's words; errors on overflow.
+pub fn decode_capture(words: &[u32], capacity: u32) -> Result<Vec<CaptureRecord>> {
+    let f = f32::from_bits;
+    Ok(
+        records(words, capacity, CAPTURE_RECORD_BYTES, "TES invocations")?
+            .map(|r| CaptureRecord {
+                face: r[0],
+                u: f(r[1]),
+                v: f(r[2]),
+                position: [f(r[3]), f(r[4]), f(r[5])],
+                normal: [f(r[6]), f(r[7]), f(r[8])],
+                sub_face: (r[9] != NO_SUB_FACE).then_some(r[9]),
+                patch: (r[10] & CAPTURE_TAGGED != 0).then(|| CapturedPatch {
+                    kind: (r[10] & 0xff) as u8,
+                    level: ((r[10] >> 8) & 0xff) as u8,
+                }),
+                texcoord: [f(r[11]), f(r[12])],
+            })
+            .collect(),
+    )
 }
 
 /// Decodes the triangles of a triangle-capture buffer's words; errors on overflow, naming the
 /// triangles the frame drew and the capacity.
 pub fn decode_triangles(words: &[u32]) -> Result<Vec<CapturedTriangle>> {
-    let (count, capacity) = (words[0], words[1]);
-    if count > capacity {
-        return Err(Error::Invalid(format!(
-            "triangle capture overflow: the frame drew {count} triangles, capacity {capacity}"
-        )));
-    }
     let f = f32::from_bits;
-    Ok(words[CAPTURE_HEADER_BYTES / 4..]
-        .chunks_exact(TRIANGLE_RECORD_BYTES / 4)
-        .take(count as usize)
-        .map(|r| {
-            let vertex = |i: usize| &r[4 * i..4 * i + 4];
-            CapturedTriangle {
-                positions: [0, 1, 2].map(|i| {
-                    let v = vertex(i);
-                    [f(v[0]), f(v[1]), f(v[2])]
-                }),
-                normals: [0, 1, 2].map(|i| octahedral_normal(vertex(i)[3])),
-                class: r[12],
-            }
-        })
-        .collect())
+    Ok(
+        records(words, words[1], TRIANGLE_RECORD_BYTES, "triangles")?
+            .map(|r| {
+                let vertex = |i: usize| &r[4 * i..4 * i + 4];
+                CapturedTriangle {
+                    positions: [0, 1, 2].map(|i| {
+                        let v = vertex(i);
+                        [f(v[0]), f(v[1]), f(v[2])]
+                    }),
+                    normals: [0, 1, 2].map(|i| octahedral_normal(vertex(i)[3])),
+                    class: r[12],
+                }
+            })
+            .collect(),
+    )
 }
 
 /// Capture capacity (records) sufficient for `tess` (uniform) over `patches` patches: per
@@ -217,7 +224,22 @@ pub fn capture_capacity_for(patches: usize, tess: &TessSettings) -> u32 {
 
 #[cfg(test)]
 mod tests {
-    use super::octahedral_normal;
+    use super::{decode_triangles, octahedral_normal, CAPTURE_HEADER_BYTES, TRIANGLE_RECORD_BYTES};
+
+    /// A frame that drew more triangles than the buffer holds is an error naming both counts;
+    /// within the capacity every record decodes.
+    #[test]
+    fn triangle_overflow_is_an_error_naming_the_counts() {
+        let words = |count: u32, capacity: u32| {
+            let mut w = vec![0u32; (CAPTURE_HEADER_BYTES + 3 * TRIANGLE_RECORD_BYTES) / 4];
+            w[0] = count;
+            w[1] = capacity;
+            w
+        };
+        let e = decode_triangles(&words(5, 3)).unwrap_err().to_string();
+        assert!(e.contains("5 triangles") && e.contains("capacity 3"), "{e}");
+        assert_eq!(decode_triangles(&words(3, 3)).unwrap().len(), 3);
+    }
 
     /// `packSnorm2x16(e)` of a point `e` of [-1, 1]^2.
     fn pack(e: [f32; 2]) -> u32 {
