@@ -11,7 +11,7 @@
 //!   to `shaders.rs` (`SHADERS`), embedded in the library by `src/gpu/shaders.rs`.
 //!
 //! Modules are named by file name alone (no folder), and a name two sources produce is an error:
-//! * every `.vert`, `.tesc`, `.frag`, `.comp` is compiled without extra defines under its name;
+//! * every `.vert`, `.tesc`, `.geom`, `.frag`, `.comp` is compiled without extra defines under its name;
 //! * every `.tese` outside `glsl/tests/` (a scheme's evaluation shader) is compiled only as the six
 //!   variants `{stem}_{equal|odd|even}[_capture].tese` (defines in `SPACINGS`, plus `CAPTURE`);
 //!   a test `.tese` is compiled as is;
@@ -146,6 +146,7 @@ fn stage_of(file: &str) -> Option<ShaderStage> {
         "vert" => ShaderStage::Vertex,
         "tesc" => ShaderStage::TesselationControl,
         "tese" => ShaderStage::TesselationEvaluation,
+        "geom" => ShaderStage::Geometry,
         "frag" => ShaderStage::Fragment,
         "comp" => ShaderStage::Compute,
         _ => return None,

@@ -131,6 +131,7 @@ fn quad_desc(fragment: &str, polygon_mode: vk::PolygonMode) -> GraphicsPipelineD
         vertex: "core_test.vert".into(),
         tess_control: Some("core_test_quad.tesc".into()),
         tess_eval: Some("core_test_quad.tese".into()),
+        geometry: None,
         fragment: fragment.into(),
         vertex_bindings: vec![VertexBinding {
             binding: 0,

@@ -56,12 +56,12 @@ pub struct BenchArgs {
     /// the sharpness; teal with single-crease patches, orange without).
     #[arg(long, requires = "crease_sharpness")]
     pub plot: Option<std::path::PathBuf>,
-    /// Also time the static draw of the same surface at each level (`render::static_draw`):
-    /// every face tessellated once on the CPU at the uniform level (2 level² triangles per quad,
-    /// as a whole patch of that level), drawn from a static vertex + index buffer by the plain
-    /// vertex/fragment pipeline, same target, frames and median; adds the triangles of the
-    /// tessellated frame (clipping-stage primitives), the static triangles, the static ms and
-    /// the ratio frame / static.
+    /// Also time the static draw of the same triangles at each level (`render::static_draw`):
+    /// the triangles one frame drew (captured by a pass-through geometry stage, with the
+    /// CPU-path triangles), drawn from a static vertex + index buffer by the plain
+    /// vertex/fragment pipeline, same camera, target, frames and median; adds the triangles of
+    /// the tessellated frame (clipping-stage primitives), the static triangles, the static ms
+    /// and the ratio frame / static. Needs `geometryShader`.
     #[arg(long = "static")]
     pub static_draw: bool,
     /// Image size WxH.
@@ -234,8 +234,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
         let frame_ms = median(&mut total);
         let static_columns = if args.static_draw {
             drop(session);
-            let fixed = StaticDraw::new(&mesh, level.ceil() as u32)?;
-            let ms = fixed.time(&ctx, &render, &desc, args.frames)?;
+            let fixed = StaticDraw::capture(&ctx, &surface, &render, &desc)?;
+            let ms = fixed.time(&ctx, &desc, args.frames)?;
             format!(
                 " {:>10} {:>11} {:>15.3} {:>14.2}",
                 triangles,

@@ -151,3 +151,17 @@ pub fn tes_writes_to_host(dev: &ash::Device, cmd: vk::CommandBuffer) {
         (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
     );
 }
+
+/// The barrier between a draw whose geometry shader wrote a storage buffer (triangle capture;
+/// needs `geometryShader`) and the host reading that buffer.
+pub fn geometry_writes_to_host(dev: &ash::Device, cmd: vk::CommandBuffer) {
+    memory_barrier(
+        dev,
+        cmd,
+        (
+            vk::PipelineStageFlags::GEOMETRY_SHADER,
+            vk::AccessFlags::SHADER_WRITE,
+        ),
+        (vk::PipelineStageFlags::HOST, vk::AccessFlags::HOST_READ),
+    );
+}

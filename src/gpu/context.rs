@@ -463,6 +463,7 @@ impl Context {
             .fill_mode_non_solid(f.fill_mode_non_solid)
             .pipeline_statistics_query(f.pipeline_statistics_query)
             .vertex_pipeline_stores_and_atomics(f.vertex_pipeline_stores_and_atomics)
+            .geometry_shader(f.geometry_shader)
             .shader_float64(f.shader_float64);
         let mut f13 =
             vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(f.dynamic_rendering);

@@ -16,6 +16,8 @@ pub enum Feature {
     PipelineStatisticsQuery,
     /// `vertexPipelineStoresAndAtomics` (SSBO writes from TCS/TES).
     VertexPipelineStoresAndAtomics,
+    /// `geometryShader` (the triangle capture of `render::static_draw`).
+    GeometryShader,
     /// `timestampComputeAndGraphics` and non-zero timestamp bits on the graphics queue.
     Timestamps,
     /// `shaderFloat64`.
@@ -32,6 +34,7 @@ impl Feature {
             Feature::FillModeNonSolid => "fillModeNonSolid",
             Feature::PipelineStatisticsQuery => "pipelineStatisticsQuery",
             Feature::VertexPipelineStoresAndAtomics => "vertexPipelineStoresAndAtomics",
+            Feature::GeometryShader => "geometryShader",
             Feature::Timestamps => "timestampComputeAndGraphics",
             Feature::ShaderFloat64 => "shaderFloat64",
             Feature::DynamicRendering => "dynamicRendering",
@@ -50,6 +53,8 @@ pub struct DeviceFeatures {
     pub pipeline_statistics_query: bool,
     /// `vertexPipelineStoresAndAtomics`.
     pub vertex_pipeline_stores_and_atomics: bool,
+    /// `geometryShader`.
+    pub geometry_shader: bool,
     /// Timestamps usable on the graphics queue.
     pub timestamps: bool,
     /// `shaderFloat64`.
@@ -66,6 +71,7 @@ impl DeviceFeatures {
             Feature::FillModeNonSolid => self.fill_mode_non_solid,
             Feature::PipelineStatisticsQuery => self.pipeline_statistics_query,
             Feature::VertexPipelineStoresAndAtomics => self.vertex_pipeline_stores_and_atomics,
+            Feature::GeometryShader => self.geometry_shader,
             Feature::Timestamps => self.timestamps,
             Feature::ShaderFloat64 => self.shader_float64,
             Feature::DynamicRendering => self.dynamic_rendering,
@@ -293,6 +299,7 @@ pub(crate) fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Cand
                 pipeline_statistics_query: feats.pipeline_statistics_query == vk::TRUE,
                 vertex_pipeline_stores_and_atomics: feats.vertex_pipeline_stores_and_atomics
                     == vk::TRUE,
+                geometry_shader: feats.geometry_shader == vk::TRUE,
                 timestamps: l.timestamp_compute_and_graphics == vk::TRUE && ts_bits > 0,
                 shader_float64: feats.shader_float64 == vk::TRUE,
                 dynamic_rendering,

@@ -106,6 +106,7 @@ fn enabled(supported: DeviceFeatures, f: &vk::PhysicalDeviceFeatures, dr: bool) 
             && on(f.pipeline_statistics_query),
         vertex_pipeline_stores_and_atomics: supported.vertex_pipeline_stores_and_atomics
             && on(f.vertex_pipeline_stores_and_atomics),
+        geometry_shader: supported.geometry_shader && on(f.geometry_shader),
         timestamps: supported.timestamps,
         shader_float64: supported.shader_float64 && on(f.shader_float64),
         dynamic_rendering: supported.dynamic_rendering && dr,

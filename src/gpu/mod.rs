@@ -20,7 +20,7 @@ mod target;
 mod texture;
 
 pub use ash::vk;
-pub use commands::{memory_barrier, tes_writes_to_host};
+pub use commands::{geometry_writes_to_host, memory_barrier, tes_writes_to_host};
 pub use context::{validation_default, Context, ContextDesc};
 pub use debug::ValidationLog;
 pub use descriptors::{BufferBinding, DescriptorPool};

@@ -93,6 +93,8 @@ pub struct GraphicsPipelineDesc {
     pub tess_control: Option<String>,
     /// Tessellation evaluation shader.
     pub tess_eval: Option<String>,
+    /// Geometry shader (needs `geometryShader`).
+    pub geometry: Option<String>,
     /// Fragment shader.
     pub fragment: String,
     /// Vertex buffer bindings.
@@ -126,6 +128,7 @@ impl Default for GraphicsPipelineDesc {
             vertex: String::new(),
             tess_control: None,
             tess_eval: None,
+            geometry: None,
             fragment: String::new(),
             vertex_bindings: Vec::new(),
             vertex_attributes: Vec::new(),
@@ -361,6 +364,10 @@ fn validate(ctx: &Context, d: &GraphicsPipelineDesc) -> Result<()> {
             ))
         }
     }
+    if let Some(g) = &d.geometry {
+        ctx.require(&[Feature::GeometryShader])?;
+        check_stage(g, vk::ShaderStageFlags::GEOMETRY, "geometry")?;
+    }
     if d.polygon_mode != vk::PolygonMode::FILL {
         ctx.require(&[Feature::FillModeNonSolid])?;
     }
@@ -390,6 +397,7 @@ fn check_storage_per_stage(
             vk::ShaderStageFlags::TESSELLATION_EVALUATION,
             "tessellation evaluation",
         ),
+        (vk::ShaderStageFlags::GEOMETRY, "geometry"),
         (vk::ShaderStageFlags::FRAGMENT, "fragment"),
     ] {
         let n = storage().filter(|b| b.stages.contains(stage)).count() as u32;
@@ -461,6 +469,9 @@ impl Context {
         if let (Some(c), Some(e)) = (&desc.tess_control, &desc.tess_eval) {
             names.push((vk::ShaderStageFlags::TESSELLATION_CONTROL, c));
             names.push((vk::ShaderStageFlags::TESSELLATION_EVALUATION, e));
+        }
+        if let Some(g) = &desc.geometry {
+            names.push((vk::ShaderStageFlags::GEOMETRY, g));
         }
         names.push((vk::ShaderStageFlags::FRAGMENT, desc.fragment.as_str()));
         let mut modules = Vec::new();

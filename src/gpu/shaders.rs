@@ -51,6 +51,7 @@ pub fn stage_of(name: &str) -> Option<vk::ShaderStageFlags> {
         "vert" => vk::ShaderStageFlags::VERTEX,
         "tesc" => vk::ShaderStageFlags::TESSELLATION_CONTROL,
         "tese" => vk::ShaderStageFlags::TESSELLATION_EVALUATION,
+        "geom" => vk::ShaderStageFlags::GEOMETRY,
         "frag" => vk::ShaderStageFlags::FRAGMENT,
         "comp" => vk::ShaderStageFlags::COMPUTE,
         _ => return None,

@@ -102,6 +102,7 @@ impl CpuPathPass {
             vertex: "mesh.vert".into(),
             tess_control: None,
             tess_eval: None,
+            geometry: None,
             fragment: "shade.frag".into(),
             vertex_bindings: vec![VertexBinding {
                 binding: 0,

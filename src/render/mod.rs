@@ -29,7 +29,7 @@ pub use fallback::{FallbackFace, FallbackMesh, PatchClass};
 pub use offscreen::{
     render_to_image, FrameReport, OffscreenDesc, OffscreenSession, RenderOutput, CPU_PATH_LABEL,
 };
-pub use pass::{capture_capacity_for, CaptureRecord};
+pub use pass::{capture_capacity_for, CaptureRecord, CapturedTriangle};
 pub use plan::{
     cpu_faces, plan_for_scheme, plan_for_scheme_with, plan_passes, surface_for_scheme,
     surface_for_scheme_with, surface_from_mesh, surface_with,

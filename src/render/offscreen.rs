@@ -5,11 +5,14 @@ use glam::DVec3;
 use image::RgbaImage;
 
 use super::camera::{Camera, CameraSpec, UpAxis};
-use super::pass::CaptureRecord;
+use super::pass::{CaptureRecord, CapturedTriangle};
 use super::renderer::{RenderDesc, SurfaceRenderer};
 use super::settings::FrameUniforms;
 use super::surface::SurfaceData;
-use crate::gpu::{tes_writes_to_host, Context, GpuTimer, PipelineStats, RenderTarget, StatsQuery};
+use crate::gpu::{
+    geometry_writes_to_host, tes_writes_to_host, Context, GpuTimer, PipelineStats, RenderTarget,
+    StatsQuery,
+};
 use crate::Result;
 
 /// Image size, samples, camera and background of an offscreen frame.
@@ -208,13 +211,13 @@ impl OffscreenSession {
             color_by: r.color_by,
         };
         self.renderer.set_frame(&uniforms)?;
-        if r.capture_capacity.is_some() {
+        let capture = r.capture_capacity.is_some() || r.capture_triangles.is_some();
+        if capture {
             self.renderer.reset_capture()?;
         }
         let target = &self.target;
         let renderer = &self.renderer;
         let clear = self.desc.clear;
-        let capture = r.capture_capacity.is_some();
         let frame_slot = renderer.frame_slot();
         let mut queries = self.queries.take();
         let result = self.ctx.submit_once(|dev, cmd| {
@@ -260,9 +263,13 @@ impl OffscreenSession {
                 q.timer.end(cmd, i)?;
             }
             target.end(dev, cmd);
-            if capture {
+            if r.capture_capacity.is_some() {
                 // Make the TES's storage writes visible to the host read-back.
                 tes_writes_to_host(dev, cmd);
+            }
+            if r.capture_triangles.is_some() {
+                // The geometry stage's (triangle capture).
+                geometry_writes_to_host(dev, cmd);
             }
             Ok(())
         });
@@ -298,6 +305,17 @@ impl OffscreenSession {
     /// The last frame's captured TES invocations (capture must be on in the [`RenderDesc`]).
     pub fn capture(&self) -> Result<Vec<CaptureRecord>> {
         self.renderer.read_capture()
+    }
+
+    /// The last frame's triangles ([`RenderDesc::capture_triangles`] must be on).
+    pub fn triangles(&self) -> Result<Vec<CapturedTriangle>> {
+        self.renderer.read_triangles()
+    }
+
+    /// Triangles the last frame drew ([`RenderDesc::capture_triangles`] must be on; counted
+    /// past the capacity too).
+    pub fn triangles_drawn(&self) -> Result<u32> {
+        self.renderer.triangles_drawn()
     }
 }
 

@@ -8,7 +8,7 @@ use glam::DVec3;
 
 use super::cpu_path::CpuPathPass;
 use super::fallback::FallbackMesh;
-use super::pass::{CaptureRecord, SharedResources, VertexFrames};
+use super::pass::{Capture, CaptureRecord, CapturedTriangle, SharedResources, VertexFrames};
 use super::schemes::adaptive::AdaptiveTables;
 use super::schemes::single_crease::SingleCreaseTables;
 use super::schemes::{PassContext, PassTables, PatchPass};
@@ -166,6 +166,22 @@ impl SurfaceRenderer {
         if desc.capture_capacity.is_some() {
             ctx.require(&[Feature::VertexPipelineStoresAndAtomics])?;
         }
+        let capture =
+            match (desc.capture_capacity, desc.capture_triangles) {
+                (Some(_), Some(_)) => return Err(Error::Invalid(
+                    "RenderDesc: capture_capacity (TES points) and capture_triangles are exclusive"
+                        .into(),
+                )),
+                (Some(c), None) => Some(Capture::TesPoints(c)),
+                (None, Some(c)) => {
+                    ctx.require(&[
+                        Feature::GeometryShader,
+                        Feature::VertexPipelineStoresAndAtomics,
+                    ])?;
+                    Some(Capture::Triangles(c))
+                }
+                (None, None) => None,
+            };
         let map = match desc.displacement {
             Displacement::Map { .. } => {
                 let Some(map) = surface.displacement_map.as_deref() else {
@@ -187,7 +203,7 @@ impl SurfaceRenderer {
             ctx,
             &surface.positions,
             &frames,
-            desc.capture_capacity,
+            capture,
             engine.frames_in_flight as usize,
             &surface.texcoord_words(),
             map,
@@ -377,7 +393,7 @@ impl SurfaceRenderer {
         };
         let bytes = frame.to_bytes(&self.desc.tess, max_level, self.desc.displacement, flags);
         self.shared.write_frame(self.slot, &bytes)?;
-        if self.desc.capture_capacity.is_some() {
+        if self.desc.capture_capacity.is_some() || self.desc.capture_triangles.is_some() {
             self.shared.reset_capture(self.slot)?;
         }
         self.sync_slot(self.slot)
@@ -438,6 +454,19 @@ impl SurfaceRenderer {
     /// the next frames (other slots) run; wait only for that frame's fence.
     pub fn read_capture_slot(&self, slot: usize) -> Result<Vec<CaptureRecord>> {
         self.shared.read_capture(slot)
+    }
+
+    /// Reads the triangles captured by the frame of the current slot
+    /// ([`RenderDesc::capture_triangles`]) once it has finished. Errors if the frame drew more
+    /// than the capacity (the message names both) or triangle capture is off.
+    pub fn read_triangles(&self) -> Result<Vec<CapturedTriangle>> {
+        self.shared.read_triangles(self.slot)
+    }
+
+    /// Triangles the frame of the current slot drew, counted by the triangle capture even past
+    /// its capacity (size the capacity with it).
+    pub fn triangles_drawn(&self) -> Result<u32> {
+        self.shared.triangles_drawn(self.slot)
     }
 }
 

@@ -188,6 +188,11 @@ pub struct RenderDesc {
     pub cull_back_faces: bool,
     /// Record every TES invocation into the capture buffer (`Some(capacity)` in records).
     pub capture_capacity: Option<u32>,
+    /// Record every triangle the evaluation stage emits into the capture buffer
+    /// (`Some(capacity)` in triangles; a pass-through geometry stage,
+    /// `glsl/surface/capture_triangles.geom`, needs `geometryShader`): the frame's own triangles
+    /// as drawn, culling included ([`crate::render::static_draw`]). Not with `capture_capacity`.
+    pub capture_triangles: Option<u32>,
     /// Displacement of the surface along its normal ([`super::displace`]).
     pub displacement: Displacement,
     /// Patch culling (`--cull`, default on; `--no-cull`): the control stages give zero
@@ -247,6 +252,7 @@ impl Default for RenderDesc {
             color_by: ColorBy::None,
             cull_back_faces: false,
             capture_capacity: None,
+            capture_triangles: None,
             displacement: Displacement::None,
             cull_patches: true,
         }

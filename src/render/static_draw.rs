@@ -1,66 +1,184 @@
 //! The static baseline of a tessellated frame (issue 8: GPU time "beside the static draw of the
-//! same triangles"): every face with a limit surface tessellated once on the CPU at the frame's
-//! uniform level (the exact limit, [`crate::subdiv::eval::LimitEvaluator`], on the grid a whole
-//! uniform patch of that level has: 2 level² triangles per quad or sub-quad), uploaded as one
-//! static vertex + index buffer and drawn by the plain vertex/fragment pipeline of the CPU path
-//! (`glsl/surface/mesh.vert`), timed by its timestamps in a frame of its own. No tessellation
-//! stage runs: what the tessellated frame costs beyond this is the price of tessellating on the
-//! GPU every frame.
+//! same triangles"): one frame of the surface is drawn with a pass-through geometry stage that
+//! captures every triangle the tessellator produced ([`RenderDesc::capture_triangles`],
+//! `glsl/surface/capture_triangles.geom`); those triangles, with the frame's CPU-path
+//! triangles, become one static vertex + index buffer drawn by the plain vertex/fragment
+//! pipeline of the CPU path (`glsl/surface/mesh.vert`) with the same camera and raster state,
+//! timed by its timestamps in a frame of its own. No tessellation stage runs: what the
+//! tessellated frame costs beyond this is the price of tessellating on the GPU every frame.
+//!
+//! The triangles are the frame's own for every scheme (transition fans, clamped levels,
+//! culled patches included), unlike a CPU tessellation at the uniform level, which matches only
+//! frames of whole patches. The capture buffer is bounded by one storage-buffer binding
+//! (`maxStorageBufferRange` / 52 bytes per triangle); a frame that draws more is an error naming
+//! that limit.
+
+use std::collections::HashMap;
+
+use glam::DVec3;
 
 use super::bench::timed_frames;
+use super::camera::Camera;
 use super::fallback::FallbackMesh;
 use super::offscreen::{OffscreenDesc, OffscreenSession, CPU_PATH_LABEL};
-use super::plan::{cpu_faces, plan_passes};
+use super::pass::{Capture, CapturedTriangle};
 use super::renderer::RenderDesc;
-use super::schemes::{PlanOptions, SchemeLimits};
+use super::settings::Displacement;
 use super::surface::SurfaceData;
 use crate::gpu::Context;
-use crate::mesh::ControlMesh;
 use crate::{Error, Result};
 
-/// The static triangles of a mesh at one uniform level.
+/// The triangles of one tessellated frame, as a static mesh.
 pub struct StaticDraw {
     surface: SurfaceData,
+    camera: Camera,
+    render: RenderDesc,
+    captured: usize,
 }
 
 impl StaticDraw {
-    /// Every face of `mesh` with a limit surface (holes skipped, as every scheme skips them) at
-    /// uniform level `level` (at least 1).
-    pub fn new(mesh: &ControlMesh, level: u32) -> Result<StaticDraw> {
-        let opts = PlanOptions::new(SchemeLimits::NO_DEVICE);
-        let mut surface = plan_passes(mesh, &[], &opts)?;
-        surface.fallback = cpu_faces(mesh, &surface.fallback_faces, level.max(1))?;
-        Ok(StaticDraw { surface })
+    /// Captures the triangles one frame of `surface` draws with `render` into a target of
+    /// `desc` (its camera, culling and tessellation settings) plus the surface's CPU-path
+    /// triangles. Two capture frames: one counts the triangles, one stores them in a buffer of
+    /// exactly that size.
+    pub fn capture(
+        ctx: &Context,
+        surface: &SurfaceData,
+        render: &RenderDesc,
+        desc: &OffscreenDesc,
+    ) -> Result<StaticDraw> {
+        if render.displacement != Displacement::None {
+            return Err(Error::Invalid(
+                "static draw: a displaced frame is not supported (its CPU-path triangles are \
+                 displaced in the vertex stage, the captured ones already were)"
+                    .into(),
+            ));
+        }
+        let counting = RenderDesc {
+            capture_capacity: None,
+            capture_triangles: Some(0),
+            ..*render
+        };
+        let mut session = OffscreenSession::new(ctx, surface, &counting, desc, false)?;
+        session.frame()?;
+        let drawn = session.triangles_drawn()?;
+        let camera = *session.camera();
+        drop(session);
+        let limit = Capture::Triangles(0).max_records(ctx);
+        if drawn > limit {
+            return Err(Error::Invalid(format!(
+                "static draw: the frame drew {drawn} triangles; one triangle capture holds at \
+                 most {limit} (maxStorageBufferRange {} bytes, 52 bytes per triangle): lower \
+                 --tess",
+                ctx.info().limits.max_storage_buffer_range
+            )));
+        }
+        let storing = RenderDesc {
+            capture_triangles: Some(drawn),
+            ..counting
+        };
+        let mut session = OffscreenSession::new(ctx, surface, &storing, desc, false)?;
+        session.set_camera(camera);
+        session.frame()?;
+        let triangles = session.triangles()?;
+        drop(session);
+        let captured = triangles.len();
+        let fallback = static_mesh(&surface.fallback, &triangles);
+        log::debug!(
+            "static draw: {captured} tessellated + {} CPU-path triangles, {} vertices",
+            surface.fallback.indices.len() / 3,
+            fallback.positions.len()
+        );
+        Ok(StaticDraw {
+            surface: SurfaceData {
+                positions: surface.positions.clone(),
+                fallback,
+                ..SurfaceData::default()
+            },
+            camera,
+            render: RenderDesc {
+                capture_capacity: None,
+                capture_triangles: None,
+                ..*render
+            },
+            captured,
+        })
     }
 
-    /// Triangles drawn.
+    /// Triangles drawn (tessellated and CPU-path).
     pub fn triangles(&self) -> usize {
         self.surface.fallback.indices.len() / 3
     }
 
-    /// The triangles (positions, normals, indices).
+    /// Of [`Self::triangles`], those the tessellation stages produced.
+    pub fn captured(&self) -> usize {
+        self.captured
+    }
+
+    /// The triangles (positions, normals, classes, indices; vertices shared where the
+    /// evaluation stage emitted bitwise the same one).
     pub fn mesh(&self) -> &FallbackMesh {
         &self.surface.fallback
     }
 
-    /// The surface to draw: no patch pass, every face on the static path.
+    /// The surface to draw: no patch pass, every triangle on the static path.
     pub fn surface(&self) -> &SurfaceData {
         &self.surface
     }
 
+    /// A session drawing the static triangles into a target of `desc` with the captured
+    /// frame's camera and raster state, with timings.
+    pub fn session(&self, ctx: &Context, desc: &OffscreenDesc) -> Result<OffscreenSession> {
+        let mut session = OffscreenSession::new(ctx, &self.surface, &self.render, desc, true)?;
+        session.set_camera(self.camera);
+        Ok(session)
+    }
+
     /// Median GPU milliseconds of drawing the triangles over `frames` frames (after one warm-up
-    /// frame) with `render`'s raster state into a target of `desc`.
-    pub fn time(
-        &self,
-        ctx: &Context,
-        render: &RenderDesc,
-        desc: &OffscreenDesc,
-        frames: u32,
-    ) -> Result<f64> {
+    /// frame) into a target of `desc`.
+    pub fn time(&self, ctx: &Context, desc: &OffscreenDesc, frames: u32) -> Result<f64> {
         if frames == 0 {
             return Err(Error::Invalid("static draw: at least one frame".into()));
         }
-        let mut session = OffscreenSession::new(ctx, &self.surface, render, desc, true)?;
-        timed_frames(&mut session, frames, CPU_PATH_LABEL)
+        timed_frames(&mut self.session(ctx, desc)?, frames, CPU_PATH_LABEL)
     }
+}
+
+/// `cpu` (the frame's CPU-path triangles) followed by `captured`, vertices shared where
+/// position, normal and class are bitwise equal. Domain points are dropped: the static draw
+/// neither displaces nor looks up texture coordinates.
+fn static_mesh(cpu: &FallbackMesh, captured: &[CapturedTriangle]) -> FallbackMesh {
+    let mut mesh = FallbackMesh {
+        positions: cpu.positions.clone(),
+        normals: cpu.normals.clone(),
+        classes: cpu.classes.clone(),
+        indices: cpu.indices.clone(),
+        ..FallbackMesh::default()
+    };
+    let mut index: HashMap<[u32; 7], u32> = HashMap::new();
+    for t in captured {
+        for (p, n) in t.positions.iter().zip(&t.normals) {
+            let key = [
+                p[0].to_bits(),
+                p[1].to_bits(),
+                p[2].to_bits(),
+                n[0].to_bits(),
+                n[1].to_bits(),
+                n[2].to_bits(),
+                t.class,
+            ];
+            let k = *index.entry(key).or_insert_with(|| {
+                mesh.positions.push(vec3(*p));
+                mesh.normals.push(vec3(*n));
+                mesh.classes.push(t.class);
+                (mesh.positions.len() - 1) as u32
+            });
+            mesh.indices.push(k);
+        }
+    }
+    mesh
+}
+
+fn vec3(v: [f32; 3]) -> DVec3 {
+    DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]))
 }

@@ -123,7 +123,8 @@ pub(crate) struct PatchShaders {
 
 /// Creates (or fetches from the context's cache) a patch pipeline: `PATCH_LIST`, the raster
 /// state of `desc`, depth test and write, counter-clockwise front faces, the shared fragment
-/// shader and the patch push constants.
+/// shader and the patch push constants; with `desc.capture_triangles` the pass-through geometry
+/// stage that captures the triangles.
 pub(crate) fn patch_pipeline(
     ctx: &Context,
     desc: &RenderDesc,
@@ -141,6 +142,9 @@ pub(crate) fn patch_pipeline(
         vertex: s.vertex,
         tess_control: Some(s.tess_control),
         tess_eval: Some(tese),
+        geometry: desc
+            .capture_triangles
+            .map(|_| "capture_triangles.geom".to_string()),
         fragment: "shade.frag".into(),
         vertex_bindings,
         vertex_attributes,

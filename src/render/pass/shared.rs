@@ -2,7 +2,8 @@
 //!
 //! Set 0 of every patch pipeline holds the shared bindings of `glsl/common/frame.glsl`,
 //! `capture.glsl` and the watertight corner rules plus the scheme's own bindings
-//! ([`set0_layout`]): 0 `Frame` UBO, 2 vertex limit positions, 3 TES capture, 8 control
+//! ([`set0_layout`]): 0 `Frame` UBO, 2 vertex limit positions, 3 TES or triangle capture (also
+//! visible to the geometry stage, `capture_triangles.geom`), 8 control
 //! positions, 9 vertex limit normals, 14 face-varying texture coordinates, 15 the displacement
 //! map (combined image sampler; a 1 x 1 mid-grey image without a map). A scheme's own tables
 //! take the other binding numbers of set 0 (1, 4-7) or sets of their own.
@@ -10,7 +11,10 @@
 use ash::vk;
 use glam::DVec3;
 
-use super::capture::{capture_buffer, decode_capture, reset_capture, CaptureRecord};
+use super::capture::{
+    capture_buffer, decode_capture, decode_triangles, reset_capture, Capture, CaptureRecord,
+    CapturedTriangle,
+};
 use super::frames::VertexFrames;
 use super::upload::{host_buffer, vec3_bytes, vec4_bytes};
 use crate::gpu::{
@@ -62,7 +66,6 @@ pub fn set0_layout(own: &[u32]) -> Vec<DescriptorBinding> {
     v.extend(
         [
             VERTEX_LIMITS_BINDING,
-            CAPTURE_BINDING,
             CONTROL_POSITIONS_BINDING,
             VERTEX_NORMALS_BINDING,
             TEXCOORDS_BINDING,
@@ -70,6 +73,14 @@ pub fn set0_layout(own: &[u32]) -> Vec<DescriptorBinding> {
         .into_iter()
         .chain(own.iter().copied())
         .map(storage_binding),
+    );
+    v.insert(
+        2,
+        DescriptorBinding {
+            binding: CAPTURE_BINDING,
+            kind: DescriptorKind::StorageBuffer,
+            stages: storage_stages() | vk::ShaderStageFlags::GEOMETRY,
+        },
     );
     v.push(DescriptorBinding {
         binding: DISPLACEMENT_MAP_BINDING,
@@ -166,7 +177,7 @@ pub struct SharedResources {
     staged: Staged,
     /// Capture on: one buffer per frame slot; off: one minimal buffer every slot binds.
     captures: Vec<Buffer>,
-    capture_capacity: Option<u32>,
+    capture: Option<Capture>,
     vertex_count: usize,
     texcoords: Buffer,
     displacement_map: SampledImage,
@@ -174,14 +185,14 @@ pub struct SharedResources {
 
 impl SharedResources {
     /// Uploads `positions` and `frames` into each of `frames_in_flight` slots (at least one);
-    /// with `capture_capacity`, a capture buffer of that many records per slot; the
+    /// with `capture`, a capture buffer of that many records per slot; the
     /// texture-coordinate table's words
     /// (`SurfaceData::texcoord_words`); the displacement map, if any.
     pub fn new(
         ctx: &Context,
         positions: &[DVec3],
         frames: &VertexFrames,
-        capture_capacity: Option<u32>,
+        capture: Option<Capture>,
         frames_in_flight: usize,
         texcoords: &[[u32; 4]],
         displacement_map: Option<&DisplacementMap>,
@@ -195,17 +206,17 @@ impl SharedResources {
         let slots = (0..frames_in_flight.max(1))
             .map(|k| FrameSlot::new(ctx, &staged, k))
             .collect::<Result<Vec<_>>>()?;
-        let captures = match capture_capacity {
-            Some(capacity) => (0..slots.len())
-                .map(|k| capture_buffer(ctx, capacity, k))
+        let captures = match capture {
+            Some(c) => (0..slots.len())
+                .map(|k| capture_buffer(ctx, c, k))
                 .collect::<Result<Vec<_>>>()?,
-            None => vec![capture_buffer(ctx, 0, 0)?],
+            None => vec![capture_buffer(ctx, Capture::TesPoints(0), 0)?],
         };
         Ok(SharedResources {
             slots,
             staged,
             captures,
-            capture_capacity,
+            capture,
             vertex_count: positions.len(),
             texcoords: ctx.upload_buffer(
                 texcoords,
@@ -349,17 +360,43 @@ impl SharedResources {
     /// The TES invocations captured by the frame that last used slot `slot` (it must have
     /// finished), in draw order.
     pub fn read_capture(&self, slot: usize) -> Result<Vec<CaptureRecord>> {
-        let Some(capacity) = self.capture_capacity else {
+        let Some(Capture::TesPoints(capacity)) = self.capture else {
             return Err(Error::Invalid(
-                "capture is not enabled in RenderDesc".into(),
+                "TES capture is not enabled in RenderDesc (capture_capacity)".into(),
             ));
         };
+        decode_capture(&self.captured_words(slot)?, capacity)
+    }
+
+    /// The triangles captured by the frame that last used slot `slot` (it must have finished),
+    /// in no particular order.
+    pub fn read_triangles(&self, slot: usize) -> Result<Vec<CapturedTriangle>> {
+        let Some(Capture::Triangles(_)) = self.capture else {
+            return Err(Error::Invalid(
+                "triangle capture is not enabled in RenderDesc (capture_triangles)".into(),
+            ));
+        };
+        decode_triangles(&self.captured_words(slot)?)
+    }
+
+    /// Triangles the frame that last used slot `slot` drew (counted past the capacity too).
+    pub fn triangles_drawn(&self, slot: usize) -> Result<u32> {
+        let Some(Capture::Triangles(_)) = self.capture else {
+            return Err(Error::Invalid(
+                "triangle capture is not enabled in RenderDesc (capture_triangles)".into(),
+            ));
+        };
+        Ok(self.captured_words(slot)?[0])
+    }
+
+    /// The words of frame slot `slot`'s capture buffer.
+    fn captured_words(&self, slot: usize) -> Result<Vec<u32>> {
         if slot >= self.slots.len() {
             return Err(Error::Invalid(format!(
                 "read_capture: frame slot {slot} of {}",
                 self.slots.len()
             )));
         }
-        decode_capture(&self.capture(slot).read::<u32>()?, capacity)
+        self.capture(slot).read::<u32>()
     }
 }
