@@ -40,7 +40,7 @@ struct AdaptivePatch {
     vec2 axis_u;
     vec2 axis_v;
     uint transition;
-    uint pad;
+    uint fillet;
     uvec4 mid;
     uvec4 coarse;
     uvec4 corner_frame;
@@ -84,19 +84,13 @@ layout(std430, set = 0, binding = 11) readonly buffer CoarseEdges {
 /// The full edge lattice of a level-`level` patch drawn as s x s sub-patches (uniform mode,
 /// s > 1; src/render/schemes/adaptive/pass.rs draws level k with s = split / 2^k, split the
 /// level-0 patches' TessSettings::split): s times the sub-patch level, rounded up as the
-/// equal-spacing tessellator does, so the split patch, an unsplit transition triangle beside it
+/// equal-spacing tessellator does, so the split patch, the split transition triangle beside it
 /// and the coarse side of its half edges place the same points. 0 when the level is drawn whole.
 float split_lattice(uint level, uint s) {
     if (s <= 1u || frame.tess.y != TESS_MODE_UNIFORM) {
         return 0.0;
     }
     return ceil(clamp(frame.tess.x / float(s << level), 1.0, frame.tess.w)) * float(s);
-}
-
-/// Sub-patches per side of a level-`level` patch, in a draw whose push constant `split` is that
-/// of the level-0 patches (transition fans, drawn whole): split / 2^level, at least 1.
-uint fan_level_split(uint level) {
-    return max(1u, chunk.split >> level);
 }
 
 /// `x` on the lattice edge_lattice_override when it is set (the parameter edge_ts snaps an edge

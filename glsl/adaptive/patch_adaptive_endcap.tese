@@ -17,6 +17,27 @@ bool end_cap_edge(GregoryPatchInfo info, int k, float x, int from_corner, inout 
     // Every edge point passes here first: its lattice for edge_ts and fine_edge_point (the
     // draw's split is this level's, frame.glsl's sub_domain).
     edge_lattice_override = split_lattice(apatches[info.pad0].level, chunk.split);
+    // The fillet sharpness at the edge's ends (bits 8k..8k+8 of the record's fillet word, an
+    // edge that is no promoted crease: flag bit 28 + k off) in canonical order, with the
+    // corners' normals (as drawn there): gregory_edge bends the edge's tangent with them.
+    uint code = (apatches[info.pad0].fillet >> uint(8 * k)) & 0xffu;
+    if ((info.flags & (1u << uint(28 + k))) != 0u) {
+        code = 0u;
+    }
+    bool a_is_lo = info.corners[k] < info.corners[(k + 1) & 3];
+    for (int side = 0; side < 2; ++side) {
+        int corner = (k + side) & 3;
+        uint c = (code >> uint(4 * side)) & 0xfu;
+        int end = ((side == 0) == a_is_lo) ? 0 : 1;
+        edge_fillet_sharpness[end] = float(c) * 0.5;
+        vec3 n = vec3(0.0);
+        if (c != 0u) {
+            vec3 unused = vec3(0.0);
+            shared_corner(info.corners[corner], info.face, unused, n);
+            sector_normal(apatches[info.pad0].corner_frame[corner], n);
+        }
+        edge_fillet_normal[end] = n;
+    }
     uint c = apatches[info.pad0].coarse[k];
     if (c == NO_ENTRY) {
         return false;
@@ -26,9 +47,21 @@ bool end_cap_edge(GregoryPatchInfo info, int k, float x, int from_corner, inout 
     return true;
 }
 
+/// The bytes of the fillet word that are promoted creases' (flag bits 28-31).
+uint fillet_edge_mask(uint flags) {
+    uint m = 0u;
+    for (int k = 0; k < 4; ++k) {
+        if ((flags & (1u << uint(28 + k))) != 0u) {
+            m |= 0xffu << uint(8 * k);
+        }
+    }
+    return m;
+}
+
 #define GREGORY_EDGE_OVERRIDE end_cap_edge
 #define GREGORY_CORNER_NORMAL(info, k, nrm) \
     sector_normal(apatches[info.pad0].corner_frame[k], nrm)
+#define GREGORY_FILLET(info) (apatches[info.pad0].fillet & fillet_edge_mask(info.flags))
 #define GREGORY_CLASS(info) adaptive_class(KIND_END_CAP, apatches[info.pad0].level)
 #define GREGORY_DISPLACE(info, u, v, tg, p, n) \
     displace_adaptive(apatches[info.pad0], vec2(u, v), tg, p, n)

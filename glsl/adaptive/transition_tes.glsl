@@ -25,9 +25,10 @@ void main() {
     int e = int(tt.edge);
     uint h = tt.half_edge;
     // The outer segment's points on the lattice of the patches that own it: this patch's level
-    // for a whole edge, the finer one for a half (split_lattice; 0 where they are drawn whole).
+    // for a whole edge, the finer one (split half as often) for a half (split_lattice; 0 where
+    // they are drawn whole).
     uint owner = ap.level + (h == 0u ? 0u : 1u);
-    edge_lattice_override = split_lattice(owner, fan_level_split(owner));
+    edge_lattice_override = split_lattice(owner, (h == 0u) ? chunk.split : (chunk.split >> 1));
     ivec2 se = bspline_edge_corners(e);
     vec2 start = corner_uv(se.x);
     vec2 end = corner_uv(se.y);
@@ -39,9 +40,17 @@ void main() {
     uint slot_b = (h == 1u) ? ap.mid[e] : info.corners[se.y];
     // Edges 2 and 3 run against face order: B is vertex 1 there, keeping the fan counter-clockwise.
     bool flip = e >= 2;
-    float wc = gl_TessCoord.x;
-    float wa = flip ? gl_TessCoord.z : gl_TessCoord.y;
-    float wb = flip ? gl_TessCoord.y : gl_TessCoord.z;
+    // A split fan: the point in the whole triangle (fan_domain_point), except on the segment of
+    // a half edge whose finer owner is drawn whole: the tessellator's own coordinates there, as
+    // that patch's.
+    vec3 tc = gl_TessCoord;
+    FanSplit fs = fan_split(ap.level, h);
+    if (fs.n > 0u && !(fs.n == 1u && h != 0u && tc.x == 0.0)) {
+        tc = fan_domain_point(fs, tc);
+    }
+    float wc = tc.x;
+    float wa = flip ? tc.z : tc.y;
+    float wb = flip ? tc.y : tc.z;
 
     vec3 p;
     vec3 nrm;

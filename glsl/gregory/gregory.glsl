@@ -63,6 +63,7 @@ layout(std430, set = 0, binding = 7) readonly buffer GregoryGrids {
 #include "control_points.glsl"
 
 #include "watertight.glsl"
+#include "tri_sub.glsl"
 
 #ifndef GREGORY_CORNER_ORIGIN
 /// Origin of corner k's points (the contract above): the control position of its vertex.
@@ -76,34 +77,6 @@ layout(std430, set = 0, binding = 7) readonly buffer GregoryGrids {
 
 bool tri_sub_mode() {
     return chunk.split > 1u && (chunk.sub_index & TRI_SUB_MODE) != 0u;
-}
-
-/// Corners, as (b1, b2) in units of 1/split, of sub-triangle `idx` of the split x split grid of
-/// the barycentric domain: per row j first the split - j upright ones, then the split - 1 - j
-/// inverted ones (upright rotated by 180 degrees: the orientation is kept).
-void tri_sub_corners(uint idx, uint n, out ivec2 c0, out ivec2 c1, out ivec2 c2) {
-    uint rem = idx;
-    c0 = ivec2(0);
-    c1 = ivec2(0);
-    c2 = ivec2(0);
-    for (uint j = 0u; j < n; ++j) {
-        uint up = n - j;
-        if (rem < up) {
-            c0 = ivec2(int(rem), int(j));
-            c1 = ivec2(int(rem) + 1, int(j));
-            c2 = ivec2(int(rem), int(j) + 1);
-            return;
-        }
-        rem -= up;
-        uint down = n - 1u - j;
-        if (rem < down) {
-            c0 = ivec2(int(rem) + 1, int(j) + 1);
-            c1 = ivec2(int(rem), int(j) + 1);
-            c2 = ivec2(int(rem) + 1, int(j));
-            return;
-        }
-        rem -= down;
-    }
 }
 
 /// Barycentric weights (of face corners 0, 1, 2) of this TES invocation's domain point. In
@@ -216,11 +189,42 @@ vec3 cross_tri(vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 eo0, vec3 f0, vec3 f1, v
 /// two patches' cross-edge derivatives (into each patch). The construction is tangent-plane
 /// continuous across the edge (§3.4), so this is the normal of both patches; both compute the
 /// same bits.
+/// Set by a stage before an edge (the adaptive end caps, glsl/adaptive/endcap.glsl), per
+/// canonical end (0: the smaller id): the residual sharpness of a promoted crease's fillet there
+/// (0: none) and the limit normal there. gregory_edge bends its tangent with that fillet, as
+/// `patch::adaptive::promoted::fillet_bend`: both sides set the same values.
+float edge_fillet_sharpness[2] = float[2](0.0, 0.0);
+vec3 edge_fillet_normal[2] = vec3[2](vec3(0.0), vec3(0.0));
+
+/// The fillet's change of the derivative `along` (from an edge end, unit parameter) at distance
+/// w from that end with limit normal n there (`patch::adaptive::promoted::fillet_bend`).
+vec3 fillet_bend(float sharp, float w, vec3 along, vec3 n) {
+    precise float lo = floor(sharp);
+    precise float frac = sharp - lo;
+    precise float r0 = max(1.0 - w * exp2(lo), 0.0);
+    precise float r1 = max(1.0 - w * exp2(lo + 1.0), 0.0);
+    precise float k = (1.0 - frac) * (-0.5 * r0 * r0) + frac * (-0.5 * r1 * r1);
+    precise vec3 d = (k * (2.0 * dot(along, n))) * n;
+    return d;
+}
+
 void gregory_edge(vec3 origin, vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 d_left, vec3 d_right,
                   float t, float s, out vec3 pos, out vec3 nrm) {
     precise vec4 b = vec4(s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t);
     precise vec3 p = (((b.x * p0 + b.y * e0) + b.z * e1) + b.w * p1) + origin;
     precise vec3 tangent = ((s * s) * (e0 - p0) + (2.0 * t * s) * (e1 - e0)) + (t * t) * (p1 - e1);
+    // (tangent is a third of d/dt; the derivative from end 0 is 3 (e0 - p0), from end 1
+    // 3 (e1 - p1) along -t.)
+    if (edge_fillet_sharpness[0] > 0.0) {
+        precise vec3 d = fillet_bend(edge_fillet_sharpness[0], t, 3.0 * (e0 - p0),
+                                     edge_fillet_normal[0]);
+        tangent = tangent + d * (1.0 / 3.0);
+    }
+    if (edge_fillet_sharpness[1] > 0.0) {
+        precise vec3 d = fillet_bend(edge_fillet_sharpness[1], s, 3.0 * (e1 - p1),
+                                     edge_fillet_normal[1]);
+        tangent = tangent - d * (1.0 / 3.0);
+    }
     precise vec3 cross_dir = d_left - d_right;
     precise vec3 nn = normalize(cross(tangent, cross_dir));
     pos = p;

@@ -8,7 +8,8 @@
 // tg the patch's SurfaceTangents in its own (u, v)),
 // GREGORY_CAPTURE(info, u, v, p, n) (with CAPTURE), and optionally
 // GREGORY_EDGE_OVERRIDE(info, k, x, from_corner, pos, nrm) (true: edge k evaluated elsewhere) and
-// GREGORY_CORNER_NORMAL(info, k, nrm) (after the shared corner: a normal read elsewhere).
+// GREGORY_CORNER_NORMAL(info, k, nrm) (after the shared corner: a normal read elsewhere) and
+// GREGORY_FILLET(info) (per edge the residual sharpness of a fillet the interior normal follows).
 // Needs frame.glsl first; defines SPACING, CAPTURE as the stage file's.
 #ifndef TESSERA_GREGORY_QUAD_TES_GLSL
 #define TESSERA_GREGORY_QUAD_TES_GLSL
@@ -78,6 +79,50 @@ void quad_edge(uint patch_index, GregoryPatchInfo info, int k, float x, int from
     }
 }
 
+#ifdef GREGORY_FILLET
+/// Inside the patch: du, dv with the cross-edge derivative of every edge k whose residual
+/// sharpness GREGORY_FILLET(info) holds (bits 8k..8k+8, 16 s) changed within its fillet, as
+/// `patch::adaptive::promoted::fillet_cross_derivative`: -(d_own + d_nbr) (1 - w/h)^2 / 2 at
+/// distance w < h = 2^-floor(s) from the edge (blended with h / 2 by the fraction of s), d_* both
+/// sides' cross-edge derivatives at the edge point (into each patch).
+void fillet_derivatives(GregoryPatchInfo info, float u, float v, inout vec3 du, inout vec3 dv) {
+    uint code = GREGORY_FILLET(info);
+    for (int k = 0; k < 4; ++k) {
+        uint c = (code >> uint(8 * k)) & 0xffu;
+        if (c == 0u) {
+            continue;
+        }
+        float sharp = float(c) / 16.0;
+        float n = floor(sharp);
+        float frac = sharp - n;
+        // (distance from edge k, position along it from corner k).
+        float w = (k == 0) ? v : (k == 1) ? 1.0 - u : (k == 2) ? 1.0 - v : u;
+        float x = (k == 0) ? u : (k == 1) ? v : (k == 2) ? 1.0 - u : 1.0 - v;
+        float r0 = max(1.0 - w * exp2(n), 0.0);
+        float r1 = max(1.0 - w * exp2(n + 1.0), 0.0);
+        if (r0 == 0.0) {
+            continue;
+        }
+        int a = k;
+        int b = (k + 1) & 3;
+        bool nbr_quad = (info.flags & (1u << uint(8 + k))) == 0u;
+        vec3 d_own = cross_quad(P(a), EP(a), EM(b), P(b), EM(a), FP(a), FM(b), EP(b), x, 1.0 - x);
+        vec3 d_nbr = cross_any(nbr_quad, P(a), EP(a), EM(b), P(b), g_eout[2 * k], g_nbr[2 * k],
+                               g_nbr[2 * k + 1], g_eout[2 * k + 1], x, 1.0 - x);
+        vec3 d = (d_own + d_nbr) * ((1.0 - frac) * (-0.5 * r0 * r0) + frac * (-0.5 * r1 * r1));
+        if (k == 0) {
+            dv += d;
+        } else if (k == 1) {
+            du -= d;
+        } else if (k == 2) {
+            dv -= d;
+        } else {
+            du += d;
+        }
+    }
+}
+#endif
+
 void main() {
     uint patch_index = chunk.patch_base + uint(gl_PrimitiveID);
     GregoryPatchInfo info = gpatches[patch_index];
@@ -115,6 +160,14 @@ void main() {
     }
     p += o0;
     vec3 nrm = safe_normal(du, dv);
+#ifdef GREGORY_FILLET
+    {
+        vec3 fu = du;
+        vec3 fv = dv;
+        fillet_derivatives(info, u, v, fu, fv);
+        nrm = safe_normal(fu, fv);
+    }
+#endif
 
     bool u_edge = (u == 0.0 || u == 1.0);
     bool v_edge = (v == 0.0 || v == 1.0);

@@ -15,7 +15,10 @@ use rayon::prelude::*;
 
 use super::coarse::{patch_index, CoarseEdges};
 use super::error::DrawTablesError;
-use super::promoted::{exact_frame, promoted_edge, promoted_vertex};
+use super::promoted::{
+    exact_frame, fillet_code, fillet_end_code, promoted_edge, promoted_vertex,
+    vertex_fillet_sharpness,
+};
 use super::records::{
     words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
 };
@@ -25,13 +28,15 @@ use super::slots::{Slots, NONE};
 use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure, EndCapTopologies};
 use crate::patch::edge_grid::PATCH_EDGES;
 use crate::patch::gregory::edge_flags::{edge_flags, Across};
-use crate::patch::gregory::shared_rows::{sparse_face_rows_flat, FaceRows};
-use crate::patch::gregory::stencil_table::{vertex_point_of, vertex_point_rows, VERTEX_POINTS};
+use crate::patch::gregory::shared_rows::{
+    shared_vertex_point_rows, sparse_face_rows_flat, FaceRows,
+};
+use crate::patch::gregory::stencil_table::{vertex_point_of, VERTEX_POINTS};
 use crate::patch::gregory::{GregoryTangents, Weights};
 use crate::patch::single_crease::{gpu_cvs, Rotation, SingleCreasePatch};
 use crate::patch::RegularPatch;
 use crate::subdiv::adaptive::{AdaptiveRefinement, Domain, PatchCensus, PatchType};
-use crate::topology::single_normal_vertex;
+use crate::topology::{is_sharp_edge, single_normal_vertex};
 
 /// Rows per end cap: 20 control points and 16 extra rows (quads), 15 + 12 then empty rows
 /// (triangles, isolation 0 only), in [`crate::patch::gregory::stencil_table`] order.
@@ -173,14 +178,20 @@ fn end_cap_rows(
             rows
         })
         .collect();
-    let vertices = smooth
-        .par_iter()
-        .map(|&(l, v)| {
-            let lev = &refinement.levels[l as usize];
-            vertex_point_rows(topologies.get(l), v, tangents)
-                .map(|w| Weights(w.0.into_iter().map(|(u, x)| (lev.global(u), x)).collect()))
-        })
-        .collect();
+    let mut vertices = Vec::with_capacity(smooth.len());
+    for group in smooth.chunk_by(|a, b| a.0 == b.0) {
+        let l = group[0].0;
+        let lev = &refinement.levels[l as usize];
+        let at: Vec<u32> = group.iter().map(|&(_, v)| v).collect();
+        let rows = shared_vertex_point_rows(topologies.get(l), &at, tangents);
+        vertices.extend(rows.into_iter().map(|r| {
+            r.map(|mut w| {
+                // Monotone: rows stay ascending.
+                w.0.iter_mut().for_each(|(u, _)| *u = lev.global(*u));
+                w
+            })
+        }));
+    }
     Ok(EndCapRows { caps, vertices })
 }
 
@@ -453,6 +464,7 @@ impl AdaptiveDrawTables {
                 coarse: fine,
                 corner_frames: sectors.corners[i],
                 mid_frames: sectors.mids[i],
+                fillet: 0,
             };
             out.sharpness.push(p.crease.map_or(0.0, |l| l.sharpness));
             let slot = |v: u32| out.slots.of(v);
@@ -531,6 +543,17 @@ impl AdaptiveDrawTables {
                 });
                 if n == 4 && fine[k] == NONE && across_cap && promoted_edge(t, caps, e) {
                     ef.flags &= !(1 << (12 + k));
+                    ef.flags |= 1 << (28 + k);
+                    out.records[i].fillet |= fillet_code(t.edge_sharpness(e)) << (8 * k);
+                } else if n == 4 && fine[k] == NONE && across_cap && !is_sharp_edge(caps, e) {
+                    // An edge between two end caps from a vertex on a promoted crease: the
+                    // fillet's sharpness at either end (4 bits each), both sides alike.
+                    let fv = t.face_vertices(p.face);
+                    for (half, v) in [fv[k], fv[(k + 1) % 4]].into_iter().enumerate() {
+                        if let Some(sharp) = vertex_fillet_sharpness(t, caps, v) {
+                            out.records[i].fillet |= fillet_end_code(sharp) << (8 * k + 4 * half);
+                        }
+                    }
                 }
             }
             let fv = t.face_vertices(p.face);

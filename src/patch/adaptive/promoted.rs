@@ -18,6 +18,7 @@ use crate::subdiv::adaptive::AdaptiveLevel;
 use crate::subdiv::adaptive::EndCapSharpness;
 use crate::subdiv::limit::vertex_mask;
 use crate::topology::Topology;
+use glam::DVec3;
 
 /// Whether edge `e` is a promoted crease: infinitely sharp in `caps` (the level's end-cap
 /// topology) but not in `level` (its own), with a face on both sides.
@@ -78,4 +79,78 @@ pub fn exact_frame(lev: &AdaptiveLevel, face: u32, k: usize, rows: [Weights; 3])
         Some([du, dv]) => [p, du, dv],
         None => [p, Weights::default(), Weights::default()],
     }
+}
+
+/// The change of the cross-edge derivative `d` (into the end cap) at distance `w` (own
+/// parameter) from a promoted edge of residual sharpness `sharpness`, where the limit's fillet
+/// replaces the crease: `d_sum` is the sum of both sides' cross-edge derivatives at the edge
+/// point (each into its own end cap).
+///
+/// After `n` more crease steps the limit is the B-spline over the refined points, whose
+/// segment next to the crease (width `h = 2^-n` of the end cap) has the far side's point where
+/// the crease had its phantom `2c - a`: the crease surface plus `h d_sum (1 - w/h)^3 / 6`
+/// (B-spline basis `B0`), so `d` gains `-d_sum (1 - w/h)^2 / 2` there, zero beyond `h` (C2).
+/// A fractional sharpness `n + f` blends the limits of `n` and `n + 1` steps by `f`, as its
+/// rule blends the points (Nießner, Loop, Greiner 2012 §3; DeRose et al. 1998 §3).
+pub fn fillet_cross_derivative(sharpness: f64, w: f64, d_sum: DVec3) -> DVec3 {
+    let n = sharpness.floor();
+    let f = sharpness - n;
+    let step = |steps: f64| {
+        let r = (1.0 - w * steps.exp2()).max(0.0);
+        -0.5 * r * r
+    };
+    d_sum * ((1.0 - f) * step(n) + f * step(n + 1.0))
+}
+
+/// The residual sharpness `s` of a promoted crease as the GPU reads it (`PatchRecord::fillet`):
+/// `16 s` rounded, in 16..=255 (`s` from 1 to 15.9; the fillet of a sharper edge is narrower
+/// than 2^-15 of the end cap).
+pub fn fillet_code(sharpness: f32) -> u32 {
+    (sharpness * 16.0).round().clamp(16.0, 255.0) as u32
+}
+
+/// The sharpness of [`fillet_code`] `code`.
+pub fn fillet_sharpness(code: u32) -> f64 {
+    f64::from(code) / 16.0
+}
+
+/// The residual sharpness of the fillet at vertex `v` of `level` (its topology as `caps` sees it
+/// for the end caps) where the crease through it is regular (valence 4, two promoted edges
+/// ([`promoted_edge`]) and no other sharp one, so its other edges cross the crease): the mean of
+/// the two, as the crease vertex rule averages its edges' sharpness (DeRose et al. 1998 §3);
+/// `None` elsewhere (at an extraordinary crease vertex the other edges are no cross-section of
+/// the fillet: measured worse with the bend, bishop L5 max 2.08 rad against 1.82 without).
+pub fn vertex_fillet_sharpness(level: &Topology, caps: &Topology, v: u32) -> Option<f32> {
+    let edges = level.vertex_edges(v);
+    let s: Vec<f32> = edges
+        .iter()
+        .filter(|&&e| promoted_edge(level, caps, e))
+        .map(|&e| level.edge_sharpness(e))
+        .collect();
+    let sharp = edges
+        .iter()
+        .filter(|&&e| caps.edge_sharpness(e) > 0.0)
+        .count();
+    (edges.len() == 4 && s.len() == 2 && sharp == 2).then(|| (s[0] + s[1]) / 2.0)
+}
+
+/// [`vertex_fillet_sharpness`] as the GPU reads it at an end of an edge that is no promoted
+/// crease (`PatchRecord::fillet`, 4 bits): `2 s` rounded, in 2..=15.
+pub fn fillet_end_code(sharpness: f32) -> u32 {
+    (sharpness * 2.0).round().clamp(2.0, 15.0) as u32
+}
+
+/// The sharpness of [`fillet_end_code`] `code`.
+pub fn fillet_end_sharpness(code: u32) -> f64 {
+    f64::from(code) / 2.0
+}
+
+/// The change of the derivative `along` (into an edge that is no promoted crease, from its end
+/// on one, which has the limit normal `normal`) at distance `w` from that end: the fillet of
+/// [`fillet_cross_derivative`] across the crease, with the two sides' cross-crease derivatives'
+/// sum taken as `2 (along . normal) normal` (its normal part, exact where the limit's tangent
+/// at the crease is the chord between the sides; its tangential part turns the tangent plane
+/// only to second order).
+pub fn fillet_bend(sharpness: f64, w: f64, along: DVec3, normal: DVec3) -> DVec3 {
+    fillet_cross_derivative(sharpness, w, 2.0 * along.dot(normal) * normal)
 }

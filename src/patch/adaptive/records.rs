@@ -44,10 +44,17 @@ pub struct PatchRecord {
     pub corner_frames: [u32; 4],
     /// The same for the midpoint of transition edge `k`.
     pub mid_frames: [u32; 4],
+    /// End caps, per face edge `k`, bits `8k..8k + 8`: on a promoted crease between two end caps
+    /// (draw flag bit `28 + k`) its residual sharpness
+    /// ([`crate::patch::adaptive::promoted::fillet_code`]), whose fillet the interior normals
+    /// follow; on another edge between two end caps, bits `8k..8k + 4` / `8k + 4..8k + 8` the
+    /// fillet sharpness at corner `k` / `k + 1`
+    /// ([`crate::patch::adaptive::promoted::fillet_end_code`], 0: none); 0 elsewhere.
+    pub fillet: u32,
 }
 
 impl PatchRecord {
-    /// Words 0-27: base_face, sub_face, level, kind, origin xy, u xy, v xy, transition, 0,
+    /// Words 0-27: base_face, sub_face, level, kind, origin xy, u xy, v xy, transition, fillet,
     /// mid_slots, coarse, corner_frames, mid_frames.
     pub fn words(&self) -> [u32; PATCH_RECORD_WORDS] {
         let mut w = [0u32; PATCH_RECORD_WORDS];
@@ -56,6 +63,7 @@ impl PatchRecord {
             w[4 + i] = x.to_bits();
         }
         w[10] = self.transition;
+        w[11] = self.fillet;
         w[12..16].copy_from_slice(&self.mid_slots);
         w[16..20].copy_from_slice(&self.coarse);
         w[20..24].copy_from_slice(&self.corner_frames);
@@ -114,7 +122,8 @@ pub struct EndCapDraw {
     /// Base face.
     pub base_face: u32,
     /// `GregoryLayout` flags, canonical orders by slot
-    /// ([`crate::patch::gregory::edge_flags::EdgeFlags::flags`]).
+    /// ([`crate::patch::gregory::edge_flags::EdgeFlags::flags`]), and bit `28 + k`: edge `k` is
+    /// a promoted crease between two end caps ([`PatchRecord::fillet`]).
     pub flags: u32,
     /// First of its 36 rows.
     pub first_row: u32,

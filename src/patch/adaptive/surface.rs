@@ -7,7 +7,11 @@ use std::collections::HashMap;
 use glam::{DVec2, DVec3};
 use thiserror::Error;
 
-use super::promoted::{exact_corner_tangents, promoted_edge, promoted_vertex};
+use super::promoted::{
+    exact_corner_tangents, fillet_bend, fillet_code, fillet_cross_derivative, fillet_end_code,
+    fillet_end_sharpness, fillet_sharpness, promoted_edge, promoted_vertex,
+    vertex_fillet_sharpness,
+};
 use crate::patch::gregory::{
     gregory_patch_at_for, Coverage, GregoryPatch, GregoryTangents, NotGregory,
 };
@@ -16,7 +20,7 @@ use crate::patch::single_crease::SingleCreasePatch;
 #[cfg(doc)]
 use crate::subdiv::adaptive::EndCapSharpness;
 use crate::subdiv::adaptive::{AdaptivePatch, AdaptiveRefinement, Domain, PatchCensus, PatchType};
-use crate::topology::Topology;
+use crate::topology::{is_sharp_edge, Topology};
 
 /// Per level, its topology as its end caps see it ([`AdaptiveRefinement::end_cap_topology`]),
 /// built once for the levels with end caps (the isolation level); the level's own topology
@@ -150,11 +154,15 @@ pub struct AdaptiveSurface {
 }
 
 /// What an end cap shares on promoted creases: per face edge the end cap across it (patch
-/// index, its edge), per corner the exact limit normal.
+/// index, its edge) and the edge's residual sharpness, per corner the exact limit normal, per
+/// other edge between two end caps that end cap and the fillet sharpness at its ends (0: none).
 #[derive(Debug, Clone, Default)]
 struct PromotedCap {
     edges: [Option<(usize, usize)>; 4],
+    sharpness: [f64; 4],
     corners: [Option<DVec3>; 4],
+    ends: [[f64; 2]; 4],
+    others: [Option<(usize, usize)>; 4],
 }
 
 /// The own `(s, t)` of the point at `x` along quad edge `k` (corner `k` -> `k + 1`).
@@ -318,12 +326,93 @@ impl AdaptiveSurface {
     }
 
     /// The unit normal of patch `i` at its own `(s, t)`: [`Self::promoted_normal`] where that
-    /// applies, else the patch's own `du x dv`.
+    /// applies, else the patch's own `du x dv`; inside an end cap, with the cross-edge
+    /// derivative of every promoted edge within its fillet changed by
+    /// `super::promoted::fillet_cross_derivative` (as `glsl/gregory/gregory_quad_tes.glsl`), and
+    /// on its other edges from a promoted crease the shared normal with the tangent bent
+    /// (`bent_edge_normal`).
     pub fn normal(&self, i: usize, s: f64, t: f64) -> DVec3 {
         self.promoted_normal(i, s, t).unwrap_or_else(|| {
-            let (_, ds, dt) = self.eval_own(i, s, t);
+            let (_, mut ds, mut dt) = self.eval_own(i, s, t);
+            let Some(cap) = self.promoted.get(&i) else {
+                return ds.cross(dt).normalize_or_zero();
+            };
+            if let Some((k, x)) = on_quad_edge(s, t) {
+                if let Some(n) = self.bent_edge_normal(cap, i, k, x) {
+                    return n;
+                }
+            }
+            let inside = s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0;
+            if inside {
+                for k in 0..4 {
+                    let Some(d) = self.fillet_change(cap, i, k, s, t) else {
+                        continue;
+                    };
+                    // `d` changes the derivative into the patch across edge k (`edge_frame`).
+                    match k {
+                        0 => dt += d,
+                        1 => ds -= d,
+                        2 => dt -= d,
+                        _ => ds += d,
+                    }
+                }
+            }
             ds.cross(dt).normalize_or_zero()
         })
+    }
+
+    /// On edge `k` of end cap `i` (at `x` from corner `k`), an edge between two end caps from a
+    /// vertex on a promoted crease: the normal both sides share (`gregory_edge` of
+    /// `glsl/gregory/gregory.glsl`), `cross(tangent, d_own - d_across)`, with the tangent bent by
+    /// the crease's fillet within it (`super::promoted::fillet_bend`); `None` elsewhere.
+    fn bent_edge_normal(&self, cap: &PromotedCap, i: usize, k: usize, x: f64) -> Option<DVec3> {
+        let across = cap.others[k]?;
+        let (mut tangent, d_own, d_across) = self.edge_derivatives(i, k, x, across);
+        let mut bent = false;
+        for (side, w) in [(0, x), (1, 1.0 - x)] {
+            let (sharp, c) = (cap.ends[k][side], (k + side) % 4);
+            let Some(normal) = cap.corners[c].filter(|_| sharp > 0.0) else {
+                continue;
+            };
+            // The derivative from that end into the edge.
+            let (a, b) = quad_edge_point(k, side as f64);
+            let (_, ds0, dt0) = self.eval_own(i, a, b);
+            let sign = if side == 0 { 1.0 } else { -1.0 };
+            let along = sign * edge_frame(k, ds0, dt0).0;
+            tangent += sign * fillet_bend(sharp, w, along, normal);
+            bent = true;
+        }
+        bent.then(|| tangent.cross(d_own - d_across).normalize_or_zero())
+    }
+
+    /// The change of end cap `i`'s derivative into the patch across its edge `k` at own `(s, t)`
+    /// where edge `k` is a promoted crease between two end caps and `(s, t)` lies in its fillet
+    /// (`super::promoted::fillet_cross_derivative`); `None` elsewhere.
+    fn fillet_change(
+        &self,
+        cap: &PromotedCap,
+        i: usize,
+        k: usize,
+        s: f64,
+        t: f64,
+    ) -> Option<DVec3> {
+        let across = cap.edges[k]?;
+        // (distance from edge k, position along it from corner k), own parameters.
+        let (w, x) = match k {
+            0 => (t, s),
+            1 => (1.0 - s, t),
+            2 => (1.0 - t, 1.0 - s),
+            _ => (s, 1.0 - t),
+        };
+        if w >= cap.sharpness[k].floor().exp2().recip() {
+            return None;
+        }
+        let (_, d_own, d_across) = self.edge_derivatives(i, k, x, across);
+        Some(fillet_cross_derivative(
+            cap.sharpness[k],
+            w,
+            d_own + d_across,
+        ))
     }
 
     /// The normal the GPU draws on a promoted crease (`super::promoted`), at own `(s, t)` of end
@@ -343,14 +432,27 @@ impl AdaptiveSurface {
             return cap.corners[k];
         }
         let (k, x) = on_quad_edge(s, t)?;
-        let (j, k2) = cap.edges[k]?;
+        let (tangent, d_own, d_across) = self.edge_derivatives(i, k, x, cap.edges[k]?);
+        Some(tangent.cross(d_own - d_across).normalize_or_zero())
+    }
+
+    /// At `x` along edge `k` of patch `i` (from corner `k`), with patch `j` across it on its
+    /// edge `k2`: (the edge's direction, the cross-edge derivative into `i`, into `j`).
+    fn edge_derivatives(
+        &self,
+        i: usize,
+        k: usize,
+        x: f64,
+        (j, k2): (usize, usize),
+    ) -> (DVec3, DVec3, DVec3) {
+        let (s, t) = quad_edge_point(k, x);
         let (_, ds, dt) = self.eval_own(i, s, t);
         let (tangent, d_own) = edge_frame(k, ds, dt);
         // The patch across runs the edge the other way: its edge k2 at 1 - x.
         let (s2, t2) = quad_edge_point(k2, 1.0 - x);
         let (_, ds2, dt2) = self.eval_own(j, s2, t2);
         let (_, d_across) = edge_frame(k2, ds2, dt2);
-        Some(tangent.cross(d_own - d_across).normalize_or_zero())
+        (tangent, d_own, d_across)
     }
 
     /// Position and derivatives of patch `i` in its own `(s, t)`.
@@ -453,16 +555,26 @@ fn promoted_caps(
             continue;
         }
         let mut cap = PromotedCap::default();
+        let fv = t.face_vertices(face);
         for (k, &e) in t.face_edges(face).iter().enumerate() {
-            if !promoted_edge(t, caps, e) {
-                continue;
-            }
             let across = t.edge_faces(e).iter().copied().find(|&g| g != face);
-            cap.edges[k] = across.and_then(|g| {
+            let across = across.and_then(|g| {
                 let j = *at.get(&(level, g))?;
                 let k2 = t.face_edges(g).iter().position(|&x| x == e)?;
                 (t.face_size(g) == 4).then_some((j, k2))
             });
+            if !promoted_edge(t, caps, e) {
+                if across.is_some() && !is_sharp_edge(caps, e) {
+                    cap.others[k] = across;
+                    for (half, v) in [fv[k], fv[(k + 1) % 4]].into_iter().enumerate() {
+                        cap.ends[k][half] = vertex_fillet_sharpness(t, caps, v)
+                            .map_or(0.0, |x| fillet_end_sharpness(fillet_end_code(x)));
+                    }
+                }
+                continue;
+            }
+            cap.edges[k] = across;
+            cap.sharpness[k] = fillet_sharpness(fillet_code(t.edge_sharpness(e)));
         }
         for (k, &v) in t.face_vertices(face).iter().enumerate() {
             if promoted_vertex(t, caps, v) {

@@ -14,7 +14,8 @@
 //! slot by slot. A face whose rows leave its ring, or that gets no patch, is built directly.
 //! The rows are two-stage ([`sparse_face_rows_direct`]): a smooth corner's vertex points
 //! (`vertex_count + 3 v + b`) take the slots `ring_len + 3 slot(v) + b`; whether a corner is
-//! smooth is part of its topology, hence of the key.
+//! smooth is part of its topology, hence of the key. The vertex points' own (first-stage) rows
+//! are shared the same way, per ring type ([`shared_vertex_point_rows`]).
 
 use std::collections::HashMap;
 
@@ -26,9 +27,11 @@ use super::build::{
 use super::point::{GregoryPoint, Weights};
 use super::stencil::ring_walk;
 use super::stencil_table::{
-    sparse_face_rows_direct, vertex_point_id, vertex_point_of, VERTEX_POINTS,
+    sparse_face_rows_direct, vertex_point_id, vertex_point_of, vertex_point_rows_with,
+    VERTEX_POINTS,
 };
 use super::tangents::GregoryTangents;
+use super::vertex::dart_limit;
 use crate::topology::Topology;
 
 const NONE: u32 = u32::MAX;
@@ -103,6 +106,8 @@ struct Keyer<'a> {
     tangents: GregoryTangents,
     slot: Vec<u32>,
     has_data: Vec<u8>,
+    /// Whether `dart_limit(n, d)` exists, per valence `n` and sharp edge `d`.
+    dart_limits: HashMap<(usize, usize), bool>,
 }
 
 impl Keyer<'_> {
@@ -111,7 +116,12 @@ impl Keyer<'_> {
     fn has_data(&mut self, v: u32) -> bool {
         let h = &mut self.has_data[v as usize];
         if *h == 2 {
-            *h = u8::from(has_vertex_data(self.topo, v, self.tangents));
+            *h = u8::from(has_vertex_data(
+                self.topo,
+                v,
+                self.tangents,
+                &mut self.dart_limits,
+            ));
         }
         *h == 1
     }
@@ -244,8 +254,15 @@ impl GregoryPoint for NoPoint {
 /// Whether [`gregory_vertex_for`] (end-cap coverage) is `Some` at `v`. A ring with no sharp
 /// edge and no corner tag takes the interior construction, which exists exactly when the faces
 /// close around the vertex ([`super::GregoryVertex::new`]); its weights need cosines, so the
-/// ring's shape answers instead. Other rings run the scalar construction.
-fn has_vertex_data(topo: &Topology, v: u32, tangents: GregoryTangents) -> bool {
+/// ring's shape answers instead. A dart ring ([`super::GregoryVertex::dart`]) has data exactly
+/// when `dart_limit` of its valence and sharp edge exists (an eigenproblem of the split ring,
+/// solved once per pair in `dart_limits`). Other rings run the scalar construction.
+fn has_vertex_data(
+    topo: &Topology,
+    v: u32,
+    tangents: GregoryTangents,
+    dart_limits: &mut HashMap<(usize, usize), bool>,
+) -> bool {
     let faces = topo.vertex_faces(v);
     // `gregory_vertex_for`'s own test before the construction.
     if faces.is_empty()
@@ -258,6 +275,13 @@ fn has_vertex_data(topo: &Topology, v: u32, tangents: GregoryTangents) -> bool {
     let ring = vertex_ring_with(topo, v, &|_| NoPoint);
     if !ring.corner && !ring.sharp.contains(&true) {
         return ring.c.len() == ring.m.len();
+    }
+    let (n, sharp) = (ring.m.len(), ring.sharp.iter().filter(|&&s| s).count());
+    if sharp == 1 && !ring.corner && ring.c.len() == n {
+        let d = ring.sharp.iter().position(|&s| s).unwrap_or(0);
+        return *dart_limits
+            .entry((n, d))
+            .or_insert_with(|| dart_limit(n, d).is_some());
     }
     let point = |_: u32| 0.0f64;
     gregory_vertex_for(topo, v, &point, tangents, Coverage::EndCap).is_some()
@@ -357,6 +381,7 @@ pub fn sparse_face_rows_flat(
         tangents,
         slot: vec![NONE; topo.vertex_count()],
         has_data: vec![2; topo.vertex_count()],
+        dart_limits: HashMap::new(),
     };
     // Pass 1: each face's connectivity type (`None`: built directly), the first face of each
     // type its representative.
@@ -458,6 +483,117 @@ pub fn sparse_face_rows_flat(
     out
 }
 
+/// [`super::stencil_table::vertex_point_rows`] of every vertex of `vertices` (each a smooth
+/// vertex of `topo`), the construction run once per ring type (Loop et al. 2009 §4.1, shared as
+/// the end-cap rows are, module docs): the rows of a vertex read only its edges' other ends and
+/// its faces' vertices, so vertices whose rings read the same in first-appearance slots
+/// (`VertexRingKey`) have the same weights slot by slot, and every weight is the same sequence
+/// of `a + w * b` updates whatever the ids. Bitwise the per-vertex rows; the types and the
+/// relabelling run on the rayon pool.
+pub fn shared_vertex_point_rows(
+    topo: &Topology,
+    vertices: &[u32],
+    tangents: GregoryTangents,
+) -> Vec<[Weights; 3]> {
+    let mut slot = vec![NONE; topo.vertex_count()];
+    let mut types: HashMap<Vec<u32>, u32> = HashMap::new();
+    // Per type: a vertex of it; per vertex: its type.
+    let mut representative: Vec<u32> = Vec::new();
+    let mut type_of: Vec<u32> = Vec::with_capacity(vertices.len());
+    for &v in vertices {
+        let key = VertexRingKey::new(topo, v, &mut slot);
+        key.clear(&mut slot);
+        let next = types.len() as u32;
+        let t = *types.entry(key.key).or_insert(next);
+        if t == next {
+            representative.push(v);
+        }
+        type_of.push(t);
+    }
+    let local: Vec<[Weights; 3]> = representative
+        .par_iter()
+        .map_init(
+            || vec![NONE; topo.vertex_count()],
+            |slot, &v| {
+                let key = VertexRingKey::new(topo, v, slot);
+                let rows =
+                    vertex_point_rows_with(topo, v, &|u| Weights::unit(slot[u as usize]), tangents);
+                key.clear(slot);
+                rows
+            },
+        )
+        .collect();
+    log::trace!(
+        "vertex points: {} vertices, {} ring types",
+        vertices.len(),
+        representative.len()
+    );
+    vertices
+        .par_iter()
+        .zip(&type_of)
+        .with_min_len(256)
+        .map_init(
+            || vec![NONE; topo.vertex_count()],
+            |slot, (&v, &t)| {
+                let key = VertexRingKey::new(topo, v, slot);
+                key.clear(slot);
+                local[t as usize].each_ref().map(|w| {
+                    let mut terms: Vec<(u32, f64)> =
+                        w.0.iter()
+                            .map(|&(s, x)| (key.ring[s as usize], x))
+                            .collect();
+                    terms.sort_unstable_by_key(|&(u, _)| u);
+                    Weights(terms)
+                })
+            },
+        )
+        .collect()
+}
+
+/// What [`super::stencil_table::vertex_point_rows`] reads of a vertex's ring, in slots: the
+/// vertex at slot 0, its edges' other ends and its faces' vertices numbered by first appearance
+/// in that order.
+struct VertexRingKey {
+    /// Edge count, face count, each edge's other end, each face's size and vertices.
+    key: Vec<u32>,
+    /// The vertex of each slot.
+    ring: Vec<u32>,
+}
+
+impl VertexRingKey {
+    /// The key of `v`, with `slot` (all [`NONE`] on entry) set to each ring vertex's slot.
+    fn new(topo: &Topology, v: u32, slot: &mut [u32]) -> VertexRingKey {
+        let (edges, faces) = (topo.vertex_edges(v), topo.vertex_faces(v));
+        let mut ring = Vec::with_capacity(1 + 2 * edges.len());
+        let mut key = Vec::with_capacity(2 + edges.len() + 5 * faces.len());
+        key.extend([edges.len() as u32, faces.len() as u32]);
+        let mut at = |u: u32, ring: &mut Vec<u32>| {
+            if slot[u as usize] == NONE {
+                slot[u as usize] = ring.len() as u32;
+                ring.push(u);
+            }
+            slot[u as usize]
+        };
+        at(v, &mut ring);
+        for &e in edges {
+            key.push(at(topo.other_vertex(e, v), &mut ring));
+        }
+        for &f in faces {
+            let fv = topo.face_vertices(f);
+            key.push(fv.len() as u32);
+            for &u in fv {
+                key.push(at(u, &mut ring));
+            }
+        }
+        VertexRingKey { key, ring }
+    }
+
+    /// Resets the slots set by [`Self::new`].
+    fn clear(&self, slot: &mut [u32]) {
+        clear(slot, &self.ring);
+    }
+}
+
 /// Resets the slots of `ring`.
 fn clear(slot: &mut [u32], ring: &[u32]) {
     for &v in ring {
@@ -470,17 +606,19 @@ mod tests {
     use super::*;
     use crate::mesh::{ControlMesh, ControlMeshDesc};
     use crate::patch::gregory::stencil::canonical_ring;
+    use crate::subdiv::adaptive::EndCapSharpness;
     use glam::DVec3;
 
     /// The topological answer is the construction's, on every vertex of every level of the
     /// feature-adaptive refinement (sparse levels: rings cut open at their edge) of meshes with
-    /// holes, boundaries, darts, corners, creases, n-gons, triangles and valence-2 vertices
-    /// (fails if the interior shortcut answers for a ring the construction rejects or skips the
-    /// coverage test).
+    /// holes, boundaries, darts, corners, creases, n-gons, triangles and valence-2 vertices, in
+    /// both end-cap topologies (fails if the interior or dart shortcut answers for a ring the
+    /// construction rejects, or the coverage test is skipped).
     #[test]
     fn vertex_data_by_topology_is_the_constructions() {
         let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
         let mut seen = [0usize; 2];
+        let mut darts = HashMap::new();
         for name in [
             "catmark_hole_test1",
             "catmark_hole_test4",
@@ -497,8 +635,16 @@ mod tests {
             let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
             let level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
             let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, 2).unwrap();
-            for topo in adaptive.levels.iter().map(|l| l.topology()) {
-                let topo = topo.without_semi_sharpness();
+            // Both end-cap topologies: residual semi-sharpness smooth, or infinitely sharp
+            // from `CREASE_FROM` (darts where a semi-sharp line ends).
+            let topologies = adaptive.levels.iter().flat_map(|l| {
+                let t = l.topology();
+                [
+                    t.without_semi_sharpness(),
+                    t.with_semi_sharpness_as_crease(EndCapSharpness::CREASE_FROM),
+                ]
+            });
+            for topo in topologies {
                 for v in 0..topo.vertex_count() as u32 {
                     let point = |_: u32| 0.0f64;
                     let want = gregory_vertex_for(
@@ -509,13 +655,73 @@ mod tests {
                         Coverage::EndCap,
                     )
                     .is_some();
-                    let got = has_vertex_data(&topo, v, GregoryTangents::default());
+                    let got = has_vertex_data(&topo, v, GregoryTangents::default(), &mut darts);
                     assert_eq!(got, want, "{name}: vertex {v}");
                     seen[usize::from(want)] += 1;
                 }
             }
         }
         assert!(seen[0] > 0 && seen[1] > 0, "{seen:?}");
+        assert!(!darts.is_empty(), "no dart ring");
+    }
+
+    /// The shared vertex points are bitwise the per-vertex construction on every vertex whose
+    /// faces close around it, on every level of the adaptive refinement of meshes with
+    /// triangles, n-gons, creases and high valence (fails if the ring key leaves out what the
+    /// construction reads, e.g. face sizes or the faces' vertices), and rings are shared.
+    #[test]
+    fn shared_vertex_points_are_the_per_vertex_construction() {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
+        let (mut vertices, mut types) = (0, 0);
+        for name in [
+            "catmark_nonquads",
+            "catmark_smoothtris1",
+            "catmark_pole8",
+            "catmark_car",
+            "catmark_val2_interior",
+        ] {
+            let path = format!("{dir}{name}.obj");
+            let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
+            let level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
+            let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, 2).unwrap();
+            for topo in adaptive.levels.iter().map(|l| l.topology()) {
+                let closed: Vec<u32> = (0..topo.vertex_count() as u32)
+                    .filter(|&v| {
+                        let n = topo.vertex_faces(v).len();
+                        n > 0 && n == topo.vertex_edges(v).len()
+                    })
+                    .collect();
+                for tangents in [GregoryTangents::Paper, GregoryTangents::Optimal] {
+                    let shared = shared_vertex_point_rows(topo, &closed, tangents);
+                    for (&v, got) in closed.iter().zip(&shared) {
+                        let want = crate::patch::gregory::stencil_table::vertex_point_rows(
+                            topo, v, tangents,
+                        );
+                        let bits = |w: &[Weights; 3]| {
+                            w.iter()
+                                .map(|w| w.0.iter().map(|&(u, x)| (u, x.to_bits())).collect())
+                                .collect::<Vec<Vec<_>>>()
+                        };
+                        assert_eq!(bits(got), bits(&want), "{name}: vertex {v}");
+                    }
+                }
+                let mut slot = vec![NONE; topo.vertex_count()];
+                let keys: std::collections::HashSet<Vec<u32>> = closed
+                    .iter()
+                    .map(|&v| {
+                        let k = VertexRingKey::new(topo, v, &mut slot);
+                        k.clear(&mut slot);
+                        k.key
+                    })
+                    .collect();
+                vertices += closed.len();
+                types += keys.len();
+            }
+        }
+        assert!(
+            types * 10 < vertices,
+            "{types} ring types for {vertices} vertices"
+        );
     }
 
     #[test]

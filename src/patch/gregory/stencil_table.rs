@@ -250,7 +250,17 @@ pub fn vertex_point_of(topo: &Topology, id: u32) -> Option<(u32, u32)> {
 /// The first-stage rows of smooth vertex `v` over `topo`'s vertices: its [`InteriorBasis`]
 /// (`p`, `q_c`, `q_s`) in weight space, the construction of [`GregoryVertex::interior`].
 pub fn vertex_point_rows(topo: &Topology, v: u32, tangents: GregoryTangents) -> [Weights; 3] {
-    let ring = vertex_ring_with(topo, v, &Weights::unit);
+    vertex_point_rows_with(topo, v, &Weights::unit, tangents)
+}
+
+/// [`vertex_point_rows`] with vertex `u` standing for `unit(u)`.
+pub fn vertex_point_rows_with(
+    topo: &Topology,
+    v: u32,
+    unit: &impl Fn(u32) -> Weights,
+    tangents: GregoryTangents,
+) -> [Weights; 3] {
+    let ring = vertex_ring_with(topo, v, unit);
     let InteriorBasis { p, qc, qs } = InteriorBasis::new(&ring, tangents);
     [p, qc, qs]
 }

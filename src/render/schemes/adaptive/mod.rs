@@ -217,9 +217,10 @@ impl PassTables for AdaptiveTables {
     }
 
     /// A level-k patch gets the uniform level / 2^k, so only patches whose own level exceeds
-    /// the limit are split, into `split / 2^k` per side (`pass::level_split`); transition fans
-    /// stay whole with the split level's lattice on their edges. Fractional spacing cannot put
-    /// a whole fan's edge points on split quads' points: drawn unsplit there.
+    /// the limit are split, into `split / 2^k` per side (`pass::level_split`); a transition
+    /// fan's triangles into as many sub-triangles per side, half as many on a half edge, with
+    /// every edge on its owner's lattice. The lattices need equal spacing: fractional spacing
+    /// is drawn unsplit.
     fn patch_level_limit(&self, spacing: Spacing) -> PatchLevelLimit {
         PatchLevelLimit {
             max_patch_level: f32::INFINITY,

@@ -4,7 +4,9 @@
 //! patches of every level (`glsl/adaptive/patch_adaptive_bspline.*`), transition patches as
 //! triangle fans (`patch_adaptive_transition.*`), single-crease patches whole and as fans
 //! (`patch_adaptive_single_crease.*`, `patch_adaptive_sc_transition.*`) and Gregory end caps
-//! (`patch_adaptive_endcap.*`). One set 0 serves the five pipelines.
+//! (`patch_adaptive_endcap.*`). One set 0 serves the five pipelines. Above the patch level
+//! limit a level's quads are drawn as sub-patches and its fan triangles as sub-triangles
+//! ([`level_split`], [`fan_sub_split`]).
 
 use ash::vk;
 use glam::DVec3;
@@ -12,6 +14,7 @@ use glam::DVec3;
 use super::derive::DerivedPoints;
 use super::refine::GpuRefiner;
 use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool, Pipeline};
+use crate::patch::adaptive::records::{BSplineDraw, TransitionTriangle};
 use crate::patch::adaptive::AdaptiveDrawTables;
 use crate::render::pass::pipeline::{patch_pipeline, PatchShaders};
 use crate::render::pass::shared::{
@@ -40,13 +43,18 @@ struct DrawGroup {
     indices: Buffer,
     points: u32,
     vertices: Option<vk::Buffer>,
-    /// Runs of consecutive patches drawn with one split: (first, count, split). Quad patches of
-    /// level k are drawn as s x s sub-patches, s = [`level_split`] (push constant `split` = s);
-    /// transition fans are drawn whole with `split` the level-0 split, from which their shaders
-    /// derive every level's (`glsl/adaptive/adaptive.glsl`, `fan_level_split`).
-    runs: Vec<(u32, u32, u32)>,
-    /// Whether the patches are quads drawn as sub-patches (else whole, once per run).
-    split_quads: bool,
+    /// Runs of consecutive patches drawn with one split ([`split_runs`], [`fan_runs`]).
+    runs: Vec<Run>,
+}
+
+/// Consecutive patches (from `first`, `count` of them) drawn with push constant `split` (the
+/// split of their level, [`level_split`]) as `sub_draws` sub-patches each.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Run {
+    first: u32,
+    count: u32,
+    split: u32,
+    sub_draws: u32,
 }
 
 /// Sub-patches per side of a level-`level` patch when level-0 patches are split `split` x
@@ -56,17 +64,89 @@ pub fn level_split(split: u32, level: u32) -> u32 {
     split.checked_shr(level).unwrap_or(0).max(1)
 }
 
-/// Runs of consecutive patches with the same split (`levels` per patch in draw order).
-fn split_runs(levels: impl Iterator<Item = u32>, split: u32) -> Vec<(u32, u32, u32)> {
-    let mut runs: Vec<(u32, u32, u32)> = Vec::new();
-    for (k, level) in levels.enumerate() {
-        let s = level_split(split, level);
+/// Sub-triangles per side of a fan triangle of a level-`level` patch (`half`: on a half edge)
+/// when level-0 patches are split `split` x `split`: s = [`level_split`] for a whole edge, s / 2
+/// (at least 1) for a half edge, whose finer owner is split half as often; 1 when the level is
+/// drawn whole (`glsl/adaptive/transition.glsl`, `fan_split`, derives the same from s).
+fn fan_sub_split(split: u32, level: u32, half: bool) -> u32 {
+    let s = level_split(split, level);
+    if half {
+        (s / 2).max(1)
+    } else {
+        s
+    }
+}
+
+/// Runs of consecutive patches drawn alike: `keys` per patch in draw order, (split, sub-patches
+/// per side).
+fn runs_of(keys: impl Iterator<Item = (u32, u32)>) -> Vec<Run> {
+    let mut runs: Vec<Run> = Vec::new();
+    for (k, (split, n)) in keys.enumerate() {
         match runs.last_mut() {
-            Some((_, n, last)) if *last == s => *n += 1,
-            _ => runs.push((k as u32, 1, s)),
+            Some(r) if (r.split, r.sub_draws) == (split, n * n) => r.count += 1,
+            _ => runs.push(Run {
+                first: k as u32,
+                count: 1,
+                split,
+                sub_draws: n * n,
+            }),
         }
     }
     runs
+}
+
+/// Runs of consecutive quad patches with the same split (`levels` per patch in draw order),
+/// each drawn as split x split sub-patches.
+fn split_runs(levels: impl Iterator<Item = u32>, split: u32) -> Vec<Run> {
+    runs_of(levels.map(|l| {
+        let s = level_split(split, l);
+        (s, s)
+    }))
+}
+
+/// The draw order of fan triangles (`fans`: level and half-edge flag per triangle, table order)
+/// and its runs: sorted, stably, by the level's split and [`fan_sub_split`], so one run draws
+/// one number of sub-triangles; `order[k]` is the table index of the k-th drawn triangle.
+fn fan_runs(fans: &[(u32, bool)], split: u32) -> (Vec<u32>, Vec<Run>) {
+    let key = |&(level, half): &(u32, bool)| {
+        (level_split(split, level), fan_sub_split(split, level, half))
+    };
+    let mut order: Vec<u32> = (0..fans.len() as u32).collect();
+    order.sort_by_key(|&k| key(&fans[k as usize]));
+    let runs = runs_of(order.iter().map(|&k| key(&fans[k as usize])));
+    (order, runs)
+}
+
+/// Level and half-edge flag of every fan triangle: B-spline fans, then single-crease fans.
+fn fan_levels(d: &AdaptiveDrawTables) -> [Vec<(u32, bool)>; 2] {
+    let of = |draws: &[BSplineDraw], tris: &[TransitionTriangle]| -> Vec<(u32, bool)> {
+        tris.iter()
+            .map(|t| {
+                let record = draws[t.patch as usize].record;
+                (d.records[record as usize].level, t.half != 0)
+            })
+            .collect()
+    };
+    [
+        of(&d.transition, &d.triangles),
+        of(&d.single_crease_transition, &d.single_crease_triangles),
+    ]
+}
+
+/// The fan triangles' draw orders and runs ([`fan_runs`]) of both fan groups.
+type FanOrders = [(Vec<u32>, Vec<Run>); 2];
+
+fn fan_orders(d: &AdaptiveDrawTables, split: u32) -> FanOrders {
+    fan_levels(d).map(|fans| fan_runs(&fans, split))
+}
+
+/// `bytes`, records of `stride` bytes, in the order `order` (table indices).
+fn permuted(bytes: &[u8], stride: usize, order: &[u32]) -> Vec<u8> {
+    order
+        .iter()
+        .flat_map(|&k| &bytes[k as usize * stride..(k as usize + 1) * stride])
+        .copied()
+        .collect()
 }
 
 /// GPU resources of the adaptive scheme for one surface.
@@ -86,6 +166,8 @@ pub struct AdaptivePass {
     layout: TableLayout,
     /// Finds the tables in what [`PatchPass::update_tables`] gets.
     tables_of: TablesOf,
+    /// The level-0 patches' split the draws were recorded for (`TessSettings::split`).
+    split: u32,
 }
 
 /// The kernels' and draw tables inside tables of this scheme (`super::AdaptiveTables`, whose
@@ -103,6 +185,8 @@ struct TableLayout {
     records: [usize; 7],
     indices: [usize; 5],
     rows: [usize; 4],
+    /// The fan groups' draw runs.
+    fan_runs: [Vec<Run>; 2],
 }
 
 /// Labels of the record tables ([`record_bytes`]).
@@ -116,27 +200,29 @@ const RECORD_LABELS: [&str; 7] = [
     "adaptive crease sharpness",
 ];
 
-/// The record tables, bound at [`OWN_BINDINGS`]`[..7]`.
-fn record_bytes(d: &AdaptiveDrawTables) -> [Vec<u8>; 7] {
+/// The record tables, bound at [`OWN_BINDINGS`]`[..7]`, fan triangles in the draw order of
+/// `fans`.
+fn record_bytes(d: &AdaptiveDrawTables, fans: &FanOrders) -> [Vec<u8>; 7] {
     [
         bspline_info_bytes(d),
         end_cap_info_bytes(d),
         d.end_cap_grid_bytes(),
         d.patch_record_bytes(),
         d.coarse_edge_bytes(),
-        triangle_bytes(d),
+        triangle_bytes(d, fans),
         d.sharpness_bytes(),
     ]
 }
 
 /// The index buffers of the five draw groups: B-spline patches, transition triangles,
-/// single-crease patches, single-crease transition triangles, end caps (one dummy index each).
-fn index_bytes(d: &AdaptiveDrawTables) -> [Vec<u8>; 5] {
+/// single-crease patches, single-crease transition triangles (both in the draw order of
+/// `fans`), end caps (one dummy index each).
+fn index_bytes(d: &AdaptiveDrawTables, fans: &FanOrders) -> [Vec<u8>; 5] {
     [
         d.regular_index_bytes(),
-        d.triangle_index_bytes(),
+        permuted(&d.triangle_index_bytes(), 64, &fans[0].0),
         d.single_crease_index_bytes(),
-        d.single_crease_triangle_index_bytes(),
+        permuted(&d.single_crease_triangle_index_bytes(), 64, &fans[1].0),
         vec![0u8; 4 * d.end_caps.len()],
     ]
 }
@@ -166,16 +252,16 @@ fn bspline_info_bytes(d: &AdaptiveDrawTables) -> Vec<u8> {
     bytes
 }
 
-/// The transition triangles (binding 12), B-spline fans then single-crease fans, with their
-/// patch index into [`bspline_info_bytes`].
-fn triangle_bytes(d: &AdaptiveDrawTables) -> Vec<u8> {
+/// The transition triangles (binding 12), B-spline fans then single-crease fans, each in the
+/// draw order of `fans`, with their patch index into [`bspline_info_bytes`].
+fn triangle_bytes(d: &AdaptiveDrawTables, fans: &FanOrders) -> Vec<u8> {
     let offset = d.regular.len() as u32;
-    let mut bytes = rewrite_word(d.triangle_bytes(), 16, 0, |w| w + offset);
+    let bytes = rewrite_word(d.triangle_bytes(), 16, 0, |w| w + offset);
+    let mut out = permuted(&bytes, 16, &fans[0].0);
     let offset = (d.regular.len() + d.transition.len() + d.single_crease.len()) as u32;
-    bytes.extend(rewrite_word(d.single_crease_triangle_bytes(), 16, 0, |w| {
-        w + offset
-    }));
-    bytes
+    let bytes = rewrite_word(d.single_crease_triangle_bytes(), 16, 0, |w| w + offset);
+    out.extend(permuted(&bytes, 16, &fans[1].0));
+    out
 }
 
 /// The end caps' `GregoryPatchInfo` records (binding 6) with `pad1` (word 3) the first of their
@@ -208,7 +294,9 @@ impl AdaptivePass {
         let derived = DerivedPoints::new(ctx, d, refiner.points())?;
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let index = vk::BufferUsageFlags::INDEX_BUFFER;
-        let record_bytes = record_bytes(d);
+        let split = pc.desc.tess.split();
+        let fans = fan_orders(d, split);
+        let record_bytes = record_bytes(d, &fans);
         let record_lens = record_bytes.each_ref().map(Vec::len);
         let records = record_bytes
             .into_iter()
@@ -227,7 +315,6 @@ impl AdaptivePass {
                 set_layouts: vec![layout.clone()],
             };
         let points = Some(refiner.points().raw());
-        let split = pc.desc.tess.split();
         let level_of = |record: u32| d.records[record as usize].level;
         let quad_levels: [Vec<u32>; 3] = [
             d.regular.iter().map(|p| level_of(p.record)).collect(),
@@ -236,7 +323,7 @@ impl AdaptivePass {
         ];
         let mut groups = Vec::new();
         let bspline_records = (d.regular.len() + d.transition.len()) as u32;
-        let index_bytes = index_bytes(d);
+        let index_bytes = index_bytes(d, &fans);
         let index_lens = index_bytes.each_ref().map(Vec::len);
         for (table, (indices, (first_patch, count, s, vertices))) in index_bytes
             .into_iter()
@@ -314,9 +401,10 @@ impl AdaptivePass {
                 4 => Some(&quad_levels[2]),
                 _ => None,
             };
-            let runs = match quads {
-                Some(levels) => split_runs(levels.iter().copied(), split),
-                None => vec![(0, count, split)],
+            let runs = match (quads, table) {
+                (Some(levels), _) => split_runs(levels.iter().copied(), split),
+                (None, 1) => fans[0].1.clone(),
+                (None, _) => fans[1].1.clone(),
             };
             groups.push(DrawGroup {
                 pipeline: patch_pipeline(ctx, pc.desc, pc.target, s)?,
@@ -326,7 +414,6 @@ impl AdaptivePass {
                 points,
                 vertices,
                 runs,
-                split_quads: quads.is_some(),
             });
         }
         let n = pc.shared.slot_count() as u32;
@@ -361,9 +448,11 @@ impl AdaptivePass {
             records: record_lens,
             indices: index_lens,
             rows: derived.row_lens(),
+            fan_runs: fans.map(|(_, runs)| runs),
         };
         Ok(AdaptivePass {
             ctx: ctx.clone(),
+            split,
             layout,
             tables_of,
             patches: d.primitive_count() as u32,
@@ -426,16 +515,16 @@ impl PatchPass for AdaptivePass {
                 g.vertices,
                 g.indices.raw(),
             );
-            for &(first, count, split) in &g.runs {
+            for r in &g.runs {
                 let draws = PatchDraws {
-                    first_patch: g.first_patch + first,
-                    first_index: first * g.points,
-                    count,
+                    first_patch: g.first_patch + r.first,
+                    first_index: r.first * g.points,
+                    count: r.count,
                     points: g.points,
-                    sub_draws: if g.split_quads { split * split } else { 1 },
+                    sub_draws: r.sub_draws,
                     sub_flag: 0,
                 };
-                record_patch_draws(dev, cmd, &g.pipeline, &draws, split);
+                record_patch_draws(dev, cmd, &g.pipeline, &draws, r.split);
             }
         }
     }
@@ -453,8 +542,9 @@ impl PatchPass for AdaptivePass {
     fn update_tables(&mut self, tables: &dyn PassTables) -> Result<()> {
         let (kernels, d) = (self.tables_of)(tables)
             .ok_or_else(|| crate::Error::Invalid("adaptive pass: tables of another pass".into()))?;
-        let records = record_bytes(d);
-        let indices = index_bytes(d);
+        let fans = fan_orders(d, self.split);
+        let records = record_bytes(d, &fans);
+        let indices = index_bytes(d, &fans);
         let rows = DerivedPoints::row_bytes(d);
         let refinement = kernels.gpu_tables();
         let layout = TableLayout {
@@ -464,6 +554,7 @@ impl PatchPass for AdaptivePass {
             records: records.each_ref().map(Vec::len),
             indices: indices.each_ref().map(Vec::len),
             rows: rows.each_ref().map(Vec::len),
+            fan_runs: fans.map(|(_, runs)| runs),
         };
         if layout != self.layout {
             return Err(crate::Error::Invalid(format!(
