@@ -23,7 +23,11 @@
 //! field (`fillet`, word 11, once an unused 0: the residual sharpness of a promoted edge, or of
 //! the crease at the ends of the other edges between end caps) and the end caps' draw flags bit
 //! 28 + k marks promoted edges; the records' `Debug` text has the new field, so every case's
-//! draw tables changed; the refinement and kernels' fingerprints did not.
+//! draw tables changed; the refinement and kernels' fingerprints did not. And again for
+//! OpenSubdiv's face points under `optimal` at crease and corner vertices of quad rings (issue 10:
+//! beside a sharp edge the other face point, alone in a corner sector the B-spline corner's):
+//! only the draw tables of the meshes whose end caps touch such sectors (real or promoted
+//! creases) changed.
 //!
 //! The fingerprints change with any change of output, deliberate or not: a change that is meant
 //! to alter the tables (new end-cap rules, another row order) re-derives them and says so.
@@ -79,31 +83,31 @@ fn adaptive_tables_are_bitwise_unchanged() {
             "catmark_car",
             2,
             true,
-            [0xa5cc656dde2ba5a7, 0xca4a93965f2b110e, 0x8b628a1af6919142],
+            [0xa5cc656dde2ba5a7, 0xca4a93965f2b110e, 0x8a1f3a36f727f13e],
         ),
         (
             "catmark_car",
             4,
             true,
-            [0xa8afcee00ee7224d, 0xc8ccf101f97d4dd2, 0x848736cd2508bc9e],
+            [0xa8afcee00ee7224d, 0xc8ccf101f97d4dd2, 0xd3dfef973f986a7f],
         ),
         (
             "catmark_car",
             2,
             false,
-            [0xf703b1be7dd8a71d, 0x974d66fe24c13fc5, 0xa860edb5e510aa68],
+            [0xf703b1be7dd8a71d, 0x974d66fe24c13fc5, 0xdd15ccca61a9847c],
         ),
         (
             "catmark_cube_creases1",
             3,
             true,
-            [0x6167d9b511a98615, 0xa1a708fbce690d15, 0xe38b812098c6ea77],
+            [0x6167d9b511a98615, 0xa1a708fbce690d15, 0x85f036e191750480],
         ),
         (
             "catmark_cube_creases2",
             4,
             false,
-            [0xccb9af25446e9c12, 0xcba37c665f754f7e, 0xff1508709f4297da],
+            [0xccb9af25446e9c12, 0xcba37c665f754f7e, 0x7ac5f325180a36b],
         ),
         (
             "catmark_dart_edgecorner",
@@ -127,7 +131,7 @@ fn adaptive_tables_are_bitwise_unchanged() {
             "catmark_cubes_semisharp",
             3,
             true,
-            [0xadc07afdce471a42, 0x47e42ffd83d0ff2a, 0x6a8c6b3fac6551bc],
+            [0xadc07afdce471a42, 0x47e42ffd83d0ff2a, 0xce971cd3b68e1f7c],
         ),
         (
             "catmark_tent_creases1",
@@ -139,7 +143,7 @@ fn adaptive_tables_are_bitwise_unchanged() {
             "catmark_single_crease",
             4,
             true,
-            [0xa49f2413685dbe9c, 0xe6c95c4a3b7daf47, 0x1725e0f3c8a7a440],
+            [0xa49f2413685dbe9c, 0xe6c95c4a3b7daf47, 0xea4d19e925635b31],
         ),
         (
             "catmark_pole64",

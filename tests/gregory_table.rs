@@ -21,6 +21,10 @@ struct VertexOut {
     r_plus: Vec<DVec3>,
     r_minus: Vec<DVec3>,
     cos: Vec<f64>,
+    /// Per face: bit 0 / bit 1 its first / second edge is sharp, when the vertex's face points
+    /// beside sharp edges are one-sided (the flag word); empty otherwise.
+    sides: Vec<u8>,
+    corner: bool,
 }
 
 /// The vertex stage, from the flat arrays only.
@@ -108,12 +112,27 @@ fn vertex_stage(t: &GregoryVertexTable, pos: &[DVec3], v: usize) -> Option<Verte
         let last = (s + k - 1) % ne;
         r_minus[last] = 2.0 / 3.0 * (m[last] - x) + 4.0 / 3.0 * (c[last] - m[tt]);
     }
+    // The one-sided flag: after the crease words (one per face) or the face records (corners).
+    let flag = t.ring[if kind == KIND_CREASE as usize {
+        at + nf
+    } else {
+        at
+    }];
+    let sides = if flag != 0 {
+        (0..nf)
+            .map(|j| u8::from(sharp[j]) | (u8::from(sharp[(j + 1) % ne]) << 1))
+            .collect()
+    } else {
+        Vec::new()
+    };
     Some(VertexOut {
         p,
         e,
         r_plus,
         r_minus,
         cos,
+        sides,
+        corner: kind == KIND_CORNER as usize,
     })
 }
 
@@ -150,6 +169,8 @@ fn smooth(x: DVec3, m: &[DVec3], c: &[DVec3], scale: f64, rho: f64) -> VertexOut
         r_minus: (0..n).map(|j| -r[(j + 1) % n]).collect(),
         r_plus: r,
         cos: vec![c2; n],
+        sides: Vec::new(),
+        corner: false,
     }
 }
 
@@ -197,9 +218,20 @@ fn tcs_stage(
         let em = o.e[(j + 1) % o.e.len()];
         let e_next_minus = on.e[(jn + 1) % on.e.len()];
         let e_prev_plus = op.e[jp];
-        let (ca, cn, cp) = (o.cos[j], on.cos[jn], op.cos[jp]);
+        let (ca, mut cn, mut cp) = (o.cos[j], on.cos[jn], op.cos[jp]);
+        let sides = o.sides.get(j).copied().unwrap_or(0);
+        if sides == 3 && o.corner {
+            // Alone in its corner sector: the B-spline corner's face points.
+            (cn, cp) = (0.0, 0.0);
+        }
         let fp = (cn * o.p + (d - 2.0 * ca - cn) * ep + 2.0 * ca * e_next_minus + o.r_plus[j]) / d;
         let fm = (cp * o.p + (d - 2.0 * ca - cp) * em + 2.0 * ca * e_prev_plus + o.r_minus[j]) / d;
+        // Beside one sharp edge, the corner's other face point.
+        let (fp, fm) = match sides {
+            1 => (fm, fm),
+            2 => (fp, fp),
+            _ => (fp, fm),
+        };
         rows.extend([o.p, ep, em, fp, fm]);
     }
     rows

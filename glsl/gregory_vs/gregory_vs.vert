@@ -188,5 +188,8 @@ void main() {
             put3(9 * j + 6, rm[j]);
         }
     }
-    v_data[0] = vec4(p, float(nf));
+    // One-sided face points beside sharp edges (GregoryVertex::one_sided): the word after the
+    // crease words, passed to the TCS as the sign of slot 0's w.
+    uint one_sided = conn[kind == GVS_KIND_CREASE ? fo + uint(nf) : fo];
+    v_data[0] = vec4(p, one_sided != 0u ? -float(nf) : float(nf));
 }

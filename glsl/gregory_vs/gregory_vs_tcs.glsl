@@ -82,8 +82,25 @@ vec3 r_minus(int corner, int j) {
 
 /// cos of condition (1) for face j of the corner's ring.
 float face_cos(int corner, int j) {
-    int nf = int(v_data[corner][0].w);
+    int nf = int(abs(v_data[corner][0].w));
     return gvs_face_cosine(corner_vertex(corner), (j + nf) % nf);
+}
+
+/// Which edges of face j at the corner are sharp when its face points beside them are
+/// one-sided (patch::gregory::GregoryVertex::one_sided; the vertex stage's sign of slot 0's w):
+/// bit 0 edge j, bit 1 edge j + 1; 0 otherwise.
+int one_sided(int corner, int j) {
+    if (v_data[corner][0].w > 0.0) {
+        return 0;
+    }
+    uint v = corner_vertex(corner);
+    int ne = edge_count(corner);
+    int nf = int(abs(v_data[corner][0].w));
+    int jj = (j + nf) % nf;
+    uint w = conn[conn[4u * v] + uint(ne + jj)];
+    int s = int(w & 0xffffu);
+    int k = int(w >> 16);
+    return (jj == s ? 1 : 0) | ((jj + 1) % ne == (s + k) % ne ? 2 : 0);
 }
 
 /// Face point next to the edge from corner a to corner b of a face with `d` = 3 (quad) or 4
@@ -112,12 +129,21 @@ void main() {
         x = edge_pt(i, j);
     } else if (kind == 2) {
         x = edge_pt(i, j + 1);
-    } else if (kind == 3) {
-        x = face_point(D_OWN, face_cos(i, j), face_cos(nx, j_nx), v_data[i][0].xyz,
-                       edge_pt(i, j), in_frame(edge_pt(nx, j_nx + 1), nx, i), r_plus(i, j));
     } else {
-        x = face_point(D_OWN, face_cos(i, j), face_cos(pr, j_pr), v_data[i][0].xyz,
-                       edge_pt(i, j + 1), in_frame(edge_pt(pr, j_pr), pr, i), r_minus(i, j));
+        // One-sided face points (patch::gregory::eval `assemble`): beside one sharp edge the
+        // corner's other face point; a corner alone in its corner sector takes the far cosine 0.
+        int sides = one_sided(i, j);
+        bool alone = sides == 3 && conn[4u * corner_vertex(i) + 3u] == GVS_KIND_CORNER;
+        bool plus = kind == 3 ? sides != 1 : sides == 2;
+        if (plus) {
+            x = face_point(D_OWN, face_cos(i, j), alone ? 0.0 : face_cos(nx, j_nx),
+                           v_data[i][0].xyz, edge_pt(i, j),
+                           in_frame(edge_pt(nx, j_nx + 1), nx, i), r_plus(i, j));
+        } else {
+            x = face_point(D_OWN, face_cos(i, j), alone ? 0.0 : face_cos(pr, j_pr),
+                           v_data[i][0].xyz, edge_pt(i, j + 1),
+                           in_frame(edge_pt(pr, j_pr), pr, i), r_minus(i, j));
+        }
     }
     g_cp[gl_InvocationID] = x;
     if (id < 2 * NC) {

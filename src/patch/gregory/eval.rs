@@ -2,7 +2,7 @@
 //! through the Bézier form with blended face points (Loop et al. 2009, §3.1 and §4.4).
 
 use super::point::GregoryPoint;
-use super::vertex::{face_point_cos, GregoryVertex};
+use super::vertex::{face_point_cos, GregoryVertex, VertexKind};
 use crate::patch::basis::{bernstein, bernstein_deriv, eval_tensor};
 use glam::DVec3;
 
@@ -116,13 +116,21 @@ fn assemble<P: GregoryPoint, const N: usize>(
         c.vertex.e[(c.j + 1) % c.vertex.e.len()].clone()
     });
     let cos: [f64; N] = std::array::from_fn(|i| corners[i].vertex.cosine[corners[i].j]);
+    let sides: [u8; N] = std::array::from_fn(|i| {
+        let c = &corners[i];
+        c.vertex.one_sided.get(c.j).copied().unwrap_or(0)
+    });
+    // The far corner's cosine in eq. 6, except at a corner alone in its corner sector, whose
+    // face points are the B-spline corner's `e + r/3` (`tangents_boundary`).
+    let alone = |i: usize| sides[i] == 3 && corners[i].vertex.kind == VertexKind::Corner;
+    let far_cos = |i: usize, far: usize| if alone(i) { 0.0 } else { cos[far] };
     let f_plus = std::array::from_fn(|i| {
         let next = (i + 1) % N;
         let c = &corners[i];
         face_point_cos(
             d,
             cos[i],
-            cos[next],
+            far_cos(i, next),
             &p[i],
             &e_plus[i],
             &e_minus[next],
@@ -135,13 +143,23 @@ fn assemble<P: GregoryPoint, const N: usize>(
         face_point_cos(
             d,
             cos[i],
-            cos[prev],
+            far_cos(i, prev),
             &p[i],
             &e_minus[i],
             &e_plus[prev],
             &c.vertex.r_minus[c.j],
         )
     });
+    // Beside one sharp edge the face point is the corner's other one (`tangents_boundary`).
+    let mut f_plus: [P; N] = f_plus;
+    let mut f_minus: [P; N] = f_minus;
+    for i in 0..N {
+        match sides[i] {
+            1 => f_plus[i] = f_minus[i].clone(),
+            2 => f_minus[i] = f_plus[i].clone(),
+            _ => {}
+        }
+    }
     (p, e_plus, e_minus, f_plus, f_minus)
 }
 

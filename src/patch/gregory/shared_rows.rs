@@ -139,29 +139,8 @@ impl Keyer<'_> {
         let fv = topo.face_vertices(f);
         let mut key = Vec::with_capacity(16 * ring.len());
         key.extend([fv.len() as u32, ring.len() as u32]);
-        let slot = |x: u32, slots: &[u32]| match slots[x as usize] {
-            NONE => None,
-            s => Some(s),
-        };
         for &v in fv {
-            key.push(topo.vertex_sharpness(v).to_bits());
-            let edges = topo.vertex_edges(v);
-            key.push(edges.len() as u32);
-            for &e in edges {
-                key.push(slot(topo.other_vertex(e, v), &self.slot)?);
-                key.push(topo.edge_sharpness(e).to_bits());
-                key.push(topo.edge_faces(e).len() as u32);
-            }
-            let faces = topo.vertex_faces(v);
-            key.push(faces.len() as u32);
-            for &g in faces {
-                let gv = topo.face_vertices(g);
-                key.push(u32::from(g == f) | u32::from(topo.has_limit_surface(g)) << 1);
-                key.push(gv.len() as u32);
-                for &u in gv {
-                    key.push(slot(u, &self.slot)?);
-                }
-            }
+            self.push_vertex(&mut key, f, v)?;
         }
         let n = fv.len();
         for k in 0..n {
@@ -174,11 +153,89 @@ impl Keyer<'_> {
                     let at = topo.vertex_faces(x).iter().position(|&h| h == g)?;
                     key.push(at as u32);
                     key.push(u32::from(self.has_patch(g)));
+                    self.push_one_sided_neighbour(&mut key, f, g, x, y)?;
                 }
                 None => key.push(NONE),
             }
         }
         Some(key)
+    }
+}
+
+impl Keyer<'_> {
+    /// Vertex `v` as the construction reads it, for face `f`: its sharpness, its edges (other
+    /// end's slot, sharpness, face count) and faces (sizes, vertex slots); `None` where one of
+    /// those vertices lies outside the ring.
+    fn push_vertex(&self, key: &mut TypeKey, f: u32, v: u32) -> Option<()> {
+        let topo = self.topo;
+        let slot = |x: u32| match self.slot[x as usize] {
+            NONE => None,
+            s => Some(s),
+        };
+        key.push(topo.vertex_sharpness(v).to_bits());
+        let edges = topo.vertex_edges(v);
+        key.push(edges.len() as u32);
+        for &e in edges {
+            key.push(slot(topo.other_vertex(e, v))?);
+            key.push(topo.edge_sharpness(e).to_bits());
+            key.push(topo.edge_faces(e).len() as u32);
+        }
+        let faces = topo.vertex_faces(v);
+        key.push(faces.len() as u32);
+        for &g in faces {
+            let gv = topo.face_vertices(g);
+            key.push(u32::from(g == f) | u32::from(topo.has_limit_surface(g)) << 1);
+            key.push(gv.len() as u32);
+            for &u in gv {
+                key.push(slot(u)?);
+            }
+        }
+        Some(())
+    }
+
+    /// The far corners of neighbour `g` across the sharp edge `x`-`y` of `f`, when `g`'s face
+    /// points beside that edge may be one-sided (`GregoryVertex::one_sided`): there `g`'s face
+    /// point next to the edge is its other one at `x` (or `y`), which reads the edge point and
+    /// cosine of `g`'s corner beyond, not a corner of `f` (the rows of [`sparse_face_rows_direct`]
+    /// hold `g`'s face points next to the edge). A smooth corner (two-stage: its derived points
+    /// and cosine) is its valence, its faces' sizes and `g`'s place in its ring; another one is
+    /// read in full ([`Self::push_vertex`]).
+    fn push_one_sided_neighbour(
+        &self,
+        key: &mut TypeKey,
+        f: u32,
+        g: u32,
+        x: u32,
+        y: u32,
+    ) -> Option<()> {
+        let topo = self.topo;
+        let sharp = topo
+            .find_edge(x, y)
+            .is_some_and(|e| topo.edge_sharpness(e) >= crate::mesh::INFINITE_SHARPNESS);
+        if !sharp || !self.tangents.one_sided_face_points(true) {
+            return Some(());
+        }
+        for &z in topo.face_vertices(g) {
+            if z == x || z == y {
+                continue;
+            }
+            let faces = topo.vertex_faces(z);
+            let smooth = topo.vertex_sharpness(z) == 0.0
+                && topo.vertex_edges(z).len() == faces.len()
+                && topo
+                    .vertex_edges(z)
+                    .iter()
+                    .all(|&e| topo.edge_sharpness(e) == 0.0);
+            key.push(u32::from(smooth));
+            if smooth {
+                key.push(faces.len() as u32);
+                key.push(faces.iter().position(|&h| h == g)? as u32);
+                key.extend(faces.iter().map(|&h| topo.face_size(h) as u32));
+            } else {
+                self.push_vertex(key, f, z)?;
+            }
+        }
+        Some(())
     }
 }
 

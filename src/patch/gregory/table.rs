@@ -22,7 +22,10 @@
 //! 4. smooth vertices only: two words, the `f32` bits of the edge-tangent factor `s` and of the
 //!    transversal factor `ρ` ([`super::GregoryTangents::ring_factors`]; both 1.0 for the
 //!    paper's construction); crease vertices only: `nf` words, per incident face the `f32` bits
-//!    of the cross-boundary factor `s(k)` of its sector ([`super::GregoryTangents::crease_scale`]).
+//!    of the cross-boundary factor `s(k)` of its sector ([`super::GregoryTangents::crease_scale`]);
+//! 5. crease and corner vertices: one word, 1 if the face points beside sharp edges are
+//!    one-sided ([`super::GregoryVertex::one_sided`] not empty: `Optimal` on a ring of quads),
+//!    else 0.
 //!
 //! `patch_offsets[4 k .. 4 k + 4]`: for patch `k` (face `faces[k]`), per corner the index of the
 //! face in that corner vertex's ring (the paper's Fig. 8 "rotation offset"); `u32::MAX` in the
@@ -119,6 +122,10 @@ impl GregoryVertexTable {
             }
             if kind == KIND_CREASE {
                 t.ring.extend(&crease_words);
+            }
+            if kind == KIND_CREASE || kind == KIND_CORNER {
+                t.ring
+                    .push(u32::from(tangents.one_sided_face_points(quads)));
             }
         }
         for f in faces {

@@ -35,6 +35,20 @@
 //! [`CREASE_SCALE`] by `cargo run --example gregory_tangent_table`. Beyond the table the last
 //! entry is used. Like the smooth factors, `Optimal` applies them on rings of quads only.
 //!
+//! # One-sided face points (`Optimal`, issue 10)
+//!
+//! Compared point by point with OpenSubdiv's Gregory basis (README), two of its rules at
+//! boundary and crease vertices keep the exact corner plane and are taken by `Optimal`:
+//! - beside a sharp edge the face point is the corner's other face point in the same face
+//!   (`GregoryVertex::one_sided`, applied in the patch assembly), not eq. 6 with the reflected
+//!   ring;
+//! - at a vertex alone in its corner sector both face points are eq. 6 with the far corner's
+//!   cosine 0 (`e + r/3`, the B-spline corner's `(4v + 2a + 2b + d)/9`).
+//!
+//! Its third, Biermann et al.'s cross-boundary tangent, is not in the exact tangent plane (an
+//! eigenvector of Biermann's modified rules): it gains accuracy by tilting the corner normal
+//! (up to 0.14 rad on the corpus), which the exact corner normals tessera keeps rule out.
+//!
 //! # Corners
 //!
 //! Corner sectors have no free length: in a sector of two faces the inner edge point is
@@ -55,6 +69,15 @@ pub const CREASE_SCALE: [f64; MAX_FITTED_CREASE_SECTOR - 2] = [
 ];
 
 impl GregoryTangents {
+    /// Whether face points beside sharp edges are one-sided at a vertex whose faces are all
+    /// quads (`quads`) (`GregoryVertex::one_sided`): `Optimal` on quad rings only, where
+    /// OpenSubdiv's rules were measured (at boundary vertices with triangles they lose to the
+    /// reflected ring, README); the paper's construction and `Scaled`, on which the fit of
+    /// [`CREASE_SCALE`] runs, reflect the ring.
+    pub fn one_sided_face_points(self, quads: bool) -> bool {
+        self == GregoryTangents::Optimal && quads
+    }
+
     /// The factor `s(k)` on the cross-boundary tangent of a crease sector of `k` faces at a
     /// vertex whose faces are all quads (`quads`), rounded to `f32` as [`Self::scale`]: 1 for
     /// the paper's construction, for `k <= 2` and for `Optimal` on rings with other faces;

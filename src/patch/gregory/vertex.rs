@@ -77,6 +77,12 @@ pub struct GregoryVertex<P = DVec3> {
     pub r_minus: Vec<P>,
     /// `cos(2π/n)` of the face's sector, one per incident face.
     pub cosine: Vec<f64>,
+    /// Per incident face `j` under [`GregoryTangents::Optimal`] at boundary, crease and corner
+    /// vertices whose faces are all quads, which of its edges at this corner are sharp: bit 0
+    /// edge `j`, bit 1 edge `j + 1` (the face points beside them are one-sided,
+    /// `tangents_boundary`). Empty otherwise (eq. 6 with the reflected ring of §4.6 beside sharp
+    /// edges too).
+    pub one_sided: Vec<u8>,
 }
 
 /// `λ`, the subdominant eigenvalue of Catmull-Clark subdivision at valence `n` (§3.3).
@@ -283,6 +289,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
             r_plus: r,
             r_minus,
             cosine: vec![(2.0 * PI / nf).cos(); n],
+            one_sided: Vec::new(),
         }
     }
 
@@ -357,6 +364,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
             r_plus: r,
             r_minus,
             cosine: vec![(2.0 * PI / n as f64).cos(); n],
+            one_sided: Vec::new(),
         })
     }
 
@@ -374,6 +382,10 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     /// - `r` across inner edges as in §3.4; across a sharp edge, the ring reflected across it
     ///   (`m_{s-1} → 2v - m_{s+1}`, `c_{s-1} → 2 m_s - c_s`, the phantom rule of boundary
     ///   B-splines): `r = 2/3 (m_{s+1} - v) + 4/3 (c_s - m_s)`.
+    /// - `Optimal` on rings of quads marks the sharp sides of every face (`one_sided`): the
+    ///   patch assembly makes the face point beside one sharp edge the corner's other one, and
+    ///   a face alone in a corner sector takes the far cosine 0 in eq. 6 (OpenSubdiv's rules,
+    ///   `tangents_boundary`).
     /// - A crease sector of one face (`one_face_crease_r`, end caps only): `cos = 0` and face
     ///   points in the exact tangent plane.
     /// - A corner sector of more than two faces (end caps only): inner edge points on the
@@ -483,6 +495,13 @@ impl<P: GregoryPoint> GregoryVertex<P> {
             r_plus,
             r_minus,
             cosine,
+            one_sided: if tangents.one_sided_face_points(ring.quads()) {
+                (0..nf)
+                    .map(|j| u8::from(ring.sharp[j]) | (u8::from(ring.sharp[(j + 1) % ne]) << 1))
+                    .collect()
+            } else {
+                Vec::new()
+            },
         })
     }
 }
@@ -790,6 +809,25 @@ mod tests {
                 let t = |g: &GregoryVertex<DVec3>| (g.e[i] - g.p - cs * ds) / sn;
                 assert!((t(&scaled) - 0.5 * t(&paper)).length() < 1e-14, "{k} {i}");
             }
+        }
+    }
+
+    #[test]
+    fn optimal_marks_the_sharp_sides() {
+        for k in [1, 3, 5] {
+            let r = boundary_ring(k);
+            let paper = GregoryVertex::sectored(&r, GregoryTangents::Paper).unwrap();
+            let opt = GregoryVertex::sectored(&r, GregoryTangents::Optimal).unwrap();
+            assert!(paper.one_sided.is_empty());
+            let mut sides = vec![0u8; k];
+            sides[0] |= 1;
+            sides[k - 1] |= 2;
+            assert_eq!(opt.one_sided, sides);
+            // Not on a ring with a triangle (README: nonquads loses to the reflected ring).
+            let mut tri = boundary_ring(k);
+            tri.face_sizes[k / 2] = 3;
+            let opt = GregoryVertex::sectored(&tri, GregoryTangents::Optimal).unwrap();
+            assert!(opt.one_sided.is_empty(), "{k}");
         }
     }
 
