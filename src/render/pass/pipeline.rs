@@ -4,6 +4,7 @@
 
 use ash::vk;
 
+use super::shared::with_geometry_capture;
 use crate::gpu::{
     Context, DescriptorBinding, DrawTarget, GraphicsPipelineDesc, Pipeline, PushConstants,
     VertexAttribute, VertexBinding,
@@ -155,7 +156,10 @@ pub(crate) fn patch_pipeline(
         front_face: vk::FrontFace::COUNTER_CLOCKWISE,
         depth_test: true,
         depth_write: true,
-        set_layouts: s.set_layouts,
+        set_layouts: match desc.capture_triangles {
+            Some(_) => with_geometry_capture(s.set_layouts),
+            None => s.set_layouts,
+        },
         push_constants: Some(patch_push_constants()),
     };
     ctx.graphics_pipeline_in(&p, target)

@@ -2,8 +2,8 @@
 //!
 //! Set 0 of every patch pipeline holds the shared bindings of `glsl/common/frame.glsl`,
 //! `capture.glsl` and the watertight corner rules plus the scheme's own bindings
-//! ([`set0_layout`]): 0 `Frame` UBO, 2 vertex limit positions, 3 TES or triangle capture (also
-//! visible to the geometry stage, `capture_triangles.geom`), 8 control
+//! ([`set0_layout`]): 0 `Frame` UBO, 2 vertex limit positions, 3 TES or triangle capture (visible
+//! to the geometry stage only in pipelines that capture triangles, [`with_geometry_capture`]), 8 control
 //! positions, 9 vertex limit normals, 14 face-varying texture coordinates, 15 the displacement
 //! map (combined image sampler; a 1 x 1 mid-grey image without a map). A scheme's own tables
 //! take the other binding numbers of set 0 (1, 4-7) or sets of their own.
@@ -79,7 +79,7 @@ pub fn set0_layout(own: &[u32]) -> Vec<DescriptorBinding> {
         DescriptorBinding {
             binding: CAPTURE_BINDING,
             kind: DescriptorKind::StorageBuffer,
-            stages: storage_stages() | vk::ShaderStageFlags::GEOMETRY,
+            stages: storage_stages(),
         },
     );
     v.push(DescriptorBinding {
@@ -88,6 +88,22 @@ pub fn set0_layout(own: &[u32]) -> Vec<DescriptorBinding> {
         stages: storage_stages(),
     });
     v
+}
+
+/// `layouts` (set 0 first) with the capture binding also visible to the geometry stage, for the
+/// pipelines that capture triangles (`capture_triangles.geom`). Only those may name the stage:
+/// without the `geometryShader` feature the `GEOMETRY` stage bit must not be used at all, so
+/// [`set0_layout`] leaves it out.
+pub fn with_geometry_capture(
+    mut layouts: Vec<Vec<DescriptorBinding>>,
+) -> Vec<Vec<DescriptorBinding>> {
+    let capture = layouts
+        .first_mut()
+        .and_then(|set0| set0.iter_mut().find(|b| b.binding == CAPTURE_BINDING));
+    if let Some(b) = capture {
+        b.stages |= vk::ShaderStageFlags::GEOMETRY;
+    }
+    layouts
 }
 
 /// The displacement map as a sampled image: 8-bit maps as `R8_UNORM`, 16-bit ones as
@@ -398,5 +414,30 @@ impl SharedResources {
             )));
         }
         self.capture(slot).read::<u32>()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Without `geometryShader` no layout may name the geometry stage: set 0 leaves it out, and
+    /// only the capture binding of a triangle-capturing pipeline gains it.
+    #[test]
+    fn geometry_stage_only_where_triangles_are_captured() {
+        let geometry = |b: &DescriptorBinding| b.stages.contains(vk::ShaderStageFlags::GEOMETRY);
+        let set0 = set0_layout(&[1, 4]);
+        assert!(!set0.iter().any(geometry));
+        let captured = with_geometry_capture(vec![set0.clone(), vec![storage_binding(0)]]);
+        for (a, b) in set0.iter().zip(&captured[0]) {
+            assert_eq!(
+                geometry(b),
+                a.binding == CAPTURE_BINDING,
+                "binding {}",
+                a.binding
+            );
+            assert_eq!(a.stages | b.stages, b.stages);
+        }
+        assert!(!captured[1].iter().any(geometry));
     }
 }
