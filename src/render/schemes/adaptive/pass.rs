@@ -6,7 +6,7 @@
 //! (`patch_adaptive_single_crease.*`, `patch_adaptive_sc_transition.*`) and Gregory end caps
 //! (`patch_adaptive_endcap.*`). One set 0 serves the five pipelines. Above the patch level
 //! limit a level's quads are drawn as sub-patches and its fan triangles as sub-triangles
-//! ([`level_split`], [`fan_sub_split`]).
+//! ([`level_split`], `fan_sub_split`).
 
 use ash::vk;
 use glam::DVec3;
