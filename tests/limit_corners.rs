@@ -12,7 +12,7 @@ use tessera::mesh::{
     BoundaryInterpolation, ControlMeshDesc, Corner, Crease, SchemeOptions, INFINITE_SHARPNESS,
 };
 use tessera::subdiv::eval::LimitEvaluator;
-use tessera::subdiv::limit::{masks, vertex_mask};
+use tessera::subdiv::limit::{masks, vertex_mask, SharedVertexMasks};
 use tessera::subdiv::Level;
 use tessera::topology::Topology;
 use tessera::ControlMesh;
@@ -850,4 +850,54 @@ fn least_squares_lead(
         x[i] = v / r[i * n + i];
     }
     x[0].normalize()
+}
+
+/// [`SharedVertexMasks`] gives every vertex and face the mask [`vertex_mask`] computes, bit for
+/// bit, while reusing masks between vertices whose rings are alike: every vertex that needs
+/// local refinement (semi-sharpness at it or on its edges, or a non-quad face) and every face
+/// of it, on levels 0-2 of shared meshes with semi-sharp creases or non-quad faces and levels 0-1
+/// of the car.
+#[test]
+fn shared_vertex_masks_equal_vertex_mask() {
+    let mut checked = 0;
+    let mut hits = 0;
+    for (name, levels) in [
+        ("catmark_cube_creases1", 3),
+        ("catmark_cube_creases2", 3),
+        ("catmark_nonquads", 3),
+        ("catmark_tent_creases1", 3),
+        ("catmark_car", 2),
+    ] {
+        let mesh = ControlMesh::from_obj_file(osd_path(name), &corpus_options(name)).unwrap();
+        let mut level = Level::from_mesh(&mesh).unwrap();
+        for l in 0..levels {
+            let t = level.topology();
+            let semi = |s: f32| s > 0.0 && s < INFINITE_SHARPNESS;
+            let mut shared = SharedVertexMasks::default();
+            for v in 0..t.vertex_count() as u32 {
+                let local = semi(t.vertex_sharpness(v))
+                    || t.vertex_edges(v).iter().any(|&e| semi(t.edge_sharpness(e)))
+                    || t.vertex_faces(v).iter().any(|&f| t.face_size(f) != 4);
+                if !local {
+                    continue;
+                }
+                for &f in t.vertex_faces(v) {
+                    let direct = vertex_mask(&level, v, f);
+                    assert_eq!(
+                        shared.vertex_mask(&level, v, f),
+                        direct,
+                        "{name} L{l} v{v} f{f}"
+                    );
+                    checked += 1;
+                }
+            }
+            eprintln!("{name} level {l}: {} shared", shared.hits);
+            hits += shared.hits;
+            level = level.refine().0;
+        }
+    }
+    eprintln!("{hits} shared masks of {checked}");
+    // The sharing is exercised (a key without the face of interest or a wrong renumbering
+    // fails the equality above on these hits).
+    assert!(hits >= 1000, "{hits} hits of {checked}");
 }

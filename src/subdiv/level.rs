@@ -183,19 +183,7 @@ impl Level {
             old_verts.extend_from_slice(t.face_vertices(f));
             offsets.push(old_verts.len() as u32);
         }
-        // New vertex ids in increasing old id: `map` new to old, `local_of` old to new.
-        let mut local_of = vec![u32::MAX; t.vertex_count()];
-        for &v in &old_verts {
-            local_of[v as usize] = 0;
-        }
-        let mut map = Vec::new();
-        for (v, l) in local_of.iter_mut().enumerate() {
-            if *l == 0 {
-                *l = map.len() as u32;
-                map.push(v as u32);
-            }
-        }
-        let local: Vec<u32> = old_verts.iter().map(|&v| local_of[v as usize]).collect();
+        let (map, local) = local_vertex_ids(&old_verts, t.vertex_count());
         let mut sub = topology::build(map.len(), offsets, local, false)?;
         sub.options = t.options;
         for (i, &f) in faces.iter().enumerate() {
@@ -242,5 +230,70 @@ impl Level {
             },
         };
         Ok((level, map))
+    }
+}
+
+/// New vertex ids of an extraction in increasing old id: `map` new to old, and `old_verts`
+/// (old ids of the extracted faces' corners, of a level of `vertex_count` vertices) renumbered.
+/// A few faces of a large level (a vertex's ring, `subdiv::limit`) sort their corners instead
+/// of marking them in an array of the level's size: the same ids either way.
+fn local_vertex_ids(old_verts: &[u32], vertex_count: usize) -> (Vec<u32>, Vec<u32>) {
+    if old_verts.len() * 16 < vertex_count {
+        sorted_vertex_ids(old_verts)
+    } else {
+        marked_vertex_ids(old_verts, vertex_count)
+    }
+}
+
+/// `local_vertex_ids` by sorting the corners.
+fn sorted_vertex_ids(old_verts: &[u32]) -> (Vec<u32>, Vec<u32>) {
+    let mut map = old_verts.to_vec();
+    map.sort_unstable();
+    map.dedup();
+    let local = old_verts
+        .iter()
+        .map(|&v| map.partition_point(|&x| x < v) as u32)
+        .collect();
+    (map, local)
+}
+
+/// `local_vertex_ids` by marking the corners in an array of the level's size.
+fn marked_vertex_ids(old_verts: &[u32], vertex_count: usize) -> (Vec<u32>, Vec<u32>) {
+    let mut local_of = vec![u32::MAX; vertex_count];
+    for &v in old_verts {
+        local_of[v as usize] = 0;
+    }
+    let mut map = Vec::new();
+    for (v, l) in local_of.iter_mut().enumerate() {
+        if *l == 0 {
+            *l = map.len() as u32;
+            map.push(v as u32);
+        }
+    }
+    let local = old_verts.iter().map(|&v| local_of[v as usize]).collect();
+    (map, local)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The sorting path numbers vertices as the marking path does (increasing old id, each
+    /// once), on corner lists with repeats, gaps and unsorted order.
+    #[test]
+    fn sorted_and_marked_vertex_ids_agree() {
+        let lists: [&[u32]; 4] = [
+            &[7, 3, 9, 3, 7, 12, 0, 9],
+            &[5],
+            &[40, 2, 2, 2, 39, 1, 40, 17, 16, 15],
+            &[11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0, 0, 1],
+        ];
+        for old in lists {
+            let marked = marked_vertex_ids(old, 64);
+            assert_eq!(sorted_vertex_ids(old), marked, "{old:?}");
+            for (&o, &l) in old.iter().zip(&marked.1) {
+                assert_eq!(marked.0[l as usize], o);
+            }
+        }
     }
 }

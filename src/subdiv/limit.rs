@@ -30,8 +30,8 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::{Level, SparseMatrix, StencilTable};
-use crate::mesh::INFINITE_SHARPNESS;
-use crate::topology::sector_slots;
+use crate::mesh::{BoundaryInterpolation, CreaseMethod, INFINITE_SHARPNESS};
+use crate::topology::{sector_slots, Topology};
 use crate::{Error, Result};
 
 /// Limit position and two tangent masks of one vertex, as weights over vertices of a level.
@@ -126,10 +126,7 @@ fn vertex_mask_rec(level: &Level, v: u32, face: u32, depth: u32) -> Result<Verte
         )));
     };
     let edges = topo.vertex_edges(v);
-    let semi =
-        is_semi(topo.vertex_sharpness(v)) || edges.iter().any(|&e| is_semi(topo.edge_sharpness(e)));
-    let non_quad = faces.iter().any(|&g| topo.face_size(g) != 4);
-    if semi || non_quad {
+    if needs_refinement(topo, v) {
         if depth >= MAX_LOCAL_STEPS {
             return Err(Error::Invalid(format!(
                 "limit mask: vertex {v} still semi-sharp after {depth} local refinements"
@@ -145,6 +142,90 @@ fn vertex_mask_rec(level: &Level, v: u32, face: u32, depth: u32) -> Result<Verte
         return Ok(smooth_mask(level, v, i));
     }
     eigen_mask(level, v, i, sharp, depth)
+}
+
+/// Limit masks ([`vertex_mask`]) of vertices that need local refinement (semi-sharp or next to
+/// a non-quad face), shared between vertices whose rings are alike: the mask over a vertex's
+/// ring extraction is a function of that extraction alone (its faces in local ids, sharpness,
+/// holes, cut edges and incomplete vertices, and the face of interest), so a second vertex with
+/// the same extraction reuses it, renumbered (bit for bit what [`vertex_mask`] gives). Other
+/// vertices are computed directly. Errors are not kept (they name the vertex).
+#[derive(Debug, Default)]
+pub struct SharedVertexMasks {
+    masks: std::collections::HashMap<RingKey, VertexMask>,
+    /// Masks reused (for tests and profiles).
+    pub hits: usize,
+}
+
+/// Everything of a ring extraction `Level` that its masks depend on, and the face of interest.
+#[derive(Debug, PartialEq, Eq, Hash)]
+struct RingKey {
+    /// The vertex and face of interest (local ids), vertex count, face offsets and corners,
+    /// edge and vertex sharpness bits, holes, faces without limit, cut edges, incomplete
+    /// vertices (the last four as 0/1 words, each list preceded by its length).
+    words: Vec<u32>,
+    boundary: u8,
+    chaikin: bool,
+}
+
+impl RingKey {
+    fn new(sub: &Level, v_sub: u32, i: usize) -> RingKey {
+        let t = &sub.topo;
+        fn flags(b: &[bool]) -> impl Iterator<Item = u32> + '_ {
+            std::iter::once(b.len() as u32).chain(b.iter().map(|&x| u32::from(x)))
+        }
+        let mut words = vec![v_sub, i as u32, t.num_vertices, t.face_offsets.len() as u32];
+        words.extend_from_slice(&t.face_offsets);
+        words.extend_from_slice(&t.face_verts);
+        words.extend(t.edge_sharpness.iter().map(|s| s.to_bits()));
+        words.extend(t.vertex_sharpness.iter().map(|s| s.to_bits()));
+        words.extend(flags(&t.holes));
+        words.extend(flags(&t.no_limit));
+        words.extend(flags(&sub.cut));
+        words.extend(flags(&sub.incomplete));
+        RingKey {
+            words,
+            boundary: match t.options.boundary {
+                BoundaryInterpolation::None => 0,
+                BoundaryInterpolation::EdgeAndCorner => 1,
+                BoundaryInterpolation::EdgeOnly => 2,
+            },
+            chaikin: t.options.crease_method == CreaseMethod::Chaikin,
+        }
+    }
+}
+
+impl SharedVertexMasks {
+    /// [`vertex_mask`] of vertex `v` of `level`, tangents oriented by `face`.
+    pub fn vertex_mask(&mut self, level: &Level, v: u32, face: u32) -> Result<VertexMask> {
+        let topo = level.topology();
+        if v as usize >= topo.vertex_count() || !needs_refinement(topo, v) {
+            return vertex_mask(level, v, face);
+        }
+        let Some(i) = topo.vertex_faces(v).iter().position(|&g| g == face) else {
+            return vertex_mask(level, v, face);
+        };
+        let (sub, map, v_sub) = ring_extraction(level, v)?;
+        let key = RingKey::new(&sub, v_sub, i);
+        if let Some(m) = self.masks.get(&key) {
+            self.hits += 1;
+            return Ok(mapped(m.clone(), &map));
+        }
+        let m = refined_local_mask(&sub, v_sub, i, 0)?;
+        self.masks.insert(key, m.clone());
+        Ok(mapped(m, &map))
+    }
+}
+
+/// Whether [`vertex_mask`] refines around `v` first: semi-sharpness at `v` or on its edges, or
+/// a non-quad face.
+fn needs_refinement(topo: &Topology, v: u32) -> bool {
+    is_semi(topo.vertex_sharpness(v))
+        || topo
+            .vertex_edges(v)
+            .iter()
+            .any(|&e| is_semi(topo.edge_sharpness(e)))
+        || topo.vertex_faces(v).iter().any(|&g| topo.face_size(g) != 4)
 }
 
 /// Closed-form smooth interior mask on a quad ring (Halstead et al. 1993, appendix A).
@@ -194,28 +275,50 @@ fn row(m: &SparseMatrix, r: usize) -> impl Iterator<Item = (u32, f64)> + '_ {
 }
 
 /// Mask `cm` over the vertices of a refined extraction, mapped back to the extracted level's
-/// vertices: through the refinement matrix `r`, then the extraction's vertex map `map`.
-fn pull_back(cm: &VertexMask, r: &SparseMatrix, map: &[u32]) -> VertexMask {
+/// vertices: through the refinement matrix `r`, then the extraction's vertex map `map`
+/// (the identity for a mask over the extraction itself).
+fn pull_back(cm: &VertexMask, r: &SparseMatrix, map: impl Fn(u32) -> u32) -> VertexMask {
     let mut t = Vec::new();
     for (k, &c) in cm.indices.iter().enumerate() {
         let w = [cm.position[k], cm.tangent_u[k], cm.tangent_v[k]];
         for (col, x) in row(r, c as usize) {
-            t.push((map[col as usize], [w[0] * x, w[1] * x, w[2] * x]));
+            t.push((map(col), [w[0] * x, w[1] * x, w[2] * x]));
         }
     }
     VertexMask::from_triples(t)
 }
 
+/// A mask over an extraction's vertices as a mask over the extracted level's, through the
+/// extraction's vertex map `map`. `map` increases (`Level::try_extract` numbers vertices in
+/// increasing old id), so this is bit for bit what pulling back through `map` directly gives:
+/// `VertexMask::from_triples` sorts and sums the same terms in the same order.
+fn mapped(mut m: VertexMask, map: &[u32]) -> VertexMask {
+    for i in &mut m.indices {
+        *i = map[*i as usize];
+    }
+    m
+}
+
+/// The faces of `v` extracted (sub face `j` is the `j`-th face of `v`) and `v`'s id there.
+fn ring_extraction(level: &Level, v: u32) -> Result<(Level, Vec<u32>, u32)> {
+    let faces = level.topology().vertex_faces(v);
+    let (sub, map) = level.try_extract(faces)?;
+    let v_sub = map
+        .binary_search(&v)
+        .map_err(|_| Error::Invalid(format!("limit mask: vertex {v} lost in extraction")))?
+        as u32;
+    Ok((sub, map, v_sub))
+}
+
 /// One local refinement step around `v`, then the mask of its child vertex, mapped back.
 fn refined_mask(level: &Level, v: u32, i: usize, depth: u32) -> Result<VertexMask> {
-    let topo = level.topology();
-    let faces = topo.vertex_faces(v).to_vec();
-    let (sub, map) = level.extract(&faces);
-    let v_sub = map
-        .iter()
-        .position(|&x| x == v)
-        .ok_or_else(|| Error::Invalid(format!("limit mask: vertex {v} lost in extraction")))?
-        as u32;
+    let (sub, map, v_sub) = ring_extraction(level, v)?;
+    Ok(mapped(refined_local_mask(&sub, v_sub, i, depth)?, &map))
+}
+
+/// [`refined_mask`] of vertex `v_sub` of its ring's extraction `sub` (face `i` of `v_sub`, which
+/// is sub face `i`), over `sub`'s vertices.
+fn refined_local_mask(sub: &Level, v_sub: u32, i: usize, depth: u32) -> Result<VertexMask> {
     // Extraction keeps the order of the given faces: faces[i] is sub face i.
     let face_sub = i as u32;
     let (child, r) = sub.refine();
@@ -224,11 +327,15 @@ fn refined_mask(level: &Level, v: u32, i: usize, depth: u32) -> Result<VertexMas
         .face_vertices(face_sub)
         .iter()
         .position(|&x| x == v_sub)
-        .ok_or_else(|| Error::Invalid(format!("limit mask: vertex {v} lost in extraction")))?;
+        .ok_or_else(|| {
+            Error::Invalid(format!(
+                "limit mask: ring vertex {v_sub} is no corner of its sub face {face_sub}"
+            ))
+        })?;
     let v_child = (st.face_count() + st.edge_count()) as u32 + v_sub;
     let child_face = sub.child_faces(face_sub).start + corner as u32;
     let cm = vertex_mask_rec(&child, v_child, child_face, depth + 1)?;
-    Ok(pull_back(&cm, &r, &map))
+    Ok(pull_back(&cm, &r, |c| c))
 }
 
 /// The limit mask, over `level`'s vertices, of the face point that refining `level` once puts
@@ -254,7 +361,7 @@ pub fn face_point_mask(level: &Level, f: u32) -> Result<VertexMask> {
     let (sub, map) = level.try_extract(&faces)?;
     let (child, r) = sub.refine();
     let cm = vertex_mask(&child, sub.child_face_point(0), sub.child_faces(0).start)?;
-    Ok(pull_back(&cm, &r, &map))
+    Ok(pull_back(&cm, &r, |c| map[c as usize]))
 }
 
 /// Mask from the eigenvectors of the local subdivision matrix restricted to the face's sector

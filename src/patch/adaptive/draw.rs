@@ -36,6 +36,7 @@ use crate::patch::gregory::{GregoryTangents, Weights};
 use crate::patch::single_crease::{gpu_cvs, Rotation, SingleCreasePatch};
 use crate::patch::RegularPatch;
 use crate::subdiv::adaptive::{AdaptiveRefinement, Domain, PatchCensus, PatchType};
+use crate::subdiv::limit::SharedVertexMasks;
 use crate::topology::{is_sharp_edge, single_normal_vertex};
 
 /// Rows per end cap: 20 control points and 16 extra rows (quads), 15 + 12 then empty rows
@@ -241,6 +242,7 @@ fn slot_rows(
         .map(|(i, run)| {
             let mut rows = SparseRows::new();
             let mut failed = Vec::new();
+            let mut masks = SharedVertexMasks::default();
             let terms: usize = run
                 .iter()
                 .flatten()
@@ -256,7 +258,7 @@ fn slot_rows(
                 }
                 let p = &census.patches[c.patch];
                 let lev = &refinement.levels[p.level as usize];
-                let frame = exact_frame(lev, p.face, c.k, corner_rows.rows(c));
+                let frame = exact_frame(lev, p.face, c.k, corner_rows.rows(c), &mut masks);
                 if frame[1].0.is_empty() {
                     failed.push(s);
                 }

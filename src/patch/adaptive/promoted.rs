@@ -16,7 +16,9 @@ use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::AdaptiveLevel;
 #[cfg(doc)]
 use crate::subdiv::adaptive::EndCapSharpness;
+#[cfg(doc)]
 use crate::subdiv::limit::vertex_mask;
+use crate::subdiv::limit::SharedVertexMasks;
 use crate::topology::Topology;
 use glam::DVec3;
 
@@ -43,8 +45,19 @@ pub fn promoted_vertex(level: &Topology, caps: &Topology, v: u32) -> bool {
 /// the corner's vertex ([`vertex_mask`], `LimitEvaluator`'s corner evaluation). `None` where
 /// the mask fails (the caller keeps the end cap's own corner).
 pub fn exact_corner_tangents(lev: &AdaptiveLevel, f: u32, k: usize) -> Option<[Weights; 2]> {
+    exact_corner_tangents_shared(lev, f, k, &mut SharedVertexMasks::default())
+}
+
+/// [`exact_corner_tangents`] with the masks shared between corners whose rings are alike
+/// ([`SharedVertexMasks`]; the same rows).
+pub fn exact_corner_tangents_shared(
+    lev: &AdaptiveLevel,
+    f: u32,
+    k: usize,
+    masks: &mut SharedVertexMasks,
+) -> Option<[Weights; 2]> {
     let v = lev.topology().face_vertices(f)[k];
-    let mask = match vertex_mask(&lev.level, v, f) {
+    let mask = match masks.vertex_mask(&lev.level, v, f) {
         Ok(m) => m,
         Err(e) => {
             log::debug!("promoted corner {k} of face {f}: no exact limit mask ({e})");
@@ -72,10 +85,17 @@ pub fn exact_corner_tangents(lev: &AdaptiveLevel, f: u32, k: usize) -> Option<[W
 
 /// Corner `k` of face `face` of `lev` on a promoted crease: its end-cap `rows` with the
 /// tangents replaced by the exact limit's ([`exact_corner_tangents`]), the position kept (the
-/// end caps' crease position); empty tangent rows where the exact mask fails.
-pub fn exact_frame(lev: &AdaptiveLevel, face: u32, k: usize, rows: [Weights; 3]) -> [Weights; 3] {
+/// end caps' crease position); empty tangent rows where the exact mask fails. `masks` shares
+/// the limit masks between calls ([`exact_corner_tangents_shared`]).
+pub fn exact_frame(
+    lev: &AdaptiveLevel,
+    face: u32,
+    k: usize,
+    rows: [Weights; 3],
+    masks: &mut SharedVertexMasks,
+) -> [Weights; 3] {
     let [p, ..] = rows;
-    match exact_corner_tangents(lev, face, k) {
+    match exact_corner_tangents_shared(lev, face, k, masks) {
         Some([du, dv]) => [p, du, dv],
         None => [p, Weights::default(), Weights::default()],
     }

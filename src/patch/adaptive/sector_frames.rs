@@ -26,6 +26,7 @@ use super::surface::EndCapTopologies;
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
+use crate::subdiv::limit::SharedVertexMasks;
 use crate::topology::{sector_count, sector_faces};
 
 /// The sector frames of a census and which patch corners and midpoints read them.
@@ -123,6 +124,7 @@ impl SectorFrames {
         // from end caps' corners (the Gregory corner's plane is the sector's: its edge points
         // lie in it), except in one-face crease sectors, whose corner normal the GPU takes
         // from the face points instead (`gregory_corner_normal`).
+        let mut masks = SharedVertexMasks::default();
         corner_rows.visit(|c| {
             let Some(key) = corner_keys[c.patch][c.k] else {
                 return;
@@ -134,7 +136,7 @@ impl SectorFrames {
             if promoted {
                 let p = &census.patches[c.patch];
                 let lev = &refinement.levels[p.level as usize];
-                let frame = exact_frame(lev, p.face, c.k, corner_rows.rows(c));
+                let frame = exact_frame(lev, p.face, c.k, corner_rows.rows(c), &mut masks);
                 if frame[1].0.is_empty() {
                     return;
                 }
