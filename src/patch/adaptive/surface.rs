@@ -379,7 +379,23 @@ impl AdaptiveSurface {
             let (_, ds0, dt0) = self.eval_own(i, a, b);
             let sign = if side == 0 { 1.0 } else { -1.0 };
             let along = sign * edge_frame(k, ds0, dt0).0;
-            tangent += sign * fillet_bend(sharp, w, along, normal);
+            // The patch's other edge at that end is the promoted crease the edge crosses
+            // (`vertex_fillet_sharpness`): the sum is `along` plus the derivative of its
+            // continuation beyond the crease, the cross-edge derivative at that end of the end
+            // cap across the crease (as `fillet_change` there).
+            let (crease, at) = if side == 0 {
+                ((k + 3) % 4, 1.0)
+            } else {
+                ((k + 1) % 4, 0.0)
+            };
+            tangent += sign
+                * match cap.edges[crease] {
+                    Some(beyond) => {
+                        let (_, _, d_beyond) = self.edge_derivatives(i, crease, at, beyond);
+                        fillet_cross_derivative(sharp, w, along + d_beyond)
+                    }
+                    None => fillet_bend(sharp, w, along, normal),
+                };
             bent = true;
         }
         bent.then(|| tangent.cross(d_own - d_across).normalize_or_zero())
