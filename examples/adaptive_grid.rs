@@ -110,10 +110,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 (e.position, e.normal)
             }
             // The normal the GPU draws (shared on promoted creases, `AdaptiveSurface::normal`).
-            None => (
-                surface.eval_patch(i, s, t).position,
-                surface.normal(i, s, t),
-            ),
+            None => {
+                let (p, n) = surface.eval_with_normal(i, s, t);
+                (p.position, n)
+            }
         };
         let patch = &surface.patches[i];
         let face = match sub {

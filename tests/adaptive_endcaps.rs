@@ -125,9 +125,9 @@ fn errors(
 ) -> Vec<Measured> {
     let diag = m.bbox_diagonal();
     at_equal_uv(m, s, keep, n, |i, st, x| {
-        let got = s.eval_patch(i, st.0, st.1).position;
-        let angle = s.normal(i, st.0, st.1).angle_between(x.normal);
-        (i, st, got.distance(x.position) / diag, angle)
+        let (got, normal) = s.eval_with_normal(i, st.0, st.1);
+        let angle = normal.angle_between(x.normal);
+        (i, st, got.position.distance(x.position) / diag, angle)
     })
 }
 
@@ -362,32 +362,41 @@ fn promoted_crease_normals_follow_the_limit() {
     }
 }
 
-/// Deep isolation beside a crease of sharpness 5 (`catmark_cube_creases1`): at L4 its residual
-/// sharpness is 1, the limit's fillet half an end cap wide (from L5 it is smooth), and the drawn
-/// normals of the end caps with a corner on it, every sample of a 9x9 grid of their own (s, t)
-/// (interior and edges included), follow the limit's fillet (`patch::adaptive::promoted`:
-/// `fillet_cross_derivative` inside, `fillet_bend` on their other edges). Measured RMS / max rad
-/// at L4: 1.9e-2 / 0.55, against 0.144 / 1.40 with the patches' own normals inside and on
-/// those edges (main before the fillet); bounds 1.5x.
+/// Deep isolation beside promoted creases: the drawn normals of the end caps with a corner on
+/// one, every sample of a 9x9 grid of their own (s, t) (interior and edges included), follow the
+/// limit's fillet (`patch::adaptive::promoted`: `fillet_cross_derivative` inside and, on their
+/// edges crossing a crease at a valence-4 vertex, of the edge's derivative plus its
+/// continuation beyond the crease). `catmark_cube_creases1` L4 (a crease of sharpness 5: residual
+/// sharpness 1, the fillet half an end cap wide) and `catmark_bishop` L4 (residual sharpness 2
+/// beside faces of very different size, so the two sides' derivatives differ 10x). Measured
+/// RMS / max rad: cube_creases1 0.0145 / 0.359, bishop 0.0068 / 1.33. With the bend's sum taken
+/// as `2 (d . n) n` (session 10) 0.0191 / 0.545 and 0.0315 / 1.77, which fail the bounds (RMS
+/// 1.17x and 1.5x, max 1.25x and 1.13x the figures); with the patches' own normals inside and on
+/// those edges (before the fillet) 0.144 / 1.40 on cube_creases1.
 #[test]
 fn fillet_normals_follow_the_limit_at_depth() {
-    let m = osd("catmark_cube_creases1");
-    let (r, s) = surface(&m, 4);
-    let promoted = |p: &SurfacePatch| on_promoted_crease(&r, p);
-    let e: Vec<f64> = normal_errors(&m, &s, promoted)
-        .iter()
-        .map(|x| x.0)
-        .filter(|a| a.is_finite())
-        .collect();
-    let rms = (e.iter().map(|a| a * a).sum::<f64>() / e.len() as f64).sqrt();
-    let max = e.iter().copied().fold(0.0, f64::max);
-    eprintln!(
-        "cube_creases1 L4: {} samples, normal RMS / max rad {rms:.4} / {max:.4}",
-        e.len()
-    );
-    assert!(e.len() > 20_000, "{} samples", e.len());
-    assert!(rms <= 2.9e-2, "RMS {rms:e}");
-    assert!(max <= 0.82, "max {max:e}");
+    for (name, iso, rms_bound, max_bound) in [
+        ("catmark_cube_creases1", 4, 1.7e-2, 0.45),
+        ("catmark_bishop", 4, 1.0e-2, 1.5),
+    ] {
+        let m = osd(name);
+        let (r, s) = surface(&m, iso);
+        let promoted = |p: &SurfacePatch| on_promoted_crease(&r, p);
+        let e: Vec<f64> = normal_errors(&m, &s, promoted)
+            .iter()
+            .map(|x| x.0)
+            .filter(|a| a.is_finite())
+            .collect();
+        let rms = (e.iter().map(|a| a * a).sum::<f64>() / e.len() as f64).sqrt();
+        let max = e.iter().copied().fold(0.0, f64::max);
+        eprintln!(
+            "{name} L{iso}: {} samples, normal RMS / max rad {rms:.4} / {max:.4}",
+            e.len()
+        );
+        assert!(e.len() > 20_000, "{name}: {} samples", e.len());
+        assert!(rms <= rms_bound, "{name}: RMS {rms:e}");
+        assert!(max <= max_bound, "{name}: max {max:e}");
+    }
 }
 
 /// The corner kinds end caps approximate (`Coverage::EndCap`), named by the exact construction's

@@ -10,6 +10,11 @@
 #define GREGORY_CORNER_ORIGIN(info, k) vec3(0.0)
 #include "gregory/gregory.glsl"
 
+/// Per canonical edge end: the g_eout slot of the continuation beyond the crease the edge
+/// crosses there (-1: none) and the corner it belongs to; quad_edge sets edge_fillet_beyond.
+int edge_fillet_beyond_slot[2] = int[2](-1, -1);
+int edge_fillet_beyond_corner[2] = int[2](0, 0);
+
 /// Edge k (corner k -> k + 1) at x measured from corner `from_corner`, when it lies on a coarser
 /// patch.
 bool end_cap_edge(GregoryPatchInfo info, int k, float x, int from_corner, inout vec3 pos,
@@ -37,6 +42,13 @@ bool end_cap_edge(GregoryPatchInfo info, int k, float x, int from_corner, inout 
             sector_normal(apatches[info.pad0].corner_frame[corner], n);
         }
         edge_fillet_normal[end] = n;
+        // This patch's other edge at that corner: the promoted crease the edge crosses, between
+        // two end caps (flag bit 28 + crease); the continuation's edge point beyond it is the
+        // neighbour's other edge point there (g_eout, read in quad_edge).
+        int crease = (side == 0) ? ((k + 3) & 3) : ((k + 1) & 3);
+        bool beyond = c != 0u && (info.flags & (1u << uint(28 + crease))) != 0u;
+        edge_fillet_beyond_slot[end] = beyond ? ((side == 0) ? 2 * crease + 1 : 2 * crease) : -1;
+        edge_fillet_beyond_corner[end] = corner;
     }
     uint c = apatches[info.pad0].coarse[k];
     if (c == NO_ENTRY) {
@@ -62,6 +74,7 @@ uint fillet_edge_mask(uint flags) {
 #define GREGORY_CORNER_NORMAL(info, k, nrm) \
     sector_normal(apatches[info.pad0].corner_frame[k], nrm)
 #define GREGORY_FILLET(info) (apatches[info.pad0].fillet & fillet_edge_mask(info.flags))
+#define GREGORY_FILLET_BEYOND
 #define GREGORY_CLASS(info) adaptive_class(KIND_END_CAP, apatches[info.pad0].level)
 #define GREGORY_DISPLACE(info, u, v, tg, p, n) \
     displace_adaptive(apatches[info.pad0], vec2(u, v), tg, p, n)

@@ -191,21 +191,37 @@ vec3 cross_tri(vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 eo0, vec3 f0, vec3 f1, v
 /// same bits.
 /// Set by a stage before an edge (the adaptive end caps, glsl/adaptive/endcap.glsl), per
 /// canonical end (0: the smaller id): the residual sharpness of a promoted crease's fillet there
-/// (0: none) and the limit normal there. gregory_edge bends its tangent with that fillet, as
-/// `patch::adaptive::promoted::fillet_bend`: both sides set the same values.
+/// (0: none), the limit normal there and, where the edge crosses that crease between two end
+/// caps, the derivative of its continuation beyond the crease (`edge_fillet_has_beyond`).
+/// gregory_edge bends its tangent with that fillet, as `AdaptiveSurface::normal`
+/// (`patch::adaptive::promoted::fillet_cross_derivative` of the two derivatives' sum, else
+/// `fillet_bend`): both sides set the same values.
 float edge_fillet_sharpness[2] = float[2](0.0, 0.0);
 vec3 edge_fillet_normal[2] = vec3[2](vec3(0.0), vec3(0.0));
+bool edge_fillet_has_beyond[2] = bool[2](false, false);
+vec3 edge_fillet_beyond[2] = vec3[2](vec3(0.0), vec3(0.0));
 
-/// The fillet's change of the derivative `along` (from an edge end, unit parameter) at distance
-/// w from that end with limit normal n there (`patch::adaptive::promoted::fillet_bend`).
-vec3 fillet_bend(float sharp, float w, vec3 along, vec3 n) {
+/// The fillet's change of a cross-crease derivative at distance w from the crease, `d_sum` the
+/// sum of both sides' derivatives there (`patch::adaptive::promoted::fillet_cross_derivative`).
+vec3 fillet_change(float sharp, float w, vec3 d_sum) {
     precise float lo = floor(sharp);
     precise float frac = sharp - lo;
     precise float r0 = max(1.0 - w * exp2(lo), 0.0);
     precise float r1 = max(1.0 - w * exp2(lo + 1.0), 0.0);
     precise float k = (1.0 - frac) * (-0.5 * r0 * r0) + frac * (-0.5 * r1 * r1);
-    precise vec3 d = (k * (2.0 * dot(along, n))) * n;
+    precise vec3 d = k * d_sum;
     return d;
+}
+
+/// The fillet's change of the derivative `along` (from edge end `end`, unit parameter) at
+/// distance w from that end: of `along` plus the continuation beyond the crease where it is
+/// known, else (`patch::adaptive::promoted::fillet_bend`) with the sum's normal part
+/// `2 (along . n) n`, n the limit normal there.
+vec3 edge_fillet_change(int end, float w, vec3 along) {
+    vec3 n = edge_fillet_normal[end];
+    precise vec3 sum = edge_fillet_has_beyond[end] ? along + edge_fillet_beyond[end]
+                                                   : (2.0 * dot(along, n)) * n;
+    return fillet_change(edge_fillet_sharpness[end], w, sum);
 }
 
 void gregory_edge(vec3 origin, vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 d_left, vec3 d_right,
@@ -216,13 +232,11 @@ void gregory_edge(vec3 origin, vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 d_left, 
     // (tangent is a third of d/dt; the derivative from end 0 is 3 (e0 - p0), from end 1
     // 3 (e1 - p1) along -t.)
     if (edge_fillet_sharpness[0] > 0.0) {
-        precise vec3 d = fillet_bend(edge_fillet_sharpness[0], t, 3.0 * (e0 - p0),
-                                     edge_fillet_normal[0]);
+        precise vec3 d = edge_fillet_change(0, t, 3.0 * (e0 - p0));
         tangent = tangent + d * (1.0 / 3.0);
     }
     if (edge_fillet_sharpness[1] > 0.0) {
-        precise vec3 d = fillet_bend(edge_fillet_sharpness[1], s, 3.0 * (e1 - p1),
-                                     edge_fillet_normal[1]);
+        precise vec3 d = edge_fillet_change(1, s, 3.0 * (e1 - p1));
         tangent = tangent - d * (1.0 / 3.0);
     }
     precise vec3 cross_dir = d_left - d_right;

@@ -9,7 +9,8 @@
 // GREGORY_CAPTURE(info, u, v, p, n) (with CAPTURE), and optionally
 // GREGORY_EDGE_OVERRIDE(info, k, x, from_corner, pos, nrm) (true: edge k evaluated elsewhere) and
 // GREGORY_CORNER_NORMAL(info, k, nrm) (after the shared corner: a normal read elsewhere) and
-// GREGORY_FILLET(info) (per edge the residual sharpness of a fillet the interior normal follows).
+// GREGORY_FILLET(info) (per edge the residual sharpness of a fillet the interior normal follows)
+// and GREGORY_FILLET_BEYOND (the stage sets edge_fillet_beyond_slot / _corner per edge end).
 // Needs frame.glsl first; defines SPACING, CAPTURE as the stage file's.
 #ifndef TESSERA_GREGORY_QUAD_TES_GLSL
 #define TESSERA_GREGORY_QUAD_TES_GLSL
@@ -68,6 +69,18 @@ void quad_edge(uint patch_index, GregoryPatchInfo info, int k, float x, int from
         }
         grid_pos = pos;
     }
+#ifdef GREGORY_FILLET_BEYOND
+    // The continuation beyond a crease this edge crosses (the stage's end_cap_edge named its
+    // slot): its derivative from the corner, 3 (eo - p), as the neighbour's own.
+    for (int end = 0; end < 2; ++end) {
+        int slot = edge_fillet_beyond_slot[end];
+        edge_fillet_has_beyond[end] = slot >= 0;
+        if (slot >= 0) {
+            precise vec3 d = 3.0 * (g_eout[slot] - P(edge_fillet_beyond_corner[end]));
+            edge_fillet_beyond[end] = d;
+        }
+    }
+#endif
     bool nbr_quad = (info.flags & (1u << uint(8 + k))) == 0u;
     bool sharp = (info.flags & (1u << uint(12 + k))) != 0u;
     shared_edge(true, nbr_quad, sharp, a_is_lo, t, s, GREGORY_CORNER_ORIGIN(info, a),

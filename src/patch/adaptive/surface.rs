@@ -332,8 +332,20 @@ impl AdaptiveSurface {
     /// on its other edges from a promoted crease the shared normal with the tangent bent
     /// (`bent_edge_normal`).
     pub fn normal(&self, i: usize, s: f64, t: f64) -> DVec3 {
+        let (_, ds, dt) = self.eval_own(i, s, t);
+        self.normal_from(i, s, t, ds, dt)
+    }
+
+    /// [`Self::eval_patch`] and [`Self::normal`] at one point, the patch evaluated once.
+    pub fn eval_with_normal(&self, i: usize, s: f64, t: f64) -> (SurfacePoint, DVec3) {
+        let (position, ds, dt) = self.eval_own(i, s, t);
+        let normal = self.normal_from(i, s, t, ds, dt);
+        (self.to_base(i, position, ds, dt), normal)
+    }
+
+    /// [`Self::normal`] from the patch's own derivatives `ds`, `dt` at `(s, t)`.
+    fn normal_from(&self, i: usize, s: f64, t: f64, mut ds: DVec3, mut dt: DVec3) -> DVec3 {
         self.promoted_normal(i, s, t).unwrap_or_else(|| {
-            let (_, mut ds, mut dt) = self.eval_own(i, s, t);
             let Some(cap) = self.promoted.get(&i) else {
                 return ds.cross(dt).normalize_or_zero();
             };
@@ -364,7 +376,9 @@ impl AdaptiveSurface {
     /// On edge `k` of end cap `i` (at `x` from corner `k`), an edge between two end caps from a
     /// vertex on a promoted crease: the normal both sides share (`gregory_edge` of
     /// `glsl/gregory/gregory.glsl`), `cross(tangent, d_own - d_across)`, with the tangent bent by
-    /// the crease's fillet within it (`super::promoted::fillet_bend`); `None` elsewhere.
+    /// the crease's fillet within it: `super::promoted::fillet_cross_derivative` of the sum of
+    /// the edge's derivative from that end and its continuation's beyond the crease (the end
+    /// cap across it; `super::promoted::fillet_bend` where there is none); `None` elsewhere.
     fn bent_edge_normal(&self, cap: &PromotedCap, i: usize, k: usize, x: f64) -> Option<DVec3> {
         let across = cap.others[k]?;
         let (mut tangent, d_own, d_across) = self.edge_derivatives(i, k, x, across);
@@ -379,7 +393,23 @@ impl AdaptiveSurface {
             let (_, ds0, dt0) = self.eval_own(i, a, b);
             let sign = if side == 0 { 1.0 } else { -1.0 };
             let along = sign * edge_frame(k, ds0, dt0).0;
-            tangent += sign * fillet_bend(sharp, w, along, normal);
+            // The patch's other edge at that end is the promoted crease the edge crosses
+            // (`vertex_fillet_sharpness`): the sum is `along` plus the derivative of its
+            // continuation beyond the crease, the cross-edge derivative at that end of the end
+            // cap across the crease (as `fillet_change` there).
+            let (crease, at) = if side == 0 {
+                ((k + 3) % 4, 1.0)
+            } else {
+                ((k + 1) % 4, 0.0)
+            };
+            tangent += sign
+                * match cap.edges[crease] {
+                    Some(beyond) => {
+                        let (_, _, d_beyond) = self.edge_derivatives(i, crease, at, beyond);
+                        fillet_cross_derivative(sharp, w, along + d_beyond)
+                    }
+                    None => fillet_bend(sharp, w, along, normal),
+                };
             bent = true;
         }
         bent.then(|| tangent.cross(d_own - d_across).normalize_or_zero())
@@ -475,8 +505,13 @@ impl AdaptiveSurface {
 
     /// Evaluates patch `i` at its own `(s, t)`, derivatives mapped to base parameters.
     pub fn eval_patch(&self, i: usize, s: f64, t: f64) -> SurfacePoint {
-        let p = &self.patches[i];
         let (position, ds, dt) = self.eval_own(i, s, t);
+        self.to_base(i, position, ds, dt)
+    }
+
+    /// Patch `i`'s point with own derivatives `ds`, `dt`, derivatives mapped to base parameters.
+    fn to_base(&self, i: usize, position: DVec3, ds: DVec3, dt: DVec3) -> SurfacePoint {
+        let p = &self.patches[i];
         // (s, t) -> origin + s U + t V: d/du = (ds, dt) J^-1 with J = [U V].
         let (a, b) = (p.domain.u, p.domain.v);
         let det = a.perp_dot(b);
