@@ -317,6 +317,17 @@ impl OffscreenSession {
     pub fn triangles_drawn(&self) -> Result<u32> {
         self.renderer.triangles_drawn()
     }
+
+    /// Triangles the last frame drew and those of its capture window
+    /// ([`SurfaceRenderer::read_triangle_window`]).
+    pub fn triangle_window(&self) -> Result<(u32, Vec<CapturedTriangle>)> {
+        self.renderer.read_triangle_window()
+    }
+
+    /// The first triangle slot the next frames capture ([`SurfaceRenderer::set_triangle_window`]).
+    pub fn set_triangle_window(&mut self, first: u32) -> Result<()> {
+        self.renderer.set_triangle_window(first)
+    }
 }
 
 /// Output of [`render_to_image`].
