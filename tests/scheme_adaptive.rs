@@ -16,8 +16,8 @@ use tessera::render::schemes::adaptive::derive::DerivedPoints;
 use tessera::render::schemes::adaptive::refine::GpuRefiner;
 use tessera::render::schemes::adaptive::{kind_name, AdaptiveTables};
 use tessera::render::{
-    surface_for_scheme_with, CameraSpec, CaptureRecord, ColorBy, PlanOptions, RenderDesc, Scheme,
-    SchemeLimits, Spacing, SurfaceData, TessMode, TessSettings,
+    surface_for_scheme_with, CameraSpec, CaptureRecord, ColorBy, OffscreenSession, PlanOptions,
+    RenderDesc, Scheme, SchemeLimits, Spacing, SurfaceData, TessMode, TessSettings,
 };
 use tessera::subdiv::eval::LimitEvaluator;
 
@@ -923,5 +923,67 @@ fn golden_single_crease_patch_type() {
     };
     let img = common::capture::image(&ctx, &surface, &render, &offscreen(256, 192));
     common::golden::check_golden("adaptive_single_crease_patch_type", &img);
+    assert_validation_clean(&ctx);
+}
+
+/// The adaptive pass's draw groups (`PatchPass::draw_groups`, `OffscreenSession::group_frame`,
+/// what `tessera bench --per-draw` times): on the car at isolation 2, uniform levels 4 and 24
+/// (level-0 patches split 2 x 2), every group draws something and the groups' frames together
+/// have the whole frame's TCS patches, TES invocations and clipping-stage triangles. A group
+/// frame that records the whole pass (the trait's default `record_group` kept) or every pass
+/// fails the sums.
+#[test]
+fn draw_groups_partition_the_frame() {
+    let Some(ctx) = context() else { return };
+    let m = mesh("catmark_car");
+    for level in [4.0f32, 24.0] {
+        let surface = adaptive_surface(&ctx, &m, 2, level);
+        let render = RenderDesc {
+            tess: uniform(level),
+            ..RenderDesc::default()
+        };
+        let mut session =
+            OffscreenSession::new(&ctx, &surface, &render, &offscreen(96, 96), true).unwrap();
+        let whole = session.frame().unwrap().expect("timings").patch_stats;
+        let groups = session.draw_groups();
+        let labels: Vec<&str> = groups.iter().map(|(_, _, l)| l.as_str()).collect();
+        for want in [
+            "adaptive b-spline",
+            "adaptive transition",
+            "adaptive single-crease",
+            "adaptive end caps",
+        ] {
+            assert!(
+                labels.contains(&want),
+                "level {level}: {labels:?} lacks {want}"
+            );
+        }
+        let mut sum = [0u64; 3];
+        for (pass, group, label) in &groups {
+            let s = session
+                .group_frame(*pass, *group)
+                .unwrap()
+                .expect("timings")
+                .patch_stats;
+            let counts = [s.tcs_patches, s.tes_invocations, s.clipping_invocations];
+            eprintln!("level {level} {label}: {counts:?}");
+            assert!(
+                counts.iter().all(|&c| c > 0),
+                "level {level} {label}: {counts:?}"
+            );
+            for (t, c) in sum.iter_mut().zip(counts) {
+                *t += c;
+            }
+        }
+        assert_eq!(
+            sum,
+            [
+                whole.tcs_patches,
+                whole.tes_invocations,
+                whole.clipping_invocations
+            ],
+            "level {level}: the groups' TCS patches, TES invocations and triangles"
+        );
+    }
     assert_validation_clean(&ctx);
 }

@@ -284,7 +284,10 @@ mod tests {
         assert_eq!(decode_triangle_window(&words(8, 3, 6)).0, 8);
         assert_eq!(decode_triangles(&words(8, 3, 6)).unwrap().len(), 2);
         let e = decode_triangles(&words(8, 3, 3)).unwrap_err().to_string();
-        assert!(e.contains("8 triangles") && e.contains("from slot 3"), "{e}");
+        assert!(
+            e.contains("8 triangles") && e.contains("from slot 3"),
+            "{e}"
+        );
     }
 
     /// `packSnorm2x16(e)` of a point `e` of [-1, 1]^2.
