@@ -15,6 +15,7 @@ use tessera::patch::adaptive::PatchShape;
 use tessera::render::schemes::adaptive::derive::DerivedPoints;
 use tessera::render::schemes::adaptive::refine::GpuRefiner;
 use tessera::render::schemes::adaptive::{kind_name, AdaptiveTables};
+use tessera::render::static_draw::StaticDraw;
 use tessera::render::{
     surface_for_scheme_with, CameraSpec, CaptureRecord, ColorBy, OffscreenSession, PlanOptions,
     RenderDesc, Scheme, SchemeLimits, Spacing, SurfaceData, TessMode, TessSettings,
@@ -985,5 +986,57 @@ fn draw_groups_partition_the_frame() {
             "level {level}: the groups' TCS patches, TES invocations and triangles"
         );
     }
+    assert_validation_clean(&ctx);
+}
+
+/// End caps keep their own triangles when one draw of them would pass lavapipe's 2^16 domain
+/// points (`gpu::MAX_DOMAIN_POINTS_PER_DRAW`): the car at isolation 1, uniform level 16, has
+/// 1,248 end caps at level 8 (81 points each), which the index rule alone (1,024 one-index
+/// patches per draw) put in a draw of 82,944 points. lavapipe's TES points stay right there
+/// (the TES capture is on the surface), but its triangles past the budget join wrong vertices:
+/// stray triangles across the cockpit in `tessera render`, the longest edge of the frame's
+/// triangles 0.79 of the diagonal against 0.009 in chunks of 202 end caps. The triangles the
+/// frame drew (the triangle capture of `render::static_draw`) must
+/// have no edge longer than 0.1 of the diagonal. Without the adaptive pass's `per_draw` chunks
+/// it fails.
+#[test]
+fn end_caps_past_one_draw_s_domain_points_keep_their_triangles() {
+    let Some(ctx) = context() else { return };
+    let m = mesh("catmark_car");
+    let diag = m.bbox_diagonal();
+    let surface = adaptive_surface(&ctx, &m, 1, 16.0);
+    let render = RenderDesc {
+        tess: uniform(16.0),
+        ..RenderDesc::default()
+    };
+    let fixed = StaticDraw::capture(&ctx, &surface, &render, &offscreen(96, 96)).unwrap();
+    let mesh = fixed.mesh();
+    let longest = mesh
+        .indices
+        .chunks_exact(3)
+        .flat_map(|t| {
+            let p = |k: usize| mesh.positions[t[k] as usize];
+            [
+                p(0).distance(p(1)),
+                p(1).distance(p(2)),
+                p(2).distance(p(0)),
+            ]
+        })
+        .fold(0.0f64, f64::max);
+    eprintln!(
+        "car iso 1 tess 16: {} triangles, longest edge {:.3} of the diagonal",
+        fixed.captured(),
+        longest / diag
+    );
+    assert!(
+        fixed.captured() > 1_000_000,
+        "{} triangles",
+        fixed.captured()
+    );
+    assert!(
+        longest <= 0.1 * diag,
+        "an edge of {:.3} of the diagonal",
+        longest / diag
+    );
     assert_validation_clean(&ctx);
 }
