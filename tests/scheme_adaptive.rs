@@ -15,9 +15,10 @@ use tessera::patch::adaptive::PatchShape;
 use tessera::render::schemes::adaptive::derive::DerivedPoints;
 use tessera::render::schemes::adaptive::refine::GpuRefiner;
 use tessera::render::schemes::adaptive::{kind_name, AdaptiveTables};
+use tessera::render::static_draw::StaticDraw;
 use tessera::render::{
-    surface_for_scheme_with, CameraSpec, CaptureRecord, ColorBy, PlanOptions, RenderDesc, Scheme,
-    SchemeLimits, Spacing, SurfaceData, TessMode, TessSettings,
+    surface_for_scheme_with, CameraSpec, CaptureRecord, ColorBy, OffscreenSession, PlanOptions,
+    RenderDesc, Scheme, SchemeLimits, Spacing, SurfaceData, TessMode, TessSettings,
 };
 use tessera::subdiv::eval::LimitEvaluator;
 
@@ -923,5 +924,119 @@ fn golden_single_crease_patch_type() {
     };
     let img = common::capture::image(&ctx, &surface, &render, &offscreen(256, 192));
     common::golden::check_golden("adaptive_single_crease_patch_type", &img);
+    assert_validation_clean(&ctx);
+}
+
+/// The adaptive pass's draw groups (`PatchPass::draw_groups`, `OffscreenSession::group_frame`,
+/// what `tessera bench --per-draw` times): on the car at isolation 2, uniform levels 4 and 24
+/// (level-0 patches split 2 x 2), every group draws something and the groups' frames together
+/// have the whole frame's TCS patches, TES invocations and clipping-stage triangles. A group
+/// frame that records the whole pass (the trait's default `record_group` kept) or every pass
+/// fails the sums.
+#[test]
+fn draw_groups_partition_the_frame() {
+    let Some(ctx) = context() else { return };
+    let m = mesh("catmark_car");
+    for level in [4.0f32, 24.0] {
+        let surface = adaptive_surface(&ctx, &m, 2, level);
+        let render = RenderDesc {
+            tess: uniform(level),
+            ..RenderDesc::default()
+        };
+        let mut session =
+            OffscreenSession::new(&ctx, &surface, &render, &offscreen(96, 96), true).unwrap();
+        let whole = session.frame().unwrap().expect("timings").patch_stats;
+        let groups = session.draw_groups();
+        let labels: Vec<&str> = groups.iter().map(|(_, _, l)| l.as_str()).collect();
+        for want in [
+            "adaptive b-spline",
+            "adaptive transition",
+            "adaptive single-crease",
+            "adaptive end caps",
+        ] {
+            assert!(
+                labels.contains(&want),
+                "level {level}: {labels:?} lacks {want}"
+            );
+        }
+        let mut sum = [0u64; 3];
+        for (pass, group, label) in &groups {
+            let s = session
+                .group_frame(*pass, *group)
+                .unwrap()
+                .expect("timings")
+                .patch_stats;
+            let counts = [s.tcs_patches, s.tes_invocations, s.clipping_invocations];
+            eprintln!("level {level} {label}: {counts:?}");
+            assert!(
+                counts.iter().all(|&c| c > 0),
+                "level {level} {label}: {counts:?}"
+            );
+            for (t, c) in sum.iter_mut().zip(counts) {
+                *t += c;
+            }
+        }
+        assert_eq!(
+            sum,
+            [
+                whole.tcs_patches,
+                whole.tes_invocations,
+                whole.clipping_invocations
+            ],
+            "level {level}: the groups' TCS patches, TES invocations and triangles"
+        );
+    }
+    assert_validation_clean(&ctx);
+}
+
+/// End caps keep their own triangles when one draw of them would pass lavapipe's 2^16 domain
+/// points (`gpu::MAX_DOMAIN_POINTS_PER_DRAW`): the car at isolation 1, uniform level 16, has
+/// 1,248 end caps at level 8 (81 points each), which the index rule alone (1,024 one-index
+/// patches per draw) put in a draw of 82,944 points. lavapipe's TES points stay right there
+/// (the TES capture is on the surface), but its triangles past the budget join wrong vertices:
+/// stray triangles across the cockpit in `tessera render`, the longest edge of the frame's
+/// triangles 0.79 of the diagonal against 0.009 in chunks of 202 end caps. The triangles the
+/// frame drew (the triangle capture of `render::static_draw`) must
+/// have no edge longer than 0.1 of the diagonal. Without the adaptive pass's `per_draw` chunks
+/// it fails.
+#[test]
+fn end_caps_past_one_draw_s_domain_points_keep_their_triangles() {
+    let Some(ctx) = context() else { return };
+    let m = mesh("catmark_car");
+    let diag = m.bbox_diagonal();
+    let surface = adaptive_surface(&ctx, &m, 1, 16.0);
+    let render = RenderDesc {
+        tess: uniform(16.0),
+        ..RenderDesc::default()
+    };
+    let fixed = StaticDraw::capture(&ctx, &surface, &render, &offscreen(96, 96)).unwrap();
+    let mesh = fixed.mesh();
+    let longest = mesh
+        .indices
+        .chunks_exact(3)
+        .flat_map(|t| {
+            let p = |k: usize| mesh.positions[t[k] as usize];
+            [
+                p(0).distance(p(1)),
+                p(1).distance(p(2)),
+                p(2).distance(p(0)),
+            ]
+        })
+        .fold(0.0f64, f64::max);
+    eprintln!(
+        "car iso 1 tess 16: {} triangles, longest edge {:.3} of the diagonal",
+        fixed.captured(),
+        longest / diag
+    );
+    assert!(
+        fixed.captured() > 1_000_000,
+        "{} triangles",
+        fixed.captured()
+    );
+    assert!(
+        longest <= 0.1 * diag,
+        "an edge of {:.3} of the diagonal",
+        longest / diag
+    );
     assert_validation_clean(&ctx);
 }

@@ -105,3 +105,66 @@ fn static_draw_is_the_frame_s_triangles() {
     }
     assert_validation_clean(&ctx);
 }
+
+/// A frame captured in chunks (`StaticDraw::capture_in_chunks`; `tessera bench --static` takes
+/// chunks of one storage-buffer binding, 2,581,109 triangles on lavapipe) is the frame captured
+/// whole: car adaptive isolation 2 at uniform level 3 (85,218 triangles) in chunks of 25,000 (four
+/// frames, the last storing 10,218) gives the clipping-stage primitive count, bitwise the same
+/// static mesh (vertices and indices in the same order) and the same image. Off-by-one windows
+/// (`k chunk ± 1`), dropping the last partial chunk (`chunks = drawn / chunk`) or a geometry
+/// stage that stores slot `first + capacity` or skips slot `first` fail it.
+#[test]
+fn static_draw_in_chunks_is_the_whole_capture() {
+    let Some(ctx) = context() else { return };
+    let m = mesh("catmark_car");
+    let opts = PlanOptions::new(SchemeLimits::from_context(&ctx)).with_isolation(2);
+    let surface: SurfaceData = surface_for_scheme_with(&m, 3, Scheme::Adaptive, &opts).unwrap();
+    let render = RenderDesc {
+        tess: uniform(3.0),
+        ..RenderDesc::default()
+    };
+    let off = OffscreenDesc {
+        camera: CameraSpec::Orbit {
+            azimuth_deg: 30.0,
+            elevation_deg: 40.0,
+            distance: 1.6 * m.bbox_diagonal(),
+        },
+        clear: [0.0, 0.0, 0.0, 1.0],
+        ..offscreen(240, 240)
+    };
+    let mut session = OffscreenSession::new(&ctx, &surface, &render, &off, true).unwrap();
+    let clipped = session
+        .frame()
+        .unwrap()
+        .expect("timings")
+        .patch_stats
+        .clipping_invocations as usize;
+    drop(session);
+    let chunk = 25_000u32;
+    assert!(
+        clipped > 3 * chunk as usize && clipped % chunk as usize != 0,
+        "{clipped} triangles: at least four chunks, the last partial"
+    );
+    let whole = StaticDraw::capture(&ctx, &surface, &render, &off).unwrap();
+    let chunked = StaticDraw::capture_in_chunks(&ctx, &surface, &render, &off, chunk).unwrap();
+    assert_eq!(whole.captured(), clipped, "one chunk");
+    assert_eq!(chunked.captured(), clipped, "chunks of {chunk}");
+    let (a, b) = (whole.mesh(), chunked.mesh());
+    assert_eq!(a.indices, b.indices, "static indices");
+    assert_eq!(a.positions, b.positions, "static positions");
+    assert_eq!(a.normals, b.normals, "static normals");
+    let image = |s: &StaticDraw| {
+        let mut session = s.session(&ctx, &off).unwrap();
+        session.frame().unwrap();
+        session.image().unwrap()
+    };
+    let (differ, covered) = differing(&image(&whole), &image(&chunked));
+    assert!(covered > 4000, "the mesh must fill the frame");
+    assert_eq!(differ, 0, "{differ} of {covered} pixels differ");
+    let e = StaticDraw::capture_in_chunks(&ctx, &surface, &render, &off, 0)
+        .err()
+        .expect("an empty chunk is an error")
+        .to_string();
+    assert!(e.contains("at least one triangle"), "{e}");
+    assert_validation_clean(&ctx);
+}

@@ -3,7 +3,9 @@
 // stage emits passes through unchanged and is appended to the capture buffer (set 0 binding 3)
 // at a slot from its atomic counter: per vertex the world position (3 words) and the unit normal
 // octahedrally encoded (packSnorm2x16, 1 word), then the first vertex's colour class; 13 words.
-// Slots past `capacity` are counted but not written, so the host sees how many were needed.
+// Only the window of slots [first, first + capacity) is stored (slot first at record 0); every
+// slot is counted, so the host sees how many triangles the frame drew and captures a frame larger
+// than one binding in chunks, one frame per window (render::static_draw).
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 3) out;
 
@@ -19,8 +21,8 @@ layout(location = 2) flat out uint t_class;
 layout(std430, set = 0, binding = 3) buffer TriangleCapture {
     uint triangle_count;
     uint triangle_capacity;
-    uint triangle_pad0;
-    uint triangle_pad1;
+    uint triangle_first;
+    uint triangle_pad;
     uint triangle_words[];
 };
 
@@ -38,8 +40,8 @@ vec2 octahedral(vec3 n) {
 
 void main() {
     uint slot = atomicAdd(triangle_count, 1u);
-    if (slot < triangle_capacity) {
-        uint base = slot * TRIANGLE_WORDS;
+    if (slot >= triangle_first && slot - triangle_first < triangle_capacity) {
+        uint base = (slot - triangle_first) * TRIANGLE_WORDS;
         for (int i = 0; i < 3; ++i) {
             uint w = base + 4u * uint(i);
             triangle_words[w] = floatBitsToUint(g_world[i].x);

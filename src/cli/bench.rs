@@ -64,6 +64,12 @@ pub struct BenchArgs {
     /// and the ratio frame / static. Needs `geometryShader`.
     #[arg(long = "static")]
     pub static_draw: bool,
+    /// Also time each draw group of the patch passes alone at each level (a frame of its own
+    /// per group, `OffscreenSession::group_frame`; e.g. the adaptive scheme's B-spline,
+    /// transition, single-crease and end-cap draws): one line per group with its median GPU ms
+    /// (with the frame's compute pre-pass), patches, TES invocations and triangles.
+    #[arg(long)]
+    pub per_draw: bool,
     /// Image size WxH.
     #[arg(long, default_value = "800x600")]
     pub size: String,
@@ -232,6 +238,11 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 r.patch_stats.clipping_invocations as usize + surface.fallback.indices.len() / 3;
         }
         let frame_ms = median(&mut total);
+        let groups = if args.per_draw {
+            draw_group_lines(&mut session, args.frames)?
+        } else {
+            Vec::new()
+        };
         let static_columns = if args.static_draw {
             drop(session);
             let fixed = StaticDraw::capture(&ctx, &surface, &render, &desc)?;
@@ -262,8 +273,37 @@ pub fn run(args: BenchArgs) -> Result<()> {
             },
             static_columns
         );
+        for line in groups {
+            println!("{line}");
+        }
     }
     check_validation(&ctx)
+}
+
+/// One line per draw group of `session`'s patch passes: median GPU ms of `frames` frames of
+/// the group alone (after a warm-up frame), its patches, TES invocations and triangles.
+fn draw_group_lines(session: &mut OffscreenSession, frames: u32) -> Result<Vec<String>> {
+    let mut lines = Vec::new();
+    for (pass, group, label) in session.draw_groups() {
+        session.group_frame(pass, group)?;
+        let mut ms = Vec::new();
+        let mut stats = tessera::gpu::PipelineStats::default();
+        for _ in 0..frames {
+            let r = session
+                .group_frame(pass, group)?
+                .ok_or_else(|| Error::Invalid("bench: no timings returned".into()))?;
+            ms.push(r.compute_ms() + r.patch_ms());
+            stats = r.patch_stats;
+        }
+        lines.push(format!(
+            "  draw {label}: {:.3} ms (med), {} TCS patches, {} TES invocations, {} triangles",
+            median(&mut ms),
+            stats.tcs_patches,
+            stats.tes_invocations,
+            stats.clipping_invocations
+        ));
+    }
+    Ok(lines)
 }
 
 /// Prints the GPU buffer memory of a renderer, one line.

@@ -202,6 +202,35 @@ impl OffscreenSession {
 
     /// Renders one frame and waits for it. Returns timings when the session has queries.
     pub fn frame(&mut self) -> Result<Option<FrameReport>> {
+        self.frame_of(None)
+    }
+
+    /// Every patch pass's draw groups
+    /// ([`crate::render::schemes::PatchPass::draw_groups`]): `(pass, group, label)`.
+    pub fn draw_groups(&self) -> Vec<(usize, usize, String)> {
+        self.renderer
+            .passes()
+            .iter()
+            .enumerate()
+            .flat_map(|(p, pass)| {
+                pass.draw_groups()
+                    .into_iter()
+                    .enumerate()
+                    .map(move |(g, label)| (p, g, label))
+            })
+            .collect()
+    }
+
+    /// A frame of one draw group alone (every pass's compute pre-pass, then only group `group`
+    /// of patch pass `pass`, no CPU-path triangles), timed and counted as that pass: lavapipe's
+    /// timestamps do not attribute work to draws within one render pass, a frame of its own
+    /// does. Returns timings when the session has queries.
+    pub fn group_frame(&mut self, pass: usize, group: usize) -> Result<Option<FrameReport>> {
+        self.frame_of(Some((pass, group)))
+    }
+
+    /// A frame of everything, or with `only = Some((pass, group))` of that draw group alone.
+    fn frame_of(&mut self, only: Option<(usize, usize)>) -> Result<Option<FrameReport>> {
         let r = *self.renderer.desc();
         let uniforms = FrameUniforms {
             view_proj: self.camera.view_proj(),
@@ -240,6 +269,9 @@ impl OffscreenSession {
             }
             target.begin(dev, cmd, clear);
             for (k, pass) in renderer.passes().iter().enumerate() {
+                if only.is_some_and(|(p, _)| p != k) {
+                    continue;
+                }
                 let slot = match queries.as_mut() {
                     Some(q) => {
                         let i = q.timer.begin(cmd, pass.label())?;
@@ -248,7 +280,10 @@ impl OffscreenSession {
                     }
                     None => None,
                 };
-                pass.record(cmd, frame_slot);
+                match only {
+                    Some((_, group)) => pass.record_group(cmd, frame_slot, group),
+                    None => pass.record(cmd, frame_slot),
+                }
                 if let (Some(q), Some(i)) = (queries.as_mut(), slot) {
                     q.stats[k].end(cmd);
                     q.timer.end(cmd, i)?;
@@ -258,7 +293,9 @@ impl OffscreenSession {
                 Some(q) => Some(q.timer.begin(cmd, CPU_PATH_LABEL)?),
                 None => None,
             };
-            renderer.record_fallback(cmd);
+            if only.is_none() {
+                renderer.record_fallback(cmd);
+            }
             if let (Some(q), Some(i)) = (queries.as_mut(), slot) {
                 q.timer.end(cmd, i)?;
             }
@@ -275,11 +312,14 @@ impl OffscreenSession {
         });
         let report = match &queries {
             Some(q) if result.is_ok() => {
+                // A group frame began only its own pass's statistics query.
                 let pass_stats = renderer
                     .passes()
                     .iter()
                     .zip(&q.stats)
-                    .map(|(p, s)| Ok((p.label().to_string(), s.results()?)))
+                    .enumerate()
+                    .filter(|(k, _)| only.is_none_or(|(p, _)| p == *k))
+                    .map(|(_, (p, s))| Ok((p.label().to_string(), s.results()?)))
                     .collect::<Result<Vec<_>>>()?;
                 Some(FrameReport {
                     passes: q.timer.results()?,
@@ -316,6 +356,17 @@ impl OffscreenSession {
     /// past the capacity too).
     pub fn triangles_drawn(&self) -> Result<u32> {
         self.renderer.triangles_drawn()
+    }
+
+    /// Triangles the last frame drew and those of its capture window
+    /// ([`SurfaceRenderer::read_triangle_window`]).
+    pub fn triangle_window(&self) -> Result<(u32, Vec<CapturedTriangle>)> {
+        self.renderer.read_triangle_window()
+    }
+
+    /// The first triangle slot the next frames capture ([`SurfaceRenderer::set_triangle_window`]).
+    pub fn set_triangle_window(&mut self, first: u32) -> Result<()> {
+        self.renderer.set_triangle_window(first)
     }
 }
 

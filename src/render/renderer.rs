@@ -468,6 +468,20 @@ impl SurfaceRenderer {
     pub fn triangles_drawn(&self) -> Result<u32> {
         self.shared.triangles_drawn(self.slot)
     }
+
+    /// The triangles the frame of the current slot drew and those its capture window stored
+    /// (slots from [`Self::set_triangle_window`] on, at most the capacity), once it has finished.
+    pub fn read_triangle_window(&self) -> Result<(u32, Vec<CapturedTriangle>)> {
+        self.shared.read_triangle_window(self.slot)
+    }
+
+    /// Stores the triangles of slots `first..first + capacity` of the next frames (0 at
+    /// creation): a frame larger than one capture buffer is read in chunks, one frame each, as
+    /// long as the frames draw the same triangles in the same slot order. Host write: no frame
+    /// may be in flight.
+    pub fn set_triangle_window(&mut self, first: u32) -> Result<()> {
+        self.shared.set_triangle_window(first)
+    }
 }
 
 impl Drop for SurfaceRenderer {

@@ -9,9 +9,15 @@
 //!
 //! The triangles are the frame's own for every scheme (transition fans, clamped levels,
 //! culled patches included), unlike a CPU tessellation at the uniform level, which matches only
-//! frames of whole patches. The capture buffer is bounded by one storage-buffer binding
-//! (`maxStorageBufferRange` / 52 bytes per triangle); a frame that draws more is an error naming
-//! that limit.
+//! frames of whole patches. One capture buffer is bounded by one storage-buffer binding
+//! (`maxStorageBufferRange` / 52 bytes per triangle): a larger frame is captured in chunks, the
+//! same frame drawn once per chunk, each storing the triangles whose atomic slot falls in
+//! `[k C, (k + 1) C)` (`capture_triangles.geom`'s window). The chunks rely on every frame
+//! drawing its triangles in the same slot order (true of lavapipe, whose geometry stage runs
+//! on one thread in draw order; Vulkan does not promise it): the count of every chunk frame is
+//! checked, and `tests/static_draw.rs` checks the chunked triangles against one chunk. The total
+//! is bounded by the device's largest memory heap ([`STATIC_BYTES_PER_TRIANGLE`] per
+//! triangle); a frame that draws more is an error naming that heap.
 
 use std::collections::HashMap;
 
@@ -28,6 +34,11 @@ use super::surface::SurfaceData;
 use crate::gpu::Context;
 use crate::{Error, Result};
 
+/// Bytes the static draw of one triangle may need at most: three unshared vertices of the CPU
+/// path (68 bytes each) and three 32-bit indices. The frame's triangles times this must fit the
+/// device's largest memory heap.
+pub const STATIC_BYTES_PER_TRIANGLE: u64 = 3 * 68 + 12;
+
 /// The triangles of one tessellated frame, as a static mesh.
 pub struct StaticDraw {
     surface: SurfaceData,
@@ -39,13 +50,29 @@ pub struct StaticDraw {
 impl StaticDraw {
     /// Captures the triangles one frame of `surface` draws with `render` into a target of
     /// `desc` (its camera, culling and tessellation settings) plus the surface's CPU-path
-    /// triangles. Two capture frames: one counts the triangles, one stores them in a buffer of
-    /// exactly that size.
+    /// triangles, in chunks of as many triangles as one storage-buffer binding holds
+    /// ([`Self::capture_in_chunks`]).
     pub fn capture(
         ctx: &Context,
         surface: &SurfaceData,
         render: &RenderDesc,
         desc: &OffscreenDesc,
+    ) -> Result<StaticDraw> {
+        let chunk = Capture::Triangles(0).max_records(ctx);
+        StaticDraw::capture_in_chunks(ctx, surface, render, desc, chunk)
+    }
+
+    /// [`Self::capture`] with at most `chunk` triangles per capture buffer (lowered to what one
+    /// storage-buffer binding holds): the first frame stores slots `[0, chunk)` and counts the
+    /// frame's N triangles; frame k of the `ceil(N / chunk)` stores `[k chunk, (k + 1) chunk)`.
+    /// Errors when a chunk frame draws another count, and when N triangles of the static draw
+    /// ([`STATIC_BYTES_PER_TRIANGLE`] each) exceed the device's largest memory heap.
+    pub fn capture_in_chunks(
+        ctx: &Context,
+        surface: &SurfaceData,
+        render: &RenderDesc,
+        desc: &OffscreenDesc,
+        chunk: u32,
     ) -> Result<StaticDraw> {
         if render.displacement != Displacement::None {
             return Err(Error::Invalid(
@@ -54,39 +81,57 @@ impl StaticDraw {
                     .into(),
             ));
         }
-        let counting = RenderDesc {
+        let chunk = chunk.min(Capture::Triangles(0).max_records(ctx));
+        if chunk == 0 {
+            return Err(Error::Invalid(
+                "static draw: a capture chunk holds at least one triangle".into(),
+            ));
+        }
+        let capturing = RenderDesc {
             capture_capacity: None,
-            capture_triangles: Some(0),
+            capture_triangles: Some(chunk),
             ..*render
         };
-        let mut session = OffscreenSession::new(ctx, surface, &counting, desc, false)?;
+        let mut session = OffscreenSession::new(ctx, surface, &capturing, desc, false)?;
         session.frame()?;
-        let drawn = session.triangles_drawn()?;
-        let camera = *session.camera();
-        drop(session);
-        let limit = Capture::Triangles(0).max_records(ctx);
-        if drawn > limit {
+        let (drawn, mut triangles) = session.triangle_window()?;
+        let cpu = surface.fallback.indices.len() / 3;
+        let heap = ctx.largest_heap_bytes();
+        let need = (u64::from(drawn) + cpu as u64) * STATIC_BYTES_PER_TRIANGLE;
+        if need > heap {
             return Err(Error::Invalid(format!(
-                "static draw: the frame drew {drawn} triangles; one triangle capture holds at \
-                 most {limit} (maxStorageBufferRange {} bytes, 52 bytes per triangle): lower \
-                 --tess",
-                ctx.info().limits.max_storage_buffer_range
+                "static draw: the frame drew {drawn} triangles (+ {cpu} CPU-path); their static \
+                 draw may need {need} bytes ({STATIC_BYTES_PER_TRIANGLE} per triangle), more than \
+                 the device's largest memory heap ({heap} bytes): lower --tess"
             )));
         }
-        let storing = RenderDesc {
-            capture_triangles: Some(drawn),
-            ..counting
-        };
-        let mut session = OffscreenSession::new(ctx, surface, &storing, desc, false)?;
-        session.set_camera(camera);
-        session.frame()?;
-        let triangles = session.triangles()?;
+        let chunks = drawn.div_ceil(chunk);
+        triangles.reserve(drawn as usize - triangles.len());
+        for k in 1..chunks {
+            session.set_triangle_window(k * chunk)?;
+            session.frame()?;
+            let (again, part) = session.triangle_window()?;
+            if again != drawn {
+                return Err(Error::Invalid(format!(
+                    "static draw: chunk {k} of {chunks}: the frame drew {again} triangles, the \
+                     first {drawn} (the chunks need the same frame each time)"
+                )));
+            }
+            triangles.extend(part);
+        }
+        let camera = *session.camera();
         drop(session);
         let captured = triangles.len();
+        if captured != drawn as usize {
+            return Err(Error::Invalid(format!(
+                "static draw: {captured} of the frame's {drawn} triangles captured in {chunks} \
+                 chunks of {chunk}"
+            )));
+        }
         let fallback = static_mesh(&surface.fallback, &triangles);
         log::debug!(
-            "static draw: {captured} tessellated + {} CPU-path triangles, {} vertices",
-            surface.fallback.indices.len() / 3,
+            "static draw: {captured} tessellated triangles in {chunks} chunk(s) of at most \
+             {chunk} + {cpu} CPU-path triangles, {} vertices",
             fallback.positions.len()
         );
         Ok(StaticDraw {

@@ -16,7 +16,8 @@ pub const CAPTURE_RECORD_BYTES: usize = 52;
 const NO_SUB_FACE: u32 = u32::MAX;
 /// Tag bit: the record carries a patch kind and level (`CAPTURE_TAGGED`).
 const CAPTURE_TAGGED: u32 = 0x8000_0000;
-/// Bytes before the first capture record (count, capacity, two pad words).
+/// Bytes before the first capture record (count, capacity, then for triangle capture the first
+/// slot stored, one pad word).
 pub const CAPTURE_HEADER_BYTES: usize = 16;
 
 /// Bytes of one captured triangle (`capture_triangles.geom`): per vertex the position (3 f32)
@@ -149,6 +150,12 @@ pub fn reset_capture(buffer: &mut Buffer) -> Result<()> {
     buffer.write(0, &[0u32])
 }
 
+/// Sets the first slot a triangle capture stores (header word 2, host write between frames):
+/// the frame's triangles `[first, first + capacity)` land in the buffer.
+pub fn set_triangle_window(buffer: &mut Buffer, first: u32) -> Result<()> {
+    buffer.write(8, &[first])
+}
+
 /// The records (`record_bytes` each) of a capture buffer's words; errors when the count exceeds
 /// `capacity`, naming `what` the records are.
 fn records<'a>(
@@ -190,25 +197,42 @@ pub fn decode_capture(words: &[u32], capacity: u32) -> Result<Vec<CaptureRecord>
     )
 }
 
-/// Decodes the triangles of a triangle-capture buffer's words; errors on overflow, naming the
-/// triangles the frame drew and the capacity.
+/// Decodes the triangles of a triangle-capture buffer's words; errors on overflow (the frame
+/// drew past the window), naming the triangles the frame drew and the capacity.
 pub fn decode_triangles(words: &[u32]) -> Result<Vec<CapturedTriangle>> {
+    let (count, first, capacity) = (words[0], words[2], words[1]);
+    if u64::from(count) > u64::from(first) + u64::from(capacity) {
+        return Err(Error::Invalid(format!(
+            "capture overflow: the frame emitted {count} triangles, capacity {capacity} \
+             (from slot {first})"
+        )));
+    }
+    Ok(decode_triangle_window(words).1)
+}
+
+/// The triangles a triangle-capture buffer's window stored (slots `[first, first + capacity)`
+/// of the frame's, header words 2 and 1; fewer when the frame drew fewer), with the number of
+/// triangles the frame drew (header word 0, counted past the window too).
+pub fn decode_triangle_window(words: &[u32]) -> (u32, Vec<CapturedTriangle>) {
+    let (count, capacity, first) = (words[0], words[1], words[2]);
+    let stored = count.saturating_sub(first).min(capacity) as usize;
     let f = f32::from_bits;
-    Ok(
-        records(words, words[1], TRIANGLE_RECORD_BYTES, "triangles")?
-            .map(|r| {
-                let vertex = |i: usize| &r[4 * i..4 * i + 4];
-                CapturedTriangle {
-                    positions: [0, 1, 2].map(|i| {
-                        let v = vertex(i);
-                        [f(v[0]), f(v[1]), f(v[2])]
-                    }),
-                    normals: [0, 1, 2].map(|i| octahedral_normal(vertex(i)[3])),
-                    class: r[12],
-                }
-            })
-            .collect(),
-    )
+    let triangles = words[CAPTURE_HEADER_BYTES / 4..]
+        .chunks_exact(TRIANGLE_RECORD_BYTES / 4)
+        .take(stored)
+        .map(|r| {
+            let vertex = |i: usize| &r[4 * i..4 * i + 4];
+            CapturedTriangle {
+                positions: [0, 1, 2].map(|i| {
+                    let v = vertex(i);
+                    [f(v[0]), f(v[1]), f(v[2])]
+                }),
+                normals: [0, 1, 2].map(|i| octahedral_normal(vertex(i)[3])),
+                class: r[12],
+            }
+        })
+        .collect();
+    (count, triangles)
 }
 
 /// Capture capacity (records) sufficient for `tess` (uniform) over `patches` patches: per
@@ -224,7 +248,10 @@ pub fn capture_capacity_for(patches: usize, tess: &TessSettings) -> u32 {
 
 #[cfg(test)]
 mod tests {
-    use super::{decode_triangles, octahedral_normal, CAPTURE_HEADER_BYTES, TRIANGLE_RECORD_BYTES};
+    use super::{
+        decode_triangle_window, decode_triangles, octahedral_normal, CAPTURE_HEADER_BYTES,
+        TRIANGLE_RECORD_BYTES,
+    };
 
     /// A frame that drew more triangles than the buffer holds is an error naming both counts;
     /// within the capacity every record decodes.
@@ -239,6 +266,28 @@ mod tests {
         let e = decode_triangles(&words(5, 3)).unwrap_err().to_string();
         assert!(e.contains("5 triangles") && e.contains("capacity 3"), "{e}");
         assert_eq!(decode_triangles(&words(3, 3)).unwrap().len(), 3);
+    }
+
+    /// A window `[first, first + capacity)` holds the frame's slots from `first`: a full middle
+    /// chunk, the partial last one, none past the count; overflow is judged past the window.
+    #[test]
+    fn triangle_window_holds_the_slots_from_first() {
+        let words = |count: u32, capacity: u32, first: u32| {
+            let mut w = vec![0u32; (CAPTURE_HEADER_BYTES + 3 * TRIANGLE_RECORD_BYTES) / 4];
+            w[..3].copy_from_slice(&[count, capacity, first]);
+            w
+        };
+        let stored = |count, first| decode_triangle_window(&words(count, 3, first)).1.len();
+        assert_eq!(stored(8, 3), 3);
+        assert_eq!(stored(8, 6), 2);
+        assert_eq!(stored(8, 9), 0);
+        assert_eq!(decode_triangle_window(&words(8, 3, 6)).0, 8);
+        assert_eq!(decode_triangles(&words(8, 3, 6)).unwrap().len(), 2);
+        let e = decode_triangles(&words(8, 3, 3)).unwrap_err().to_string();
+        assert!(
+            e.contains("8 triangles") && e.contains("from slot 3"),
+            "{e}"
+        );
     }
 
     /// `packSnorm2x16(e)` of a point `e` of [-1, 1]^2.

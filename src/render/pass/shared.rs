@@ -12,8 +12,8 @@ use ash::vk;
 use glam::DVec3;
 
 use super::capture::{
-    capture_buffer, decode_capture, decode_triangles, reset_capture, Capture, CaptureRecord,
-    CapturedTriangle,
+    capture_buffer, decode_capture, decode_triangle_window, decode_triangles, reset_capture,
+    set_triangle_window, Capture, CaptureRecord, CapturedTriangle,
 };
 use super::frames::VertexFrames;
 use super::upload::{host_buffer, vec3_bytes, vec4_bytes};
@@ -387,22 +387,39 @@ impl SharedResources {
     /// The triangles captured by the frame that last used slot `slot` (it must have finished),
     /// in no particular order.
     pub fn read_triangles(&self, slot: usize) -> Result<Vec<CapturedTriangle>> {
-        let Some(Capture::Triangles(_)) = self.capture else {
-            return Err(Error::Invalid(
-                "triangle capture is not enabled in RenderDesc (capture_triangles)".into(),
-            ));
-        };
+        self.triangle_capture()?;
         decode_triangles(&self.captured_words(slot)?)
     }
 
     /// Triangles the frame that last used slot `slot` drew (counted past the capacity too).
     pub fn triangles_drawn(&self, slot: usize) -> Result<u32> {
-        let Some(Capture::Triangles(_)) = self.capture else {
-            return Err(Error::Invalid(
-                "triangle capture is not enabled in RenderDesc (capture_triangles)".into(),
-            ));
-        };
+        self.triangle_capture()?;
         Ok(self.captured_words(slot)?[0])
+    }
+
+    /// Of the frame that last used slot `slot` (it must have finished): the triangles it drew
+    /// and those of the capture window ([`Self::set_triangle_window`]), in slot order.
+    pub fn read_triangle_window(&self, slot: usize) -> Result<(u32, Vec<CapturedTriangle>)> {
+        self.triangle_capture()?;
+        Ok(decode_triangle_window(&self.captured_words(slot)?))
+    }
+
+    /// The first triangle slot every frame slot's capture stores from (host write; the GPU must
+    /// be done with every slot).
+    pub fn set_triangle_window(&mut self, first: u32) -> Result<()> {
+        self.triangle_capture()?;
+        self.captures
+            .iter_mut()
+            .try_for_each(|b| set_triangle_window(b, first))
+    }
+
+    fn triangle_capture(&self) -> Result<()> {
+        match self.capture {
+            Some(Capture::Triangles(_)) => Ok(()),
+            _ => Err(Error::Invalid(
+                "triangle capture is not enabled in RenderDesc (capture_triangles)".into(),
+            )),
+        }
     }
 
     /// The words of frame slot `slot`'s capture buffer.

@@ -352,6 +352,19 @@ pub trait PatchPass {
     /// Records the draws of frame slot `slot` inside the caller's render pass.
     fn record(&self, cmd: vk::CommandBuffer, slot: usize);
 
+    /// Labels of the draw groups [`Self::record`] records one after another (each with a
+    /// pipeline of its own), for per-draw measurements
+    /// ([`crate::render::OffscreenSession::group_frame`]). Default: one, the whole pass.
+    fn draw_groups(&self) -> Vec<String> {
+        vec![self.label().to_string()]
+    }
+
+    /// Records only draw group `group` of [`Self::draw_groups`] of frame slot `slot`. Default:
+    /// the whole pass.
+    fn record_group(&self, cmd: vk::CommandBuffer, slot: usize, _group: usize) {
+        self.record(cmd, slot);
+    }
+
     /// Bytes of GPU buffer memory the pass holds of its own (tables, indices, computed points;
     /// not the renderer's shared buffers). Default: 0.
     fn memory_bytes(&self) -> u64 {

@@ -13,7 +13,10 @@ use glam::DVec3;
 
 use super::derive::DerivedPoints;
 use super::refine::GpuRefiner;
-use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool, Pipeline};
+use crate::gpu::{
+    patches_per_draw_at_level, Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool,
+    Pipeline,
+};
 use crate::patch::adaptive::records::{BSplineDraw, TransitionTriangle};
 use crate::patch::adaptive::AdaptiveDrawTables;
 use crate::render::pass::pipeline::{patch_pipeline, PatchShaders};
@@ -22,6 +25,7 @@ use crate::render::pass::shared::{
 };
 use crate::render::pass::upload::device_buffer;
 use crate::render::pass::{bind_draw_state, record_patch_draws, PatchDraws, VertexFrames};
+use crate::render::schemes::records::largest_level;
 use crate::render::schemes::traits::PassContext;
 use crate::render::schemes::{PassTables, PatchPass};
 use crate::subdiv::tables::{KernelRange, RefinementTables};
@@ -36,6 +40,8 @@ const OWN_BINDINGS: [u32; 8] = [1, 6, 7, 10, 11, 12, 4, 13];
 /// One pipeline's patches: index buffer (control points or one dummy index per patch) and
 /// the runs it is drawn in.
 struct DrawGroup {
+    /// What it draws (its pipeline's label).
+    label: String,
     pipeline: Pipeline,
     /// Which of [`index_bytes`] it draws.
     table: usize,
@@ -168,6 +174,12 @@ pub struct AdaptivePass {
     tables_of: TablesOf,
     /// The level-0 patches' split the draws were recorded for (`TessSettings::split`).
     split: u32,
+    /// Most (sub-)patches one draw holds ([`patches_per_draw_at_level`] of the largest level a
+    /// patch gets): past `MAX_DOMAIN_POINTS_PER_DRAW` domain points in one draw lavapipe's
+    /// triangles join wrong vertices. Binds the end caps (one index per patch, so 1,024 per
+    /// draw by the index rule alone: the car's 1,248 end caps at level 8 made 82,944 points in
+    /// one draw).
+    per_draw: u32,
 }
 
 /// The kernels' and draw tables inside tables of this scheme (`super::AdaptiveTables`, whose
@@ -187,6 +199,31 @@ struct TableLayout {
     rows: [usize; 4],
     /// The fan groups' draw runs.
     fan_runs: [Vec<Run>; 2],
+}
+
+impl TableLayout {
+    /// The layout of draw tables `d` with `refined_points` refined points, the kernels' table
+    /// words and dispatch ranges `refinement`, the byte tables built from them ([`record_bytes`],
+    /// [`index_bytes`], `DerivedPoints::row_bytes` lengths) and the fan orders `fans`.
+    fn new(
+        d: &AdaptiveDrawTables,
+        refined_points: u32,
+        refinement: (usize, &[[KernelRange; 3]]),
+        records: &[Vec<u8>; 7],
+        indices: &[Vec<u8>; 5],
+        rows: [usize; 4],
+        fans: &FanOrders,
+    ) -> TableLayout {
+        TableLayout {
+            patches: d.primitive_count(),
+            refined_points,
+            refinement: (refinement.0, refinement.1.to_vec()),
+            records: records.each_ref().map(Vec::len),
+            indices: indices.each_ref().map(Vec::len),
+            rows,
+            fan_runs: fans.each_ref().map(|(_, runs)| runs.clone()),
+        }
+    }
 }
 
 /// Labels of the record tables ([`record_bytes`]).
@@ -297,13 +334,22 @@ impl AdaptivePass {
         let split = pc.desc.tess.split();
         let fans = fan_orders(d, split);
         let record_bytes = record_bytes(d, &fans);
-        let record_lens = record_bytes.each_ref().map(Vec::len);
+        let index_bytes = index_bytes(d, &fans);
+        let layout = TableLayout::new(
+            d,
+            refiner.total_vertices(),
+            refiner.table_layout(),
+            &record_bytes,
+            &index_bytes,
+            derived.row_lens(),
+            &fans,
+        );
         let records = record_bytes
             .into_iter()
             .zip(RECORD_LABELS)
             .map(|(bytes, label)| table_buffer(ctx, bytes, storage, label))
             .collect::<Result<Vec<_>>>()?;
-        let layout = set0_layout(&OWN_BINDINGS);
+        let set0 = set0_layout(&OWN_BINDINGS);
         let shaders =
             |label: &str, vertex: &str, stem: &'static str, points, position_input| PatchShaders {
                 label: label.into(),
@@ -312,7 +358,7 @@ impl AdaptivePass {
                 tess_eval_stem: stem,
                 points,
                 position_input,
-                set_layouts: vec![layout.clone()],
+                set_layouts: vec![set0.clone()],
             };
         let points = Some(refiner.points().raw());
         let level_of = |record: u32| d.records[record as usize].level;
@@ -323,8 +369,6 @@ impl AdaptivePass {
         ];
         let mut groups = Vec::new();
         let bspline_records = (d.regular.len() + d.transition.len()) as u32;
-        let index_bytes = index_bytes(d, &fans);
-        let index_lens = index_bytes.each_ref().map(Vec::len);
         for (table, (indices, (first_patch, count, s, vertices))) in index_bytes
             .into_iter()
             .zip([
@@ -407,6 +451,7 @@ impl AdaptivePass {
                 (None, _) => fans[1].1.clone(),
             };
             groups.push(DrawGroup {
+                label: s.label.clone(),
                 pipeline: patch_pipeline(ctx, pc.desc, pc.target, s)?,
                 table,
                 first_patch,
@@ -418,7 +463,7 @@ impl AdaptivePass {
         }
         let n = pc.shared.slot_count() as u32;
         let pool = DescriptorPool::new(ctx, n, 16 * n, n)?;
-        let layout = match groups.first() {
+        let set0 = match groups.first() {
             Some(g) => g.pipeline.set_layouts[0],
             None => {
                 return Err(crate::Error::Invalid(
@@ -440,21 +485,13 @@ impl AdaptivePass {
         own.push(sb(CONTROL_POSITIONS_BINDING, refiner.points()));
         own.push(sb(VERTEX_LIMITS_BINDING, derived.limits()));
         own.push(sb(VERTEX_NORMALS_BINDING, derived.normals()));
-        let sets = pc.shared.set0_per_slot(ctx, &pool, layout, &own)?;
-        let layout = TableLayout {
-            patches: d.primitive_count(),
-            refined_points: refiner.total_vertices(),
-            refinement: (refiner.table_layout().0, refiner.table_layout().1.to_vec()),
-            records: record_lens,
-            indices: index_lens,
-            rows: derived.row_lens(),
-            fan_runs: fans.map(|(_, runs)| runs),
-        };
+        let sets = pc.shared.set0_per_slot(ctx, &pool, set0, &own)?;
         Ok(AdaptivePass {
             ctx: ctx.clone(),
             split,
             layout,
             tables_of,
+            per_draw: patches_per_draw_at_level(largest_level(pc)),
             patches: d.primitive_count() as u32,
             refiner,
             derived,
@@ -505,21 +542,34 @@ impl PatchPass for AdaptivePass {
     }
 
     fn record(&self, cmd: vk::CommandBuffer, slot: usize) {
+        for k in 0..self.groups.len() {
+            self.record_group(cmd, slot, k);
+        }
+    }
+
+    fn draw_groups(&self) -> Vec<String> {
+        self.groups.iter().map(|g| g.label.clone()).collect()
+    }
+
+    fn record_group(&self, cmd: vk::CommandBuffer, slot: usize, group: usize) {
+        let Some(g) = self.groups.get(group) else {
+            return;
+        };
         let dev = self.ctx.device();
-        for g in &self.groups {
-            bind_draw_state(
-                dev,
-                cmd,
-                &g.pipeline,
-                &[self.sets[slot]],
-                g.vertices,
-                g.indices.raw(),
-            );
-            for r in &g.runs {
+        bind_draw_state(
+            dev,
+            cmd,
+            &g.pipeline,
+            &[self.sets[slot]],
+            g.vertices,
+            g.indices.raw(),
+        );
+        for r in &g.runs {
+            for first in (r.first..r.first + r.count).step_by(self.per_draw as usize) {
                 let draws = PatchDraws {
-                    first_patch: g.first_patch + r.first,
-                    first_index: r.first * g.points,
-                    count: r.count,
+                    first_patch: g.first_patch + first,
+                    first_index: first * g.points,
+                    count: self.per_draw.min(r.first + r.count - first),
                     points: g.points,
                     sub_draws: r.sub_draws,
                     sub_flag: 0,
@@ -547,15 +597,15 @@ impl PatchPass for AdaptivePass {
         let indices = index_bytes(d, &fans);
         let rows = DerivedPoints::row_bytes(d);
         let refinement = kernels.gpu_tables();
-        let layout = TableLayout {
-            patches: d.primitive_count(),
-            refined_points: kernels.total_vertices,
-            refinement: (refinement.words.len(), refinement.steps.clone()),
-            records: records.each_ref().map(Vec::len),
-            indices: indices.each_ref().map(Vec::len),
-            rows: rows.each_ref().map(Vec::len),
-            fan_runs: fans.map(|(_, runs)| runs),
-        };
+        let layout = TableLayout::new(
+            d,
+            kernels.total_vertices,
+            (refinement.words.len(), &refinement.steps),
+            &records,
+            &indices,
+            rows.each_ref().map(Vec::len),
+            &fans,
+        );
         if layout != self.layout {
             return Err(crate::Error::Invalid(format!(
                 "the new sharpness changes the adaptive refinement ({} -> {} patches, {} -> {} \
