@@ -262,6 +262,15 @@ impl Rule {
 /// Derived points per vertex of the two-stage construction ([`GregoryVertex::vertex_points`]).
 pub const VERTEX_POINTS: usize = 3;
 
+/// The smallest crease sector (faces) whose cross-boundary tangent is a derived point
+/// ([`GregoryVertex::vertex_points`]). A sector of one face has no inner edge; one of two
+/// faces has one inner edge point, whose tangent reads six ring vertices, mostly those its
+/// corner point and sharp edge point read already: a derived point there adds more row terms
+/// than it saves (`catmark_car`, isolation 2 / 4, single-crease patches off: 1,080,333 /
+/// 3,506,711 terms from three faces, 1,085,209 / 3,526,659 from two, 1,084,945 / 3,511,323
+/// without crease vertex points).
+const DERIVED_CREASE_SECTOR: usize = 3;
+
 impl<P: GregoryPoint> GregoryVertex<P> {
     /// The construction for any supported ring: [`Self::interior`] when no edge is sharp,
     /// [`Self::dart`] at one sharp edge, [`Self::cone`] at a corner tag with fewer than two
@@ -287,8 +296,9 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     /// - dart: `p = l · ring` and the two exact tangent masks applied, `t_1 · ring`,
     ///   `t_2 · ring` ([`Self::dart`]; `e_j = p + a_j t_1 · ring + b_j t_2 · ring`);
     /// - crease and boundary: the scaled cross-boundary tangent `s(k) T/3` of each of its (at
-    ///   most two) sectors in [`sectors`] order, zero for a sector of one face (no inner edge)
-    ///   and for a missing second sector; the third point zero ([`Self::sectored`]).
+    ///   most two) sectors of `k >= DERIVED_CREASE_SECTOR` faces in [`sectors`] order, zero for
+    ///   a smaller sector (its tangent stays expanded) and for a missing second sector; the
+    ///   third point zero ([`Self::sectored`]).
     ///
     /// `None` for corner and cone rings, whose points read `O(1)` ring points each already
     /// (`p = v`, chords and the sharp edges' points), and for rings not covered.
@@ -310,7 +320,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
             Rule::Crease => {
                 let mut out = [P::zero(), P::zero(), P::zero()];
                 for (t, sec) in out.iter_mut().zip(sectors(&ring.sharp, ring.c.len())) {
-                    if sec.faces >= 2 {
+                    if sec.faces >= DERIVED_CREASE_SECTOR {
                         *t = crease_sector_tangent(ring, tangents, sec);
                     }
                 }
@@ -341,7 +351,10 @@ impl<P: GregoryPoint> GregoryVertex<P> {
                 let lim = dart_limit(ring.m.len(), d)?;
                 Some(Self::dart_from_points(ring, tangents, &lim, [a, b, c]))
             }
-            Rule::Crease => Self::sectored_with(ring, tangents, &|i, _| match i {
+            Rule::Crease => Self::sectored_with(ring, tangents, &|i, sec| match i {
+                _ if sec.faces < DERIVED_CREASE_SECTOR => {
+                    crease_sector_tangent(ring, tangents, sec)
+                }
                 0 => a.clone(),
                 _ => b.clone(),
             }),
@@ -913,8 +926,9 @@ mod tests {
 
     /// Every rule built from its first stage ([`GregoryVertex::from_vertex_points`] of
     /// [`GregoryVertex::vertex_points`]) is [`GregoryVertex::new`] bit for bit: smooth, dart,
-    /// boundary sectors of 1 to 6 faces, a crease with sectors of 3 and 2 faces (fails if the
-    /// sectors' tangents are read in the wrong order), a corner and a cone (no first stage).
+    /// boundary sectors of 1 to 6 faces, creases with sectors of 3 and 2 and of 3 and 4 faces
+    /// (fails if the sectors' tangents are read in the wrong order), a corner and a cone (no
+    /// first stage).
     #[test]
     fn two_stage_rules_are_the_construction() {
         let with = |n: usize, sharp: &[usize], corner: bool| {
@@ -927,6 +941,7 @@ mod tests {
             (ring(5), None),
             (with(6, &[2], false), Some(VertexKind::Dart)),
             (with(5, &[0, 3], false), Some(VertexKind::Crease)),
+            (with(7, &[0, 3], false), Some(VertexKind::Crease)),
             (with(5, &[0, 3], true), None),
             (with(5, &[], true), None),
         ];
