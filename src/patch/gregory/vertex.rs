@@ -5,7 +5,10 @@
 use super::point::{combine, GregoryPoint};
 use super::tangents::GregoryTangents;
 use glam::DVec3;
+use std::cell::RefCell;
+use std::collections::HashMap;
 use std::f64::consts::PI;
+use std::rc::Rc;
 
 /// The split one-ring of a vertex (paper Fig. 5), in the crate's ring order: `m[i]` is the
 /// midpoint of the `i`-th incident edge, `c[i]` the centroid of the `i`-th incident face, which
@@ -309,7 +312,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
                 Some([p, qc, qs])
             }
             Rule::Dart(d) => {
-                let lim = dart_limit(ring.m.len(), d)?;
+                let lim = shared_dart_limit(ring.m.len(), d)?;
                 let [t1, t2] = &lim.tangents;
                 Some([
                     lim.apply(&lim.position, ring),
@@ -348,7 +351,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
                 InteriorBasis { p: a, qc: b, qs: c },
             )),
             Rule::Dart(d) => {
-                let lim = dart_limit(ring.m.len(), d)?;
+                let lim = shared_dart_limit(ring.m.len(), d)?;
                 Some(Self::dart_from_points(ring, tangents, &lim, [a, b, c]))
             }
             Rule::Crease => Self::sectored_with(ring, tangents, &|i, sec| match i {
@@ -427,7 +430,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     /// - `r` and `cos(2π/n)` as for a smooth vertex (§3.4).
     pub fn dart(ring: &VertexRing<P>, tangents: GregoryTangents) -> Option<GregoryVertex<P>> {
         let d = ring.sharp.iter().position(|&s| s)?;
-        let lim = dart_limit(ring.m.len(), d)?;
+        let lim = shared_dart_limit(ring.m.len(), d)?;
         let [t1, t2] = &lim.tangents;
         let points = [
             lim.apply(&lim.position, ring),
@@ -810,6 +813,25 @@ fn smooth_edge_mask(n: usize, j: usize, factor: f64) -> Vec<f64> {
         q[1 + n + i] = scale * 2.0 * sigma * ((2.0 * PI * k + PI) / nf).cos();
     }
     q
+}
+
+thread_local! {
+    /// [`dart_limit`] per `(n, d)` on this thread.
+    static DART_LIMITS: RefCell<HashMap<(usize, usize), Option<Rc<RingLimit>>>> =
+        RefCell::new(HashMap::new());
+}
+
+/// [`dart_limit`] solved once per `(n, d)` and thread: the masks depend on those two only, and
+/// the darts of a mesh repeat a few shapes (each solve is a power iteration on a
+/// `(2n + 1)²` matrix, and both stages of the two-stage rows read it).
+fn shared_dart_limit(n: usize, d: usize) -> Option<Rc<RingLimit>> {
+    DART_LIMITS.with(|limits| {
+        limits
+            .borrow_mut()
+            .entry((n, d))
+            .or_insert_with(|| dart_limit(n, d).map(Rc::new))
+            .clone()
+    })
 }
 
 /// Exact limit masks of a dart of valence `n` whose sharp edge is ring edge `d`, over the split
