@@ -815,10 +815,12 @@ fn smooth_edge_mask(n: usize, j: usize, factor: f64) -> Vec<f64> {
     q
 }
 
+/// [`dart_limit`] per `(n, d)`.
+type DartLimits = HashMap<(usize, usize), Option<Rc<RingLimit>>>;
+
 thread_local! {
     /// [`dart_limit`] per `(n, d)` on this thread.
-    static DART_LIMITS: RefCell<HashMap<(usize, usize), Option<Rc<RingLimit>>>> =
-        RefCell::new(HashMap::new());
+    static DART_LIMITS: RefCell<DartLimits> = RefCell::new(HashMap::new());
 }
 
 /// [`dart_limit`] solved once per `(n, d)` and thread: the masks depend on those two only, and
