@@ -6,8 +6,8 @@
 //
 // set 0: 0 offsets, 1 ids, 2 weights, 3 refined points (tightly packed xyz), 4 and 5 outputs
 // (vec4), 6 per-row flags (limit_frames.comp), 7 vertex points (vec4: the first stage, the
-// per-vertex sums of smooth end-cap corners, written by endcap_points.comp before the other
-// rows run). An id with bit 31 set (DERIVED_ID) reads vertex point id & 0x7fffffff.
+// per-vertex sums of smooth, dart and crease end-cap corners, written by endcap_points.comp
+// before the other rows run). An id with bit 31 set (DERIVED_ID) reads vertex point id & 0x7fffffff.
 
 layout(local_size_x = 64) in;
 

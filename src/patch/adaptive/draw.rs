@@ -57,11 +57,12 @@ pub struct AdaptiveDrawTables {
     pub sector_corners: Vec<[u32; 4]>,
     /// Rows `3 s .. 3 s + 2`: frame `s`'s limit position, du, dv (`cross(du, dv)` outward); then
     /// [`END_CAP_ROWS`] rows per end cap from [`Self::end_cap_first_row`]; then from
-    /// [`Self::vertex_first_row`] the first stage: row `3 k + b` of it is vertex point
-    /// `3 k + b`, derived point `b` (limit position, cosine and sine sums,
-    /// [`crate::patch::gregory::InteriorBasis`]) of a smooth end-cap corner. The other rows
-    /// read vertex point `j` as id `refined_points + j`: every patch at a smooth vertex of
-    /// valence `n` holds `O(1)` terms for it, not `O(n)`.
+    /// [`Self::vertex_first_row`] the first stage: row `j` of it is vertex point `j`, a derived
+    /// point of an end-cap corner ([`crate::patch::gregory::GregoryVertex::vertex_points`]: a
+    /// smooth corner's limit position, cosine and sine sums, a dart's limit position and
+    /// tangents, a crease's sector tangents), those the other rows read, in (level, vertex,
+    /// point) order. The other rows read vertex point `j` as id `refined_points + j`: every
+    /// patch at a vertex of valence `n` holds `O(1)` terms for it, not `O(n)`.
     pub rows: SparseRows,
     /// First end-cap row (`3 *` frames).
     pub end_cap_first_row: u32,
@@ -104,14 +105,14 @@ struct EndCapRows {
     /// Rows of every end cap in census order (table layout, unpadded) over global ids: refined
     /// vertices, then vertex points (`refined + 3 k + b`).
     caps: Vec<FaceRows>,
-    /// Per vertex point `k` (three per smooth end-cap corner, in (level, vertex) order): its
-    /// first-stage rows `p`, `q_c`, `q_s` over global refined ids.
-    vertices: Vec<[Weights; 3]>,
+    /// Per vertex point `k` (those the caps read, in (level, vertex, point) order): its
+    /// first-stage row over global refined ids.
+    vertices: Vec<Weights>,
 }
 
-/// Rows of every end cap in census order, with the first-stage rows of the smooth corners they
-/// reference (`sparse_face_rows_flat`, whose derived ids are numbered here per level, ascending
-/// in (level, vertex), so rows stay ascending).
+/// Rows of every end cap in census order, with the first-stage rows of the vertex points they
+/// read (`sparse_face_rows_flat`, whose derived ids are numbered here per level, ascending
+/// in (level, vertex, point), so rows stay ascending).
 fn end_cap_rows(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
@@ -137,26 +138,34 @@ fn end_cap_rows(
             ));
         }
     }
-    // Number the smooth corners the rows read, level by level in vertex order.
+    // Number the vertex points the rows read, level by level in (vertex, point) order: `at`
+    // is indexed by a level's `VERTEX_POINTS * v + b`.
     let mut index: Vec<Vec<u32>> = vec![Vec::new(); refinement.levels.len()];
     for (l, rows) in &local {
         let t = topologies.get(*l);
         let at = &mut index[*l as usize];
         for &(id, _) in &rows.terms {
-            if let Some((v, _)) = vertex_point_of(t, id) {
+            if let Some((v, b)) = vertex_point_of(t, id) {
                 if at.is_empty() {
-                    at.resize(t.vertex_count(), NONE);
+                    at.resize(VERTEX_POINTS as usize * t.vertex_count(), NONE);
                 }
-                at[v as usize] = 0;
+                at[(VERTEX_POINTS * v + b) as usize] = 0;
             }
         }
     }
-    let mut smooth: Vec<(u32, u32)> = Vec::new();
+    // (level, vertex, points read as a bit mask) per vertex with a vertex point read.
+    let mut read: Vec<(u32, u32, u8)> = Vec::new();
+    let mut count = 0;
     for (l, at) in index.iter_mut().enumerate() {
-        for (v, k) in at.iter_mut().enumerate() {
+        for (i, k) in at.iter_mut().enumerate() {
             if *k == 0 {
-                *k = smooth.len() as u32;
-                smooth.push((l as u32, v as u32));
+                *k = count;
+                count += 1;
+                let (v, b) = (i as u32 / VERTEX_POINTS, i as u32 % VERTEX_POINTS);
+                match read.last_mut() {
+                    Some(last) if (last.0, last.1) == (l as u32, v) => last.2 |= 1 << b,
+                    _ => read.push((l as u32, v, 1 << b)),
+                }
             }
         }
     }
@@ -173,25 +182,27 @@ fn end_cap_rows(
             for (id, _) in rows.terms.iter_mut() {
                 *id = match vertex_point_of(t, *id) {
                     None => lev.global(*id),
-                    Some((v, b)) => first + VERTEX_POINTS * at[v as usize] + b,
+                    Some((v, b)) => first + at[(VERTEX_POINTS * v + b) as usize],
                 };
             }
             rows
         })
         .collect();
-    let mut vertices = Vec::with_capacity(smooth.len());
-    for group in smooth.chunk_by(|a, b| a.0 == b.0) {
+    let mut vertices = Vec::with_capacity(count as usize);
+    for group in read.chunk_by(|a, b| a.0 == b.0) {
         let l = group[0].0;
         let lev = &refinement.levels[l as usize];
-        let at: Vec<u32> = group.iter().map(|&(_, v)| v).collect();
+        let at: Vec<u32> = group.iter().map(|&(_, v, _)| v).collect();
         let rows = shared_vertex_point_rows(topologies.get(l), &at, tangents);
-        vertices.extend(rows.into_iter().map(|r| {
-            r.map(|mut w| {
-                // Monotone: rows stay ascending.
-                w.0.iter_mut().for_each(|(u, _)| *u = lev.global(*u));
-                w
-            })
-        }));
+        for (r, &(_, _, mask)) in rows.into_iter().zip(group) {
+            for (b, mut w) in r.into_iter().enumerate() {
+                if mask & (1 << b) != 0 {
+                    // Monotone: rows stay ascending.
+                    w.0.iter_mut().for_each(|(u, _)| *u = lev.global(*u));
+                    vertices.push(w);
+                }
+            }
+        }
     }
     Ok(EndCapRows { caps, vertices })
 }
@@ -363,14 +374,10 @@ impl AdaptiveDrawTables {
             caps,
             vertices: vertex_rows,
         } = end_cap_rows(refinement, census, &topologies, tangents)?;
-        let vertex_terms = vertex_rows
-            .iter()
-            .flatten()
-            .map(|w| w.0.len())
-            .sum::<usize>();
+        let vertex_terms = vertex_rows.iter().map(|w| w.0.len()).sum::<usize>();
         // End caps and vertex points: (rows, terms).
         let cap_rows = (
-            END_CAP_ROWS * caps.len() + 3 * vertex_rows.len(),
+            END_CAP_ROWS * caps.len() + vertex_rows.len(),
             caps.iter().map(|c| c.terms.len()).sum::<usize>() + vertex_terms,
         );
         let corner_rows = CornerRows::new(refinement, census, &topologies, &caps);
@@ -420,7 +427,7 @@ impl AdaptiveDrawTables {
             rows.push_empty(END_CAP_ROWS - c.len());
         }
         let vertex_first_row = rows.len() as u32;
-        for r in vertex_rows.iter().flatten() {
+        for r in &vertex_rows {
             rows.push(r, 0);
         }
         let at = patch_index(refinement, census);

@@ -4,7 +4,7 @@
 use super::eval::{CornerRef, GregoryQuad, GregoryTriangle};
 use super::point::{GregoryPoint, Weights};
 use super::tangents::GregoryTangents;
-use super::vertex::{is_interior_ring, sectors, GregoryVertex, InteriorBasis, Sector, VertexRing};
+use super::vertex::{sectors, GregoryVertex, Sector, VertexRing};
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::patch::regular::RegularPatch;
 use crate::topology::Topology;
@@ -364,7 +364,7 @@ pub fn gregory_vertex_for<P: GregoryPoint>(
 }
 
 /// Whether some face of `v` passes [`check_vertex_for`]: the test before per-vertex data.
-fn vertex_covered(topo: &Topology, v: u32, coverage: Coverage) -> bool {
+pub(super) fn vertex_covered(topo: &Topology, v: u32, coverage: Coverage) -> bool {
     let faces = topo.vertex_faces(v);
     !faces.is_empty()
         && faces
@@ -372,30 +372,23 @@ fn vertex_covered(topo: &Topology, v: u32, coverage: Coverage) -> bool {
             .any(|&f| check_vertex_for(topo, v, f, coverage).is_ok())
 }
 
-/// [`gregory_vertex_for`] with a smooth vertex's per-vertex sums given by `basis(v)`
-/// ([`GregoryVertex::interior_from_basis`]; other rings as [`gregory_vertex_for`]): in weight
-/// space with `basis` the units of derived points, the two-stage form whose patch rows hold
-/// `O(1)` terms per corner.
+/// [`gregory_vertex_for`] with the vertex's first stage ([`GregoryVertex::vertex_points`]: a
+/// smooth vertex's sums, a dart's limit point and tangents, a crease's sector tangents) given by
+/// `points(v)` ([`GregoryVertex::from_vertex_points`]; corners and cones as
+/// [`gregory_vertex_for`]): in weight space with `points` the units of derived points, the
+/// two-stage form whose patch rows hold `O(1)` terms per corner.
 pub fn gregory_vertex_two_stage<P: GregoryPoint>(
     topo: &Topology,
     v: u32,
     point: &impl Fn(u32) -> P,
     tangents: GregoryTangents,
     coverage: Coverage,
-    basis: &impl Fn(u32) -> InteriorBasis<P>,
+    points: &impl Fn(u32) -> [P; 3],
 ) -> Option<GregoryVertex<P>> {
     if !vertex_covered(topo, v, coverage) {
         return None;
     }
-    let ring = vertex_ring_with(topo, v, point);
-    if is_interior_ring(&ring) {
-        return Some(GregoryVertex::interior_from_basis(
-            &ring,
-            tangents,
-            basis(v),
-        ));
-    }
-    GregoryVertex::new(&ring, tangents)
+    GregoryVertex::from_vertex_points(&vertex_ring_with(topo, v, point), tangents, points(v))
 }
 
 /// Per-vertex Gregory data for every vertex (`None` where the construction does not apply).

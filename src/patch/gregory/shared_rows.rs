@@ -12,17 +12,19 @@
 //! every corner, each corner's edges with their other end, sharpness bits and face counts, and
 //! whether each edge neighbour gets a patch), so two faces with equal keys produce equal rows
 //! slot by slot. A face whose rows leave its ring, or that gets no patch, is built directly.
-//! The rows are two-stage ([`sparse_face_rows_direct`]): a smooth corner's vertex points
-//! (`vertex_count + 3 v + b`) take the slots `ring_len + 3 slot(v) + b`; whether a corner is
-//! smooth is part of its topology, hence of the key. The vertex points' own (first-stage) rows
-//! are shared the same way, per ring type ([`shared_vertex_point_rows`]).
+//! The rows are two-stage ([`sparse_face_rows_direct`]): the vertex points of a smooth, dart or
+//! crease corner (`vertex_count + 3 v + b`, [`super::GregoryVertex::vertex_points`]) take the
+//! slots `ring_len + 3 slot(v) + b`; which rule a corner takes is part of its topology, hence of
+//! the key. The vertex points' own (first-stage) rows are shared the same way, per ring type
+//! ([`shared_vertex_point_rows`]).
 
 use std::collections::HashMap;
 
 use rayon::prelude::*;
 
 use super::build::{
-    check_face_for, check_vertex_for, gregory_vertex_for, vertex_ring_with, Coverage, NotGregory,
+    check_face_for, check_vertex_for, gregory_vertex_for, vertex_covered, vertex_ring_with,
+    Coverage, NotGregory,
 };
 use super::point::{GregoryPoint, Weights};
 use super::stencil::ring_walk;
@@ -31,7 +33,7 @@ use super::stencil_table::{
     VERTEX_POINTS,
 };
 use super::tangents::GregoryTangents;
-use super::vertex::dart_limit;
+use super::vertex::{dart_limit, is_interior_ring};
 use crate::topology::Topology;
 
 const NONE: u32 = u32::MAX;
@@ -197,9 +199,10 @@ impl Keyer<'_> {
     /// points beside that edge may be one-sided (`GregoryVertex::one_sided`): there `g`'s face
     /// point next to the edge is its other one at `x` (or `y`), which reads the edge point and
     /// cosine of `g`'s corner beyond, not a corner of `f` (the rows of [`sparse_face_rows_direct`]
-    /// hold `g`'s face points next to the edge). A smooth corner (two-stage: its derived points
-    /// and cosine) is its valence, its faces' sizes and `g`'s place in its ring; another one is
-    /// read in full ([`Self::push_vertex`]).
+    /// hold `g`'s face points next to the edge). A smooth corner (the interior construction,
+    /// judged by the construction's own tests: two-stage, its derived points and cosine) is its
+    /// valence, its faces' sizes and `g`'s place in its ring; another one is read in full
+    /// ([`Self::push_vertex`]).
     fn push_one_sided_neighbour(
         &self,
         key: &mut TypeKey,
@@ -220,12 +223,9 @@ impl Keyer<'_> {
                 continue;
             }
             let faces = topo.vertex_faces(z);
-            let smooth = topo.vertex_sharpness(z) == 0.0
-                && topo.vertex_edges(z).len() == faces.len()
-                && topo
-                    .vertex_edges(z)
-                    .iter()
-                    .all(|&e| topo.edge_sharpness(e) == 0.0);
+            // `gregory_vertex_two_stage`'s tests: covered, then the interior rule.
+            let smooth = vertex_covered(topo, z, Coverage::EndCap)
+                && is_interior_ring(&vertex_ring_with(topo, z, &|_| NoPoint));
             key.push(u32::from(smooth));
             if smooth {
                 key.push(faces.len() as u32);
@@ -483,70 +483,75 @@ pub fn sparse_face_rows_flat(
     out
 }
 
-/// [`super::stencil_table::vertex_point_rows`] of every vertex of `vertices` (each a smooth
-/// vertex of `topo`), the construction run once per ring type (Loop et al. 2009 §4.1, shared as
-/// the end-cap rows are, module docs): the rows of a vertex read only its edges' other ends and
-/// its faces' vertices, so vertices whose rings read the same in first-appearance slots
+/// [`super::stencil_table::vertex_point_rows`] of every vertex of `vertices` (smooth, dart and
+/// crease vertices of `topo` as end-cap corners; empty rows for others), the construction run
+/// once per ring type (Loop et al. 2009 §4.1, shared as the end-cap rows are, module docs): the
+/// rows of a vertex read only its edges' other ends and sharpness, its faces' vertices and its
+/// own sharpness, so vertices whose rings read the same in first-appearance slots
 /// (`VertexRingKey`) have the same weights slot by slot, and every weight is the same sequence
-/// of `a + w * b` updates whatever the ids. Bitwise the per-vertex rows; the types and the
-/// relabelling run on the rayon pool.
+/// of `a + w * b` updates whatever the ids. Bitwise the per-vertex rows; the keys, the types'
+/// rows and the relabelling run on the rayon pool.
 pub fn shared_vertex_point_rows(
     topo: &Topology,
     vertices: &[u32],
     tangents: GregoryTangents,
 ) -> Vec<[Weights; 3]> {
-    let mut slot = vec![NONE; topo.vertex_count()];
-    let mut types: HashMap<Vec<u32>, u32> = HashMap::new();
-    // Per type: a vertex of it; per vertex: its type.
-    let mut representative: Vec<u32> = Vec::new();
-    let mut type_of: Vec<u32> = Vec::with_capacity(vertices.len());
-    for &v in vertices {
-        let key = VertexRingKey::new(topo, v, &mut slot);
-        key.clear(&mut slot);
-        let next = types.len() as u32;
-        let t = *types.entry(key.key).or_insert(next);
-        if t == next {
-            representative.push(v);
-        }
-        type_of.push(t);
-    }
+    let fresh = || vec![NONE; topo.vertex_count()];
+    let keys: Vec<VertexRingKey> = vertices
+        .par_iter()
+        .with_min_len(256)
+        .map_init(fresh, |slot, &v| {
+            let key = VertexRingKey::new(topo, v, slot);
+            key.clear(slot);
+            key
+        })
+        .collect();
+    let mut types: HashMap<&[u32], u32> = HashMap::new();
+    // Per type: the index of a vertex of it; per vertex: its type.
+    let mut representative: Vec<usize> = Vec::new();
+    let type_of: Vec<u32> = keys
+        .iter()
+        .enumerate()
+        .map(|(i, key)| {
+            let next = types.len() as u32;
+            let t = *types.entry(&key.key).or_insert(next);
+            if t == next {
+                representative.push(i);
+            }
+            t
+        })
+        .collect();
     let local: Vec<[Weights; 3]> = representative
         .par_iter()
-        .map_init(
-            || vec![NONE; topo.vertex_count()],
-            |slot, &v| {
-                let key = VertexRingKey::new(topo, v, slot);
-                let rows =
-                    vertex_point_rows_with(topo, v, &|u| Weights::unit(slot[u as usize]), tangents);
-                key.clear(slot);
-                rows
-            },
-        )
+        .map_init(fresh, |slot, &i| {
+            let ring = &keys[i].ring;
+            for (s, &u) in ring.iter().enumerate() {
+                slot[u as usize] = s as u32;
+            }
+            let unit = |u: u32| Weights::unit(slot[u as usize]);
+            let rows = vertex_point_rows_with(topo, vertices[i], &unit, tangents);
+            clear(slot, ring);
+            rows
+        })
         .collect();
     log::trace!(
         "vertex points: {} vertices, {} ring types",
         vertices.len(),
         representative.len()
     );
-    vertices
-        .par_iter()
+    keys.par_iter()
         .zip(&type_of)
         .with_min_len(256)
-        .map_init(
-            || vec![NONE; topo.vertex_count()],
-            |slot, (&v, &t)| {
-                let key = VertexRingKey::new(topo, v, slot);
-                key.clear(slot);
-                local[t as usize].each_ref().map(|w| {
-                    let mut terms: Vec<(u32, f64)> =
-                        w.0.iter()
-                            .map(|&(s, x)| (key.ring[s as usize], x))
-                            .collect();
-                    terms.sort_unstable_by_key(|&(u, _)| u);
-                    Weights(terms)
-                })
-            },
-        )
+        .map(|(key, &t)| {
+            local[t as usize].each_ref().map(|w| {
+                let mut terms: Vec<(u32, f64)> =
+                    w.0.iter()
+                        .map(|&(s, x)| (key.ring[s as usize], x))
+                        .collect();
+                terms.sort_unstable_by_key(|&(u, _)| u);
+                Weights(terms)
+            })
+        })
         .collect()
 }
 
@@ -554,7 +559,8 @@ pub fn shared_vertex_point_rows(
 /// vertex at slot 0, its edges' other ends and its faces' vertices numbered by first appearance
 /// in that order.
 struct VertexRingKey {
-    /// Edge count, face count, each edge's other end, each face's size and vertices.
+    /// Edge count, face count, the vertex's sharpness bits, each edge's other end and
+    /// sharpness bits, each face's size and vertices.
     key: Vec<u32>,
     /// The vertex of each slot.
     ring: Vec<u32>,
@@ -565,8 +571,12 @@ impl VertexRingKey {
     fn new(topo: &Topology, v: u32, slot: &mut [u32]) -> VertexRingKey {
         let (edges, faces) = (topo.vertex_edges(v), topo.vertex_faces(v));
         let mut ring = Vec::with_capacity(1 + 2 * edges.len());
-        let mut key = Vec::with_capacity(2 + edges.len() + 5 * faces.len());
-        key.extend([edges.len() as u32, faces.len() as u32]);
+        let mut key = Vec::with_capacity(3 + 2 * edges.len() + 5 * faces.len());
+        key.extend([
+            edges.len() as u32,
+            faces.len() as u32,
+            topo.vertex_sharpness(v).to_bits(),
+        ]);
         let mut at = |u: u32, ring: &mut Vec<u32>| {
             if slot[u as usize] == NONE {
                 slot[u as usize] = ring.len() as u32;
@@ -577,6 +587,7 @@ impl VertexRingKey {
         at(v, &mut ring);
         for &e in edges {
             key.push(at(topo.other_vertex(e, v), &mut ring));
+            key.push(topo.edge_sharpness(e).to_bits());
         }
         for &f in faces {
             let fv = topo.face_vertices(f);
@@ -665,63 +676,117 @@ mod tests {
         assert!(!darts.is_empty(), "no dart ring");
     }
 
-    /// The shared vertex points are bitwise the per-vertex construction on every vertex whose
-    /// faces close around it, on every level of the adaptive refinement of meshes with
-    /// triangles, n-gons, creases and high valence (fails if the ring key leaves out what the
-    /// construction reads, e.g. face sizes or the faces' vertices), and rings are shared.
+    /// A grid of `n × n` quads, infinitely sharp along row `n / 2` from its left end to
+    /// column `to`: vertices of one connectivity that differ only by the sharpness of their
+    /// edges (smooth, crease, a dart where the crease ends inside, a corner where it meets
+    /// the boundary).
+    fn creased_grid(n: u32, to: u32) -> Topology {
+        let w = n + 1;
+        let positions = (0..w * w)
+            .map(|i| DVec3::new((i % w) as f64, (i / w) as f64, ((i * 7 % 5) as f64) * 0.1))
+            .collect();
+        let face_vertices = (0..n * n)
+            .flat_map(|f| {
+                let (x, y) = (f % n, f / n);
+                let v = y * w + x;
+                [v, v + 1, v + 1 + w, v + w]
+            })
+            .collect();
+        let creases = (0..to)
+            .map(|x| crate::mesh::Crease {
+                v0: n / 2 * w + x,
+                v1: n / 2 * w + x + 1,
+                sharpness: crate::mesh::INFINITE_SHARPNESS,
+            })
+            .collect();
+        let mesh = ControlMesh::new(ControlMeshDesc {
+            positions,
+            face_sizes: vec![4; (n * n) as usize],
+            face_vertices,
+            creases,
+            ..Default::default()
+        })
+        .unwrap();
+        Topology::new(&mesh).unwrap()
+    }
+
+    /// The shared vertex points are bitwise the per-vertex construction on every vertex, on
+    /// every level of the adaptive refinement of meshes with triangles, n-gons, high valence,
+    /// boundaries, holes, infinitely sharp creases, corners and darts, in both end-cap
+    /// topologies, and on a creased grid (fails if the ring key leaves out what the
+    /// construction reads, e.g. face sizes, the faces' vertices or the edges' sharpness, which
+    /// tells the grid's crease vertices from its smooth ones), and rings are shared.
     #[test]
     fn shared_vertex_points_are_the_per_vertex_construction() {
         let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
         let (mut vertices, mut types) = (0, 0);
+        // Vertices with vertex points, by number of sharp edges: smooth, dart, crease.
+        let mut kinds = HashMap::new();
+        let mut compare = |name: &str, topo: &Topology| {
+            let all: Vec<u32> = (0..topo.vertex_count() as u32)
+                .filter(|&v| !topo.vertex_faces(v).is_empty())
+                .collect();
+            for tangents in [GregoryTangents::Paper, GregoryTangents::Optimal] {
+                let shared = shared_vertex_point_rows(topo, &all, tangents);
+                for (&v, got) in all.iter().zip(&shared) {
+                    let want =
+                        crate::patch::gregory::stencil_table::vertex_point_rows(topo, v, tangents);
+                    let bits = |w: &[Weights; 3]| {
+                        w.iter()
+                            .map(|w| w.0.iter().map(|&(u, x)| (u, x.to_bits())).collect())
+                            .collect::<Vec<Vec<_>>>()
+                    };
+                    assert_eq!(bits(got), bits(&want), "{name}: vertex {v}");
+                    if !want[0].0.is_empty() || !want[1].0.is_empty() {
+                        let ring = vertex_ring_with(topo, v, &|_| NoPoint);
+                        let sharp = ring.sharp.iter().filter(|&&s| s).count();
+                        *kinds.entry(sharp).or_insert(0) += 1;
+                    }
+                }
+            }
+            let mut slot = vec![NONE; topo.vertex_count()];
+            let keys: std::collections::HashSet<Vec<u32>> = all
+                .iter()
+                .map(|&v| {
+                    let k = VertexRingKey::new(topo, v, &mut slot);
+                    k.clear(&mut slot);
+                    k.key
+                })
+                .collect();
+            vertices += all.len();
+            types += keys.len();
+        };
+        compare("creased grid", &creased_grid(8, 5));
         for name in [
             "catmark_nonquads",
             "catmark_smoothtris1",
             "catmark_pole8",
             "catmark_car",
             "catmark_val2_interior",
+            "catmark_cube_creases2",
+            "catmark_dart_edgecorner",
+            "catmark_hole_test1",
+            "catmark_cube_corner4",
         ] {
             let path = format!("{dir}{name}.obj");
             let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
             let level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
             let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, 2).unwrap();
-            for topo in adaptive.levels.iter().map(|l| l.topology()) {
-                let closed: Vec<u32> = (0..topo.vertex_count() as u32)
-                    .filter(|&v| {
-                        let n = topo.vertex_faces(v).len();
-                        n > 0 && n == topo.vertex_edges(v).len()
-                    })
-                    .collect();
-                for tangents in [GregoryTangents::Paper, GregoryTangents::Optimal] {
-                    let shared = shared_vertex_point_rows(topo, &closed, tangents);
-                    for (&v, got) in closed.iter().zip(&shared) {
-                        let want = crate::patch::gregory::stencil_table::vertex_point_rows(
-                            topo, v, tangents,
-                        );
-                        let bits = |w: &[Weights; 3]| {
-                            w.iter()
-                                .map(|w| w.0.iter().map(|&(u, x)| (u, x.to_bits())).collect())
-                                .collect::<Vec<Vec<_>>>()
-                        };
-                        assert_eq!(bits(got), bits(&want), "{name}: vertex {v}");
-                    }
-                }
-                let mut slot = vec![NONE; topo.vertex_count()];
-                let keys: std::collections::HashSet<Vec<u32>> = closed
-                    .iter()
-                    .map(|&v| {
-                        let k = VertexRingKey::new(topo, v, &mut slot);
-                        k.clear(&mut slot);
-                        k.key
-                    })
-                    .collect();
-                vertices += closed.len();
-                types += keys.len();
+            for l in &adaptive.levels {
+                let t = l.topology();
+                compare(name, &t.without_semi_sharpness());
+                compare(
+                    name,
+                    &t.with_semi_sharpness_as_crease(EndCapSharpness::CREASE_FROM),
+                );
             }
         }
         assert!(
             types * 10 < vertices,
             "{types} ring types for {vertices} vertices"
         );
+        // Smooth (no sharp edge), dart (one) and crease or boundary (two) rings were compared.
+        assert!((0..3).all(|s| kinds.contains_key(&s)), "{kinds:?}");
     }
 
     #[test]

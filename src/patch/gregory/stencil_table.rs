@@ -19,7 +19,7 @@ use super::build::{
 use super::point::{GregoryPoint, Weights};
 use super::stencil::{dense_rows, stencil_ring, NoStencil, MAX_RING, ROWS_PER_CORNER};
 use super::tangents::GregoryTangents;
-use super::vertex::{GregoryVertex, InteriorBasis};
+use super::vertex::GregoryVertex;
 use crate::topology::Topology;
 
 /// Control points of a quad Gregory patch.
@@ -163,8 +163,9 @@ fn table_rows<P: GregoryPoint, B: Borrow<GregoryPatch<P>>>(
 /// (what [`table_rows`] assembles their patches from), computed once per vertex: a
 /// high-valence vertex is shared by many faces and its data costs `O(valence^3)` here.
 ///
-/// `two_stage`: smooth vertices get their sums as derived points ([`vertex_point_id`]), so
-/// the rows built over them hold `O(1)` terms per corner instead of `O(valence)`.
+/// `two_stage`: smooth, dart and crease vertices get their first stage
+/// ([`GregoryVertex::vertex_points`]) as derived points ([`vertex_point_id`]), so the rows
+/// built over them hold `O(1)` terms per corner instead of `O(valence)`.
 fn corner_data(
     topo: &Topology,
     faces: impl Iterator<Item = u32>,
@@ -172,14 +173,7 @@ fn corner_data(
     coverage: Coverage,
     two_stage: bool,
 ) -> Vec<Option<GregoryVertex<Weights>>> {
-    let basis = |v: u32| {
-        let unit = |b: u32| Weights::unit(vertex_point_id(topo, v, b));
-        InteriorBasis {
-            p: unit(0),
-            qc: unit(1),
-            qs: unit(2),
-        }
-    };
+    let basis = |v: u32| [0, 1, 2].map(|b| Weights::unit(vertex_point_id(topo, v, b)));
     let mut data: Vec<Option<GregoryVertex<Weights>>> =
         (0..topo.vertex_count()).map(|_| None).collect();
     let mut done = vec![false; topo.vertex_count()];
@@ -212,10 +206,11 @@ fn corner_data(
 /// points, then the neighbours' edge and face points) as sparse weight vectors over `topo`'s
 /// vertices, ascending ids, f64: the weights [`GregoryStencilTable::build`] rounds to f32, without
 /// its ring-size limit (sparse rows have no fixed patch size). Built for adaptive end caps
-/// ([`Coverage::EndCap`]) in two stages: a smooth corner's limit point and edge points are
-/// combinations of its derived points (ids from [`vertex_point_id`], rows
-/// [`vertex_point_rows`]), so each row holds `O(1)` terms per corner and the rows of all faces
-/// around a vertex of valence `n` `O(n)` together, not `O(n²)`. Face by face, the reference of
+/// ([`Coverage::EndCap`]) in two stages: a corner's limit point and edge points are
+/// combinations of its derived points (smooth, dart and crease corners: ids from
+/// [`vertex_point_id`], rows [`vertex_point_rows`]) and `O(1)` ring points, so each row holds
+/// `O(1)` terms per corner and the rows of all faces around a vertex of valence `n` `O(n)`
+/// together, not `O(n²)`. Face by face, the reference of
 /// [`super::shared_rows::sparse_face_rows`], which shares the work between faces of one
 /// connectivity type and gives the same bits.
 pub fn sparse_face_rows_direct(
@@ -230,11 +225,12 @@ pub fn sparse_face_rows_direct(
         .collect()
 }
 
-/// Derived points per smooth vertex in the two-stage rows: limit position, cosine and sine
-/// sums ([`InteriorBasis`]).
-pub const VERTEX_POINTS: u32 = 3;
+/// Derived points per vertex in the two-stage rows ([`GregoryVertex::vertex_points`]: a smooth
+/// vertex's limit position, cosine and sine sums, a dart's limit position and two tangents, a
+/// crease's sector tangents).
+pub const VERTEX_POINTS: u32 = super::vertex::VERTEX_POINTS as u32;
 
-/// The id of derived point `b` (0: `p`, 1: `q_c`, 2: `q_s`) of vertex `v` in the rows of
+/// The id of derived point `b` ([`GregoryVertex::vertex_points`]) of vertex `v` in the rows of
 /// [`sparse_face_rows_direct`]: past every vertex of `topo` (`vertex_count + 3 v + b`), so it
 /// sorts after the vertices and with `v`.
 pub fn vertex_point_id(topo: &Topology, v: u32, b: u32) -> u32 {
@@ -247,8 +243,9 @@ pub fn vertex_point_of(topo: &Topology, id: u32) -> Option<(u32, u32)> {
     Some((d / VERTEX_POINTS, d % VERTEX_POINTS))
 }
 
-/// The first-stage rows of smooth vertex `v` over `topo`'s vertices: its [`InteriorBasis`]
-/// (`p`, `q_c`, `q_s`) in weight space, the construction of [`GregoryVertex::interior`].
+/// The first-stage rows of vertex `v` over `topo`'s vertices: its
+/// [`GregoryVertex::vertex_points`] in weight space (empty rows where it has none: corners,
+/// cones, a crease's unused points).
 pub fn vertex_point_rows(topo: &Topology, v: u32, tangents: GregoryTangents) -> [Weights; 3] {
     vertex_point_rows_with(topo, v, &Weights::unit, tangents)
 }
@@ -261,8 +258,7 @@ pub fn vertex_point_rows_with(
     tangents: GregoryTangents,
 ) -> [Weights; 3] {
     let ring = vertex_ring_with(topo, v, unit);
-    let InteriorBasis { p, qc, qs } = InteriorBasis::new(&ring, tangents);
-    [p, qc, qs]
+    GregoryVertex::vertex_points(&ring, tangents).unwrap_or_default()
 }
 
 /// The Gregory patch in weight space of every face of `faces` and of their edge neighbours

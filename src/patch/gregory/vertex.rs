@@ -5,7 +5,10 @@
 use super::point::{combine, GregoryPoint};
 use super::tangents::GregoryTangents;
 use glam::DVec3;
+use std::cell::RefCell;
+use std::collections::HashMap;
 use std::f64::consts::PI;
+use std::rc::Rc;
 
 /// The split one-ring of a vertex (paper Fig. 5), in the crate's ring order: `m[i]` is the
 /// midpoint of the `i`-th incident edge, `c[i]` the centroid of the `i`-th incident face, which
@@ -223,6 +226,54 @@ pub fn is_interior_ring<P>(ring: &VertexRing<P>) -> bool {
     !ring.corner && !ring.sharp.contains(&true) && ring.c.len() == ring.m.len()
 }
 
+/// Which construction [`GregoryVertex::new`] takes on a ring.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Rule {
+    /// No sharp edge, no corner tag, faces closed around the vertex.
+    Interior,
+    /// One infinitely sharp edge (this ring edge), faces closed around the vertex.
+    Dart(usize),
+    /// Corner tag with fewer than two sharp edges.
+    Cone,
+    /// Two sharp edges, no corner tag.
+    Crease,
+    /// Corner tag (or more than two sharp edges) with at least two sharp edges.
+    Corner,
+    /// Not covered (a ring that does not close without a sharp edge).
+    Uncovered,
+}
+
+impl Rule {
+    fn of<P>(ring: &VertexRing<P>) -> Rule {
+        let sharp = ring.sharp.iter().filter(|&&s| s).count();
+        if sharp == 1 && !ring.corner && ring.c.len() == ring.m.len() {
+            Rule::Dart(ring.sharp.iter().position(|&s| s).unwrap_or(0))
+        } else if ring.corner && sharp < 2 {
+            Rule::Cone
+        } else if ring.corner {
+            Rule::Corner
+        } else if sharp == 2 {
+            Rule::Crease
+        } else if is_interior_ring(ring) {
+            Rule::Interior
+        } else {
+            Rule::Uncovered
+        }
+    }
+}
+
+/// Derived points per vertex of the two-stage construction ([`GregoryVertex::vertex_points`]).
+pub const VERTEX_POINTS: usize = 3;
+
+/// The smallest crease sector (faces) whose cross-boundary tangent is a derived point
+/// ([`GregoryVertex::vertex_points`]). A sector of one face has no inner edge; one of two
+/// faces has one inner edge point, whose tangent reads six ring vertices, mostly those its
+/// corner point and sharp edge point read already: a derived point there adds more row terms
+/// than it saves (`catmark_car`, isolation 2 / 4, single-crease patches off: 1,080,333 /
+/// 3,506,711 terms from three faces, 1,085,209 / 3,526,659 from two, 1,084,945 / 3,511,323
+/// without crease vertex points).
+const DERIVED_CREASE_SECTOR: usize = 3;
+
 impl<P: GregoryPoint> GregoryVertex<P> {
     /// The construction for any supported ring: [`Self::interior`] when no edge is sharp,
     /// [`Self::dart`] at one sharp edge, [`Self::cone`] at a corner tag with fewer than two
@@ -230,17 +281,89 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     /// cover (a ring that does not close: fewer faces than edges without a sharp edge, e.g.
     /// next to a hole).
     pub fn new(ring: &VertexRing<P>, tangents: GregoryTangents) -> Option<GregoryVertex<P>> {
-        let sharp = ring.sharp.iter().filter(|&&s| s).count();
-        if sharp == 1 && !ring.corner && ring.c.len() == ring.m.len() {
-            Self::dart(ring, tangents)
-        } else if ring.corner && sharp < 2 {
-            Self::cone(ring)
-        } else if sharp > 0 || ring.corner {
-            Self::sectored(ring, tangents)
-        } else if is_interior_ring(ring) {
-            Some(Self::interior(ring, tangents))
-        } else {
-            None
+        match Rule::of(ring) {
+            Rule::Dart(_) => Self::dart(ring, tangents),
+            Rule::Cone => Self::cone(ring),
+            Rule::Crease | Rule::Corner => Self::sectored(ring, tangents),
+            Rule::Interior => Some(Self::interior(ring, tangents)),
+            Rule::Uncovered => None,
+        }
+    }
+
+    /// The first stage of the two-stage construction (§4.1: per-vertex sums computed once,
+    /// before the per-patch points): derived points of `ring` of which every corner and edge
+    /// point of [`Self::new`] is a fixed combination with `O(1)` other ring points
+    /// ([`Self::from_vertex_points`]), so stencil rows built over them hold `O(1)` terms per
+    /// corner instead of `O(n)`:
+    /// - smooth: `p`, `q_c`, `q_s` ([`InteriorBasis`]; `e_j = p + cos q_c + sin q_s`);
+    /// - dart: `p = l · ring` and the two exact tangent masks applied, `t_1 · ring`,
+    ///   `t_2 · ring` ([`Self::dart`]; `e_j = p + a_j t_1 · ring + b_j t_2 · ring`);
+    /// - crease and boundary: the scaled cross-boundary tangent `s(k) T/3` of each of its (at
+    ///   most two) sectors of `k >= DERIVED_CREASE_SECTOR` faces in [`sectors`] order, zero for
+    ///   a smaller sector (its tangent stays expanded) and for a missing second sector; the
+    ///   third point zero ([`Self::sectored`]).
+    ///
+    /// `None` for corner and cone rings, whose points read `O(1)` ring points each already
+    /// (`p = v`, chords and the sharp edges' points), and for rings not covered.
+    pub fn vertex_points(ring: &VertexRing<P>, tangents: GregoryTangents) -> Option<[P; 3]> {
+        match Rule::of(ring) {
+            Rule::Interior => {
+                let InteriorBasis { p, qc, qs } = InteriorBasis::new(ring, tangents);
+                Some([p, qc, qs])
+            }
+            Rule::Dart(d) => {
+                let lim = shared_dart_limit(ring.m.len(), d)?;
+                let [t1, t2] = &lim.tangents;
+                Some([
+                    lim.apply(&lim.position, ring),
+                    lim.apply(t1, ring),
+                    lim.apply(t2, ring),
+                ])
+            }
+            Rule::Crease => {
+                let mut out = [P::zero(), P::zero(), P::zero()];
+                for (t, sec) in out.iter_mut().zip(sectors(&ring.sharp, ring.c.len())) {
+                    if sec.faces >= DERIVED_CREASE_SECTOR {
+                        *t = crease_sector_tangent(ring, tangents, sec);
+                    }
+                }
+                Some(out)
+            }
+            Rule::Cone | Rule::Corner | Rule::Uncovered => None,
+        }
+    }
+
+    /// [`Self::new`] with the first stage given: `points` the ring's
+    /// [`Self::vertex_points`] (ignored on corner and cone rings), computed elsewhere. In weight
+    /// space with `points` the unit weights of three derived points, the second stage of the
+    /// adaptive end caps' rows; on positions with `points = vertex_points(ring)`, bitwise
+    /// [`Self::new`].
+    pub fn from_vertex_points(
+        ring: &VertexRing<P>,
+        tangents: GregoryTangents,
+        points: [P; 3],
+    ) -> Option<GregoryVertex<P>> {
+        let [a, b, c] = points;
+        match Rule::of(ring) {
+            Rule::Interior => Some(Self::interior_from_basis(
+                ring,
+                tangents,
+                InteriorBasis { p: a, qc: b, qs: c },
+            )),
+            Rule::Dart(d) => {
+                let lim = shared_dart_limit(ring.m.len(), d)?;
+                Some(Self::dart_from_points(ring, tangents, &lim, [a, b, c]))
+            }
+            Rule::Crease => Self::sectored_with(ring, tangents, &|i, sec| match i {
+                _ if sec.faces < DERIVED_CREASE_SECTOR => {
+                    crease_sector_tangent(ring, tangents, sec)
+                }
+                0 => a.clone(),
+                _ => b.clone(),
+            }),
+            Rule::Corner => Self::sectored(ring, tangents),
+            Rule::Cone => Self::cone(ring),
+            Rule::Uncovered => None,
         }
     }
 
@@ -306,27 +429,50 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     ///   and tends to the smooth one when the dart's perturbation vanishes;
     /// - `r` and `cos(2π/n)` as for a smooth vertex (§3.4).
     pub fn dart(ring: &VertexRing<P>, tangents: GregoryTangents) -> Option<GregoryVertex<P>> {
-        let n = ring.m.len();
         let d = ring.sharp.iter().position(|&s| s)?;
-        let lim = dart_limit(n, d)?;
-        let smooth = Self::interior(ring, tangents);
-        let p = lim.apply(&lim.position, ring);
+        let lim = shared_dart_limit(ring.m.len(), d)?;
+        let [t1, t2] = &lim.tangents;
+        let points = [
+            lim.apply(&lim.position, ring),
+            lim.apply(t1, ring),
+            lim.apply(t2, ring),
+        ];
+        Some(Self::dart_from_points(ring, tangents, &lim, points))
+    }
+
+    /// [`Self::dart`] from its first stage `[p, t_1 · ring, t_2 · ring]`
+    /// ([`Self::vertex_points`]): the projection of each smooth edge mask onto
+    /// `span(t_1, t_2)` is `a_j t_1 + b_j t_2` ([`RingLimit::project_coefficients`]), so
+    /// `e_j = p + a_j (t_1 · ring) + b_j (t_2 · ring)`.
+    fn dart_from_points(
+        ring: &VertexRing<P>,
+        tangents: GregoryTangents,
+        lim: &RingLimit,
+        points: [P; 3],
+    ) -> GregoryVertex<P> {
+        let n = ring.m.len();
+        // `r` and the cosines of a smooth vertex; its edge points (zero sums) are replaced.
+        let zero = InteriorBasis {
+            p: P::zero(),
+            qc: P::zero(),
+            qs: P::zero(),
+        };
+        let smooth = Self::interior_from_basis(ring, tangents, zero);
+        let [p, t1, t2] = points;
         // The smooth edge points' offsets `e_j - p` as masks: the same sums as `interior`.
+        let scale = tangents.ring_scale(n, ring.quads());
         let e = (0..n)
             .map(|j| {
-                let q = smooth_edge_mask(n, j, tangents.ring_scale(n, ring.quads()));
-                let proj = lim.project(&q);
-                let mut e = p.clone();
-                e.add_scaled(1.0, &lim.apply(&proj, ring));
-                e
+                let (a, b) = lim.project_coefficients(&smooth_edge_mask(n, j, scale));
+                combine(&[(1.0, &p), (a, &t1), (b, &t2)])
             })
             .collect();
-        Some(GregoryVertex {
+        GregoryVertex {
             kind: VertexKind::Dart,
             p,
             e,
             ..smooth
-        })
+        }
     }
 
     /// The construction at a cone point: the corner rule (`v` stays) with fewer than two sharp
@@ -393,6 +539,18 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     ///   interior mode (0.58 to 0.63) exceeds the sharp edges' 1/2, so the exact inner edge
     ///   curves have no finite tangent and the sharp edges' tangents do not span the surface.
     pub fn sectored(ring: &VertexRing<P>, tangents: GregoryTangents) -> Option<GregoryVertex<P>> {
+        Self::sectored_with(ring, tangents, &|_, sec| {
+            crease_sector_tangent(ring, tangents, sec)
+        })
+    }
+
+    /// [`Self::sectored`] with the scaled cross-boundary tangent `s(k) T/3` of crease sector `i`
+    /// (in [`sectors`] order, `k >= 2` faces) given by `tangent(i, sector)`.
+    fn sectored_with(
+        ring: &VertexRing<P>,
+        tangents: GregoryTangents,
+        tangent: &dyn Fn(usize, Sector) -> P,
+    ) -> Option<GregoryVertex<P>> {
         let ne = ring.m.len();
         let nf = ring.c.len();
         let sharp_edges: Vec<usize> = (0..ne).filter(|&j| ring.sharp[j]).collect();
@@ -424,7 +582,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
         let mut r_plus = vec![P::zero(); nf];
         let mut r_minus = vec![P::zero(); nf];
         let mut cosine = vec![0.0; nf];
-        for sec in sectors(&ring.sharp, nf) {
+        for (index, sec) in sectors(&ring.sharp, nf).into_iter().enumerate() {
             let (s, k) = (sec.start, sec.faces);
             let t = (s + k) % ne;
             let edge = |i: usize| (s + i) % ne;
@@ -442,19 +600,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
             let ds = combine(&[(1.0, &e[s]), (-1.0, &p)]);
             let second = match kind {
                 VertexKind::Corner => combine(&[(1.0, &e[t]), (-1.0, &p)]),
-                _ => {
-                    let (wv, wm, wc) = crease_tangent_weights(k);
-                    // `f * w` is `w` bit for bit at the paper's `f = 1`.
-                    let f = tangents.crease_scale(k, ring.quads());
-                    let mut tan = combine(&[(f * wv / 3.0, &ring.v)]);
-                    for (i, w) in wm.iter().enumerate() {
-                        tan.add_scaled(f * w / 3.0, &ring.m[edge(i)]);
-                    }
-                    for (i, w) in wc.iter().enumerate() {
-                        tan.add_scaled(f * w / 3.0, &ring.c[face(i)]);
-                    }
-                    tan
-                }
+                _ => tangent(index, sec),
             };
             for i in 1..k {
                 e[edge(i)] = if kind == VertexKind::Corner && k > 2 {
@@ -516,6 +662,28 @@ fn inner_r<P: GregoryPoint>(ring: &VertexRing<P>, j: usize, ne: usize) -> P {
         (2.0 / 3.0, &ring.c[j]),
         (-2.0 / 3.0, &ring.c[prev]),
     ])
+}
+
+/// The scaled cross-boundary tangent `s(k) T/3` of crease sector `sec` (`k >= 2` faces) of
+/// `ring`: [`crease_tangent_weights`] over the sector's edge midpoints and face centroids,
+/// times the factor [`GregoryTangents::crease_scale`] (§4.6; the paper's at `s = 1`).
+fn crease_sector_tangent<P: GregoryPoint>(
+    ring: &VertexRing<P>,
+    tangents: GregoryTangents,
+    sec: Sector,
+) -> P {
+    let (s, k, ne) = (sec.start, sec.faces, ring.m.len());
+    let (wv, wm, wc) = crease_tangent_weights(k);
+    // `f * w` is `w` bit for bit at the paper's `f = 1`.
+    let f = tangents.crease_scale(k, ring.quads());
+    let mut tan = combine(&[(f * wv / 3.0, &ring.v)]);
+    for (i, w) in wm.iter().enumerate() {
+        tan.add_scaled(f * w / 3.0, &ring.m[(s + i) % ne]);
+    }
+    for (i, w) in wc.iter().enumerate() {
+        tan.add_scaled(f * w / 3.0, &ring.c[(s + i) % ne]);
+    }
+    tan
 }
 
 /// `(r_plus, r_minus)` of the face alone in a crease sector between sharp edges `s` and `t`
@@ -617,8 +785,9 @@ impl RingLimit {
         out
     }
 
-    /// Orthogonal projection of mask `q` onto `span(tangents)`.
-    fn project(&self, q: &[f64]) -> Vec<f64> {
+    /// The coefficients `(a, b)` of the orthogonal projection `a t_1 + b t_2` of mask `q` onto
+    /// `span(tangents)` (normal equations of the 2 × 2 Gram matrix).
+    fn project_coefficients(&self, q: &[f64]) -> (f64, f64) {
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         let [t1, t2] = &self.tangents;
         let (g11, g12, g22) = (dot(t1, t1), dot(t1, t2), dot(t2, t2));
@@ -626,7 +795,7 @@ impl RingLimit {
         let det = g11 * g22 - g12 * g12;
         let a1 = (g22 * b1 - g12 * b2) / det;
         let a2 = (g11 * b2 - g12 * b1) / det;
-        t1.iter().zip(t2).map(|(x, y)| a1 * x + a2 * y).collect()
+        (a1, a2)
     }
 }
 
@@ -644,6 +813,27 @@ fn smooth_edge_mask(n: usize, j: usize, factor: f64) -> Vec<f64> {
         q[1 + n + i] = scale * 2.0 * sigma * ((2.0 * PI * k + PI) / nf).cos();
     }
     q
+}
+
+/// [`dart_limit`] per `(n, d)`.
+type DartLimits = HashMap<(usize, usize), Option<Rc<RingLimit>>>;
+
+thread_local! {
+    /// [`dart_limit`] per `(n, d)` on this thread.
+    static DART_LIMITS: RefCell<DartLimits> = RefCell::new(HashMap::new());
+}
+
+/// [`dart_limit`] solved once per `(n, d)` and thread: the masks depend on those two only, and
+/// the darts of a mesh repeat a few shapes (each solve is a power iteration on a
+/// `(2n + 1)²` matrix, and both stages of the two-stage rows read it).
+fn shared_dart_limit(n: usize, d: usize) -> Option<Rc<RingLimit>> {
+    DART_LIMITS.with(|limits| {
+        limits
+            .borrow_mut()
+            .entry((n, d))
+            .or_insert_with(|| dart_limit(n, d).map(Rc::new))
+            .clone()
+    })
 }
 
 /// Exact limit masks of a dart of valence `n` whose sharp edge is ring edge `d`, over the split
@@ -754,6 +944,93 @@ mod tests {
                 }
                 let err = g.e[j].distance(e) / r.m.iter().map(|m| m.length()).fold(1.0, f64::max);
                 assert!(err <= 1e-14, "valence {n} edge {j}: {err:e}");
+            }
+        }
+    }
+
+    /// Every rule built from its first stage ([`GregoryVertex::from_vertex_points`] of
+    /// [`GregoryVertex::vertex_points`]) is [`GregoryVertex::new`] bit for bit: smooth, dart,
+    /// boundary sectors of 1 to 6 faces, creases with sectors of 3 and 2 and of 3 and 4 faces
+    /// (fails if the sectors' tangents are read in the wrong order), a corner and a cone (no
+    /// first stage).
+    #[test]
+    fn two_stage_rules_are_the_construction() {
+        let with = |n: usize, sharp: &[usize], corner: bool| {
+            let mut r = ring(n);
+            sharp.iter().for_each(|&j| r.sharp[j] = true);
+            r.corner = corner;
+            r
+        };
+        let mut rings = vec![
+            (ring(5), None),
+            (with(6, &[2], false), Some(VertexKind::Dart)),
+            (with(5, &[0, 3], false), Some(VertexKind::Crease)),
+            (with(7, &[0, 3], false), Some(VertexKind::Crease)),
+            (with(5, &[0, 3], true), None),
+            (with(5, &[], true), None),
+        ];
+        rings.extend((1..=6).map(|k| (boundary_ring(k), Some(VertexKind::Crease))));
+        for tangents in [GregoryTangents::Paper, GregoryTangents::Optimal] {
+            for (r, kind) in &rings {
+                let want = GregoryVertex::new(r, tangents).expect("covered");
+                let points = GregoryVertex::vertex_points(r, tangents);
+                assert_eq!(
+                    points.is_some(),
+                    want.kind != VertexKind::Corner && want.kind != VertexKind::Cone
+                );
+                let points = points.unwrap_or([DVec3::ZERO; 3]);
+                let got = GregoryVertex::from_vertex_points(r, tangents, points).unwrap();
+                if let Some(kind) = kind {
+                    assert_eq!(want.kind, *kind);
+                }
+                let what = format!("{:?} {:?} {tangents:?}", want.kind, r.sharp);
+                assert_eq!((got.p, &got.e), (want.p, &want.e), "{what}");
+                assert_eq!(
+                    (&got.r_plus, &got.r_minus),
+                    (&want.r_plus, &want.r_minus),
+                    "{what}"
+                );
+                assert_eq!(
+                    (&got.cosine, &got.one_sided),
+                    (&want.cosine, &want.one_sided),
+                    "{what}"
+                );
+            }
+        }
+    }
+
+    /// A dart's edge points from its first stage, `p + a_j (t_1 · ring) + b_j (t_2 · ring)`,
+    /// are the smooth edge masks projected onto the exact tangent masks, projected here
+    /// independently (Gram-Schmidt in mask space, then applied term by term): equal to 1e-13 of
+    /// the ring's size (fails on swapped or mis-signed coefficients).
+    #[test]
+    fn dart_edge_points_are_the_projected_smooth_masks() {
+        for (n, d) in [(3, 0), (5, 2), (8, 7)] {
+            let mut r = ring(n);
+            r.sharp[d] = true;
+            let g = GregoryVertex::new(&r, GregoryTangents::Paper).unwrap();
+            assert_eq!(g.kind, VertexKind::Dart);
+            let lim = dart_limit(n, d).unwrap();
+            let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+            let [t1, t2] = &lim.tangents;
+            let u1: Vec<f64> = t1.iter().map(|x| x / dot(t1, t1).sqrt()).collect();
+            let w: Vec<f64> = t2
+                .iter()
+                .zip(&u1)
+                .map(|(x, u)| x - dot(t2, &u1) * u)
+                .collect();
+            let u2: Vec<f64> = w.iter().map(|x| x / dot(&w, &w).sqrt()).collect();
+            let size = r.m.iter().map(|m| m.length()).fold(1.0, f64::max);
+            for j in 0..n {
+                let q = smooth_edge_mask(n, j, 1.0);
+                let (c1, c2) = (dot(&q, &u1), dot(&q, &u2));
+                let mask: Vec<f64> = u1.iter().zip(&u2).map(|(a, b)| c1 * a + c2 * b).collect();
+                let mut e = g.p + mask[0] * r.v;
+                for i in 0..n {
+                    e += mask[1 + i] * r.m[i] + mask[1 + n + i] * r.c[i];
+                }
+                let err = g.e[j].distance(e) / size;
+                assert!(err < 1e-13, "valence {n} dart {d} edge {j}: {err:e}");
             }
         }
     }

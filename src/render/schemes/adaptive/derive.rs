@@ -4,7 +4,9 @@
 //! end caps, both as sparse stencil rows over the refined buffer
 //! ([`crate::patch::adaptive::rows::SparseRows`]; `glsl/adaptive/limit_frames.comp`,
 //! `endcap_points.comp`), after a first stage that computes the vertex points (per smooth
-//! end-cap corner its limit point and two tangent sums) the other rows read. The frames replace the shared per-vertex frames (set-0 bindings 2 and
+//! end-cap corner its limit point and two tangent sums, per dart its limit point and two
+//! tangents, per crease sector of three or more faces its cross-boundary tangent) the other
+//! rows read. The frames replace the shared per-vertex frames (set-0 bindings 2 and
 //! 9) for the adaptive draws, so patches of every level meeting at a point read the same bits.
 
 use ash::vk;
