@@ -1,10 +1,11 @@
 //! A buffer holding every level of a uniform refinement (`subdiv::tables::RefinementTables`
-//! layout) measured against the crate's f64 refinement (`StencilTable::refined`).
+//! layout) measured against the crate's f64 refinement (`StencilTable::refined`), and a
+//! vertex's limit position by local refinement.
 
 use glam::DVec3;
 use tessera::subdiv::adaptive::AdaptiveRefinement;
 use tessera::subdiv::tables::RefinementTables;
-use tessera::subdiv::StencilTable;
+use tessera::subdiv::{Level, StencilTable};
 use tessera::ControlMesh;
 
 /// The worst distance, relative to the bbox diagonal of `control`, between the refined levels
@@ -53,4 +54,34 @@ pub fn worst_adaptive_error(
         .zip(&expect)
         .map(|(a, b)| a.distance(*b) / diag)
         .fold(0.0, f64::max)
+}
+
+/// The limit position of vertex `v` by local refinement: `levels` steps of the crate's
+/// refinement of `v`'s faces, tracking `v`, then Aitken extrapolation of the last three
+/// positions (the error of `v`'s position decays like the subdominant eigenvalue).
+pub fn refined_limit(level: &Level, positions: &[DVec3], v: u32, levels: u32) -> DVec3 {
+    let (mut level, mut pos, mut v) = (level.clone(), positions.to_vec(), v);
+    let mut track = Vec::new();
+    for _ in 0..levels {
+        let faces = level.topology().vertex_faces(v).to_vec();
+        let (sub, map) = level.extract(&faces);
+        let sub_pos: Vec<DVec3> = map.iter().map(|&i| pos[i as usize]).collect();
+        let v_sub = map.iter().position(|&x| x == v).unwrap() as u32;
+        let (child, r) = sub.refine();
+        pos = r.apply_vec(&sub_pos);
+        v = sub.child_vertex_point(v_sub);
+        level = child;
+        track.push(pos[v as usize]);
+    }
+    let [a, b, c] = [
+        track[track.len() - 3],
+        track[track.len() - 2],
+        track[track.len() - 1],
+    ];
+    let (d1, d2) = (b - a, c - b);
+    if d2.length() == 0.0 {
+        return c;
+    }
+    let r = d2.length() / d1.length();
+    c + d2 * (r / (1.0 - r))
 }

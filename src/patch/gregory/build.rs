@@ -59,6 +59,14 @@ pub enum NotGregory {
     /// An infinitely sharp vertex with fewer than two sharp edges (a cone point; adaptive end
     /// caps approximate it, [`Coverage::EndCap`]).
     Cusp { face: u32, vertex: u32 },
+    /// A corner vertex is a dart whose limit masks (left eigenvectors of its subdivision
+    /// matrix, `dart_limit`) missed their eigen-equation's tolerance; not seen at valences 3
+    /// to 128 and 1000.
+    DartLimit {
+        face: u32,
+        vertex: u32,
+        valence: usize,
+    },
     /// The face lies alone between two sharp edges of a crease vertex (crease sector of one
     /// face, e.g. a valence-2 boundary vertex with `EdgeOnly` interpolation). The crease rule
     /// gives the patch collinear edge tangents there (the exact tangent plane comes from a
@@ -83,6 +91,7 @@ impl NotGregory {
             | NotGregory::SemiSharp { face, .. }
             | NotGregory::Dart { face, .. }
             | NotGregory::Cusp { face, .. }
+            | NotGregory::DartLimit { face, .. }
             | NotGregory::OneFaceCreaseSector { face, .. }
             | NotGregory::WideCornerSector { face, .. } => face,
         }
@@ -108,6 +117,15 @@ impl fmt::Display for NotGregory {
             NotGregory::Cusp { face, vertex } => write!(
                 f,
                 "face {face}: vertex {vertex} is a sharp vertex with fewer than two sharp edges"
+            ),
+            NotGregory::DartLimit {
+                face,
+                vertex,
+                valence,
+            } => write!(
+                f,
+                "face {face}: vertex {vertex} is a dart of valence {valence} whose limit masks \
+                 (eigenvectors of its subdivision matrix) did not solve to tolerance"
             ),
             NotGregory::WideCornerSector { face, vertex } => write!(
                 f,
@@ -429,6 +447,25 @@ pub fn gregory_patch_for<P: GregoryPoint>(
     assemble_face(topo, f, |_, v| vertices[v as usize].as_ref())
 }
 
+/// Why corner `v` of checked face `f` has no vertex data: a dart without limit masks
+/// ([`NotGregory::DartLimit`]), else (not reached) [`NotGregory::Cusp`].
+fn no_vertex_data(topo: &Topology, f: u32, v: u32) -> NotGregory {
+    let sharp = sharp_edges(topo, v);
+    let faces = topo.vertex_faces(v).len();
+    let dart = sharp.iter().filter(|&&s| s).count() == 1
+        && !is_inf(topo.vertex_sharpness(v))
+        && faces == sharp.len();
+    if dart {
+        NotGregory::DartLimit {
+            face: f,
+            vertex: v,
+            valence: faces,
+        }
+    } else {
+        NotGregory::Cusp { face: f, vertex: v }
+    }
+}
+
 /// Builds the patch of a checked face from its corners' data (`get(k, v)` for corner `k`).
 fn assemble_face<'a, P: GregoryPoint + 'a>(
     topo: &Topology,
@@ -438,8 +475,9 @@ fn assemble_face<'a, P: GregoryPoint + 'a>(
     let fv = topo.face_vertices(f);
     let mut refs = Vec::with_capacity(fv.len());
     for (k, &v) in fv.iter().enumerate() {
-        // The face passed check_face, so its corners have data; stay total anyway.
-        let vertex = get(k, v).ok_or(NotGregory::Cusp { face: f, vertex: v })?;
+        // The face passed check_face, so its corners have data but for a dart whose masks did
+        // not solve (`dart_limit`); stay total anyway.
+        let vertex = get(k, v).ok_or_else(|| no_vertex_data(topo, f, v))?;
         let j = topo
             .vertex_faces(v)
             .iter()

@@ -52,7 +52,7 @@ pub struct Dense {
 
 impl Dense {
     /// Row vector times matrix: `x S`.
-    pub(super) fn left_mul(&self, x: &[f64]) -> Vec<f64> {
+    pub fn left_mul(&self, x: &[f64]) -> Vec<f64> {
         let m = self.m;
         let mut y = vec![0.0; m];
         for (i, &xi) in x.iter().enumerate() {
