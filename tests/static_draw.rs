@@ -206,3 +206,54 @@ fn static_draw_in_chunks_is_the_whole_capture() {
     assert!(e.contains("at least one triangle"), "{e}");
     assert_validation_clean(&ctx);
 }
+
+/// A frame of many chunks recounts with more buckets: `catmark_cube` adaptive isolation 2 at
+/// uniform level 4 (192 triangles) in chunks of at most 2 triangles (96 chunks or more; 256
+/// buckets are fewer than 4 per chunk, and some bucket of 256 holds 3) recounts with at least
+/// 1024 buckets and gives the triangles of one chunk as a multiset. With chunks of one triangle
+/// two triangles share a bucket even of 4096: a typed error naming the bucket, its count and
+/// the 4096 buckets (a capture that never recounts names 256, one that recounts once 1024).
+#[test]
+fn static_draw_recounts_with_more_buckets() {
+    let Some(ctx) = context() else { return };
+    let m = mesh("catmark_cube");
+    let opts = PlanOptions::new(SchemeLimits::from_context(&ctx)).with_isolation(2);
+    let surface: SurfaceData = surface_for_scheme_with(&m, 4, Scheme::Adaptive, &opts).unwrap();
+    let render = RenderDesc {
+        tess: uniform(4.0),
+        ..RenderDesc::default()
+    };
+    let off = OffscreenDesc {
+        camera: CameraSpec::Orbit {
+            azimuth_deg: 30.0,
+            elevation_deg: 40.0,
+            distance: 1.6 * m.bbox_diagonal(),
+        },
+        ..offscreen(64, 64)
+    };
+    let whole = StaticDraw::capture(&ctx, &surface, &render, &off).unwrap();
+    let chunked = StaticDraw::capture_in_chunks(&ctx, &surface, &render, &off, 2).unwrap();
+    let n = whole.captured();
+    eprintln!(
+        "{n} triangles in {} chunks of at most 2, {} buckets",
+        chunked.chunks(),
+        chunked.buckets()
+    );
+    assert_eq!(n, 192, "triangles");
+    assert!(chunked.chunks() >= 96, "{} chunks", chunked.chunks());
+    assert!(chunked.buckets() >= 1024, "{} buckets", chunked.buckets());
+    assert_eq!(chunked.captured(), n);
+    assert!(
+        triangle_multiset(whole.mesh()) == triangle_multiset(chunked.mesh()),
+        "the chunked static mesh holds other triangles than the whole capture"
+    );
+    let e = StaticDraw::capture_in_chunks(&ctx, &surface, &render, &off, 1)
+        .err()
+        .expect("two triangles in one bucket of 4096")
+        .to_string();
+    assert!(
+        e.contains("of 4096 holds") && e.contains("more than a chunk of 1"),
+        "{e}"
+    );
+    assert_validation_clean(&ctx);
+}

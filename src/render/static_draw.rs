@@ -47,6 +47,7 @@ pub struct StaticDraw {
     render: RenderDesc,
     captured: usize,
     chunks: usize,
+    buckets: u32,
 }
 
 impl StaticDraw {
@@ -115,11 +116,10 @@ impl StaticDraw {
                  the device's largest memory heap ({heap} bytes): lower --tess"
             )));
         }
-        let (triangles, chunks) = if drawn <= chunk {
-            (
-                std::mem::take(&mut count.triangles),
-                vec![count.buckets.clone()],
-            )
+        let (triangles, chunks, buckets) = if drawn <= chunk {
+            let all = vec![count.buckets.clone()];
+            let buckets = count.bucket_counts.len() as u32;
+            (std::mem::take(&mut count.triangles), all, buckets)
         } else {
             let wanted = (4 * drawn.div_ceil(chunk))
                 .next_power_of_two()
@@ -153,7 +153,7 @@ impl StaticDraw {
                 check_chunk(&what, &count.bucket_counts, range, &part)?;
                 triangles.extend(part.triangles);
             }
-            (triangles, ranges)
+            (triangles, ranges, buckets)
         };
         let camera = *session.camera();
         drop(session);
@@ -186,6 +186,7 @@ impl StaticDraw {
             },
             captured,
             chunks: chunks.len(),
+            buckets,
         })
     }
 
@@ -193,6 +194,11 @@ impl StaticDraw {
     /// chunks of buckets.
     pub fn chunks(&self) -> usize {
         self.chunks
+    }
+
+    /// Buckets the captured triangles were hashed into (the modulus of [`triangle_bucket`]).
+    pub fn buckets(&self) -> u32 {
+        self.buckets
     }
 
     /// Triangles drawn (tessellated and CPU-path).
