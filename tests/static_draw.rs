@@ -128,7 +128,7 @@ fn static_draw_is_the_frame_s_triangles() {
 }
 
 /// A frame captured in chunks (`StaticDraw::capture_in_chunks`; `tessera bench --static` takes
-/// chunks of one storage-buffer binding, 2,581,109 triangles on lavapipe) is the frame captured
+/// chunks of one storage-buffer binding, 2,580,794 triangles on lavapipe) is the frame captured
 /// whole: car adaptive isolation 2 at uniform level 3 (85,218 triangles) in chunks of at most
 /// 25,000 (consecutive buckets of the triangles' position hash, at least four chunks) gives the
 /// clipping-stage primitive count, the same static mesh as a multiset of triangles (positions,

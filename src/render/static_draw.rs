@@ -10,14 +10,15 @@
 //! The triangles are the frame's own for every scheme (transition fans, clamped levels,
 //! culled patches included), unlike a CPU tessellation at the uniform level, which matches only
 //! frames of whole patches. One capture buffer is bounded by one storage-buffer binding
-//! (`maxStorageBufferRange` / 52 bytes per triangle): a larger frame is captured in chunks, the
-//! same frame drawn once per chunk, each storing the triangles whose atomic slot falls in
-//! `[k C, (k + 1) C)` (`capture_triangles.geom`'s window). The chunks rely on every frame
-//! drawing its triangles in the same slot order (true of lavapipe, whose geometry stage runs
-//! on one thread in draw order; Vulkan does not promise it): the count of every chunk frame is
-//! checked, and `tests/static_draw.rs` checks the chunked triangles against one chunk. The total
-//! is bounded by the device's largest memory heap ([`STATIC_BYTES_PER_TRIANGLE`] per
-//! triangle); a frame that draws more is an error naming that heap.
+//! (`maxStorageBufferRange` / 52 bytes per triangle): a larger frame is captured in chunks whose
+//! membership is a property of the triangle, not of the order the device runs the geometry
+//! stage in. `capture_triangles.geom` hashes each triangle's positions into one of at most
+//! [`MAX_BUCKETS`] buckets ([`triangle_bucket`]) and counts every bucket; the host groups
+//! consecutive buckets into chunks of at most C triangles and draws the frame once per chunk,
+//! storing the triangles of its buckets, each chunk frame checked against the count frame's
+//! bucket counts. The total is bounded by the device's largest memory heap
+//! ([`STATIC_BYTES_PER_TRIANGLE`] per triangle); a frame that draws more is an error naming
+//! that heap.
 
 use std::collections::HashMap;
 use std::ops::Range;
