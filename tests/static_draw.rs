@@ -127,23 +127,19 @@ fn static_draw_is_the_frame_s_triangles() {
     assert_validation_clean(&ctx);
 }
 
-/// A frame captured in chunks (`StaticDraw::capture_in_chunks`; `tessera bench --static` takes
-/// chunks of one storage-buffer binding, 2,580,794 triangles on lavapipe) is the frame captured
-/// whole: car adaptive isolation 2 at uniform level 3 (85,218 triangles) in chunks of at most
-/// 25,000 (consecutive buckets of the triangles' position hash, at least four chunks) gives the
-/// clipping-stage primitive count, the same static mesh as a multiset of triangles (positions,
-/// normals and class bitwise; the order of the triangles within and across chunks is not
-/// the frame's slot order) and the same image. A chunk's bucket range off by one (`range.end - 1`
-/// or `range.start + 1` set on the device), dropping the last chunk, or a geometry stage
-/// storing a bucket past `bucket_end` fail it.
-#[test]
-fn static_draw_in_chunks_is_the_whole_capture() {
-    let Some(ctx) = context() else { return };
-    let m = mesh("catmark_car");
-    let opts = PlanOptions::new(SchemeLimits::from_context(&ctx)).with_isolation(2);
-    let surface: SurfaceData = surface_for_scheme_with(&m, 3, Scheme::Adaptive, &opts).unwrap();
+/// `name` on `--scheme adaptive` at isolation 2, uniform level `level`, in a `size`² target
+/// on black, seen from azimuth 30°, elevation 40°, 1.6 bounding-box diagonals away.
+fn adaptive_frame(
+    ctx: &tessera::gpu::Context,
+    name: &str,
+    level: u32,
+    size: u32,
+) -> (SurfaceData, RenderDesc, OffscreenDesc) {
+    let m = mesh(name);
+    let opts = PlanOptions::new(SchemeLimits::from_context(ctx)).with_isolation(2);
+    let surface = surface_for_scheme_with(&m, level, Scheme::Adaptive, &opts).unwrap();
     let render = RenderDesc {
-        tess: uniform(3.0),
+        tess: uniform(level as f32),
         ..RenderDesc::default()
     };
     let off = OffscreenDesc {
@@ -153,8 +149,24 @@ fn static_draw_in_chunks_is_the_whole_capture() {
             distance: 1.6 * m.bbox_diagonal(),
         },
         clear: [0.0, 0.0, 0.0, 1.0],
-        ..offscreen(240, 240)
+        ..offscreen(size, size)
     };
+    (surface, render, off)
+}
+
+/// A frame captured in chunks (`StaticDraw::capture_in_chunks`; `tessera bench --static` takes
+/// chunks of one storage-buffer binding, 2,580,794 triangles on lavapipe) is the frame captured
+/// whole: car adaptive isolation 2 at uniform level 3 (85,218 triangles) in chunks of at most
+/// 25,000 (consecutive buckets of the triangles' position hash, at least four chunks) gives the
+/// clipping-stage primitive count, the same static mesh as a multiset of triangles (positions,
+/// normals and class bitwise; the order of the triangles within and across chunks is not
+/// the frame's slot order) and the same image. A chunk's bucket range off by one on the device
+/// (`range.end - 1`) or in the geometry stage (`bucket <= bucket_end`), dropping the last chunk,
+/// or a host bucket hash other than the device's (modulus + 1) fail it.
+#[test]
+fn static_draw_in_chunks_is_the_whole_capture() {
+    let Some(ctx) = context() else { return };
+    let (surface, render, off) = adaptive_frame(&ctx, "catmark_car", 3, 240);
     let mut session = OffscreenSession::new(&ctx, &surface, &render, &off, true).unwrap();
     let clipped = session
         .frame()
@@ -216,21 +228,7 @@ fn static_draw_in_chunks_is_the_whole_capture() {
 #[test]
 fn static_draw_recounts_with_more_buckets() {
     let Some(ctx) = context() else { return };
-    let m = mesh("catmark_cube");
-    let opts = PlanOptions::new(SchemeLimits::from_context(&ctx)).with_isolation(2);
-    let surface: SurfaceData = surface_for_scheme_with(&m, 4, Scheme::Adaptive, &opts).unwrap();
-    let render = RenderDesc {
-        tess: uniform(4.0),
-        ..RenderDesc::default()
-    };
-    let off = OffscreenDesc {
-        camera: CameraSpec::Orbit {
-            azimuth_deg: 30.0,
-            elevation_deg: 40.0,
-            distance: 1.6 * m.bbox_diagonal(),
-        },
-        ..offscreen(64, 64)
-    };
+    let (surface, render, off) = adaptive_frame(&ctx, "catmark_cube", 4, 64);
     let whole = StaticDraw::capture(&ctx, &surface, &render, &off).unwrap();
     let chunked = StaticDraw::capture_in_chunks(&ctx, &surface, &render, &off, 2).unwrap();
     let n = whole.captured();
