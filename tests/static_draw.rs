@@ -30,6 +30,27 @@ fn differing(a: &image::RgbaImage, b: &image::RgbaImage) -> (usize, usize) {
     (differ, covered)
 }
 
+/// The triangles of a static mesh, each as the bits of its vertices' positions and normals and
+/// its class, sorted.
+fn triangle_multiset(mesh: &tessera::render::FallbackMesh) -> Vec<[u64; 19]> {
+    let mut triangles: Vec<[u64; 19]> = mesh
+        .indices
+        .chunks_exact(3)
+        .map(|t| {
+            let mut key = [0u64; 19];
+            for (i, &v) in t.iter().enumerate() {
+                let (p, n) = (mesh.positions[v as usize], mesh.normals[v as usize]);
+                let words = [p.x, p.y, p.z, n.x, n.y, n.z].map(f64::to_bits);
+                key[6 * i..6 * i + 6].copy_from_slice(&words);
+            }
+            key[18] = u64::from(mesh.classes[t[0] as usize]);
+            key
+        })
+        .collect();
+    triangles.sort_unstable();
+    triangles
+}
+
 /// For `--scheme gregory-stencil` (patches and CPU-path faces) and `--scheme adaptive` at
 /// isolation 2 (transition patches between levels 0-2, end caps) on `catmark_car`, uniform levels
 /// 3 and 6: the static draw holds exactly the frame's clipping-stage primitives (pipeline
@@ -106,21 +127,19 @@ fn static_draw_is_the_frame_s_triangles() {
     assert_validation_clean(&ctx);
 }
 
-/// A frame captured in chunks (`StaticDraw::capture_in_chunks`; `tessera bench --static` takes
-/// chunks of one storage-buffer binding, 2,581,109 triangles on lavapipe) is the frame captured
-/// whole: car adaptive isolation 2 at uniform level 3 (85,218 triangles) in chunks of 25,000 (four
-/// frames, the last storing 10,218) gives the clipping-stage primitive count, bitwise the same
-/// static mesh (vertices and indices in the same order) and the same image. Off-by-one windows
-/// (`k chunk ± 1`), dropping the last partial chunk (`chunks = drawn / chunk`) or a geometry
-/// stage that stores slot `first + capacity` or skips slot `first` fail it.
-#[test]
-fn static_draw_in_chunks_is_the_whole_capture() {
-    let Some(ctx) = context() else { return };
-    let m = mesh("catmark_car");
-    let opts = PlanOptions::new(SchemeLimits::from_context(&ctx)).with_isolation(2);
-    let surface: SurfaceData = surface_for_scheme_with(&m, 3, Scheme::Adaptive, &opts).unwrap();
+/// `name` on `--scheme adaptive` at isolation 2, uniform level `level`, in a `size`² target
+/// on black, seen from azimuth 30°, elevation 40°, 1.6 bounding-box diagonals away.
+fn adaptive_frame(
+    ctx: &tessera::gpu::Context,
+    name: &str,
+    level: u32,
+    size: u32,
+) -> (SurfaceData, RenderDesc, OffscreenDesc) {
+    let m = mesh(name);
+    let opts = PlanOptions::new(SchemeLimits::from_context(ctx)).with_isolation(2);
+    let surface = surface_for_scheme_with(&m, level, Scheme::Adaptive, &opts).unwrap();
     let render = RenderDesc {
-        tess: uniform(3.0),
+        tess: uniform(level as f32),
         ..RenderDesc::default()
     };
     let off = OffscreenDesc {
@@ -130,8 +149,24 @@ fn static_draw_in_chunks_is_the_whole_capture() {
             distance: 1.6 * m.bbox_diagonal(),
         },
         clear: [0.0, 0.0, 0.0, 1.0],
-        ..offscreen(240, 240)
+        ..offscreen(size, size)
     };
+    (surface, render, off)
+}
+
+/// A frame captured in chunks (`StaticDraw::capture_in_chunks`; `tessera bench --static` takes
+/// chunks of one storage-buffer binding, 2,580,794 triangles on lavapipe) is the frame captured
+/// whole: car adaptive isolation 2 at uniform level 3 (85,218 triangles) in chunks of at most
+/// 25,000 (consecutive buckets of the triangles' position hash, at least four chunks) gives the
+/// clipping-stage primitive count, the same static mesh as a multiset of triangles (positions,
+/// normals and class bitwise; the order of the triangles within and across chunks is not
+/// the frame's slot order) and the same image. A chunk's bucket range off by one on the device
+/// (`range.end - 1`) or in the geometry stage (`bucket <= bucket_end`), dropping the last chunk,
+/// or a host bucket hash other than the device's (modulus + 1) fail it.
+#[test]
+fn static_draw_in_chunks_is_the_whole_capture() {
+    let Some(ctx) = context() else { return };
+    let (surface, render, off) = adaptive_frame(&ctx, "catmark_car", 3, 240);
     let mut session = OffscreenSession::new(&ctx, &surface, &render, &off, true).unwrap();
     let clipped = session
         .frame()
@@ -147,12 +182,27 @@ fn static_draw_in_chunks_is_the_whole_capture() {
     );
     let whole = StaticDraw::capture(&ctx, &surface, &render, &off).unwrap();
     let chunked = StaticDraw::capture_in_chunks(&ctx, &surface, &render, &off, chunk).unwrap();
+    assert_eq!(whole.chunks(), 1, "one chunk");
+    eprintln!(
+        "{clipped} triangles in {} chunks of at most {chunk}",
+        chunked.chunks()
+    );
+    assert!(
+        chunked.chunks() >= 4,
+        "{} chunks of {chunk}",
+        chunked.chunks()
+    );
     assert_eq!(whole.captured(), clipped, "one chunk");
     assert_eq!(chunked.captured(), clipped, "chunks of {chunk}");
-    let (a, b) = (whole.mesh(), chunked.mesh());
-    assert_eq!(a.indices, b.indices, "static indices");
-    assert_eq!(a.positions, b.positions, "static positions");
-    assert_eq!(a.normals, b.normals, "static normals");
+    let (a, b) = (
+        triangle_multiset(whole.mesh()),
+        triangle_multiset(chunked.mesh()),
+    );
+    assert_eq!(a.len(), clipped, "static triangles");
+    assert!(
+        a == b,
+        "the chunked static mesh holds other triangles than the whole capture"
+    );
     let image = |s: &StaticDraw| {
         let mut session = s.session(&ctx, &off).unwrap();
         session.frame().unwrap();
@@ -166,5 +216,42 @@ fn static_draw_in_chunks_is_the_whole_capture() {
         .expect("an empty chunk is an error")
         .to_string();
     assert!(e.contains("at least one triangle"), "{e}");
+    assert_validation_clean(&ctx);
+}
+
+/// A frame of many chunks recounts with more buckets: `catmark_cube` adaptive isolation 2 at
+/// uniform level 4 (192 triangles) in chunks of at most 2 triangles (96 chunks or more; 256
+/// buckets are fewer than 4 per chunk, and some bucket of 256 holds 3) recounts with at least
+/// 1024 buckets and gives the triangles of one chunk as a multiset. With chunks of one triangle
+/// two triangles share a bucket even of 4096: a typed error naming the bucket, its count and
+/// the 4096 buckets (a capture that never recounts names 256, one that recounts once 1024).
+#[test]
+fn static_draw_recounts_with_more_buckets() {
+    let Some(ctx) = context() else { return };
+    let (surface, render, off) = adaptive_frame(&ctx, "catmark_cube", 4, 64);
+    let whole = StaticDraw::capture(&ctx, &surface, &render, &off).unwrap();
+    let chunked = StaticDraw::capture_in_chunks(&ctx, &surface, &render, &off, 2).unwrap();
+    let n = whole.captured();
+    eprintln!(
+        "{n} triangles in {} chunks of at most 2, {} buckets",
+        chunked.chunks(),
+        chunked.buckets()
+    );
+    assert_eq!(n, 192, "triangles");
+    assert!(chunked.chunks() >= 96, "{} chunks", chunked.chunks());
+    assert!(chunked.buckets() >= 1024, "{} buckets", chunked.buckets());
+    assert_eq!(chunked.captured(), n);
+    assert!(
+        triangle_multiset(whole.mesh()) == triangle_multiset(chunked.mesh()),
+        "the chunked static mesh holds other triangles than the whole capture"
+    );
+    let e = StaticDraw::capture_in_chunks(&ctx, &surface, &render, &off, 1)
+        .err()
+        .expect("two triangles in one bucket of 4096")
+        .to_string();
+    assert!(
+        e.contains("of 4096 holds") && e.contains("more than a chunk of 1"),
+        "{e}"
+    );
     assert_validation_clean(&ctx);
 }

@@ -5,7 +5,7 @@ use glam::DVec3;
 use image::RgbaImage;
 
 use super::camera::{Camera, CameraSpec, UpAxis};
-use super::pass::{CaptureRecord, CapturedTriangle};
+use super::pass::{CaptureRecord, CapturedTriangle, TriangleWindow};
 use super::renderer::{RenderDesc, SurfaceRenderer};
 use super::settings::FrameUniforms;
 use super::surface::SurfaceData;
@@ -358,15 +358,15 @@ impl OffscreenSession {
         self.renderer.triangles_drawn()
     }
 
-    /// Triangles the last frame drew and those of its capture window
-    /// ([`SurfaceRenderer::read_triangle_window`]).
-    pub fn triangle_window(&self) -> Result<(u32, Vec<CapturedTriangle>)> {
+    /// What the last frame's triangle capture saw ([`SurfaceRenderer::read_triangle_window`]).
+    pub fn triangle_window(&self) -> Result<TriangleWindow> {
         self.renderer.read_triangle_window()
     }
 
-    /// The first triangle slot the next frames capture ([`SurfaceRenderer::set_triangle_window`]).
-    pub fn set_triangle_window(&mut self, first: u32) -> Result<()> {
-        self.renderer.set_triangle_window(first)
+    /// The bucket modulus and stored bucket range of the next frames' triangle capture
+    /// ([`SurfaceRenderer::set_triangle_buckets`]).
+    pub fn set_triangle_buckets(&mut self, buckets: u32, first: u32, end: u32) -> Result<()> {
+        self.renderer.set_triangle_buckets(buckets, first, end)
     }
 }
 

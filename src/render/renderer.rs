@@ -8,7 +8,9 @@ use glam::DVec3;
 
 use super::cpu_path::CpuPathPass;
 use super::fallback::FallbackMesh;
-use super::pass::{Capture, CaptureRecord, CapturedTriangle, SharedResources, VertexFrames};
+use super::pass::{
+    Capture, CaptureRecord, CapturedTriangle, SharedResources, TriangleWindow, VertexFrames,
+};
 use super::schemes::adaptive::AdaptiveTables;
 use super::schemes::single_crease::SingleCreaseTables;
 use super::schemes::{PassContext, PassTables, PatchPass};
@@ -469,18 +471,18 @@ impl SurfaceRenderer {
         self.shared.triangles_drawn(self.slot)
     }
 
-    /// The triangles the frame of the current slot drew and those its capture window stored
-    /// (slots from [`Self::set_triangle_window`] on, at most the capacity), once it has finished.
-    pub fn read_triangle_window(&self) -> Result<(u32, Vec<CapturedTriangle>)> {
+    /// What the triangle capture of the frame of the current slot saw (its count, its bucket
+    /// counts, the triangles of the stored buckets), once it has finished.
+    pub fn read_triangle_window(&self) -> Result<TriangleWindow> {
         self.shared.read_triangle_window(self.slot)
     }
 
-    /// Stores the triangles of slots `first..first + capacity` of the next frames (0 at
-    /// creation): a frame larger than one capture buffer is read in chunks, one frame each, as
-    /// long as the frames draw the same triangles in the same slot order. Host write: no frame
-    /// may be in flight.
-    pub fn set_triangle_window(&mut self, first: u32) -> Result<()> {
-        self.shared.set_triangle_window(first)
+    /// Hashes the next frames' triangles into `buckets` buckets (1..=[`super::pass::MAX_BUCKETS`];
+    /// [`super::pass::triangle_bucket`]) and stores those of buckets `first..end` (all of 256 at creation):
+    /// a frame larger than one capture buffer is read in chunks of buckets, one frame each.
+    /// Host write: no frame may be in flight.
+    pub fn set_triangle_buckets(&mut self, buckets: u32, first: u32, end: u32) -> Result<()> {
+        self.shared.set_triangle_buckets(buckets, first, end)
     }
 }
 

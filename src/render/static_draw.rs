@@ -10,16 +10,18 @@
 //! The triangles are the frame's own for every scheme (transition fans, clamped levels,
 //! culled patches included), unlike a CPU tessellation at the uniform level, which matches only
 //! frames of whole patches. One capture buffer is bounded by one storage-buffer binding
-//! (`maxStorageBufferRange` / 52 bytes per triangle): a larger frame is captured in chunks, the
-//! same frame drawn once per chunk, each storing the triangles whose atomic slot falls in
-//! `[k C, (k + 1) C)` (`capture_triangles.geom`'s window). The chunks rely on every frame
-//! drawing its triangles in the same slot order (true of lavapipe, whose geometry stage runs
-//! on one thread in draw order; Vulkan does not promise it): the count of every chunk frame is
-//! checked, and `tests/static_draw.rs` checks the chunked triangles against one chunk. The total
-//! is bounded by the device's largest memory heap ([`STATIC_BYTES_PER_TRIANGLE`] per
-//! triangle); a frame that draws more is an error naming that heap.
+//! (`maxStorageBufferRange` / 52 bytes per triangle): a larger frame is captured in chunks whose
+//! membership is a property of the triangle, not of the order the device runs the geometry
+//! stage in. `capture_triangles.geom` hashes each triangle's positions into one of at most
+//! [`MAX_BUCKETS`] buckets ([`triangle_bucket`]) and counts every bucket; the host groups
+//! consecutive buckets into chunks of at most C triangles and draws the frame once per chunk,
+//! storing the triangles of its buckets, each chunk frame checked against the count frame's
+//! bucket counts. The total is bounded by the device's largest memory heap
+//! ([`STATIC_BYTES_PER_TRIANGLE`] per triangle); a frame that draws more is an error naming
+//! that heap.
 
 use std::collections::HashMap;
+use std::ops::Range;
 
 use glam::DVec3;
 
@@ -27,7 +29,7 @@ use super::bench::timed_frames;
 use super::camera::Camera;
 use super::fallback::FallbackMesh;
 use super::offscreen::{OffscreenDesc, OffscreenSession, CPU_PATH_LABEL};
-use super::pass::{Capture, CapturedTriangle};
+use super::pass::{triangle_bucket, Capture, CapturedTriangle, TriangleWindow, MAX_BUCKETS};
 use super::renderer::RenderDesc;
 use super::settings::Displacement;
 use super::surface::SurfaceData;
@@ -45,6 +47,8 @@ pub struct StaticDraw {
     camera: Camera,
     render: RenderDesc,
     captured: usize,
+    chunks: usize,
+    buckets: u32,
 }
 
 impl StaticDraw {
@@ -63,9 +67,16 @@ impl StaticDraw {
     }
 
     /// [`Self::capture`] with at most `chunk` triangles per capture buffer (lowered to what one
-    /// storage-buffer binding holds): the first frame stores slots `[0, chunk)` and counts the
-    /// frame's N triangles; frame k of the `ceil(N / chunk)` stores `[k chunk, (k + 1) chunk)`.
-    /// Errors when a chunk frame draws another count, and when N triangles of the static draw
+    /// storage-buffer binding holds). The first frame counts the frame's N triangles per bucket
+    /// (`capture_triangles.geom` hashes each triangle's positions, [`triangle_bucket`]) and
+    /// stores them all when N <= `chunk`. Otherwise consecutive buckets are grouped into chunks
+    /// of at most `chunk` triangles (recounted with more buckets, up to [`MAX_BUCKETS`], while
+    /// one bucket alone holds more or there are fewer than 4 buckets per chunk) and the frame is
+    /// drawn once per chunk, storing the triangles of its buckets: the same set of triangles
+    /// whatever order the device runs the geometry stage in. Errors when a chunk frame's
+    /// bucket counts differ from the count frame's, when it stores another number than its
+    /// buckets counted or a triangle of another bucket, when one bucket of [`MAX_BUCKETS`]
+    /// holds more than `chunk`, and when N triangles of the static draw
     /// ([`STATIC_BYTES_PER_TRIANGLE`] each) exceed the device's largest memory heap.
     pub fn capture_in_chunks(
         ctx: &Context,
@@ -94,7 +105,8 @@ impl StaticDraw {
         };
         let mut session = OffscreenSession::new(ctx, surface, &capturing, desc, false)?;
         session.frame()?;
-        let (drawn, mut triangles) = session.triangle_window()?;
+        let mut count = session.triangle_window()?;
+        let drawn = count.drawn;
         let cpu = surface.fallback.indices.len() / 3;
         let heap = ctx.largest_heap_bytes();
         let need = (u64::from(drawn) + cpu as u64) * STATIC_BYTES_PER_TRIANGLE;
@@ -105,33 +117,60 @@ impl StaticDraw {
                  the device's largest memory heap ({heap} bytes): lower --tess"
             )));
         }
-        let chunks = drawn.div_ceil(chunk);
-        triangles.reserve(drawn as usize - triangles.len());
-        for k in 1..chunks {
-            session.set_triangle_window(k * chunk)?;
-            session.frame()?;
-            let (again, part) = session.triangle_window()?;
-            if again != drawn {
-                return Err(Error::Invalid(format!(
-                    "static draw: chunk {k} of {chunks}: the frame drew {again} triangles, the \
-                     first {drawn} (the chunks need the same frame each time)"
-                )));
+        let (triangles, chunks, buckets) = if drawn <= chunk {
+            let all = vec![count.buckets.clone()];
+            let buckets = count.bucket_counts.len() as u32;
+            (std::mem::take(&mut count.triangles), all, buckets)
+        } else {
+            let wanted = (4 * drawn.div_ceil(chunk))
+                .next_power_of_two()
+                .min(MAX_BUCKETS);
+            let mut buckets = count.bucket_counts.len() as u32;
+            let ranges = loop {
+                let grouped = group_buckets(&count.bucket_counts, chunk);
+                if buckets < MAX_BUCKETS && (grouped.is_err() || buckets < wanted) {
+                    buckets = (4 * buckets).max(wanted).min(MAX_BUCKETS);
+                    session.set_triangle_buckets(buckets, 0, 0)?;
+                    session.frame()?;
+                    count = session.triangle_window()?;
+                    continue;
+                }
+                break grouped.map_err(|(bucket, n)| {
+                    Error::Invalid(format!(
+                        "static draw: bucket {bucket} of {buckets} holds {n} of the frame's \
+                         {drawn} triangles, more than a chunk of {chunk}"
+                    ))
+                })?;
+            };
+            let mut triangles = Vec::with_capacity(drawn as usize);
+            for (k, range) in ranges.iter().enumerate() {
+                session.set_triangle_buckets(buckets, range.start, range.end)?;
+                session.frame()?;
+                let part = session.triangle_window()?;
+                let what = format!(
+                    "static draw: chunk {k} of {} (buckets {range:?})",
+                    ranges.len()
+                );
+                check_chunk(&what, &count.bucket_counts, range, &part)?;
+                triangles.extend(part.triangles);
             }
-            triangles.extend(part);
-        }
+            (triangles, ranges, buckets)
+        };
         let camera = *session.camera();
         drop(session);
         let captured = triangles.len();
         if captured != drawn as usize {
             return Err(Error::Invalid(format!(
-                "static draw: {captured} of the frame's {drawn} triangles captured in {chunks} \
-                 chunks of {chunk}"
+                "static draw: {captured} of the frame's {drawn} triangles captured in {} \
+                 chunks of {chunk}",
+                chunks.len()
             )));
         }
         let fallback = static_mesh(&surface.fallback, &triangles);
         log::debug!(
-            "static draw: {captured} tessellated triangles in {chunks} chunk(s) of at most \
+            "static draw: {captured} tessellated triangles in {} chunk(s) of at most \
              {chunk} + {cpu} CPU-path triangles, {} vertices",
+            chunks.len(),
             fallback.positions.len()
         );
         Ok(StaticDraw {
@@ -147,7 +186,20 @@ impl StaticDraw {
                 ..*render
             },
             captured,
+            chunks: chunks.len(),
+            buckets,
         })
+    }
+
+    /// Capture frames that stored triangles: 1 when the frame fits one capture buffer, else the
+    /// chunks of buckets.
+    pub fn chunks(&self) -> usize {
+        self.chunks
+    }
+
+    /// Buckets the captured triangles were hashed into (the modulus of [`triangle_bucket`]).
+    pub fn buckets(&self) -> u32 {
+        self.buckets
     }
 
     /// Triangles drawn (tessellated and CPU-path).
@@ -189,6 +241,69 @@ impl StaticDraw {
     }
 }
 
+/// Consecutive buckets grouped greedily into ranges of at most `chunk` triangles, covering
+/// `0..counts.len()`; the bucket and its count when one bucket alone holds more.
+fn group_buckets(counts: &[u32], chunk: u32) -> std::result::Result<Vec<Range<u32>>, (u32, u32)> {
+    let mut ranges = Vec::new();
+    let (mut start, mut sum) = (0u32, 0u64);
+    for (b, &n) in (0u32..).zip(counts) {
+        if n > chunk {
+            return Err((b, n));
+        }
+        if sum + u64::from(n) > u64::from(chunk) {
+            ranges.push(start..b);
+            (start, sum) = (b, 0);
+        }
+        sum += u64::from(n);
+    }
+    ranges.push(start..counts.len() as u32);
+    Ok(ranges)
+}
+
+/// Checks one chunk frame against the count frame: the same count in every bucket, as many
+/// triangles stored as `range`'s buckets counted, each of them in `range`.
+fn check_chunk(
+    what: &str,
+    counts: &[u32],
+    range: &Range<u32>,
+    part: &TriangleWindow,
+) -> Result<()> {
+    if let Some(b) = (0..counts.len().max(part.bucket_counts.len()))
+        .find(|&b| counts.get(b) != part.bucket_counts.get(b))
+    {
+        return Err(Error::Invalid(format!(
+            "{what}: the frame drew {:?} triangles in bucket {b}, the count frame {:?} (the \
+             chunks need the same frame each time)",
+            part.bucket_counts.get(b),
+            counts.get(b)
+        )));
+    }
+    let expected: u64 = counts[range.start as usize..range.end as usize]
+        .iter()
+        .map(|&n| u64::from(n))
+        .sum();
+    if u64::from(part.stored) != expected || part.triangles.len() as u64 != expected {
+        return Err(Error::Invalid(format!(
+            "{what}: {} triangles stored ({} read), its buckets counted {expected}",
+            part.stored,
+            part.triangles.len()
+        )));
+    }
+    let modulus = counts.len() as u32;
+    if let Some(t) = part
+        .triangles
+        .iter()
+        .find(|t| !range.contains(&triangle_bucket(&t.positions, modulus)))
+    {
+        return Err(Error::Invalid(format!(
+            "{what}: stored a triangle of bucket {} ({:?})",
+            triangle_bucket(&t.positions, modulus),
+            t.positions
+        )));
+    }
+    Ok(())
+}
+
 /// `cpu` (the frame's CPU-path triangles) followed by `captured`, vertices shared where
 /// position, normal and class are bitwise equal. Domain points are dropped: the static draw
 /// neither displaces nor looks up texture coordinates.
@@ -226,4 +341,27 @@ fn static_mesh(cpu: &FallbackMesh, captured: &[CapturedTriangle]) -> FallbackMes
 
 fn vec3(v: [f32; 3]) -> DVec3 {
     DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::group_buckets;
+
+    /// Greedy grouping: consecutive buckets while the sum stays within the chunk (exactly full
+    /// chunks close at the bucket that would exceed), the ranges covering every bucket once;
+    /// one bucket over the chunk is an error naming it and its count.
+    #[test]
+    fn buckets_group_into_chunks_of_consecutive_buckets() {
+        let ranges = |counts: &[u32], chunk| -> Vec<(u32, u32)> {
+            let r = group_buckets(counts, chunk).unwrap();
+            r.into_iter().map(|r| (r.start, r.end)).collect()
+        };
+        assert_eq!(
+            ranges(&[3, 2, 0, 5, 1, 4, 4], 5),
+            [(0, 3), (3, 4), (4, 6), (6, 7)]
+        );
+        assert_eq!(ranges(&[0, 0, 0], 1), [(0, 3)]);
+        assert_eq!(ranges(&[1, 1, 1, 1], 4), [(0, 4)]);
+        assert_eq!(group_buckets(&[1, 6, 1], 5), Err((1, 6)));
+    }
 }

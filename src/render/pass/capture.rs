@@ -16,9 +16,17 @@ pub const CAPTURE_RECORD_BYTES: usize = 52;
 const NO_SUB_FACE: u32 = u32::MAX;
 /// Tag bit: the record carries a patch kind and level (`CAPTURE_TAGGED`).
 const CAPTURE_TAGGED: u32 = 0x8000_0000;
-/// Bytes before the first capture record (count, capacity, then for triangle capture the first
-/// slot stored, one pad word).
+/// Bytes before the first TES capture record (count, capacity, two pad words).
 pub const CAPTURE_HEADER_BYTES: usize = 16;
+
+/// Buckets a triangle capture can count (`MAX_BUCKETS` of `capture_triangles.geom`): the
+/// modulus of [`triangle_bucket`] is at most this.
+pub const MAX_BUCKETS: u32 = 4096;
+/// Bytes before the first captured triangle: count, capacity, the stored buckets' range (first,
+/// end), the stored count, the bucket modulus, two pad words, then [`MAX_BUCKETS`] bucket counts.
+pub const TRIANGLE_HEADER_BYTES: usize = 32 + 4 * MAX_BUCKETS as usize;
+/// Bucket modulus of a fresh triangle-capture buffer.
+pub const DEFAULT_BUCKETS: u32 = 256;
 
 /// Bytes of one captured triangle (`capture_triangles.geom`): per vertex the position (3 f32)
 /// and the octahedral normal (2 x snorm16), then the colour class.
@@ -49,10 +57,18 @@ impl Capture {
         }
     }
 
+    /// Bytes before the first record.
+    pub fn header_bytes(self) -> usize {
+        match self {
+            Capture::TesPoints(_) => CAPTURE_HEADER_BYTES,
+            Capture::Triangles(_) => TRIANGLE_HEADER_BYTES,
+        }
+    }
+
     /// The most records of this kind one storage-buffer binding holds (`maxStorageBufferRange`).
     pub fn max_records(self, ctx: &Context) -> u32 {
         let range = ctx.info().limits.max_storage_buffer_range as usize;
-        (range.saturating_sub(CAPTURE_HEADER_BYTES) / self.record_bytes()).min(u32::MAX as usize)
+        (range.saturating_sub(self.header_bytes()) / self.record_bytes()).min(u32::MAX as usize)
             as u32
     }
 }
@@ -66,6 +82,35 @@ pub struct CapturedTriangle {
     pub normals: [[f32; 3]; 3],
     /// Colour class of the first vertex (`t_class`, flat).
     pub class: u32,
+}
+
+/// The bucket of a triangle in a capture whose modulus is `buckets` (1..=[`MAX_BUCKETS`]): the
+/// 32-bit MurmurHash3 of its nine position words modulo `buckets`, as `capture_triangles.geom`
+/// computes it on the device.
+pub fn triangle_bucket(positions: &[[f32; 3]; 3], buckets: u32) -> u32 {
+    murmur3_words(positions.iter().flatten().map(|x| x.to_bits())) % buckets.clamp(1, MAX_BUCKETS)
+}
+
+/// MurmurHash3_x86_32 (Appleby, SMHasher) with seed 0 of the little-endian bytes of `words`.
+fn murmur3_words(words: impl Iterator<Item = u32>) -> u32 {
+    let (mut h, mut len) = (0u32, 0u32);
+    for w in words {
+        let k = w
+            .wrapping_mul(0xcc9e_2d51)
+            .rotate_left(15)
+            .wrapping_mul(0x1b87_3593);
+        h = (h ^ k)
+            .rotate_left(13)
+            .wrapping_mul(5)
+            .wrapping_add(0xe654_6b64);
+        len += 4;
+    }
+    h ^= len;
+    h ^= h >> 16;
+    h = h.wrapping_mul(0x85eb_ca6b);
+    h ^= h >> 13;
+    h = h.wrapping_mul(0xc2b2_ae35);
+    h ^ (h >> 16)
 }
 
 /// The unit vector of the octahedral encoding `packSnorm2x16(e)` of
@@ -132,8 +177,13 @@ pub fn capture_buffer(ctx: &Context, capture: Capture, slot: usize) -> Result<Bu
         );
     }
     let capacity = capacity.min(fits);
-    let mut bytes = vec![0u8; CAPTURE_HEADER_BYTES + capture.record_bytes() * capacity as usize];
+    let mut bytes = vec![0u8; capture.header_bytes() + capture.record_bytes() * capacity as usize];
     bytes[4..8].copy_from_slice(&capacity.to_le_bytes());
+    if let Capture::Triangles(_) = capture {
+        // Every bucket stored: [0, DEFAULT_BUCKETS) of DEFAULT_BUCKETS.
+        bytes[12..16].copy_from_slice(&DEFAULT_BUCKETS.to_le_bytes());
+        bytes[20..24].copy_from_slice(&DEFAULT_BUCKETS.to_le_bytes());
+    }
     let mut b = Buffer::new(
         ctx,
         bytes.len() as u64,
@@ -145,15 +195,28 @@ pub fn capture_buffer(ctx: &Context, capture: Capture, slot: usize) -> Result<Bu
     Ok(b)
 }
 
-/// Resets the record count (host write, between frames).
-pub fn reset_capture(buffer: &mut Buffer) -> Result<()> {
-    buffer.write(0, &[0u32])
+/// Resets the record count, and for a triangle capture the stored count and the bucket counts
+/// (host write, between frames).
+pub fn reset_capture(buffer: &mut Buffer, capture: Capture) -> Result<()> {
+    buffer.write(0, &[0u32])?;
+    if let Capture::Triangles(_) = capture {
+        buffer.write(16, &[0u32])?;
+        buffer.write(32, &[0u32; MAX_BUCKETS as usize])?;
+    }
+    Ok(())
 }
 
-/// Sets the first slot a triangle capture stores (header word 2, host write between frames):
-/// the frame's triangles `[first, first + capacity)` land in the buffer.
-pub fn set_triangle_window(buffer: &mut Buffer, first: u32) -> Result<()> {
-    buffer.write(8, &[first])
+/// Sets the buckets a triangle capture hashes into (`buckets`, 1..=[`MAX_BUCKETS`]) and the
+/// range `first..end` of them the next frames store (header words 5, 2 and 3; host write
+/// between frames).
+pub fn set_triangle_buckets(buffer: &mut Buffer, buckets: u32, first: u32, end: u32) -> Result<()> {
+    if buckets == 0 || buckets > MAX_BUCKETS || first > end || end > buckets {
+        return Err(Error::Invalid(format!(
+            "triangle capture: buckets {first}..{end} of {buckets} (at most {MAX_BUCKETS})"
+        )));
+    }
+    buffer.write(8, &[first, end])?;
+    buffer.write(20, &[buckets])
 }
 
 /// The records (`record_bytes` each) of a capture buffer's words; errors when the count exceeds
@@ -198,28 +261,45 @@ pub fn decode_capture(words: &[u32], capacity: u32) -> Result<Vec<CaptureRecord>
 }
 
 /// Decodes the triangles of a triangle-capture buffer's words; errors on overflow (the frame
-/// drew past the window), naming the triangles the frame drew and the capacity.
+/// stored more than the capacity), naming the triangles stored and the capacity.
 pub fn decode_triangles(words: &[u32]) -> Result<Vec<CapturedTriangle>> {
-    let (count, first, capacity) = (words[0], words[2], words[1]);
-    if u64::from(count) > u64::from(first) + u64::from(capacity) {
+    let w = decode_triangle_window(words);
+    if w.stored > w.triangles.len() as u32 {
         return Err(Error::Invalid(format!(
-            "capture overflow: the frame emitted {count} triangles, capacity {capacity} \
-             (from slot {first})"
+            "capture overflow: the frame emitted {} triangles in buckets {}..{} of {}, capacity {}",
+            w.stored,
+            w.buckets.start,
+            w.buckets.end,
+            w.bucket_counts.len(),
+            words[1]
         )));
     }
-    Ok(decode_triangle_window(words).1)
+    Ok(w.triangles)
 }
 
-/// The triangles a triangle-capture buffer's window stored (slots `[first, first + capacity)`
-/// of the frame's, header words 2 and 1; fewer when the frame drew fewer), with the number of
-/// triangles the frame drew (header word 0, counted past the window too).
-pub fn decode_triangle_window(words: &[u32]) -> (u32, Vec<CapturedTriangle>) {
-    let (count, capacity, first) = (words[0], words[1], words[2]);
-    let stored = count.saturating_sub(first).min(capacity) as usize;
+/// What one frame's triangle capture saw (`capture_triangles.geom`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TriangleWindow {
+    /// Triangles the frame drew (header word 0).
+    pub drawn: u32,
+    /// Of those, the ones in the stored buckets (header word 4, counted past the capacity too).
+    pub stored: u32,
+    /// The bucket range stored (header words 2 and 3).
+    pub buckets: std::ops::Range<u32>,
+    /// Triangles the frame drew per bucket (as many as the bucket modulus, header word 5).
+    pub bucket_counts: Vec<u32>,
+    /// The stored triangles, at most the capacity, in no particular order.
+    pub triangles: Vec<CapturedTriangle>,
+}
+
+/// The [`TriangleWindow`] of a triangle-capture buffer's words.
+pub fn decode_triangle_window(words: &[u32]) -> TriangleWindow {
+    let (drawn, capacity, stored) = (words[0], words[1], words[4]);
+    let modulus = words[5].clamp(1, MAX_BUCKETS) as usize;
     let f = f32::from_bits;
-    let triangles = words[CAPTURE_HEADER_BYTES / 4..]
+    let triangles = words[TRIANGLE_HEADER_BYTES / 4..]
         .chunks_exact(TRIANGLE_RECORD_BYTES / 4)
-        .take(stored)
+        .take(stored.min(capacity) as usize)
         .map(|r| {
             let vertex = |i: usize| &r[4 * i..4 * i + 4];
             CapturedTriangle {
@@ -232,7 +312,13 @@ pub fn decode_triangle_window(words: &[u32]) -> (u32, Vec<CapturedTriangle>) {
             }
         })
         .collect();
-    (count, triangles)
+    TriangleWindow {
+        drawn,
+        stored,
+        buckets: words[2]..words[3],
+        bucket_counts: words[8..8 + modulus].to_vec(),
+        triangles,
+    }
 }
 
 /// Capture capacity (records) sufficient for `tess` (uniform) over `patches` patches: per
@@ -249,44 +335,68 @@ pub fn capture_capacity_for(patches: usize, tess: &TessSettings) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::{
-        decode_triangle_window, decode_triangles, octahedral_normal, CAPTURE_HEADER_BYTES,
-        TRIANGLE_RECORD_BYTES,
+        decode_triangle_window, decode_triangles, murmur3_words, octahedral_normal,
+        triangle_bucket, MAX_BUCKETS, TRIANGLE_HEADER_BYTES, TRIANGLE_RECORD_BYTES,
     };
 
-    /// A frame that drew more triangles than the buffer holds is an error naming both counts;
-    /// within the capacity every record decodes.
-    #[test]
-    fn triangle_overflow_is_an_error_naming_the_counts() {
-        let words = |count: u32, capacity: u32| {
-            let mut w = vec![0u32; (CAPTURE_HEADER_BYTES + 3 * TRIANGLE_RECORD_BYTES) / 4];
-            w[0] = count;
-            w[1] = capacity;
-            w
-        };
-        let e = decode_triangles(&words(5, 3)).unwrap_err().to_string();
-        assert!(e.contains("5 triangles") && e.contains("capacity 3"), "{e}");
-        assert_eq!(decode_triangles(&words(3, 3)).unwrap().len(), 3);
+    /// Header and three records of a triangle capture: `drawn` triangles, `stored` of them in
+    /// buckets `first..end` of 4 (counts 1, 2, 3, 4), `capacity` records.
+    fn words(drawn: u32, capacity: u32, stored: u32, first: u32, end: u32) -> Vec<u32> {
+        let mut w = vec![0u32; (TRIANGLE_HEADER_BYTES + 3 * TRIANGLE_RECORD_BYTES) / 4];
+        w[..6].copy_from_slice(&[drawn, capacity, first, end, stored, 4]);
+        w[8..12].copy_from_slice(&[1, 2, 3, 4]);
+        w
     }
 
-    /// A window `[first, first + capacity)` holds the frame's slots from `first`: a full middle
-    /// chunk, the partial last one, none past the count; overflow is judged past the window.
+    /// A frame that stored more triangles than the buffer holds is an error naming the stored
+    /// count and the capacity; within the capacity every record decodes.
     #[test]
-    fn triangle_window_holds_the_slots_from_first() {
-        let words = |count: u32, capacity: u32, first: u32| {
-            let mut w = vec![0u32; (CAPTURE_HEADER_BYTES + 3 * TRIANGLE_RECORD_BYTES) / 4];
-            w[..3].copy_from_slice(&[count, capacity, first]);
-            w
-        };
-        let stored = |count, first| decode_triangle_window(&words(count, 3, first)).1.len();
-        assert_eq!(stored(8, 3), 3);
-        assert_eq!(stored(8, 6), 2);
-        assert_eq!(stored(8, 9), 0);
-        assert_eq!(decode_triangle_window(&words(8, 3, 6)).0, 8);
-        assert_eq!(decode_triangles(&words(8, 3, 6)).unwrap().len(), 2);
-        let e = decode_triangles(&words(8, 3, 3)).unwrap_err().to_string();
+    fn triangle_overflow_is_an_error_naming_the_counts() {
+        let e = decode_triangles(&words(10, 3, 5, 0, 4))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("5 triangles") && e.contains("capacity 3"), "{e}");
+        assert_eq!(decode_triangles(&words(10, 3, 3, 0, 4)).unwrap().len(), 3);
+    }
+
+    /// The window reports the frame's count, the stored count, the stored range and one count
+    /// per bucket of the modulus (header word 5), and decodes `min(stored, capacity)` records.
+    #[test]
+    fn triangle_window_holds_the_stored_buckets() {
+        let w = decode_triangle_window(&words(10, 3, 2, 1, 3));
+        assert_eq!((w.drawn, w.stored, w.buckets), (10, 2, 1..3));
+        assert_eq!(w.bucket_counts, [1, 2, 3, 4]);
+        assert_eq!(w.triangles.len(), 2);
+        assert_eq!(
+            decode_triangle_window(&words(10, 3, 7, 0, 4))
+                .triangles
+                .len(),
+            3
+        );
+    }
+
+    /// The bucket hash is MurmurHash3_x86_32 with seed 0: the published SMHasher vectors of
+    /// 0, 4 and 8 bytes; a triangle's bucket is that of its 36 position bytes (little-endian);
+    /// `capture_triangles.geom` declares the same bucket bound.
+    #[test]
+    fn triangle_bucket_is_murmur3_of_the_positions() {
+        for (words, hash) in [
+            (vec![], 0),
+            (vec![0xffff_ffffu32], 0x7629_3b50),
+            (vec![0x8765_4321], 0xf55b_516b),
+            (vec![0], 0x2362_f9de),
+        ] {
+            assert_eq!(murmur3_words(words.iter().copied()), hash, "{words:x?}");
+        }
+        let t = [[0.25f32, -1.5, 3.0], [1e-3, 2.0, -0.0], [7.0, 8.5, -9.25]];
+        let h = murmur3_words(t.iter().flatten().map(|x| x.to_bits()));
+        for m in [1, 7, 256, MAX_BUCKETS] {
+            assert_eq!(triangle_bucket(&t, m), h % m, "modulo {m}");
+        }
+        let geom = include_str!("../../../glsl/surface/capture_triangles.geom");
         assert!(
-            e.contains("8 triangles") && e.contains("from slot 3"),
-            "{e}"
+            geom.contains(&format!("#define MAX_BUCKETS {MAX_BUCKETS}\n")),
+            "capture_triangles.geom's MAX_BUCKETS"
         );
     }
 

@@ -11,8 +11,8 @@ pub mod shared;
 pub mod upload;
 
 pub use capture::{
-    capture_capacity_for, Capture, CaptureRecord, CapturedPatch, CapturedTriangle,
-    CAPTURE_HEADER_BYTES, CAPTURE_RECORD_BYTES,
+    capture_capacity_for, triangle_bucket, Capture, CaptureRecord, CapturedPatch, CapturedTriangle,
+    TriangleWindow, CAPTURE_HEADER_BYTES, CAPTURE_RECORD_BYTES, MAX_BUCKETS,
 };
 pub use draw::{bind_draw_state, record_patch_draws, PatchDraws};
 pub use frames::{NormalRule, VertexFrames};

@@ -13,7 +13,7 @@ use glam::DVec3;
 
 use super::capture::{
     capture_buffer, decode_capture, decode_triangle_window, decode_triangles, reset_capture,
-    set_triangle_window, Capture, CaptureRecord, CapturedTriangle,
+    set_triangle_buckets, Capture, CaptureRecord, CapturedTriangle, TriangleWindow,
 };
 use super::frames::VertexFrames;
 use super::upload::{host_buffer, vec3_bytes, vec4_bytes};
@@ -370,7 +370,8 @@ impl SharedResources {
     /// that slot).
     pub fn reset_capture(&mut self, slot: usize) -> Result<()> {
         let k = slot.min(self.captures.len() - 1);
-        reset_capture(&mut self.captures[k])
+        let capture = self.capture.unwrap_or(Capture::TesPoints(0));
+        reset_capture(&mut self.captures[k], capture)
     }
 
     /// The TES invocations captured by the frame that last used slot `slot` (it must have
@@ -397,20 +398,21 @@ impl SharedResources {
         Ok(self.captured_words(slot)?[0])
     }
 
-    /// Of the frame that last used slot `slot` (it must have finished): the triangles it drew
-    /// and those of the capture window ([`Self::set_triangle_window`]), in slot order.
-    pub fn read_triangle_window(&self, slot: usize) -> Result<(u32, Vec<CapturedTriangle>)> {
+    /// What the triangle capture of the frame that last used slot `slot` saw (it must have
+    /// finished): its count, its bucket counts and the triangles of the stored buckets
+    /// ([`Self::set_triangle_buckets`]).
+    pub fn read_triangle_window(&self, slot: usize) -> Result<TriangleWindow> {
         self.triangle_capture()?;
         Ok(decode_triangle_window(&self.captured_words(slot)?))
     }
 
-    /// The first triangle slot every frame slot's capture stores from (host write; the GPU must
-    /// be done with every slot).
-    pub fn set_triangle_window(&mut self, first: u32) -> Result<()> {
+    /// The bucket modulus and the stored bucket range `first..end` of every frame slot's
+    /// triangle capture (host write; the GPU must be done with every slot).
+    pub fn set_triangle_buckets(&mut self, buckets: u32, first: u32, end: u32) -> Result<()> {
         self.triangle_capture()?;
         self.captures
             .iter_mut()
-            .try_for_each(|b| set_triangle_window(b, first))
+            .try_for_each(|b| set_triangle_buckets(b, buckets, first, end))
     }
 
     fn triangle_capture(&self) -> Result<()> {
