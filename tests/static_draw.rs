@@ -68,24 +68,8 @@ fn static_draw_is_the_frame_s_triangles() {
         ("catmark_car", Scheme::GregoryStencil, 0),
         ("catmark_car", Scheme::Adaptive, 2),
     ] {
-        let m = mesh(name);
-        let diag = m.bbox_diagonal();
         for level in [3u32, 6] {
-            let opts = PlanOptions::new(SchemeLimits::from_context(&ctx)).with_isolation(isolation);
-            let surface: SurfaceData = surface_for_scheme_with(&m, level, scheme, &opts).unwrap();
-            let render = RenderDesc {
-                tess: uniform(level as f32),
-                ..RenderDesc::default()
-            };
-            let off = OffscreenDesc {
-                camera: CameraSpec::Orbit {
-                    azimuth_deg: 30.0,
-                    elevation_deg: 40.0,
-                    distance: 1.6 * diag,
-                },
-                clear: [0.0, 0.0, 0.0, 1.0],
-                ..offscreen(240, 240)
-            };
+            let (surface, render, off) = frame_of(&ctx, name, scheme, isolation, level, 240);
             let mut session = OffscreenSession::new(&ctx, &surface, &render, &off, true).unwrap();
             let report = session.frame().unwrap().expect("timings");
             let frame_image = session.image().unwrap();
@@ -127,17 +111,19 @@ fn static_draw_is_the_frame_s_triangles() {
     assert_validation_clean(&ctx);
 }
 
-/// `name` on `--scheme adaptive` at isolation 2, uniform level `level`, in a `size`² target
-/// on black, seen from azimuth 30°, elevation 40°, 1.6 bounding-box diagonals away.
-fn adaptive_frame(
+/// `name` on `scheme` at `isolation`, uniform level `level`, in a `size`² target on black, seen
+/// from azimuth 30°, elevation 40°, 1.6 bounding-box diagonals away.
+fn frame_of(
     ctx: &tessera::gpu::Context,
     name: &str,
+    scheme: Scheme,
+    isolation: u32,
     level: u32,
     size: u32,
 ) -> (SurfaceData, RenderDesc, OffscreenDesc) {
     let m = mesh(name);
-    let opts = PlanOptions::new(SchemeLimits::from_context(ctx)).with_isolation(2);
-    let surface = surface_for_scheme_with(&m, level, Scheme::Adaptive, &opts).unwrap();
+    let opts = PlanOptions::new(SchemeLimits::from_context(ctx)).with_isolation(isolation);
+    let surface = surface_for_scheme_with(&m, level, scheme, &opts).unwrap();
     let render = RenderDesc {
         tess: uniform(level as f32),
         ..RenderDesc::default()
@@ -166,7 +152,7 @@ fn adaptive_frame(
 #[test]
 fn static_draw_in_chunks_is_the_whole_capture() {
     let Some(ctx) = context() else { return };
-    let (surface, render, off) = adaptive_frame(&ctx, "catmark_car", 3, 240);
+    let (surface, render, off) = frame_of(&ctx, "catmark_car", Scheme::Adaptive, 2, 3, 240);
     let mut session = OffscreenSession::new(&ctx, &surface, &render, &off, true).unwrap();
     let clipped = session
         .frame()
@@ -228,7 +214,7 @@ fn static_draw_in_chunks_is_the_whole_capture() {
 #[test]
 fn static_draw_recounts_with_more_buckets() {
     let Some(ctx) = context() else { return };
-    let (surface, render, off) = adaptive_frame(&ctx, "catmark_cube", 4, 64);
+    let (surface, render, off) = frame_of(&ctx, "catmark_cube", Scheme::Adaptive, 2, 4, 64);
     let whole = StaticDraw::capture(&ctx, &surface, &render, &off).unwrap();
     let chunked = StaticDraw::capture_in_chunks(&ctx, &surface, &render, &off, 2).unwrap();
     let n = whole.captured();
