@@ -372,12 +372,18 @@ fn promoted_crease_normals_follow_the_limit() {
 /// RMS / max rad: cube_creases1 0.0145 / 0.359, bishop 0.0068 / 1.33. With the bend's sum taken
 /// as `2 (d . n) n` (session 10) 0.0191 / 0.545 and 0.0315 / 1.77, which fail the bounds (RMS
 /// 1.17x and 1.5x, max 1.25x and 1.13x the figures); with the patches' own normals inside and on
-/// those edges (before the fillet) 0.144 / 1.40 on cube_creases1.
+/// those edges (before the fillet) 0.144 / 1.40 on cube_creases1. `catmark_car` L4, whose crease
+/// vertices are mostly of valence 5 (sectors of 2 and 3 faces, no edge continues beyond the
+/// crease): the normals of the edges from them turn towards the limit normal there
+/// (`fillet_rotation`), 0.0026 / 0.274; without the turn (session 11) 7.6e-3 / 1.05 over every
+/// end cap, with the turn's weight `(1 - w/h)^2` instead of `(1 - w/h)` 4.7e-3 / 0.66, which fail
+/// the bounds (1.5x the figures).
 #[test]
 fn fillet_normals_follow_the_limit_at_depth() {
     for (name, iso, rms_bound, max_bound) in [
         ("catmark_cube_creases1", 4, 1.7e-2, 0.45),
         ("catmark_bishop", 4, 1.0e-2, 1.5),
+        ("catmark_car", 4, 3.9e-3, 0.41),
     ] {
         let m = osd(name);
         let (r, s) = surface(&m, iso);

@@ -35,6 +35,9 @@ bool end_cap_edge(GregoryPatchInfo info, int k, float x, int from_corner, inout 
         uint c = (code >> uint(4 * side)) & 0xfu;
         int end = ((side == 0) == a_is_lo) ? 0 : 1;
         edge_fillet_sharpness[end] = float(c) * 0.5;
+        // The crease there is not regular: the normal turns (record's transition bit 8 + corner).
+        edge_fillet_rotate[end] =
+            c != 0u && (apatches[info.pad0].transition & (1u << uint(8 + corner))) != 0u;
         vec3 n = vec3(0.0);
         if (c != 0u) {
             vec3 unused = vec3(0.0);
@@ -46,7 +49,8 @@ bool end_cap_edge(GregoryPatchInfo info, int k, float x, int from_corner, inout 
         // two end caps (flag bit 28 + crease); the continuation's edge point beyond it is the
         // neighbour's other edge point there (g_eout, read in quad_edge).
         int crease = (side == 0) ? ((k + 3) & 3) : ((k + 1) & 3);
-        bool beyond = c != 0u && (info.flags & (1u << uint(28 + crease))) != 0u;
+        bool beyond = c != 0u && !edge_fillet_rotate[end]
+            && (info.flags & (1u << uint(28 + crease))) != 0u;
         edge_fillet_beyond_slot[end] = beyond ? ((side == 0) ? 2 * crease + 1 : 2 * crease) : -1;
         edge_fillet_beyond_corner[end] = corner;
     }

@@ -196,10 +196,15 @@ vec3 cross_tri(vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 eo0, vec3 f0, vec3 f1, v
 /// gregory_edge bends its tangent with that fillet, as `AdaptiveSurface::normal`
 /// (`patch::adaptive::promoted::fillet_cross_derivative` of the two derivatives' sum, else
 /// `fillet_bend`): both sides set the same values.
+/// Where the crease there is not regular (`edge_fillet_rotate`), the normal turns instead
+/// (`patch::adaptive::promoted::fillet_rotation`) from the edge's own normal at that end
+/// (`edge_fillet_own`, set by canonical_edge) towards the limit normal.
 float edge_fillet_sharpness[2] = float[2](0.0, 0.0);
 vec3 edge_fillet_normal[2] = vec3[2](vec3(0.0), vec3(0.0));
 bool edge_fillet_has_beyond[2] = bool[2](false, false);
 vec3 edge_fillet_beyond[2] = vec3[2](vec3(0.0), vec3(0.0));
+bool edge_fillet_rotate[2] = bool[2](false, false);
+vec3 edge_fillet_own[2] = vec3[2](vec3(0.0), vec3(0.0));
 
 /// The fillet's change of a cross-crease derivative at distance w from the crease, `d_sum` the
 /// sum of both sides' derivatives there (`patch::adaptive::promoted::fillet_cross_derivative`).
@@ -211,6 +216,29 @@ vec3 fillet_change(float sharp, float w, vec3 d_sum) {
     precise float k = (1.0 - frac) * (-0.5 * r0 * r0) + frac * (-0.5 * r1 * r1);
     precise vec3 d = k * d_sum;
     return d;
+}
+
+/// `n` turned about `own x limit` by the turn's weight at w times the angle between them
+/// (`patch::adaptive::promoted::fillet_rotation`).
+vec3 fillet_rotation(float sharp, float w, vec3 own, vec3 limit, vec3 n) {
+    precise vec3 a = normalize(own);
+    precise vec3 b = normalize(limit);
+    precise vec3 axis = cross(a, b);
+    precise float sn = length(axis);
+    if (!(sn > 1e-7)) {
+        return n;
+    }
+    axis = axis / sn;
+    precise float lo = floor(sharp);
+    precise float frac = sharp - lo;
+    // (1 - w/h) to the power FILLET_TURN_EXPONENT (1), blended by the fraction of s.
+    precise float r0 = max(1.0 - w * exp2(lo), 0.0);
+    precise float r1 = max(1.0 - w * exp2(lo + 1.0), 0.0);
+    precise float weight = (1.0 - frac) * r0 + frac * r1;
+    precise float angle = atan(sn, dot(a, b)) * weight;
+    precise float c = cos(angle);
+    precise vec3 r = (n * c + cross(axis, n) * sin(angle)) + axis * (dot(axis, n) * (1.0 - c));
+    return r;
 }
 
 /// The fillet's change of the derivative `along` (from edge end `end`, unit parameter) at
@@ -231,16 +259,24 @@ void gregory_edge(vec3 origin, vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 d_left, 
     precise vec3 tangent = ((s * s) * (e0 - p0) + (2.0 * t * s) * (e1 - e0)) + (t * t) * (p1 - e1);
     // (tangent is a third of d/dt; the derivative from end 0 is 3 (e0 - p0), from end 1
     // 3 (e1 - p1) along -t.)
-    if (edge_fillet_sharpness[0] > 0.0) {
+    if (edge_fillet_sharpness[0] > 0.0 && !edge_fillet_rotate[0]) {
         precise vec3 d = edge_fillet_change(0, t, 3.0 * (e0 - p0));
         tangent = tangent + d * (1.0 / 3.0);
     }
-    if (edge_fillet_sharpness[1] > 0.0) {
+    if (edge_fillet_sharpness[1] > 0.0 && !edge_fillet_rotate[1]) {
         precise vec3 d = edge_fillet_change(1, s, 3.0 * (e1 - p1));
         tangent = tangent - d * (1.0 / 3.0);
     }
     precise vec3 cross_dir = d_left - d_right;
     precise vec3 nn = normalize(cross(tangent, cross_dir));
+    if (edge_fillet_sharpness[0] > 0.0 && edge_fillet_rotate[0]) {
+        nn = fillet_rotation(edge_fillet_sharpness[0], t, edge_fillet_own[0],
+                             edge_fillet_normal[0], nn);
+    }
+    if (edge_fillet_sharpness[1] > 0.0 && edge_fillet_rotate[1]) {
+        nn = fillet_rotation(edge_fillet_sharpness[1], s, edge_fillet_own[1],
+                             edge_fillet_normal[1], nn);
+    }
     pos = p;
     nrm = nn;
 }
@@ -268,10 +304,25 @@ void canonical_edge(bool own_quad, bool nbr_quad, bool sharp, bool own_left, flo
     vec3 d_own = cross_any(own_quad, p0, e0, g1, q1, own_eo0, own_f0, own_g1, own_h1, t, s);
     // A boundary or infinitely sharp edge: no neighbour term (each side keeps its own normal).
     vec3 d_nbr = vec3(0.0);
+    precise vec3 nbr_g1 = nbr_f1 + shift;
+    precise vec3 nbr_h1 = nbr_eo1 + shift;
     if (!sharp) {
-        precise vec3 nbr_g1 = nbr_f1 + shift;
-        precise vec3 nbr_h1 = nbr_eo1 + shift;
         d_nbr = cross_any(nbr_quad, p0, e0, g1, q1, nbr_eo0, nbr_f0, nbr_g1, nbr_h1, t, s);
+    }
+    // The edge's own normal at an end where the fillet turns it (edge_fillet_rotate): the
+    // same cross(tangent, d_left - d_right) there, from the data both sides share.
+    for (int end = 0; end < 2; ++end) {
+        if (edge_fillet_sharpness[end] > 0.0 && edge_fillet_rotate[end] && !sharp) {
+            float te = float(end);
+            float se = 1.0 - te;
+            precise vec3 a = cross_any(own_quad, p0, e0, g1, q1, own_eo0, own_f0, own_g1, own_h1,
+                                       te, se);
+            precise vec3 b = cross_any(nbr_quad, p0, e0, g1, q1, nbr_eo0, nbr_f0, nbr_g1, nbr_h1,
+                                       te, se);
+            precise vec3 cross_end = own_left ? a - b : b - a;
+            precise vec3 tangent_end = (end == 0) ? e0 - p0 : q1 - g1;
+            edge_fillet_own[end] = cross(tangent_end, cross_end);
+        }
     }
     if (own_left) {
         gregory_edge(o0, p0, e0, g1, q1, d_own, d_nbr, t, s, pos, nrm);

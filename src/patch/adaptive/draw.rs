@@ -16,8 +16,8 @@ use rayon::prelude::*;
 use super::coarse::{patch_index, CoarseEdges};
 use super::error::DrawTablesError;
 use super::promoted::{
-    exact_frame, fillet_code, fillet_end_code, promoted_edge, promoted_vertex,
-    vertex_fillet_sharpness,
+    edge_fillet_rotation_sharpness, exact_frame, fillet_code, fillet_end_code, promoted_edge,
+    promoted_vertex, vertex_fillet_sharpness,
 };
 use super::records::{
     words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
@@ -561,6 +561,10 @@ impl AdaptiveDrawTables {
                     for (half, v) in [fv[k], fv[(k + 1) % 4]].into_iter().enumerate() {
                         if let Some(sharp) = vertex_fillet_sharpness(t, caps, v) {
                             out.records[i].fillet |= fillet_end_code(sharp) << (8 * k + 4 * half);
+                        } else if let Some(sharp) = edge_fillet_rotation_sharpness(t, caps, v, e) {
+                            out.records[i].fillet |= fillet_end_code(sharp) << (8 * k + 4 * half);
+                            // The normal turns there (`fillet_rotation`): bit 8 + its corner.
+                            out.records[i].transition |= 1 << (8 + (k + half) % 4);
                         }
                     }
                 }

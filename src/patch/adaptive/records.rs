@@ -31,7 +31,9 @@ pub struct PatchRecord {
     pub kind: u32,
     /// Domain origin, u axis, v axis in the base face's (or sub-face's) `(u, v)`.
     pub domain: [[f32; 2]; 3],
-    /// Bit `k`: the neighbour across patch edge `k` is one level finer (Köbler 2013 §3.4).
+    /// Bit `k`: the neighbour across patch edge `k` is one level finer (Köbler 2013 §3.4). End
+    /// caps, bit `8 + k`: the fillet at corner `k` turns the normals of the edges from it
+    /// ([`crate::patch::adaptive::promoted::fillet_rotation`]) rather than bending their tangent.
     pub transition: u32,
     /// Slot of the midpoint of transition edge `k` (the next level's edge point), else `u32::MAX`.
     pub mid_slots: [u32; 4],

@@ -8,9 +8,9 @@ use glam::{DVec2, DVec3};
 use thiserror::Error;
 
 use super::promoted::{
-    exact_corner_tangents, fillet_bend, fillet_code, fillet_cross_derivative, fillet_end_code,
-    fillet_end_sharpness, fillet_sharpness, promoted_edge, promoted_vertex,
-    vertex_fillet_sharpness,
+    edge_fillet_rotation_sharpness, exact_corner_tangents, fillet_bend, fillet_code,
+    fillet_cross_derivative, fillet_end_code, fillet_end_sharpness, fillet_rotation,
+    fillet_sharpness, promoted_edge, promoted_vertex, vertex_fillet_sharpness,
 };
 use crate::patch::gregory::{
     gregory_patch_at_for, Coverage, GregoryPatch, GregoryTangents, NotGregory,
@@ -155,13 +155,16 @@ pub struct AdaptiveSurface {
 
 /// What an end cap shares on promoted creases: per face edge the end cap across it (patch
 /// index, its edge) and the edge's residual sharpness, per corner the exact limit normal, per
-/// other edge between two end caps that end cap and the fillet sharpness at its ends (0: none).
+/// other edge between two end caps that end cap, the fillet sharpness at its ends (0: none) and
+/// whether the normal turns there (`super::promoted::fillet_rotation`) rather than the tangent
+/// bending.
 #[derive(Debug, Clone, Default)]
 struct PromotedCap {
     edges: [Option<(usize, usize)>; 4],
     sharpness: [f64; 4],
     corners: [Option<DVec3>; 4],
     ends: [[f64; 2]; 4],
+    rotated: [[bool; 2]; 4],
     others: [Option<(usize, usize)>; 4],
 }
 
@@ -378,16 +381,26 @@ impl AdaptiveSurface {
     /// `glsl/gregory/gregory.glsl`), `cross(tangent, d_own - d_across)`, with the tangent bent by
     /// the crease's fillet within it: `super::promoted::fillet_cross_derivative` of the sum of
     /// the edge's derivative from that end and its continuation's beyond the crease (the end
-    /// cap across it; `super::promoted::fillet_bend` where there is none); `None` elsewhere.
+    /// cap across it; `super::promoted::fillet_bend` where there is none); from a crease vertex
+    /// that is not regular, the normal turned towards the limit's there instead
+    /// (`super::promoted::fillet_rotation`); `None` elsewhere.
     fn bent_edge_normal(&self, cap: &PromotedCap, i: usize, k: usize, x: f64) -> Option<DVec3> {
         let across = cap.others[k]?;
         let (mut tangent, d_own, d_across) = self.edge_derivatives(i, k, x, across);
         let mut bent = false;
+        let mut turns = [None; 2];
         for (side, w) in [(0, x), (1, 1.0 - x)] {
             let (sharp, c) = (cap.ends[k][side], (k + side) % 4);
             let Some(normal) = cap.corners[c].filter(|_| sharp > 0.0) else {
                 continue;
             };
+            bent = true;
+            if cap.rotated[k][side] {
+                // The edge's own normal at that end, as the normal below.
+                let (t0, own0, across0) = self.edge_derivatives(i, k, side as f64, across);
+                turns[side] = Some((sharp, w, t0.cross(own0 - across0), normal));
+                continue;
+            }
             // The derivative from that end into the edge.
             let (a, b) = quad_edge_point(k, side as f64);
             let (_, ds0, dt0) = self.eval_own(i, a, b);
@@ -410,9 +423,12 @@ impl AdaptiveSurface {
                     }
                     None => fillet_bend(sharp, w, along, normal),
                 };
-            bent = true;
         }
-        bent.then(|| tangent.cross(d_own - d_across).normalize_or_zero())
+        let mut n = tangent.cross(d_own - d_across).normalize_or_zero();
+        for (sharp, w, own, limit) in turns.into_iter().flatten() {
+            n = fillet_rotation(sharp, w, own, limit, n);
+        }
+        bent.then_some(n)
     }
 
     /// The change of end cap `i`'s derivative into the patch across its edge `k` at own `(s, t)`
@@ -602,7 +618,14 @@ fn promoted_caps(
                 if across.is_some() && !is_sharp_edge(caps, e) {
                     cap.others[k] = across;
                     for (half, v) in [fv[k], fv[(k + 1) % 4]].into_iter().enumerate() {
-                        cap.ends[k][half] = vertex_fillet_sharpness(t, caps, v)
+                        let bent = vertex_fillet_sharpness(t, caps, v);
+                        let rotated = bent
+                            .is_none()
+                            .then(|| edge_fillet_rotation_sharpness(t, caps, v, e))
+                            .flatten();
+                        cap.rotated[k][half] = rotated.is_some();
+                        cap.ends[k][half] = bent
+                            .or(rotated)
                             .map_or(0.0, |x| fillet_end_sharpness(fillet_end_code(x)));
                     }
                 }
