@@ -8,7 +8,9 @@
 //! cargo run --release --example gregory_tangent_table
 //! ```
 
-use tessera::patch::gregory::tangent_fit::{crease_fit_terms, fit_error, fit_scale, fit_terms};
+use tessera::patch::gregory::tangent_fit::{
+    band_fit_error, band_fit_terms, crease_fit_terms, fit_error, fit_scale, fit_terms,
+};
 use tessera::patch::gregory::tangents::MAX_FITTED_VALENCE;
 use tessera::patch::gregory::tangents_boundary::MAX_FITTED_CREASE_SECTOR;
 use tessera::patch::gregory::GregoryTangents;
@@ -59,6 +61,29 @@ fn main() -> tessera::Result<()> {
     println!(
         "\npub const CREASE_SCALE: [f64; MAX_FITTED_CREASE_SECTOR - 2] = [\n    {},\n];",
         crease.join(", ")
+    );
+    println!("\nband of k faces  s_c       s_2       RMS paper   RMS fitted");
+    let (mut centre, mut two) = (Vec::new(), Vec::new());
+    for k in 3..=MAX_FITTED_CREASE_SECTOR {
+        let t = band_fit_terms(k)?;
+        let [_, ab, ac, bb, bc, cc] = t;
+        let det = bb * cc - bc * bc;
+        let (sc, s2) = ((-ab * cc + ac * bc) / det, (-ac * bb + ab * bc) / det);
+        println!(
+            "{k:>15}  {sc:.6}  {s2:.6}  {:.4e}  {:.4e}",
+            band_fit_error(&t, 1.0, 1.0).sqrt(),
+            band_fit_error(&t, sc, s2).sqrt()
+        );
+        centre.push(format!("{sc:.6}"));
+        two.push(format!("{s2:.6}"));
+    }
+    println!(
+        "\npub const BAND_CENTRE_SCALE: [f64; MAX_FITTED_CREASE_SECTOR - 2] = [\n    {},\n];",
+        centre.join(", ")
+    );
+    println!(
+        "\npub const BAND_TWO_SCALE: [f64; MAX_FITTED_CREASE_SECTOR - 2] = [\n    {},\n];",
+        two.join(", ")
     );
     Ok(())
 }

@@ -265,3 +265,22 @@ fn darts_of_any_valence_take_end_caps_at_their_exact_limit() {
         );
     }
 }
+
+/// Bands (`tangents_boundary::sector_band`: a two-face crease sector whose inner edge ends on
+/// a crease vertex of three or more faces) at level 0, the end caps of isolation 0: under
+/// `Scaled`, which scales the band sectors' inner edge points and not those of other two-face
+/// sectors, the shared rows are still the face-by-face ones. The face key needs no band word:
+/// the inner edge's far end is a corner of both faces of the sector, keyed in full (its edges'
+/// sharpness and face counts give its sectors); fails if the key dropped the corners' edge
+/// sharpness or face counts.
+#[test]
+fn bands_at_level_zero_share_rows() {
+    for name in ["catmark_gregory_test3", "catmark_xord_boundary"] {
+        let mesh = osd(name);
+        let topo = Topology::new(&mesh).unwrap();
+        let faces: Vec<u32> = (0..topo.face_count() as u32).collect();
+        for t in [GregoryTangents::Scaled(0.7), GregoryTangents::default()] {
+            assert!(same_rows(&topo, &faces, t, name) > 0, "{name}");
+        }
+    }
+}

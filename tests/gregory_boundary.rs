@@ -486,6 +486,48 @@ fn dart_corners_equal_the_exact_limit() {
     assert!(checked >= 8, "{checked} dart corners");
 }
 
+/// The 2-ring key of crease sectors (`tangents_boundary::sector_band` over
+/// `VertexRing::far_sector`) at the vertices of the README's two meshes behind OpenSubdiv, read
+/// off their OBJ files by hand: `xord_boundary`'s fans one face deep (centre vertex 0 of three
+/// faces, both inner edges ending on two-face boundary vertices: 1; vertex 3, two faces, inner
+/// edge ending on the three-face centre: 3), `gregory_test3`'s three-face vertex 7 (one inner
+/// edge ends inside: 0) and two-face vertex 11 (its inner edge ends on vertex 7: 3); no
+/// boundary vertex of `gregory_test6` or `gregory_test1` is on a band.
+#[test]
+fn band_keys_read_the_two_ring() {
+    use tessera::patch::gregory::tangents_boundary::sector_band;
+    use tessera::patch::gregory::{sectors, vertex_ring};
+    let bands = |mesh: &ControlMesh, v: u32| -> Vec<usize> {
+        let topo = Topology::new(mesh).unwrap();
+        let ring = vertex_ring(&topo, mesh.positions(), v);
+        let ne = ring.m.len();
+        if ring.far_sector.is_empty() {
+            return Vec::new();
+        }
+        sectors(&ring.sharp, ring.c.len())
+            .iter()
+            .map(|s| {
+                sector_band(
+                    s.faces,
+                    (1..s.faces).map(|i| ring.far_sector[(s.start + i) % ne]),
+                )
+            })
+            .collect()
+    };
+    let xord = osd("catmark_xord_boundary");
+    assert_eq!(bands(&xord, 0), [1]);
+    assert_eq!(bands(&xord, 3), [3]);
+    let t3 = osd("catmark_gregory_test3");
+    assert_eq!(bands(&t3, 7), [0]);
+    assert_eq!(bands(&t3, 11), [3]);
+    for name in ["catmark_gregory_test6", "catmark_gregory_test1"] {
+        let mesh = osd(name);
+        for v in 0..mesh.positions().len() as u32 {
+            assert!(bands(&mesh, v).iter().all(|&b| b == 0), "{name} vertex {v}");
+        }
+    }
+}
+
 /// OpenSubdiv 3.5's Gregory-basis points, printed once by
 /// `osd_eval MESH 0 0 points` (`tools/osd_eval`, libosd-dev 3.5, `f corner kind x y z`, kinds
 /// named like [`tessera::patch::gregory::GregoryQuad`]'s fields) on the shared corpus meshes:

@@ -246,6 +246,8 @@ fn flat_tables_reproduce_the_patches() {
         "catmark_smoothtris0",
         "catmark_gregory_test1",
         "catmark_gregory_test6",
+        "catmark_gregory_test3",
+        "catmark_xord_boundary",
         "catmark_inf_crease0",
         "catmark_inf_crease1",
         "catmark_cubes_infsharp",
@@ -256,7 +258,13 @@ fn flat_tables_reproduce_the_patches() {
     ] {
         let mesh = load(name);
         let topo = Topology::new(&mesh).unwrap();
-        for tangents in [GregoryTangents::Paper, GregoryTangents::Optimal] {
+        // `Scaled` also scales the two-face band sectors (`tangents_boundary::sector_band`:
+        // gregory_test3, xord_boundary), whose factor words the table keys on the 2-ring.
+        for tangents in [
+            GregoryTangents::Paper,
+            GregoryTangents::Optimal,
+            GregoryTangents::Scaled(0.7),
+        ] {
             let table =
                 GregoryVertexTable::with_tangents(&topo, 0..topo.face_count() as u32, tangents);
             let pos = mesh.positions();

@@ -8,10 +8,13 @@ use common::meshes::mesh as load;
 use tessera::mesh::{ControlMesh, ObjOptions};
 use tessera::patch::gregory::accuracy::{measure_tangents, AccuracyOptions, AccuracyReport};
 use tessera::patch::gregory::tangent_fit::{
-    crease_fit_scale, crease_fit_terms, fit_error, fit_scale, fit_terms,
+    band_fit_error, band_fit_scales, band_fit_terms, crease_fit_scale, crease_fit_terms, fit_error,
+    fit_scale, fit_terms,
 };
 use tessera::patch::gregory::tangents::{MAX_FITTED_VALENCE, OPTIMAL_SCALE};
-use tessera::patch::gregory::tangents_boundary::{CREASE_SCALE, MAX_FITTED_CREASE_SECTOR};
+use tessera::patch::gregory::tangents_boundary::{
+    BAND_CENTRE_SCALE, BAND_TWO_SCALE, CREASE_SCALE, MAX_FITTED_CREASE_SECTOR,
+};
 use tessera::patch::gregory::GregoryTangents;
 
 #[test]
@@ -74,6 +77,44 @@ fn every_crease_entry_is_a_minimum() {
     for k in 3..=MAX_FITTED_CREASE_SECTOR {
         let what = format!("crease sector of {k} faces");
         assert_minimum(&crease_fit_terms(k).unwrap(), CREASE_SCALE[k - 3], &what);
+    }
+}
+
+#[test]
+fn band_table_entries_are_the_fit() {
+    for k in [3, 5, 9] {
+        let (centre, two) = band_fit_scales(k).unwrap();
+        assert!(
+            (centre - BAND_CENTRE_SCALE[k - 3]).abs() < 1e-5
+                && (two - BAND_TWO_SCALE[k - 3]).abs() < 1e-5,
+            "band of {k} faces: fit ({centre}, {two}), table ({}, {})",
+            BAND_CENTRE_SCALE[k - 3],
+            BAND_TWO_SCALE[k - 3]
+        );
+    }
+}
+
+/// Each band entry pair is the minimum of the joint fit: ±2 % on either factor increases the
+/// fitted error, and the paper's factors (1, 1) and the half-ring's `CREASE_SCALE` with the
+/// exact two-face factor 1 (what `optimal` took before the 2-ring key) are worse.
+#[test]
+fn every_band_entry_is_a_minimum() {
+    for k in 3..=MAX_FITTED_CREASE_SECTOR {
+        let t = band_fit_terms(k).unwrap();
+        let (c, two) = (BAND_CENTRE_SCALE[k - 3], BAND_TWO_SCALE[k - 3]);
+        let at = band_fit_error(&t, c, two);
+        for f in [0.98, 1.02] {
+            assert!(
+                band_fit_error(&t, f * c, two) > at,
+                "band {k}: centre x {f}"
+            );
+            assert!(band_fit_error(&t, c, f * two) > at, "band {k}: two x {f}");
+        }
+        assert!(band_fit_error(&t, 1.0, 1.0) > at, "band {k}: paper");
+        assert!(
+            band_fit_error(&t, CREASE_SCALE[k - 3], 1.0) > at,
+            "band {k}: half-ring factor"
+        );
     }
 }
 

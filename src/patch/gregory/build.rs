@@ -337,14 +337,50 @@ pub fn vertex_ring_with<P: GregoryPoint>(
         .collect();
     let sharp = sharp_edges(topo, v);
     let count = sharp.iter().filter(|&&s| s).count();
+    let corner = is_inf(topo.vertex_sharpness(v)) || count > 2;
+    let far_sector = if count == 2 && !corner {
+        far_crease_sectors(topo, v, &sharp)
+    } else {
+        Vec::new()
+    };
     VertexRing {
         v: pv,
         m,
         c,
         sharp,
-        corner: is_inf(topo.vertex_sharpness(v)) || count > 2,
+        corner,
         face_sizes: super::tangents_tri::ring_face_sizes(topo, v),
+        far_sector,
     }
+}
+
+/// `VertexRing::far_sector` of crease vertex `v` with sharp edges `sharp`: per incident edge,
+/// when the edge is smooth and its far end `w` is a crease vertex (two infinitely sharp edges,
+/// no corner tag), the faces of `w`'s crease sector the edge lies inside; else 0.
+pub fn far_crease_sectors(topo: &Topology, v: u32, sharp: &[bool]) -> Vec<usize> {
+    topo.vertex_edges(v)
+        .iter()
+        .zip(sharp)
+        .map(|(&e, &sharp_e)| {
+            if sharp_e {
+                return 0;
+            }
+            let w = topo.other_vertex(e, v);
+            let w_sharp = sharp_edges(topo, w);
+            let count = w_sharp.iter().filter(|&&s| s).count();
+            if count != 2 || is_inf(topo.vertex_sharpness(w)) {
+                return 0;
+            }
+            let ne = w_sharp.len();
+            let Some(j) = topo.vertex_edges(w).iter().position(|&x| x == e) else {
+                return 0;
+            };
+            sectors(&w_sharp, topo.vertex_faces(w).len())
+                .into_iter()
+                .find(|s| (1..s.faces).contains(&((j + ne - s.start) % ne)))
+                .map_or(0, |s| s.faces)
+        })
+        .collect()
 }
 
 /// Per-vertex Gregory data of vertex `v`, or `None` where no supported face could use it

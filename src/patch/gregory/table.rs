@@ -22,7 +22,8 @@
 //! 4. smooth vertices only: two words, the `f32` bits of the edge-tangent factor `s` and of the
 //!    transversal factor `ρ` ([`super::GregoryTangents::ring_factors`]; both 1.0 for the
 //!    paper's construction); crease vertices only: `nf` words, per incident face the `f32` bits
-//!    of the cross-boundary factor `s(k)` of its sector ([`super::GregoryTangents::crease_scale`]);
+//!    of the cross-boundary factor `s(k)` of its sector ([`super::GregoryTangents::crease_scale`],
+//!    keyed on the sector's 2-ring, `super::tangents_boundary::sector_band`);
 //! 5. crease and corner vertices: one word, 1 if the face points beside sharp edges are
 //!    one-sided ([`super::GregoryVertex::one_sided`] not empty: `Optimal` on a ring of quads),
 //!    else 0.
@@ -31,8 +32,9 @@
 //! face in that corner vertex's ring (the paper's Fig. 8 "rotation offset"); `u32::MAX` in the
 //! fourth slot of a triangle.
 
-use super::build::check_face_level0;
+use super::build::{check_face_level0, far_crease_sectors};
 use super::tangents::GregoryTangents;
+use super::tangents_boundary::sector_band;
 use super::tangents_tri::ring_face_sizes;
 use super::vertex::{sectors, GregoryVertex, VertexKind};
 use crate::mesh::INFINITE_SHARPNESS;
@@ -96,12 +98,20 @@ impl GregoryVertexTable {
                     .iter()
                     .map(|&e| topo.edge_sharpness(e) >= INFINITE_SHARPNESS)
                     .collect();
-                let factor = |k: usize| (tangents.crease_scale(k, quads) as f32).to_bits();
-                crease_words = vec![factor(0); nf];
+                let far = if kind == KIND_CREASE {
+                    far_crease_sectors(topo, v, &sharp)
+                } else {
+                    vec![0; ne]
+                };
+                let factor = |k: usize, band: usize| {
+                    (tangents.crease_scale(k, band, quads) as f32).to_bits()
+                };
+                crease_words = vec![factor(0, 0); nf];
                 for s in sectors(&sharp, nf) {
+                    let band = sector_band(s.faces, (1..s.faces).map(|i| far[(s.start + i) % ne]));
                     for i in 0..s.faces {
                         sector_words[(s.start + i) % ne] = s.start as u32 | (s.faces as u32) << 16;
-                        crease_words[(s.start + i) % ne] = factor(s.faces);
+                        crease_words[(s.start + i) % ne] = factor(s.faces, band);
                     }
                 }
             }

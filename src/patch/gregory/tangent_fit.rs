@@ -2,8 +2,9 @@
 //! docs of [`super::tangents`]): the test control nets, the error terms and the closed-form
 //! minimiser, used by `examples/gregory_tangent_table.rs` and `tests/gregory_tangents.rs`.
 
-use super::build::gregory_patch_at_with;
+use super::build::{gregory_patch, gregory_patch_at_with, gregory_vertex_with};
 use super::tangents::GregoryTangents;
+use super::vertex::GregoryVertex;
 use crate::mesh::{ControlMesh, ControlMeshDesc};
 use crate::subdiv::eval::LimitEvaluator;
 use crate::topology::Topology;
@@ -27,7 +28,7 @@ pub fn fit_heights() -> [fn(f64, f64) -> f64; 3] {
 /// The fit's control net at valence `n` with heights `h` ([`super::tangents`] docs). Faces `0..n` are the
 /// faces at the extraordinary vertex (vertex 0), face `i` in sector `i` with corner 0 there.
 pub fn fit_mesh(n: usize, h: impl Fn(f64, f64) -> f64) -> crate::Result<ControlMesh> {
-    fan_mesh(n, 2.0 * PI / n as f64, true, h)
+    fan_mesh(n, 2.0 * PI / n as f64, true, FIT_K, h)
 }
 
 /// The fit's control net for a crease sector of `k` faces ([`super::tangents_boundary`] docs):
@@ -35,18 +36,27 @@ pub fn fit_mesh(n: usize, h: impl Fn(f64, f64) -> f64) -> crate::Result<ControlM
 /// plane (sector `i` between the directions at angles `πi/k` and `π(i + 1)/k`), faces `0..k` at
 /// vertex 0 as in [`fit_mesh`].
 pub fn crease_fit_mesh(k: usize, h: impl Fn(f64, f64) -> f64) -> crate::Result<ControlMesh> {
-    fan_mesh(k, PI / k as f64, false, h)
+    fan_mesh(k, PI / k as f64, false, FIT_K, h)
 }
 
-/// `sectors` sectors of `FIT_K × FIT_K` quads around vertex 0, sector `i` spanning the
+/// The band net of a crease sector of `k` faces ([`super::tangents_boundary`], "Bands"):
+/// [`crease_fit_mesh`] one face deep, `k` quads around vertex 0 spanning a half plane, every
+/// other vertex on the boundary: the inner edges of vertex 0 end on two-face crease sectors
+/// whose inner edge ends on vertex 0 (`sector_band` 1 at vertex 0, `k` at the others).
+pub fn band_fit_mesh(k: usize, h: impl Fn(f64, f64) -> f64) -> crate::Result<ControlMesh> {
+    fan_mesh(k, PI / k as f64, false, 1, h)
+}
+
+/// `sectors` sectors of `depth × depth` quads around vertex 0, sector `i` spanning the
 /// directions at angles `i·angle` and `(i + 1)·angle`; `closed`: the last sector meets the first.
 fn fan_mesh(
     sectors: usize,
     angle: f64,
     closed: bool,
+    depth: usize,
     h: impl Fn(f64, f64) -> f64,
 ) -> crate::Result<ControlMesh> {
-    let (n, k) = (sectors, FIT_K);
+    let (n, k) = (sectors, depth);
     let per = k * (k + 1);
     let id = |i: usize, a: usize, b: usize| -> u32 {
         if a == 0 && b > 0 && !closed && i + 1 == n {
@@ -140,10 +150,7 @@ fn terms_on(
                     .map_err(|e| crate::Error::Invalid(e.to_string()))
             };
             let (g0, g1) = (patch(0.0)?, patch(1.0)?);
-            let uv: Vec<(f64, f64)> = (0..m * m)
-                .map(|k| ((k % m) as f64 + 0.5, (k / m) as f64 + 0.5))
-                .map(|(u, v)| (u / m as f64, v / m as f64))
-                .collect();
+            let uv = sample_grid(m);
             let limit = exact.eval_points(f as usize, 0, &uv)?;
             for (&(u, v), l) in uv.iter().zip(&limit) {
                 let p0 = g0.eval(u, v).position;
@@ -157,6 +164,79 @@ fn terms_on(
         }
     }
     Ok(sums)
+}
+
+/// `[Σ a², Σ ab, Σ ac, Σ b², Σ bc, Σ c²]` of the band fit of `k >= 3` faces
+/// ([`band_fit_mesh`], the three heights, every face sampled as in [`fit_terms`]), where the
+/// normal distance at a sample is `a + s_c b + s_2 c` for the factor `s_c` at vertex 0 (the
+/// band's centre) and `s_2` at its two-face crease vertices: the patches are affine in each
+/// vertex's factor (edge points linear in the tangent, face points in the edge points, eq. 6).
+pub fn band_fit_terms(k: usize) -> crate::Result<[f64; 6]> {
+    let mut sums = [0.0; 6];
+    let m = FIT_SAMPLES;
+    let weight = 1.0 / (3 * k * m * m) as f64;
+    for h in fit_heights() {
+        let mesh = band_fit_mesh(k, h)?;
+        let topo = Topology::new(&mesh)?;
+        let exact = LimitEvaluator::new(&mesh)?;
+        let point = |i: u32| mesh.positions()[i as usize];
+        // Vertex data with factor `centre` at vertex 0 and `two` elsewhere.
+        let data = |centre: f64, two: f64| -> Vec<Option<GregoryVertex<DVec3>>> {
+            (0..topo.vertex_count() as u32)
+                .map(|v| {
+                    let s = if v == 0 { centre } else { two };
+                    gregory_vertex_with(&topo, v, &point, GregoryTangents::Scaled(s))
+                })
+                .collect()
+        };
+        let (d00, d10, d01) = (data(0.0, 0.0), data(1.0, 0.0), data(0.0, 1.0));
+        for f in 0..k as u32 {
+            let patch = |d: &[Option<GregoryVertex<DVec3>>]| {
+                gregory_patch(&topo, d, f).map_err(|e| crate::Error::Invalid(e.to_string()))
+            };
+            let (g00, g10, g01) = (patch(&d00)?, patch(&d10)?, patch(&d01)?);
+            let uv = sample_grid(m);
+            let limit = exact.eval_points(f as usize, 0, &uv)?;
+            for (&(u, v), l) in uv.iter().zip(&limit) {
+                let p00 = g00.eval(u, v).position;
+                let a = (p00 - l.position).dot(l.normal);
+                let b = (g10.eval(u, v).position - p00).dot(l.normal);
+                let c = (g01.eval(u, v).position - p00).dot(l.normal);
+                for (sum, x) in sums
+                    .iter_mut()
+                    .zip([a * a, a * b, a * c, b * b, b * c, c * c])
+                {
+                    *sum += weight * x;
+                }
+            }
+        }
+    }
+    Ok(sums)
+}
+
+/// The least-squares factors `(s_c, s_2)` of the band of `k >= 3` faces: the minimiser of the
+/// quadratic [`band_fit_terms`], `[[Σb², Σbc], [Σbc, Σc²]] (s_c, s_2) = −(Σab, Σac)`.
+pub fn band_fit_scales(k: usize) -> crate::Result<(f64, f64)> {
+    let [_, ab, ac, bb, bc, cc] = band_fit_terms(k)?;
+    let det = bb * cc - bc * bc;
+    Ok(((-ab * cc + ac * bc) / det, (-ac * bb + ab * bc) / det))
+}
+
+/// The mean squared normal distance of the band fit with factors `s_c`, `s_2`.
+pub fn band_fit_error(t: &[f64; 6], centre: f64, two: f64) -> f64 {
+    t[0] + 2.0 * centre * t[1]
+        + 2.0 * two * t[2]
+        + centre * centre * t[3]
+        + 2.0 * centre * two * t[4]
+        + two * two * t[5]
+}
+
+/// Midpoints of an `m × m` grid over the unit square.
+fn sample_grid(m: usize) -> Vec<(f64, f64)> {
+    (0..m * m)
+        .map(|k| ((k % m) as f64 + 0.5, (k / m) as f64 + 0.5))
+        .map(|(u, v)| (u / m as f64, v / m as f64))
+        .collect()
 }
 
 /// The mean squared normal distance of the fit at valence `n` with factor `s`.

@@ -65,8 +65,8 @@ pub enum GregoryTangents {
     /// triangles, per crease sector by `super::tangents_boundary` at boundary and crease vertices.
     Optimal,
     /// The paper's tangents scaled by one factor at every valence but 4, and the cross-boundary
-    /// tangents of crease sectors of three or more faces by the same factor (for experiments
-    /// and the fits).
+    /// tangents of crease sectors of three or more faces and of two-face sectors on a band
+    /// (`tangents_boundary::sector_band`) by the same factor (for experiments and the fits).
     Scaled(f64),
 }
 

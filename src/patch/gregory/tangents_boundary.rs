@@ -35,6 +35,27 @@
 //! [`CREASE_SCALE`] by `cargo run --example gregory_tangent_table`. Beyond the table the last
 //! entry is used. Like the smooth factors, `Optimal` applies them on rings of quads only.
 //!
+//! # Bands (the 2-ring key; fitted, not taken by `Optimal`)
+//!
+//! Where a sector's inner edges end on crease vertices the half-ring above is far from the
+//! mesh: on `xord_boundary` (fans one face deep) and `gregory_test3` the best lengths differ
+//! from [`CREASE_SCALE`] and the exact `s(2) = 1` (README, issue 10). [`sector_band`] keys a
+//! sector on its 2-ring (`VertexRing::far_sector`: per inner edge, the far end's crease sector):
+//! a two-face sector whose inner edge ends inside a crease sector of `k' >= 3` faces has band
+//! `k'` (never a face of a regular boundary B-spline patch: both faces hold the far end, which
+//! is irregular, so no crack), a sector of `k >= 3` faces whose inner edges all end on crease
+//! vertices has band 1. The fit: [`super::tangent_fit::band_fit_mesh`], the half-ring one face
+//! deep (the centre's band 1, every two-face vertex's band `k`); the patches are affine in the
+//! centre's factor `s_c` and the two-face vertices' `s_2`, so the mean squared normal distance
+//! is a quadratic in both, minimised in closed form
+//! ([`super::tangent_fit::band_fit_scales`]): [`BAND_CENTRE_SCALE`], [`BAND_TWO_SCALE`]
+//! (`s_c(3) = 0.616`, `s_2(3) = 0.945`; `s_c(6) = 0.358`, `s_2(6) = 1.418`). The key is carried
+//! through the construction (the rings), the stencils, the `gregory-vs` factor words and the
+//! end caps' shared-row keys, and `Scaled(s)` applies `s` on bands, so the fits and
+//! experiments run on it. `Optimal` does not read the band tables: with them `gregory_test3`
+//! and `xord_boundary` come closer to OpenSubdiv but stay above it, and `xord_boundary`'s RMS
+//! normal and `inf_crease0/1`'s RMS distance grow slightly (README).
+//!
 //! # One-sided face points (`Optimal`, issue 10)
 //!
 //! Compared point by point with OpenSubdiv's Gregory basis (README), two of its rules at
@@ -68,6 +89,23 @@ pub const CREASE_SCALE: [f64; MAX_FITTED_CREASE_SECTOR - 2] = [
     0.410119, 0.403074, 0.397448, 0.392902, 0.389194,
 ];
 
+/// `s(k)` of the centre of a band ([`sector_band`] 1): a crease sector of `k =
+/// 3..=MAX_FITTED_CREASE_SECTOR` faces (index `k − 3`) with an inner edge ending on a crease
+/// vertex, fitted jointly with [`BAND_TWO_SCALE`] on [`super::tangent_fit::band_fit_mesh`] by
+/// `cargo run --example gregory_tangent_table`.
+pub const BAND_CENTRE_SCALE: [f64; MAX_FITTED_CREASE_SECTOR - 2] = [
+    0.615910, 0.471059, 0.409273, 0.358313, 0.312443, 0.279614, 0.255671, 0.237111, 0.222943,
+    0.212397, 0.204574, 0.198816, 0.194684, 0.191847,
+];
+
+/// `s(2)` of a two-face crease sector whose inner edge ends on the centre of a band, a crease
+/// vertex whose sector there has `k = 3..=MAX_FITTED_CREASE_SECTOR` faces (index `k − 3`),
+/// fitted with [`BAND_CENTRE_SCALE`].
+pub const BAND_TWO_SCALE: [f64; MAX_FITTED_CREASE_SECTOR - 2] = [
+    0.945250, 1.126182, 1.302256, 1.417673, 1.460030, 1.469143, 1.460534, 1.443194, 1.423105,
+    1.403309, 1.384827, 1.368046, 1.353068, 1.339818,
+];
+
 impl GregoryTangents {
     /// Whether face points beside sharp edges are one-sided at a vertex whose faces are all
     /// quads (`quads`) (`GregoryVertex::one_sided`): `Optimal` on quad rings only, where
@@ -78,19 +116,37 @@ impl GregoryTangents {
         self == GregoryTangents::Optimal && quads
     }
 
-    /// The factor `s(k)` on the cross-boundary tangent of a crease sector of `k` faces at a
-    /// vertex whose faces are all quads (`quads`), rounded to `f32` as [`Self::scale`]: 1 for
-    /// the paper's construction, for `k <= 2` and for `Optimal` on rings with other faces;
-    /// `Scaled(s)` gives `s` (the fit).
-    pub fn crease_scale(self, k: usize, quads: bool) -> f64 {
+    /// The factor `s(k)` on the cross-boundary tangent of a crease sector of `k` faces with
+    /// 2-ring key `band` ([`sector_band`]) at a vertex whose faces are all quads (`quads`),
+    /// rounded to `f32` as [`Self::scale`]: 1 for the paper's construction, for sectors of one
+    /// face and for two-face sectors off a band (the boundary bicubic's, exact); `Scaled(s)`
+    /// gives `s` to every other sector, two-face sectors on a band included (the fits);
+    /// `Optimal` gives [`CREASE_SCALE`] to sectors of three or more faces of quad rings, 1
+    /// elsewhere, whatever the band (the band tables are not taken: "Bands" in the module docs).
+    pub fn crease_scale(self, k: usize, band: usize, quads: bool) -> f64 {
         let s = match self {
             GregoryTangents::Paper => 1.0,
-            _ if k <= 2 => 1.0,
+            _ if k <= 1 || (k == 2 && band == 0) => 1.0,
             GregoryTangents::Scaled(s) => s,
-            GregoryTangents::Optimal if !quads => 1.0,
+            GregoryTangents::Optimal if !quads || k == 2 => 1.0,
             GregoryTangents::Optimal => CREASE_SCALE[k.min(MAX_FITTED_CREASE_SECTOR) - 3],
         };
         s as f32 as f64
+    }
+}
+
+/// The 2-ring key of a crease sector of `k` faces whose inner edges' far ends have the crease
+/// sectors `far` (`VertexRing::far_sector` of the inner edges: 0 where the far end is no crease
+/// vertex): for `k = 2`, the far end's sector size when that is 3 or more (0 otherwise: a far
+/// sector of two faces makes both faces regular boundary B-spline patches, whose edge curve
+/// the inner edge point must stay); for `k >= 3`, 1 when every inner edge ends on a crease
+/// vertex (the centre of a band one face wide), else 0.
+pub fn sector_band(k: usize, far: impl IntoIterator<Item = usize>) -> usize {
+    let mut far = far.into_iter();
+    match k {
+        0 | 1 => 0,
+        2 => far.next().filter(|&f| f >= 3).unwrap_or(0),
+        _ => usize::from(far.all(|f| f >= 2)),
     }
 }
 
@@ -101,16 +157,25 @@ mod tests {
     #[test]
     fn paper_and_regular_sectors_keep_one() {
         for k in 1..40 {
-            assert_eq!(GregoryTangents::Paper.crease_scale(k, true), 1.0);
-            assert_eq!(GregoryTangents::Optimal.crease_scale(k, false), 1.0);
+            for band in [0, 1, 3, 7] {
+                assert_eq!(GregoryTangents::Paper.crease_scale(k, band, true), 1.0);
+                assert_eq!(GregoryTangents::Optimal.crease_scale(k, band, false), 1.0);
+            }
         }
         for t in [GregoryTangents::Optimal, GregoryTangents::Scaled(0.5)] {
-            assert_eq!(t.crease_scale(1, true), 1.0);
-            assert_eq!(t.crease_scale(2, true), 1.0);
+            assert_eq!(t.crease_scale(1, 0, true), 1.0);
+            assert_eq!(t.crease_scale(2, 0, true), 1.0);
         }
-        assert_eq!(GregoryTangents::Scaled(0.5).crease_scale(3, true), 0.5);
+        assert_eq!(GregoryTangents::Scaled(0.5).crease_scale(3, 0, true), 0.5);
+        assert_eq!(GregoryTangents::Scaled(0.5).crease_scale(2, 3, true), 0.5);
+        // `Optimal` does not take the band tables (module docs).
+        assert_eq!(GregoryTangents::Optimal.crease_scale(2, 3, true), 1.0);
         assert_eq!(
-            GregoryTangents::Optimal.crease_scale(99, true),
+            GregoryTangents::Optimal.crease_scale(3, 1, true),
+            CREASE_SCALE[0] as f32 as f64
+        );
+        assert_eq!(
+            GregoryTangents::Optimal.crease_scale(99, 0, true),
             CREASE_SCALE[MAX_FITTED_CREASE_SECTOR - 3] as f32 as f64
         );
     }

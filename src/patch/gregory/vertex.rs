@@ -4,6 +4,7 @@
 
 use super::point::{combine, GregoryPoint};
 use super::tangents::GregoryTangents;
+use super::tangents_boundary::sector_band;
 use glam::DVec3;
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -29,6 +30,11 @@ pub struct VertexRing<P = DVec3> {
     /// Sizes of the incident faces, one per face in ring order (what
     /// [`GregoryTangents::ring_factors`] is keyed on).
     pub face_sizes: Vec<usize>,
+    /// The 2-ring key of crease rings (two sharp edges, no corner tag; empty for others), one
+    /// per incident edge: for a smooth edge whose far end is itself a crease vertex, the faces of
+    /// the far end's crease sector holding the edge (the edge is then one of its inner edges),
+    /// else 0 ([`crate::patch::gregory::tangents_boundary`], "Bands").
+    pub far_sector: Vec<usize>,
 }
 
 impl<P> VertexRing<P> {
@@ -675,7 +681,8 @@ fn crease_sector_tangent<P: GregoryPoint>(
     let (s, k, ne) = (sec.start, sec.faces, ring.m.len());
     let (wv, wm, wc) = crease_tangent_weights(k);
     // `f * w` is `w` bit for bit at the paper's `f = 1`.
-    let f = tangents.crease_scale(k, ring.quads());
+    let far = (1..k).map(|i| ring.far_sector.get((s + i) % ne).copied().unwrap_or(0));
+    let f = tangents.crease_scale(k, sector_band(k, far), ring.quads());
     let mut tan = combine(&[(f * wv / 3.0, &ring.v)]);
     for (i, w) in wm.iter().enumerate() {
         tan.add_scaled(f * w / 3.0, &ring.m[(s + i) % ne]);
@@ -1095,6 +1102,7 @@ mod tests {
             sharp: vec![false; n],
             corner: false,
             face_sizes: vec![4; n],
+            far_sector: Vec::new(),
         }
     }
 
@@ -1402,6 +1410,7 @@ mod tests {
             sharp: vec![true, true],
             corner: false,
             face_sizes: vec![4],
+            far_sector: Vec::new(),
         };
         let g = GregoryVertex::new(&ring, GregoryTangents::Paper).expect("covered");
         let mut x = ring.clone();
