@@ -876,7 +876,7 @@ fn many_patches(
         )
         .expect("indices");
     let draws: Vec<(u32, u32)> = if chunked {
-        patch_draw_chunks(patches, points, indexed).collect()
+        patch_draw_chunks(patches, points, indexed, level as f32).collect()
     } else {
         vec![(0, patches)]
     };

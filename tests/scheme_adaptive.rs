@@ -22,7 +22,7 @@ use tessera::render::{
 };
 use tessera::subdiv::eval::LimitEvaluator;
 
-use common::capture::{capture, offscreen, uniform};
+use common::capture::{capture, longest_triangle_edge, offscreen, uniform};
 use common::golden::check_golden;
 use common::gpu::{assert_validation_clean, context};
 use common::meshes::{corpus_options, mesh, osd_names, osd_path};
@@ -1024,19 +1024,7 @@ fn end_caps_past_one_draw_s_domain_points_keep_their_triangles() {
         ..RenderDesc::default()
     };
     let fixed = StaticDraw::capture(&ctx, &surface, &render, &offscreen(96, 96)).unwrap();
-    let mesh = fixed.mesh();
-    let longest = mesh
-        .indices
-        .chunks_exact(3)
-        .flat_map(|t| {
-            let p = |k: usize| mesh.positions[t[k] as usize];
-            [
-                p(0).distance(p(1)),
-                p(1).distance(p(2)),
-                p(2).distance(p(0)),
-            ]
-        })
-        .fold(0.0f64, f64::max);
+    let longest = longest_triangle_edge(fixed.mesh());
     eprintln!(
         "car iso 1 tess 16: {} triangles, longest edge {:.3} of the diagonal",
         fixed.captured(),

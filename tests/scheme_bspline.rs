@@ -3,13 +3,15 @@
 
 mod common;
 
-use common::capture::uniform;
+use common::capture::{longest_triangle_edge, offscreen, scheme_surface, uniform};
 use common::conformance::{
     animation_on, assert_matches_limit, draw, golden_patch_type, gpu_equals_cpu_on, watertight_on,
 };
-use common::gpu::context;
+use common::crease_grid::torus;
+use common::gpu::{assert_validation_clean, context};
 use common::meshes::mesh;
-use tessera::render::Scheme;
+use tessera::render::static_draw::StaticDraw;
+use tessera::render::{RenderDesc, Scheme, TessMode, TessSettings};
 
 const SCHEME: Scheme = Scheme::BsplineOnly;
 /// The pass whose patches are exact.
@@ -65,4 +67,42 @@ fn animation_equals_rebuild() {
 #[test]
 fn golden() {
     golden_patch_type(SCHEME, "bspline_only_mixed_patch_type");
+}
+
+/// Screen-space levels keep every patch's own triangles when one draw of the index rule would
+/// pass lavapipe's 2^16 domain points (`gpu::MAX_DOMAIN_POINTS_PER_DRAW`): the 8×8 torus's 64
+/// B-spline patches are one draw of the index rule (64 16-point patches), at screen-space
+/// levels of about 50 (0.5 pixels per segment, 256×256) some 160,000 domain points. Its
+/// triangles (the triangle capture of `render::static_draw`) must have no edge longer than 0.1
+/// of the diagonal; more than 131,072 triangles (mean level above 32) make sure one draw of 64
+/// patches passes 2^16 points. Before `PatchDraws::max_level` (the pass drew by the index rule
+/// alone) it fails.
+#[test]
+fn screen_space_levels_past_one_draw_s_domain_points_keep_their_triangles() {
+    let Some(ctx) = context() else { return };
+    let m = torus(&[]);
+    let diag = m.bbox_diagonal();
+    let surface = scheme_surface(&ctx, &m, 64, SCHEME);
+    let render = RenderDesc {
+        tess: TessSettings {
+            mode: TessMode::Adaptive,
+            pixels_per_edge: 0.5,
+            ..uniform(64.0)
+        },
+        ..RenderDesc::default()
+    };
+    let fixed = StaticDraw::capture(&ctx, &surface, &render, &offscreen(256, 256)).unwrap();
+    let longest = longest_triangle_edge(fixed.mesh());
+    eprintln!(
+        "torus 8x8, screen-space 0.5 px: {} triangles, longest edge {:.4} of the diagonal",
+        fixed.captured(),
+        longest / diag
+    );
+    assert!(fixed.captured() > 131_072, "{} triangles", fixed.captured());
+    assert!(
+        longest <= 0.1 * diag,
+        "an edge of {:.3} of the diagonal",
+        longest / diag
+    );
+    assert_validation_clean(&ctx);
 }

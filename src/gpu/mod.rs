@@ -26,8 +26,9 @@ pub use debug::ValidationLog;
 pub use descriptors::{BufferBinding, DescriptorPool};
 pub use device::{DeviceFeatures, DeviceInfo, DeviceLimits, Feature};
 pub use draw::{
-    max_patches_per_draw, patch_draw_chunks, patches_per_draw_at_level, quad_domain_points,
-    MAX_DOMAIN_POINTS_PER_DRAW, MAX_INDICES_PER_PATCH_DRAW, MAX_VERTICES_PER_PATCH_DRAW,
+    max_patches_per_draw, patch_draw_chunks, patches_per_draw, patches_per_draw_at_level,
+    quad_domain_points, MAX_DOMAIN_POINTS_PER_DRAW, MAX_INDICES_PER_PATCH_DRAW,
+    MAX_VERTICES_PER_PATCH_DRAW,
 };
 pub use draw_target::{DrawTarget, LayoutSlots, PassKind, PushRange};
 pub use error::{DeviceReport, GpuError, VkResultCode};

@@ -354,3 +354,19 @@ pub fn gregory_vs_capture_with_budget(
         .unwrap();
     sorted(records)
 }
+
+/// The longest edge of the triangles of `mesh` (e.g. a frame's triangle capture,
+/// `render::static_draw`), in model units.
+pub fn longest_triangle_edge(mesh: &tessera::render::FallbackMesh) -> f64 {
+    mesh.indices
+        .chunks_exact(3)
+        .flat_map(|t| {
+            let p = |k: usize| mesh.positions[t[k] as usize];
+            [
+                p(0).distance(p(1)),
+                p(1).distance(p(2)),
+                p(2).distance(p(0)),
+            ]
+        })
+        .fold(0.0f64, f64::max)
+}

@@ -14,6 +14,6 @@ pub use capture::{
     capture_capacity_for, triangle_bucket, Capture, CaptureRecord, CapturedPatch, CapturedTriangle,
     TriangleWindow, CAPTURE_HEADER_BYTES, CAPTURE_RECORD_BYTES, MAX_BUCKETS,
 };
-pub use draw::{bind_draw_state, record_patch_draws, PatchDraws};
+pub use draw::{bind_draw_state, largest_level, record_patch_draws, PatchDraws};
 pub use frames::{NormalRule, VertexFrames};
 pub use shared::SharedResources;

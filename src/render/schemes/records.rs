@@ -3,23 +3,20 @@
 //! do not depend on the positions, [`FixedRecords`]), the tessellation
 //! stages read the record of `patch_base + gl_PrimitiveID` from set 0 binding 4; the patch
 //! primitive has one point and no vertex input (`record_patch.vert`). Groups (one pipeline each,
-//! e.g. quads then triangles) are drawn whole (not split into sub-patches), in runs kept under
-//! lavapipe's domain points per draw ([`crate::gpu::patches_per_draw_at_level`]).
+//! e.g. quads then triangles) are drawn whole (not split into sub-patches) at levels up to
+//! [`PassContext::largest_level`] of 1, which bounds the patches per draw
+//! ([`crate::gpu::patch_draw_chunks`]).
 
 use ash::vk;
 use glam::DVec3;
 
 use super::{PassContext, PatchPass};
-use crate::gpu::{
-    patches_per_draw_at_level, Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool,
-    Pipeline,
-};
+use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool, Pipeline};
 use crate::render::pass::pipeline::{patch_pipeline, PatchShaders};
 use crate::render::pass::shared::set0_layout;
 use crate::render::pass::upload::{device_buffer, host_buffer};
 use crate::render::pass::VertexFrames;
 use crate::render::pass::{bind_draw_state, record_patch_draws, PatchDraws};
-use crate::render::settings::TessMode;
 use crate::Result;
 
 /// Set-0 binding of the records.
@@ -49,7 +46,8 @@ pub struct RecordPass {
     /// Set 0 per frame slot (the shared bindings of that slot, the records).
     sets: Vec<vk::DescriptorSet>,
     groups: Vec<(Pipeline, u32, u32)>,
-    per_draw: u32,
+    /// Largest level of a patch (drawn whole; `PatchDraws::max_level`).
+    max_level: f32,
     count: u32,
 }
 
@@ -120,7 +118,7 @@ impl RecordPass {
             _pool: pool,
             sets,
             groups: pipelines,
-            per_draw: patches_per_draw_at_level(largest_level(pc)),
+            max_level: pc.largest_level(1),
             count,
         })
     }
@@ -145,53 +143,24 @@ impl RecordPass {
     pub fn record(&self, cmd: vk::CommandBuffer, slot: usize) {
         let dev = self.ctx.device();
         for (pipeline, first, count) in &self.groups {
-            let run = PatchDraws {
-                first_patch: *first,
-                first_index: *first,
-                count: *count,
-                points: 1,
-                sub_draws: 1,
-                sub_flag: 0,
-            };
+            let run = PatchDraws::whole(*first, *first, *count, 1, self.max_level);
             let draw_state = (&[self.sets[slot]][..], self.indices.raw());
-            record_run(dev, cmd, pipeline, draw_state, &run, self.per_draw);
+            record_run(dev, cmd, pipeline, draw_state, &run);
         }
     }
 }
 
 /// Binds `pipeline` with `draw_state` (descriptor sets, index buffer) and records the patches
-/// of `run` (drawn whole) in draws of at most `per_draw` patches (below lavapipe's domain-point
-/// budget per draw), which [`record_patch_draws`] further chunks by their index count.
+/// of `run` (drawn whole) with [`record_patch_draws`].
 pub fn record_run(
     dev: &ash::Device,
     cmd: vk::CommandBuffer,
     pipeline: &Pipeline,
     draw_state: (&[vk::DescriptorSet], vk::Buffer),
     run: &PatchDraws,
-    per_draw: u32,
 ) {
     bind_draw_state(dev, cmd, pipeline, draw_state.0, None, draw_state.1);
-    let mut done = 0;
-    while done < run.count {
-        let n = per_draw.min(run.count - done);
-        let draws = PatchDraws {
-            first_patch: run.first_patch + done,
-            first_index: run.first_index + done * run.points,
-            count: n,
-            ..*run
-        };
-        record_patch_draws(dev, cmd, pipeline, &draws, 1);
-        done += n;
-    }
-}
-
-/// The largest level a patch edge or interior can get: the uniform level, or in screen-space
-/// mode the device's largest level.
-pub fn largest_level(pc: &PassContext<'_>) -> f32 {
-    match pc.desc.tess.mode {
-        TessMode::Uniform => pc.desc.tess.level,
-        _ => pc.ctx.info().limits.max_tessellation_generation_level as f32,
-    }
+    record_patch_draws(dev, cmd, pipeline, run, 1);
 }
 
 /// Tables whose patches are drawn as records: the record bytes for control positions.

@@ -14,7 +14,7 @@ use crate::patch::acc::NotAcc;
 use crate::patch::gregory::{GregoryTangents, NotGregory};
 use crate::patch::pm::NotPm;
 use crate::patch::qas::NotQas;
-use crate::render::pass::{NormalRule, SharedResources, VertexFrames};
+use crate::render::pass::{largest_level, NormalRule, SharedResources, VertexFrames};
 use crate::render::settings::{PatchLevelLimit, RenderDesc, Spacing};
 use crate::subdiv::adaptive::EndCapSharpness;
 use crate::topology::Topology;
@@ -279,6 +279,15 @@ pub struct PassContext<'a> {
     pub desc: &'a RenderDesc,
     /// Format of the render targets the pipelines draw into.
     pub target: &'a DrawTarget,
+}
+
+impl PassContext<'_> {
+    /// The largest level of a (sub-)patch drawn in `split` sub-patches per side (1: whole), for
+    /// [`crate::render::pass::PatchDraws::max_level`].
+    pub fn largest_level(&self, split: u32) -> f32 {
+        let device_max = self.ctx.info().limits.max_tessellation_generation_level as f32;
+        largest_level(&self.desc.tess, device_max, split)
+    }
 }
 
 /// The CPU tables of one pass of one surface (built once per topology; pure data).

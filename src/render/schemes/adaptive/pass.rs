@@ -13,10 +13,7 @@ use glam::DVec3;
 
 use super::derive::DerivedPoints;
 use super::refine::GpuRefiner;
-use crate::gpu::{
-    patches_per_draw_at_level, Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool,
-    Pipeline,
-};
+use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool, Pipeline};
 use crate::patch::adaptive::records::{BSplineDraw, TransitionTriangle};
 use crate::patch::adaptive::AdaptiveDrawTables;
 use crate::render::pass::pipeline::{patch_pipeline, PatchShaders};
@@ -25,7 +22,6 @@ use crate::render::pass::shared::{
 };
 use crate::render::pass::upload::device_buffer;
 use crate::render::pass::{bind_draw_state, record_patch_draws, PatchDraws, VertexFrames};
-use crate::render::schemes::records::largest_level;
 use crate::render::schemes::traits::PassContext;
 use crate::render::schemes::{PassTables, PatchPass};
 use crate::subdiv::tables::{KernelRange, RefinementTables};
@@ -174,12 +170,12 @@ pub struct AdaptivePass {
     tables_of: TablesOf,
     /// The level-0 patches' split the draws were recorded for (`TessSettings::split`).
     split: u32,
-    /// Most (sub-)patches one draw holds ([`patches_per_draw_at_level`] of the largest level a
-    /// patch gets): past `MAX_DOMAIN_POINTS_PER_DRAW` domain points in one draw lavapipe's
-    /// triangles join wrong vertices. Binds the end caps (one index per patch, so 1,024 per
-    /// draw by the index rule alone: the car's 1,248 end caps at level 8 made 82,944 points in
-    /// one draw).
-    per_draw: u32,
+    /// Largest level of a drawn (sub-)patch (`PatchDraws::max_level`), that of a whole level-0
+    /// patch for every run (an upper bound whatever the run's split): past
+    /// `MAX_DOMAIN_POINTS_PER_DRAW` domain points in one draw lavapipe's triangles join wrong
+    /// vertices. Binds the end caps (one index per patch, so 1,024 per draw by the index rule
+    /// alone: the car's 1,248 end caps at level 8 made 82,944 points in one draw).
+    max_level: f32,
 }
 
 /// The kernels' and draw tables inside tables of this scheme (`super::AdaptiveTables`, whose
@@ -491,7 +487,7 @@ impl AdaptivePass {
             split,
             layout,
             tables_of,
-            per_draw: patches_per_draw_at_level(largest_level(pc)),
+            max_level: pc.largest_level(1),
             patches: d.primitive_count() as u32,
             refiner,
             derived,
@@ -565,17 +561,16 @@ impl PatchPass for AdaptivePass {
             g.indices.raw(),
         );
         for r in &g.runs {
-            for first in (r.first..r.first + r.count).step_by(self.per_draw as usize) {
-                let draws = PatchDraws {
-                    first_patch: g.first_patch + first,
-                    first_index: first * g.points,
-                    count: self.per_draw.min(r.first + r.count - first),
-                    points: g.points,
-                    sub_draws: r.sub_draws,
-                    sub_flag: 0,
-                };
-                record_patch_draws(dev, cmd, &g.pipeline, &draws, r.split);
-            }
+            let draws = PatchDraws {
+                first_patch: g.first_patch + r.first,
+                first_index: r.first * g.points,
+                count: r.count,
+                points: g.points,
+                sub_draws: r.sub_draws,
+                sub_flag: 0,
+                max_level: self.max_level,
+            };
+            record_patch_draws(dev, cmd, &g.pipeline, &draws, r.split);
         }
     }
 

@@ -267,6 +267,8 @@ pub struct GridPatchPass {
     label: &'static str,
     count: u32,
     split: u32,
+    /// Largest level of a sub-patch (`PatchDraws::max_level`).
+    max_level: f32,
     positions: Vec<vk::Buffer>,
     _patch_info: Buffer,
     indices: Buffer,
@@ -332,6 +334,7 @@ impl GridPatchPass {
             label: spec.label,
             count: spec.patches.len() as u32,
             split: pc.desc.tess.split(),
+            max_level: pc.largest_level(pc.desc.tess.split()),
             positions: (0..n as usize).map(|k| pc.shared.positions(k)).collect(),
             _patch_info: patch_info,
             indices,
@@ -372,6 +375,7 @@ impl PatchPass for GridPatchPass {
             points: 16,
             sub_draws: self.split * self.split,
             sub_flag: 0,
+            max_level: self.max_level,
         };
         record_patch_draws(dev, cmd, &self.pipeline, &draws, self.split);
     }

@@ -228,6 +228,8 @@ pub struct GregoryStencilPass {
     groups: Vec<DrawGroup>,
     count: u32,
     split: u32,
+    /// Largest level of a quad sub-patch and of a (whole) triangle (`PatchDraws::max_level`).
+    max_levels: [f32; 2],
     positions: Vec<vk::Buffer>,
     _weights: Buffer,
     _masks: Buffer,
@@ -321,6 +323,7 @@ impl GregoryStencilPass {
             groups,
             count: total,
             split: pc.desc.tess.split(),
+            max_levels: [pc.largest_level(pc.desc.tess.split()), pc.largest_level(1)],
             positions: (0..n as usize).map(|k| pc.shared.positions(k)).collect(),
             _weights: weights,
             _masks: masks,
@@ -376,6 +379,7 @@ impl PatchPass for GregoryStencilPass {
                     self.split * self.split
                 },
                 sub_flag: 0,
+                max_level: self.max_levels[usize::from(g.triangle)],
             };
             record_patch_draws(dev, cmd, &g.pipeline, &draws, self.split);
         }

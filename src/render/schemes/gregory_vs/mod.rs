@@ -276,6 +276,8 @@ pub struct GregoryVsPass {
     quads: u32,
     tris: u32,
     split: u32,
+    /// Largest level of a sub-patch or sub-triangle (`PatchDraws::max_level`).
+    max_level: f32,
     _conn: Buffer,
     _corner_ring: Buffer,
     _tes: GregoryTesBuffers,
@@ -363,6 +365,7 @@ impl GregoryVsPass {
             quads: layout.quad_count,
             tris: layout.patch_count() - layout.quad_count,
             split: pc.desc.tess.split(),
+            max_level: pc.largest_level(pc.desc.tess.split()),
             _conn: conn,
             _corner_ring: corner_ring,
             _tes: tes,
@@ -435,6 +438,7 @@ impl PatchPass for GregoryVsPass {
                     points: 4,
                     sub_draws: subs,
                     sub_flag: 0,
+                    max_level: self.max_level,
                 },
             ),
             (
@@ -446,6 +450,7 @@ impl PatchPass for GregoryVsPass {
                     points: 3,
                     sub_draws: subs,
                     sub_flag: TRI_SUB_MODE,
+                    max_level: self.max_level,
                 },
             ),
         ] {

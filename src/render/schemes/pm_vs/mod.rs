@@ -29,15 +29,12 @@ use ash::vk;
 use glam::DVec3;
 
 use super::pm::PmTables;
-use super::records::{largest_level, record_run};
+use super::records::record_run;
 use super::traits::{
     CaptureLayout, PassContext, PassPlan, PassTables, PatchPass, PatchScheme, PlanOptions,
     ReferencePatch, Refusal, RefusalReason,
 };
-use crate::gpu::{
-    patches_per_draw_at_level, Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool,
-    Pipeline,
-};
+use crate::gpu::{Buffer, BufferBinding, Context, DescriptorKind, DescriptorPool, Pipeline};
 use crate::patch::pm::{corner_slots, far_vertices, FacetClass, PmOptions};
 use crate::render::pass::pipeline::{patch_pipeline, PatchShaders};
 use crate::render::pass::shared::set0_layout;
@@ -313,7 +310,8 @@ pub struct PmVsPass {
     /// Set 0 per frame slot.
     sets: Vec<vk::DescriptorSet>,
     runs: Vec<(Pipeline, Run)>,
-    per_draw: u32,
+    /// Largest level of a patch (drawn whole; `PatchDraws::max_level`).
+    max_level: f32,
     count: u32,
 }
 
@@ -387,7 +385,7 @@ impl PmVsPass {
             _pool: pool,
             sets,
             runs,
-            per_draw: patches_per_draw_at_level(largest_level(pc)),
+            max_level: pc.largest_level(1),
             count: t.pm.patch_count() as u32,
         })
     }
@@ -409,16 +407,15 @@ impl PatchPass for PmVsPass {
     fn record(&self, cmd: vk::CommandBuffer, slot: usize) {
         let dev = self.ctx.device();
         for (pipeline, r) in &self.runs {
-            let run = PatchDraws {
-                first_patch: r.first_patch,
-                first_index: r.first_index,
-                count: r.count,
-                points: r.points,
-                sub_draws: 1,
-                sub_flag: 0,
-            };
+            let run = PatchDraws::whole(
+                r.first_patch,
+                r.first_index,
+                r.count,
+                r.points,
+                self.max_level,
+            );
             let draw_state = (&[self.sets[slot]][..], self.indices.raw());
-            record_run(dev, cmd, pipeline, draw_state, &run, self.per_draw);
+            record_run(dev, cmd, pipeline, draw_state, &run);
         }
     }
 
