@@ -500,7 +500,7 @@ fn refine_sparse(cur: &mut AdaptiveLevel) -> Result<AdaptiveLevel> {
             }
         }
     }
-    let (level, child_points) = parent.refine_topology().try_extract(&keep)?;
+    let (level, child_points) = parent.refine_kept(&keep)?;
     let next = AdaptiveLevel {
         first_vertex: cur.first_vertex + t.vertex_count() as u32,
         own,

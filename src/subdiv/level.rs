@@ -237,7 +237,7 @@ impl Level {
 /// (old ids of the extracted faces' corners, of a level of `vertex_count` vertices) renumbered.
 /// A few faces of a large level (a vertex's ring, `subdiv::limit`) sort their corners instead
 /// of marking them in an array of the level's size: the same ids either way.
-fn local_vertex_ids(old_verts: &[u32], vertex_count: usize) -> (Vec<u32>, Vec<u32>) {
+pub(super) fn local_vertex_ids(old_verts: &[u32], vertex_count: usize) -> (Vec<u32>, Vec<u32>) {
     if old_verts.len() * 16 < vertex_count {
         sorted_vertex_ids(old_verts)
     } else {

@@ -7,11 +7,12 @@
 //! `[one per parent corner h, from the edge point of edge k to the face point | two halves per
 //! parent edge e at 2e and 2e + 1, starting at its first and second end]`.
 
-use super::level::Level;
+use super::level::{local_vertex_ids, Level};
 use super::rules::{child_edge_sharpness, decrement};
 use super::sparse::SparseMatrix;
 use crate::topology::par::{fill, for_chunks, Shared, CHUNK};
-use crate::topology::{Topology, NONE};
+use crate::topology::{self, Topology, NONE};
+use crate::{Error, Result};
 
 impl Level {
     /// One uniform Catmull-Clark step: the child level and the matrix giving the child vertices
@@ -285,6 +286,123 @@ impl Level {
             cut,
             incomplete,
         }
+    }
+
+    /// The child faces `keep` (flat parent corner indices, each once) of this level's
+    /// refinement as a level of their own, with the map from its vertices to the child
+    /// numbering `[face points | edge points | vertex points]`: the same level and map as
+    /// `self.refine_topology().try_extract(keep)`, without building the whole child level
+    /// first. Each kept quad, its edges' sharpness and its vertices' sharpness, valence and
+    /// completeness in the whole child level follow from the parent by index arithmetic (the
+    /// numbering of the module docs); only the kept quads' connectivity is built.
+    ///
+    /// The sparse step of feature-adaptive refinement (Köbler 2013 §3.3; OpenSubdiv's
+    /// `Vtr::Refinement` with sparse selection): `keep` is the refined faces' children and
+    /// their ring, a fraction of the child level.
+    pub fn refine_kept(&self, keep: &[u32]) -> Result<(Level, Vec<u32>)> {
+        let t = &self.topo;
+        let (nf, ne, fv) = (t.face_count(), t.edge_count(), t.corner_count());
+        let cnv = nf + ne + t.vertex_count();
+        // The parent face of each kept corner, and the child quads' corners.
+        let mut parent_face = Vec::with_capacity(keep.len());
+        let mut old_verts = Vec::with_capacity(4 * keep.len());
+        for &h in keep {
+            if h as usize >= fv {
+                return Err(Error::Invalid(format!(
+                    "refine_kept: child face {h} out of range"
+                )));
+            }
+            let f = t.face_offsets.partition_point(|&o| o <= h) - 1;
+            let off = t.face_offsets[f] as usize;
+            let hp = if h as usize == off {
+                t.face_offsets[f + 1] as usize - 1
+            } else {
+                h as usize - 1
+            };
+            parent_face.push(f as u32);
+            old_verts.extend_from_slice(&child_face(t, f, h as usize, hp));
+        }
+        let offsets = (0..=keep.len() as u32).map(|i| 4 * i).collect();
+        let (map, local) = local_vertex_ids(&old_verts, cnv);
+        let mut sub = topology::build(map.len(), offsets, local, false)?;
+        sub.options = t.options;
+        for (i, &f) in parent_face.iter().enumerate() {
+            sub.holes[i] = t.holes[f as usize];
+        }
+        if !t.no_limit.is_empty() {
+            sub.no_limit = parent_face
+                .iter()
+                .map(|&f| t.no_limit[f as usize])
+                .collect();
+        }
+        // Edge `k` of kept quad `i` (corner `h`, vertex `v`): the halves of the parent edges
+        // `k` and `k - 1` at `v` (edges 0 and 3), the face-point edges (1 and 2), never sharp,
+        // cut or a boundary.
+        let mut cut = vec![false; sub.edge_count()];
+        let mut any_cut = false;
+        for (i, &h) in keep.iter().enumerate() {
+            let f = parent_face[i] as usize;
+            let off = t.face_offsets[f] as usize;
+            let hp = if h as usize == off {
+                t.face_offsets[f + 1] as usize - 1
+            } else {
+                h as usize - 1
+            };
+            let v = t.face_verts[h as usize];
+            let edges: [u32; 4] = sub.face_edges(i as u32).try_into().expect("a quad");
+            let (e0, e3) = (edges[0] as usize, edges[3] as usize);
+            for (ce, pe) in [(e0, t.face_edges[h as usize]), (e3, t.face_edges[hp])] {
+                sub.edge_sharpness[ce] = child_edge_sharpness(t, pe, v);
+                let opened = sub.edge_faces[ce][1] == NONE && !t.is_boundary_edge(pe);
+                if opened || self.is_cut_edge(pe) {
+                    cut[ce] = true;
+                    any_cut = true;
+                }
+            }
+            for ce in [edges[1] as usize, edges[2] as usize] {
+                if sub.edge_faces[ce][1] == NONE {
+                    cut[ce] = true;
+                    any_cut = true;
+                }
+            }
+        }
+        // A child vertex is incomplete when its child-level counterpart is (`child_flags`) or
+        // when the kept quads miss some of its faces there.
+        let flagged = !(self.cut.is_empty() && self.incomplete.is_empty());
+        let bad = |v: u32| !self.is_complete_vertex(v);
+        let face_bad = |f: u32| t.face_vertices(f).iter().any(|&v| bad(v));
+        let mut incomplete = vec![false; map.len()];
+        let mut any_incomplete = false;
+        for (v, &old) in map.iter().enumerate() {
+            let o = old as usize;
+            let (valence, inc) = if o < nf {
+                (t.face_size(old) as usize, flagged && face_bad(old))
+            } else if o < nf + ne {
+                let e = old - nf as u32;
+                let faces = t.edge_faces(e);
+                let inc = flagged && (self.is_cut_edge(e) || faces.iter().any(|&f| face_bad(f)));
+                (2 * faces.len(), inc)
+            } else {
+                let pv = old - (nf + ne) as u32;
+                sub.vertex_sharpness[v] = decrement(t.vertex_sharpness[pv as usize]);
+                let faces = t.vertex_faces(pv);
+                let inc = flagged && (bad(pv) || faces.iter().any(|&f| face_bad(f)));
+                (faces.len(), inc)
+            };
+            let x = inc || sub.vertex_faces(v as u32).len() != valence;
+            incomplete[v] = x;
+            any_incomplete |= x;
+        }
+        let level = Level {
+            topo: sub,
+            cut: if any_cut { cut } else { Vec::new() },
+            incomplete: if any_incomplete {
+                incomplete
+            } else {
+                Vec::new()
+            },
+        };
+        Ok((level, map))
     }
 
     /// Cut edges and incomplete vertices of the child level (empty vectors when none).
