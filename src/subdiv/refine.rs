@@ -288,13 +288,15 @@ impl Level {
         }
     }
 
-    /// The child faces `keep` (flat parent corner indices, each once) of this level's
+    /// The child faces `keep` (flat parent corner indices, increasing) of this level's
     /// refinement as a level of their own, with the map from its vertices to the child
     /// numbering `[face points | edge points | vertex points]`: the same level and map as
-    /// `self.refine_topology().try_extract(keep)`, without building the whole child level
-    /// first. Each kept quad, its edges' sharpness and its vertices' sharpness, valence and
-    /// completeness in the whole child level follow from the parent by index arithmetic (the
-    /// numbering of the module docs); only the kept quads' connectivity is built.
+    /// `self.refine_topology().try_extract(keep)`, without building the whole child level nor
+    /// bucketing the kept quads' edges. Every child edge is a spoke (face point to the edge
+    /// point of a face's corner) or a half of a parent edge; in the child vertices' increasing
+    /// order (face points, then edge points) its id, ends, faces, sharpness and cut flag follow
+    /// from the parent by index arithmetic, in the order `topology::build` gives them (by
+    /// smaller end vertex, then by first corner); only the one-rings are ordered as there.
     ///
     /// The sparse step of feature-adaptive refinement (Köbler 2013 §3.3; OpenSubdiv's
     /// `Vtr::Refinement` with sparse selection): `keep` is the refined faces' children and
@@ -303,69 +305,143 @@ impl Level {
         let t = &self.topo;
         let (nf, ne, fv) = (t.face_count(), t.edge_count(), t.corner_count());
         let cnv = nf + ne + t.vertex_count();
-        // The parent face of each kept corner, and the child quads' corners.
+        if keep.is_empty() {
+            return Err(Error::EmptyMesh("topology needs vertices and faces".into()));
+        }
+        // Per parent corner: its kept child's index, or NONE.
+        let mut kept = vec![NONE; fv];
         let mut parent_face = Vec::with_capacity(keep.len());
         let mut old_verts = Vec::with_capacity(4 * keep.len());
-        for &h in keep {
-            if h as usize >= fv {
+        let mut f = 0usize;
+        for (i, &h) in keep.iter().enumerate() {
+            if h as usize >= fv || (i > 0 && h <= keep[i - 1]) {
                 return Err(Error::Invalid(format!(
-                    "refine_kept: child face {h} out of range"
+                    "refine_kept: child face {i} is corner {h}: corners must increase and be \
+                     below {fv}"
                 )));
             }
-            let f = t.face_offsets.partition_point(|&o| o <= h) - 1;
-            let off = t.face_offsets[f] as usize;
-            let hp = if h as usize == off {
-                t.face_offsets[f + 1] as usize - 1
-            } else {
-                h as usize - 1
-            };
+            while t.face_offsets[f + 1] <= h {
+                f += 1;
+            }
+            kept[h as usize] = i as u32;
             parent_face.push(f as u32);
-            old_verts.extend_from_slice(&child_face(t, f, h as usize, hp));
+            old_verts.extend_from_slice(&child_face(t, f, h as usize, prev_corner(t, f, h)));
         }
-        let offsets = (0..=keep.len() as u32).map(|i| 4 * i).collect();
+        let nk = keep.len();
         let (map, local) = local_vertex_ids(&old_verts, cnv);
-        let mut sub = topology::build(map.len(), offsets, local, false)?;
-        sub.options = t.options;
-        for (i, &f) in parent_face.iter().enumerate() {
-            sub.holes[i] = t.holes[f as usize];
+        drop(old_verts);
+
+        // Edges, in `topology::build`'s order: by smaller end (face points before edge
+        // points, vertex points never), then by first corner (kept child `i`, edge `k`).
+        let mut edges = KeptEdges::new(nk);
+        for &old in &map {
+            let o = old as usize;
+            if o < nf {
+                // The spokes of face `o`: child `c` (edge 1) and child `c + 1` (edge 2) of
+                // spoke `c`; kept children in increasing corner order are in increasing `i`.
+                let off = t.face_offsets[o] as usize;
+                let n = t.face_offsets[o + 1] as usize - off;
+                for c in 0..n {
+                    let i = kept[off + c];
+                    if i == NONE {
+                        continue;
+                    }
+                    for (s, k) in [(c, 1u16), ((c + n - 1) % n, 2)] {
+                        if edges.face_edges[4 * i as usize + k as usize] != NONE {
+                            continue;
+                        }
+                        let other = if k == 1 {
+                            (kept[off + (s + 1) % n], 2)
+                        } else {
+                            (kept[off + s], 1)
+                        };
+                        let second = (other.0 != NONE).then_some(other);
+                        edges.push(&local, (i, k), second, 0.0, second.is_none());
+                    }
+                }
+            } else if o < nf + ne {
+                let e = (o - nf) as u32;
+                let [a, b] = t.edge_verts[e as usize];
+                let [f0, f1] = t.edge_faces[e as usize];
+                let [k0, k1] = t.edge_face_local[e as usize];
+                let corner = |g: u32, k: u16, step: u32| -> u32 {
+                    let off = t.face_offsets[g as usize];
+                    let n = t.face_offsets[g as usize + 1] - off;
+                    kept[(off + (k as u32 + step) % n) as usize]
+                };
+                // The half at `a`: edge 0 of the child at `a` in `f0`, edge 3 of the one in
+                // `f1`; the half at `b` the other way round.
+                let (c00, c01) = (corner(f0, k0, 0), corner(f0, k0, 1));
+                let (c10, c11) = if f1 == NONE {
+                    (NONE, NONE)
+                } else {
+                    (corner(f1, k1, 0), corner(f1, k1, 1))
+                };
+                let mut halves =
+                    [((c00, 0u16), (c11, 3u16), a), ((c10, 0), (c01, 3), b)].map(|(x, y, v)| {
+                        let (first, second) = if y.0 < x.0 { (y, x) } else { (x, y) };
+                        (first, second, v)
+                    });
+                if halves[1].0 .0 < halves[0].0 .0 {
+                    halves.swap(0, 1);
+                }
+                for (first, second, v) in halves {
+                    if first.0 == NONE {
+                        continue;
+                    }
+                    let second = (second.0 != NONE).then_some(second);
+                    let opened = second.is_none() && !t.is_boundary_edge(e);
+                    let sharp = child_edge_sharpness(t, e, v);
+                    let c = opened || self.is_cut_edge(e);
+                    edges.push(&local, first, second, sharp, c);
+                }
+            } else {
+                break;
+            }
         }
-        if !t.no_limit.is_empty() {
-            sub.no_limit = parent_face
+        let offsets: Vec<u32> = (0..=nk as u32).map(|i| 4 * i).collect();
+        let corner_face: Vec<u32> = (0..4 * nk as u32).map(|h| h / 4).collect();
+        let rings = topology::order_rings(
+            map.len(),
+            &offsets,
+            &local,
+            &corner_face,
+            &edges.face_edges,
+            &edges.faces,
+            &edges.locals,
+            false,
+        )?;
+        drop(corner_face);
+        let no_limit = if t.no_limit.is_empty() {
+            Vec::new()
+        } else {
+            parent_face
                 .iter()
                 .map(|&f| t.no_limit[f as usize])
-                .collect();
-        }
-        // Edge `k` of kept quad `i` (corner `h`, vertex `v`): the halves of the parent edges
-        // `k` and `k - 1` at `v` (edges 0 and 3), the face-point edges (1 and 2), never sharp,
-        // cut or a boundary.
-        let mut cut = vec![false; sub.edge_count()];
-        let mut any_cut = false;
-        for (i, &h) in keep.iter().enumerate() {
-            let f = parent_face[i] as usize;
-            let off = t.face_offsets[f] as usize;
-            let hp = if h as usize == off {
-                t.face_offsets[f + 1] as usize - 1
-            } else {
-                h as usize - 1
-            };
-            let v = t.face_verts[h as usize];
-            let edges: [u32; 4] = sub.face_edges(i as u32).try_into().expect("a quad");
-            let (e0, e3) = (edges[0] as usize, edges[3] as usize);
-            for (ce, pe) in [(e0, t.face_edges[h as usize]), (e3, t.face_edges[hp])] {
-                sub.edge_sharpness[ce] = child_edge_sharpness(t, pe, v);
-                let opened = sub.edge_faces[ce][1] == NONE && !t.is_boundary_edge(pe);
-                if opened || self.is_cut_edge(pe) {
-                    cut[ce] = true;
-                    any_cut = true;
-                }
-            }
-            for ce in [edges[1] as usize, edges[2] as usize] {
-                if sub.edge_faces[ce][1] == NONE {
-                    cut[ce] = true;
-                    any_cut = true;
-                }
-            }
-        }
+                .collect()
+        };
+        let mut sub = Topology {
+            num_vertices: map.len() as u32,
+            face_offsets: offsets,
+            face_verts: local,
+            face_edges: edges.face_edges,
+            edge_verts: edges.verts,
+            edge_faces: edges.faces,
+            edge_face_local: edges.locals,
+            vert_face_offsets: rings.vert_face_offsets,
+            vert_faces: rings.vert_faces,
+            vert_face_local: rings.vert_face_local,
+            vert_edge_offsets: rings.vert_edge_offsets,
+            vert_edges: rings.vert_edges,
+            edge_sharpness: edges.sharpness,
+            vertex_sharpness: vec![0.0; map.len()],
+            holes: parent_face.iter().map(|&f| t.holes[f as usize]).collect(),
+            no_limit,
+            options: t.options,
+            max_face_size: 4,
+        };
+        let cut = edges.cut;
+        let any_cut = cut.iter().any(|&c| c);
         // A child vertex is incomplete when its child-level counterpart is (`child_flags`) or
         // when the kept quads miss some of its faces there.
         let flagged = !(self.cut.is_empty() && self.incomplete.is_empty());
@@ -479,5 +555,66 @@ fn next_corner(k: u32, n: u32) -> u32 {
         0
     } else {
         k + 1
+    }
+}
+
+/// The edges of a `Level::refine_kept` level as they are made.
+struct KeptEdges {
+    /// Per kept child's corner `4 i + k`: its edge `k` (`NONE` until made).
+    face_edges: Vec<u32>,
+    verts: Vec<[u32; 2]>,
+    faces: Vec<[u32; 2]>,
+    locals: Vec<[u16; 2]>,
+    sharpness: Vec<f32>,
+    cut: Vec<bool>,
+}
+
+impl KeptEdges {
+    fn new(kept: usize) -> KeptEdges {
+        let cap = 2 * kept + 8;
+        KeptEdges {
+            face_edges: vec![NONE; 4 * kept],
+            verts: Vec::with_capacity(cap),
+            faces: Vec::with_capacity(cap),
+            locals: Vec::with_capacity(cap),
+            sharpness: Vec::with_capacity(cap),
+            cut: Vec::with_capacity(cap),
+        }
+    }
+
+    /// The next edge: edge `k` of kept child `i` (`first`, oriented as there; `local` the
+    /// kept quads' corners), and of `second` if kept.
+    fn push(
+        &mut self,
+        local: &[u32],
+        (i, k): (u32, u16),
+        second: Option<(u32, u16)>,
+        sharpness: f32,
+        cut: bool,
+    ) {
+        let id = self.verts.len() as u32;
+        let (h, hn) = (
+            4 * i as usize + k as usize,
+            4 * i as usize + (k as usize + 1) % 4,
+        );
+        self.verts.push([local[h], local[hn]]);
+        self.face_edges[h] = id;
+        let (g, l) = second.unwrap_or((NONE, 0));
+        if g != NONE {
+            self.face_edges[4 * g as usize + l as usize] = id;
+        }
+        self.faces.push([i, g]);
+        self.locals.push([k, l]);
+        self.sharpness.push(sharpness);
+        self.cut.push(cut);
+    }
+}
+
+/// The corner before corner `h` of face `f`.
+fn prev_corner(t: &Topology, f: usize, h: u32) -> usize {
+    if h == t.face_offsets[f] {
+        t.face_offsets[f + 1] as usize - 1
+    } else {
+        h as usize - 1
     }
 }

@@ -159,15 +159,6 @@ pub(crate) fn build(
             h + 1
         }
     };
-    let prev = |h: usize| -> usize {
-        let f = corner_face[h] as usize;
-        if h == face_offsets[f] as usize {
-            face_offsets[f + 1] as usize - 1
-        } else {
-            h - 1
-        }
-    };
-
     // Bucket half-edges by their smaller end vertex (counting sort).
     let mut bstart = vec![0u32; nv + 1];
     for h in 0..fv {
@@ -237,6 +228,72 @@ pub(crate) fn build(
     drop(entries);
     drop(bstart);
 
+    let rings = order_rings(
+        nv,
+        &face_offsets,
+        &face_verts,
+        &corner_face,
+        &face_edges,
+        &edge_faces,
+        &edge_face_local,
+        strict,
+    )?;
+    let ne = edge_verts.len();
+    Ok(Topology {
+        num_vertices: nv as u32,
+        face_offsets,
+        face_verts,
+        face_edges,
+        edge_verts,
+        edge_faces,
+        edge_face_local,
+        vert_face_offsets: rings.vert_face_offsets,
+        vert_faces: rings.vert_faces,
+        vert_face_local: rings.vert_face_local,
+        vert_edge_offsets: rings.vert_edge_offsets,
+        vert_edges: rings.vert_edges,
+        edge_sharpness: vec![0.0; ne],
+        vertex_sharpness: vec![0.0; nv],
+        holes: vec![false; nf],
+        no_limit: Vec::new(),
+        options: SchemeOptions::default(),
+        max_face_size: max_size as u32,
+    })
+}
+
+/// The ordered one-rings of a connectivity ([`Topology`]'s fields of the same names).
+pub(crate) struct Rings {
+    pub(crate) vert_face_offsets: Vec<u32>,
+    pub(crate) vert_faces: Vec<u32>,
+    pub(crate) vert_face_local: Vec<u16>,
+    pub(crate) vert_edge_offsets: Vec<u32>,
+    pub(crate) vert_edges: Vec<u32>,
+}
+
+/// Orders every one-ring of `nv` vertices counter-clockwise (module conventions) from the
+/// faces (`corner_face`: the face of each flat corner) and edges; `strict` as in [`build`]:
+/// each fan starts at its boundary edge, fans in the order of their first corner, closed rings
+/// at their first corner.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn order_rings(
+    nv: usize,
+    face_offsets: &[u32],
+    face_verts: &[u32],
+    corner_face: &[u32],
+    face_edges: &[u32],
+    edge_faces: &[[u32; 2]],
+    edge_face_local: &[[u16; 2]],
+    strict: bool,
+) -> Result<Rings> {
+    let fv = face_verts.len();
+    let prev = |h: usize| -> usize {
+        let f = corner_face[h] as usize;
+        if h == face_offsets[f] as usize {
+            face_offsets[f + 1] as usize - 1
+        } else {
+            h - 1
+        }
+    };
     // Vertex -> corners (unordered), and the number of one-ring edges per vertex.
     let mut vfo = vec![0u32; nv + 1];
     let mut veo = vec![0u32; nv + 1];
@@ -355,25 +412,11 @@ pub(crate) fn build(
         Ok(())
     })?;
 
-    let ne = edge_verts.len();
-    Ok(Topology {
-        num_vertices: nv as u32,
-        face_offsets,
-        face_verts,
-        face_edges,
-        edge_verts,
-        edge_faces,
-        edge_face_local,
+    Ok(Rings {
         vert_face_offsets: vfo,
         vert_faces,
         vert_face_local,
         vert_edge_offsets: veo,
         vert_edges,
-        edge_sharpness: vec![0.0; ne],
-        vertex_sharpness: vec![0.0; nv],
-        holes: vec![false; nf],
-        no_limit: Vec::new(),
-        options: SchemeOptions::default(),
-        max_face_size: max_size as u32,
     })
 }
