@@ -484,7 +484,7 @@ fn refine_sparse(cur: &mut AdaptiveLevel) -> Result<AdaptiveLevel> {
     let ring: Vec<u32> = (0..t.face_count() as u32)
         .filter(|&f| t.face_vertices(f).iter().any(|&v| selected[v as usize]))
         .collect();
-    let (parent, parent_vertices) = cur.level.try_extract(&ring)?;
+    let (parent, parent_vertices) = cur.level.extract_increasing(&ring)?;
     let mut keep = Vec::new();
     let mut own = Vec::new();
     let mut domains = Vec::new();

@@ -571,7 +571,8 @@ struct KeptEdges {
 
 impl KeptEdges {
     fn new(kept: usize) -> KeptEdges {
-        let cap = 2 * kept + 8;
+        // At most one edge per corner (no reallocation).
+        let cap = 4 * kept;
         KeptEdges {
             face_edges: vec![NONE; 4 * kept],
             verts: Vec::with_capacity(cap),
