@@ -38,6 +38,17 @@ impl Level {
         }
     }
 
+    /// `topo` with per-edge `cut` and per-vertex `incomplete` flags, each kept only if some
+    /// flag is set.
+    pub(crate) fn with_flags(topo: Topology, cut: Vec<bool>, incomplete: Vec<bool>) -> Level {
+        let some = |x: Vec<bool>| if x.contains(&true) { x } else { Vec::new() };
+        Level {
+            topo,
+            cut: some(cut),
+            incomplete: some(incomplete),
+        }
+    }
+
     /// The topology (with sharpness and holes) of this level.
     pub fn topology(&self) -> &Topology {
         &self.topo
@@ -288,37 +299,15 @@ impl Level {
                 old_edge.push(e);
             }
         }
-        let rings = topology::order_rings(
-            map.len(),
-            &offsets,
-            &local,
-            &corner_face,
-            &face_edges,
-            &edge_faces,
-            &edge_face_local,
-            false,
-        )?;
-        let ne = edge_verts.len();
-        let sub = Topology {
-            num_vertices: map.len() as u32,
+        let connectivity = topology::Connectivity {
             face_offsets: offsets,
             face_verts: local,
             face_edges,
             edge_verts,
             edge_faces,
             edge_face_local,
-            vert_face_offsets: rings.vert_face_offsets,
-            vert_faces: rings.vert_faces,
-            vert_face_local: rings.vert_face_local,
-            vert_edge_offsets: rings.vert_edge_offsets,
-            vert_edges: rings.vert_edges,
-            edge_sharpness: vec![0.0; ne],
-            vertex_sharpness: vec![0.0; map.len()],
-            holes: vec![false; faces.len()],
-            no_limit: Vec::new(),
-            options: t.options,
-            max_face_size: max_size,
         };
+        let sub = topology::with_rings(map.len(), connectivity, &corner_face, max_size, false)?;
         let level = self.tag_extraction(sub, faces, &map, &old_edge);
         Ok((level, map))
     }
@@ -342,34 +331,19 @@ impl Level {
             sub.no_limit = faces.iter().map(|&f| t.no_limit[f as usize]).collect();
         }
         let mut cut = vec![false; sub.edge_count()];
-        let mut any_cut = false;
         for (e, c) in cut.iter_mut().enumerate() {
             let pe = old_edge[e];
             sub.edge_sharpness[e] = t.edge_sharpness[pe as usize];
             let opened = sub.edge_faces[e][1] == topology::NONE && !t.is_boundary_edge(pe);
-            if opened || self.is_cut_edge(pe) {
-                *c = true;
-                any_cut = true;
-            }
+            *c = opened || self.is_cut_edge(pe);
         }
         let mut incomplete = vec![false; sub.vertex_count()];
-        let mut any_incomplete = false;
         for (v, &old) in map.iter().enumerate() {
             sub.vertex_sharpness[v] = t.vertex_sharpness[old as usize];
-            let bad = !self.is_complete_vertex(old)
+            incomplete[v] = !self.is_complete_vertex(old)
                 || sub.vertex_faces(v as u32).len() != t.vertex_faces(old).len();
-            incomplete[v] = bad;
-            any_incomplete |= bad;
         }
-        Level {
-            topo: sub,
-            cut: if any_cut { cut } else { Vec::new() },
-            incomplete: if any_incomplete {
-                incomplete
-            } else {
-                Vec::new()
-            },
-        }
+        Level::with_flags(sub, cut, incomplete)
     }
 }
 

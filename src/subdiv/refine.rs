@@ -399,60 +399,36 @@ impl Level {
                 break;
             }
         }
-        let offsets: Vec<u32> = (0..=nk as u32).map(|i| 4 * i).collect();
         let corner_face: Vec<u32> = (0..4 * nk as u32).map(|h| h / 4).collect();
-        let rings = topology::order_rings(
-            map.len(),
-            &offsets,
-            &local,
-            &corner_face,
-            &edges.face_edges,
-            &edges.faces,
-            &edges.locals,
-            false,
-        )?;
-        drop(corner_face);
-        let no_limit = if t.no_limit.is_empty() {
-            Vec::new()
-        } else {
-            parent_face
-                .iter()
-                .map(|&f| t.no_limit[f as usize])
-                .collect()
-        };
-        let mut sub = Topology {
-            num_vertices: map.len() as u32,
-            face_offsets: offsets,
+        let connectivity = topology::Connectivity {
+            face_offsets: (0..=nk as u32).map(|i| 4 * i).collect(),
             face_verts: local,
             face_edges: edges.face_edges,
             edge_verts: edges.verts,
             edge_faces: edges.faces,
             edge_face_local: edges.locals,
-            vert_face_offsets: rings.vert_face_offsets,
-            vert_faces: rings.vert_faces,
-            vert_face_local: rings.vert_face_local,
-            vert_edge_offsets: rings.vert_edge_offsets,
-            vert_edges: rings.vert_edges,
-            edge_sharpness: edges.sharpness,
-            vertex_sharpness: vec![0.0; map.len()],
-            holes: parent_face.iter().map(|&f| t.holes[f as usize]).collect(),
-            no_limit,
-            options: t.options,
-            max_face_size: 4,
         };
-        let cut = edges.cut;
-        let any_cut = cut.iter().any(|&c| c);
+        let mut sub = topology::with_rings(map.len(), connectivity, &corner_face, 4, false)?;
+        drop(corner_face);
+        sub.edge_sharpness = edges.sharpness;
+        sub.holes = parent_face.iter().map(|&f| t.holes[f as usize]).collect();
+        if !t.no_limit.is_empty() {
+            sub.no_limit = parent_face
+                .iter()
+                .map(|&f| t.no_limit[f as usize])
+                .collect();
+        }
+        sub.options = t.options;
         // A child vertex is incomplete when its child-level counterpart is (`child_flags`) or
         // when the kept quads miss some of its faces there.
         let flagged = !(self.cut.is_empty() && self.incomplete.is_empty());
         let bad = |v: u32| !self.is_complete_vertex(v);
         let face_bad = |f: u32| t.face_vertices(f).iter().any(|&v| bad(v));
         let mut incomplete = vec![false; map.len()];
-        let mut any_incomplete = false;
         for (v, &old) in map.iter().enumerate() {
             let o = old as usize;
             let (valence, inc) = if o < nf {
-                (t.face_size(old) as usize, flagged && face_bad(old))
+                (t.face_size(old), flagged && face_bad(old))
             } else if o < nf + ne {
                 let e = old - nf as u32;
                 let faces = t.edge_faces(e);
@@ -465,20 +441,9 @@ impl Level {
                 let inc = flagged && (bad(pv) || faces.iter().any(|&f| face_bad(f)));
                 (faces.len(), inc)
             };
-            let x = inc || sub.vertex_faces(v as u32).len() != valence;
-            incomplete[v] = x;
-            any_incomplete |= x;
+            incomplete[v] = inc || sub.vertex_faces(v as u32).len() != valence;
         }
-        let level = Level {
-            topo: sub,
-            cut: if any_cut { cut } else { Vec::new() },
-            incomplete: if any_incomplete {
-                incomplete
-            } else {
-                Vec::new()
-            },
-        };
-        Ok((level, map))
+        Ok((Level::with_flags(sub, edges.cut, incomplete), map))
     }
 
     /// Cut edges and incomplete vertices of the child level (empty vectors when none).
