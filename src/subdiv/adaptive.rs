@@ -7,7 +7,9 @@
 //! face, its child at that corner — exactly the ring that gives each child of a refined face
 //! its 4x4 neighbourhood (§3.3). Refining level `l` is one uniform [`Level::refine`] of the
 //! sub-level made of the refined faces and that ring ([`Refinement::parent`]), keeping the child
-//! faces just described. Vertices are numbered globally level after level: vertex `i` of level
+//! faces just described; those are made straight from the sub-level ([`Level::refine_kept`],
+//! without the whole child level), and the sub-level's edges are taken from level `l`'s
+//! ([`Level::extract_increasing`]). Vertices are numbered globally level after level: vertex `i` of level
 //! `l` is global vertex [`AdaptiveLevel::first_vertex`]` + i`, one buffer for every level
 //! (thesis §4.2).
 
