@@ -789,9 +789,9 @@ fn scattered_corners(level: &Level, salt: u32) -> Vec<u32> {
 /// faces, cut edges and incomplete vertices, and the vertex map. On every manifold corpus mesh,
 /// its whole first level and its first refinement, an extraction of a few rings (cut edges,
 /// incomplete vertices), each with all corners and with scattered ones (non-manifold fans).
-/// Fails when a kept edge takes the sharpness of the wrong parent edge or end, when the
-/// face-point edges are not cut where the kept faces stop, or when an edge point's valence in
-/// the child level is not twice its edge's face count (each checked by mutation).
+/// Fails on the pre-change path's output whenever the new one differs in any field; checked by
+/// mutation: numbering the two halves of a parent edge in their fixed order instead of by their
+/// first kept quad fails it (bishop, level 0).
 #[test]
 fn refine_kept_equals_refine_then_extract() {
     let mut compared = 0;
@@ -837,9 +837,8 @@ fn refine_kept_equals_refine_then_extract() {
 /// `try_extract` (edges bucketed anew by `topology::build`): connectivity and numbering,
 /// sharpness, holes, cut edges, incomplete vertices, vertex map. On every manifold corpus mesh,
 /// its first two levels and an extraction (cut edges, incomplete vertices), each with all faces
-/// and scattered ones. Fails when an extracted edge is numbered by its first face in this
-/// level rather than in the extraction, or is oriented by a face not extracted (checked by
-/// mutation).
+/// and scattered ones. Checked by mutation: ordering a vertex's edges by their last extracted
+/// corner instead of their first fails it (bishop, level 0).
 #[test]
 fn extract_increasing_equals_try_extract() {
     let mut compared = 0;
