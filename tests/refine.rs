@@ -774,3 +774,101 @@ fn face_vertices_only_last_level_matches_full_refinement() {
         }
     }
 }
+
+/// Every other child face in a scattered pattern (deterministic), or all of them.
+fn scattered_corners(level: &Level, salt: u32) -> Vec<u32> {
+    let n = level.topology().corner_count() as u32;
+    (0..n)
+        .filter(|&h| salt == 0 || (h.wrapping_mul(2_654_435_761) ^ salt) >> 13 & 3 != 0)
+        .collect()
+}
+
+/// `Level::refine_kept` (the child faces of a sparse refinement step built from the parent by
+/// index arithmetic) is bit for bit `refine_topology().try_extract(keep)`: topology and
+/// numbering, edge sharpness (Normal and Chaikin decay), vertex sharpness, holes, no-limit
+/// faces, cut edges and incomplete vertices, and the vertex map. On every manifold corpus mesh,
+/// its whole first level and its first refinement, an extraction of a few rings (cut edges,
+/// incomplete vertices), each with all corners and with scattered ones (non-manifold fans).
+/// Fails on the pre-change path's output whenever the new one differs in any field; checked by
+/// mutation: numbering the two halves of a parent edge in their fixed order instead of by their
+/// first kept quad fails it (bishop, level 0).
+#[test]
+fn refine_kept_equals_refine_then_extract() {
+    let mut compared = 0;
+    for (name, mesh) in &osd_meshes() {
+        let l0 = Level::from_mesh(mesh).unwrap();
+        let l1 = l0.refine_topology();
+        let t = l0.topology();
+        let seed = t.face_count() as u32 / 2;
+        let mut faces: Vec<u32> = t
+            .face_vertices(seed)
+            .iter()
+            .flat_map(|&v| t.vertex_faces(v).to_vec())
+            .collect();
+        faces.sort_unstable();
+        faces.dedup();
+        let (sub, _) = l0.extract(&faces);
+        let sub1 = sub.refine_topology();
+        for (which, level) in [
+            ("level 0", &l0),
+            ("level 1", &l1),
+            ("ring", &sub),
+            ("ring 1", &sub1),
+        ] {
+            for salt in [0, 0x5bd1_e995] {
+                let keep = scattered_corners(level, salt);
+                if keep.is_empty() {
+                    continue;
+                }
+                let want = format!("{:?}", level.refine_topology().try_extract(&keep));
+                let got = format!("{:?}", level.refine_kept(&keep));
+                assert!(
+                    want == got,
+                    "{name} {which} salt {salt:#x}: refine_kept differs"
+                );
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared >= 8 * 70, "only {compared} comparisons");
+}
+
+/// `Level::extract_increasing` (an extraction's edges taken from the level's) is bit for bit
+/// `try_extract` (edges bucketed anew by `topology::build`): connectivity and numbering,
+/// sharpness, holes, cut edges, incomplete vertices, vertex map. On every manifold corpus mesh,
+/// its first two levels and an extraction (cut edges, incomplete vertices), each with all faces
+/// and scattered ones. Checked by mutation: ordering a vertex's edges by their last extracted
+/// corner instead of their first fails it (bishop, level 0).
+#[test]
+fn extract_increasing_equals_try_extract() {
+    let mut compared = 0;
+    for (name, mesh) in &osd_meshes() {
+        let l0 = Level::from_mesh(mesh).unwrap();
+        let l1 = l0.refine_topology();
+        let (sub, _) = l0.extract(&scattered_faces(&l0, 0x2545_f491));
+        for (which, level) in [("level 0", &l0), ("level 1", &l1), ("extraction", &sub)] {
+            for salt in [0, 0x5bd1_e995] {
+                let faces = scattered_faces(level, salt);
+                if faces.is_empty() {
+                    continue;
+                }
+                let want = format!("{:?}", level.try_extract(&faces));
+                let got = format!("{:?}", level.extract_increasing(&faces));
+                assert!(
+                    want == got,
+                    "{name} {which} salt {salt:#x}: extract_increasing differs"
+                );
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared >= 6 * 70, "only {compared} comparisons");
+}
+
+/// Faces of `level` in a scattered pattern (deterministic), or all of them.
+fn scattered_faces(level: &Level, salt: u32) -> Vec<u32> {
+    let n = level.face_count() as u32;
+    (0..n)
+        .filter(|&f| salt == 0 || (f.wrapping_mul(2_654_435_761) ^ salt) >> 11 & 3 != 0)
+        .collect()
+}

@@ -7,7 +7,9 @@
 //! face, its child at that corner — exactly the ring that gives each child of a refined face
 //! its 4x4 neighbourhood (§3.3). Refining level `l` is one uniform [`Level::refine`] of the
 //! sub-level made of the refined faces and that ring ([`Refinement::parent`]), keeping the child
-//! faces just described. Vertices are numbered globally level after level: vertex `i` of level
+//! faces just described; those are made straight from the sub-level ([`Level::refine_kept`],
+//! without the whole child level), and the sub-level's edges are taken from level `l`'s
+//! ([`Level::extract_increasing`]). Vertices are numbered globally level after level: vertex `i` of level
 //! `l` is global vertex [`AdaptiveLevel::first_vertex`]` + i`, one buffer for every level
 //! (thesis §4.2).
 
@@ -484,7 +486,7 @@ fn refine_sparse(cur: &mut AdaptiveLevel) -> Result<AdaptiveLevel> {
     let ring: Vec<u32> = (0..t.face_count() as u32)
         .filter(|&f| t.face_vertices(f).iter().any(|&v| selected[v as usize]))
         .collect();
-    let (parent, parent_vertices) = cur.level.try_extract(&ring)?;
+    let (parent, parent_vertices) = cur.level.extract_increasing(&ring)?;
     let mut keep = Vec::new();
     let mut own = Vec::new();
     let mut domains = Vec::new();
@@ -500,7 +502,7 @@ fn refine_sparse(cur: &mut AdaptiveLevel) -> Result<AdaptiveLevel> {
             }
         }
     }
-    let (level, child_points) = parent.refine_topology().try_extract(&keep)?;
+    let (level, child_points) = parent.refine_kept(&keep)?;
     let next = AdaptiveLevel {
         first_vertex: cur.first_vertex + t.vertex_count() as u32,
         own,

@@ -38,6 +38,17 @@ impl Level {
         }
     }
 
+    /// `topo` with per-edge `cut` and per-vertex `incomplete` flags, each kept only if some
+    /// flag is set.
+    pub(crate) fn with_flags(topo: Topology, cut: Vec<bool>, incomplete: Vec<bool>) -> Level {
+        let some = |x: Vec<bool>| if x.contains(&true) { x } else { Vec::new() };
+        Level {
+            topo,
+            cut: some(cut),
+            incomplete: some(incomplete),
+        }
+    }
+
     /// The topology (with sharpness and holes) of this level.
     pub fn topology(&self) -> &Topology {
         &self.topo
@@ -184,14 +195,7 @@ impl Level {
             offsets.push(old_verts.len() as u32);
         }
         let (map, local) = local_vertex_ids(&old_verts, t.vertex_count());
-        let mut sub = topology::build(map.len(), offsets, local, false)?;
-        sub.options = t.options;
-        for (i, &f) in faces.iter().enumerate() {
-            sub.holes[i] = t.holes[f as usize];
-        }
-        if !t.no_limit.is_empty() {
-            sub.no_limit = faces.iter().map(|&f| t.no_limit[f as usize]).collect();
-        }
+        let sub = topology::build(map.len(), offsets, local, false)?;
         // Each new edge's old edge: edge `k` of new face `i` is edge `k` of `faces[i]` (the same
         // corners; an edge is the only one joining its two ends).
         let mut old_edge = vec![u32::MAX; sub.edge_count()];
@@ -200,36 +204,146 @@ impl Level {
                 old_edge[e as usize] = pe;
             }
         }
+        let level = self.tag_extraction(sub, faces, &map, &old_edge);
+        Ok((level, map))
+    }
+
+    /// [`Self::try_extract`] of increasing `faces`, with the extraction's edges taken from
+    /// this level's instead of bucketed anew: the same level and map. An extracted edge keeps
+    /// its ends and faces; `topology::build` numbers edges by smaller end vertex, then by first
+    /// corner, and the extraction's vertex numbering increases with this level's, so each
+    /// vertex's edges to larger vertices, in the order of their first extracted corner, are
+    /// the next edges. Only the one-rings are ordered as there.
+    pub fn extract_increasing(&self, faces: &[u32]) -> Result<(Level, Vec<u32>)> {
+        let t = &self.topo;
+        if faces.is_empty() {
+            return Err(crate::Error::EmptyMesh(
+                "topology needs vertices and faces".into(),
+            ));
+        }
+        // Per face of this level: its index in the extraction, or `topology::NONE`.
+        let mut sub_face = vec![topology::NONE; t.face_count()];
+        let mut offsets = Vec::with_capacity(faces.len() + 1);
+        offsets.push(0u32);
+        let mut old_verts = Vec::with_capacity(faces.len() * 4);
+        let mut corner_face = Vec::with_capacity(faces.len() * 4);
+        let mut max_size = 0;
+        for (i, &f) in faces.iter().enumerate() {
+            if f as usize >= t.face_count() || (i > 0 && f <= faces[i - 1]) {
+                return Err(crate::Error::Invalid(format!(
+                    "extract: face {i} is {f}: faces must increase and be below {}",
+                    t.face_count()
+                )));
+            }
+            sub_face[f as usize] = i as u32;
+            let fv = t.face_vertices(f);
+            old_verts.extend_from_slice(fv);
+            corner_face.extend(std::iter::repeat_n(i as u32, fv.len()));
+            max_size = max_size.max(fv.len() as u32);
+            offsets.push(old_verts.len() as u32);
+        }
+        let (map, local) = local_vertex_ids(&old_verts, t.vertex_count());
+        drop(old_verts);
+        let fvn = local.len();
+        let mut face_edges = vec![topology::NONE; fvn];
+        let mut edge_verts = Vec::with_capacity(fvn);
+        let mut edge_faces = Vec::with_capacity(fvn);
+        let mut edge_face_local = Vec::with_capacity(fvn);
+        let mut old_edge = Vec::with_capacity(fvn);
+        // Per vertex: (first extracted corner, edge) of its edges to larger vertices.
+        let mut buf: Vec<(u32, u32)> = Vec::with_capacity(16);
+        for &v in &map {
+            buf.clear();
+            for &e in t.vertex_edges(v) {
+                if t.other_vertex(e, v) < v || buf.iter().any(|x| x.1 == e) {
+                    continue;
+                }
+                let first = t
+                    .edge_faces(e)
+                    .iter()
+                    .zip(t.edge_face_locals(e))
+                    .filter(|(&g, _)| sub_face[g as usize] != topology::NONE)
+                    .map(|(&g, &k)| offsets[sub_face[g as usize] as usize] + k as u32)
+                    .min();
+                if let Some(h) = first {
+                    buf.push((h, e));
+                }
+            }
+            buf.sort_unstable();
+            for &(h, e) in &buf {
+                let id = edge_verts.len() as u32;
+                let i = corner_face[h as usize] as usize;
+                let next = if h + 1 == offsets[i + 1] {
+                    offsets[i]
+                } else {
+                    h + 1
+                };
+                edge_verts.push([local[h as usize], local[next as usize]]);
+                face_edges[h as usize] = id;
+                let mut ef = [i as u32, topology::NONE];
+                let mut el = [(h - offsets[i]) as u16, 0];
+                for (&g, &k) in t.edge_faces(e).iter().zip(t.edge_face_locals(e)) {
+                    let j = sub_face[g as usize];
+                    if j == topology::NONE {
+                        continue;
+                    }
+                    let c = offsets[j as usize] + k as u32;
+                    if c != h {
+                        ef[1] = j;
+                        el[1] = k;
+                        face_edges[c as usize] = id;
+                    }
+                }
+                edge_faces.push(ef);
+                edge_face_local.push(el);
+                old_edge.push(e);
+            }
+        }
+        let connectivity = topology::Connectivity {
+            face_offsets: offsets,
+            face_verts: local,
+            face_edges,
+            edge_verts,
+            edge_faces,
+            edge_face_local,
+        };
+        let sub = topology::with_rings(map.len(), connectivity, &corner_face, max_size, false)?;
+        let level = self.tag_extraction(sub, faces, &map, &old_edge);
+        Ok((level, map))
+    }
+
+    /// An extraction's connectivity `sub` of `faces` (vertex map `map`, each edge's edge here
+    /// `old_edge`) with this level's options, holes, no-limit faces and sharpness, and its cut
+    /// edges and incomplete vertices.
+    fn tag_extraction(
+        &self,
+        mut sub: Topology,
+        faces: &[u32],
+        map: &[u32],
+        old_edge: &[u32],
+    ) -> Level {
+        let t = &self.topo;
+        sub.options = t.options;
+        for (i, &f) in faces.iter().enumerate() {
+            sub.holes[i] = t.holes[f as usize];
+        }
+        if !t.no_limit.is_empty() {
+            sub.no_limit = faces.iter().map(|&f| t.no_limit[f as usize]).collect();
+        }
         let mut cut = vec![false; sub.edge_count()];
-        let mut any_cut = false;
         for (e, c) in cut.iter_mut().enumerate() {
             let pe = old_edge[e];
             sub.edge_sharpness[e] = t.edge_sharpness[pe as usize];
             let opened = sub.edge_faces[e][1] == topology::NONE && !t.is_boundary_edge(pe);
-            if opened || self.is_cut_edge(pe) {
-                *c = true;
-                any_cut = true;
-            }
+            *c = opened || self.is_cut_edge(pe);
         }
         let mut incomplete = vec![false; sub.vertex_count()];
-        let mut any_incomplete = false;
         for (v, &old) in map.iter().enumerate() {
             sub.vertex_sharpness[v] = t.vertex_sharpness[old as usize];
-            let bad = !self.is_complete_vertex(old)
+            incomplete[v] = !self.is_complete_vertex(old)
                 || sub.vertex_faces(v as u32).len() != t.vertex_faces(old).len();
-            incomplete[v] = bad;
-            any_incomplete |= bad;
         }
-        let level = Level {
-            topo: sub,
-            cut: if any_cut { cut } else { Vec::new() },
-            incomplete: if any_incomplete {
-                incomplete
-            } else {
-                Vec::new()
-            },
-        };
-        Ok((level, map))
+        Level::with_flags(sub, cut, incomplete)
     }
 }
 
@@ -237,7 +351,7 @@ impl Level {
 /// (old ids of the extracted faces' corners, of a level of `vertex_count` vertices) renumbered.
 /// A few faces of a large level (a vertex's ring, `subdiv::limit`) sort their corners instead
 /// of marking them in an array of the level's size: the same ids either way.
-fn local_vertex_ids(old_verts: &[u32], vertex_count: usize) -> (Vec<u32>, Vec<u32>) {
+pub(super) fn local_vertex_ids(old_verts: &[u32], vertex_count: usize) -> (Vec<u32>, Vec<u32>) {
     if old_verts.len() * 16 < vertex_count {
         sorted_vertex_ids(old_verts)
     } else {

@@ -159,15 +159,6 @@ pub(crate) fn build(
             h + 1
         }
     };
-    let prev = |h: usize| -> usize {
-        let f = corner_face[h] as usize;
-        if h == face_offsets[f] as usize {
-            face_offsets[f + 1] as usize - 1
-        } else {
-            h - 1
-        }
-    };
-
     // Bucket half-edges by their smaller end vertex (counting sort).
     let mut bstart = vec![0u32; nv + 1];
     for h in 0..fv {
@@ -237,6 +228,103 @@ pub(crate) fn build(
     drop(entries);
     drop(bstart);
 
+    let connectivity = Connectivity {
+        face_offsets,
+        face_verts,
+        face_edges,
+        edge_verts,
+        edge_faces,
+        edge_face_local,
+    };
+    with_rings(nv, connectivity, &corner_face, max_size as u32, strict)
+}
+
+/// Faces and edges of a topology ([`Topology`]'s fields of the same names).
+pub(crate) struct Connectivity {
+    pub(crate) face_offsets: Vec<u32>,
+    pub(crate) face_verts: Vec<u32>,
+    pub(crate) face_edges: Vec<u32>,
+    pub(crate) edge_verts: Vec<[u32; 2]>,
+    pub(crate) edge_faces: Vec<[u32; 2]>,
+    pub(crate) edge_face_local: Vec<[u16; 2]>,
+}
+
+/// The topology of `nv` vertices and connectivity `c` (`corner_face`: the face of each flat
+/// corner) with its one-rings ordered as [`build`] orders them (`strict` as there); sharpness
+/// zero, no holes, default options.
+pub(crate) fn with_rings(
+    nv: usize,
+    c: Connectivity,
+    corner_face: &[u32],
+    max_face_size: u32,
+    strict: bool,
+) -> Result<Topology> {
+    let rings = order_rings(
+        nv,
+        &c.face_offsets,
+        &c.face_verts,
+        corner_face,
+        &c.face_edges,
+        &c.edge_faces,
+        &c.edge_face_local,
+        strict,
+    )?;
+    let (nf, ne) = (c.face_offsets.len() - 1, c.edge_verts.len());
+    Ok(Topology {
+        num_vertices: nv as u32,
+        face_offsets: c.face_offsets,
+        face_verts: c.face_verts,
+        face_edges: c.face_edges,
+        edge_verts: c.edge_verts,
+        edge_faces: c.edge_faces,
+        edge_face_local: c.edge_face_local,
+        vert_face_offsets: rings.vert_face_offsets,
+        vert_faces: rings.vert_faces,
+        vert_face_local: rings.vert_face_local,
+        vert_edge_offsets: rings.vert_edge_offsets,
+        vert_edges: rings.vert_edges,
+        edge_sharpness: vec![0.0; ne],
+        vertex_sharpness: vec![0.0; nv],
+        holes: vec![false; nf],
+        no_limit: Vec::new(),
+        options: SchemeOptions::default(),
+        max_face_size,
+    })
+}
+
+/// The ordered one-rings of a connectivity ([`Topology`]'s fields of the same names).
+struct Rings {
+    vert_face_offsets: Vec<u32>,
+    vert_faces: Vec<u32>,
+    vert_face_local: Vec<u16>,
+    vert_edge_offsets: Vec<u32>,
+    vert_edges: Vec<u32>,
+}
+
+/// Orders every one-ring of `nv` vertices counter-clockwise (module conventions) from the
+/// faces (`corner_face`: the face of each flat corner) and edges; `strict` as in [`build`]:
+/// each fan starts at its boundary edge, fans in the order of their first corner, closed rings
+/// at their first corner.
+#[allow(clippy::too_many_arguments)]
+fn order_rings(
+    nv: usize,
+    face_offsets: &[u32],
+    face_verts: &[u32],
+    corner_face: &[u32],
+    face_edges: &[u32],
+    edge_faces: &[[u32; 2]],
+    edge_face_local: &[[u16; 2]],
+    strict: bool,
+) -> Result<Rings> {
+    let fv = face_verts.len();
+    let prev = |h: usize| -> usize {
+        let f = corner_face[h] as usize;
+        if h == face_offsets[f] as usize {
+            face_offsets[f + 1] as usize - 1
+        } else {
+            h - 1
+        }
+    };
     // Vertex -> corners (unordered), and the number of one-ring edges per vertex.
     let mut vfo = vec![0u32; nv + 1];
     let mut veo = vec![0u32; nv + 1];
@@ -355,25 +443,11 @@ pub(crate) fn build(
         Ok(())
     })?;
 
-    let ne = edge_verts.len();
-    Ok(Topology {
-        num_vertices: nv as u32,
-        face_offsets,
-        face_verts,
-        face_edges,
-        edge_verts,
-        edge_faces,
-        edge_face_local,
+    Ok(Rings {
         vert_face_offsets: vfo,
         vert_faces,
         vert_face_local,
         vert_edge_offsets: veo,
         vert_edges,
-        edge_sharpness: vec![0.0; ne],
-        vertex_sharpness: vec![0.0; nv],
-        holes: vec![false; nf],
-        no_limit: Vec::new(),
-        options: SchemeOptions::default(),
-        max_face_size: max_size as u32,
     })
 }

@@ -16,7 +16,7 @@ mod connectivity;
 pub(crate) mod par;
 pub mod sectors;
 
-pub(crate) use build::build;
+pub(crate) use build::{build, with_rings, Connectivity};
 pub(crate) use connectivity::NONE;
 pub use connectivity::{FaceClass, Topology};
 pub use sectors::{is_sharp_edge, sector_count, sector_faces, sector_slots, single_normal_vertex};
