@@ -54,5 +54,6 @@ pub use point::{combine, GregoryPoint, Weights};
 pub use tangents::GregoryTangents;
 pub use vertex::{
     crease_tangent_weights, face_point, face_point_cos, is_interior_ring, sectors,
-    subdominant_eigenvalue, GregoryVertex, InteriorBasis, Sector, VertexKind, VertexRing,
+    subdominant_eigenvalue, DartLimits, GregoryVertex, InteriorBasis, Sector, VertexKind,
+    VertexRing,
 };

@@ -5,10 +5,9 @@
 use super::point::{combine, GregoryPoint};
 use super::tangents::GregoryTangents;
 use glam::DVec3;
-use std::cell::RefCell;
 use std::collections::HashMap;
 use std::f64::consts::PI;
-use std::rc::Rc;
+use std::sync::{Arc, Mutex};
 
 /// The split one-ring of a vertex (paper Fig. 5), in the crate's ring order: `m[i]` is the
 /// midpoint of the `i`-th incident edge, `c[i]` the centroid of the `i`-th incident face, which
@@ -280,9 +279,13 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     /// sharp edges, otherwise [`Self::sectored`]. `None` for rings the construction does not
     /// cover (a ring that does not close: fewer faces than edges without a sharp edge, e.g.
     /// next to a hole).
-    pub fn new(ring: &VertexRing<P>, tangents: GregoryTangents) -> Option<GregoryVertex<P>> {
+    pub fn new(
+        ring: &VertexRing<P>,
+        tangents: GregoryTangents,
+        darts: &DartLimits,
+    ) -> Option<GregoryVertex<P>> {
         match Rule::of(ring) {
-            Rule::Dart(_) => Self::dart(ring, tangents),
+            Rule::Dart(_) => Self::dart(ring, tangents, darts),
             Rule::Cone => Self::cone(ring),
             Rule::Crease | Rule::Corner => Self::sectored(ring, tangents),
             Rule::Interior => Some(Self::interior(ring, tangents)),
@@ -305,14 +308,18 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     ///
     /// `None` for corner and cone rings, whose points read `O(1)` ring points each already
     /// (`p = v`, chords and the sharp edges' points), and for rings not covered.
-    pub fn vertex_points(ring: &VertexRing<P>, tangents: GregoryTangents) -> Option<[P; 3]> {
+    pub fn vertex_points(
+        ring: &VertexRing<P>,
+        tangents: GregoryTangents,
+        darts: &DartLimits,
+    ) -> Option<[P; 3]> {
         match Rule::of(ring) {
             Rule::Interior => {
                 let InteriorBasis { p, qc, qs } = InteriorBasis::new(ring, tangents);
                 Some([p, qc, qs])
             }
             Rule::Dart(d) => {
-                let lim = shared_dart_limit(ring.m.len(), d)?;
+                let lim = darts.get(ring.m.len(), d)?;
                 let [t1, t2] = &lim.tangents;
                 Some([
                     lim.apply(&lim.position, ring),
@@ -341,6 +348,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     pub fn from_vertex_points(
         ring: &VertexRing<P>,
         tangents: GregoryTangents,
+        darts: &DartLimits,
         points: [P; 3],
     ) -> Option<GregoryVertex<P>> {
         let [a, b, c] = points;
@@ -351,7 +359,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
                 InteriorBasis { p: a, qc: b, qs: c },
             )),
             Rule::Dart(d) => {
-                let lim = shared_dart_limit(ring.m.len(), d)?;
+                let lim = darts.get(ring.m.len(), d)?;
                 Some(Self::dart_from_points(ring, tangents, &lim, [a, b, c]))
             }
             Rule::Crease => Self::sectored_with(ring, tangents, &|i, sec| match i {
@@ -428,9 +436,13 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     ///   mask space) onto `span(t_1, t_2)`: every edge point lies in the exact tangent plane
     ///   and tends to the smooth one when the dart's perturbation vanishes;
     /// - `r` and `cos(2π/n)` as for a smooth vertex (§3.4).
-    pub fn dart(ring: &VertexRing<P>, tangents: GregoryTangents) -> Option<GregoryVertex<P>> {
+    pub fn dart(
+        ring: &VertexRing<P>,
+        tangents: GregoryTangents,
+        darts: &DartLimits,
+    ) -> Option<GregoryVertex<P>> {
         let d = ring.sharp.iter().position(|&s| s)?;
-        let lim = shared_dart_limit(ring.m.len(), d)?;
+        let lim = darts.get(ring.m.len(), d)?;
         let [t1, t2] = &lim.tangents;
         let points = [
             lim.apply(&lim.position, ring),
@@ -815,25 +827,45 @@ fn smooth_edge_mask(n: usize, j: usize, factor: f64) -> Vec<f64> {
     q
 }
 
-/// [`dart_limit`] per `(n, d)`.
-type DartLimits = HashMap<(usize, usize), Option<Rc<RingLimit>>>;
+/// [`dart_limit`] per `(n, d)`, solved once per cache: the masks depend on those two only,
+/// and the darts of a mesh repeat a few shapes (each solve is a power iteration on a
+/// `(2n + 1)²` matrix, read by both stages of the two-stage rows and the end-cap keys). One
+/// cache lives as long as one build (an end-cap table, a vertex loop) and is shared by its
+/// threads; a cache per call ([`DartLimits::default`]) solves every dart again.
+#[derive(Debug, Default)]
+pub struct DartLimits(Mutex<HashMap<(usize, usize), Option<Arc<RingLimit>>>>);
 
-thread_local! {
-    /// [`dart_limit`] per `(n, d)` on this thread.
-    static DART_LIMITS: RefCell<DartLimits> = RefCell::new(HashMap::new());
-}
+impl DartLimits {
+    /// An empty cache.
+    pub fn new() -> DartLimits {
+        DartLimits::default()
+    }
 
-/// [`dart_limit`] solved once per `(n, d)` and thread: the masks depend on those two only, and
-/// the darts of a mesh repeat a few shapes (each solve is a power iteration on a
-/// `(2n + 1)²` matrix, and both stages of the two-stage rows read it).
-fn shared_dart_limit(n: usize, d: usize) -> Option<Rc<RingLimit>> {
-    DART_LIMITS.with(|limits| {
-        limits
-            .borrow_mut()
-            .entry((n, d))
-            .or_insert_with(|| dart_limit(n, d).map(Rc::new))
-            .clone()
-    })
+    /// [`dart_limit`]`(n, d)`, solved on the first request (outside the lock: two threads may
+    /// both solve one pair, to the same bits).
+    pub fn get(&self, n: usize, d: usize) -> Option<Arc<RingLimit>> {
+        if let Some(lim) = self.lock().get(&(n, d)) {
+            return lim.clone();
+        }
+        let lim = dart_limit(n, d).map(Arc::new);
+        self.lock().entry((n, d)).or_insert(lim).clone()
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, HashMap<(usize, usize), Option<Arc<RingLimit>>>> {
+        self.0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+
+    /// Number of `(n, d)` pairs solved.
+    pub fn len(&self) -> usize {
+        self.lock().len()
+    }
+
+    /// Whether no pair was solved.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
 }
 
 /// Valences up to which [`dart_limit`] runs the power iterations of `subdiv::limit::masks`.
@@ -1148,16 +1180,17 @@ mod tests {
             (with(5, &[], true), None),
         ];
         rings.extend((1..=6).map(|k| (boundary_ring(k), Some(VertexKind::Crease))));
+        let darts = DartLimits::new();
         for tangents in [GregoryTangents::Paper, GregoryTangents::Optimal] {
             for (r, kind) in &rings {
-                let want = GregoryVertex::new(r, tangents).expect("covered");
-                let points = GregoryVertex::vertex_points(r, tangents);
+                let want = GregoryVertex::new(r, tangents, &darts).expect("covered");
+                let points = GregoryVertex::vertex_points(r, tangents, &darts);
                 assert_eq!(
                     points.is_some(),
                     want.kind != VertexKind::Corner && want.kind != VertexKind::Cone
                 );
                 let points = points.unwrap_or([DVec3::ZERO; 3]);
-                let got = GregoryVertex::from_vertex_points(r, tangents, points).unwrap();
+                let got = GregoryVertex::from_vertex_points(r, tangents, &darts, points).unwrap();
                 if let Some(kind) = kind {
                     assert_eq!(want.kind, *kind);
                 }
@@ -1186,7 +1219,7 @@ mod tests {
         for (n, d) in [(3, 0), (5, 2), (8, 7)] {
             let mut r = ring(n);
             r.sharp[d] = true;
-            let g = GregoryVertex::new(&r, GregoryTangents::Paper).unwrap();
+            let g = GregoryVertex::new(&r, GregoryTangents::Paper, &DartLimits::new()).unwrap();
             assert_eq!(g.kind, VertexKind::Dart);
             let lim = dart_limit(n, d).unwrap();
             let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
@@ -1403,7 +1436,8 @@ mod tests {
             corner: false,
             face_sizes: vec![4],
         };
-        let g = GregoryVertex::new(&ring, GregoryTangents::Paper).expect("covered");
+        let g =
+            GregoryVertex::new(&ring, GregoryTangents::Paper, &DartLimits::new()).expect("covered");
         let mut x = ring.clone();
         let mut limit = x.v;
         for _ in 0..60 {
@@ -1457,7 +1491,8 @@ mod tests {
     fn cone_points_follow_the_refined_chords() {
         let mut r = ring(5);
         r.corner = true;
-        let g = GregoryVertex::new(&r, GregoryTangents::Paper).expect("covered");
+        let g =
+            GregoryVertex::new(&r, GregoryTangents::Paper, &DartLimits::new()).expect("covered");
         assert_eq!(g.kind, VertexKind::Cone);
         assert_eq!(g.p, r.v);
         for (e, m) in g.e.iter().zip(&r.m) {
@@ -1479,7 +1514,7 @@ mod tests {
             };
         }
         assert!((ratio - (3.0 + 5f64.sqrt()) / 8.0).abs() < 1e-9, "{ratio}");
-        let g = GregoryVertex::new(&x, GregoryTangents::Paper).unwrap();
+        let g = GregoryVertex::new(&x, GregoryTangents::Paper, &DartLimits::new()).unwrap();
         let axis = mean(&x);
         for e in &g.e {
             assert!((*e - g.p).angle_between(axis) < 1e-6);
@@ -1498,7 +1533,8 @@ mod tests {
             corner: true,
             ..base
         };
-        let g = GregoryVertex::new(&r, GregoryTangents::Paper).expect("covered");
+        let g =
+            GregoryVertex::new(&r, GregoryTangents::Paper, &DartLimits::new()).expect("covered");
         assert_eq!((g.kind, g.p), (VertexKind::Corner, r.v));
         for (e, m) in g.e.iter().zip(&r.m) {
             assert!((*e - (r.v + 2.0 * *m) / 3.0).length() < 1e-15);
