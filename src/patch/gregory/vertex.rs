@@ -784,6 +784,27 @@ pub struct RingLimit {
 }
 
 impl RingLimit {
+    /// The masks of a dart of the same valence whose sharp edge is `d` ring edges further on
+    /// (`d < n`): weight `1 + (i + d) % n` is this one's `1 + i`, and the same for the face
+    /// centroids (`1 + n + …`); the vertex's weight stays.
+    pub fn rotated(&self, d: usize) -> RingLimit {
+        let n = (self.position.len() - 1) / 2;
+        let rotate = |w: &[f64]| {
+            let mut out = vec![0.0; w.len()];
+            out[0] = w[0];
+            for i in 0..n {
+                let j = (i + d) % n;
+                out[1 + j] = w[1 + i];
+                out[1 + n + j] = w[1 + n + i];
+            }
+            out
+        };
+        RingLimit {
+            position: rotate(&self.position),
+            tangents: [rotate(&self.tangents[0]), rotate(&self.tangents[1])],
+        }
+    }
+
     /// `Σ w_k x_k` over the split ring.
     fn apply<P: GregoryPoint>(&self, w: &[f64], ring: &VertexRing<P>) -> P {
         let n = ring.m.len();
@@ -827,9 +848,12 @@ fn smooth_edge_mask(n: usize, j: usize, factor: f64) -> Vec<f64> {
     q
 }
 
-/// [`dart_limit`] per `(n, d)`, solved once per cache: the masks depend on those two only,
-/// and the darts of a mesh repeat a few shapes (each solve is a power iteration on a
-/// `(2n + 1)²` matrix, read by both stages of the two-stage rows and the end-cap keys). One
+/// [`dart_limit`] per `(n, d)`, solved once per valence `n` and cache: the split ring's
+/// subdivision matrix of sharp edge `d` is that of edge 0 with the ring's indices rotated by
+/// `d` (`dart_matrix`), so its masks are edge 0's rotated ([`RingLimit::rotated`]; the same
+/// eigenvectors, the sums of the power iteration in another order: equal to rounding,
+/// `tests::rotated_dart_masks_are_the_solves`). Each solve is a power iteration on a
+/// `(2n + 1)²` matrix, read by both stages of the two-stage rows and the end-cap keys. One
 /// cache lives as long as one build (an end-cap table, a vertex loop) and is shared by its
 /// threads; a cache per call ([`DartLimits::default`]) solves every dart again.
 #[derive(Debug, Default)]
@@ -841,13 +865,18 @@ impl DartLimits {
         DartLimits::default()
     }
 
-    /// [`dart_limit`]`(n, d)`, solved on the first request (outside the lock: two threads may
-    /// both solve one pair, to the same bits).
+    /// The masks of [`dart_limit`]`(n, d)`: `dart_limit(n, 0)` solved on the first request for
+    /// valence `n`, rotated by `d` (outside the lock: two threads may both solve one valence,
+    /// to the same bits).
     pub fn get(&self, n: usize, d: usize) -> Option<Arc<RingLimit>> {
         if let Some(lim) = self.lock().get(&(n, d)) {
             return lim.clone();
         }
-        let lim = dart_limit(n, d).map(Arc::new);
+        let lim = match d {
+            0 => dart_limit(n, 0).map(Arc::new),
+            _ if d >= n => None,
+            _ => self.get(n, 0).map(|base| Arc::new(base.rotated(d))),
+        };
         self.lock().entry((n, d)).or_insert(lim).clone()
     }
 
@@ -1242,6 +1271,36 @@ mod tests {
                 }
                 let err = g.e[j].distance(e) / size;
                 assert!(err < 1e-13, "valence {n} dart {d} edge {j}: {err:e}");
+            }
+        }
+    }
+
+    /// The cache's rotated masks against the solve of each sharp edge, at every edge of
+    /// valences 2 to 12, 40 (the last power iteration), 41 and 64 (secular): positions and
+    /// tangents equal to 1e-12 (the same power iteration, its sums in another order). Fails on
+    /// a rotation the wrong way (`(i + n - d) % n`), centroids left unrotated, or the vertex's
+    /// weight moved.
+    #[test]
+    fn rotated_dart_masks_are_the_solves() {
+        let darts = DartLimits::new();
+        for n in (2..=12).chain([40, 41, 64]) {
+            for d in 0..n {
+                let want = dart_limit(n, d).unwrap();
+                let got = darts.get(n, d).unwrap();
+                let pairs = [
+                    (&got.position, &want.position),
+                    (&got.tangents[0], &want.tangents[0]),
+                    (&got.tangents[1], &want.tangents[1]),
+                ];
+                for (k, (a, b)) in pairs.into_iter().enumerate() {
+                    let scale = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                    let err = a
+                        .iter()
+                        .zip(b)
+                        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+                        / scale;
+                    assert!(err < 1e-12, "valence {n} edge {d} mask {k}: {err:e}");
+                }
             }
         }
     }
