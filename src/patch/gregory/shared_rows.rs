@@ -18,8 +18,6 @@
 //! the key. The vertex points' own (first-stage) rows are shared the same way, per ring type
 //! ([`shared_vertex_point_rows`]).
 
-use std::collections::HashMap;
-
 use rayon::prelude::*;
 
 use super::build::{
@@ -34,6 +32,7 @@ use super::stencil_table::{
 };
 use super::tangents::GregoryTangents;
 use super::vertex::{is_interior_ring, DartLimits};
+use super::word_hash::WordHashMap;
 use crate::topology::Topology;
 
 const NONE: u32 = u32::MAX;
@@ -378,7 +377,7 @@ pub fn sparse_face_rows_flat(
     };
     // Pass 1: each face's connectivity type (`None`: built directly), the first face of each
     // type its representative.
-    let mut types: HashMap<TypeKey, u32> = HashMap::new();
+    let mut types: WordHashMap<TypeKey, u32> = WordHashMap::default();
     let mut type_of: Vec<Option<u32>> = Vec::with_capacity(faces.len());
     let mut representative: Vec<usize> = Vec::new();
     for (i, &f) in faces.iter().enumerate() {
@@ -500,7 +499,7 @@ pub fn shared_vertex_point_rows(
             key
         })
         .collect();
-    let mut types: HashMap<&[u32], u32> = HashMap::new();
+    let mut types: WordHashMap<&[u32], u32> = WordHashMap::default();
     // Per type: the index of a vertex of it; per vertex: its type.
     let mut representative: Vec<usize> = Vec::new();
     let type_of: Vec<u32> = keys
@@ -613,6 +612,7 @@ mod tests {
     use crate::patch::gregory::stencil::canonical_ring;
     use crate::subdiv::adaptive::EndCapSharpness;
     use glam::DVec3;
+    use std::collections::HashMap;
 
     /// The topological answer is the construction's, on every vertex of every level of the
     /// feature-adaptive refinement (sparse levels: rings cut open at their edge) of meshes with

@@ -20,6 +20,7 @@ use super::point::{GregoryPoint, Weights};
 use super::stencil::{dense_rows, stencil_ring, NoStencil, MAX_RING, ROWS_PER_CORNER};
 use super::tangents::GregoryTangents;
 use super::vertex::{DartLimits, GregoryVertex};
+use super::word_hash::WordHashMap;
 use crate::topology::Topology;
 
 /// Control points of a quad Gregory patch.
@@ -275,7 +276,7 @@ fn face_patches(
     coverage: Coverage,
     two_stage: bool,
     darts: &DartLimits,
-) -> HashMap<u32, Result<GregoryPatch<Weights>, NotGregory>> {
+) -> WordHashMap<u32, Result<GregoryPatch<Weights>, NotGregory>> {
     let vertices = corner_data(
         topo,
         faces.iter().copied(),
@@ -284,7 +285,7 @@ fn face_patches(
         two_stage,
         darts,
     );
-    let mut patches = HashMap::new();
+    let mut patches = WordHashMap::default();
     for &f in faces {
         for g in std::iter::once(f).chain(
             topo.face_edges(f)
