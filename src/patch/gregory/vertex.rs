@@ -857,7 +857,10 @@ fn smooth_edge_mask(n: usize, j: usize, factor: f64) -> Vec<f64> {
 /// cache lives as long as one build (an end-cap table, a vertex loop) and is shared by its
 /// threads; a cache per call ([`DartLimits::default`]) solves every dart again.
 #[derive(Debug, Default)]
-pub struct DartLimits(Mutex<HashMap<(usize, usize), Option<Arc<RingLimit>>>>);
+pub struct DartLimits(Mutex<RingLimits>);
+
+/// Masks per `(n, d)`, `None` where [`dart_limit`] has none.
+type RingLimits = HashMap<(usize, usize), Option<Arc<RingLimit>>>;
 
 impl DartLimits {
     /// An empty cache.
@@ -880,7 +883,7 @@ impl DartLimits {
         self.lock().entry((n, d)).or_insert(lim).clone()
     }
 
-    fn lock(&self) -> std::sync::MutexGuard<'_, HashMap<(usize, usize), Option<Arc<RingLimit>>>> {
+    fn lock(&self) -> std::sync::MutexGuard<'_, RingLimits> {
         self.0
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner)
