@@ -848,9 +848,9 @@ fn smooth_edge_mask(n: usize, j: usize, factor: f64) -> Vec<f64> {
     q
 }
 
-/// [`dart_limit`] per `(n, d)`, solved once per valence `n` and cache: the split ring's
+/// `dart_limit` per `(n, d)`, solved once per valence `n` and cache: the split ring's
 /// subdivision matrix of sharp edge `d` is that of edge 0 with the ring's indices rotated by
-/// `d` (`dart_matrix`), so its masks are edge 0's rotated ([`RingLimit::rotated`]; the same
+/// `d` (`dart_matrix`), so its masks are edge 0's rotated (`RingLimit::rotated`; the same
 /// eigenvectors, the sums of the power iteration in another order: equal to rounding,
 /// `tests::rotated_dart_masks_are_the_solves`). Each solve is a power iteration on a
 /// `(2n + 1)²` matrix, read by both stages of the two-stage rows and the end-cap keys. One
@@ -859,7 +859,7 @@ fn smooth_edge_mask(n: usize, j: usize, factor: f64) -> Vec<f64> {
 #[derive(Debug, Default)]
 pub struct DartLimits(Mutex<RingLimits>);
 
-/// Masks per `(n, d)`, `None` where [`dart_limit`] has none.
+/// Masks per `(n, d)`, `None` where `dart_limit` has none.
 type RingLimits = HashMap<(usize, usize), Option<Arc<RingLimit>>>;
 
 impl DartLimits {
@@ -868,7 +868,7 @@ impl DartLimits {
         DartLimits::default()
     }
 
-    /// The masks of [`dart_limit`]`(n, d)`: `dart_limit(n, 0)` solved on the first request for
+    /// The masks of `dart_limit(n, d)`: `dart_limit(n, 0)` solved on the first request for
     /// valence `n`, rotated by `d` (outside the lock: two threads may both solve one valence,
     /// to the same bits).
     pub fn get(&self, n: usize, d: usize) -> Option<Arc<RingLimit>> {
