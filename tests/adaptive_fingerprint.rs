@@ -40,6 +40,11 @@
 //! creases, valence other than 4 or not opposite) carry that end's fillet code in `fillet` and
 //! bit 8 + corner in `transition`; only the draw tables of the meshes with such vertices changed
 //! (car, cube_creases1, cubes_semisharp), the refinement and kernels' did not.
+//! And again when a build's dart masks were solved once per
+//! valence (issue 8, `DartLimits`: the masks of sharp edge `d` are edge 0's rotated by `d`,
+//! equal to the solve of edge `d` to 1e-12 relative, `rotated_dart_masks_are_the_solves`: the
+//! same power iteration with its sums in another order): only the car's draw tables changed,
+//! the rows of its darts whose sharp edge is not their ring's edge 0.
 //!
 //! The fingerprints change with any change of output, deliberate or not: a change that is meant
 //! to alter the tables (new end-cap rules, another row order) re-derives them and says so.

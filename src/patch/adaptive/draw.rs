@@ -32,7 +32,7 @@ use crate::patch::gregory::shared_rows::{
     shared_vertex_point_rows, sparse_face_rows_flat, FaceRows,
 };
 use crate::patch::gregory::stencil_table::{vertex_point_of, VERTEX_POINTS};
-use crate::patch::gregory::{GregoryTangents, Weights};
+use crate::patch::gregory::{DartLimits, GregoryTangents, Weights};
 use crate::patch::single_crease::{gpu_cvs, Rotation, SingleCreasePatch};
 use crate::patch::RegularPatch;
 use crate::subdiv::adaptive::{AdaptiveRefinement, Domain, PatchCensus, PatchType};
@@ -125,13 +125,18 @@ fn end_cap_rows(
         .filter(|p| p.kind == PatchType::EndCap)
         .collect();
     let mut local = Vec::with_capacity(caps.len());
+    // Dart masks solved once for every level and both stages.
+    let darts = DartLimits::new();
     for group in caps.chunk_by(|a, b| a.level == b.level) {
         for p in group {
             check_end_cap(refinement, p)?;
         }
         let faces: Vec<u32> = group.iter().map(|p| p.face).collect();
         let t = topologies.get(group[0].level);
-        for (p, rows) in group.iter().zip(sparse_face_rows_flat(t, &faces, tangents)) {
+        for (p, rows) in group
+            .iter()
+            .zip(sparse_face_rows_flat(t, &faces, tangents, &darts))
+        {
             local.push((
                 p.level,
                 rows.map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?,
@@ -193,7 +198,7 @@ fn end_cap_rows(
         let l = group[0].0;
         let lev = &refinement.levels[l as usize];
         let at: Vec<u32> = group.iter().map(|&(_, v, _)| v).collect();
-        let rows = shared_vertex_point_rows(topologies.get(l), &at, tangents);
+        let rows = shared_vertex_point_rows(topologies.get(l), &at, tangents, &darts);
         for (r, &(_, _, mask)) in rows.into_iter().zip(group) {
             for (b, mut w) in r.into_iter().enumerate() {
                 if mask & (1 << b) != 0 {

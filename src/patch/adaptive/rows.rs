@@ -95,15 +95,9 @@ impl<'a> CornerRows<'a> {
                 let columns = &self.crease[&(line.side, line.sharpness.to_bits(), c.k)];
                 let rows: [[f64; 16]; 3] =
                     std::array::from_fn(|r| std::array::from_fn(|i| columns[i][r]));
-                for row in rows {
-                    push_merged(out, std::array::from_fn(|i| (line.cvs[i], row[i])));
-                }
+                push_merged(out, &line.cvs, &rows);
             }
-            (None, Some(b)) => {
-                for row in bspline_corner_columns(b, c.k) {
-                    push_merged(out, std::array::from_fn(|i| (b.cvs[i], row[i])));
-                }
-            }
+            (None, Some(b)) => push_merged(out, &b.cvs, &bspline_corner_columns(b, c.k)),
             (None, None) => {
                 for w in self.rows(c) {
                     out.push(&w, 0);
@@ -321,31 +315,39 @@ fn bspline_corner_columns(p: &RegularPatch, k: usize) -> [[f64; 16]; 3] {
     [tensor(bu, bv), tensor(du, bv), tensor(bu, dv)]
 }
 
-/// Pushes the row [`Weights::from_terms`] makes of `terms` (zero weights dropped, ids sorted
-/// stably, a repeated id's weights summed in that order) onto `out`, sorted on the stack.
-fn push_merged(out: &mut SparseRows, terms: [(u32, f64); 16]) {
-    let mut t = [(0u32, 0.0f64); 16];
-    let mut n = 0;
-    for term in terms.into_iter().filter(|&(_, w)| w != 0.0) {
-        // Stable insertion: after every term with an id not larger.
-        let mut j = n;
-        while j > 0 && t[j - 1].0 > term.0 {
-            t[j] = t[j - 1];
+/// Pushes the rows [`Weights::from_terms`] makes of each row of `rows` over control vertices
+/// `cvs` (zero weights dropped, ids sorted stably, a repeated id's weights summed in that order)
+/// onto `out`, on the stack: the stable order of `cvs` by id is sorted once for the three rows
+/// (a corner's position and two derivatives), and each row walks it.
+fn push_merged(out: &mut SparseRows, cvs: &[u32; 16], rows: &[[f64; 16]; 3]) {
+    let mut order: [u8; 16] = std::array::from_fn(|i| i as u8);
+    for i in 1..16 {
+        // Stable insertion: after every control point with an id not larger.
+        let x = order[i];
+        let mut j = i;
+        while j > 0 && cvs[order[j - 1] as usize] > cvs[x as usize] {
+            order[j] = order[j - 1];
             j -= 1;
         }
-        t[j] = term;
-        n += 1;
+        order[j] = x;
     }
-    let mut m = 0;
-    for i in 0..n {
-        if m > 0 && t[m - 1].0 == t[i].0 {
-            t[m - 1].1 += t[i].1;
-        } else {
-            t[m] = t[i];
-            m += 1;
+    for row in rows {
+        let mut t = [(0u32, 0.0f64); 16];
+        let mut m = 0;
+        for &i in &order {
+            let (id, w) = (cvs[i as usize], row[i as usize]);
+            if w == 0.0 {
+                continue;
+            }
+            if m > 0 && t[m - 1].0 == id {
+                t[m - 1].1 += w;
+            } else {
+                t[m] = (id, w);
+                m += 1;
+            }
         }
+        out.push_terms(&t[..m], 0);
     }
-    out.push_terms(&t[..m], 0);
 }
 
 /// A single-crease corner's shape: crease side, sharpness bits, face corner.
@@ -412,24 +414,29 @@ pub fn gregory_corner_rows(rows: &FaceRows, n: usize, k: usize, singular: bool) 
 mod tests {
     use super::*;
 
-    /// The stack merge is `Weights::from_terms` bit for bit: zeros dropped, ids sorted stably,
-    /// a repeated id summed in its terms' order (0.1 + 0.2 + 0.3 and 0.3 + 0.2 + 0.1 differ in
-    /// the last bit, so an unstable sort or a reversed sum fails).
+    /// The stack merge is `Weights::from_terms` bit for bit, row by row: zeros dropped, ids
+    /// sorted stably, a repeated id summed in its terms' order (0.1 + 0.2 + 0.3 and
+    /// 0.3 + 0.2 + 0.1 differ in the last bit, so an unstable sort or a reversed sum fails), each
+    /// row with its own zeros over the one order of the control vertices (fails if a row's zero
+    /// weights are taken from another row).
     #[test]
     fn merged_row_is_from_terms() {
         let ws = [0.1, 0.2, 0.3, 0.0, -0.5, 1.0 / 3.0, 0.7, 0.0];
         for shift in 0..16 {
-            let terms: [(u32, f64); 16] = std::array::from_fn(|i| {
-                let j = (i + shift) % 16;
-                (
-                    [7, 3, 7, 9, 3, 7, 1, 9][j % 8],
-                    ws[j % 8] * (1.0 + j as f64),
-                )
+            let cvs: [u32; 16] =
+                std::array::from_fn(|i| [7, 3, 7, 9, 3, 7, 1, 9][((i + shift) % 16) % 8]);
+            let rows: [[f64; 16]; 3] = std::array::from_fn(|r| {
+                std::array::from_fn(|i| {
+                    let j = (i + shift + 5 * r) % 16;
+                    ws[j % 8] * (1.0 + j as f64)
+                })
             });
             let mut got = SparseRows::new();
-            push_merged(&mut got, terms);
+            push_merged(&mut got, &cvs, &rows);
             let mut want = SparseRows::new();
-            want.push(&Weights::from_terms(terms), 0);
+            for row in &rows {
+                want.push(&Weights::from_terms(cvs.iter().copied().zip(*row)), 0);
+            }
             assert_eq!(got, want, "shift {shift}");
         }
     }

@@ -13,7 +13,7 @@ use super::promoted::{
     fillet_sharpness, promoted_edge, promoted_vertex, vertex_fillet_sharpness,
 };
 use crate::patch::gregory::{
-    gregory_patch_at_for, Coverage, GregoryPatch, GregoryTangents, NotGregory,
+    gregory_patch_at_for, Coverage, DartLimits, GregoryPatch, GregoryTangents, NotGregory,
 };
 use crate::patch::regular::RegularPatch;
 use crate::patch::single_crease::SingleCreasePatch;
@@ -216,6 +216,7 @@ pub fn end_caps(
     tangents: GregoryTangents,
 ) -> Result<Vec<SurfacePatch>, EndCapError> {
     let topologies = EndCapTopologies::new(refinement, census);
+    let darts = DartLimits::new();
     census
         .patches
         .iter()
@@ -226,7 +227,7 @@ pub fn end_caps(
             let t = topologies.get(p.level);
             let first = lev.first_vertex as usize;
             let local = &positions[first..first + lev.level.vertex_count()];
-            let patch = gregory_patch_at_for(t, local, p.face, tangents, Coverage::EndCap)
+            let patch = gregory_patch_at_for(t, local, p.face, tangents, Coverage::EndCap, &darts)
                 .map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?;
             Ok(SurfacePatch {
                 level: p.level,

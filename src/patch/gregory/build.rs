@@ -4,7 +4,7 @@
 use super::eval::{CornerRef, GregoryQuad, GregoryTriangle};
 use super::point::{GregoryPoint, Weights};
 use super::tangents::GregoryTangents;
-use super::vertex::{sectors, GregoryVertex, Sector, VertexRing};
+use super::vertex::{sectors, DartLimits, GregoryVertex, Sector, VertexRing};
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::patch::regular::RegularPatch;
 use crate::topology::Topology;
@@ -400,21 +400,29 @@ pub fn gregory_vertex_with<P: GregoryPoint>(
     point: &impl Fn(u32) -> P,
     tangents: GregoryTangents,
 ) -> Option<GregoryVertex<P>> {
-    gregory_vertex_for(topo, v, point, tangents, Coverage::Exact)
+    gregory_vertex_for(
+        topo,
+        v,
+        point,
+        tangents,
+        Coverage::Exact,
+        &DartLimits::new(),
+    )
 }
 
-/// [`gregory_vertex_with`] for the given coverage.
+/// [`gregory_vertex_with`] for the given coverage, dart masks from `darts`.
 pub fn gregory_vertex_for<P: GregoryPoint>(
     topo: &Topology,
     v: u32,
     point: &impl Fn(u32) -> P,
     tangents: GregoryTangents,
     coverage: Coverage,
+    darts: &DartLimits,
 ) -> Option<GregoryVertex<P>> {
     if !vertex_covered(topo, v, coverage) {
         return None;
     }
-    GregoryVertex::new(&vertex_ring_with(topo, v, point), tangents)
+    GregoryVertex::new(&vertex_ring_with(topo, v, point), tangents, darts)
 }
 
 /// Whether some face of `v` passes [`check_vertex_for`]: the test before per-vertex data.
@@ -437,12 +445,18 @@ pub fn gregory_vertex_two_stage<P: GregoryPoint>(
     point: &impl Fn(u32) -> P,
     tangents: GregoryTangents,
     coverage: Coverage,
+    darts: &DartLimits,
     points: &impl Fn(u32) -> [P; 3],
 ) -> Option<GregoryVertex<P>> {
     if !vertex_covered(topo, v, coverage) {
         return None;
     }
-    GregoryVertex::from_vertex_points(&vertex_ring_with(topo, v, point), tangents, points(v))
+    GregoryVertex::from_vertex_points(
+        &vertex_ring_with(topo, v, point),
+        tangents,
+        darts,
+        points(v),
+    )
 }
 
 /// Per-vertex Gregory data for every vertex (`None` where the construction does not apply).
@@ -457,8 +471,9 @@ pub fn gregory_vertices_with(
     tangents: GregoryTangents,
 ) -> Vec<Option<GregoryVertex<DVec3>>> {
     let point = |i: u32| positions[i as usize];
+    let darts = DartLimits::new();
     (0..topo.vertex_count() as u32)
-        .map(|v| gregory_vertex_with(topo, v, &point, tangents))
+        .map(|v| gregory_vertex_for(topo, v, &point, tangents, Coverage::Exact, &darts))
         .collect()
 }
 
@@ -544,19 +559,28 @@ pub fn gregory_patch_at_with(
     f: u32,
     tangents: GregoryTangents,
 ) -> Result<GregoryPatch<DVec3>, NotGregory> {
-    gregory_patch_at_for(topo, positions, f, tangents, Coverage::Exact)
+    gregory_patch_at_for(
+        topo,
+        positions,
+        f,
+        tangents,
+        Coverage::Exact,
+        &DartLimits::new(),
+    )
 }
 
-/// [`gregory_patch_at_with`] for the given coverage ([`Coverage::EndCap`]: an adaptive end cap).
+/// [`gregory_patch_at_with`] for the given coverage ([`Coverage::EndCap`]: an adaptive end cap),
+/// dart masks from `darts`.
 pub fn gregory_patch_at_for(
     topo: &Topology,
     positions: &[DVec3],
     f: u32,
     tangents: GregoryTangents,
     coverage: Coverage,
+    darts: &DartLimits,
 ) -> Result<GregoryPatch<DVec3>, NotGregory> {
     let point = |i: u32| positions[i as usize];
-    local_patch(topo, f, &point, tangents, coverage)
+    local_patch(topo, f, &point, tangents, coverage, darts)
 }
 
 /// The Gregory patch of face `f` with every control point as weights over control vertices.
@@ -570,7 +594,14 @@ pub fn gregory_patch_weights_with(
     f: u32,
     tangents: GregoryTangents,
 ) -> Result<GregoryPatch<Weights>, NotGregory> {
-    local_patch(topo, f, &Weights::unit, tangents, Coverage::Exact)
+    local_patch(
+        topo,
+        f,
+        &Weights::unit,
+        tangents,
+        Coverage::Exact,
+        &DartLimits::new(),
+    )
 }
 
 fn local_patch<P: GregoryPoint>(
@@ -579,6 +610,7 @@ fn local_patch<P: GregoryPoint>(
     point: &impl Fn(u32) -> P,
     tangents: GregoryTangents,
     coverage: Coverage,
+    darts: &DartLimits,
 ) -> Result<GregoryPatch<P>, NotGregory> {
     check_face_for(topo, f, coverage)?;
     let fv = topo.face_vertices(f);
@@ -587,6 +619,7 @@ fn local_patch<P: GregoryPoint>(
         data.push(GregoryVertex::new(
             &vertex_ring_with(topo, v, point),
             tangents,
+            darts,
         ));
     }
     assemble_face(topo, f, |k, _| data[k].as_ref())

@@ -40,6 +40,7 @@ pub mod tangents_boundary;
 pub mod tangents_tri;
 pub mod tangents_tri_fit;
 mod vertex;
+mod word_hash;
 
 pub use build::{
     check_face, check_face_for, check_face_level0, check_vertex, check_vertex_for, gregory_faces,
@@ -54,5 +55,6 @@ pub use point::{combine, GregoryPoint, Weights};
 pub use tangents::GregoryTangents;
 pub use vertex::{
     crease_tangent_weights, face_point, face_point_cos, is_interior_ring, sectors,
-    subdominant_eigenvalue, GregoryVertex, InteriorBasis, Sector, VertexKind, VertexRing,
+    subdominant_eigenvalue, DartLimits, GregoryVertex, InteriorBasis, Sector, VertexKind,
+    VertexRing,
 };

@@ -18,8 +18,6 @@
 //! the key. The vertex points' own (first-stage) rows are shared the same way, per ring type
 //! ([`shared_vertex_point_rows`]).
 
-use std::collections::HashMap;
-
 use rayon::prelude::*;
 
 use super::build::{
@@ -33,7 +31,8 @@ use super::stencil_table::{
     VERTEX_POINTS,
 };
 use super::tangents::GregoryTangents;
-use super::vertex::{dart_limit, is_interior_ring};
+use super::vertex::{is_interior_ring, DartLimits};
+use super::word_hash::WordHashMap;
 use crate::topology::Topology;
 
 const NONE: u32 = u32::MAX;
@@ -108,8 +107,9 @@ struct Keyer<'a> {
     tangents: GregoryTangents,
     slot: Vec<u32>,
     has_data: Vec<u8>,
-    /// Whether `dart_limit(n, d)` exists, per valence `n` and sharp edge `d`.
-    dart_limits: HashMap<(usize, usize), bool>,
+    /// The build's dart masks (whether one exists decides a dart's data; the construction
+    /// reads the same solves).
+    darts: &'a DartLimits,
 }
 
 impl Keyer<'_> {
@@ -118,12 +118,7 @@ impl Keyer<'_> {
     fn has_data(&mut self, v: u32) -> bool {
         let h = &mut self.has_data[v as usize];
         if *h == 2 {
-            *h = u8::from(has_vertex_data(
-                self.topo,
-                v,
-                self.tangents,
-                &mut self.dart_limits,
-            ));
+            *h = u8::from(has_vertex_data(self.topo, v, self.tangents, self.darts));
         }
         *h == 1
     }
@@ -256,13 +251,9 @@ impl GregoryPoint for NoPoint {
 /// close around the vertex ([`super::GregoryVertex::new`]); its weights need cosines, so the
 /// ring's shape answers instead. A dart ring ([`super::GregoryVertex::dart`]) has data exactly
 /// when `dart_limit` of its valence and sharp edge exists (an eigenproblem of the split ring,
-/// solved once per pair in `dart_limits`). Other rings run the scalar construction.
-fn has_vertex_data(
-    topo: &Topology,
-    v: u32,
-    tangents: GregoryTangents,
-    dart_limits: &mut HashMap<(usize, usize), bool>,
-) -> bool {
+/// solved once per pair in `darts`, which the construction then reads). Other rings run the
+/// scalar construction.
+fn has_vertex_data(topo: &Topology, v: u32, tangents: GregoryTangents, darts: &DartLimits) -> bool {
     let faces = topo.vertex_faces(v);
     // `gregory_vertex_for`'s own test before the construction.
     if faces.is_empty()
@@ -279,12 +270,10 @@ fn has_vertex_data(
     let (n, sharp) = (ring.m.len(), ring.sharp.iter().filter(|&&s| s).count());
     if sharp == 1 && !ring.corner && ring.c.len() == n {
         let d = ring.sharp.iter().position(|&s| s).unwrap_or(0);
-        return *dart_limits
-            .entry((n, d))
-            .or_insert_with(|| dart_limit(n, d).is_some());
+        return darts.get(n, d).is_some();
     }
     let point = |_: u32| 0.0f64;
-    gregory_vertex_for(topo, v, &point, tangents, Coverage::EndCap).is_some()
+    gregory_vertex_for(topo, v, &point, tangents, Coverage::EndCap, darts).is_some()
 }
 
 /// [`super::stencil::canonical_ring`] of face `f` with `slot` (all [`NONE`] on entry) set to each ring vertex's
@@ -344,14 +333,15 @@ fn direct_batches(
     topo: &Topology,
     faces: &[u32],
     tangents: GregoryTangents,
+    darts: &DartLimits,
 ) -> Vec<Result<Vec<Weights>, NotGregory>> {
     let per = faces.len().div_ceil(rayon::current_num_threads()).max(64);
     if faces.len() <= per {
-        return sparse_face_rows_direct(topo, faces, tangents);
+        return sparse_face_rows_direct(topo, faces, tangents, darts);
     }
     let batches: Vec<_> = faces
         .par_chunks(per)
-        .map(|batch| sparse_face_rows_direct(topo, batch, tangents))
+        .map(|batch| sparse_face_rows_direct(topo, batch, tangents, darts))
         .collect();
     batches.into_iter().flatten().collect()
 }
@@ -362,30 +352,32 @@ pub fn sparse_face_rows(
     topo: &Topology,
     faces: &[u32],
     tangents: GregoryTangents,
+    darts: &DartLimits,
 ) -> Vec<Result<Vec<Weights>, NotGregory>> {
-    sparse_face_rows_flat(topo, faces, tangents)
+    sparse_face_rows_flat(topo, faces, tangents, darts)
         .into_iter()
         .map(|r| r.map(|r| r.to_weights()))
         .collect()
 }
 
 /// The rows of [`sparse_face_rows`], each face's in one [`FaceRows`]. The direct batches and
-/// the relabelling run on the rayon pool.
+/// the relabelling run on the rayon pool. Dart masks from `darts` (one cache per build).
 pub fn sparse_face_rows_flat(
     topo: &Topology,
     faces: &[u32],
     tangents: GregoryTangents,
+    darts: &DartLimits,
 ) -> Vec<Result<FaceRows, NotGregory>> {
     let mut keyer = Keyer {
         topo,
         tangents,
         slot: vec![NONE; topo.vertex_count()],
         has_data: vec![2; topo.vertex_count()],
-        dart_limits: HashMap::new(),
+        darts,
     };
     // Pass 1: each face's connectivity type (`None`: built directly), the first face of each
     // type its representative.
-    let mut types: HashMap<TypeKey, u32> = HashMap::new();
+    let mut types: WordHashMap<TypeKey, u32> = WordHashMap::default();
     let mut type_of: Vec<Option<u32>> = Vec::with_capacity(faces.len());
     let mut representative: Vec<usize> = Vec::new();
     for (i, &f) in faces.iter().enumerate() {
@@ -415,7 +407,7 @@ pub fn sparse_face_rows_flat(
     let first_faces: Vec<u32> = first.iter().map(|&i| faces[i]).collect();
     for (&i, r) in first
         .iter()
-        .zip(direct_batches(topo, &first_faces, tangents))
+        .zip(direct_batches(topo, &first_faces, tangents, darts))
     {
         rows[i] = Some(r);
     }
@@ -448,7 +440,7 @@ pub fn sparse_face_rows_flat(
     let second_faces: Vec<u32> = second.iter().map(|&i| faces[i]).collect();
     for (&i, r) in second
         .iter()
-        .zip(direct_batches(topo, &second_faces, tangents))
+        .zip(direct_batches(topo, &second_faces, tangents, darts))
     {
         rows[i] = Some(r);
     }
@@ -490,11 +482,12 @@ pub fn sparse_face_rows_flat(
 /// own sharpness, so vertices whose rings read the same in first-appearance slots
 /// (`VertexRingKey`) have the same weights slot by slot, and every weight is the same sequence
 /// of `a + w * b` updates whatever the ids. Bitwise the per-vertex rows; the keys, the types'
-/// rows and the relabelling run on the rayon pool.
+/// rows and the relabelling run on the rayon pool. Dart masks from `darts`.
 pub fn shared_vertex_point_rows(
     topo: &Topology,
     vertices: &[u32],
     tangents: GregoryTangents,
+    darts: &DartLimits,
 ) -> Vec<[Weights; 3]> {
     let fresh = || vec![NONE; topo.vertex_count()];
     let keys: Vec<VertexRingKey> = vertices
@@ -506,7 +499,7 @@ pub fn shared_vertex_point_rows(
             key
         })
         .collect();
-    let mut types: HashMap<&[u32], u32> = HashMap::new();
+    let mut types: WordHashMap<&[u32], u32> = WordHashMap::default();
     // Per type: the index of a vertex of it; per vertex: its type.
     let mut representative: Vec<usize> = Vec::new();
     let type_of: Vec<u32> = keys
@@ -529,7 +522,7 @@ pub fn shared_vertex_point_rows(
                 slot[u as usize] = s as u32;
             }
             let unit = |u: u32| Weights::unit(slot[u as usize]);
-            let rows = vertex_point_rows_with(topo, vertices[i], &unit, tangents);
+            let rows = vertex_point_rows_with(topo, vertices[i], &unit, tangents, darts);
             clear(slot, ring);
             rows
         })
@@ -619,6 +612,7 @@ mod tests {
     use crate::patch::gregory::stencil::canonical_ring;
     use crate::subdiv::adaptive::EndCapSharpness;
     use glam::DVec3;
+    use std::collections::HashMap;
 
     /// The topological answer is the construction's, on every vertex of every level of the
     /// feature-adaptive refinement (sparse levels: rings cut open at their edge) of meshes with
@@ -629,7 +623,7 @@ mod tests {
     fn vertex_data_by_topology_is_the_constructions() {
         let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
         let mut seen = [0usize; 2];
-        let mut darts = HashMap::new();
+        let darts = DartLimits::new();
         for name in [
             "catmark_hole_test1",
             "catmark_hole_test4",
@@ -664,9 +658,10 @@ mod tests {
                         &point,
                         GregoryTangents::default(),
                         Coverage::EndCap,
+                        &DartLimits::new(),
                     )
                     .is_some();
-                    let got = has_vertex_data(&topo, v, GregoryTangents::default(), &mut darts);
+                    let got = has_vertex_data(&topo, v, GregoryTangents::default(), &darts);
                     assert_eq!(got, want, "{name}: vertex {v}");
                     seen[usize::from(want)] += 1;
                 }
@@ -727,7 +722,7 @@ mod tests {
                 .filter(|&v| !topo.vertex_faces(v).is_empty())
                 .collect();
             for tangents in [GregoryTangents::Paper, GregoryTangents::Optimal] {
-                let shared = shared_vertex_point_rows(topo, &all, tangents);
+                let shared = shared_vertex_point_rows(topo, &all, tangents, &DartLimits::new());
                 for (&v, got) in all.iter().zip(&shared) {
                     let want =
                         crate::patch::gregory::stencil_table::vertex_point_rows(topo, v, tangents);

@@ -19,7 +19,8 @@ use super::build::{
 use super::point::{GregoryPoint, Weights};
 use super::stencil::{dense_rows, stencil_ring, NoStencil, MAX_RING, ROWS_PER_CORNER};
 use super::tangents::GregoryTangents;
-use super::vertex::GregoryVertex;
+use super::vertex::{DartLimits, GregoryVertex};
+use super::word_hash::WordHashMap;
 use crate::topology::Topology;
 
 /// Control points of a quad Gregory patch.
@@ -172,6 +173,7 @@ fn corner_data(
     tangents: GregoryTangents,
     coverage: Coverage,
     two_stage: bool,
+    darts: &DartLimits,
 ) -> Vec<Option<GregoryVertex<Weights>>> {
     let basis = |v: u32| [0, 1, 2].map(|b| Weights::unit(vertex_point_id(topo, v, b)));
     let mut data: Vec<Option<GregoryVertex<Weights>>> =
@@ -189,10 +191,11 @@ fn corner_data(
                                 &Weights::unit,
                                 tangents,
                                 coverage,
+                                darts,
                                 &basis,
                             )
                         } else {
-                            gregory_vertex_for(topo, v, &Weights::unit, tangents, coverage)
+                            gregory_vertex_for(topo, v, &Weights::unit, tangents, coverage, darts)
                         };
                     }
                 }
@@ -212,13 +215,14 @@ fn corner_data(
 /// `O(1)` terms per corner and the rows of all faces around a vertex of valence `n` `O(n)`
 /// together, not `O(n²)`. Face by face, the reference of
 /// [`super::shared_rows::sparse_face_rows`], which shares the work between faces of one
-/// connectivity type and gives the same bits.
+/// connectivity type and gives the same bits. Dart masks from `darts`.
 pub fn sparse_face_rows_direct(
     topo: &Topology,
     faces: &[u32],
     tangents: GregoryTangents,
+    darts: &DartLimits,
 ) -> Vec<Result<Vec<Weights>, NotGregory>> {
-    let patches = face_patches(topo, faces, tangents, Coverage::EndCap, true);
+    let patches = face_patches(topo, faces, tangents, Coverage::EndCap, true, darts);
     faces
         .iter()
         .map(|&f| table_rows(topo, f, |g| patches[&g].as_ref().map_err(|e| *e)))
@@ -247,18 +251,19 @@ pub fn vertex_point_of(topo: &Topology, id: u32) -> Option<(u32, u32)> {
 /// [`GregoryVertex::vertex_points`] in weight space (empty rows where it has none: corners,
 /// cones, a crease's unused points).
 pub fn vertex_point_rows(topo: &Topology, v: u32, tangents: GregoryTangents) -> [Weights; 3] {
-    vertex_point_rows_with(topo, v, &Weights::unit, tangents)
+    vertex_point_rows_with(topo, v, &Weights::unit, tangents, &DartLimits::new())
 }
 
-/// [`vertex_point_rows`] with vertex `u` standing for `unit(u)`.
+/// [`vertex_point_rows`] with vertex `u` standing for `unit(u)`, dart masks from `darts`.
 pub fn vertex_point_rows_with(
     topo: &Topology,
     v: u32,
     unit: &impl Fn(u32) -> Weights,
     tangents: GregoryTangents,
+    darts: &DartLimits,
 ) -> [Weights; 3] {
     let ring = vertex_ring_with(topo, v, unit);
-    GregoryVertex::vertex_points(&ring, tangents).unwrap_or_default()
+    GregoryVertex::vertex_points(&ring, tangents, darts).unwrap_or_default()
 }
 
 /// The Gregory patch in weight space of every face of `faces` and of their edge neighbours
@@ -270,9 +275,17 @@ fn face_patches(
     tangents: GregoryTangents,
     coverage: Coverage,
     two_stage: bool,
-) -> HashMap<u32, Result<GregoryPatch<Weights>, NotGregory>> {
-    let vertices = corner_data(topo, faces.iter().copied(), tangents, coverage, two_stage);
-    let mut patches = HashMap::new();
+    darts: &DartLimits,
+) -> WordHashMap<u32, Result<GregoryPatch<Weights>, NotGregory>> {
+    let vertices = corner_data(
+        topo,
+        faces.iter().copied(),
+        tangents,
+        coverage,
+        two_stage,
+        darts,
+    );
+    let mut patches = WordHashMap::default();
     for &f in faces {
         for g in std::iter::once(f).chain(
             topo.face_edges(f)
@@ -318,7 +331,8 @@ impl GregoryStencilTable {
             }
         }
         let faces: Vec<u32> = accepted.iter().map(|(f, _)| *f).collect();
-        let patches = face_patches(topo, &faces, tangents, Coverage::Exact, false);
+        let darts = DartLimits::new();
+        let patches = face_patches(topo, &faces, tangents, Coverage::Exact, false, &darts);
         let mut types = HashMap::new();
         for (f, ring) in accepted {
             match table_rows(topo, f, |g| patches[&g].as_ref().map_err(|e| *e)) {

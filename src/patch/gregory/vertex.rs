@@ -6,10 +6,9 @@ use super::point::{combine, GregoryPoint};
 use super::tangents::GregoryTangents;
 use super::tangents_boundary::sector_band;
 use glam::DVec3;
-use std::cell::RefCell;
 use std::collections::HashMap;
 use std::f64::consts::PI;
-use std::rc::Rc;
+use std::sync::{Arc, Mutex};
 
 /// The split one-ring of a vertex (paper Fig. 5), in the crate's ring order: `m[i]` is the
 /// midpoint of the `i`-th incident edge, `c[i]` the centroid of the `i`-th incident face, which
@@ -286,9 +285,13 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     /// sharp edges, otherwise [`Self::sectored`]. `None` for rings the construction does not
     /// cover (a ring that does not close: fewer faces than edges without a sharp edge, e.g.
     /// next to a hole).
-    pub fn new(ring: &VertexRing<P>, tangents: GregoryTangents) -> Option<GregoryVertex<P>> {
+    pub fn new(
+        ring: &VertexRing<P>,
+        tangents: GregoryTangents,
+        darts: &DartLimits,
+    ) -> Option<GregoryVertex<P>> {
         match Rule::of(ring) {
-            Rule::Dart(_) => Self::dart(ring, tangents),
+            Rule::Dart(_) => Self::dart(ring, tangents, darts),
             Rule::Cone => Self::cone(ring),
             Rule::Crease | Rule::Corner => Self::sectored(ring, tangents),
             Rule::Interior => Some(Self::interior(ring, tangents)),
@@ -311,14 +314,18 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     ///
     /// `None` for corner and cone rings, whose points read `O(1)` ring points each already
     /// (`p = v`, chords and the sharp edges' points), and for rings not covered.
-    pub fn vertex_points(ring: &VertexRing<P>, tangents: GregoryTangents) -> Option<[P; 3]> {
+    pub fn vertex_points(
+        ring: &VertexRing<P>,
+        tangents: GregoryTangents,
+        darts: &DartLimits,
+    ) -> Option<[P; 3]> {
         match Rule::of(ring) {
             Rule::Interior => {
                 let InteriorBasis { p, qc, qs } = InteriorBasis::new(ring, tangents);
                 Some([p, qc, qs])
             }
             Rule::Dart(d) => {
-                let lim = shared_dart_limit(ring.m.len(), d)?;
+                let lim = darts.get(ring.m.len(), d)?;
                 let [t1, t2] = &lim.tangents;
                 Some([
                     lim.apply(&lim.position, ring),
@@ -347,6 +354,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     pub fn from_vertex_points(
         ring: &VertexRing<P>,
         tangents: GregoryTangents,
+        darts: &DartLimits,
         points: [P; 3],
     ) -> Option<GregoryVertex<P>> {
         let [a, b, c] = points;
@@ -357,7 +365,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
                 InteriorBasis { p: a, qc: b, qs: c },
             )),
             Rule::Dart(d) => {
-                let lim = shared_dart_limit(ring.m.len(), d)?;
+                let lim = darts.get(ring.m.len(), d)?;
                 Some(Self::dart_from_points(ring, tangents, &lim, [a, b, c]))
             }
             Rule::Crease => Self::sectored_with(ring, tangents, &|i, sec| match i {
@@ -434,9 +442,13 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     ///   mask space) onto `span(t_1, t_2)`: every edge point lies in the exact tangent plane
     ///   and tends to the smooth one when the dart's perturbation vanishes;
     /// - `r` and `cos(2π/n)` as for a smooth vertex (§3.4).
-    pub fn dart(ring: &VertexRing<P>, tangents: GregoryTangents) -> Option<GregoryVertex<P>> {
+    pub fn dart(
+        ring: &VertexRing<P>,
+        tangents: GregoryTangents,
+        darts: &DartLimits,
+    ) -> Option<GregoryVertex<P>> {
         let d = ring.sharp.iter().position(|&s| s)?;
-        let lim = shared_dart_limit(ring.m.len(), d)?;
+        let lim = darts.get(ring.m.len(), d)?;
         let [t1, t2] = &lim.tangents;
         let points = [
             lim.apply(&lim.position, ring),
@@ -779,6 +791,27 @@ pub struct RingLimit {
 }
 
 impl RingLimit {
+    /// The masks of a dart of the same valence whose sharp edge is `d` ring edges further on
+    /// (`d < n`): weight `1 + (i + d) % n` is this one's `1 + i`, and the same for the face
+    /// centroids (`1 + n + …`); the vertex's weight stays.
+    pub fn rotated(&self, d: usize) -> RingLimit {
+        let n = (self.position.len() - 1) / 2;
+        let rotate = |w: &[f64]| {
+            let mut out = vec![0.0; w.len()];
+            out[0] = w[0];
+            for i in 0..n {
+                let j = (i + d) % n;
+                out[1 + j] = w[1 + i];
+                out[1 + n + j] = w[1 + n + i];
+            }
+            out
+        };
+        RingLimit {
+            position: rotate(&self.position),
+            tangents: [rotate(&self.tangents[0]), rotate(&self.tangents[1])],
+        }
+    }
+
     /// `Σ w_k x_k` over the split ring.
     fn apply<P: GregoryPoint>(&self, w: &[f64], ring: &VertexRing<P>) -> P {
         let n = ring.m.len();
@@ -822,25 +855,56 @@ fn smooth_edge_mask(n: usize, j: usize, factor: f64) -> Vec<f64> {
     q
 }
 
-/// [`dart_limit`] per `(n, d)`.
-type DartLimits = HashMap<(usize, usize), Option<Rc<RingLimit>>>;
+/// `dart_limit` per `(n, d)`, solved once per valence `n` and cache: the split ring's
+/// subdivision matrix of sharp edge `d` is that of edge 0 with the ring's indices rotated by
+/// `d` (`dart_matrix`), so its masks are edge 0's rotated (`RingLimit::rotated`; the same
+/// eigenvectors, the sums of the power iteration in another order: equal to rounding,
+/// `tests::rotated_dart_masks_are_the_solves`). Each solve is a power iteration on a
+/// `(2n + 1)²` matrix, read by both stages of the two-stage rows and the end-cap keys. One
+/// cache lives as long as one build (an end-cap table, a vertex loop) and is shared by its
+/// threads; a cache per call ([`DartLimits::default`]) solves every dart again.
+#[derive(Debug, Default)]
+pub struct DartLimits(Mutex<RingLimits>);
 
-thread_local! {
-    /// [`dart_limit`] per `(n, d)` on this thread.
-    static DART_LIMITS: RefCell<DartLimits> = RefCell::new(HashMap::new());
-}
+/// Masks per `(n, d)`, `None` where `dart_limit` has none.
+type RingLimits = HashMap<(usize, usize), Option<Arc<RingLimit>>>;
 
-/// [`dart_limit`] solved once per `(n, d)` and thread: the masks depend on those two only, and
-/// the darts of a mesh repeat a few shapes (each solve is a power iteration on a
-/// `(2n + 1)²` matrix, and both stages of the two-stage rows read it).
-fn shared_dart_limit(n: usize, d: usize) -> Option<Rc<RingLimit>> {
-    DART_LIMITS.with(|limits| {
-        limits
-            .borrow_mut()
-            .entry((n, d))
-            .or_insert_with(|| dart_limit(n, d).map(Rc::new))
-            .clone()
-    })
+impl DartLimits {
+    /// An empty cache.
+    pub fn new() -> DartLimits {
+        DartLimits::default()
+    }
+
+    /// The masks of `dart_limit(n, d)`: `dart_limit(n, 0)` solved on the first request for
+    /// valence `n`, rotated by `d` (outside the lock: two threads may both solve one valence,
+    /// to the same bits).
+    pub fn get(&self, n: usize, d: usize) -> Option<Arc<RingLimit>> {
+        if let Some(lim) = self.lock().get(&(n, d)) {
+            return lim.clone();
+        }
+        let lim = match d {
+            0 => dart_limit(n, 0).map(Arc::new),
+            _ if d >= n => None,
+            _ => self.get(n, 0).map(|base| Arc::new(base.rotated(d))),
+        };
+        self.lock().entry((n, d)).or_insert(lim).clone()
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, RingLimits> {
+        self.0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+
+    /// Number of `(n, d)` pairs solved.
+    pub fn len(&self) -> usize {
+        self.lock().len()
+    }
+
+    /// Whether no pair was solved.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
 }
 
 /// Valences up to which [`dart_limit`] runs the power iterations of `subdiv::limit::masks`.
@@ -1156,16 +1220,17 @@ mod tests {
             (with(5, &[], true), None),
         ];
         rings.extend((1..=6).map(|k| (boundary_ring(k), Some(VertexKind::Crease))));
+        let darts = DartLimits::new();
         for tangents in [GregoryTangents::Paper, GregoryTangents::Optimal] {
             for (r, kind) in &rings {
-                let want = GregoryVertex::new(r, tangents).expect("covered");
-                let points = GregoryVertex::vertex_points(r, tangents);
+                let want = GregoryVertex::new(r, tangents, &darts).expect("covered");
+                let points = GregoryVertex::vertex_points(r, tangents, &darts);
                 assert_eq!(
                     points.is_some(),
                     want.kind != VertexKind::Corner && want.kind != VertexKind::Cone
                 );
                 let points = points.unwrap_or([DVec3::ZERO; 3]);
-                let got = GregoryVertex::from_vertex_points(r, tangents, points).unwrap();
+                let got = GregoryVertex::from_vertex_points(r, tangents, &darts, points).unwrap();
                 if let Some(kind) = kind {
                     assert_eq!(want.kind, *kind);
                 }
@@ -1194,7 +1259,7 @@ mod tests {
         for (n, d) in [(3, 0), (5, 2), (8, 7)] {
             let mut r = ring(n);
             r.sharp[d] = true;
-            let g = GregoryVertex::new(&r, GregoryTangents::Paper).unwrap();
+            let g = GregoryVertex::new(&r, GregoryTangents::Paper, &DartLimits::new()).unwrap();
             assert_eq!(g.kind, VertexKind::Dart);
             let lim = dart_limit(n, d).unwrap();
             let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
@@ -1217,6 +1282,36 @@ mod tests {
                 }
                 let err = g.e[j].distance(e) / size;
                 assert!(err < 1e-13, "valence {n} dart {d} edge {j}: {err:e}");
+            }
+        }
+    }
+
+    /// The cache's rotated masks against the solve of each sharp edge, at every edge of
+    /// valences 2 to 12, 40 (the last power iteration), 41 and 64 (secular): positions and
+    /// tangents equal to 1e-12 (the same power iteration, its sums in another order). Fails on
+    /// a rotation the wrong way (`(i + n - d) % n`), centroids left unrotated, or the vertex's
+    /// weight moved.
+    #[test]
+    fn rotated_dart_masks_are_the_solves() {
+        let darts = DartLimits::new();
+        for n in (2..=12).chain([40, 41, 64]) {
+            for d in 0..n {
+                let want = dart_limit(n, d).unwrap();
+                let got = darts.get(n, d).unwrap();
+                let pairs = [
+                    (&got.position, &want.position),
+                    (&got.tangents[0], &want.tangents[0]),
+                    (&got.tangents[1], &want.tangents[1]),
+                ];
+                for (k, (a, b)) in pairs.into_iter().enumerate() {
+                    let scale = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                    let err = a
+                        .iter()
+                        .zip(b)
+                        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+                        / scale;
+                    assert!(err < 1e-12, "valence {n} edge {d} mask {k}: {err:e}");
+                }
             }
         }
     }
@@ -1412,7 +1507,8 @@ mod tests {
             face_sizes: vec![4],
             far_sector: Vec::new(),
         };
-        let g = GregoryVertex::new(&ring, GregoryTangents::Paper).expect("covered");
+        let g =
+            GregoryVertex::new(&ring, GregoryTangents::Paper, &DartLimits::new()).expect("covered");
         let mut x = ring.clone();
         let mut limit = x.v;
         for _ in 0..60 {
@@ -1466,7 +1562,8 @@ mod tests {
     fn cone_points_follow_the_refined_chords() {
         let mut r = ring(5);
         r.corner = true;
-        let g = GregoryVertex::new(&r, GregoryTangents::Paper).expect("covered");
+        let g =
+            GregoryVertex::new(&r, GregoryTangents::Paper, &DartLimits::new()).expect("covered");
         assert_eq!(g.kind, VertexKind::Cone);
         assert_eq!(g.p, r.v);
         for (e, m) in g.e.iter().zip(&r.m) {
@@ -1488,7 +1585,7 @@ mod tests {
             };
         }
         assert!((ratio - (3.0 + 5f64.sqrt()) / 8.0).abs() < 1e-9, "{ratio}");
-        let g = GregoryVertex::new(&x, GregoryTangents::Paper).unwrap();
+        let g = GregoryVertex::new(&x, GregoryTangents::Paper, &DartLimits::new()).unwrap();
         let axis = mean(&x);
         for e in &g.e {
             assert!((*e - g.p).angle_between(axis) < 1e-6);
@@ -1507,7 +1604,8 @@ mod tests {
             corner: true,
             ..base
         };
-        let g = GregoryVertex::new(&r, GregoryTangents::Paper).expect("covered");
+        let g =
+            GregoryVertex::new(&r, GregoryTangents::Paper, &DartLimits::new()).expect("covered");
         assert_eq!((g.kind, g.p), (VertexKind::Corner, r.v));
         for (e, m) in g.e.iter().zip(&r.m) {
             assert!((*e - (r.v + 2.0 * *m) / 3.0).length() < 1e-15);
