@@ -23,8 +23,17 @@ void pmvs_init(uint rec, int m) {
     }
 }
 
+/// Corner k as an index into v_data, clamped to the patch's vertices. lavapipe's TCS gathers an
+/// input for every SIMD lane, inactive ones too, and an inactive lane of a divergent branch may
+/// carry any k: one crash in 21 runs of `tests/scheme_pm.rs` (session 12) was such a read at
+/// k = -1, 768 bytes (one `draw_tcs_inputs` vertex) before a heap block. Active lanes always have
+/// 0 <= k < gl_PatchVerticesIn, so the clamp changes nothing on any device.
+int pmvs_corner(int k) {
+    return clamp(k, 0, gl_PatchVerticesIn - 1);
+}
+
 float pmvs_get(int k, int f) {
-    return v_data[k][f / 4][f % 4];
+    return v_data[pmvs_corner(k)][f / 4][f % 4];
 }
 
 vec3 pmvs_get3(int k, int f) {
@@ -37,17 +46,17 @@ int pmvs_field(int k, int shift) {
 }
 
 int pmvs_valence(int k) {
-    return int(v_data[k][0].w);
+    return int(v_data[pmvs_corner(k)][0].w);
 }
 
 /// Corner k's vertex point v.
 vec3 pmvs_v(int k) {
-    return pmvs_offset[k] + v_data[k][0].xyz;
+    return pmvs_offset[pmvs_corner(k)] + v_data[pmvs_corner(k)][0].xyz;
 }
 
 /// Corner k's face point of facet j of its ring.
 vec3 pmvs_f(int k, int j) {
-    return pmvs_offset[k] + pmvs_get3(k, 10 + 3 * j);
+    return pmvs_offset[pmvs_corner(k)] + pmvs_get3(k, 10 + 3 * j);
 }
 
 /// Corner k's tangent point along spoke j, eq. (16): v + cos(2 pi j / n) t_1 + sin(2 pi j / n) t_2.
