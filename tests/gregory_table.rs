@@ -264,6 +264,7 @@ fn flat_tables_reproduce_the_patches() {
             GregoryTangents::Paper,
             GregoryTangents::Optimal,
             GregoryTangents::Scaled(0.7),
+            GregoryTangents::Bands,
         ] {
             let table =
                 GregoryVertexTable::with_tangents(&topo, 0..topo.face_count() as u32, tangents);

@@ -208,7 +208,7 @@ pub struct AdaptiveArgs {
     /// with triangles, cross-boundary tangents scaled per sector size at boundary and crease
     /// vertices; `patch::gregory::tangents`) or `paper` (the paper's 2/3 λ q, Loop et al. 2009
     /// §3.3).
-    #[arg(long, default_value_t = GregoryTangents::default(), value_name = "paper|optimal",
+    #[arg(long, default_value_t = GregoryTangents::default(), value_name = "paper|optimal|bands",
           value_parser = |s: &str| s.parse::<GregoryTangents>())]
     pub gregory_tangents: GregoryTangents,
     /// `--scheme adaptive`: how end caps treat semi-sharpness left at the isolation level:

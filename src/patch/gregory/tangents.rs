@@ -68,6 +68,11 @@ pub enum GregoryTangents {
     /// tangents of crease sectors of three or more faces and of two-face sectors on a band
     /// (`tangents_boundary::sector_band`) by the same factor (for experiments and the fits).
     Scaled(f64),
+    /// [`GregoryTangents::Optimal`], with the 2-ring fit at crease sectors on a band
+    /// (`tangents_boundary::sector_band`: `BAND_CENTRE_SCALE`, `BAND_TWO_SCALE`): closer to the
+    /// exact limit on meshes with bands (`gregory_test3`, `xord_boundary`), slightly farther on
+    /// some others (README, "Bands"), so not the default.
+    Bands,
 }
 
 /// The largest valence with a fitted entry in [`OPTIMAL_SCALE`].
@@ -94,7 +99,7 @@ impl GregoryTangents {
     /// rounded to `f32` (the two-stage GPU variant reads it from its `f32` table, so CPU and
     /// GPU scale by the same number).
     pub fn scale(self, n: usize) -> f64 {
-        let s = match self {
+        let s = match self.without_bands() {
             GregoryTangents::Paper => 1.0,
             _ if n == 4 => 1.0,
             GregoryTangents::Scaled(s) => s,
@@ -102,7 +107,7 @@ impl GregoryTangents {
                 let last = OPTIMAL_SCALE[MAX_FITTED_VALENCE - 3];
                 last * (MAX_FITTED_VALENCE as f64 / n as f64).powf(TAIL_EXPONENT)
             }
-            GregoryTangents::Optimal => OPTIMAL_SCALE[n.max(3) - 3],
+            GregoryTangents::Optimal | GregoryTangents::Bands => OPTIMAL_SCALE[n.max(3) - 3],
         };
         s as f32 as f64
     }
@@ -111,7 +116,7 @@ impl GregoryTangents {
     /// (`quads`), or 1 for other rings (darts use it as is; smooth vertices ask
     /// [`Self::ring_factors`], which fits rings with triangles separately).
     pub fn ring_scale(self, n: usize, quads: bool) -> f64 {
-        match self {
+        match self.without_bands() {
             GregoryTangents::Optimal if !quads => 1.0,
             _ => self.scale(n),
         }
@@ -125,12 +130,21 @@ impl GregoryTangents {
     pub fn ring_factors(self, face_sizes: &[usize]) -> super::tangents_tri::RingFactors {
         let n = face_sizes.len();
         let quads = face_sizes.iter().all(|&k| k == 4);
-        match self {
+        match self.without_bands() {
             GregoryTangents::Optimal if !quads => super::tangents_tri::fitted_factors(face_sizes),
             _ => super::tangents_tri::RingFactors {
                 tangent: self.ring_scale(n, quads),
                 transversal: 1.0,
             },
+        }
+    }
+
+    /// The construction away from crease sectors on a band: [`GregoryTangents::Bands`] is
+    /// [`GregoryTangents::Optimal`] there.
+    pub(crate) fn without_bands(self) -> Self {
+        match self {
+            GregoryTangents::Bands => GregoryTangents::Optimal,
+            t => t,
         }
     }
 
@@ -140,6 +154,7 @@ impl GregoryTangents {
             GregoryTangents::Paper => "paper",
             GregoryTangents::Optimal => "optimal",
             GregoryTangents::Scaled(_) => "scaled",
+            GregoryTangents::Bands => "bands",
         }
     }
 }
@@ -170,8 +185,9 @@ impl std::str::FromStr for GregoryTangents {
         match s {
             "paper" => Ok(GregoryTangents::Paper),
             "optimal" => Ok(GregoryTangents::Optimal),
+            "bands" => Ok(GregoryTangents::Bands),
             _ => Err(format!(
-                "Gregory tangents '{s}': expected 'paper' or 'optimal'"
+                "Gregory tangents '{s}': expected 'paper', 'optimal' or 'bands'"
             )),
         }
     }

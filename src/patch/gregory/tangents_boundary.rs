@@ -35,7 +35,7 @@
 //! [`CREASE_SCALE`] by `cargo run --example gregory_tangent_table`. Beyond the table the last
 //! entry is used. Like the smooth factors, `Optimal` applies them on rings of quads only.
 //!
-//! # Bands (the 2-ring key; fitted, not taken by `Optimal`)
+//! # Bands (the 2-ring key; fitted, taken by `Bands`, not by `Optimal`)
 //!
 //! Where a sector's inner edges end on crease vertices the half-ring above is far from the
 //! mesh: on `xord_boundary` (fans one face deep) and `gregory_test3` the best lengths differ
@@ -54,7 +54,8 @@
 //! end caps' shared-row keys, and `Scaled(s)` applies `s` on bands, so the fits and
 //! experiments run on it. `Optimal` does not read the band tables: with them `gregory_test3`
 //! and `xord_boundary` come closer to OpenSubdiv but stay above it, and `xord_boundary`'s RMS
-//! normal and `inf_crease0/1`'s RMS distance grow slightly (README).
+//! normal and `inf_crease0/1`'s RMS distance grow slightly (README). `Bands`
+//! (`--gregory-tangents bands`) is `Optimal` with the band tables, for meshes with bands.
 //!
 //! # One-sided face points (`Optimal`, issue 10)
 //!
@@ -113,7 +114,7 @@ impl GregoryTangents {
     /// reflected ring, README); the paper's construction and `Scaled`, on which the fit of
     /// [`CREASE_SCALE`] runs, reflect the ring.
     pub fn one_sided_face_points(self, quads: bool) -> bool {
-        self == GregoryTangents::Optimal && quads
+        self.without_bands() == GregoryTangents::Optimal && quads
     }
 
     /// The factor `s(k)` on the cross-boundary tangent of a crease sector of `k` faces with
@@ -122,14 +123,23 @@ impl GregoryTangents {
     /// face and for two-face sectors off a band (the boundary bicubic's, exact); `Scaled(s)`
     /// gives `s` to every other sector, two-face sectors on a band included (the fits);
     /// `Optimal` gives [`CREASE_SCALE`] to sectors of three or more faces of quad rings, 1
-    /// elsewhere, whatever the band (the band tables are not taken: "Bands" in the module docs).
+    /// elsewhere, whatever the band; `Bands` takes [`BAND_TWO_SCALE`] and [`BAND_CENTRE_SCALE`]
+    /// on a band of quad rings and `Optimal`'s factors elsewhere ("Bands" in the module docs).
     pub fn crease_scale(self, k: usize, band: usize, quads: bool) -> f64 {
         let s = match self {
             GregoryTangents::Paper => 1.0,
             _ if k <= 1 || (k == 2 && band == 0) => 1.0,
             GregoryTangents::Scaled(s) => s,
-            GregoryTangents::Optimal if !quads || k == 2 => 1.0,
-            GregoryTangents::Optimal => CREASE_SCALE[k.min(MAX_FITTED_CREASE_SECTOR) - 3],
+            GregoryTangents::Bands if quads && k == 2 => {
+                BAND_TWO_SCALE[band.min(MAX_FITTED_CREASE_SECTOR) - 3]
+            }
+            GregoryTangents::Bands if quads && band == 1 => {
+                BAND_CENTRE_SCALE[k.min(MAX_FITTED_CREASE_SECTOR) - 3]
+            }
+            GregoryTangents::Optimal | GregoryTangents::Bands if !quads || k == 2 => 1.0,
+            GregoryTangents::Optimal | GregoryTangents::Bands => {
+                CREASE_SCALE[k.min(MAX_FITTED_CREASE_SECTOR) - 3]
+            }
         };
         s as f32 as f64
     }
@@ -178,5 +188,30 @@ mod tests {
             GregoryTangents::Optimal.crease_scale(99, 0, true),
             CREASE_SCALE[MAX_FITTED_CREASE_SECTOR - 3] as f32 as f64
         );
+    }
+
+    #[test]
+    fn bands_take_the_band_tables_on_bands_of_quad_rings_only() {
+        let bands = GregoryTangents::Bands;
+        let f = |x: f64| x as f32 as f64;
+        assert_eq!(bands.crease_scale(2, 3, true), f(BAND_TWO_SCALE[0]));
+        assert_eq!(bands.crease_scale(2, 6, true), f(BAND_TWO_SCALE[3]));
+        assert_eq!(bands.crease_scale(3, 1, true), f(BAND_CENTRE_SCALE[0]));
+        assert_eq!(bands.crease_scale(40, 1, true), f(BAND_CENTRE_SCALE[13]));
+        // Off a band, and on rings with other faces, `Optimal`'s factors.
+        for (k, band, quads) in [(2, 0, true), (3, 0, true), (5, 0, true), (2, 3, false)] {
+            assert_eq!(
+                bands.crease_scale(k, band, quads),
+                GregoryTangents::Optimal.crease_scale(k, band, quads),
+                "k {k} band {band} quads {quads}"
+            );
+        }
+        assert_eq!(bands.crease_scale(3, 1, false), 1.0);
+        assert!(bands.one_sided_face_points(true) && !bands.one_sided_face_points(false));
+        for n in 3..80 {
+            assert_eq!(bands.scale(n), GregoryTangents::Optimal.scale(n));
+        }
+        assert_eq!("bands".parse::<GregoryTangents>(), Ok(bands));
+        assert_eq!(bands.to_string(), "bands");
     }
 }
