@@ -39,7 +39,7 @@ use std::collections::BTreeMap;
 
 use common::meshes::osd;
 use rayon::prelude::*;
-use tessera::patch::adaptive::promoted::promoted_vertex;
+use tessera::patch::adaptive::promoted::{promoted_edge, promoted_vertex};
 use tessera::patch::adaptive::{AdaptiveSurface, PatchShape, SurfacePatch};
 use tessera::subdiv::adaptive::{AdaptiveOptions, AdaptiveRefinement, EndCapSharpness, PatchType};
 use tessera::subdiv::eval::{LimitEvaluator, LimitSample};
@@ -402,6 +402,58 @@ fn fillet_normals_follow_the_limit_at_depth() {
         assert!(e.len() > 20_000, "{name}: {} samples", e.len());
         assert!(rms <= rms_bound, "{name}: RMS {rms:e}");
         assert!(max <= max_bound, "{name}: max {max:e}");
+    }
+}
+
+/// Normals on the promoted edges themselves (an end cap on both sides, corners excluded): the
+/// fillet moves the edge by the band offset `h (d_own + d_across) / 6`
+/// (`patch::adaptive::promoted::band_offset_factor`), whose derivative along the edge turns the
+/// tangent of the shared normal. 9x9 grid of each end cap's own (s, t) against `LimitEvaluator`
+/// at equal (u, v), the `promoted-edge` class of `examples/endcap_error_classes.rs`; measured
+/// RMS rad, without the offset (main f567a5c) → with it: cube_creases0 L1 (56 points) 0.100 →
+/// 5.42e-2, bishop L5 1.503e-2 → 1.244e-2, car L5 2.792e-3 → 2.044e-3. Bounds between the two: the
+/// pre-change code, or a factor of 2 either way on the offset (bishop L5 1.977e-2 at 2x, car L5
+/// 2.312e-3 at 0.5x), fails them.
+#[test]
+fn band_offset_turns_promoted_edge_normals() {
+    for (name, iso, rms_bound, points) in [
+        ("catmark_cube_creases0", 1, 7.0e-2, 50),
+        ("catmark_bishop", 5, 1.30e-2, 100_000),
+        ("catmark_car", 5, 2.2e-3, 140_000),
+    ] {
+        let m = osd(name);
+        let (r, s) = surface(&m, iso);
+        let mut caps = BTreeMap::new();
+        for p in s.patches.iter().filter(|p| is_end_cap(p)) {
+            caps.entry(p.level)
+                .or_insert_with(|| r.end_cap_topology(p.level as usize));
+        }
+        let e: Vec<f64> = at_equal_uv(&m, &s, is_end_cap, 8, |i, (a, b), x| {
+            let p = &s.patches[i];
+            let t = r.levels[p.level as usize].topology();
+            let edge = match (a, b) {
+                (0.0 | 1.0, 0.0 | 1.0) => None,
+                (_, 0.0) => Some(0),
+                (1.0, _) => Some(1),
+                (_, 1.0) => Some(2),
+                (0.0, _) => Some(3),
+                _ => None,
+            };
+            let on = t.face_size(p.face) == 4
+                && edge.is_some_and(|k| promoted_edge(t, &caps[&p.level], t.face_edges(p.face)[k]));
+            on.then(|| s.normal(i, a, b).angle_between(x.normal))
+        })
+        .into_iter()
+        .flatten()
+        .filter(|a| a.is_finite())
+        .collect();
+        let rms = (e.iter().map(|a| a * a).sum::<f64>() / e.len() as f64).sqrt();
+        eprintln!(
+            "{name} L{iso}: {} promoted-edge points, normal RMS {rms:.4e}",
+            e.len()
+        );
+        assert!(e.len() >= points, "{name}: {} samples", e.len());
+        assert!(rms <= rms_bound, "{name}: RMS {rms:e}");
     }
 }
 

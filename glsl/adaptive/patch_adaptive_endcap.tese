@@ -26,7 +26,11 @@ bool end_cap_edge(GregoryPatchInfo info, int k, float x, int from_corner, inout 
     // edge that is no promoted crease: flag bit 28 + k off) in canonical order, with the
     // corners' normals (as drawn there): gregory_edge bends the edge's tangent with them.
     uint code = (apatches[info.pad0].fillet >> uint(8 * k)) & 0xffu;
+    // A promoted crease (flag bit 28 + k): its sharpness (16 s) for the band offset
+    // (canonical_edge's edge_band_tangent), no fillet ends.
+    edge_band_sharpness = 0.0;
     if ((info.flags & (1u << uint(28 + k))) != 0u) {
+        edge_band_sharpness = float(code) / 16.0;
         code = 0u;
     }
     bool a_is_lo = info.corners[k] < info.corners[(k + 1) & 3];

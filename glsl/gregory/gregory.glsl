@@ -170,6 +170,18 @@ vec3 cross_quad(vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 eo0, vec3 f0, vec3 f1, 
     return d;
 }
 
+/// Derivative along the edge (by t) of cross_quad (same arguments): the quadratic of the
+/// differences of its cubic's coefficients, exact on the edge where the face points are frozen.
+vec3 cross_quad_slope(vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 eo0, vec3 f0, vec3 f1, vec3 eo1,
+                      float t, float s) {
+    precise vec3 r0 = eo0 - p0;
+    precise vec3 r1 = f0 - e0;
+    precise vec3 r2 = f1 - e1;
+    precise vec3 r3 = eo1 - p1;
+    precise vec3 d = 9.0 * (((s * s) * (r1 - r0) + (2.0 * t * s) * (r2 - r1)) + (t * t) * (r3 - r2));
+    return d;
+}
+
 /// Cross-edge derivative of a triangular Gregory patch along an edge (same arguments as
 /// cross_quad): d/dw - (d/du + d/dv) / 2 at w = 0, with u = s, v = t the weights of the edge's
 /// ends and w that of the opposite corner (§3.1 with the F points frozen); symmetric in the ends.
@@ -205,6 +217,13 @@ bool edge_fillet_has_beyond[2] = bool[2](false, false);
 vec3 edge_fillet_beyond[2] = vec3[2](vec3(0.0), vec3(0.0));
 bool edge_fillet_rotate[2] = bool[2](false, false);
 vec3 edge_fillet_own[2] = vec3[2](vec3(0.0), vec3(0.0));
+/// Set by a stage before an edge that is a promoted crease between two quad end caps: its
+/// residual sharpness (0: none). canonical_edge then turns the edge's tangent by the band offset
+/// `h (d_own + d_nbr) / 6` of its fillet (`patch::adaptive::promoted::band_offset_factor`):
+/// `edge_band_tangent`, a third of that offset's derivative along the edge, from both sides'
+/// cross_quad_slope in canonical order (both sides compute the same bits).
+float edge_band_sharpness = 0.0;
+vec3 edge_band_tangent = vec3(0.0);
 
 /// The fillet's change of a cross-crease derivative at distance w from the crease, `d_sum` the
 /// sum of both sides' derivatives there (`patch::adaptive::promoted::fillet_cross_derivative`).
@@ -257,6 +276,9 @@ void gregory_edge(vec3 origin, vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 d_left, 
     precise vec4 b = vec4(s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t);
     precise vec3 p = (((b.x * p0 + b.y * e0) + b.z * e1) + b.w * p1) + origin;
     precise vec3 tangent = ((s * s) * (e0 - p0) + (2.0 * t * s) * (e1 - e0)) + (t * t) * (p1 - e1);
+    if (edge_band_sharpness > 0.0) {
+        tangent = tangent + edge_band_tangent;
+    }
     // (tangent is a third of d/dt; the derivative from end 0 is 3 (e0 - p0), from end 1
     // 3 (e1 - p1) along -t.)
     if (edge_fillet_sharpness[0] > 0.0 && !edge_fillet_rotate[0]) {
@@ -308,6 +330,21 @@ void canonical_edge(bool own_quad, bool nbr_quad, bool sharp, bool own_left, flo
     precise vec3 nbr_h1 = nbr_eo1 + shift;
     if (!sharp) {
         d_nbr = cross_any(nbr_quad, p0, e0, g1, q1, nbr_eo0, nbr_f0, nbr_g1, nbr_h1, t, s);
+    }
+    // A promoted crease between two quad end caps: the band offset's derivative along the edge
+    // (a third of it, as gregory_edge's tangent), the sum of the two slopes commutative.
+    if (edge_band_sharpness > 0.0 && !sharp && own_quad && nbr_quad) {
+        precise vec3 slope_own = cross_quad_slope(p0, e0, g1, q1, own_eo0, own_f0, own_g1,
+                                                  own_h1, t, s);
+        precise vec3 slope_nbr = cross_quad_slope(p0, e0, g1, q1, nbr_eo0, nbr_f0, nbr_g1,
+                                                  nbr_h1, t, s);
+        precise float lo = floor(edge_band_sharpness);
+        precise float frac = edge_band_sharpness - lo;
+        precise float h = (1.0 - frac) * exp2(-lo) + frac * exp2(-lo - 1.0);
+        precise vec3 band = (slope_own + slope_nbr) * (h * (1.0 / 18.0));
+        edge_band_tangent = band;
+    } else {
+        edge_band_tangent = vec3(0.0);
     }
     // The edge's own normal at an end where the fillet turns it (edge_fillet_rotate): the
     // same cross(tangent, d_left - d_right) there, from the data both sides share.

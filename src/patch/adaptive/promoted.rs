@@ -122,6 +122,18 @@ pub fn fillet_cross_derivative(sharpness: f64, w: f64, d_sum: DVec3) -> DVec3 {
     d_sum * ((1.0 - f) * step(n) + f * step(n + 1.0))
 }
 
+/// The band offset's factor on a promoted edge of residual sharpness `sharpness`: the fillet
+/// of [`fillet_cross_derivative`] moves the edge point by `h d_sum / 6` (`B0(0) = 1/6` of the
+/// segment of width `h = 2^-n`; a fractional `n + f` blends `h` and `h / 2` by `f`), so the
+/// limit's tangent along the edge is the crease's plus this factor times the derivative of
+/// `d_sum` along the edge, while its cross-edge direction stays `d_own - d_across` (the fillet's
+/// cross derivative there is `(d_own - d_across) / 2`).
+pub fn band_offset_factor(sharpness: f64) -> f64 {
+    let n = sharpness.floor();
+    let f = sharpness - n;
+    ((1.0 - f) * (-n).exp2() + f * (-n - 1.0).exp2()) / 6.0
+}
+
 /// The residual sharpness `s` of a promoted crease as the GPU reads it (`PatchRecord::fillet`):
 /// `16 s` rounded, in 16..=255 (`s` from 1 to 15.9; the fillet of a sharper edge is narrower
 /// than 2^-15 of the end cap).

@@ -8,10 +8,11 @@ use glam::{DVec2, DVec3};
 use thiserror::Error;
 
 use super::promoted::{
-    edge_fillet_rotation_sharpness, exact_corner_tangents, fillet_bend, fillet_code,
-    fillet_cross_derivative, fillet_end_code, fillet_end_sharpness, fillet_rotation,
+    band_offset_factor, edge_fillet_rotation_sharpness, exact_corner_tangents, fillet_bend,
+    fillet_code, fillet_cross_derivative, fillet_end_code, fillet_end_sharpness, fillet_rotation,
     fillet_sharpness, promoted_edge, promoted_vertex, vertex_fillet_sharpness,
 };
+use crate::patch::basis::{bernstein_deriv, eval_tensor};
 use crate::patch::gregory::{
     gregory_patch_at_for, Coverage, DartLimits, GregoryPatch, GregoryTangents, NotGregory,
 };
@@ -479,8 +480,51 @@ impl AdaptiveSurface {
             return cap.corners[k];
         }
         let (k, x) = on_quad_edge(s, t)?;
-        let (tangent, d_own, d_across) = self.edge_derivatives(i, k, x, cap.edges[k]?);
+        let across = cap.edges[k]?;
+        let (mut tangent, d_own, d_across) = self.edge_derivatives(i, k, x, across);
+        // The band offset `h (d_own + d_across) / 6` of the fillet along the edge
+        // (`super::promoted::band_offset_factor`): its derivative along the edge turns the
+        // tangent.
+        if let Some(slope) = self.edge_cross_slopes(i, k, x, across) {
+            tangent += band_offset_factor(cap.sharpness[k]) * slope;
+        }
         Some(tangent.cross(d_own - d_across).normalize_or_zero())
+    }
+
+    /// At `x` along edge `k` of quad end cap `i` (from corner `k`), with quad end cap `j`
+    /// across it on its edge `k2`: the derivative along the edge (by `x`) of the sum of both
+    /// cross-edge derivatives, from the Bézier nets with the face points frozen on the edge
+    /// (§4.4, as `cross_quad_slope` in `glsl/gregory/gregory.glsl`); `None` unless both are
+    /// quads.
+    fn edge_cross_slopes(
+        &self,
+        i: usize,
+        k: usize,
+        x: f64,
+        (j, k2): (usize, usize),
+    ) -> Option<DVec3> {
+        // d/dx of the derivative into the patch: +-d2/dsdt by the edge (`edge_frame`).
+        let sign = |k: usize| if k % 2 == 0 { 1.0 } else { -1.0 };
+        let (s, t) = quad_edge_point(k, x);
+        let (s2, t2) = quad_edge_point(k2, 1.0 - x);
+        // The patch across runs the edge the other way (`x2 = 1 - x`).
+        Some(
+            sign(k) * self.mixed_derivative(i, s, t)?
+                - sign(k2) * self.mixed_derivative(j, s2, t2)?,
+        )
+    }
+
+    /// `d2/dsdt` of quad end cap `i` at own `(s, t)` (face points as `bezier_at` blends them).
+    fn mixed_derivative(&self, i: usize, s: f64, t: f64) -> Option<DVec3> {
+        let PatchShape::Gregory(g) = &self.patches[i].shape else {
+            return None;
+        };
+        let GregoryPatch::Quad(q) = g.as_ref() else {
+            return None;
+        };
+        let b = q.bezier_at(s, t);
+        let (ds, dt) = (bernstein_deriv(s), bernstein_deriv(t));
+        Some(eval_tensor(&b, &ds, &ds, &dt, &dt).0)
     }
 
     /// At `x` along edge `k` of patch `i` (from corner `k`), with patch `j` across it on its
