@@ -16,8 +16,8 @@ use rayon::prelude::*;
 use super::coarse::{patch_index, CoarseEdges};
 use super::error::DrawTablesError;
 use super::promoted::{
-    edge_fillet_rotation_sharpness, exact_frame, fillet_code, fillet_end_code, promoted_edge,
-    promoted_vertex, vertex_fillet_sharpness,
+    exact_frame, fillet_code, fillet_end, fillet_end_code, promoted_edge, promoted_vertex,
+    FilletEnd,
 };
 use super::records::{
     words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
@@ -564,10 +564,11 @@ impl AdaptiveDrawTables {
                     // fillet's sharpness at either end (4 bits each), both sides alike.
                     let fv = t.face_vertices(p.face);
                     for (half, v) in [fv[k], fv[(k + 1) % 4]].into_iter().enumerate() {
-                        if let Some(sharp) = vertex_fillet_sharpness(t, caps, v) {
+                        let end = fillet_end(t, caps, v, e);
+                        if let Some(FilletEnd::Bend(sharp) | FilletEnd::Turn(sharp)) = end {
                             out.records[i].fillet |= fillet_end_code(sharp) << (8 * k + 4 * half);
-                        } else if let Some(sharp) = edge_fillet_rotation_sharpness(t, caps, v, e) {
-                            out.records[i].fillet |= fillet_end_code(sharp) << (8 * k + 4 * half);
+                        }
+                        if let Some(FilletEnd::Turn(_)) = end {
                             // The normal turns there (`fillet_rotation`): bit 8 + its corner.
                             out.records[i].transition |= 1 << (8 + (k + half) % 4);
                         }

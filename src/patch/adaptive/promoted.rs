@@ -154,21 +154,16 @@ pub fn fillet_sharpness(code: u32) -> f64 {
 /// `None` elsewhere (at an extraordinary crease vertex the other edges are no cross-section of
 /// the fillet: measured worse with the bend, bishop L5 max 2.08 rad against 1.82 without).
 pub fn vertex_fillet_sharpness(level: &Topology, caps: &Topology, v: u32) -> Option<f32> {
-    let edges = level.vertex_edges(v);
-    let (s, sharp) = crease_edges_at(level, caps, v);
+    let (promoted, sharp) = crease_edges_at(level, caps, v);
     // The two promoted edges opposite (no face between them): every other edge lies between two
     // faces beside the crease, whose continuations beyond it are the same edge.
-    let promoted: Vec<u32> = edges
-        .iter()
-        .copied()
-        .filter(|&e| promoted_edge(level, caps, e))
-        .collect();
     let opposite = promoted.len() == 2
         && !level
             .edge_faces(promoted[0])
             .iter()
             .any(|f| level.edge_faces(promoted[1]).contains(f));
-    (edges.len() == 4 && s.len() == 2 && sharp == 2 && opposite).then(|| (s[0] + s[1]) / 2.0)
+    (level.vertex_edges(v).len() == 4 && sharp == 2 && opposite)
+        .then(|| mean_sharpness(level, &promoted))
 }
 
 /// [`vertex_fillet_sharpness`] as the GPU reads it at an end of an edge that is no promoted
@@ -194,66 +189,75 @@ pub fn fillet_bend(sharpness: f64, w: f64, along: DVec3, normal: DVec3) -> DVec3
     fillet_cross_derivative(sharpness, w, 2.0 * along.dot(normal) * normal)
 }
 
-/// The residual sharpness of the fillet at vertex `v` of `level` (`caps` as the end caps see it)
-/// where a promoted crease ([`promoted_edge`]) runs through it but not regularly
+/// How the fillet of a promoted crease reaches the end `v` of an edge `e` between two end caps
+/// that is no promoted crease ([`fillet_end`]), with the fillet's residual sharpness there.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FilletEnd {
+    /// The crease through `v` is regular ([`vertex_fillet_sharpness`]): the edge's tangent
+    /// bends ([`fillet_cross_derivative`]).
+    Bend(f32),
+    /// The crease through `v` is not regular: the edge's normal turns ([`fillet_rotation`]).
+    Turn(f32),
+}
+
+/// [`FilletEnd`] at the end `v` of edge `e`, `None` where no fillet reaches it.
+///
+/// A turn: where a promoted crease ([`promoted_edge`]) runs through `v` but not regularly
 /// ([`vertex_fillet_sharpness`] is `None`: valence other than 4, or the two edges not opposite):
 /// exactly two sharp edges there, both promoted; the mean of theirs, as the crease vertex rule
 /// averages its edges' sharpness (DeRose et al. 1998 §3). Its other edges are no cross-section
 /// of the fillet (no edge continues them beyond the crease), so their normals turn by
-/// [`fillet_rotation`] instead of a bent tangent. `None` elsewhere: where three or more promoted
-/// creases meet the turn measured worse (`catmark_torus_creases1` L3, a valence-4 vertex with
-/// three: 1.67 rad against 0.40 without; the bishop's of valence 16: 0.92 against 0.65), and at
-/// the end of one (a dart for the end caps) the limit is smooth already.
-pub fn vertex_fillet_rotation_sharpness(level: &Topology, caps: &Topology, v: u32) -> Option<f32> {
-    if vertex_fillet_sharpness(level, caps, v).is_some()
-        || caps.vertex_sharpness(v) > level.vertex_sharpness(v)
-    {
+/// [`fillet_rotation`] instead of a bent tangent, where `e` is at most
+/// [`FILLET_ROTATION_REACH`] steps around `v` (faces) from a promoted crease: edges farther
+/// round a wide sector stay outside the fillet (bishop L4, points 1/16-3/16 from the vertex: 3 or
+/// more steps away the one-sided normal is within 0.01 rad RMS of the limit's, the turned one
+/// 0.02-0.06 off). No turn where three or more promoted creases meet (measured worse:
+/// `catmark_torus_creases1` L3, a valence-4 vertex with three: 1.67 rad against 0.40 without;
+/// the bishop's of valence 16: 0.92 against 0.65), nor at the end of one (a dart for the end
+/// caps: the limit is smooth already).
+pub fn fillet_end(level: &Topology, caps: &Topology, v: u32, e: u32) -> Option<FilletEnd> {
+    if let Some(s) = vertex_fillet_sharpness(level, caps, v) {
+        return Some(FilletEnd::Bend(s));
+    }
+    if caps.vertex_sharpness(v) > level.vertex_sharpness(v) {
         return None;
     }
-    let (s, sharp) = crease_edges_at(level, caps, v);
-    (s.len() == 2 && sharp == 2).then(|| (s[0] + s[1]) / 2.0)
+    let (promoted, sharp) = crease_edges_at(level, caps, v);
+    if promoted.len() != 2 || sharp != 2 {
+        return None;
+    }
+    let ring = level.vertex_edges(v);
+    let n = ring.len();
+    let at = ring.iter().position(|&x| x == e)?;
+    let near = ring.iter().enumerate().any(|(j, x)| {
+        let d = (at + n - j) % n;
+        promoted.contains(x) && d.min(n - d) <= FILLET_ROTATION_REACH
+    });
+    near.then(|| FilletEnd::Turn(mean_sharpness(level, &promoted)))
 }
 
-/// At vertex `v`: the sharpness of its promoted edges ([`promoted_edge`]) in ring order, and how
-/// many of its edges are sharp for the end caps (`caps`).
-fn crease_edges_at(level: &Topology, caps: &Topology, v: u32) -> (Vec<f32>, usize) {
+/// At vertex `v`: its promoted edges ([`promoted_edge`]) in ring order, and how many of its
+/// edges are sharp for the end caps (`caps`).
+fn crease_edges_at(level: &Topology, caps: &Topology, v: u32) -> (Vec<u32>, usize) {
     let edges = level.vertex_edges(v);
-    let s = edges
+    let promoted = edges
         .iter()
-        .filter(|&&e| promoted_edge(level, caps, e))
-        .map(|&e| level.edge_sharpness(e))
+        .copied()
+        .filter(|&e| promoted_edge(level, caps, e))
         .collect();
     let sharp = edges
         .iter()
         .filter(|&&e| caps.edge_sharpness(e) > 0.0)
         .count();
-    (s, sharp)
+    (promoted, sharp)
 }
 
-/// [`vertex_fillet_rotation_sharpness`] for edge `e` from `v`, where `e` is at most
-/// [`FILLET_ROTATION_REACH`] steps around `v` (faces) from a promoted crease: edges farther
-/// round a wide sector stay outside the fillet (bishop L4, points 1/16-3/16 from the vertex: 3 or
-/// more steps away the one-sided normal is within 0.01 rad RMS of the limit's, the turned one
-/// 0.02-0.06 off).
-pub fn edge_fillet_rotation_sharpness(
-    level: &Topology,
-    caps: &Topology,
-    v: u32,
-    e: u32,
-) -> Option<f32> {
-    let sharp = vertex_fillet_rotation_sharpness(level, caps, v)?;
-    let ring = level.vertex_edges(v);
-    let n = ring.len();
-    let at = ring.iter().position(|&x| x == e)?;
-    let near = ring.iter().enumerate().any(|(j, &x)| {
-        let d = (at + n - j) % n;
-        promoted_edge(level, caps, x) && d.min(n - d) <= FILLET_ROTATION_REACH
-    });
-    near.then_some(sharp)
+/// The mean sharpness of two promoted edges `[a, b]`.
+fn mean_sharpness(level: &Topology, edges: &[u32]) -> f32 {
+    (level.edge_sharpness(edges[0]) + level.edge_sharpness(edges[1])) / 2.0
 }
 
-/// How many steps around a crease vertex (faces) the fillet's turn reaches
-/// ([`edge_fillet_rotation_sharpness`]).
+/// How many steps around a crease vertex (faces) the fillet's turn reaches ([`fillet_end`]).
 pub const FILLET_ROTATION_REACH: usize = 2;
 
 /// The exponent `p` of the turn's weight `(1 - w/h)^p` ([`fillet_rotation`]).
@@ -271,7 +275,7 @@ pub fn fillet_turn_weight(sharpness: f64, w: f64) -> f64 {
 }
 
 /// The normal `n` at distance `w` (own parameter) along an edge from a crease vertex whose
-/// crease is not regular ([`edge_fillet_rotation_sharpness`] `sharpness`): turned about
+/// crease is not regular ([`FilletEnd::Turn`] `sharpness`): turned about
 /// `own x limit` by [`fillet_turn_weight`] times the angle between `own`, the end caps'
 /// one-sided normal at the vertex (the edge's own, from its tangent and cross-edge derivative
 /// there), and `limit`, the exact limit normal there. At the vertex it is the limit normal,

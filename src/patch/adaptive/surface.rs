@@ -8,9 +8,9 @@ use glam::{DVec2, DVec3};
 use thiserror::Error;
 
 use super::promoted::{
-    band_offset_factor, edge_fillet_rotation_sharpness, exact_corner_tangents, fillet_bend,
-    fillet_code, fillet_cross_derivative, fillet_end_code, fillet_end_sharpness, fillet_rotation,
-    fillet_sharpness, promoted_edge, promoted_vertex, vertex_fillet_sharpness,
+    band_offset_factor, exact_corner_tangents, fillet_bend, fillet_code, fillet_cross_derivative,
+    fillet_end, fillet_end_code, fillet_end_sharpness, fillet_rotation, fillet_sharpness,
+    promoted_edge, promoted_vertex, FilletEnd,
 };
 use crate::patch::basis::{bernstein_deriv, eval_tensor};
 use crate::patch::gregory::{
@@ -663,15 +663,14 @@ fn promoted_caps(
                 if across.is_some() && !is_sharp_edge(caps, e) {
                     cap.others[k] = across;
                     for (half, v) in [fv[k], fv[(k + 1) % 4]].into_iter().enumerate() {
-                        let bent = vertex_fillet_sharpness(t, caps, v);
-                        let rotated = bent
-                            .is_none()
-                            .then(|| edge_fillet_rotation_sharpness(t, caps, v, e))
-                            .flatten();
-                        cap.rotated[k][half] = rotated.is_some();
-                        cap.ends[k][half] = bent
-                            .or(rotated)
-                            .map_or(0.0, |x| fillet_end_sharpness(fillet_end_code(x)));
+                        let (sharp, rotated) = match fillet_end(t, caps, v, e) {
+                            Some(FilletEnd::Bend(s)) => (Some(s), false),
+                            Some(FilletEnd::Turn(s)) => (Some(s), true),
+                            None => (None, false),
+                        };
+                        cap.rotated[k][half] = rotated;
+                        cap.ends[k][half] =
+                            sharp.map_or(0.0, |x| fillet_end_sharpness(fillet_end_code(x)));
                     }
                 }
                 continue;
