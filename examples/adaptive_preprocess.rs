@@ -3,7 +3,7 @@
 //! (`perf record`) and peak memory (`/usr/bin/time -v`) of inputs too slow for criterion.
 //!
 //! ```sh
-//! cargo run --release --example adaptive_preprocess -- MESH.obj [ISOLATION] [REPEAT]
+//! cargo run --release --example adaptive_preprocess -- MESH.obj [ISOLATION] [REPEAT] [cold]
 //! # a 1000-gon:
 //! python3 -c "import math; n=1000; print(*[f'v {math.cos(2*math.pi*k/n):.6f} {math.sin(2*math.pi*k/n):.6f} 0' for k in range(n)], 'f ' + ' '.join(map(str, range(1, n + 1))), sep='\n')" > gon1000.obj
 //! ```
@@ -26,24 +26,32 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .first()
         .ok_or("usage: adaptive_preprocess MESH.obj [ISOLATION] [REPEAT]")?;
     let isolation: u32 = args.get(1).map_or(Ok(2), |s| s.parse())?;
-    // REPEAT > 1 runs the whole `AdaptiveTables::new` that many more times (for `perf record`).
+    // REPEAT builds of the whole `AdaptiveTables::new` (for `perf record`; 0: none).
     let repeat: u32 = args.get(2).map_or(Ok(1), |s| s.parse())?;
+    // `cold`: without the refinement and draw tables of the default options first, so the
+    // first `AdaptiveTables::new` is the process's first build (instruction counts of a single
+    // cold build: `… 1 cold` minus `… 0 cold`).
+    let cold = args.get(3).is_some_and(|s| s == "cold");
     let options = ObjOptions::default();
     let mesh = ControlMesh::from_obj_file(spec, &options)?;
     let topo = Arc::new(Topology::new(&mesh)?);
-    let base = Level::from_topology((*topo).clone());
-    let t = Instant::now();
-    let refinement = AdaptiveRefinement::new(&base, isolation)?;
-    println!("AdaptiveRefinement::new {:.3} s", t.elapsed().as_secs_f64());
-    let t = Instant::now();
-    let draw = AdaptiveDrawTables::new(&refinement)?;
-    println!(
-        "AdaptiveDrawTables::new {:.3} s ({} end caps, {} row terms)",
-        t.elapsed().as_secs_f64(),
-        draw.end_caps.len(),
-        draw.rows.ids.len()
-    );
-    drop(draw);
+    if !cold {
+        let base = Level::from_topology((*topo).clone());
+        let t = Instant::now();
+        let refinement = AdaptiveRefinement::new(&base, isolation)?;
+        println!("AdaptiveRefinement::new {:.3} s", t.elapsed().as_secs_f64());
+        let t = Instant::now();
+        let draw = AdaptiveDrawTables::new(&refinement)?;
+        println!(
+            "AdaptiveDrawTables::new {:.3} s ({} end caps, {} row terms)",
+            t.elapsed().as_secs_f64(),
+            draw.end_caps.len(),
+            draw.rows.ids.len()
+        );
+    }
+    if repeat == 0 {
+        return Ok(());
+    }
     let faces: Vec<u32> = (0..topo.face_count() as u32).collect();
     let opts = PlanOptions::new(SchemeLimits::NO_DEVICE).with_isolation(isolation);
     let t = Instant::now();

@@ -823,11 +823,13 @@ fn least_squares_lead(
     x[0].normalize()
 }
 
-/// [`SharedVertexMasks`] gives every vertex and face the mask [`vertex_mask`] computes, bit for
-/// bit, while reusing masks between vertices whose rings are alike: every vertex that needs
-/// local refinement (semi-sharpness at it or on its edges, or a non-quad face) and every face
-/// of it, on levels 0-2 of shared meshes with semi-sharp creases or non-quad faces and levels 0-1
-/// of the car.
+/// [`SharedVertexMasks`] gives every vertex and face the mask [`vertex_mask`] computes, to
+/// 1e-12 of the mask's largest weight (the shared masks are computed on a ring extraction
+/// numbered by the ring's shape, so their local refinements sum in another order), and the
+/// same bits whichever vertex asks first, while reusing masks between vertices whose rings
+/// are alike: every vertex that needs local refinement (semi-sharpness at it or on its edges,
+/// or a non-quad face) and every face of it, on levels 0-2 of shared meshes with semi-sharp
+/// creases or non-quad faces and levels 0-1 of the car.
 #[test]
 fn shared_vertex_masks_equal_vertex_mask() {
     let mut checked = 0;
@@ -844,23 +846,47 @@ fn shared_vertex_masks_equal_vertex_mask() {
         for l in 0..levels {
             let t = level.topology();
             let semi = |s: f32| s > 0.0 && s < INFINITE_SHARPNESS;
+            let local: Vec<(u32, u32)> = (0..t.vertex_count() as u32)
+                .filter(|&v| {
+                    semi(t.vertex_sharpness(v))
+                        || t.vertex_edges(v).iter().any(|&e| semi(t.edge_sharpness(e)))
+                        || t.vertex_faces(v).iter().any(|&f| t.face_size(f) != 4)
+                })
+                .flat_map(|v| t.vertex_faces(v).iter().map(move |&f| (v, f)))
+                .collect();
             let mut shared = SharedVertexMasks::default();
-            for v in 0..t.vertex_count() as u32 {
-                let local = semi(t.vertex_sharpness(v))
-                    || t.vertex_edges(v).iter().any(|&e| semi(t.edge_sharpness(e)))
-                    || t.vertex_faces(v).iter().any(|&f| t.face_size(f) != 4);
-                if !local {
-                    continue;
-                }
-                for &f in t.vertex_faces(v) {
-                    let direct = vertex_mask(&level, v, f);
-                    assert_eq!(
-                        shared.vertex_mask(&level, v, f),
-                        direct,
-                        "{name} L{l} v{v} f{f}"
+            let forward: Vec<_> = local
+                .iter()
+                .map(|&(v, f)| shared.vertex_mask(&level, v, f).unwrap())
+                .collect();
+            for (&(v, f), m) in local.iter().zip(&forward) {
+                let direct = vertex_mask(&level, v, f).unwrap();
+                assert_eq!(m.indices, direct.indices, "{name} L{l} v{v} f{f}");
+                for (a, b) in [
+                    (&m.position, &direct.position),
+                    (&m.tangent_u, &direct.tangent_u),
+                    (&m.tangent_v, &direct.tangent_v),
+                ] {
+                    let scale = b.iter().fold(0.0f64, |x, w| x.max(w.abs()));
+                    let err = a
+                        .iter()
+                        .zip(b)
+                        .fold(0.0f64, |x, (p, q)| x.max((p - q).abs()));
+                    assert!(
+                        err <= 1e-12 * scale,
+                        "{name} L{l} v{v} f{f}: {err:e} of {scale:e}"
                     );
-                    checked += 1;
                 }
+                checked += 1;
+            }
+            // The shared masks do not depend on which of the alike rings came first.
+            let mut reversed = SharedVertexMasks::default();
+            for (&(v, f), m) in local.iter().zip(&forward).rev() {
+                assert_eq!(
+                    &reversed.vertex_mask(&level, v, f).unwrap(),
+                    m,
+                    "{name} L{l} v{v} f{f}"
+                );
             }
             eprintln!("{name} level {l}: {} shared", shared.hits);
             hits += shared.hits;
@@ -868,7 +894,8 @@ fn shared_vertex_masks_equal_vertex_mask() {
         }
     }
     eprintln!("{hits} shared masks of {checked}");
-    // The sharing is exercised (a key without the face of interest or a wrong renumbering
-    // fails the equality above on these hits).
-    assert!(hits >= 1000, "{hits} hits of {checked}");
+    // The sharing is exercised (a key without a part of the extraction or a wrong renumbering
+    // fails the comparison above on these hits): 3,969 of 4,238 masks are shared; rings
+    // numbered by the level's vertex ids (before the shape numbering) shared 1,891.
+    assert!(hits >= 3500, "{hits} hits of {checked}");
 }

@@ -312,6 +312,24 @@ impl Level {
         Ok((level, map))
     }
 
+    /// The faces of vertex `v` extracted in a numbering that depends only on the ring's shape
+    /// ([`RingCorners`]; for sharing limit masks between alike rings). Otherwise as
+    /// [`Self::try_extract`] (sharpness, holes, cut edges, incomplete vertices); the map from
+    /// new to old vertex ids does not increase.
+    pub(crate) fn try_extract_ring(&self, mut ring: RingCorners) -> Result<(Level, Vec<u32>)> {
+        let offsets = std::mem::take(&mut ring.offsets);
+        let local = std::mem::take(&mut ring.local);
+        let sub = topology::build(ring.map.len(), offsets, local, false)?;
+        let mut old_edge = vec![u32::MAX; sub.edge_count()];
+        for j in 0..ring.faces.len() {
+            for (c, &e) in sub.face_edges(j as u32).iter().enumerate() {
+                old_edge[e as usize] = ring.edge(&self.topo, j, c);
+            }
+        }
+        let level = self.tag_extraction(sub, &ring.faces, &ring.map, &old_edge);
+        Ok((level, ring.map))
+    }
+
     /// An extraction's connectivity `sub` of `faces` (vertex map `map`, each edge's edge here
     /// `old_edge`) with this level's options, holes, no-limit faces and sharpness, and its cut
     /// edges and incomplete vertices.
@@ -344,6 +362,69 @@ impl Level {
                 || sub.vertex_faces(v as u32).len() != t.vertex_faces(old).len();
         }
         Level::with_flags(sub, cut, incomplete)
+    }
+}
+
+/// The corners of a vertex's faces in a numbering that depends only on the ring's shape:
+/// face `j` is the vertex's face `(first + j) % n` with its corners rotated to start at the
+/// vertex, and vertices are numbered by first appearance in that corner list (the vertex is 0).
+#[derive(Debug, Clone)]
+pub(crate) struct RingCorners {
+    /// The level's faces, in ring order from the first.
+    pub faces: Vec<u32>,
+    /// Per face: the vertex's corner there (the face's corners start from it).
+    pub rotation: Vec<u16>,
+    /// Corner offsets per face (`faces.len() + 1`).
+    pub offsets: Vec<u32>,
+    /// New to old vertex ids.
+    pub map: Vec<u32>,
+    /// The corners, in new ids.
+    pub local: Vec<u32>,
+}
+
+impl RingCorners {
+    /// The ring of vertex `v` of `topo` from its face `first`; `None` if `v` has no such face.
+    pub fn new(topo: &Topology, v: u32, first: usize) -> Option<RingCorners> {
+        let ring = topo.vertex_faces(v);
+        let locals = topo.vertex_face_locals(v);
+        let n = ring.len();
+        if first >= n {
+            return None;
+        }
+        let mut out = RingCorners {
+            faces: Vec::with_capacity(n),
+            rotation: Vec::with_capacity(n),
+            offsets: Vec::with_capacity(n + 1),
+            map: Vec::with_capacity(2 * n + 1),
+            local: Vec::with_capacity(4 * n),
+        };
+        out.offsets.push(0);
+        for j in 0..n {
+            let k = (first + j) % n;
+            let fv = topo.face_vertices(ring[k]);
+            let r = usize::from(locals[k]);
+            for c in 0..fv.len() {
+                let old = fv[(r + c) % fv.len()];
+                let id = match out.map.iter().position(|&x| x == old) {
+                    Some(p) => p,
+                    None => {
+                        out.map.push(old);
+                        out.map.len() - 1
+                    }
+                };
+                out.local.push(id as u32);
+            }
+            out.faces.push(ring[k]);
+            out.rotation.push(locals[k]);
+            out.offsets.push(out.local.len() as u32);
+        }
+        Some(out)
+    }
+
+    /// Edge `c` of face `j` (joining its corners `c` and `c + 1`) in `topo`.
+    pub fn edge(&self, topo: &Topology, j: usize, c: usize) -> u32 {
+        let fe = topo.face_edges(self.faces[j]);
+        fe[(usize::from(self.rotation[j]) + c) % fe.len()]
     }
 }
 

@@ -29,6 +29,7 @@ pub mod sector;
 use glam::DVec3;
 use rayon::prelude::*;
 
+use super::level::RingCorners;
 use super::{Level, SparseMatrix, StencilTable};
 use crate::mesh::{BoundaryInterpolation, CreaseMethod, INFINITE_SHARPNESS};
 use crate::topology::{sector_slots, Topology};
@@ -145,11 +146,15 @@ fn vertex_mask_rec(level: &Level, v: u32, face: u32, depth: u32) -> Result<Verte
 }
 
 /// Limit masks ([`vertex_mask`]) of vertices that need local refinement (semi-sharp or next to
-/// a non-quad face), shared between vertices whose rings are alike: the mask over a vertex's
-/// ring extraction is a function of that extraction alone (its faces in local ids, sharpness,
-/// holes, cut edges and incomplete vertices, and the face of interest), so a second vertex with
-/// the same extraction reuses it, renumbered (bit for bit what [`vertex_mask`] gives). Other
-/// vertices are computed directly. Errors are not kept (they name the vertex).
+/// a non-quad face), shared between vertices whose rings are alike: each vertex's ring is
+/// extracted in a numbering that depends only on its shape (`Level::try_extract_ring`: the
+/// face of interest first, each face starting at the vertex, vertices numbered by first
+/// appearance), and the mask over that extraction, a function of it alone (its faces in local
+/// ids, sharpness, holes, cut edges and incomplete vertices), is computed once per distinct
+/// extraction and renumbered for every vertex that has it. The same mask as [`vertex_mask`]
+/// but for the order in which the local refinements sum their terms (equal to 1e-12 relative,
+/// `tests/limit_corners.rs`), and the same bits whichever vertex comes first. Other vertices
+/// are computed directly. Errors are not kept (they name the vertex).
 #[derive(Debug, Default)]
 pub struct SharedVertexMasks {
     masks: std::collections::HashMap<RingKey, VertexMask>,
@@ -157,32 +162,48 @@ pub struct SharedVertexMasks {
     pub hits: usize,
 }
 
-/// Everything of a ring extraction `Level` that its masks depend on, and the face of interest.
+/// Everything of a ring extraction `Level` ([`RingCorners`], `Level::try_extract_ring`) that
+/// its masks depend on, read from the level without making the extraction; the vertex and face
+/// of interest are its vertex 0 and face 0.
 #[derive(Debug, PartialEq, Eq, Hash)]
 struct RingKey {
-    /// The vertex and face of interest (local ids), vertex count, face offsets and corners,
-    /// edge and vertex sharpness bits, holes, faces without limit, cut edges, incomplete
-    /// vertices (the last four as 0/1 words, each list preceded by its length).
+    /// Vertex count, face offsets and corners; per corner the sharpness bits of the edge to
+    /// the next corner and whether the extraction cuts it (0/1); per vertex its sharpness bits
+    /// and whether it is incomplete there (0/1); per face hole and no-limit flags (0/1).
     words: Vec<u32>,
     boundary: u8,
     chaikin: bool,
 }
 
 impl RingKey {
-    fn new(sub: &Level, v_sub: u32, i: usize) -> RingKey {
-        let t = &sub.topo;
-        fn flags(b: &[bool]) -> impl Iterator<Item = u32> + '_ {
-            std::iter::once(b.len() as u32).chain(b.iter().map(|&x| u32::from(x)))
+    /// What `tag_extraction` gives the extraction of `ring` of `level`, as words.
+    fn new(level: &Level, ring: &RingCorners) -> RingKey {
+        let t = level.topology();
+        let mut words = Vec::with_capacity(4 * ring.local.len() + 3 * ring.map.len() + 8);
+        words.push(ring.map.len() as u32);
+        words.extend_from_slice(&ring.offsets);
+        words.extend_from_slice(&ring.local);
+        for j in 0..ring.faces.len() {
+            for c in 0..(ring.offsets[j + 1] - ring.offsets[j]) as usize {
+                let e = ring.edge(t, j, c);
+                // Cut: boundary only in the extraction (its other face is not in the ring), or
+                // cut already.
+                let opened = !t.is_boundary_edge(e)
+                    && !t.edge_faces(e).iter().all(|g| ring.faces.contains(g));
+                words.push(t.edge_sharpness(e).to_bits());
+                words.push(u32::from(opened || level.is_cut_edge(e)));
+            }
         }
-        let mut words = vec![v_sub, i as u32, t.num_vertices, t.face_offsets.len() as u32];
-        words.extend_from_slice(&t.face_offsets);
-        words.extend_from_slice(&t.face_verts);
-        words.extend(t.edge_sharpness.iter().map(|s| s.to_bits()));
-        words.extend(t.vertex_sharpness.iter().map(|s| s.to_bits()));
-        words.extend(flags(&t.holes));
-        words.extend(flags(&t.no_limit));
-        words.extend(flags(&sub.cut));
-        words.extend(flags(&sub.incomplete));
+        for (new, &old) in ring.map.iter().enumerate() {
+            let valence = ring.local.iter().filter(|&&x| x == new as u32).count();
+            let incomplete = !level.is_complete_vertex(old) || valence != t.vertex_faces(old).len();
+            words.push(t.vertex_sharpness(old).to_bits());
+            words.push(u32::from(incomplete));
+        }
+        for &f in &ring.faces {
+            let no_limit = t.no_limit.get(f as usize).copied().unwrap_or(false);
+            words.push(u32::from(t.holes[f as usize]) | u32::from(no_limit) << 1);
+        }
         RingKey {
             words,
             boundary: match t.options.boundary {
@@ -205,15 +226,31 @@ impl SharedVertexMasks {
         let Some(i) = topo.vertex_faces(v).iter().position(|&g| g == face) else {
             return vertex_mask(level, v, face);
         };
-        let (sub, map, v_sub) = ring_extraction(level, v)?;
-        let key = RingKey::new(&sub, v_sub, i);
+        let ring = RingCorners::new(topo, v, i)
+            .ok_or_else(|| Error::Invalid(format!("limit mask: vertex {v} has no face {i}")))?;
+        let key = RingKey::new(level, &ring);
         if let Some(m) = self.masks.get(&key) {
             self.hits += 1;
-            return Ok(mapped(m.clone(), &map));
+            return Ok(relabelled(m, &ring.map));
         }
-        let m = refined_local_mask(&sub, v_sub, i, 0)?;
-        self.masks.insert(key, m.clone());
-        Ok(mapped(m, &map))
+        let (sub, map) = level.try_extract_ring(ring)?;
+        let m = refined_local_mask(&sub, 0, 0, 0)?;
+        let out = relabelled(&m, &map);
+        self.masks.insert(key, m);
+        Ok(out)
+    }
+}
+
+/// Mask `m` over an extraction's vertices as a mask over the extracted level's, through the
+/// extraction's injective vertex map `map` (in any order), indices increasing.
+fn relabelled(m: &VertexMask, map: &[u32]) -> VertexMask {
+    let mut order: Vec<usize> = (0..m.indices.len()).collect();
+    order.sort_unstable_by_key(|&k| map[m.indices[k] as usize]);
+    VertexMask {
+        indices: order.iter().map(|&k| map[m.indices[k] as usize]).collect(),
+        position: order.iter().map(|&k| m.position[k]).collect(),
+        tangent_u: order.iter().map(|&k| m.tangent_u[k]).collect(),
+        tangent_v: order.iter().map(|&k| m.tangent_v[k]).collect(),
     }
 }
 
