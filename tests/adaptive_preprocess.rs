@@ -16,9 +16,10 @@ use tessera::mesh::ObjOptions;
 use tessera::mesh::{ControlMeshDesc, Corner, Crease};
 use tessera::patch::adaptive::AdaptiveDrawTables;
 use tessera::patch::gregory::shared_rows::sparse_face_rows;
-use tessera::patch::gregory::stencil_table::sparse_face_rows_direct;
+use tessera::patch::gregory::stencil_table::{sparse_face_rows_direct, vertex_point_id};
 use tessera::patch::gregory::{
-    vertex_ring, DartLimits, GregoryTangents, GregoryVertex, NotGregory, VertexKind, Weights,
+    check_face_for, gregory_patch_for, gregory_vertex_two_stage, vertex_ring, Coverage, DartLimits,
+    GregoryTangents, GregoryVertex, NotGregory, VertexKind, Weights,
 };
 use tessera::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
 use tessera::subdiv::Level;
@@ -41,8 +42,103 @@ fn bits(rows: &[Result<Vec<Weights>, NotGregory>]) -> Vec<RowBits> {
         .collect()
 }
 
-/// Compares both routes on `faces` of `topo`; returns the number of rows with a weight.
-fn same_rows(topo: &Topology, faces: &[u32], tangents: GregoryTangents, what: &str) -> usize {
+/// How often the neighbour across an end cap's edge needs more than the edge's two corners:
+/// its face points there are one-sided (they read its other corners' data), or it has no
+/// patch because another corner has no data.
+#[derive(Debug, Default, Clone, Copy)]
+struct NeighbourCases {
+    one_sided: usize,
+    no_data_elsewhere: usize,
+}
+
+/// The face-by-face rows as the construction made them before its corners were built on
+/// demand: the two-stage data of every vertex, each face's patch, and the whole patch of each
+/// edge neighbour, of which the four points beside the edge are taken (`StencilType::weights`
+/// layout: control points, per edge the neighbour's two edge points, then per edge its two face
+/// points; the face's own points where the neighbour has no patch).
+fn whole_patch_rows(
+    topo: &Topology,
+    faces: &[u32],
+    tangents: GregoryTangents,
+    cases: &mut NeighbourCases,
+) -> Vec<Result<Vec<Weights>, NotGregory>> {
+    let darts = DartLimits::new();
+    let basis = |v: u32| [0, 1, 2].map(|b| Weights::unit(vertex_point_id(topo, v, b)));
+    let data: Vec<Option<GregoryVertex<Weights>>> = (0..topo.vertex_count() as u32)
+        .map(|v| {
+            let cov = Coverage::EndCap;
+            gregory_vertex_two_stage(topo, v, &Weights::unit, tangents, cov, &darts, &basis)
+        })
+        .collect();
+    let patch = |g: u32| gregory_patch_for(topo, &data, g, Coverage::EndCap);
+    let sides = |v: u32, g: u32| {
+        let d = data[v as usize].as_ref()?;
+        let j = topo.vertex_faces(v).iter().position(|&h| h == g)?;
+        Some(d.one_sided.get(j).copied().unwrap_or(0))
+    };
+    faces
+        .iter()
+        .map(|&f| {
+            let own = patch(f)?;
+            let [p, ep, em, fp, fm] = own.points();
+            let fv = topo.face_vertices(f);
+            let n = fv.len();
+            let mut rows: Vec<Weights> = [p, ep, em, fp, fm].concat();
+            let mut face_points = Vec::new();
+            for k in 0..n {
+                let (x, y) = (fv[k], fv[(k + 1) % n]);
+                let g = topo
+                    .find_edge(x, y)
+                    .and_then(|e| topo.edge_faces(e).iter().copied().find(|&g| g != f));
+                let theirs = g.and_then(|g| {
+                    let d = topo.face_vertices(g);
+                    let m = d.len();
+                    let k2 = (0..m).find(|&i| d[i] == y && d[(i + 1) % m] == x)?;
+                    let k2n = (k2 + 1) % m;
+                    let Ok(q) = patch(g) else {
+                        let near = sides(x, g).is_some() && sides(y, g).is_some();
+                        if near && check_face_for(topo, g, Coverage::EndCap).is_ok() {
+                            cases.no_data_elsewhere += 1;
+                        }
+                        return None;
+                    };
+                    if sides(x, g) == Some(2) || sides(y, g) == Some(1) {
+                        cases.one_sided += 1;
+                    }
+                    let [_, ep, em, fp, fm] = q.points();
+                    Some([
+                        ep[k2n].clone(),
+                        em[k2].clone(),
+                        fm[k2n].clone(),
+                        fp[k2].clone(),
+                    ])
+                });
+                let [ex, ey, fx, fy] = theirs.unwrap_or_else(|| {
+                    [
+                        em[k].clone(),
+                        ep[(k + 1) % n].clone(),
+                        fp[k].clone(),
+                        fm[(k + 1) % n].clone(),
+                    ]
+                });
+                rows.extend([ex, ey]);
+                face_points.extend([fx, fy]);
+            }
+            rows.extend(face_points);
+            Ok(rows)
+        })
+        .collect()
+}
+
+/// Compares the shared rows, the direct rows and the whole-patch rows on `faces` of `topo`;
+/// returns the number of rows with a weight.
+fn same_rows(
+    topo: &Topology,
+    faces: &[u32],
+    tangents: GregoryTangents,
+    what: &str,
+    cases: &mut NeighbourCases,
+) -> usize {
     // One dart cache each: the shared rows do not lean on the direct construction's solves.
     let shared = bits(&sparse_face_rows(topo, faces, tangents, &DartLimits::new()));
     let direct = bits(&sparse_face_rows_direct(
@@ -51,9 +147,14 @@ fn same_rows(topo: &Topology, faces: &[u32], tangents: GregoryTangents, what: &s
         tangents,
         &DartLimits::new(),
     ));
+    let whole = bits(&whole_patch_rows(topo, faces, tangents, cases));
     assert_eq!(shared.len(), faces.len());
-    for ((a, b), f) in shared.iter().zip(&direct).zip(faces) {
+    for (((a, b), c), f) in shared.iter().zip(&direct).zip(&whole).zip(faces) {
         assert_eq!(a, b, "{what}: face {f}");
+        assert_eq!(
+            b, c,
+            "{what}: face {f}, direct rows against whole neighbour patches"
+        );
     }
     shared
         .iter()
@@ -63,7 +164,8 @@ fn same_rows(topo: &Topology, faces: &[u32], tangents: GregoryTangents, what: &s
         .count()
 }
 
-fn check(name: &str, mesh: &ControlMesh, isolations: &[u32]) {
+fn check(name: &str, mesh: &ControlMesh, isolations: &[u32]) -> NeighbourCases {
+    let mut cases = NeighbourCases::default();
     let tangents = [GregoryTangents::default(), GregoryTangents::Paper];
     for &iso in isolations {
         let r = AdaptiveRefinement::new(&Level::from_mesh(mesh).unwrap(), iso).unwrap();
@@ -80,14 +182,16 @@ fn check(name: &str, mesh: &ControlMesh, isolations: &[u32]) {
             caps += faces.len();
             for tangents in tangents {
                 let what = format!("{name} iso {iso} level {l} end caps ({tangents:?})");
-                same_rows(&t, &faces, tangents, &what);
+                same_rows(&t, &faces, tangents, &what, &mut cases);
             }
             let all: Vec<u32> = (0..t.face_count() as u32).collect();
             let what = format!("{name} iso {iso} level {l} all faces");
-            same_rows(&t, &all, tangents[0], &what);
+            same_rows(&t, &all, tangents[0], &what, &mut cases);
         }
         assert!(caps > 0, "{name} iso {iso}: no end caps to compare");
     }
+    eprintln!("{name}: {cases:?}");
+    cases
 }
 
 #[test]
@@ -97,6 +201,7 @@ fn car_at_isolation_2() {
 
 #[test]
 fn creases_darts_semi_sharp_and_n_gons() {
+    let mut cases = NeighbourCases::default();
     for (name, isolations) in [
         ("catmark_cube_creases1", &[1, 3][..]),
         ("catmark_nonquads", &[1, 2]),
@@ -107,8 +212,13 @@ fn creases_darts_semi_sharp_and_n_gons() {
         ("catmark_tent_creases1", &[2]),
         ("catmark_smoothtris1", &[1]),
     ] {
-        check(name, &osd(name), isolations);
+        let c = check(name, &osd(name), isolations);
+        cases.one_sided += c.one_sided;
+        cases.no_data_elsewhere += c.no_data_elsewhere;
     }
+    // Both neighbour cases that read more than the edge's two corners occur.
+    assert!(cases.one_sided > 0, "{cases:?}");
+    assert!(cases.no_data_elsewhere > 0, "{cases:?}");
 }
 
 #[test]
@@ -287,7 +397,10 @@ fn bands_at_level_zero_share_rows() {
         let topo = Topology::new(&mesh).unwrap();
         let faces: Vec<u32> = (0..topo.face_count() as u32).collect();
         for t in [GregoryTangents::Scaled(0.7), GregoryTangents::default()] {
-            assert!(same_rows(&topo, &faces, t, name) > 0, "{name}");
+            assert!(
+                same_rows(&topo, &faces, t, name, &mut NeighbourCases::default()) > 0,
+                "{name}"
+            );
         }
     }
 }

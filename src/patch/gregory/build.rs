@@ -2,9 +2,9 @@
 //! infinitely sharp creases), and which faces the construction covers.
 
 use super::eval::{CornerRef, GregoryQuad, GregoryTriangle};
-use super::point::{GregoryPoint, Weights};
+use super::point::{combine, GregoryPoint, Weights};
 use super::tangents::GregoryTangents;
-use super::vertex::{sectors, DartLimits, GregoryVertex, Sector, VertexRing};
+use super::vertex::{has_construction, sectors, DartLimits, GregoryVertex, Sector, VertexRing};
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::patch::regular::RegularPatch;
 use crate::topology::Topology;
@@ -318,21 +318,20 @@ pub fn vertex_ring_with<P: GregoryPoint>(
         .map(|&e| {
             let mut x = pv.clone();
             x.add_scaled(1.0, &point(topo.other_vertex(e, v)));
-            let mut h = P::zero();
-            h.add_scaled(0.5, &x);
-            h
+            combine(&[(0.5, &x)])
         })
         .collect();
+    // A face's corners as points, then their centroid in one combination (`combine`: the same
+    // bits as adding them one by one onto zero).
     let c = topo
         .vertex_faces(v)
         .iter()
         .map(|&f| {
             let fv = topo.face_vertices(f);
-            let mut x = P::zero();
-            for &u in fv {
-                x.add_scaled(1.0 / fv.len() as f64, &point(u));
-            }
-            x
+            let w = 1.0 / fv.len() as f64;
+            let corners: Vec<P> = fv.iter().map(|&u| point(u)).collect();
+            let terms: Vec<(f64, &P)> = corners.iter().map(|x| (w, x)).collect();
+            combine(&terms)
         })
         .collect();
     let sharp = sharp_edges(topo, v);
@@ -457,6 +456,32 @@ pub fn gregory_vertex_two_stage<P: GregoryPoint>(
         darts,
         points(v),
     )
+}
+
+/// A point that is no point: the ring of a vertex built over it carries the topology only.
+#[derive(Clone, Copy)]
+pub(super) struct NoPoint;
+
+impl GregoryPoint for NoPoint {
+    fn zero() -> Self {
+        NoPoint
+    }
+
+    fn add_scaled(&mut self, _: f64, _: &Self) {}
+}
+
+/// Whether [`gregory_vertex_for`] (end-cap coverage; [`gregory_vertex_two_stage`] alike) is
+/// `Some` at `v`, from the topology alone: the coverage test, then
+/// `vertex::has_construction` of the ring's shape (its edges' sharpness, corner tag and
+/// face count; a dart's masks from `darts`, which the construction then reads).
+pub(super) fn has_vertex_data(topo: &Topology, v: u32, darts: &DartLimits) -> bool {
+    if !vertex_covered(topo, v, Coverage::EndCap) {
+        return false;
+    }
+    let sharp = sharp_edges(topo, v);
+    // `vertex_ring_with`'s corner tag.
+    let corner = is_inf(topo.vertex_sharpness(v)) || sharp.iter().filter(|&&s| s).count() > 2;
+    has_construction(&sharp, corner, topo.vertex_faces(v).len(), darts)
 }
 
 /// Per-vertex Gregory data for every vertex (`None` where the construction does not apply).

@@ -100,6 +100,67 @@ impl<P> Copy for CornerRef<'_, P> {}
 /// The five control-point arrays of a patch with `N` corners.
 type Parts<P, const N: usize> = ([P; N], [P; N], [P; N], [P; N], [P; N]);
 
+impl<P: GregoryPoint> CornerRef<'_, P> {
+    /// Edge point towards the next corner.
+    fn e_plus(&self) -> &P {
+        &self.vertex.e[self.j]
+    }
+
+    /// Edge point towards the previous corner.
+    fn e_minus(&self) -> &P {
+        &self.vertex.e[(self.j + 1) % self.vertex.e.len()]
+    }
+
+    /// `cos(2π/n)` of the sector holding the patch.
+    fn cos(&self) -> f64 {
+        self.vertex.cosine[self.j]
+    }
+
+    /// Which of the patch's edges at this corner are sharp with one-sided face points
+    /// ([`GregoryVertex::one_sided`]).
+    fn sides(&self) -> u8 {
+        self.vertex.one_sided.get(self.j).copied().unwrap_or(0)
+    }
+
+    /// The far corner's cosine in eq. 6, except at a corner alone in its corner sector, whose
+    /// face points are the B-spline corner's `e + r/3` (`tangents_boundary`).
+    fn far_cos(&self, far: &Self) -> f64 {
+        if self.sides() == 3 && self.vertex.kind == VertexKind::Corner {
+            0.0
+        } else {
+            far.cos()
+        }
+    }
+
+    /// Face point next to the edge towards the next corner `next` (eq. 6), before the
+    /// one-sided rule.
+    fn f_plus(&self, next: &Self, d: f64) -> P {
+        face_point_cos(
+            d,
+            self.cos(),
+            self.far_cos(next),
+            &self.vertex.p,
+            self.e_plus(),
+            next.e_minus(),
+            &self.vertex.r_plus[self.j],
+        )
+    }
+
+    /// Face point next to the edge towards the previous corner `prev` (eq. 6), before the
+    /// one-sided rule.
+    fn f_minus(&self, prev: &Self, d: f64) -> P {
+        face_point_cos(
+            d,
+            self.cos(),
+            self.far_cos(prev),
+            &self.vertex.p,
+            self.e_minus(),
+            prev.e_plus(),
+            &self.vertex.r_minus[self.j],
+        )
+    }
+}
+
 /// Corner, edge and face points for a patch with `N` corners; `d` is 3 for quads, 4 for
 /// triangles (§3.4).
 fn assemble<P: GregoryPoint, const N: usize>(
@@ -107,60 +168,41 @@ fn assemble<P: GregoryPoint, const N: usize>(
     d: f64,
 ) -> Parts<P, N> {
     let p: [P; N] = std::array::from_fn(|i| corners[i].vertex.p.clone());
-    let e_plus: [P; N] = std::array::from_fn(|i| {
-        let c = &corners[i];
-        c.vertex.e[c.j].clone()
-    });
-    let e_minus: [P; N] = std::array::from_fn(|i| {
-        let c = &corners[i];
-        c.vertex.e[(c.j + 1) % c.vertex.e.len()].clone()
-    });
-    let cos: [f64; N] = std::array::from_fn(|i| corners[i].vertex.cosine[corners[i].j]);
-    let sides: [u8; N] = std::array::from_fn(|i| {
-        let c = &corners[i];
-        c.vertex.one_sided.get(c.j).copied().unwrap_or(0)
-    });
-    // The far corner's cosine in eq. 6, except at a corner alone in its corner sector, whose
-    // face points are the B-spline corner's `e + r/3` (`tangents_boundary`).
-    let alone = |i: usize| sides[i] == 3 && corners[i].vertex.kind == VertexKind::Corner;
-    let far_cos = |i: usize, far: usize| if alone(i) { 0.0 } else { cos[far] };
-    let f_plus = std::array::from_fn(|i| {
-        let next = (i + 1) % N;
-        let c = &corners[i];
-        face_point_cos(
-            d,
-            cos[i],
-            far_cos(i, next),
-            &p[i],
-            &e_plus[i],
-            &e_minus[next],
-            &c.vertex.r_plus[c.j],
-        )
-    });
-    let f_minus = std::array::from_fn(|i| {
-        let prev = (i + N - 1) % N;
-        let c = &corners[i];
-        face_point_cos(
-            d,
-            cos[i],
-            far_cos(i, prev),
-            &p[i],
-            &e_minus[i],
-            &e_plus[prev],
-            &c.vertex.r_minus[c.j],
-        )
-    });
+    let e_plus: [P; N] = std::array::from_fn(|i| corners[i].e_plus().clone());
+    let e_minus: [P; N] = std::array::from_fn(|i| corners[i].e_minus().clone());
+    let mut f_plus: [P; N] = std::array::from_fn(|i| corners[i].f_plus(&corners[(i + 1) % N], d));
+    let mut f_minus: [P; N] =
+        std::array::from_fn(|i| corners[i].f_minus(&corners[(i + N - 1) % N], d));
     // Beside one sharp edge the face point is the corner's other one (`tangents_boundary`).
-    let mut f_plus: [P; N] = f_plus;
-    let mut f_minus: [P; N] = f_minus;
     for i in 0..N {
-        match sides[i] {
+        match corners[i].sides() {
             1 => f_plus[i] = f_minus[i].clone(),
             2 => f_minus[i] = f_plus[i].clone(),
             _ => {}
         }
     }
     (p, e_plus, e_minus, f_plus, f_minus)
+}
+
+/// The points of a patch beside its edge from corner `y` to the next corner `x`, as `assemble`
+/// makes them: `[e_plus at x, e_minus at y, f_minus at x, f_plus at y]` (what a neighbour
+/// across that edge reads, `stencil_table`), from the two corners alone; `None` where the
+/// one-sided rule makes one of these face points the corner's other one, which reads the
+/// patch's other corners.
+pub(super) fn edge_side_points<P: GregoryPoint>(
+    x: &CornerRef<'_, P>,
+    y: &CornerRef<'_, P>,
+    d: f64,
+) -> Option<[P; 4]> {
+    if x.sides() == 2 || y.sides() == 1 {
+        return None;
+    }
+    Some([
+        x.e_plus().clone(),
+        y.e_minus().clone(),
+        x.f_minus(y, d),
+        y.f_plus(x, d),
+    ])
 }
 
 /// `(a * x + b * y) / (a + b)`, or the mean at the singular corner `a + b == 0` (§4.4).

@@ -10,6 +10,16 @@ pub trait GregoryPoint: Clone {
     fn zero() -> Self;
     /// `self += w * x`.
     fn add_scaled(&mut self, w: f64, x: &Self);
+
+    /// `Σ w_i x_i` over `terms` in their order: [`GregoryPoint::add_scaled`] of each term onto
+    /// [`GregoryPoint::zero`], which a point type may compute in one pass with the same bits.
+    fn combination(terms: &[(f64, &Self)]) -> Self {
+        let mut out = Self::zero();
+        for (w, x) in terms {
+            out.add_scaled(*w, x);
+        }
+        out
+    }
 }
 
 impl GregoryPoint for DVec3 {
@@ -34,11 +44,7 @@ impl GregoryPoint for f64 {
 
 /// `Σ w_i x_i`.
 pub fn combine<P: GregoryPoint>(terms: &[(f64, &P)]) -> P {
-    let mut out = P::zero();
-    for (w, x) in terms {
-        out.add_scaled(*w, x);
-    }
-    out
+    P::combination(terms)
 }
 
 /// A sparse weight vector over control-mesh vertices: `(vertex, weight)` sorted by vertex, no
@@ -99,10 +105,68 @@ impl GregoryPoint for Weights {
         MERGE_BUFFER.with(|buffer| {
             let mut out = buffer.borrow_mut();
             merge_into(&mut out, &self.0, w, &x.0);
-            self.0.clear();
-            self.0.extend_from_slice(&out);
+            // The merged row takes the buffer's allocation, the buffer the row's old one.
+            std::mem::swap(&mut self.0, &mut *out);
         });
     }
+
+    /// The merge of every term at once (`merge_terms`): one allocation of the result, the
+    /// same bits as adding the terms one by one (each weight is its first term's `w * b`,
+    /// then `a + w * b` for each later term holding the id, in term order).
+    fn combination(terms: &[(f64, &Self)]) -> Self {
+        Weights(merge_terms(terms))
+    }
+}
+
+/// Most terms [`merge_terms`] merges in one pass (the construction combines at most five).
+const MERGE_TERMS: usize = 8;
+
+/// `Σ w_i x_i` of sorted sparse vectors in one pass over all of them, ids ascending: for each
+/// id, the terms holding it in term order (`w * b` first, then `a + w * b`), as repeated
+/// [`GregoryPoint::add_scaled`] computes it. Zero weights and empty vectors contribute nothing,
+/// as there.
+fn merge_terms(terms: &[(f64, &Weights)]) -> Vec<(u32, f64)> {
+    if terms.len() > MERGE_TERMS {
+        let mut out = Weights::zero();
+        for (w, x) in terms {
+            out.add_scaled(*w, x);
+        }
+        return out.0;
+    }
+    let mut live: [(f64, &[(u32, f64)]); MERGE_TERMS] = [(0.0, &[]); MERGE_TERMS];
+    let mut n = 0;
+    for &(w, x) in terms {
+        if w != 0.0 && !x.0.is_empty() {
+            live[n] = (w, &x.0);
+            n += 1;
+        }
+    }
+    let live = &mut live[..n];
+    match live {
+        [] => return Vec::new(),
+        [(w, x)] => return x.iter().map(|&(v, b)| (v, *w * b)).collect(),
+        _ => {}
+    }
+    let mut out = Vec::with_capacity(live.iter().map(|(_, x)| x.len()).sum());
+    while let Some(v) = live
+        .iter()
+        .filter_map(|(_, x)| x.first())
+        .map(|e| e.0)
+        .min()
+    {
+        let mut acc: Option<f64> = None;
+        for (w, x) in live.iter_mut() {
+            if let Some((&(u, b), rest)) = x.split_first() {
+                if u == v {
+                    let t = *w * b;
+                    acc = Some(acc.map_or(t, |a| a + t));
+                    *x = rest;
+                }
+            }
+        }
+        out.push((v, acc.unwrap_or_default()));
+    }
+    out
 }
 
 thread_local! {
@@ -193,6 +257,45 @@ mod tests {
         }
         assert_eq!(Weights::from_terms(terms), added);
         assert_eq!(added.0, vec![(0, 1e-3), (2, 0.7 - 0.25), (5, 0.1 + 0.3)]);
+    }
+
+    /// Bits of every weight, so that `-0.0` and `0.0` differ.
+    fn bits(w: &Weights) -> Vec<(u32, u64)> {
+        w.0.iter().map(|&(v, x)| (v, x.to_bits())).collect()
+    }
+
+    #[test]
+    fn combination_is_adding_term_by_term() {
+        // Overlapping supports, a zero weight, an empty vector, a product that is -0.0 first
+        // (kept as -0.0: no `0.0 +` before the first term) and sums in term order
+        // (non-associative: 1e16 + 1 - 1e16).
+        let a = Weights(vec![(0, 1e16), (2, 0.0), (5, 0.5)]);
+        let b = Weights(vec![(0, 1.0), (3, 2.0), (5, 0.25)]);
+        let c = Weights(vec![(0, -1e16), (1, 0.1), (9, 3.0)]);
+        let empty = Weights::zero();
+        let cases: Vec<Vec<(f64, &Weights)>> = vec![
+            vec![],
+            vec![(0.0, &a)],
+            vec![(-1.0, &a)],
+            vec![(1.0, &a), (1.0, &b), (1.0, &c)],
+            vec![(1.0, &c), (0.3, &b), (1.0, &a), (0.0, &b), (2.0, &empty)],
+            vec![(0.7, &b), (-1.5, &a), (1.0, &c), (0.25, &a)],
+            // More terms than one pass merges: the term-by-term fallback.
+            (0..11)
+                .map(|k| (0.1 * k as f64 - 0.4, [&a, &b, &c][k % 3]))
+                .collect(),
+        ];
+        for terms in cases {
+            let mut added = Weights::zero();
+            for (w, x) in &terms {
+                added.add_scaled(*w, x);
+            }
+            assert_eq!(bits(&combine(&terms)), bits(&added), "{terms:?}");
+        }
+        let neg = combine(&[(-1.0, &a)]);
+        assert_eq!(neg.0[1].1.to_bits(), (-0.0f64).to_bits());
+        let order = combine(&[(1.0, &a), (1.0, &b), (1.0, &c)]);
+        assert_eq!(order.0[0].1, 0.0, "(1e16 + 1) - 1e16 in f64");
     }
 
     #[test]

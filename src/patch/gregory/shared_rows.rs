@@ -21,10 +21,10 @@
 use rayon::prelude::*;
 
 use super::build::{
-    check_face_for, check_vertex_for, gregory_vertex_for, vertex_covered, vertex_ring_with,
-    Coverage, NotGregory,
+    check_face_for, has_vertex_data, vertex_covered, vertex_ring_with, Coverage, NoPoint,
+    NotGregory,
 };
-use super::point::{GregoryPoint, Weights};
+use super::point::Weights;
 use super::stencil::ring_walk;
 use super::stencil_table::{
     sparse_face_rows_direct, vertex_point_id, vertex_point_of, vertex_point_rows_with,
@@ -113,12 +113,12 @@ struct Keyer<'a> {
 }
 
 impl Keyer<'_> {
-    /// Whether vertex `v` gets per-vertex data ([`gregory_vertex_for`] is `Some`): topology only,
+    /// Whether vertex `v` gets per-vertex data ([`super::gregory_vertex_for`] is `Some`): topology only,
     /// so the scalar construction answers for the weight one.
     fn has_data(&mut self, v: u32) -> bool {
         let h = &mut self.has_data[v as usize];
         if *h == 2 {
-            *h = u8::from(has_vertex_data(self.topo, v, self.tangents, self.darts));
+            *h = u8::from(has_vertex_data(self.topo, v, self.darts));
         }
         *h == 1
     }
@@ -232,48 +232,6 @@ impl Keyer<'_> {
         }
         Some(())
     }
-}
-
-/// A point that is no point: the ring of a vertex built over it carries the topology only.
-#[derive(Clone, Copy)]
-struct NoPoint;
-
-impl GregoryPoint for NoPoint {
-    fn zero() -> Self {
-        NoPoint
-    }
-
-    fn add_scaled(&mut self, _: f64, _: &Self) {}
-}
-
-/// Whether [`gregory_vertex_for`] (end-cap coverage) is `Some` at `v`. A ring with no sharp
-/// edge and no corner tag takes the interior construction, which exists exactly when the faces
-/// close around the vertex ([`super::GregoryVertex::new`]); its weights need cosines, so the
-/// ring's shape answers instead. A dart ring ([`super::GregoryVertex::dart`]) has data exactly
-/// when `dart_limit` of its valence and sharp edge exists (an eigenproblem of the split ring,
-/// solved once per pair in `darts`, which the construction then reads). Other rings run the
-/// scalar construction.
-fn has_vertex_data(topo: &Topology, v: u32, tangents: GregoryTangents, darts: &DartLimits) -> bool {
-    let faces = topo.vertex_faces(v);
-    // `gregory_vertex_for`'s own test before the construction.
-    if faces.is_empty()
-        || faces
-            .iter()
-            .all(|&f| check_vertex_for(topo, v, f, Coverage::EndCap).is_err())
-    {
-        return false;
-    }
-    let ring = vertex_ring_with(topo, v, &|_| NoPoint);
-    if !ring.corner && !ring.sharp.contains(&true) {
-        return ring.c.len() == ring.m.len();
-    }
-    let (n, sharp) = (ring.m.len(), ring.sharp.iter().filter(|&&s| s).count());
-    if sharp == 1 && !ring.corner && ring.c.len() == n {
-        let d = ring.sharp.iter().position(|&s| s).unwrap_or(0);
-        return darts.get(n, d).is_some();
-    }
-    let point = |_: u32| 0.0f64;
-    gregory_vertex_for(topo, v, &point, tangents, Coverage::EndCap, darts).is_some()
 }
 
 /// [`super::stencil::canonical_ring`] of face `f` with `slot` (all [`NONE`] on entry) set to each ring vertex's
@@ -609,6 +567,7 @@ fn clear(slot: &mut [u32], ring: &[u32]) {
 mod tests {
     use super::*;
     use crate::mesh::{ControlMesh, ControlMeshDesc};
+    use crate::patch::gregory::gregory_vertex_for;
     use crate::patch::gregory::stencil::canonical_ring;
     use crate::subdiv::adaptive::EndCapSharpness;
     use glam::DVec3;
@@ -661,7 +620,7 @@ mod tests {
                         &DartLimits::new(),
                     )
                     .is_some();
-                    let got = has_vertex_data(&topo, v, GregoryTangents::default(), &darts);
+                    let got = has_vertex_data(&topo, v, &darts);
                     assert_eq!(got, want, "{name}: vertex {v}");
                     seen[usize::from(want)] += 1;
                 }

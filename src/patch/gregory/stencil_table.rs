@@ -13,9 +13,10 @@ use std::collections::HashMap;
 use glam::DVec3;
 
 use super::build::{
-    gregory_patch_for, gregory_vertex_for, gregory_vertex_two_stage, vertex_ring_with, Coverage,
-    GregoryPatch, NotGregory,
+    check_face_for, gregory_patch_for, gregory_vertex_for, gregory_vertex_two_stage,
+    has_vertex_data, vertex_ring_with, Coverage, GregoryPatch, NotGregory,
 };
+use super::eval::{edge_side_points, CornerRef};
 use super::point::{GregoryPoint, Weights};
 use super::stencil::{dense_rows, stencil_ring, NoStencil, MAX_RING, ROWS_PER_CORNER};
 use super::tangents::GregoryTangents;
@@ -116,11 +117,38 @@ fn table_rows<P: GregoryPoint, B: Borrow<GregoryPatch<P>>>(
     patch: impl Fn(u32) -> Result<B, NotGregory>,
 ) -> Result<Vec<P>, NotGregory> {
     let own = patch(f)?;
-    let own = own.borrow();
+    Ok(table_rows_with(topo, f, own.borrow(), |g, k2| {
+        Some(side_points(patch(g).ok()?.borrow(), k2))
+    }))
+}
+
+/// The points of patch `q` beside its edge from corner `k2` to `k2 + 1`: `[e_plus at k2 + 1,
+/// e_minus at k2, f_minus at k2 + 1, f_plus at k2]` (a neighbour's rows in `table_rows`).
+fn side_points<P: GregoryPoint>(q: &GregoryPatch<P>, k2: usize) -> [P; 4] {
+    let [_, ep, em, fp, fm] = q.points();
+    let k2n = (k2 + 1) % ep.len();
+    [
+        ep[k2n].clone(),
+        em[k2].clone(),
+        fm[k2n].clone(),
+        fp[k2].clone(),
+    ]
+}
+
+/// `table_rows` from face `f`'s own patch and `neighbour(g, k2)`, the `side_points` of the
+/// patch of face `g` across edge k of `f` (which runs from corner `k2` to `k2 + 1` in `g`),
+/// `None` where `g` has no patch.
+fn table_rows_with<P: GregoryPoint>(
+    topo: &Topology,
+    f: u32,
+    own: &GregoryPatch<P>,
+    mut neighbour: impl FnMut(u32, usize) -> Option<[P; 4]>,
+) -> Vec<P> {
     let [_, e_plus, e_minus, f_plus, f_minus] = own.points();
     let fv = topo.face_vertices(f);
     let n = fv.len();
-    let mut eout = Vec::with_capacity(2 * n);
+    let mut rows: Vec<P> = Vec::with_capacity(9 * n);
+    rows.extend(own.points().into_iter().flatten().cloned());
     let mut nbr = Vec::with_capacity(2 * n);
     for k in 0..n {
         let (x, y) = (fv[k], fv[(k + 1) % n]);
@@ -132,16 +160,7 @@ fn table_rows<P: GregoryPoint, B: Borrow<GregoryPatch<P>>>(
             let m = d.len();
             // In g the edge runs y -> x: corner k2 = y, k2 + 1 = x.
             let k2 = (0..m).find(|&i| d[i] == y && d[(i + 1) % m] == x)?;
-            let k2n = (k2 + 1) % m;
-            let q = patch(g).ok()?;
-            let [_, ep, em, fp, fm] = q.borrow().points();
-            // e_plus at x, e_minus at y, f_minus at x, f_plus at y.
-            Some([
-                ep[k2n].clone(),
-                em[k2].clone(),
-                fm[k2n].clone(),
-                fp[k2].clone(),
-            ])
+            neighbour(g, k2)
         });
         let [ex, ey, fx, fy] = theirs.unwrap_or_else(|| {
             [
@@ -151,31 +170,23 @@ fn table_rows<P: GregoryPoint, B: Borrow<GregoryPatch<P>>>(
                 f_minus[(k + 1) % n].clone(),
             ]
         });
-        eout.extend([ex, ey]);
+        rows.extend([ex, ey]);
         nbr.extend([fx, fy]);
     }
-    let mut rows: Vec<P> = own.points().into_iter().flatten().cloned().collect();
-    rows.extend(eout);
     rows.extend(nbr);
-    Ok(rows)
+    rows
 }
 
 /// Per-vertex data in weight space of every corner of `faces` and of their edge neighbours
 /// (what [`table_rows`] assembles their patches from), computed once per vertex: a
 /// high-valence vertex is shared by many faces and its data costs `O(valence^3)` here.
-///
-/// `two_stage`: smooth, dart and crease vertices get their first stage
-/// ([`GregoryVertex::vertex_points`]) as derived points ([`vertex_point_id`]), so the rows
-/// built over them hold `O(1)` terms per corner instead of `O(valence)`.
 fn corner_data(
     topo: &Topology,
     faces: impl Iterator<Item = u32>,
     tangents: GregoryTangents,
     coverage: Coverage,
-    two_stage: bool,
     darts: &DartLimits,
 ) -> Vec<Option<GregoryVertex<Weights>>> {
-    let basis = |v: u32| [0, 1, 2].map(|b| Weights::unit(vertex_point_id(topo, v, b)));
     let mut data: Vec<Option<GregoryVertex<Weights>>> =
         (0..topo.vertex_count()).map(|_| None).collect();
     let mut done = vec![false; topo.vertex_count()];
@@ -184,25 +195,117 @@ fn corner_data(
             for &g in topo.edge_faces(e) {
                 for &v in topo.face_vertices(g) {
                     if !std::mem::replace(&mut done[v as usize], true) {
-                        data[v as usize] = if two_stage {
-                            gregory_vertex_two_stage(
-                                topo,
-                                v,
-                                &Weights::unit,
-                                tangents,
-                                coverage,
-                                darts,
-                                &basis,
-                            )
-                        } else {
-                            gregory_vertex_for(topo, v, &Weights::unit, tangents, coverage, darts)
-                        };
+                        data[v as usize] =
+                            gregory_vertex_for(topo, v, &Weights::unit, tangents, coverage, darts);
                     }
                 }
             }
         }
     }
     data
+}
+
+/// What a vertex's entry in [`EndCapCorners`] holds.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum CornerState {
+    /// Nothing known yet.
+    Unknown,
+    /// Whether the vertex has data is known from its topology (`has_vertex_data`); not built.
+    Known(bool),
+    /// The data is built (`None` where the vertex has none).
+    Built,
+}
+
+/// The two-stage per-vertex data of end-cap corners ([`gregory_vertex_two_stage`], derived
+/// points [`vertex_point_id`]), each vertex's built on first use: a face's rows read the data
+/// of its own corners, and of a neighbour's other corners only where the neighbour's face
+/// points beside the shared edge are one-sided (`edge_side_points`); elsewhere the neighbour
+/// needs only to have a patch, which its other corners' topology decides.
+struct EndCapCorners<'a> {
+    topo: &'a Topology,
+    tangents: GregoryTangents,
+    darts: &'a DartLimits,
+    data: Vec<Option<GregoryVertex<Weights>>>,
+    state: Vec<CornerState>,
+}
+
+impl<'a> EndCapCorners<'a> {
+    fn new(topo: &'a Topology, tangents: GregoryTangents, darts: &'a DartLimits) -> Self {
+        EndCapCorners {
+            topo,
+            tangents,
+            darts,
+            data: (0..topo.vertex_count()).map(|_| None).collect(),
+            state: vec![CornerState::Unknown; topo.vertex_count()],
+        }
+    }
+
+    /// Builds the data of `vertices` not built yet.
+    fn build(&mut self, vertices: &[u32]) {
+        let topo = self.topo;
+        let basis = |v: u32| [0, 1, 2].map(|b| Weights::unit(vertex_point_id(topo, v, b)));
+        for &v in vertices {
+            let state = &mut self.state[v as usize];
+            if *state != CornerState::Built {
+                *state = CornerState::Built;
+                self.data[v as usize] = gregory_vertex_two_stage(
+                    topo,
+                    v,
+                    &Weights::unit,
+                    self.tangents,
+                    Coverage::EndCap,
+                    self.darts,
+                    &basis,
+                );
+            }
+        }
+    }
+
+    /// Whether vertex `v` has data, without building it.
+    fn has_data(&mut self, v: u32) -> bool {
+        match self.state[v as usize] {
+            CornerState::Built => self.data[v as usize].is_some(),
+            CornerState::Known(h) => h,
+            CornerState::Unknown => {
+                let h = has_vertex_data(self.topo, v, self.darts);
+                self.state[v as usize] = CornerState::Known(h);
+                h
+            }
+        }
+    }
+
+    /// Corner `v` of face `g` as the patch assembly takes it (`None` where `g`'s patch fails
+    /// at it: no data, or `g` not in its ring); `v` built.
+    fn corner(&self, v: u32, g: u32) -> Option<CornerRef<'_, Weights>> {
+        let vertex = self.data[v as usize].as_ref()?;
+        let j = self.topo.vertex_faces(v).iter().position(|&h| h == g)?;
+        Some(CornerRef { vertex, j })
+    }
+
+    /// `side_points` of the end-cap patch of face `g` at its corner `k2` (`None` where `g`
+    /// has no patch): from corners `k2` and `k2 + 1` alone (`edge_side_points`) unless the
+    /// face points there are one-sided, else from `g`'s whole patch; the same bits either way.
+    fn side_points(&mut self, g: u32, k2: usize) -> Option<[Weights; 4]> {
+        let topo = self.topo;
+        check_face_for(topo, g, Coverage::EndCap).ok()?;
+        let gv = topo.face_vertices(g);
+        let m = gv.len();
+        let (y, x) = (gv[k2], gv[(k2 + 1) % m]);
+        // `g` gets a patch only if every corner has data (`gregory_patch_for`).
+        for &v in gv {
+            if v != x && v != y && !(self.has_data(v) && topo.vertex_faces(v).contains(&g)) {
+                return None;
+            }
+        }
+        self.build(&[x, y]);
+        let d = if m == 3 { 4.0 } else { 3.0 };
+        let near = edge_side_points(&self.corner(x, g)?, &self.corner(y, g)?, d);
+        near.or_else(|| {
+            self.build(gv);
+            let q = gregory_patch_for(topo, &self.data, g, Coverage::EndCap).ok()?;
+            Some(side_points(&q, k2))
+        })
+    }
 }
 
 /// The rows of each face of `faces` in the table layout ([`StencilType::weights`]: control
@@ -222,10 +325,16 @@ pub fn sparse_face_rows_direct(
     tangents: GregoryTangents,
     darts: &DartLimits,
 ) -> Vec<Result<Vec<Weights>, NotGregory>> {
-    let patches = face_patches(topo, faces, tangents, Coverage::EndCap, true, darts);
+    let mut corners = EndCapCorners::new(topo, tangents, darts);
     faces
         .iter()
-        .map(|&f| table_rows(topo, f, |g| patches[&g].as_ref().map_err(|e| *e)))
+        .map(|&f| {
+            corners.build(topo.face_vertices(f));
+            let own = gregory_patch_for(topo, &corners.data, f, Coverage::EndCap)?;
+            Ok(table_rows_with(topo, f, &own, |g, k2| {
+                corners.side_points(g, k2)
+            }))
+        })
         .collect()
 }
 
@@ -274,17 +383,9 @@ fn face_patches(
     faces: &[u32],
     tangents: GregoryTangents,
     coverage: Coverage,
-    two_stage: bool,
     darts: &DartLimits,
 ) -> WordHashMap<u32, Result<GregoryPatch<Weights>, NotGregory>> {
-    let vertices = corner_data(
-        topo,
-        faces.iter().copied(),
-        tangents,
-        coverage,
-        two_stage,
-        darts,
-    );
+    let vertices = corner_data(topo, faces.iter().copied(), tangents, coverage, darts);
     let mut patches = WordHashMap::default();
     for &f in faces {
         for g in std::iter::once(f).chain(
@@ -332,7 +433,7 @@ impl GregoryStencilTable {
         }
         let faces: Vec<u32> = accepted.iter().map(|(f, _)| *f).collect();
         let darts = DartLimits::new();
-        let patches = face_patches(topo, &faces, tangents, Coverage::Exact, false, &darts);
+        let patches = face_patches(topo, &faces, tangents, Coverage::Exact, &darts);
         let mut types = HashMap::new();
         for (f, ring) in accepted {
             match table_rows(topo, f, |g| patches[&g].as_ref().map_err(|e| *e)) {

@@ -250,20 +250,46 @@ enum Rule {
 
 impl Rule {
     fn of<P>(ring: &VertexRing<P>) -> Rule {
-        let sharp = ring.sharp.iter().filter(|&&s| s).count();
-        if sharp == 1 && !ring.corner && ring.c.len() == ring.m.len() {
-            Rule::Dart(ring.sharp.iter().position(|&s| s).unwrap_or(0))
-        } else if ring.corner && sharp < 2 {
+        Rule::of_shape(&ring.sharp, ring.corner, ring.c.len())
+    }
+
+    /// [`Rule::of`] a ring with these edges' sharpness, corner tag and face count.
+    fn of_shape(sharp_edges: &[bool], corner: bool, faces: usize) -> Rule {
+        let sharp = sharp_edges.iter().filter(|&&s| s).count();
+        let closed = faces == sharp_edges.len();
+        if sharp == 1 && !corner && closed {
+            Rule::Dart(sharp_edges.iter().position(|&s| s).unwrap_or(0))
+        } else if corner && sharp < 2 {
             Rule::Cone
-        } else if ring.corner {
+        } else if corner {
             Rule::Corner
         } else if sharp == 2 {
             Rule::Crease
-        } else if is_interior_ring(ring) {
+        } else if sharp == 0 && closed {
             Rule::Interior
         } else {
             Rule::Uncovered
         }
+    }
+}
+
+/// Whether [`GregoryVertex::new`] (equally [`GregoryVertex::from_vertex_points`]) is `Some` on a
+/// ring with these edges' sharpness, corner tag and face count, without building it: the
+/// interior rule always, a dart when `darts` solves its valence and sharp edge, a cone of at
+/// least two edges whose faces close, a crease or corner with a face.
+pub(super) fn has_construction(
+    sharp: &[bool],
+    corner: bool,
+    faces: usize,
+    darts: &DartLimits,
+) -> bool {
+    let n = sharp.len();
+    match Rule::of_shape(sharp, corner, faces) {
+        Rule::Interior => true,
+        Rule::Dart(d) => darts.get(n, d).is_some(),
+        Rule::Cone => n >= 2 && faces == n,
+        Rule::Crease | Rule::Corner => faces > 0,
+        Rule::Uncovered => false,
     }
 }
 
