@@ -572,3 +572,38 @@ fn approximated_corners_converge() {
         }
     }
 }
+
+/// The end caps' own tangent and transversal factors (`patch::gregory::END_CAP_FACTORS`,
+/// valence 3, 5, 6) against the level-0 table they replaced: nonquads' end caps (quad rings of
+/// valence 3, 5 and 6 from L1 on) and pole64's (valence 3 and 64) at L2, 9x9 grid of every end
+/// cap's own (s, t) against `LimitEvaluator` at equal (u, v) (a point on an edge shared by two
+/// end caps counted once per end cap). Measured, level-0 factors (`OPTIMAL_SCALE`, ρ = 1) →
+/// end-cap factors: nonquads normal RMS 2.99e-3 → 2.56e-3 rad, max 1.85e-2 → 1.39e-2, distance
+/// RMS 5.49e-4 → 6.05e-4 of the diagonal (OpenSubdiv's end caps at the same distinct points:
+/// 2.90e-3, 1.73e-2, 6.43e-4, `tools/osd_eval/endcaps.sh`); pole64 normal max 1.18e-2 → 1.09e-2
+/// (OpenSubdiv 1.00e-2). The normal bounds lie between the two; the distance bound is
+/// OpenSubdiv's. The pre-change code fails the normal bounds, the level-0 factors (the end caps
+/// built with `GregoryTangents::Optimal` instead of `EndCaps`) too.
+#[test]
+fn end_cap_factors_turn_normals_towards_the_limit() {
+    for (name, rms_bound, max_bound, dist_bound) in [
+        ("catmark_nonquads", 2.75e-3, 1.6e-2, 6.43e-4),
+        ("catmark_pole64", 3.6e-3, 1.165e-2, 2.41e-3),
+    ] {
+        let m = osd(name);
+        let (_, s) = surface(&m, 2);
+        let e = errors(&m, &s, is_end_cap, 8);
+        let rms = |pick: fn(&Measured) -> f64| {
+            (e.iter().map(|x| pick(x).powi(2)).sum::<f64>() / e.len() as f64).sqrt()
+        };
+        let (dist, normal) = (rms(|x| x.2), rms(|x| x.3));
+        let max = e.iter().map(|x| x.3).fold(0.0, f64::max);
+        eprintln!(
+            "{name} L2: {} samples, distance RMS {dist:.4e}, normal RMS {normal:.4e} max {max:.4e}",
+            e.len()
+        );
+        assert!(normal < rms_bound, "{name}: normal RMS {normal:e}");
+        assert!(max < max_bound, "{name}: normal max {max:e}");
+        assert!(dist < dist_bound, "{name}: distance RMS {dist:e}");
+    }
+}

@@ -45,6 +45,10 @@
 //! equal to the solve of edge `d` to 1e-12 relative, `rotated_dart_masks_are_the_solves`: the
 //! same power iteration with its sums in another order): only the car's draw tables changed,
 //! the rows of its darts whose sharp edge is not their ring's edge 0.
+//! And again for the end caps' own tangent and transversal factors (issue 8, session 13:
+//! `patch::gregory::END_CAP_FACTORS` at smooth quad rings of valence 3, 5 and 6): only the draw
+//! tables of the meshes with such end caps changed (car, hole_test1, nonquads, cubes_semisharp,
+//! pole64), their rows' weights; the refinement and kernels' fingerprints did not.
 //!
 //! The fingerprints change with any change of output, deliberate or not: a change that is meant
 //! to alter the tables (new end-cap rules, another row order) re-derives them and says so.
@@ -100,19 +104,19 @@ fn adaptive_tables_are_bitwise_unchanged() {
             "catmark_car",
             2,
             true,
-            [0xa5cc656dde2ba5a7, 0xca4a93965f2b110e, 0xd70f8ae5807d4210],
+            [0xa5cc656dde2ba5a7, 0xca4a93965f2b110e, 0x88226256f562a890],
         ),
         (
             "catmark_car",
             4,
             true,
-            [0xa8afcee00ee7224d, 0xc8ccf101f97d4dd2, 0x3ac2412f6dab8dda],
+            [0xa8afcee00ee7224d, 0xc8ccf101f97d4dd2, 0x6fb5c40b7bc283eb],
         ),
         (
             "catmark_car",
             2,
             false,
-            [0xf703b1be7dd8a71d, 0x974d66fe24c13fc5, 0x6ae490f78baef368],
+            [0xf703b1be7dd8a71d, 0x974d66fe24c13fc5, 0xc9f4d8f377e5c124],
         ),
         (
             "catmark_cube_creases1",
@@ -136,19 +140,19 @@ fn adaptive_tables_are_bitwise_unchanged() {
             "catmark_hole_test1",
             2,
             true,
-            [0xc7b5b5b77d2c1b13, 0xece5b3e142e97c01, 0xd21eb4dfc83c9b93],
+            [0xc7b5b5b77d2c1b13, 0xece5b3e142e97c01, 0x72e7c4e935c91253],
         ),
         (
             "catmark_nonquads",
             3,
             true,
-            [0x70c523a105607b34, 0x3b633e102e099bde, 0x6eaafb049902d7cf],
+            [0x70c523a105607b34, 0x3b633e102e099bde, 0x321bd14020bfa315],
         ),
         (
             "catmark_cubes_semisharp",
             3,
             true,
-            [0xadc07afdce471a42, 0x47e42ffd83d0ff2a, 0xe5c40d5efa706cae],
+            [0xadc07afdce471a42, 0x47e42ffd83d0ff2a, 0xd6ac6bec78ba6ad6],
         ),
         (
             "catmark_tent_creases1",
@@ -166,7 +170,7 @@ fn adaptive_tables_are_bitwise_unchanged() {
             "catmark_pole64",
             2,
             true,
-            [0x9e7ec2ce227c2fa4, 0x49aa8020f1082c0, 0xf065acbcebcc998c],
+            [0x9e7ec2ce227c2fa4, 0x49aa8020f1082c0, 0x51f99b86c7f1cd54],
         ),
     ];
     let mut wrong = Vec::new();
