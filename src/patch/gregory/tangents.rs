@@ -109,8 +109,8 @@ pub const END_CAP_FACTORS: [(usize, RingFactors); 3] = [
     (
         6,
         RingFactors {
-            tangent: 0.86,
-            transversal: 1.45,
+            tangent: 0.88,
+            transversal: 1.25,
         },
     ),
 ];
