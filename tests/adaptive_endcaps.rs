@@ -19,7 +19,11 @@
 //! (The cube, pole64 and nonquads rows were measured with the paper's Gregory tangents; with
 //! the fitted ones, now the default: cube 1.5068 / 4.9098, 0.6043 / 1.9924, 0.2464 / 0.8146,
 //! 0.1009 / 0.3337; pole64 3.4685 / 16.4433, 1.9634 / 10.7391, 1.2823 / 7.0201, 0.8379 /
-//! 4.5896; nonquads 1.0345 / 5.0540, 0.5488 / 2.7300, 0.3004 / 1.4892, 0.1676 / 0.8156.)
+//! 4.5896; nonquads 1.0345 / 5.0540, 0.5488 / 2.7300, 0.3004 / 1.4892, 0.1676 / 0.8156. With the
+//! end caps' own factors, `patch::gregory::END_CAP_FACTORS`, session 13: cube 1.5525 / 4.9025,
+//! 0.6281 / 1.9893, 0.2567 / 0.8133, 0.1052 / 0.3332; pole64 3.4631 / 16.4433, 1.9639 / 10.7391,
+//! 1.2824 / 7.0201, 0.8379 / 4.5896; nonquads 1.1115 / 5.6728, 0.5823 / 3.0725, 0.3185 / 1.6780,
+//! 0.1774 / 0.9196.)
 //!
 //! The car and the bishop keep semi-sharp edges at the isolation level below 6: their end caps
 //! treat residual sharpness >= 1 as infinitely sharp (`EndCapSharpness::Crease`, the default);
@@ -570,5 +574,40 @@ fn approximated_corners_converge() {
                 }
             }
         }
+    }
+}
+
+/// The end caps' own tangent and transversal factors (`patch::gregory::END_CAP_FACTORS`,
+/// valence 3, 5, 6) against the level-0 table they replaced: nonquads' end caps (quad rings of
+/// valence 3, 5 and 6 from L1 on) and pole64's (valence 3 and 64) at L2, 9x9 grid of every end
+/// cap's own (s, t) against `LimitEvaluator` at equal (u, v) (a point on an edge shared by two
+/// end caps counted once per end cap). Measured, level-0 factors (`OPTIMAL_SCALE`, ρ = 1) →
+/// end-cap factors: nonquads normal RMS 2.99e-3 → 2.65e-3 rad, max 1.85e-2 → 1.56e-2, distance
+/// RMS 5.49e-4 → 5.82e-4 of the diagonal (OpenSubdiv's end caps at the same distinct points:
+/// 2.90e-3, 1.73e-2, 6.43e-4, `tools/osd_eval/endcaps.sh`); pole64 normal max 1.18e-2 → 1.14e-2
+/// (OpenSubdiv 1.00e-2). The normal bounds lie between the two; the distance bound is
+/// OpenSubdiv's. The pre-change code fails the normal bounds, the level-0 factors (the end caps
+/// built with `GregoryTangents::Optimal` instead of `EndCaps`) too.
+#[test]
+fn end_cap_factors_turn_normals_towards_the_limit() {
+    for (name, rms_bound, max_bound, dist_bound) in [
+        ("catmark_nonquads", 2.75e-3, 1.7e-2, 6.43e-4),
+        ("catmark_pole64", 3.6e-3, 1.165e-2, 2.41e-3),
+    ] {
+        let m = osd(name);
+        let (_, s) = surface(&m, 2);
+        let e = errors(&m, &s, is_end_cap, 8);
+        let rms = |pick: fn(&Measured) -> f64| {
+            (e.iter().map(|x| pick(x).powi(2)).sum::<f64>() / e.len() as f64).sqrt()
+        };
+        let (dist, normal) = (rms(|x| x.2), rms(|x| x.3));
+        let max = e.iter().map(|x| x.3).fold(0.0, f64::max);
+        eprintln!(
+            "{name} L2: {} samples, distance RMS {dist:.4e}, normal RMS {normal:.4e} max {max:.4e}",
+            e.len()
+        );
+        assert!(normal < rms_bound, "{name}: normal RMS {normal:e}");
+        assert!(max < max_bound, "{name}: normal max {max:e}");
+        assert!(dist < dist_bound, "{name}: distance RMS {dist:e}");
     }
 }

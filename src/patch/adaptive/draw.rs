@@ -124,6 +124,7 @@ fn end_cap_rows(
         .iter()
         .filter(|p| p.kind == PatchType::EndCap)
         .collect();
+    let tangents = tangents.for_end_caps();
     let mut local = Vec::with_capacity(caps.len());
     // Dart masks solved once for every level and both stages.
     let darts = DartLimits::new();

@@ -216,6 +216,7 @@ pub fn end_caps(
     positions: &[DVec3],
     tangents: GregoryTangents,
 ) -> Result<Vec<SurfacePatch>, EndCapError> {
+    let tangents = tangents.for_end_caps();
     let topologies = EndCapTopologies::new(refinement, census);
     let darts = DartLimits::new();
     census

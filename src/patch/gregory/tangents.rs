@@ -50,6 +50,10 @@
 //! the paper's tangents. At boundary and crease vertices (§4.6) `Optimal` scales the
 //! cross-boundary tangent of each crease sector instead (`super::tangents_boundary`, fitted the
 //! same way on half-rings); corner vertices keep the paper's tangents in both modes.
+//! The adaptive end caps take [`END_CAP_FACTORS`] at their quad rings of valence 3, 5 and 6
+//! ([`GregoryTangents::EndCaps`]).
+
+use super::tangents_tri::RingFactors;
 
 /// Edge-tangent lengths of smooth (and dart) vertices.
 ///
@@ -73,7 +77,43 @@ pub enum GregoryTangents {
     /// exact limit on meshes with bands (`gregory_test3`, `xord_boundary`), slightly farther on
     /// some others (README, "Bands"), so not the default.
     Bands,
+    /// [`GregoryTangents::Optimal`] with the end-cap factors [`END_CAP_FACTORS`] at all-quad
+    /// rings of the valences they list: what the adaptive end caps take under `Optimal`
+    /// ([`GregoryTangents::for_end_caps`]); the level-0 Gregory schemes keep `Optimal`.
+    EndCaps,
 }
+
+/// Tangent and transversal factors `(s, ρ)` of the adaptive end caps at all-quad rings of
+/// valence `n` (the entries listed; other valences keep [`OPTIMAL_SCALE`] and `ρ = 1`).
+/// [`OPTIMAL_SCALE`] minimises the distance alone with `ρ = 1`; the end caps' normals, not only
+/// their distance, are to match OpenSubdiv's end caps (issue 8). `s` scales the edge tangents
+/// and `ρ` the transversal vectors `r_j` (§3.4) as in `super::tangents_tri`: the corner point
+/// and plane and tangent-plane continuity hold for any positive pair. Chosen by a sweep of the end-cap grid
+/// error against `LimitEvaluator` at L = 1..5 on nonquads, pole64 and the cube (README, "End-cap
+/// factors"): valence 5 and 6 want longer transversals, valence 3 shorter ones.
+pub const END_CAP_FACTORS: [(usize, RingFactors); 3] = [
+    (
+        3,
+        RingFactors {
+            tangent: 0.94,
+            transversal: 0.9,
+        },
+    ),
+    (
+        5,
+        RingFactors {
+            tangent: 0.925,
+            transversal: 1.15,
+        },
+    ),
+    (
+        6,
+        RingFactors {
+            tangent: 0.88,
+            transversal: 1.25,
+        },
+    ),
+];
 
 /// The largest valence with a fitted entry in [`OPTIMAL_SCALE`].
 pub const MAX_FITTED_VALENCE: usize = 64;
@@ -107,7 +147,9 @@ impl GregoryTangents {
                 let last = OPTIMAL_SCALE[MAX_FITTED_VALENCE - 3];
                 last * (MAX_FITTED_VALENCE as f64 / n as f64).powf(TAIL_EXPONENT)
             }
-            GregoryTangents::Optimal | GregoryTangents::Bands => OPTIMAL_SCALE[n.max(3) - 3],
+            GregoryTangents::Optimal | GregoryTangents::Bands | GregoryTangents::EndCaps => {
+                OPTIMAL_SCALE[n.max(3) - 3]
+            }
         };
         s as f32 as f64
     }
@@ -127,23 +169,41 @@ impl GregoryTangents {
     /// [`GregoryTangents::Optimal`] rings of triangles and quads with a triangle take the
     /// fitted tangent and transversal factors of [`super::tangents_tri`]; everything else
     /// keeps the paper's `(1, 1)` on the transversal vectors.
-    pub fn ring_factors(self, face_sizes: &[usize]) -> super::tangents_tri::RingFactors {
+    pub fn ring_factors(self, face_sizes: &[usize]) -> RingFactors {
         let n = face_sizes.len();
         let quads = face_sizes.iter().all(|&k| k == 4);
+        if quads && self == GregoryTangents::EndCaps {
+            if let Some(&(_, f)) = END_CAP_FACTORS.iter().find(|(m, _)| *m == n) {
+                return RingFactors {
+                    tangent: f.tangent as f32 as f64,
+                    transversal: f.transversal as f32 as f64,
+                };
+            }
+        }
         match self.without_bands() {
             GregoryTangents::Optimal if !quads => super::tangents_tri::fitted_factors(face_sizes),
-            _ => super::tangents_tri::RingFactors {
+            _ => RingFactors {
                 tangent: self.ring_scale(n, quads),
                 transversal: 1.0,
             },
         }
     }
 
-    /// The construction away from crease sectors on a band: [`GregoryTangents::Bands`] is
+    /// The construction the adaptive end caps take: [`GregoryTangents::EndCaps`] for
+    /// [`GregoryTangents::Optimal`], any other construction as is.
+    pub fn for_end_caps(self) -> Self {
+        match self {
+            GregoryTangents::Optimal => GregoryTangents::EndCaps,
+            t => t,
+        }
+    }
+
+    /// The construction away from crease sectors on a band and from the end-cap rings of
+    /// [`END_CAP_FACTORS`]: [`GregoryTangents::Bands`] and [`GregoryTangents::EndCaps`] are
     /// [`GregoryTangents::Optimal`] there.
     pub(crate) fn without_bands(self) -> Self {
         match self {
-            GregoryTangents::Bands => GregoryTangents::Optimal,
+            GregoryTangents::Bands | GregoryTangents::EndCaps => GregoryTangents::Optimal,
             t => t,
         }
     }
@@ -155,6 +215,7 @@ impl GregoryTangents {
             GregoryTangents::Optimal => "optimal",
             GregoryTangents::Scaled(_) => "scaled",
             GregoryTangents::Bands => "bands",
+            GregoryTangents::EndCaps => "end-caps",
         }
     }
 }
@@ -230,6 +291,41 @@ mod tests {
             GregoryTangents::Optimal.ring_factors(&[5, 3, 4]),
             RingFactors::ONE
         );
+    }
+
+    #[test]
+    fn end_caps_differ_from_optimal_only_at_the_listed_quad_rings() {
+        let (opt, caps) = (GregoryTangents::Optimal, GregoryTangents::EndCaps);
+        assert_eq!(opt.for_end_caps(), caps);
+        for t in [GregoryTangents::Paper, GregoryTangents::Bands, caps] {
+            assert_eq!(t.for_end_caps(), t);
+        }
+        for n in 3..=70 {
+            let listed = END_CAP_FACTORS.iter().find(|(m, _)| *m == n);
+            let q = caps.ring_factors(&vec![4; n]);
+            match listed {
+                Some((_, f)) => {
+                    assert_eq!(q.tangent, f.tangent as f32 as f64);
+                    assert_eq!(q.transversal, f.transversal as f32 as f64);
+                    // The level-0 schemes keep the level-0 table.
+                    assert_eq!(opt.ring_factors(&vec![4; n]).tangent, opt.scale(n));
+                    assert_eq!(opt.ring_factors(&vec![4; n]).transversal, 1.0);
+                }
+                None => assert_eq!(q, opt.ring_factors(&vec![4; n])),
+            }
+            assert_eq!(caps.scale(n), opt.scale(n));
+            for k in 1..6 {
+                assert_eq!(caps.crease_scale(k, 0, true), opt.crease_scale(k, 0, true));
+            }
+        }
+        for sizes in [
+            vec![3, 4, 4],
+            vec![3, 3, 3, 3, 3],
+            vec![5, 4, 4],
+            vec![3, 4, 3, 4, 4, 4],
+        ] {
+            assert_eq!(caps.ring_factors(&sizes), opt.ring_factors(&sizes));
+        }
     }
 
     #[test]
