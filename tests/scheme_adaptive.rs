@@ -300,7 +300,10 @@ fn every_shared_mesh_draws_on_the_gpu() {
 /// cube_creases0 L1, at most 1.1e-6 rad; the GPU before the fillet drew the own normal there),
 /// among them edges from its corners, where three promoted creases meet and the normal turns
 /// (`promoted::fillet_rotation`, 112 points; with the GPU's turn left out the test fails there,
-/// 1.0e-2 rad off).
+/// 1.0e-2 rad off). cube_creases1 L3 (valence-3 vertices where three promoted creases meet,
+/// h61): the promoted edges from them and the edges beside those turn towards the vertex's limit
+/// normal (`promoted::turn_towards`, record transition bits 12 + k / 16 + k); the points on
+/// edges of end caps with such a corner are counted.
 #[test]
 fn promoted_crease_normals_equal_the_cpu() {
     let Some(ctx) = context() else { return };
@@ -308,8 +311,9 @@ fn promoted_crease_normals_equal_the_cpu() {
         ("catmark_cubes_semisharp", 2, 32.0, 3.1e-2),
         ("catmark_cube_creases0", 1, 32.0, 0.144),
         ("catmark_car", 2, 8.0, 1.7e-2),
+        ("catmark_cube_creases1", 3, 64.0, 4.3e-2),
     ];
-    let (mut fillets, mut turned) = (0, 0);
+    let (mut fillets, mut turned, mut towards) = (0, 0, 0);
     for (name, iso, level, rms_bound) in ev_cases {
         let m = mesh(name);
         let (surface, records) = draw(&ctx, &m, iso, uniform(level));
@@ -325,6 +329,9 @@ fn promoted_crease_normals_equal_the_cpu() {
             let Some(shared) = cpu.promoted_normal(i, s, t) else {
                 continue;
             };
+            if tables(&surface).draw.records[i].transition >> 12 != 0 {
+                towards += 1;
+            }
             let n = DVec3::from(r.normal.map(f64::from));
             let a = n.angle_between(shared);
             assert!(
@@ -373,10 +380,13 @@ fn promoted_crease_normals_equal_the_cpu() {
             if on_edge && patch_records[i].transition >> 8 != 0 {
                 turned += 1;
             }
+            if on_edge && patch_records[i].transition >> 12 != 0 {
+                towards += 1;
+            }
         }
         fillets += fillet;
         eprintln!(
-            "{name} L{iso}: {fillet} points in fillets ({turned} so far on turned edges), GPU vs CPU at most {fillet_worst:.2e} rad"
+            "{name} L{iso}: {fillet} points in fillets ({turned} so far on turned edges, {towards} turned towards a vertex's normal), GPU vs CPU at most {fillet_worst:.2e} rad"
         );
         let rms = (sum_sq / count as f64).sqrt();
         eprintln!(
@@ -391,6 +401,10 @@ fn promoted_crease_normals_equal_the_cpu() {
     assert!(
         turned > 20,
         "{turned} points on edges whose fillet turns the normal"
+    );
+    assert!(
+        towards > 20,
+        "{towards} points on edges turned towards an irregular crease vertex's normal"
     );
 }
 

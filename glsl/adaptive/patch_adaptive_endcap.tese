@@ -29,7 +29,8 @@ bool end_cap_edge(GregoryPatchInfo info, int k, float x, int from_corner, inout 
     // A promoted crease (flag bit 28 + k): its sharpness (16 s) for the band offset
     // (canonical_edge's edge_band_tangent), no fillet ends.
     edge_band_sharpness = 0.0;
-    if ((info.flags & (1u << uint(28 + k))) != 0u) {
+    bool band = (info.flags & (1u << uint(28 + k))) != 0u;
+    if (band) {
         edge_band_sharpness = float(code) / 16.0;
         code = 0u;
     }
@@ -40,10 +41,15 @@ bool end_cap_edge(GregoryPatchInfo info, int k, float x, int from_corner, inout 
         int end = ((side == 0) == a_is_lo) ? 0 : 1;
         edge_fillet_sharpness[end] = float(c) * 0.5;
         // The crease there is not regular: the normal turns (record's transition bit 8 + corner).
-        edge_fillet_rotate[end] =
-            c != 0u && (apatches[info.pad0].transition & (1u << uint(8 + corner))) != 0u;
+        uint bits = apatches[info.pad0].transition;
+        edge_fillet_rotate[end] = c != 0u && (bits & (1u << uint(8 + corner))) != 0u;
+        // Three or more creases meet there: from the normal at the point (bit 12 + corner).
+        edge_fillet_many[end] = c != 0u && (bits & (1u << uint(12 + corner))) != 0u;
+        // A promoted crease from an irregular crease vertex (bit 16 + corner): its shared
+        // normal turns towards that vertex's.
+        edge_crease_turn[end] = band && (bits & (1u << uint(16 + corner))) != 0u;
         vec3 n = vec3(0.0);
-        if (c != 0u) {
+        if (c != 0u || edge_crease_turn[end]) {
             vec3 unused = vec3(0.0);
             shared_corner(info.corners[corner], info.face, unused, n);
             sector_normal(apatches[info.pad0].corner_frame[corner], n);

@@ -217,6 +217,16 @@ bool edge_fillet_has_beyond[2] = bool[2](false, false);
 vec3 edge_fillet_beyond[2] = vec3[2](vec3(0.0), vec3(0.0));
 bool edge_fillet_rotate[2] = bool[2](false, false);
 vec3 edge_fillet_own[2] = vec3[2](vec3(0.0), vec3(0.0));
+/// Where three or more promoted creases meet at that end (with edge_fillet_rotate): the normal
+/// turns from the one at the point instead (`patch::adaptive::promoted::turn_towards` by
+/// `fillet_many_share`).
+bool edge_fillet_many[2] = bool[2](false, false);
+/// On a promoted crease (edge_band_sharpness > 0), per canonical end: that end is an irregular
+/// crease vertex (`patch::adaptive::promoted::irregular_crease_vertex`) whose limit normal is
+/// edge_fillet_normal; the shared normal turns towards it (`crease_turn_share`).
+bool edge_crease_turn[2] = bool[2](false, false);
+/// `patch::adaptive::promoted::FILLET_TURN_GAIN`.
+const float FILLET_TURN_GAIN = 0.75;
 /// Set by a stage before an edge that is a promoted crease between two quad end caps: its
 /// residual sharpness (0: none). canonical_edge then turns the edge's tangent by the band offset
 /// `h (d_own + d_nbr) / 6` of its fillet (`patch::adaptive::promoted::band_offset_factor`):
@@ -260,6 +270,37 @@ vec3 fillet_rotation(float sharp, float w, vec3 own, vec3 limit, vec3 n) {
     return r;
 }
 
+/// `(1 - w/h)`, squared if `square`, h = 2^-floor(sharp), blended with the next step by the
+/// fraction of sharp (`patch::adaptive::promoted::fillet_fade`).
+float fillet_fade(float sharp, float w, bool square) {
+    precise float lo = floor(sharp);
+    precise float frac = sharp - lo;
+    precise float r0 = max(1.0 - w * exp2(lo), 0.0);
+    precise float r1 = max(1.0 - w * exp2(lo + 1.0), 0.0);
+    if (square) {
+        r0 = r0 * r0;
+        r1 = r1 * r1;
+    }
+    precise float f = (1.0 - frac) * r0 + frac * r1;
+    return f;
+}
+
+/// `n` turned towards `limit` by `share` of the angle between them
+/// (`patch::adaptive::promoted::turn_towards`).
+vec3 turn_towards(vec3 n, vec3 limit, float share) {
+    precise vec3 b = normalize(limit);
+    precise vec3 axis = cross(n, b);
+    precise float sn = length(axis);
+    if (!(sn > 1e-7) || share == 0.0) {
+        return n;
+    }
+    axis = axis / sn;
+    precise float angle = atan(sn, dot(n, b)) * share;
+    precise float c = cos(angle);
+    precise vec3 r = (n * c + cross(axis, n) * sin(angle)) + axis * (dot(axis, n) * (1.0 - c));
+    return r;
+}
+
 /// The fillet's change of the derivative `along` (from edge end `end`, unit parameter) at
 /// distance w from that end: of `along` plus the continuation beyond the crease where it is
 /// known, else (`patch::adaptive::promoted::fillet_bend`) with the sum's normal part
@@ -292,12 +333,27 @@ void gregory_edge(vec3 origin, vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 d_left, 
     precise vec3 cross_dir = d_left - d_right;
     precise vec3 nn = normalize(cross(tangent, cross_dir));
     if (edge_fillet_sharpness[0] > 0.0 && edge_fillet_rotate[0]) {
-        nn = fillet_rotation(edge_fillet_sharpness[0], t, edge_fillet_own[0],
-                             edge_fillet_normal[0], nn);
+        nn = edge_fillet_many[0]
+            ? turn_towards(nn, edge_fillet_normal[0],
+                           FILLET_TURN_GAIN * fillet_fade(edge_fillet_sharpness[0], t, true))
+            : fillet_rotation(edge_fillet_sharpness[0], t, edge_fillet_own[0],
+                              edge_fillet_normal[0], nn);
     }
     if (edge_fillet_sharpness[1] > 0.0 && edge_fillet_rotate[1]) {
-        nn = fillet_rotation(edge_fillet_sharpness[1], s, edge_fillet_own[1],
-                             edge_fillet_normal[1], nn);
+        nn = edge_fillet_many[1]
+            ? turn_towards(nn, edge_fillet_normal[1],
+                           FILLET_TURN_GAIN * fillet_fade(edge_fillet_sharpness[1], s, true))
+            : fillet_rotation(edge_fillet_sharpness[1], s, edge_fillet_own[1],
+                              edge_fillet_normal[1], nn);
+    }
+    // A promoted crease within the fillet of an irregular crease vertex at an end.
+    if (edge_band_sharpness > 0.0 && edge_crease_turn[0]) {
+        nn = turn_towards(nn, edge_fillet_normal[0],
+                          FILLET_TURN_GAIN * fillet_fade(edge_band_sharpness, t, false));
+    }
+    if (edge_band_sharpness > 0.0 && edge_crease_turn[1]) {
+        nn = turn_towards(nn, edge_fillet_normal[1],
+                          FILLET_TURN_GAIN * fillet_fade(edge_band_sharpness, s, false));
     }
     pos = p;
     nrm = nn;

@@ -16,8 +16,8 @@ use rayon::prelude::*;
 use super::coarse::{patch_index, CoarseEdges};
 use super::error::DrawTablesError;
 use super::promoted::{
-    exact_frame, fillet_code, fillet_end, fillet_end_code, promoted_edge, promoted_vertex,
-    FilletEnd,
+    exact_frame, fillet_code, fillet_end, fillet_end_code, irregular_crease_vertex, promoted_edge,
+    promoted_vertex, FilletEnd,
 };
 use super::records::{
     words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
@@ -560,18 +560,41 @@ impl AdaptiveDrawTables {
                     ef.flags &= !(1 << (12 + k));
                     ef.flags |= 1 << (28 + k);
                     out.records[i].fillet |= fillet_code(t.edge_sharpness(e)) << (8 * k);
+                    // Its shared normal turns towards the limit's within the fillet of an
+                    // irregular crease vertex at either end (`crease_turn_share`): bit 16 + the
+                    // corner.
+                    let fv = t.face_vertices(p.face);
+                    for c in [k, (k + 1) % 4] {
+                        if irregular_crease_vertex(t, caps, fv[c]) {
+                            out.records[i].transition |= 1 << (16 + c);
+                        }
+                    }
                 } else if n == 4 && fine[k] == NONE && across_cap && !is_sharp_edge(caps, e) {
                     // An edge between two end caps from a vertex on a promoted crease: the
                     // fillet's sharpness at either end (4 bits each), both sides alike.
                     let fv = t.face_vertices(p.face);
                     for (half, v) in [fv[k], fv[(k + 1) % 4]].into_iter().enumerate() {
                         let end = fillet_end(t, caps, v, e);
-                        if let Some(FilletEnd::Bend(sharp) | FilletEnd::Turn(sharp)) = end {
+                        if let Some(
+                            FilletEnd::Bend(sharp)
+                            | FilletEnd::Turn(sharp)
+                            | FilletEnd::TurnMany(sharp),
+                        ) = end
+                        {
                             out.records[i].fillet |= fillet_end_code(sharp) << (8 * k + 4 * half);
                         }
-                        if let Some(FilletEnd::Turn(_)) = end {
+                        let corner = (k + half) % 4;
+                        match end {
                             // The normal turns there (`fillet_rotation`): bit 8 + its corner.
-                            out.records[i].transition |= 1 << (8 + (k + half) % 4);
+                            Some(FilletEnd::Turn(_)) => {
+                                out.records[i].transition |= 1 << (8 + corner);
+                            }
+                            // From the normal at the point (`turn_towards`): also bit 12 + it.
+                            Some(FilletEnd::TurnMany(_)) => {
+                                out.records[i].transition |=
+                                    (1 << (8 + corner)) | (1 << (12 + corner));
+                            }
+                            _ => {}
                         }
                     }
                 }

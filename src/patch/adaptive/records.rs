@@ -33,7 +33,14 @@ pub struct PatchRecord {
     pub domain: [[f32; 2]; 3],
     /// Bit `k`: the neighbour across patch edge `k` is one level finer (Köbler 2013 §3.4). End
     /// caps, bit `8 + k`: the fillet at corner `k` turns the normals of the edges from it
-    /// ([`crate::patch::adaptive::promoted::fillet_rotation`]) rather than bending their tangent.
+    /// ([`crate::patch::adaptive::promoted::fillet_rotation`]) rather than bending their tangent,
+    /// with bit `12 + k` from the normal at the point
+    /// ([`crate::patch::adaptive::promoted::turn_towards`] by
+    /// [`crate::patch::adaptive::promoted::fillet_many_share`]: three or more creases meet there);
+    /// bit `16 + k`: corner `k`'s vertex is an irregular crease vertex
+    /// ([`crate::patch::adaptive::promoted::irregular_crease_vertex`]), whose fillet turns the
+    /// shared normal of the promoted creases from it
+    /// ([`crate::patch::adaptive::promoted::crease_turn_share`]).
     pub transition: u32,
     /// Slot of the midpoint of transition edge `k` (the next level's edge point), else `u32::MAX`.
     pub mid_slots: [u32; 4],

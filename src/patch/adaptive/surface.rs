@@ -8,9 +8,10 @@ use glam::{DVec2, DVec3};
 use thiserror::Error;
 
 use super::promoted::{
-    band_offset_factor, exact_corner_tangents, fillet_bend, fillet_code, fillet_cross_derivative,
-    fillet_end, fillet_end_code, fillet_end_sharpness, fillet_rotation, fillet_sharpness,
-    promoted_edge, promoted_vertex, FilletEnd,
+    band_offset_factor, crease_turn_share, exact_corner_tangents, fillet_bend, fillet_code,
+    fillet_cross_derivative, fillet_end, fillet_end_code, fillet_end_sharpness, fillet_many_share,
+    fillet_rotation, fillet_sharpness, irregular_crease_vertex, promoted_edge, promoted_vertex,
+    turn_towards, FilletEnd,
 };
 use crate::patch::basis::{bernstein_deriv, eval_tensor};
 use crate::patch::gregory::{
@@ -157,16 +158,28 @@ pub struct AdaptiveSurface {
 /// What an end cap shares on promoted creases: per face edge the end cap across it (patch
 /// index, its edge) and the edge's residual sharpness, per corner the exact limit normal, per
 /// other edge between two end caps that end cap, the fillet sharpness at its ends (0: none) and
-/// whether the normal turns there (`super::promoted::fillet_rotation`) rather than the tangent
-/// bending.
+/// how the normal turns there rather than the tangent bending, per corner whether its vertex is
+/// an irregular crease vertex (`super::promoted::irregular_crease_vertex`).
 #[derive(Debug, Clone, Default)]
 struct PromotedCap {
     edges: [Option<(usize, usize)>; 4],
     sharpness: [f64; 4],
     corners: [Option<DVec3>; 4],
     ends: [[f64; 2]; 4],
-    rotated: [[bool; 2]; 4],
+    rotated: [[Option<Turn>; 2]; 4],
     others: [Option<(usize, usize)>; 4],
+    irregular: [bool; 4],
+}
+
+/// How the normal of an edge between two end caps turns at an end on a crease vertex that is
+/// not regular (`super::promoted::FilletEnd`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Turn {
+    /// From the edge's own normal at the vertex (`super::promoted::fillet_rotation`).
+    FromOwn,
+    /// From the normal at the point (`super::promoted::turn_towards`,
+    /// `super::promoted::fillet_many_share`).
+    Many,
 }
 
 /// The own `(s, t)` of the point at `x` along quad edge `k` (corner `k` -> `k + 1`).
@@ -386,7 +399,8 @@ impl AdaptiveSurface {
     /// the edge's derivative from that end and its continuation's beyond the crease (the end
     /// cap across it; `super::promoted::fillet_bend` where there is none); from a crease vertex
     /// that is not regular, the normal turned towards the limit's there instead
-    /// (`super::promoted::fillet_rotation`); `None` elsewhere.
+    /// (`super::promoted::fillet_rotation`), or where three or more creases meet there from the
+    /// normal at the point (`super::promoted::turn_towards`); `None` elsewhere.
     fn bent_edge_normal(&self, cap: &PromotedCap, i: usize, k: usize, x: f64) -> Option<DVec3> {
         let across = cap.others[k]?;
         let (mut tangent, d_own, d_across) = self.edge_derivatives(i, k, x, across);
@@ -398,10 +412,13 @@ impl AdaptiveSurface {
                 continue;
             };
             bent = true;
-            if cap.rotated[k][side] {
+            if let Some(turn) = cap.rotated[k][side] {
                 // The edge's own normal at that end, as the normal below.
-                let (t0, own0, across0) = self.edge_derivatives(i, k, side as f64, across);
-                turns[side] = Some((sharp, w, t0.cross(own0 - across0), normal));
+                let own = (turn == Turn::FromOwn).then(|| {
+                    let (t0, own0, across0) = self.edge_derivatives(i, k, side as f64, across);
+                    t0.cross(own0 - across0)
+                });
+                turns[side] = Some((sharp, w, own, normal));
                 continue;
             }
             // The derivative from that end into the edge.
@@ -429,7 +446,10 @@ impl AdaptiveSurface {
         }
         let mut n = tangent.cross(d_own - d_across).normalize_or_zero();
         for (sharp, w, own, limit) in turns.into_iter().flatten() {
-            n = fillet_rotation(sharp, w, own, limit, n);
+            n = match own {
+                Some(own) => fillet_rotation(sharp, w, own, limit, n),
+                None => turn_towards(n, limit, fillet_many_share(sharp, w)),
+            };
         }
         bent.then_some(n)
     }
@@ -467,7 +487,9 @@ impl AdaptiveSurface {
     /// The normal the GPU draws on a promoted crease (`super::promoted`), at own `(s, t)` of end
     /// cap `i`: at a corner on one the exact limit normal; on an edge that is one (an end cap on
     /// both sides) the normal both sides share, `cross(tangent, d_own - d_across)` of the two
-    /// cross-edge derivatives (`gregory_edge` of `glsl/gregory/gregory.glsl`). `None` elsewhere.
+    /// cross-edge derivatives (`gregory_edge` of `glsl/gregory/gregory.glsl`), turned towards the
+    /// limit normal of an irregular crease vertex at either end within its fillet
+    /// (`super::promoted::crease_turn_share`). `None` elsewhere.
     pub fn promoted_normal(&self, i: usize, s: f64, t: f64) -> Option<DVec3> {
         let cap = self.promoted.get(&i)?;
         let corner = match (s, t) {
@@ -489,7 +511,16 @@ impl AdaptiveSurface {
         if let Some(slope) = self.edge_cross_slopes(i, k, x, across) {
             tangent += band_offset_factor(cap.sharpness[k]) * slope;
         }
-        Some(tangent.cross(d_own - d_across).normalize_or_zero())
+        let mut n = tangent.cross(d_own - d_across).normalize_or_zero();
+        // Within the fillet of an irregular crease vertex at either end: turned towards its
+        // limit normal (`super::promoted::crease_turn_share`).
+        for (side, w) in [(0, x), (1, 1.0 - x)] {
+            let c = (k + side) % 4;
+            if let (true, Some(limit)) = (cap.irregular[c], cap.corners[c]) {
+                n = turn_towards(n, limit, crease_turn_share(cap.sharpness[k], w));
+            }
+        }
+        Some(n)
     }
 
     /// At `x` along edge `k` of quad end cap `i` (from corner `k`), with quad end cap `j`
@@ -665,9 +696,10 @@ fn promoted_caps(
                     cap.others[k] = across;
                     for (half, v) in [fv[k], fv[(k + 1) % 4]].into_iter().enumerate() {
                         let (sharp, rotated) = match fillet_end(t, caps, v, e) {
-                            Some(FilletEnd::Bend(s)) => (Some(s), false),
-                            Some(FilletEnd::Turn(s)) => (Some(s), true),
-                            None => (None, false),
+                            Some(FilletEnd::Bend(s)) => (Some(s), None),
+                            Some(FilletEnd::Turn(s)) => (Some(s), Some(Turn::FromOwn)),
+                            Some(FilletEnd::TurnMany(s)) => (Some(s), Some(Turn::Many)),
+                            None => (None, None),
                         };
                         cap.rotated[k][half] = rotated;
                         cap.ends[k][half] =
@@ -680,6 +712,7 @@ fn promoted_caps(
             cap.sharpness[k] = fillet_sharpness(fillet_code(t.edge_sharpness(e)));
         }
         for (k, &v) in t.face_vertices(face).iter().enumerate() {
+            cap.irregular[k] = irregular_crease_vertex(t, caps, v);
             if promoted_vertex(t, caps, v) {
                 cap.corners[k] = exact_corner_tangents(lev, face, k).map(|[du, dv]| {
                     du.apply(positions)
