@@ -575,13 +575,9 @@ impl AdaptiveDrawTables {
                     let fv = t.face_vertices(p.face);
                     for (half, v) in [fv[k], fv[(k + 1) % 4]].into_iter().enumerate() {
                         let end = fillet_end(t, caps, v, e);
-                        if let Some(
-                            FilletEnd::Bend(sharp)
-                            | FilletEnd::Turn(sharp)
-                            | FilletEnd::TurnMany(sharp),
-                        ) = end
-                        {
-                            out.records[i].fillet |= fillet_end_code(sharp) << (8 * k + 4 * half);
+                        if let Some(end) = end {
+                            out.records[i].fillet |=
+                                fillet_end_code(end.sharpness()) << (8 * k + 4 * half);
                         }
                         let corner = (k + half) % 4;
                         match end {

@@ -203,6 +203,15 @@ pub enum FilletEnd {
     TurnMany(f32),
 }
 
+impl FilletEnd {
+    /// The fillet's residual sharpness at that end.
+    pub fn sharpness(self) -> f32 {
+        match self {
+            FilletEnd::Bend(s) | FilletEnd::Turn(s) | FilletEnd::TurnMany(s) => s,
+        }
+    }
+}
+
 /// [`FilletEnd`] at the end `v` of edge `e`, `None` where no fillet reaches it.
 ///
 /// A turn: where a promoted crease ([`promoted_edge`]) runs through `v` but not regularly

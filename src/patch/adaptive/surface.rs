@@ -166,20 +166,9 @@ struct PromotedCap {
     sharpness: [f64; 4],
     corners: [Option<DVec3>; 4],
     ends: [[f64; 2]; 4],
-    rotated: [[Option<Turn>; 2]; 4],
+    fillet_ends: [[Option<FilletEnd>; 2]; 4],
     others: [Option<(usize, usize)>; 4],
     irregular: [bool; 4],
-}
-
-/// How the normal of an edge between two end caps turns at an end on a crease vertex that is
-/// not regular (`super::promoted::FilletEnd`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Turn {
-    /// From the edge's own normal at the vertex (`super::promoted::fillet_rotation`).
-    FromOwn,
-    /// From the normal at the point (`super::promoted::turn_towards`,
-    /// `super::promoted::fillet_many_share`).
-    Many,
 }
 
 /// The own `(s, t)` of the point at `x` along quad edge `k` (corner `k` -> `k + 1`).
@@ -412,9 +401,11 @@ impl AdaptiveSurface {
                 continue;
             };
             bent = true;
-            if let Some(turn) = cap.rotated[k][side] {
+            if let Some(end @ (FilletEnd::Turn(_) | FilletEnd::TurnMany(_))) =
+                cap.fillet_ends[k][side]
+            {
                 // The edge's own normal at that end, as the normal below.
-                let own = (turn == Turn::FromOwn).then(|| {
+                let own = matches!(end, FilletEnd::Turn(_)).then(|| {
                     let (t0, own0, across0) = self.edge_derivatives(i, k, side as f64, across);
                     t0.cross(own0 - across0)
                 });
@@ -695,15 +686,11 @@ fn promoted_caps(
                 if across.is_some() && !is_sharp_edge(caps, e) {
                     cap.others[k] = across;
                     for (half, v) in [fv[k], fv[(k + 1) % 4]].into_iter().enumerate() {
-                        let (sharp, rotated) = match fillet_end(t, caps, v, e) {
-                            Some(FilletEnd::Bend(s)) => (Some(s), None),
-                            Some(FilletEnd::Turn(s)) => (Some(s), Some(Turn::FromOwn)),
-                            Some(FilletEnd::TurnMany(s)) => (Some(s), Some(Turn::Many)),
-                            None => (None, None),
-                        };
-                        cap.rotated[k][half] = rotated;
-                        cap.ends[k][half] =
-                            sharp.map_or(0.0, |x| fillet_end_sharpness(fillet_end_code(x)));
+                        let end = fillet_end(t, caps, v, e);
+                        cap.fillet_ends[k][half] = end;
+                        cap.ends[k][half] = end.map_or(0.0, |x| {
+                            fillet_end_sharpness(fillet_end_code(x.sharpness()))
+                        });
                     }
                 }
                 continue;

@@ -193,7 +193,7 @@ pub fn check_vertex_for(
     }
     let sharp = sharp_edges(topo, v);
     let count = sharp.iter().filter(|&&s| s).count();
-    let corner = is_inf(vs) || count > 2;
+    let corner = ring_corner_tag(topo, v, &sharp);
     if corner && count < 2 {
         return Err(NotGregory::Cusp { face: f, vertex: v });
     }
@@ -336,7 +336,7 @@ pub fn vertex_ring_with<P: GregoryPoint>(
         .collect();
     let sharp = sharp_edges(topo, v);
     let count = sharp.iter().filter(|&&s| s).count();
-    let corner = is_inf(topo.vertex_sharpness(v)) || count > 2;
+    let corner = ring_corner_tag(topo, v, &sharp);
     let far_sector = if count == 2 && !corner {
         far_crease_sectors(topo, v, &sharp)
     } else {
@@ -479,9 +479,14 @@ pub(super) fn has_vertex_data(topo: &Topology, v: u32, darts: &DartLimits) -> bo
         return false;
     }
     let sharp = sharp_edges(topo, v);
-    // `vertex_ring_with`'s corner tag.
-    let corner = is_inf(topo.vertex_sharpness(v)) || sharp.iter().filter(|&&s| s).count() > 2;
+    let corner = ring_corner_tag(topo, v, &sharp);
     has_construction(&sharp, corner, topo.vertex_faces(v).len(), darts)
+}
+
+/// The corner tag of vertex `v`'s ring ([`VertexRing::corner`]), given its edges' sharpness
+/// `sharp` ([`sharp_edges`]): an infinitely sharp vertex, or more than two sharp edges.
+fn ring_corner_tag(topo: &Topology, v: u32, sharp: &[bool]) -> bool {
+    is_inf(topo.vertex_sharpness(v)) || sharp.iter().filter(|&&s| s).count() > 2
 }
 
 /// Per-vertex Gregory data for every vertex (`None` where the construction does not apply).

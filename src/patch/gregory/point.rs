@@ -14,12 +14,18 @@ pub trait GregoryPoint: Clone {
     /// `Σ w_i x_i` over `terms` in their order: [`GregoryPoint::add_scaled`] of each term onto
     /// [`GregoryPoint::zero`], which a point type may compute in one pass with the same bits.
     fn combination(terms: &[(f64, &Self)]) -> Self {
-        let mut out = Self::zero();
-        for (w, x) in terms {
-            out.add_scaled(*w, x);
-        }
-        out
+        added_one_by_one(terms)
     }
+}
+
+/// `Σ w_i x_i` as [`GregoryPoint::add_scaled`] of each term in order onto
+/// [`GregoryPoint::zero`] (the default [`GregoryPoint::combination`]).
+fn added_one_by_one<P: GregoryPoint>(terms: &[(f64, &P)]) -> P {
+    let mut out = P::zero();
+    for (w, x) in terms {
+        out.add_scaled(*w, x);
+    }
+    out
 }
 
 impl GregoryPoint for DVec3 {
@@ -127,11 +133,7 @@ const MERGE_TERMS: usize = 8;
 /// as there.
 fn merge_terms(terms: &[(f64, &Weights)]) -> Vec<(u32, f64)> {
     if terms.len() > MERGE_TERMS {
-        let mut out = Weights::zero();
-        for (w, x) in terms {
-            out.add_scaled(*w, x);
-        }
-        return out.0;
+        return added_one_by_one(terms).0;
     }
     let mut live: [(f64, &[(u32, f64)]); MERGE_TERMS] = [(0.0, &[]); MERGE_TERMS];
     let mut n = 0;

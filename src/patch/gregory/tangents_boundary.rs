@@ -126,12 +126,8 @@ impl GregoryTangents {
     /// elsewhere, whatever the band; `Bands` takes [`BAND_TWO_SCALE`] and [`BAND_CENTRE_SCALE`]
     /// on a band of quad rings and `Optimal`'s factors elsewhere ("Bands" in the module docs).
     pub fn crease_scale(self, k: usize, band: usize, quads: bool) -> f64 {
-        // The end caps' own factors are at smooth rings only.
-        let t = match self {
-            GregoryTangents::EndCaps => GregoryTangents::Optimal,
-            t => t,
-        };
-        let s = match t {
+        // The end caps' own factors are at smooth rings only: `EndCaps` is `Optimal` here.
+        let s = match self {
             GregoryTangents::Paper => 1.0,
             _ if k <= 1 || (k == 2 && band == 0) => 1.0,
             GregoryTangents::Scaled(s) => s,
@@ -141,7 +137,11 @@ impl GregoryTangents {
             GregoryTangents::Bands if quads && band == 1 => {
                 BAND_CENTRE_SCALE[k.min(MAX_FITTED_CREASE_SECTOR) - 3]
             }
-            GregoryTangents::Optimal | GregoryTangents::Bands if !quads || k == 2 => 1.0,
+            GregoryTangents::Optimal | GregoryTangents::Bands | GregoryTangents::EndCaps
+                if !quads || k == 2 =>
+            {
+                1.0
+            }
             GregoryTangents::Optimal | GregoryTangents::Bands | GregoryTangents::EndCaps => {
                 CREASE_SCALE[k.min(MAX_FITTED_CREASE_SECTOR) - 3]
             }
