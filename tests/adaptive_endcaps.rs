@@ -135,6 +135,19 @@ fn errors(
     })
 }
 
+/// Root mean square of `xs` (0 for none).
+fn rms(xs: impl IntoIterator<Item = f64>) -> f64 {
+    let (sum, n) = xs
+        .into_iter()
+        .fold((0.0, 0usize), |(sum, n), x| (sum + x * x, n + 1));
+    (sum / n.max(1) as f64).sqrt()
+}
+
+/// Largest of `xs` (0 for none).
+fn max(xs: impl IntoIterator<Item = f64>) -> f64 {
+    xs.into_iter().fold(0.0, f64::max)
+}
+
 fn is_end_cap(p: &SurfacePatch) -> bool {
     matches!(p.shape, PatchShape::Gregory(_))
 }
@@ -200,11 +213,13 @@ fn end_cap_error_falls_with_isolation() {
         for iso in 1..=5 {
             let (_, s) = surface(&m, iso);
             let e = errors(&m, &s, is_end_cap, 8);
-            let rms = |pick: fn(&Measured) -> f64| {
-                (e.iter().map(|x| pick(x).powi(2)).sum::<f64>() / e.len().max(1) as f64).sqrt()
-            };
-            let max = |pick: fn(&Measured) -> f64| e.iter().map(pick).fold(0.0, f64::max);
-            row.push([rms(|x| x.2), max(|x| x.2), rms(|x| x.3), max(|x| x.3)]);
+            let (dist, normal) = (e.iter().map(|x| x.2), e.iter().map(|x| x.3));
+            row.push([
+                rms(dist.clone()),
+                max(dist),
+                rms(normal.clone()),
+                max(normal),
+            ]);
         }
         eprintln!(
             "| `{name}` | {} |",
@@ -249,7 +264,7 @@ fn end_caps_keep_residual_creases() {
         ("catmark_cube_creases0", 1, 8.0e-3),
     ] {
         let m = osd(name);
-        let mut rms = Vec::new();
+        let mut rmss = Vec::new();
         for mode in [EndCapSharpness::Crease, EndCapSharpness::Smooth] {
             let options = AdaptiveOptions {
                 end_cap_sharpness: mode,
@@ -267,21 +282,21 @@ fn end_caps_keep_residual_creases() {
             };
             let e = errors(&m, &s, next_to_crease, 8);
             assert!(e.len() > 100, "{name}: {} samples", e.len());
-            rms.push((e.iter().map(|x| x.2 * x.2).sum::<f64>() / e.len() as f64).sqrt());
+            rmss.push(rms(e.iter().map(|x| x.2)));
         }
         eprintln!(
             "{name} L{iso}: end caps next to semi-sharp creases, RMS crease {:.3e}, smooth {:.3e}",
-            rms[0], rms[1]
+            rmss[0], rmss[1]
         );
         assert!(
-            rms[0] <= bound,
+            rmss[0] <= bound,
             "{name}: crease RMS {:e} > {bound:e}",
-            rms[0]
+            rmss[0]
         );
         assert!(
-            rms[1] > bound,
+            rmss[1] > bound,
             "{name}: smooth RMS {:e} <= {bound:e}",
-            rms[1]
+            rmss[1]
         );
     }
 }
@@ -347,8 +362,7 @@ fn promoted_crease_normals_follow_the_limit() {
                 .map(pick)
                 .filter(|a| a.is_finite())
                 .collect();
-            let rms = (x.iter().map(|a| a * a).sum::<f64>() / x.len().max(1) as f64).sqrt();
-            (rms, x.iter().copied().fold(0.0, f64::max), x.len())
+            (rms(x.iter().copied()), max(x.iter().copied()), x.len())
         };
         let (shared, own) = (stats(&|x| x.0, true), stats(&|x| x.1, true));
         let inside = stats(&|x| x.0, false);
@@ -407,8 +421,7 @@ fn fillet_normals_follow_the_limit_at_depth() {
             .map(|x| x.0)
             .filter(|a| a.is_finite())
             .collect();
-        let rms = (e.iter().map(|a| a * a).sum::<f64>() / e.len() as f64).sqrt();
-        let max = e.iter().copied().fold(0.0, f64::max);
+        let (rms, max) = (rms(e.iter().copied()), max(e.iter().copied()));
         eprintln!(
             "{name} L{iso}: {} samples, normal RMS / max rad {rms:.4} / {max:.4}",
             e.len()
@@ -464,7 +477,7 @@ fn band_offset_turns_promoted_edge_normals() {
         .flatten()
         .filter(|a| a.is_finite())
         .collect();
-        let rms = (e.iter().map(|a| a * a).sum::<f64>() / e.len() as f64).sqrt();
+        let rms = rms(e.iter().copied());
         eprintln!(
             "{name} L{iso}: {} promoted-edge points, normal RMS {rms:.4e}",
             e.len()
@@ -610,11 +623,8 @@ fn end_cap_factors_turn_normals_towards_the_limit() {
         let m = osd(name);
         let (_, s) = surface(&m, 2);
         let e = errors(&m, &s, is_end_cap, 8);
-        let rms = |pick: fn(&Measured) -> f64| {
-            (e.iter().map(|x| pick(x).powi(2)).sum::<f64>() / e.len() as f64).sqrt()
-        };
-        let (dist, normal) = (rms(|x| x.2), rms(|x| x.3));
-        let max = e.iter().map(|x| x.3).fold(0.0, f64::max);
+        let (dist, normal) = (rms(e.iter().map(|x| x.2)), rms(e.iter().map(|x| x.3)));
+        let max = max(e.iter().map(|x| x.3));
         eprintln!(
             "{name} L2: {} samples, distance RMS {dist:.4e}, normal RMS {normal:.4e} max {max:.4e}",
             e.len()

@@ -247,29 +247,6 @@ vec3 fillet_change(float sharp, float w, vec3 d_sum) {
     return d;
 }
 
-/// `n` turned about `own x limit` by the turn's weight at w times the angle between them
-/// (`patch::adaptive::promoted::fillet_rotation`).
-vec3 fillet_rotation(float sharp, float w, vec3 own, vec3 limit, vec3 n) {
-    precise vec3 a = normalize(own);
-    precise vec3 b = normalize(limit);
-    precise vec3 axis = cross(a, b);
-    precise float sn = length(axis);
-    if (!(sn > 1e-7)) {
-        return n;
-    }
-    axis = axis / sn;
-    precise float lo = floor(sharp);
-    precise float frac = sharp - lo;
-    // (1 - w/h) to the power FILLET_TURN_EXPONENT (1), blended by the fraction of s.
-    precise float r0 = max(1.0 - w * exp2(lo), 0.0);
-    precise float r1 = max(1.0 - w * exp2(lo + 1.0), 0.0);
-    precise float weight = (1.0 - frac) * r0 + frac * r1;
-    precise float angle = atan(sn, dot(a, b)) * weight;
-    precise float c = cos(angle);
-    precise vec3 r = (n * c + cross(axis, n) * sin(angle)) + axis * (dot(axis, n) * (1.0 - c));
-    return r;
-}
-
 /// `(1 - w/h)`, squared if `square`, h = 2^-floor(sharp), blended with the next step by the
 /// fraction of sharp (`patch::adaptive::promoted::fillet_fade`).
 float fillet_fade(float sharp, float w, bool square) {
@@ -285,6 +262,28 @@ float fillet_fade(float sharp, float w, bool square) {
     return f;
 }
 
+/// Rodrigues' rotation of `n` about the unit `axis` by `angle`
+/// (`patch::adaptive::promoted::rotate`).
+vec3 rotate_about(vec3 n, vec3 axis, float angle) {
+    precise float c = cos(angle);
+    precise vec3 r = (n * c + cross(axis, n) * sin(angle)) + axis * (dot(axis, n) * (1.0 - c));
+    return r;
+}
+
+/// `n` turned about `own x limit` by the turn's weight at w (`fillet_fade`, linear) times the
+/// angle between them (`patch::adaptive::promoted::fillet_rotation`).
+vec3 fillet_rotation(float sharp, float w, vec3 own, vec3 limit, vec3 n) {
+    precise vec3 a = normalize(own);
+    precise vec3 b = normalize(limit);
+    precise vec3 axis = cross(a, b);
+    precise float sn = length(axis);
+    if (!(sn > 1e-7)) {
+        return n;
+    }
+    precise float angle = atan(sn, dot(a, b)) * fillet_fade(sharp, w, false);
+    return rotate_about(n, axis / sn, angle);
+}
+
 /// `n` turned towards `limit` by `share` of the angle between them
 /// (`patch::adaptive::promoted::turn_towards`).
 vec3 turn_towards(vec3 n, vec3 limit, float share) {
@@ -294,11 +293,8 @@ vec3 turn_towards(vec3 n, vec3 limit, float share) {
     if (!(sn > 1e-7) || share == 0.0) {
         return n;
     }
-    axis = axis / sn;
     precise float angle = atan(sn, dot(n, b)) * share;
-    precise float c = cos(angle);
-    precise vec3 r = (n * c + cross(axis, n) * sin(angle)) + axis * (dot(axis, n) * (1.0 - c));
-    return r;
+    return rotate_about(n, axis / sn, angle);
 }
 
 /// The fillet's change of the derivative `along` (from edge end `end`, unit parameter) at

@@ -233,9 +233,14 @@ impl Default for GregoryTangents {
     }
 }
 
+/// The `--gregory-tangents` spelling: the name, and `scaled:S` for [`GregoryTangents::Scaled`]
+/// (what [`str::parse`] reads back).
 impl std::fmt::Display for GregoryTangents {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
+        match self {
+            GregoryTangents::Scaled(s) => write!(f, "scaled:{s}"),
+            t => f.write_str(t.name()),
+        }
     }
 }
 
@@ -247,9 +252,14 @@ impl std::str::FromStr for GregoryTangents {
             "paper" => Ok(GregoryTangents::Paper),
             "optimal" => Ok(GregoryTangents::Optimal),
             "bands" => Ok(GregoryTangents::Bands),
-            _ => Err(format!(
-                "Gregory tangents '{s}': expected 'paper', 'optimal' or 'bands'"
-            )),
+            "end-caps" => Ok(GregoryTangents::EndCaps),
+            _ => match s.strip_prefix("scaled:").map(str::parse::<f64>) {
+                Some(Ok(k)) if k.is_finite() && k > 0.0 => Ok(GregoryTangents::Scaled(k)),
+                _ => Err(format!(
+                    "Gregory tangents '{s}': expected 'paper', 'optimal', 'bands', 'end-caps' \
+                     or 'scaled:S' with S a positive number"
+                )),
+            },
         }
     }
 }
@@ -330,9 +340,26 @@ mod tests {
 
     #[test]
     fn names_parse() {
-        for t in [GregoryTangents::Paper, GregoryTangents::Optimal] {
-            assert_eq!(t.name().parse::<GregoryTangents>(), Ok(t));
+        for t in [
+            GregoryTangents::Paper,
+            GregoryTangents::Optimal,
+            GregoryTangents::Bands,
+            GregoryTangents::EndCaps,
+            GregoryTangents::Scaled(0.7),
+        ] {
+            assert_eq!(t.to_string().parse::<GregoryTangents>(), Ok(t));
         }
-        assert!("bogus".parse::<GregoryTangents>().is_err());
+        assert_eq!(GregoryTangents::Scaled(0.7).to_string(), "scaled:0.7");
+        for bad in [
+            "bogus",
+            "scaled",
+            "scaled:",
+            "scaled:-1",
+            "scaled:0",
+            "scaled:inf",
+            "scaled:nan",
+        ] {
+            assert!(bad.parse::<GregoryTangents>().is_err(), "{bad}");
+        }
     }
 }
