@@ -338,6 +338,8 @@ pub fn sparse_face_rows_flat(
     let mut types: WordHashMap<TypeKey, u32> = WordHashMap::default();
     let mut type_of: Vec<Option<u32>> = Vec::with_capacity(faces.len());
     let mut representative: Vec<usize> = Vec::new();
+    // Each face's canonical ring, walked once (the relabelling reads it again).
+    let mut rings: Vec<Vec<u32>> = Vec::with_capacity(faces.len());
     for (i, &f) in faces.iter().enumerate() {
         let ring = ring_slots(topo, f, &mut keyer.slot);
         let t = keyer.key(f, &ring).map(|key| {
@@ -350,6 +352,7 @@ pub fn sparse_face_rows_flat(
         });
         clear(&mut keyer.slot, &ring);
         type_of.push(t);
+        rings.push(ring);
     }
     // Pass 2: the representatives and the faces without type, directly, in one batch (one
     // vertex's data serves all its faces).
@@ -382,12 +385,15 @@ pub fn sparse_face_rows_flat(
             if m == 1 {
                 return None;
             }
-            let ring = ring_slots(topo, faces[i], &mut keyer.slot);
+            let ring = &rings[i];
+            for (s, &x) in ring.iter().enumerate() {
+                keyer.slot[x as usize] = s as u32;
+            }
             let local = match &rows[i] {
                 Some(Ok(r)) => to_slots(topo, r, &keyer.slot, ring.len()),
                 _ => None,
             };
-            clear(&mut keyer.slot, &ring);
+            clear(&mut keyer.slot, ring);
             local
         })
         .collect();
@@ -404,24 +410,20 @@ pub fn sparse_face_rows_flat(
     }
     let out = rows
         .into_par_iter()
+        .zip(rings)
         .enumerate()
         .with_min_len(256)
-        .map_init(
-            || vec![NONE; topo.vertex_count()],
-            |slot, (i, r)| {
-                r.map(flat).unwrap_or_else(|| {
-                    let ring = ring_slots(topo, faces[i], slot);
-                    clear(slot, &ring);
-                    let t = type_of[i].expect("faces without type are built in the first batch");
-                    let local = local[t as usize].as_ref();
-                    Ok(from_slots(
-                        topo,
-                        local.expect("types without rows are built in the second batch"),
-                        &ring,
-                    ))
-                })
-            },
-        )
+        .map(|(i, (r, ring))| {
+            r.map(flat).unwrap_or_else(|| {
+                let t = type_of[i].expect("faces without type are built in the first batch");
+                let local = local[t as usize].as_ref();
+                Ok(from_slots(
+                    topo,
+                    local.expect("types without rows are built in the second batch"),
+                    &ring,
+                ))
+            })
+        })
         .collect();
     log::trace!(
         "end-cap rows: {} faces, {} connectivity types, {} + {} built directly",
