@@ -1,12 +1,11 @@
 //! Sparse stencil rows over the global refined vertices (Köbler 2013 §4.2: one vertex buffer
 //! for every level): slot frames (limit position and two tangents) and end-cap control points.
 
-use std::collections::HashMap;
-
 use glam::DVec3;
 
 use super::surface::EndCapTopologies;
 use crate::patch::gregory::shared_rows::FaceRows;
+use crate::patch::gregory::word_hash::WordHashMap;
 use crate::patch::gregory::{one_face_crease_sector, GregoryPoint, Weights};
 use crate::patch::single_crease::SingleCreasePatch;
 use crate::patch::RegularPatch;
@@ -37,7 +36,7 @@ pub struct CornerRows<'a> {
     caps: &'a [FaceRows],
     /// Single-crease corner weights depend on the line's side and sharpness and the corner
     /// only: evaluated once per such shape of the census, not once per corner.
-    crease: HashMap<CreaseKey, CornerColumns>,
+    crease: WordHashMap<CreaseKey, CornerColumns>,
     /// B-spline corner weights per face corner and phantom sides ([`bspline_corner_columns`]
     /// of `(k, mask)` at `16 k + mask`): they depend on nothing else.
     bspline: Vec<[[f64; 16]; 3]>,
@@ -54,7 +53,7 @@ impl<'a> CornerRows<'a> {
         topologies: &EndCapTopologies,
         caps: &'a [FaceRows],
     ) -> CornerRows<'a> {
-        let mut crease = HashMap::new();
+        let mut crease = WordHashMap::default();
         for line in census.patches.iter().filter_map(|p| p.crease.as_ref()) {
             for k in 0..4 {
                 crease

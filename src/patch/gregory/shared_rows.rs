@@ -12,7 +12,7 @@
 //! every corner, each corner's edges with their other end, sharpness bits and face counts, and
 //! whether each edge neighbour gets a patch), so two faces with equal keys produce equal rows
 //! slot by slot. A face whose rows leave its ring, or that gets no patch, is built directly.
-//! The rows are two-stage ([`sparse_face_rows_direct`]): the vertex points of a smooth, dart or
+//! The rows are two-stage ([`super::stencil_table::sparse_face_rows_direct`]): the vertex points of a smooth, dart or
 //! crease corner (`vertex_count + 3 v + b`, [`super::GregoryVertex::vertex_points`]) take the
 //! slots `ring_len + 3 slot(v) + b`; which rule a corner takes is part of its topology, hence of
 //! the key. The vertex points' own (first-stage) rows are shared the same way, per ring type
@@ -27,7 +27,7 @@ use super::build::{
 use super::point::Weights;
 use super::stencil::ring_walk;
 use super::stencil_table::{
-    sparse_face_rows_direct, vertex_point_id, vertex_point_of, vertex_point_rows_with,
+    sparse_face_rows_direct_with, vertex_point_id, vertex_point_of, vertex_point_rows_with,
     VERTEX_POINTS,
 };
 use super::tangents::GregoryTangents;
@@ -193,7 +193,7 @@ impl Keyer<'_> {
     /// The far corners of neighbour `g` across the sharp edge `x`-`y` of `f`, when `g`'s face
     /// points beside that edge may be one-sided (`GregoryVertex::one_sided`): there `g`'s face
     /// point next to the edge is its other one at `x` (or `y`), which reads the edge point and
-    /// cosine of `g`'s corner beyond, not a corner of `f` (the rows of [`sparse_face_rows_direct`]
+    /// cosine of `g`'s corner beyond, not a corner of `f` (the rows of [`super::stencil_table::sparse_face_rows_direct`]
     /// hold `g`'s face points next to the edge). A smooth corner (the interior construction,
     /// judged by the construction's own tests: two-stage, its derived points and cosine) is its
     /// valence, its faces' sizes and `g`'s place in its ring; another one is read in full
@@ -285,26 +285,27 @@ fn from_slots(topo: &Topology, rows: &LocalRows, ring: &[u32]) -> FaceRows {
     out
 }
 
-/// [`sparse_face_rows_direct`] on `faces` split into one batch per rayon thread (one batch on
-/// one thread): a face's rows do not depend on its batch, only the sharing of vertex data does.
+/// [`super::stencil_table::sparse_face_rows_direct`] on `faces` split into one batch per rayon
+/// thread (one batch on one thread): a face's rows do not depend on its batch, only the sharing
+/// of vertex data does. `has_data`: the keys' answers of which vertices have data (per vertex
+/// 0 or 1, 2 for not asked).
 fn direct_batches(
     topo: &Topology,
     faces: &[u32],
     tangents: GregoryTangents,
     darts: &DartLimits,
+    has_data: &[u8],
 ) -> Vec<Result<Vec<Weights>, NotGregory>> {
+    let direct = |batch| sparse_face_rows_direct_with(topo, batch, tangents, darts, Some(has_data));
     let per = faces.len().div_ceil(rayon::current_num_threads()).max(64);
     if faces.len() <= per {
-        return sparse_face_rows_direct(topo, faces, tangents, darts);
+        return direct(faces);
     }
-    let batches: Vec<_> = faces
-        .par_chunks(per)
-        .map(|batch| sparse_face_rows_direct(topo, batch, tangents, darts))
-        .collect();
+    let batches: Vec<_> = faces.par_chunks(per).map(direct).collect();
     batches.into_iter().flatten().collect()
 }
 
-/// [`sparse_face_rows_direct`] with the construction run once per connectivity type (module
+/// [`super::stencil_table::sparse_face_rows_direct`] with the construction run once per connectivity type (module
 /// docs): bitwise the same rows ([`sparse_face_rows_flat`] as [`Weights`]).
 pub fn sparse_face_rows(
     topo: &Topology,
@@ -366,10 +367,13 @@ pub fn sparse_face_rows_flat(
     // Rows built directly, in their final form.
     let flat = |r: Result<Vec<Weights>, NotGregory>| r.map(|r| FaceRows::from_weights(&r));
     let first_faces: Vec<u32> = first.iter().map(|&i| faces[i]).collect();
-    for (&i, r) in first
-        .iter()
-        .zip(direct_batches(topo, &first_faces, tangents, darts))
-    {
+    for (&i, r) in first.iter().zip(direct_batches(
+        topo,
+        &first_faces,
+        tangents,
+        darts,
+        &keyer.has_data,
+    )) {
         rows[i] = Some(r);
     }
     // Rows over slots per type: `None` where the representative has no patch or its rows leave
@@ -402,10 +406,13 @@ pub fn sparse_face_rows_flat(
     let second =
         batch(&|i| rows[i].is_none() && type_of[i].is_some_and(|t| local[t as usize].is_none()));
     let second_faces: Vec<u32> = second.iter().map(|&i| faces[i]).collect();
-    for (&i, r) in second
-        .iter()
-        .zip(direct_batches(topo, &second_faces, tangents, darts))
-    {
+    for (&i, r) in second.iter().zip(direct_batches(
+        topo,
+        &second_faces,
+        tangents,
+        darts,
+        &keyer.has_data,
+    )) {
         rows[i] = Some(r);
     }
     let out = rows
