@@ -214,11 +214,15 @@ pub fn check_vertex_for(
 /// crease rule), where the end cap's corner tangents are collinear
 /// ([`GregoryVertex::sectored`]).
 pub fn one_face_crease_sector(topo: &Topology, v: u32, f: u32) -> bool {
-    let sharp = sharp_edges(topo, v);
-    let count = sharp.iter().filter(|&&s| s).count();
+    let count = topo
+        .vertex_edges(v)
+        .iter()
+        .filter(|&&e| is_inf(topo.edge_sharpness(e)))
+        .count();
     if count != 2 || is_inf(topo.vertex_sharpness(v)) {
         return false;
     }
+    let sharp = sharp_edges(topo, v);
     let j = j_of(topo, v, f);
     let nf = topo.vertex_faces(v).len();
     sectors(&sharp, nf)
