@@ -12,7 +12,7 @@
 //! every corner, each corner's edges with their other end, sharpness bits and face counts, and
 //! whether each edge neighbour gets a patch), so two faces with equal keys produce equal rows
 //! slot by slot. A face whose rows leave its ring, or that gets no patch, is built directly.
-//! The rows are two-stage ([`super::stencil_table::sparse_face_rows_direct`]): the vertex points of a smooth, dart or
+//! The rows are two-stage ([`sparse_face_rows_direct`]): the vertex points of a smooth, dart or
 //! crease corner (`vertex_count + 3 v + b`, [`super::GregoryVertex::vertex_points`]) take the
 //! slots `ring_len + 3 slot(v) + b`; which rule a corner takes is part of its topology, hence of
 //! the key. The vertex points' own (first-stage) rows are shared the same way, per ring type
@@ -26,6 +26,8 @@ use super::build::{
 };
 use super::point::Weights;
 use super::stencil::ring_walk;
+#[cfg(doc)]
+use super::stencil_table::sparse_face_rows_direct;
 use super::stencil_table::{
     sparse_face_rows_direct_with, vertex_point_id, vertex_point_of, vertex_point_rows_with,
     VERTEX_POINTS,
@@ -193,7 +195,7 @@ impl Keyer<'_> {
     /// The far corners of neighbour `g` across the sharp edge `x`-`y` of `f`, when `g`'s face
     /// points beside that edge may be one-sided (`GregoryVertex::one_sided`): there `g`'s face
     /// point next to the edge is its other one at `x` (or `y`), which reads the edge point and
-    /// cosine of `g`'s corner beyond, not a corner of `f` (the rows of [`super::stencil_table::sparse_face_rows_direct`]
+    /// cosine of `g`'s corner beyond, not a corner of `f` (the rows of [`sparse_face_rows_direct`]
     /// hold `g`'s face points next to the edge). A smooth corner (the interior construction,
     /// judged by the construction's own tests: two-stage, its derived points and cosine) is its
     /// valence, its faces' sizes and `g`'s place in its ring; another one is read in full
@@ -305,7 +307,7 @@ fn direct_batches(
     batches.into_iter().flatten().collect()
 }
 
-/// [`super::stencil_table::sparse_face_rows_direct`] with the construction run once per connectivity type (module
+/// [`sparse_face_rows_direct`] with the construction run once per connectivity type (module
 /// docs): bitwise the same rows ([`sparse_face_rows_flat`] as [`Weights`]).
 pub fn sparse_face_rows(
     topo: &Topology,
