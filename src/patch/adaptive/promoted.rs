@@ -234,6 +234,15 @@ impl FilletEnd {
 /// against 0.40 without; the bishop's of valence 16: 0.92 against 0.65), hence the turn from
 /// the normal at the point ([`turn_towards`]).
 pub fn fillet_end(level: &Topology, caps: &Topology, v: u32, e: u32) -> Option<FilletEnd> {
+    // Both cases below need two promoted edges at `v`: most vertices have none.
+    let promoted_edges = level
+        .vertex_edges(v)
+        .iter()
+        .filter(|&&x| promoted_edge(level, caps, x))
+        .count();
+    if promoted_edges < 2 {
+        return None;
+    }
     if let Some(s) = vertex_fillet_sharpness(level, caps, v) {
         return Some(FilletEnd::Bend(s));
     }

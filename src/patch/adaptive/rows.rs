@@ -1,12 +1,11 @@
 //! Sparse stencil rows over the global refined vertices (Köbler 2013 §4.2: one vertex buffer
 //! for every level): slot frames (limit position and two tangents) and end-cap control points.
 
-use std::collections::HashMap;
-
 use glam::DVec3;
 
 use super::surface::EndCapTopologies;
 use crate::patch::gregory::shared_rows::FaceRows;
+use crate::patch::gregory::word_hash::WordHashMap;
 use crate::patch::gregory::{one_face_crease_sector, GregoryPoint, Weights};
 use crate::patch::single_crease::SingleCreasePatch;
 use crate::patch::RegularPatch;
@@ -37,7 +36,10 @@ pub struct CornerRows<'a> {
     caps: &'a [FaceRows],
     /// Single-crease corner weights depend on the line's side and sharpness and the corner
     /// only: evaluated once per such shape of the census, not once per corner.
-    crease: HashMap<CreaseKey, CornerColumns>,
+    crease: WordHashMap<CreaseKey, CornerColumns>,
+    /// B-spline corner weights per face corner and phantom sides ([`bspline_corner_columns`]
+    /// of `(k, mask)` at `16 k + mask`): they depend on nothing else.
+    bspline: Vec<[[f64; 16]; 3]>,
     /// Every corner in [`Self::visit`] order, walked once for every visit.
     corners: Vec<PatchCorner>,
 }
@@ -51,7 +53,7 @@ impl<'a> CornerRows<'a> {
         topologies: &EndCapTopologies,
         caps: &'a [FaceRows],
     ) -> CornerRows<'a> {
-        let mut crease = HashMap::new();
+        let mut crease = WordHashMap::default();
         for line in census.patches.iter().filter_map(|p| p.crease.as_ref()) {
             for k in 0..4 {
                 crease
@@ -64,6 +66,9 @@ impl<'a> CornerRows<'a> {
             census,
             caps,
             crease,
+            bspline: (0..4 * 16)
+                .map(|i| bspline_corner_columns(i / 16, i as u8 % 16))
+                .collect(),
             corners: exact_first(refinement, census, topologies),
         }
     }
@@ -76,7 +81,9 @@ impl<'a> CornerRows<'a> {
                 let columns = &self.crease[&(line.side, line.sharpness.to_bits(), c.k)];
                 corner_rows_of_columns(&line.cvs, columns)
             }
-            (None, Some(b)) => bspline_corner_rows(b, c.k),
+            (None, Some(b)) => self
+                .bspline_columns(b, c.k)
+                .map(|col| Weights::from_terms(b.cvs.iter().copied().zip(col))),
             (None, None) => {
                 let n = self.refinement.levels[p.level as usize]
                     .topology()
@@ -84,6 +91,11 @@ impl<'a> CornerRows<'a> {
                 gregory_corner_rows(&self.caps[c.cap], n, c.k, c.singular)
             }
         }
+    }
+
+    /// [`bspline_corner_columns`] of `b` at corner `k`, from the table.
+    fn bspline_columns(&self, b: &RegularPatch, k: usize) -> &[[f64; 16]; 3] {
+        &self.bspline[16 * k + usize::from(b.boundary_mask & 0xf)]
     }
 
     /// Appends the rows of corner `c` ([`Self::rows`], the same bits) to `out`; exact patches'
@@ -97,11 +109,12 @@ impl<'a> CornerRows<'a> {
                     std::array::from_fn(|r| std::array::from_fn(|i| columns[i][r]));
                 push_merged(out, &line.cvs, &rows);
             }
-            (None, Some(b)) => push_merged(out, &b.cvs, &bspline_corner_columns(b, c.k)),
+            (None, Some(b)) => push_merged(out, &b.cvs, self.bspline_columns(b, c.k)),
             (None, None) => {
-                for w in self.rows(c) {
-                    out.push(&w, 0);
-                }
+                let n = self.refinement.levels[p.level as usize]
+                    .topology()
+                    .face_size(p.face);
+                push_gregory_corner_rows(out, &self.caps[c.cap], n, c.k, c.singular);
             }
         }
     }
@@ -207,13 +220,23 @@ impl SparseRows {
     /// [`Self::push`] of a row given as its `(id, weight)` terms.
     pub fn push_terms(&mut self, row: &[(u32, f64)], first: u32) {
         for &(v, w) in row {
-            let w32 = w as f32;
-            if w32 != 0.0 {
-                self.ids.push(first + v);
-                self.weights.push(w32);
-                self.weights_f64.push(w);
-            }
+            self.push_term((first + v, w));
         }
+        self.end_row();
+    }
+
+    /// Appends term `(id, w)` to the row being pushed, unless `w` rounds to a zero f32.
+    fn push_term(&mut self, (id, w): (u32, f64)) {
+        let w32 = w as f32;
+        if w32 != 0.0 {
+            self.ids.push(id);
+            self.weights.push(w32);
+            self.weights_f64.push(w);
+        }
+    }
+
+    /// Ends the row being pushed ([`Self::push_term`]).
+    fn end_row(&mut self) {
         self.offsets.push(self.ids.len() as u32);
     }
 
@@ -296,11 +319,13 @@ fn fold_phantoms(mut c: [f64; 16], mask: u8) -> [f64; 16] {
 /// Rows (position, d/du, d/dv) of B-spline patch `p` (global control vertices) at its face
 /// corner `k` (Köbler 2013 §3.1: the basis at the domain corner), phantoms folded in.
 pub fn bspline_corner_rows(p: &RegularPatch, k: usize) -> [Weights; 3] {
-    bspline_corner_columns(p, k).map(|c| Weights::from_terms(p.cvs.iter().copied().zip(c)))
+    bspline_corner_columns(k, p.boundary_mask)
+        .map(|c| Weights::from_terms(p.cvs.iter().copied().zip(c)))
 }
 
-/// The weights of [`bspline_corner_rows`] per control point (`cvs` order), phantoms folded in.
-fn bspline_corner_columns(p: &RegularPatch, k: usize) -> [[f64; 16]; 3] {
+/// The weights of [`bspline_corner_rows`] per control point (`cvs` order) at face corner `k` of
+/// a patch with phantom sides `mask` (`RegularPatch::boundary_mask`), phantoms folded in.
+fn bspline_corner_columns(k: usize, mask: u8) -> [[f64; 16]; 3] {
     let (s, t) = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)][k];
     let (bu, du, bv, dv) = (bspline(s), bspline_deriv(s), bspline(t), bspline_deriv(t));
     let tensor = |a: [f64; 4], b: [f64; 4]| {
@@ -310,43 +335,55 @@ fn bspline_corner_columns(p: &RegularPatch, k: usize) -> [[f64; 16]; 3] {
                 c[4 * j + i] = x * y;
             }
         }
-        fold_phantoms(c, p.boundary_mask)
+        fold_phantoms(c, mask)
     };
     [tensor(bu, bv), tensor(du, bv), tensor(bu, dv)]
 }
 
 /// Pushes the rows [`Weights::from_terms`] makes of each row of `rows` over control vertices
 /// `cvs` (zero weights dropped, ids sorted stably, a repeated id's weights summed in that order)
-/// onto `out`, on the stack: the stable order of `cvs` by id is sorted once for the three rows
-/// (a corner's position and two derivatives), and each row walks it.
+/// onto `out`, on the stack: the control points with a weight in some row (a corner's B-spline
+/// weights reach 9 of the 16) are sorted stably by id once for the three rows (a corner's
+/// position and two derivatives; the stable order of all 16 restricted to them), and each row
+/// walks them.
 fn push_merged(out: &mut SparseRows, cvs: &[u32; 16], rows: &[[f64; 16]; 3]) {
-    let mut order: [u8; 16] = std::array::from_fn(|i| i as u8);
-    for i in 1..16 {
+    let mut order = [0u8; 16];
+    let mut n = 0;
+    for (i, &id) in cvs.iter().enumerate() {
+        if rows.iter().all(|r| r[i] == 0.0) {
+            continue;
+        }
         // Stable insertion: after every control point with an id not larger.
-        let x = order[i];
-        let mut j = i;
-        while j > 0 && cvs[order[j - 1] as usize] > cvs[x as usize] {
+        let mut j = n;
+        while j > 0 && cvs[order[j - 1] as usize] > id {
             order[j] = order[j - 1];
             j -= 1;
         }
-        order[j] = x;
+        order[j] = i as u8;
+        n += 1;
     }
+    let order = &order[..n];
     for row in rows {
-        let mut t = [(0u32, 0.0f64); 16];
-        let mut m = 0;
-        for &i in &order {
+        // The term being summed: pushed when the next id differs.
+        let mut term: Option<(u32, f64)> = None;
+        for &i in order {
             let (id, w) = (cvs[i as usize], row[i as usize]);
             if w == 0.0 {
                 continue;
             }
-            if m > 0 && t[m - 1].0 == id {
-                t[m - 1].1 += w;
-            } else {
-                t[m] = (id, w);
-                m += 1;
+            match &mut term {
+                Some((last, sum)) if *last == id => *sum += w,
+                _ => {
+                    if let Some(done) = term.replace((id, w)) {
+                        out.push_term(done);
+                    }
+                }
             }
         }
-        out.push_terms(&t[..m], 0);
+        if let Some(done) = term {
+            out.push_term(done);
+        }
+        out.end_row();
     }
 }
 
@@ -410,6 +447,45 @@ pub fn gregory_corner_rows(rows: &FaceRows, n: usize, k: usize, singular: bool) 
     [p, du, dv]
 }
 
+/// Pushes [`gregory_corner_rows`] onto `out` (the same rows, bit for bit) without a [`Weights`]
+/// per row: the position row as it is, each tangent merged from its two rows
+/// ([`push_tangent`]).
+fn push_gregory_corner_rows(
+    out: &mut SparseRows,
+    rows: &FaceRows,
+    n: usize,
+    k: usize,
+    singular: bool,
+) {
+    let p = rows.row(k);
+    let second = if singular { 3 * n + k } else { 2 * n + k };
+    out.push_terms(p, 0);
+    push_tangent(out, rows.row(n + k), p);
+    push_tangent(out, rows.row(second), p);
+}
+
+/// Pushes the row `3 (e - p)` of two ascending rows as [`gregory_corner_rows`] forms it (`3 e`,
+/// then `-3 p` merged in with [`GregoryPoint::add_scaled`]): per id `3 e + -3 p` where both
+/// hold it, else `3 e` or `-3 p`.
+fn push_tangent(out: &mut SparseRows, e: &[(u32, f64)], p: &[(u32, f64)]) {
+    let (mut i, mut j) = (0, 0);
+    while i < e.len() || j < p.len() {
+        let term = if j == p.len() || (i < e.len() && e[i].0 < p[j].0) {
+            i += 1;
+            (e[i - 1].0, 3.0 * e[i - 1].1)
+        } else if i == e.len() || p[j].0 < e[i].0 {
+            j += 1;
+            (p[j - 1].0, -3.0 * p[j - 1].1)
+        } else {
+            i += 1;
+            j += 1;
+            (e[i - 1].0, 3.0 * e[i - 1].1 + -3.0 * p[j - 1].1)
+        };
+        out.push_term(term);
+    }
+    out.end_row();
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -425,19 +501,82 @@ mod tests {
         for shift in 0..16 {
             let cvs: [u32; 16] =
                 std::array::from_fn(|i| [7, 3, 7, 9, 3, 7, 1, 9][((i + shift) % 16) % 8]);
-            let rows: [[f64; 16]; 3] = std::array::from_fn(|r| {
-                std::array::from_fn(|i| {
-                    let j = (i + shift + 5 * r) % 16;
-                    ws[j % 8] * (1.0 + j as f64)
-                })
-            });
-            let mut got = SparseRows::new();
-            push_merged(&mut got, &cvs, &rows);
-            let mut want = SparseRows::new();
-            for row in &rows {
-                want.push(&Weights::from_terms(cvs.iter().copied().zip(*row)), 0);
+            // Control points with no weight in any row (every third from `shift`, as a
+            // corner's B-spline weights leave 7 of 16) with `dead`.
+            for dead in [false, true] {
+                let rows: [[f64; 16]; 3] = std::array::from_fn(|r| {
+                    std::array::from_fn(|i| {
+                        let j = (i + shift + 5 * r) % 16;
+                        let zero = dead && (i + shift) % 3 == 0;
+                        if zero {
+                            [0.0, -0.0][r % 2]
+                        } else {
+                            ws[j % 8] * (1.0 + j as f64)
+                        }
+                    })
+                });
+                let mut got = SparseRows::new();
+                push_merged(&mut got, &cvs, &rows);
+                let mut want = SparseRows::new();
+                for row in &rows {
+                    want.push(&Weights::from_terms(cvs.iter().copied().zip(*row)), 0);
+                }
+                assert_eq!(got, want, "shift {shift}, dead {dead}");
             }
-            assert_eq!(got, want, "shift {shift}");
         }
+    }
+
+    /// The pushed Gregory corner rows are those of `gregory_corner_rows` (the `Weights`
+    /// merges) bit for bit: ids in both rows, in one only, tangents that cancel to zero (dropped
+    /// by both), empty rows, both one-face-sector and ordinary second tangents.
+    #[test]
+    fn pushed_gregory_corner_rows_are_the_merged_rows() {
+        let n = 4;
+        // Row r: ids from a window that moves with r (overlapping its neighbours' partly).
+        let rows: Vec<Weights> = (0..9 * n)
+            .map(|r| {
+                if r % 7 == 5 {
+                    return Weights::default();
+                }
+                Weights(
+                    (0..6u32)
+                        .map(|i| {
+                            (
+                                r as u32 % 5 + 2 * i,
+                                0.1 * (1.0 + ((r * 7 + i as usize) % 11) as f64),
+                            )
+                        })
+                        .collect(),
+                )
+            })
+            .collect();
+        let mut rows = rows;
+        // A tangent row equal to its position row: 3 (e - p) is zero throughout.
+        rows[n + 1] = rows[1].clone();
+        let face = FaceRows::from_weights(&rows);
+        for k in 0..n {
+            for singular in [false, true] {
+                let mut got = SparseRows::new();
+                push_gregory_corner_rows(&mut got, &face, n, k, singular);
+                let mut want = SparseRows::new();
+                for w in gregory_corner_rows(&face, n, k, singular) {
+                    want.push(&w, 0);
+                }
+                assert_eq!(got, want, "corner {k}, singular {singular}");
+                let bits = |r: &SparseRows| {
+                    r.weights_f64
+                        .iter()
+                        .map(|w| w.to_bits())
+                        .collect::<Vec<_>>()
+                };
+                assert_eq!(bits(&got), bits(&want));
+            }
+        }
+        let mut cancel = SparseRows::new();
+        push_gregory_corner_rows(&mut cancel, &face, n, 1, false);
+        assert_eq!(
+            cancel.offsets[1], cancel.offsets[2],
+            "the cancelled tangent is empty"
+        );
     }
 }

@@ -27,7 +27,7 @@ use crate::mesh::INFINITE_SHARPNESS;
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
 use crate::subdiv::limit::SharedVertexMasks;
-use crate::topology::{sector_count, sector_faces};
+use crate::topology::{sector_count, sector_faces, Topology};
 
 /// The sector frames of a census and which patch corners and midpoints read them.
 #[derive(Debug, Clone, Default)]
@@ -78,6 +78,7 @@ impl SectorFrames {
         };
         let mut index: HashMap<SectorKey, u32> = HashMap::new();
         let mut out = SectorFrames::default();
+        let mut counts = SectorCounts::new(refinement, topologies);
         // Corner keys per census patch (NONE slot: one sector, nothing to share).
         let mut corner_keys = Vec::with_capacity(census.patches.len());
         let mut promoted_corners = vec![[false; 4]; census.patches.len()];
@@ -94,7 +95,7 @@ impl SectorFrames {
                     let promoted = promoted_vertex(lev.topology(), caps, v);
                     promoted_corners[corner_keys.len()][k] = promoted;
                     let t = if promoted { lev.topology() } else { caps };
-                    if sector_count(t, v) >= 2 && !shared_normal[s as usize] {
+                    if counts.get(p.level, !promoted, v) >= 2 && !shared_normal[s as usize] {
                         // The sector's smallest base face, seen at this level (every base face
                         // around a base vertex has one child around it: complete rings).
                         let own = sector_faces(t, v, p.face)
@@ -113,7 +114,7 @@ impl SectorFrames {
             } else {
                 let t = lev.topology();
                 for (k, &v) in t.face_vertices(p.face).iter().enumerate().take(4) {
-                    if sector_count(t, v) >= 2 {
+                    if counts.get(p.level, false, v) >= 2 {
                         keys[k] = Some(key(slots.of(lev.global(v)), b));
                     }
                 }
@@ -168,5 +169,46 @@ impl SectorFrames {
             }));
         }
         out
+    }
+}
+
+/// [`sector_count`] per vertex of each level's topology and of its end caps' (the same
+/// where the end caps borrow the level's), each vertex counted once: a vertex is the corner of
+/// up to four patches of its level.
+struct SectorCounts<'t> {
+    /// Per level: its topology and its end caps', each with its counts (`u32::MAX`: not
+    /// counted yet; allocated on first use).
+    levels: Vec<[(&'t Topology, Vec<u32>); 2]>,
+}
+
+impl<'t> SectorCounts<'t> {
+    fn new(refinement: &'t AdaptiveRefinement, topologies: &'t EndCapTopologies) -> Self {
+        let levels = refinement
+            .levels
+            .iter()
+            .enumerate()
+            .map(|(l, lev)| {
+                [
+                    (lev.topology(), Vec::new()),
+                    (topologies.get(l as u32), Vec::new()),
+                ]
+            })
+            .collect();
+        SectorCounts { levels }
+    }
+
+    /// [`sector_count`] of vertex `v` of level `level`, in its end caps' topology if `caps`.
+    fn get(&mut self, level: u32, caps: bool, v: u32) -> usize {
+        let pair = &mut self.levels[level as usize];
+        let which = usize::from(caps && !std::ptr::eq(pair[0].0, pair[1].0));
+        let (topo, counts) = &mut pair[which];
+        if counts.is_empty() {
+            *counts = vec![u32::MAX; topo.vertex_count()];
+        }
+        let c = &mut counts[v as usize];
+        if *c == u32::MAX {
+            *c = sector_count(topo, v) as u32;
+        }
+        *c as usize
     }
 }

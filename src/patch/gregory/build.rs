@@ -214,11 +214,15 @@ pub fn check_vertex_for(
 /// crease rule), where the end cap's corner tangents are collinear
 /// ([`GregoryVertex::sectored`]).
 pub fn one_face_crease_sector(topo: &Topology, v: u32, f: u32) -> bool {
-    let sharp = sharp_edges(topo, v);
-    let count = sharp.iter().filter(|&&s| s).count();
+    let count = topo
+        .vertex_edges(v)
+        .iter()
+        .filter(|&&e| is_inf(topo.edge_sharpness(e)))
+        .count();
     if count != 2 || is_inf(topo.vertex_sharpness(v)) {
         return false;
     }
+    let sharp = sharp_edges(topo, v);
     let j = j_of(topo, v, f);
     let nf = topo.vertex_faces(v).len();
     sectors(&sharp, nf)
@@ -478,9 +482,24 @@ pub(super) fn has_vertex_data(topo: &Topology, v: u32, darts: &DartLimits) -> bo
     if !vertex_covered(topo, v, Coverage::EndCap) {
         return false;
     }
-    let sharp = sharp_edges(topo, v);
-    let corner = ring_corner_tag(topo, v, &sharp);
-    has_construction(&sharp, corner, topo.vertex_faces(v).len(), darts)
+    // `sharp_edges` on the stack up to valence 32.
+    let edges = topo.vertex_edges(v);
+    let mut stack = [false; 32];
+    let heap;
+    let sharp: &[bool] = match stack.get_mut(..edges.len()) {
+        Some(sharp) => {
+            for (s, &e) in sharp.iter_mut().zip(edges) {
+                *s = is_inf(topo.edge_sharpness(e));
+            }
+            sharp
+        }
+        None => {
+            heap = sharp_edges(topo, v);
+            &heap
+        }
+    };
+    let corner = ring_corner_tag(topo, v, sharp);
+    has_construction(sharp, corner, topo.vertex_faces(v).len(), darts)
 }
 
 /// The corner tag of vertex `v`'s ring ([`VertexRing::corner`]), given its edges' sharpness
@@ -524,8 +543,18 @@ pub fn gregory_patch_for<P: GregoryPoint>(
     f: u32,
     coverage: Coverage,
 ) -> Result<GregoryPatch<P>, NotGregory> {
+    gregory_patch_from(topo, f, coverage, |v| vertices[v as usize].as_ref())
+}
+
+/// [`gregory_patch_for`] with each corner's data from `vertex` (`None`: none).
+pub(super) fn gregory_patch_from<'a, P: GregoryPoint + 'a>(
+    topo: &Topology,
+    f: u32,
+    coverage: Coverage,
+    vertex: impl Fn(u32) -> Option<&'a GregoryVertex<P>>,
+) -> Result<GregoryPatch<P>, NotGregory> {
     check_face_for(topo, f, coverage)?;
-    assemble_face(topo, f, |_, v| vertices[v as usize].as_ref())
+    assemble_face(topo, f, |_, v| vertex(v))
 }
 
 /// Why corner `v` of checked face `f` has no vertex data: a dart without limit masks

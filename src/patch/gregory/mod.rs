@@ -40,7 +40,7 @@ pub mod tangents_boundary;
 pub mod tangents_tri;
 pub mod tangents_tri_fit;
 mod vertex;
-mod word_hash;
+pub(crate) mod word_hash;
 
 pub use build::{
     check_face, check_face_for, check_face_level0, check_vertex, check_vertex_for, gregory_faces,

@@ -26,8 +26,10 @@ use super::build::{
 };
 use super::point::Weights;
 use super::stencil::ring_walk;
+#[cfg(doc)]
+use super::stencil_table::sparse_face_rows_direct;
 use super::stencil_table::{
-    sparse_face_rows_direct, vertex_point_id, vertex_point_of, vertex_point_rows_with,
+    sparse_face_rows_direct_with, vertex_point_id, vertex_point_of, vertex_point_rows_with,
     VERTEX_POINTS,
 };
 use super::tangents::GregoryTangents;
@@ -285,22 +287,23 @@ fn from_slots(topo: &Topology, rows: &LocalRows, ring: &[u32]) -> FaceRows {
     out
 }
 
-/// [`sparse_face_rows_direct`] on `faces` split into one batch per rayon thread (one batch on
-/// one thread): a face's rows do not depend on its batch, only the sharing of vertex data does.
+/// [`super::stencil_table::sparse_face_rows_direct`] on `faces` split into one batch per rayon
+/// thread (one batch on one thread): a face's rows do not depend on its batch, only the sharing
+/// of vertex data does. `has_data`: the keys' answers of which vertices have data (per vertex
+/// 0 or 1, 2 for not asked).
 fn direct_batches(
     topo: &Topology,
     faces: &[u32],
     tangents: GregoryTangents,
     darts: &DartLimits,
+    has_data: &[u8],
 ) -> Vec<Result<Vec<Weights>, NotGregory>> {
+    let direct = |batch| sparse_face_rows_direct_with(topo, batch, tangents, darts, Some(has_data));
     let per = faces.len().div_ceil(rayon::current_num_threads()).max(64);
     if faces.len() <= per {
-        return sparse_face_rows_direct(topo, faces, tangents, darts);
+        return direct(faces);
     }
-    let batches: Vec<_> = faces
-        .par_chunks(per)
-        .map(|batch| sparse_face_rows_direct(topo, batch, tangents, darts))
-        .collect();
+    let batches: Vec<_> = faces.par_chunks(per).map(direct).collect();
     batches.into_iter().flatten().collect()
 }
 
@@ -338,6 +341,8 @@ pub fn sparse_face_rows_flat(
     let mut types: WordHashMap<TypeKey, u32> = WordHashMap::default();
     let mut type_of: Vec<Option<u32>> = Vec::with_capacity(faces.len());
     let mut representative: Vec<usize> = Vec::new();
+    // Each face's canonical ring, walked once (the relabelling reads it again).
+    let mut rings: Vec<Vec<u32>> = Vec::with_capacity(faces.len());
     for (i, &f) in faces.iter().enumerate() {
         let ring = ring_slots(topo, f, &mut keyer.slot);
         let t = keyer.key(f, &ring).map(|key| {
@@ -350,6 +355,7 @@ pub fn sparse_face_rows_flat(
         });
         clear(&mut keyer.slot, &ring);
         type_of.push(t);
+        rings.push(ring);
     }
     // Pass 2: the representatives and the faces without type, directly, in one batch (one
     // vertex's data serves all its faces).
@@ -363,10 +369,13 @@ pub fn sparse_face_rows_flat(
     // Rows built directly, in their final form.
     let flat = |r: Result<Vec<Weights>, NotGregory>| r.map(|r| FaceRows::from_weights(&r));
     let first_faces: Vec<u32> = first.iter().map(|&i| faces[i]).collect();
-    for (&i, r) in first
-        .iter()
-        .zip(direct_batches(topo, &first_faces, tangents, darts))
-    {
+    for (&i, r) in first.iter().zip(direct_batches(
+        topo,
+        &first_faces,
+        tangents,
+        darts,
+        &keyer.has_data,
+    )) {
         rows[i] = Some(r);
     }
     // Rows over slots per type: `None` where the representative has no patch or its rows leave
@@ -382,12 +391,15 @@ pub fn sparse_face_rows_flat(
             if m == 1 {
                 return None;
             }
-            let ring = ring_slots(topo, faces[i], &mut keyer.slot);
+            let ring = &rings[i];
+            for (s, &x) in ring.iter().enumerate() {
+                keyer.slot[x as usize] = s as u32;
+            }
             let local = match &rows[i] {
                 Some(Ok(r)) => to_slots(topo, r, &keyer.slot, ring.len()),
                 _ => None,
             };
-            clear(&mut keyer.slot, &ring);
+            clear(&mut keyer.slot, ring);
             local
         })
         .collect();
@@ -396,32 +408,31 @@ pub fn sparse_face_rows_flat(
     let second =
         batch(&|i| rows[i].is_none() && type_of[i].is_some_and(|t| local[t as usize].is_none()));
     let second_faces: Vec<u32> = second.iter().map(|&i| faces[i]).collect();
-    for (&i, r) in second
-        .iter()
-        .zip(direct_batches(topo, &second_faces, tangents, darts))
-    {
+    for (&i, r) in second.iter().zip(direct_batches(
+        topo,
+        &second_faces,
+        tangents,
+        darts,
+        &keyer.has_data,
+    )) {
         rows[i] = Some(r);
     }
     let out = rows
         .into_par_iter()
+        .zip(rings)
         .enumerate()
         .with_min_len(256)
-        .map_init(
-            || vec![NONE; topo.vertex_count()],
-            |slot, (i, r)| {
-                r.map(flat).unwrap_or_else(|| {
-                    let ring = ring_slots(topo, faces[i], slot);
-                    clear(slot, &ring);
-                    let t = type_of[i].expect("faces without type are built in the first batch");
-                    let local = local[t as usize].as_ref();
-                    Ok(from_slots(
-                        topo,
-                        local.expect("types without rows are built in the second batch"),
-                        &ring,
-                    ))
-                })
-            },
-        )
+        .map(|(i, (r, ring))| {
+            r.map(flat).unwrap_or_else(|| {
+                let t = type_of[i].expect("faces without type are built in the first batch");
+                let local = local[t as usize].as_ref();
+                Ok(from_slots(
+                    topo,
+                    local.expect("types without rows are built in the second batch"),
+                    &ring,
+                ))
+            })
+        })
         .collect();
     log::trace!(
         "end-cap rows: {} faces, {} connectivity types, {} + {} built directly",

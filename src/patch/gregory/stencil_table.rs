@@ -13,8 +13,9 @@ use std::collections::HashMap;
 use glam::DVec3;
 
 use super::build::{
-    check_face_for, gregory_patch_for, gregory_vertex_for, gregory_vertex_two_stage,
-    has_vertex_data, vertex_ring_with, Coverage, GregoryPatch, NotGregory,
+    check_face_for, gregory_patch_for, gregory_patch_from, gregory_vertex_for,
+    gregory_vertex_two_stage, has_vertex_data, vertex_ring_with, Coverage, GregoryPatch,
+    NotGregory,
 };
 use super::eval::{edge_side_points, CornerRef};
 use super::point::{GregoryPoint, Weights};
@@ -212,8 +213,9 @@ enum CornerState {
     Unknown,
     /// Whether the vertex has data is known from its topology (`has_vertex_data`); not built.
     Known(bool),
-    /// The data is built (`None` where the vertex has none).
-    Built,
+    /// The data is built, at this index of [`EndCapCorners::built`] (`None` where the vertex
+    /// has none).
+    Built(u32),
 }
 
 /// The two-stage per-vertex data of end-cap corners ([`gregory_vertex_two_stage`], derived
@@ -225,18 +227,45 @@ struct EndCapCorners<'a> {
     topo: &'a Topology,
     tangents: GregoryTangents,
     darts: &'a DartLimits,
-    data: Vec<Option<GregoryVertex<Weights>>>,
+    /// The data of the vertices built, in build order (a batch builds a few hundred of a
+    /// level's vertices: no entry per vertex of the level to fill and drop).
+    built: Vec<Option<GregoryVertex<Weights>>>,
     state: Vec<CornerState>,
 }
 
 impl<'a> EndCapCorners<'a> {
-    fn new(topo: &'a Topology, tangents: GregoryTangents, darts: &'a DartLimits) -> Self {
+    /// Nothing built; whether a vertex has data known where `known` says (per vertex 0 or 1,
+    /// 2 for not known: the end-cap keys' `has_vertex_data` answers), else asked on first use.
+    fn new(
+        topo: &'a Topology,
+        tangents: GregoryTangents,
+        darts: &'a DartLimits,
+        known: Option<&[u8]>,
+    ) -> Self {
+        let state = match known {
+            Some(known) => known
+                .iter()
+                .map(|&h| match h {
+                    0 | 1 => CornerState::Known(h == 1),
+                    _ => CornerState::Unknown,
+                })
+                .collect(),
+            None => vec![CornerState::Unknown; topo.vertex_count()],
+        };
         EndCapCorners {
             topo,
             tangents,
             darts,
-            data: (0..topo.vertex_count()).map(|_| None).collect(),
-            state: vec![CornerState::Unknown; topo.vertex_count()],
+            built: Vec::new(),
+            state,
+        }
+    }
+
+    /// The data of vertex `v` if it is built and has some.
+    fn vertex(&self, v: u32) -> Option<&GregoryVertex<Weights>> {
+        match self.state[v as usize] {
+            CornerState::Built(i) => self.built[i as usize].as_ref(),
+            _ => None,
         }
     }
 
@@ -246,9 +275,9 @@ impl<'a> EndCapCorners<'a> {
         let basis = |v: u32| [0, 1, 2].map(|b| Weights::unit(vertex_point_id(topo, v, b)));
         for &v in vertices {
             let state = &mut self.state[v as usize];
-            if *state != CornerState::Built {
-                *state = CornerState::Built;
-                self.data[v as usize] = gregory_vertex_two_stage(
+            if !matches!(state, CornerState::Built(_)) {
+                *state = CornerState::Built(self.built.len() as u32);
+                self.built.push(gregory_vertex_two_stage(
                     topo,
                     v,
                     &Weights::unit,
@@ -256,7 +285,7 @@ impl<'a> EndCapCorners<'a> {
                     Coverage::EndCap,
                     self.darts,
                     &basis,
-                );
+                ));
             }
         }
     }
@@ -264,7 +293,7 @@ impl<'a> EndCapCorners<'a> {
     /// Whether vertex `v` has data, without building it.
     fn has_data(&mut self, v: u32) -> bool {
         match self.state[v as usize] {
-            CornerState::Built => self.data[v as usize].is_some(),
+            CornerState::Built(i) => self.built[i as usize].is_some(),
             CornerState::Known(h) => h,
             CornerState::Unknown => {
                 let h = has_vertex_data(self.topo, v, self.darts);
@@ -277,7 +306,7 @@ impl<'a> EndCapCorners<'a> {
     /// Corner `v` of face `g` as the patch assembly takes it (`None` where `g`'s patch fails
     /// at it: no data, or `g` not in its ring); `v` built.
     fn corner(&self, v: u32, g: u32) -> Option<CornerRef<'_, Weights>> {
-        let vertex = self.data[v as usize].as_ref()?;
+        let vertex = self.vertex(v)?;
         let j = self.topo.vertex_faces(v).iter().position(|&h| h == g)?;
         Some(CornerRef { vertex, j })
     }
@@ -302,7 +331,7 @@ impl<'a> EndCapCorners<'a> {
         let near = edge_side_points(&self.corner(x, g)?, &self.corner(y, g)?, d);
         near.or_else(|| {
             self.build(gv);
-            let q = gregory_patch_for(topo, &self.data, g, Coverage::EndCap).ok()?;
+            let q = gregory_patch_from(topo, g, Coverage::EndCap, |v| self.vertex(v)).ok()?;
             Some(side_points(&q, k2))
         })
     }
@@ -325,12 +354,25 @@ pub fn sparse_face_rows_direct(
     tangents: GregoryTangents,
     darts: &DartLimits,
 ) -> Vec<Result<Vec<Weights>, NotGregory>> {
-    let mut corners = EndCapCorners::new(topo, tangents, darts);
+    sparse_face_rows_direct_with(topo, faces, tangents, darts, None)
+}
+
+/// [`sparse_face_rows_direct`] with whether each vertex has data known where `known` says (per
+/// vertex 0 or 1, 2 for not known: the end-cap keys' answers of `has_vertex_data`, asked again
+/// here otherwise).
+pub(super) fn sparse_face_rows_direct_with(
+    topo: &Topology,
+    faces: &[u32],
+    tangents: GregoryTangents,
+    darts: &DartLimits,
+    known: Option<&[u8]>,
+) -> Vec<Result<Vec<Weights>, NotGregory>> {
+    let mut corners = EndCapCorners::new(topo, tangents, darts, known);
     faces
         .iter()
         .map(|&f| {
             corners.build(topo.face_vertices(f));
-            let own = gregory_patch_for(topo, &corners.data, f, Coverage::EndCap)?;
+            let own = gregory_patch_from(topo, f, Coverage::EndCap, |v| corners.vertex(v))?;
             Ok(table_rows_with(topo, f, &own, |g, k2| {
                 corners.side_points(g, k2)
             }))
