@@ -249,6 +249,26 @@ fn end_cap_error_falls_with_isolation() {
     }
 }
 
+/// The valence-3 end caps at pole64's triangles' centres hold its end caps' normal maxima, on
+/// their edges from the extraordinary vertex and inside near it (README, *Valence-3
+/// transversals*). With the end caps' valence-3 transversal shape and factors
+/// (`END_CAP_TRANSVERSAL_SHAPE`, `END_CAP_FACTORS`) the maxima over a 9x9 grid of every end
+/// cap's own (s, t), against `LimitEvaluator` at equal (u, v), are below OpenSubdiv's Gregory
+/// end caps' at the same points (`tools/osd_eval/endcaps.sh`: L1 3.471e-2, L2 1.003e-2 rad;
+/// tessera 3.42e-2, 9.94e-3; the rule before 3.75e-2, 1.14e-2).
+#[test]
+fn valence_three_end_caps_beat_opensubdiv_maxima() {
+    for (iso, opensubdiv) in [(1, 3.471e-2), (2, 1.003e-2)] {
+        let m = osd("catmark_pole64");
+        let (_, s) = surface(&m, iso);
+        let worst = errors(&m, &s, is_end_cap, 8)
+            .iter()
+            .map(|x| x.3)
+            .fold(0.0, f64::max);
+        assert!(worst < opensubdiv, "pole64 L{iso}: normal max {worst:e}");
+    }
+}
+
 /// End caps next to residual semi-sharp creases (a corner on an edge still semi-sharp at the
 /// isolation level): with the default [`EndCapSharpness::Crease`] (sharpness >= 1 infinitely
 /// sharp for the end caps) their RMS distance to `LimitEvaluator` at equal (u, v) is below a

@@ -64,6 +64,11 @@
 //! with such vertices changed (car, cube_creases1, cubes_semisharp), the refinement and
 //! kernels' did not (re-taken once more with all of session 13's changes merged).
 //!
+//! And again for the end caps' valence-3 transversal shape and factors (issue 8, h67,
+//! `END_CAP_TRANSVERSAL_SHAPE`): the rows of end caps with a smooth all-quad valence-3 corner
+//! moved, so the draw tables of the meshes with such vertices changed (car, hole_test1,
+//! nonquads, cubes_semisharp, pole64); the refinement and kernels' did not.
+//!
 //! The fingerprints change with any change of output, deliberate or not: a change that is meant
 //! to alter the tables (new end-cap rules, another row order) re-derives them and says so.
 
@@ -118,19 +123,19 @@ fn adaptive_tables_are_bitwise_unchanged() {
             "catmark_car",
             2,
             true,
-            [0xa5cc656dde2ba5a7, 0xca4a93965f2b110e, 0x3dff3500bf1d72bf],
+            [0xa5cc656dde2ba5a7, 0xca4a93965f2b110e, 0x72f8d615378ec5e1],
         ),
         (
             "catmark_car",
             4,
             true,
-            [0xa8afcee00ee7224d, 0xc8ccf101f97d4dd2, 0x8705b9dddbcfe42b],
+            [0xa8afcee00ee7224d, 0xc8ccf101f97d4dd2, 0x6cfbb1c61ddb1489],
         ),
         (
             "catmark_car",
             2,
             false,
-            [0xf703b1be7dd8a71d, 0x974d66fe24c13fc5, 0xa775d783a735255],
+            [0xf703b1be7dd8a71d, 0x974d66fe24c13fc5, 0x91a18ff93fd4f30b],
         ),
         (
             "catmark_cube_creases1",
@@ -154,19 +159,19 @@ fn adaptive_tables_are_bitwise_unchanged() {
             "catmark_hole_test1",
             2,
             true,
-            [0xc7b5b5b77d2c1b13, 0xece5b3e142e97c01, 0x72e7c4e935c91253],
+            [0xc7b5b5b77d2c1b13, 0xece5b3e142e97c01, 0x7dbabf0f2e983d97],
         ),
         (
             "catmark_nonquads",
             3,
             true,
-            [0x70c523a105607b34, 0x3b633e102e099bde, 0x63041a7a8ad8445c],
+            [0x70c523a105607b34, 0x3b633e102e099bde, 0x24d1e11cff3d3700],
         ),
         (
             "catmark_cubes_semisharp",
             3,
             true,
-            [0xadc07afdce471a42, 0x47e42ffd83d0ff2a, 0xf54d6225f1cf7cf4],
+            [0xadc07afdce471a42, 0x47e42ffd83d0ff2a, 0x7bf27309c55820ec],
         ),
         (
             "catmark_tent_creases1",
@@ -184,7 +189,7 @@ fn adaptive_tables_are_bitwise_unchanged() {
             "catmark_pole64",
             2,
             true,
-            [0x9e7ec2ce227c2fa4, 0x49aa8020f1082c0, 0x51f99b86c7f1cd54],
+            [0x9e7ec2ce227c2fa4, 0x49aa8020f1082c0, 0x827a7db62488c4],
         ),
     ];
     let mut wrong = Vec::new();

@@ -51,7 +51,7 @@
 //! cross-boundary tangent of each crease sector instead (`super::tangents_boundary`, fitted the
 //! same way on half-rings); corner vertices keep the paper's tangents in both modes.
 //! The adaptive end caps take [`END_CAP_FACTORS`] at their quad rings of valence 3, 5 and 6
-//! ([`GregoryTangents::EndCaps`]).
+//! and [`END_CAP_TRANSVERSAL_SHAPE`] at valence 3 ([`GregoryTangents::EndCaps`]).
 
 use super::tangents_tri::RingFactors;
 
@@ -90,13 +90,14 @@ pub enum GregoryTangents {
 /// and `ρ` the transversal vectors `r_j` (§3.4) as in `super::tangents_tri`: the corner point
 /// and plane and tangent-plane continuity hold for any positive pair. Chosen by a sweep of the end-cap grid
 /// error against `LimitEvaluator` at L = 1..5 on nonquads, pole64 and the cube (README, "End-cap
-/// factors"): valence 5 and 6 want longer transversals, valence 3 shorter ones.
+/// factors"): valence 5 and 6 want longer transversals, valence 3 shorter ones. The valence-3
+/// entry was re-chosen with [`END_CAP_TRANSVERSAL_SHAPE`] (README, "Valence-3 transversals").
 pub const END_CAP_FACTORS: [(usize, RingFactors); 3] = [
     (
         3,
         RingFactors {
-            tangent: 0.94,
-            transversal: 0.9,
+            tangent: 0.955,
+            transversal: 0.8,
         },
     ),
     (
@@ -114,6 +115,16 @@ pub const END_CAP_FACTORS: [(usize, RingFactors); 3] = [
         },
     ),
 ];
+
+/// The transversal shape `t` of the adaptive end caps at all-quad rings of valence `n` (the
+/// entries listed; 0, the paper's rule, elsewhere): `r_j = ρ ((1/3 + t) (m_{j+1} - m_{j-1}) +
+/// (2/3 - t) (c_j - c_{j-1}))` (§3.4 at `t = 0`). At valence 3 the two differences are the only
+/// combinations of the 1-ring that flip under the mirror about edge `j` (`v`, `m_j` and the
+/// opposite face's `c_{j+1}` map to themselves), so `(ρ, t)` spans every transversal rule a
+/// 1-ring gives there; `t` moves the cross-boundary derivative along the end cap's edges from
+/// the extraordinary vertex against its twist inside (README, "Valence-3 transversals": chosen
+/// with [`END_CAP_FACTORS`]' valence-3 entry by a sweep on pole64 and the cube).
+pub const END_CAP_TRANSVERSAL_SHAPE: [(usize, f64); 1] = [(3, -0.025)];
 
 /// The largest valence with a fitted entry in [`OPTIMAL_SCALE`].
 pub const MAX_FITTED_VALENCE: usize = 64;
@@ -187,6 +198,20 @@ impl GregoryTangents {
                 transversal: 1.0,
             },
         }
+    }
+
+    /// The transversal shape `t` of a smooth vertex whose incident faces have the sizes
+    /// `face_sizes`: [`END_CAP_TRANSVERSAL_SHAPE`] under [`GregoryTangents::EndCaps`] at the
+    /// listed all-quad rings, 0 (the paper's transversal) otherwise.
+    pub fn transversal_shape(self, face_sizes: &[usize]) -> f64 {
+        let n = face_sizes.len();
+        if self != GregoryTangents::EndCaps || face_sizes.iter().any(|&k| k != 4) {
+            return 0.0;
+        }
+        END_CAP_TRANSVERSAL_SHAPE
+            .iter()
+            .find(|(m, _)| *m == n)
+            .map_or(0.0, |&(_, t)| t)
     }
 
     /// The construction the adaptive end caps take: [`GregoryTangents::EndCaps`] for
@@ -324,6 +349,12 @@ mod tests {
                 None => assert_eq!(q, opt.ring_factors(&vec![4; n])),
             }
             assert_eq!(caps.scale(n), opt.scale(n));
+            assert_eq!(opt.transversal_shape(&vec![4; n]), 0.0);
+            let shape = END_CAP_TRANSVERSAL_SHAPE.iter().find(|(m, _)| *m == n);
+            assert_eq!(
+                caps.transversal_shape(&vec![4; n]),
+                shape.map_or(0.0, |s| s.1)
+            );
             for k in 1..6 {
                 assert_eq!(caps.crease_scale(k, 0, true), opt.crease_scale(k, 0, true));
             }
@@ -335,6 +366,7 @@ mod tests {
             vec![3, 4, 3, 4, 4, 4],
         ] {
             assert_eq!(caps.ring_factors(&sizes), opt.ring_factors(&sizes));
+            assert_eq!(caps.transversal_shape(&sizes), 0.0);
         }
     }
 

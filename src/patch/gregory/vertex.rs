@@ -415,7 +415,8 @@ impl<P: GregoryPoint> GregoryVertex<P> {
 
     /// [`Self::interior`] with its per-vertex sums given: every edge point is
     /// `e_j = p + cos(2πj/n) q_c + sin(2πj/n) q_s` ([`InteriorBasis`]), a fixed combination of
-    /// the three; `r_j = 1/3 (m_{j+1} - m_{j-1}) + 2/3 (c_j - c_{j-1})` (§3.4). With `basis`
+    /// the three; `r_j = 1/3 (m_{j+1} - m_{j-1}) + 2/3 (c_j - c_{j-1})` (§3.4; the end caps'
+    /// valence-3 rings reweight the two, [`GregoryTangents::transversal_shape`]). With `basis`
     /// the unit weights of three derived points, the rows of every patch at the vertex hold
     /// `O(1)` terms instead of `O(n)` (the two-stage form of the adaptive end caps).
     pub fn interior_from_basis(
@@ -434,7 +435,8 @@ impl<P: GregoryPoint> GregoryVertex<P> {
                 combine(&[(1.0, &p), (cs, &qc), (sn, &qs)])
             })
             .collect();
-        let mut r: Vec<P> = (0..n).map(|j| inner_r(ring, j, n)).collect();
+        let shape = tangents.transversal_shape(&ring.face_sizes);
+        let mut r: Vec<P> = (0..n).map(|j| inner_r(ring, j, n, shape)).collect();
         if factors.transversal != 1.0 {
             r = r
                 .iter()
@@ -542,7 +544,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
             .iter()
             .map(|m| combine(&[(1.0 / 3.0, &ring.v), (2.0 / 3.0, m)]))
             .collect();
-        let r: Vec<P> = (0..n).map(|j| inner_r(ring, j, n)).collect();
+        let r: Vec<P> = (0..n).map(|j| inner_r(ring, j, n, 0.0)).collect();
         let r_minus = (0..n)
             .map(|j| combine(&[(-1.0, &r[(j + 1) % n])]))
             .collect();
@@ -660,7 +662,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
             }
             // Transversal vectors: inner edges (§3.4), then the two reflected sharp sides.
             for i in 1..k {
-                let r = inner_r(ring, edge(i), ne);
+                let r = inner_r(ring, edge(i), ne, 0.0);
                 r_minus[face(i - 1)] = combine(&[(-1.0, &r)]);
                 r_plus[face(i)] = r;
             }
@@ -697,14 +699,17 @@ impl<P: GregoryPoint> GregoryVertex<P> {
 }
 
 /// The transversal vector across inner edge `j` of a ring with `ne` edges, pointing into face
-/// `j` (§3.4): `r_j = 1/3 (m_{j+1} - m_{j-1}) + 2/3 (c_j - c_{j-1})`.
-fn inner_r<P: GregoryPoint>(ring: &VertexRing<P>, j: usize, ne: usize) -> P {
+/// `j` (§3.4), with the shape `t` ([`GregoryTangents::transversal_shape`]):
+/// `r_j = (1/3 + t) (m_{j+1} - m_{j-1}) + (2/3 - t) (c_j - c_{j-1})`, the paper's at `t = 0`
+/// (bit for bit: `1/3 + 0` and `2/3 - 0` are the same weights).
+fn inner_r<P: GregoryPoint>(ring: &VertexRing<P>, j: usize, ne: usize, t: f64) -> P {
     let (next, prev) = ((j + 1) % ne, (j + ne - 1) % ne);
+    let (wm, wc) = (1.0 / 3.0 + t, 2.0 / 3.0 - t);
     combine(&[
-        (1.0 / 3.0, &ring.m[next]),
-        (-1.0 / 3.0, &ring.m[prev]),
-        (2.0 / 3.0, &ring.c[j]),
-        (-2.0 / 3.0, &ring.c[prev]),
+        (wm, &ring.m[next]),
+        (-wm, &ring.m[prev]),
+        (wc, &ring.c[j]),
+        (-wc, &ring.c[prev]),
     ])
 }
 
