@@ -261,10 +261,7 @@ fn valence_three_end_caps_beat_opensubdiv_maxima() {
     for (iso, opensubdiv) in [(1, 3.471e-2), (2, 1.003e-2)] {
         let m = osd("catmark_pole64");
         let (_, s) = surface(&m, iso);
-        let worst = errors(&m, &s, is_end_cap, 8)
-            .iter()
-            .map(|x| x.3)
-            .fold(0.0, f64::max);
+        let worst = max(errors(&m, &s, is_end_cap, 8).iter().map(|x| x.3));
         assert!(worst < opensubdiv, "pole64 L{iso}: normal max {worst:e}");
     }
 }
