@@ -485,3 +485,33 @@ fn info_prints_single_crease_counts() {
         "{text}"
     );
 }
+
+/// `AdaptiveLevel::child_of` (a per-vertex array made with the step) names the component the
+/// step's refined sub-level says: its face, its vertex, or the level's edge joining the
+/// sub-level edge's two ends (`find_edge`, the lookup the array replaced), on every loadable
+/// corpus shape at isolation 3, with and without single-crease patches.
+#[test]
+fn child_of_is_the_sub_levels_component() {
+    for (name, m) in corpus() {
+        for options in [AdaptiveOptions::new(3), single(3)] {
+            let (r, _) = refine_with(&m, options);
+            for (l, lev) in r.levels.iter().enumerate() {
+                let Some(step) = &lev.refinement else { break };
+                let sub = step.parent.topology();
+                let (nf, ne) = (sub.face_count() as u32, sub.edge_count() as u32);
+                for (v, &p) in step.child_points.iter().enumerate() {
+                    let want = if p < nf {
+                        ChildOf::Face(step.parent_faces[p as usize])
+                    } else if p < nf + ne {
+                        let [a, b] = sub.edge_vertices(p - nf);
+                        let [a, b] = [a, b].map(|x| step.parent_vertices[x as usize]);
+                        ChildOf::Edge(lev.topology().find_edge(a, b).unwrap())
+                    } else {
+                        ChildOf::Vertex(step.parent_vertices[(p - nf - ne) as usize])
+                    };
+                    assert_eq!(lev.child_of(v as u32), want, "{name} level {l} vertex {v}");
+                }
+            }
+        }
+    }
+}

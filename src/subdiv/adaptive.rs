@@ -8,10 +8,10 @@
 //! its 4x4 neighbourhood (§3.3). Refining level `l` is one uniform [`Level::refine`] of the
 //! sub-level made of the refined faces and that ring ([`Refinement::parent`]), keeping the child
 //! faces just described; those are made straight from the sub-level ([`Level::refine_kept`],
-//! without the whole child level), and the sub-level's edges are taken from level `l`'s
-//! ([`Level::extract_increasing`]). Vertices are numbered globally level after level: vertex `i` of level
-//! `l` is global vertex [`AdaptiveLevel::first_vertex`]` + i`, one buffer for every level
-//! (thesis §4.2).
+//! without the whole child level), and the sub-level's edges and one-rings are taken from level
+//! `l`'s ([`Level::extract_increasing`]). Vertices are numbered globally level after level:
+//! vertex `i` of level `l` is global vertex [`AdaptiveLevel::first_vertex`]` + i`, one buffer for
+//! every level (thesis §4.2).
 
 use glam::{DVec2, DVec3};
 
@@ -87,7 +87,7 @@ pub enum ChildOf {
 ///
 /// The child vertices are rows of `parent.refine()`'s matrix (columns: `parent` vertices), so
 /// `child = M[child_points] * positions_l[parent_vertices]`.
-#[derive(Debug, Clone)]
+#[derive(Clone)]
 pub struct Refinement {
     /// The refined sub-level of level `l` (from [`Level::extract`]): the refined faces and their
     /// ring.
@@ -102,6 +102,22 @@ pub struct Refinement {
     /// Level-`l + 1` face to its index in `parent.refine()`'s child faces (the corner of
     /// `parent` it comes from, as a flat corner index).
     pub child_faces: Vec<u32>,
+    /// Per level-`l + 1` vertex: the level-`l` component producing it (`child_points` read
+    /// through `parent_faces`, the sub-level's edges' level-`l` edges and `parent_vertices`).
+    child_of: Vec<ChildOf>,
+}
+
+/// The fields above but `child_of`, which is derived from them and left out.
+impl std::fmt::Debug for Refinement {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Refinement")
+            .field("parent", &self.parent)
+            .field("parent_faces", &self.parent_faces)
+            .field("parent_vertices", &self.parent_vertices)
+            .field("child_points", &self.child_points)
+            .field("child_faces", &self.child_faces)
+            .finish()
+    }
 }
 
 /// One level of an [`AdaptiveRefinement`].
@@ -138,21 +154,7 @@ impl AdaptiveLevel {
     /// # Panics
     /// On the last level (no refinement).
     pub fn child_of(&self, v: u32) -> ChildOf {
-        let r = self.step();
-        let t = r.parent.topology();
-        let (nf, ne) = (t.face_count() as u32, t.edge_count() as u32);
-        let p = r.child_points[v as usize];
-        if p < nf {
-            ChildOf::Face(r.parent_faces[p as usize])
-        } else if p < nf + ne {
-            let [a, b] = t.edge_vertices(p - nf);
-            let e = self
-                .topology()
-                .find_edge(r.parent_vertices[a as usize], r.parent_vertices[b as usize]);
-            ChildOf::Edge(e.expect("an edge of the refined sub-level is an edge of its level"))
-        } else {
-            ChildOf::Vertex(r.parent_vertices[(p - nf - ne) as usize])
-        }
+        self.step().child_of[v as usize]
     }
 
     /// The face of this level and the corner face `c` of the next level comes from.
@@ -486,7 +488,7 @@ fn refine_sparse(cur: &mut AdaptiveLevel) -> Result<AdaptiveLevel> {
     let ring: Vec<u32> = (0..t.face_count() as u32)
         .filter(|&f| t.face_vertices(f).iter().any(|&v| selected[v as usize]))
         .collect();
-    let (parent, parent_vertices) = cur.level.extract_increasing(&ring)?;
+    let (parent, parent_vertices, parent_edges) = cur.level.extract_increasing_with_edges(&ring)?;
     let mut keep = Vec::new();
     let mut own = Vec::new();
     let mut domains = Vec::new();
@@ -511,12 +513,29 @@ fn refine_sparse(cur: &mut AdaptiveLevel) -> Result<AdaptiveLevel> {
         refinement: None,
         level,
     };
+    let (nf, ne) = (
+        parent.face_count() as u32,
+        parent.topology().edge_count() as u32,
+    );
+    let child_of = child_points
+        .iter()
+        .map(|&p| {
+            if p < nf {
+                ChildOf::Face(ring[p as usize])
+            } else if p < nf + ne {
+                ChildOf::Edge(parent_edges[(p - nf) as usize])
+            } else {
+                ChildOf::Vertex(parent_vertices[(p - nf - ne) as usize])
+            }
+        })
+        .collect();
     cur.refinement = Some(Refinement {
         parent,
         parent_faces: ring,
         parent_vertices,
         child_points,
         child_faces: keep,
+        child_of,
     });
     Ok(next)
 }

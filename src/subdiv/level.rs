@@ -213,8 +213,18 @@ impl Level {
     /// its ends and faces; `topology::build` numbers edges by smaller end vertex, then by first
     /// corner, and the extraction's vertex numbering increases with this level's, so each
     /// vertex's edges to larger vertices, in the order of their first extracted corner, are
-    /// the next edges. Only the one-rings are ordered as there.
+    /// the next edges. Each vertex's one-ring is its ring here without the faces left out
+    /// (`topology::RingBuilder`).
     pub fn extract_increasing(&self, faces: &[u32]) -> Result<(Level, Vec<u32>)> {
+        self.extract_increasing_with_edges(faces)
+            .map(|(level, map, _)| (level, map))
+    }
+
+    /// [`Self::extract_increasing`] with, per extracted edge, its edge in this level.
+    pub(crate) fn extract_increasing_with_edges(
+        &self,
+        faces: &[u32],
+    ) -> Result<(Level, Vec<u32>, Vec<u32>)> {
         let t = &self.topo;
         if faces.is_empty() {
             return Err(crate::Error::EmptyMesh(
@@ -307,9 +317,22 @@ impl Level {
             edge_faces,
             edge_face_local,
         };
-        let sub = topology::with_rings(map.len(), connectivity, &corner_face, max_size, false)?;
+        drop(corner_face);
+        // Each vertex's ring: its faces here that are extracted, fan by fan.
+        let mut rings = topology::RingBuilder::new(
+            &connectivity.face_offsets,
+            &connectivity.face_edges,
+            map.len(),
+            fvn,
+        );
+        for &v in &map {
+            rings.fans_of(t, v, |g, k| (sub_face[g as usize], k));
+            rings.end_vertex();
+        }
+        let rings = rings.finish();
+        let sub = topology::with_given_rings(map.len(), connectivity, rings, max_size);
         let level = self.tag_extraction(sub, faces, &map, &old_edge);
-        Ok((level, map))
+        Ok((level, map, old_edge))
     }
 
     /// The faces of vertex `v` extracted in a numbering that depends only on the ring's shape

@@ -296,7 +296,7 @@ impl Level {
     /// point of a face's corner) or a half of a parent edge; in the child vertices' increasing
     /// order (face points, then edge points) its id, ends, faces, sharpness and cut flag follow
     /// from the parent by index arithmetic, in the order `topology::build` gives them (by
-    /// smaller end vertex, then by first corner); only the one-rings are ordered as there.
+    /// smaller end vertex, then by first corner), and so do the one-rings (`kept_rings`).
     ///
     /// The sparse step of feature-adaptive refinement (Köbler 2013 §3.3; OpenSubdiv's
     /// `Vtr::Refinement` with sparse selection): `keep` is the refined faces' children and
@@ -362,21 +362,9 @@ impl Level {
             } else if o < nf + ne {
                 let e = (o - nf) as u32;
                 let [a, b] = t.edge_verts[e as usize];
-                let [f0, f1] = t.edge_faces[e as usize];
-                let [k0, k1] = t.edge_face_local[e as usize];
-                let corner = |g: u32, k: u16, step: u32| -> u32 {
-                    let off = t.face_offsets[g as usize];
-                    let n = t.face_offsets[g as usize + 1] - off;
-                    kept[(off + (k as u32 + step) % n) as usize]
-                };
                 // The half at `a`: edge 0 of the child at `a` in `f0`, edge 3 of the one in
                 // `f1`; the half at `b` the other way round.
-                let (c00, c01) = (corner(f0, k0, 0), corner(f0, k0, 1));
-                let (c10, c11) = if f1 == NONE {
-                    (NONE, NONE)
-                } else {
-                    (corner(f1, k1, 0), corner(f1, k1, 1))
-                };
+                let [c00, c01, c10, c11] = edge_point_children(t, &kept, e);
                 let mut halves =
                     [((c00, 0u16), (c11, 3u16), a), ((c10, 0), (c01, 3), b)].map(|(x, y, v)| {
                         let (first, second) = if y.0 < x.0 { (y, x) } else { (x, y) };
@@ -399,17 +387,17 @@ impl Level {
                 break;
             }
         }
-        let corner_face: Vec<u32> = (0..4 * nk as u32).map(|h| h / 4).collect();
+        let face_offsets: Vec<u32> = (0..=nk as u32).map(|i| 4 * i).collect();
+        let rings = self.kept_rings(&kept, &map, &face_offsets, &edges.face_edges);
         let connectivity = topology::Connectivity {
-            face_offsets: (0..=nk as u32).map(|i| 4 * i).collect(),
+            face_offsets,
             face_verts: local,
             face_edges: edges.face_edges,
             edge_verts: edges.verts,
             edge_faces: edges.faces,
             edge_face_local: edges.locals,
         };
-        let mut sub = topology::with_rings(map.len(), connectivity, &corner_face, 4, false)?;
-        drop(corner_face);
+        let mut sub = topology::with_given_rings(map.len(), connectivity, rings, 4);
         sub.edge_sharpness = edges.sharpness;
         sub.holes = parent_face.iter().map(|&f| t.holes[f as usize]).collect();
         if !t.no_limit.is_empty() {
@@ -444,6 +432,51 @@ impl Level {
             incomplete[v] = inc || sub.vertex_faces(v as u32).len() != valence;
         }
         Ok((Level::with_flags(sub, edges.cut, incomplete), map))
+    }
+
+    /// The one-rings of `Level::refine_kept`'s level (kept child `kept[h]` of each corner `h`,
+    /// NONE if not kept; its vertices `map` in the child numbering; its quads' `face_offsets`
+    /// and `face_edges`) from this level's: a face point's ring is its face's children
+    /// (corner 2, in corner order), an edge point's the children beside the edge (corners 1
+    /// and 3, as `refine_topology` orders them), a vertex point's the children at its faces'
+    /// corners (corner 0) in its ring's order, fan by fan; the kept ones ordered as
+    /// `topology::build` orders them ([`topology::RingBuilder`]).
+    fn kept_rings(
+        &self,
+        kept: &[u32],
+        map: &[u32],
+        face_offsets: &[u32],
+        face_edges: &[u32],
+    ) -> topology::Rings {
+        let t = &self.topo;
+        let (nf, ne) = (t.face_count(), t.edge_count());
+        let mut rings =
+            topology::RingBuilder::new(face_offsets, face_edges, map.len(), face_edges.len());
+        for &old in map {
+            let o = old as usize;
+            if o < nf {
+                let (a, b) = (t.face_offsets[o] as usize, t.face_offsets[o + 1] as usize);
+                rings.fan(true, kept[a..b].iter().map(|&i| (i, 2)));
+            } else if o < nf + ne {
+                let e = (o - nf) as u32;
+                let [c00, c01, c10, c11] = edge_point_children(t, kept, e);
+                if t.edge_faces[e as usize][1] == NONE {
+                    rings.fan(false, [(c01, 3), (c00, 1)]);
+                } else {
+                    rings.fan(true, [(c00, 1), (c11, 3), (c10, 1), (c01, 3)]);
+                }
+            } else {
+                let v = old - (nf + ne) as u32;
+                rings.fans_of(t, v, |g, k| {
+                    (
+                        kept[(t.face_offsets[g as usize] + u32::from(k)) as usize],
+                        0,
+                    )
+                });
+            }
+            rings.end_vertex();
+        }
+        rings.finish()
     }
 
     /// Cut edges and incomplete vertices of the child level (empty vectors when none).
@@ -501,8 +534,26 @@ fn child_no_limit(t: &Topology) -> Vec<bool> {
     out
 }
 
-/// `(k + 1) % n` for `k < n`, without a division.
-#[inline]
+/// The kept children (`kept`, per corner) beside edge `e`'s edge point: at its first face's
+/// corner at the edge's first end and at the next corner, then the same in its second face
+/// (NONE where not kept or there is no second face).
+fn edge_point_children(t: &Topology, kept: &[u32], e: u32) -> [u32; 4] {
+    let [f0, f1] = t.edge_faces[e as usize];
+    let [k0, k1] = t.edge_face_local[e as usize];
+    let corner = |g: u32, k: u16, step: u32| -> u32 {
+        let off = t.face_offsets[g as usize];
+        let n = t.face_offsets[g as usize + 1] - off;
+        kept[(off + (k as u32 + step) % n) as usize]
+    };
+    let (c00, c01) = (corner(f0, k0, 0), corner(f0, k0, 1));
+    let (c10, c11) = if f1 == NONE {
+        (NONE, NONE)
+    } else {
+        (corner(f1, k1, 0), corner(f1, k1, 1))
+    };
+    [c00, c01, c10, c11]
+}
+
 /// The child quad of corner `h` (previous corner `hp`) of parent face `f`: (vertex point of the
 /// corner, edge point of its edge, face point, edge point of the previous edge).
 fn child_face(t: &Topology, f: usize, h: usize, hp: usize) -> [u32; 4] {
@@ -515,6 +566,8 @@ fn child_face(t: &Topology, f: usize, h: usize, hp: usize) -> [u32; 4] {
     ]
 }
 
+/// `(k + 1) % n` for `k < n`, without a division.
+#[inline]
 fn next_corner(k: u32, n: u32) -> u32 {
     if k + 1 == n {
         0

@@ -252,7 +252,7 @@ pub(crate) struct Connectivity {
 /// The topology of `nv` vertices and connectivity `c` (`corner_face`: the face of each flat
 /// corner) with its one-rings ordered as [`build`] orders them (`strict` as there); sharpness
 /// zero, no holes, default options.
-pub(crate) fn with_rings(
+fn with_rings(
     nv: usize,
     c: Connectivity,
     corner_face: &[u32],
@@ -269,8 +269,20 @@ pub(crate) fn with_rings(
         &c.edge_face_local,
         strict,
     )?;
+    Ok(with_given_rings(nv, c, rings, max_face_size))
+}
+
+/// The topology of `nv` vertices, connectivity `c` and its one-rings `rings` (ordered as
+/// [`build`] orders them, e.g. by [`super::fans::RingBuilder`]); sharpness zero, no holes,
+/// default options.
+pub(crate) fn with_given_rings(
+    nv: usize,
+    c: Connectivity,
+    rings: Rings,
+    max_face_size: u32,
+) -> Topology {
     let (nf, ne) = (c.face_offsets.len() - 1, c.edge_verts.len());
-    Ok(Topology {
+    Topology {
         num_vertices: nv as u32,
         face_offsets: c.face_offsets,
         face_verts: c.face_verts,
@@ -289,16 +301,16 @@ pub(crate) fn with_rings(
         no_limit: Vec::new(),
         options: SchemeOptions::default(),
         max_face_size,
-    })
+    }
 }
 
 /// The ordered one-rings of a connectivity ([`Topology`]'s fields of the same names).
-struct Rings {
-    vert_face_offsets: Vec<u32>,
-    vert_faces: Vec<u32>,
-    vert_face_local: Vec<u16>,
-    vert_edge_offsets: Vec<u32>,
-    vert_edges: Vec<u32>,
+pub(crate) struct Rings {
+    pub(crate) vert_face_offsets: Vec<u32>,
+    pub(crate) vert_faces: Vec<u32>,
+    pub(crate) vert_face_local: Vec<u16>,
+    pub(crate) vert_edge_offsets: Vec<u32>,
+    pub(crate) vert_edges: Vec<u32>,
 }
 
 /// Orders every one-ring of `nv` vertices counter-clockwise (module conventions) from the

@@ -13,12 +13,14 @@
 
 mod build;
 mod connectivity;
+mod fans;
 pub(crate) mod par;
 pub mod sectors;
 
-pub(crate) use build::{build, with_rings, Connectivity};
+pub(crate) use build::{build, with_given_rings, Connectivity, Rings};
 pub(crate) use connectivity::NONE;
 pub use connectivity::{FaceClass, Topology};
+pub(crate) use fans::RingBuilder;
 pub use sectors::{is_sharp_edge, sector_count, sector_faces, sector_slots, single_normal_vertex};
 
 #[cfg(test)]
