@@ -154,16 +154,7 @@ pub fn fillet_sharpness(code: u32) -> f64 {
 /// `None` elsewhere (at an extraordinary crease vertex the other edges are no cross-section of
 /// the fillet: measured worse with the bend, bishop L5 max 2.08 rad against 1.82 without).
 pub fn vertex_fillet_sharpness(level: &Topology, caps: &Topology, v: u32) -> Option<f32> {
-    let (promoted, sharp) = crease_edges_at(level, caps, v);
-    // The two promoted edges opposite (no face between them): every other edge lies between two
-    // faces beside the crease, whose continuations beyond it are the same edge.
-    let opposite = promoted.len() == 2
-        && !level
-            .edge_faces(promoted[0])
-            .iter()
-            .any(|f| level.edge_faces(promoted[1]).contains(f));
-    (level.vertex_edges(v).len() == 4 && sharp == 2 && opposite)
-        .then(|| mean_sharpness(level, &promoted))
+    CreaseEdges::at(level, caps, v).regular_sharpness(level, v)
 }
 
 /// [`vertex_fillet_sharpness`] as the GPU reads it at an end of an edge that is no promoted
@@ -234,19 +225,11 @@ impl FilletEnd {
 /// against 0.40 without; the bishop's of valence 16: 0.92 against 0.65), hence the turn from
 /// the normal at the point ([`turn_towards`]).
 pub fn fillet_end(level: &Topology, caps: &Topology, v: u32, e: u32) -> Option<FilletEnd> {
-    // Both cases below need two promoted edges at `v`: most vertices have none.
-    let promoted_edges = level
-        .vertex_edges(v)
-        .iter()
-        .filter(|&&x| promoted_edge(level, caps, x))
-        .count();
-    if promoted_edges < 2 {
-        return None;
-    }
-    if let Some(s) = vertex_fillet_sharpness(level, caps, v) {
+    let creases = CreaseEdges::at(level, caps, v);
+    if let Some(s) = creases.regular_sharpness(level, v) {
         return Some(FilletEnd::Bend(s));
     }
-    let promoted = irregular_crease_edges(level, caps, v)?;
+    let promoted = creases.irregular(level, caps, v)?;
     let ring = level.vertex_edges(v);
     let n = ring.len();
     let at = ring.iter().position(|&x| x == e)?;
@@ -254,7 +237,7 @@ pub fn fillet_end(level: &Topology, caps: &Topology, v: u32, e: u32) -> Option<F
         let d = (at + n - j) % n;
         promoted.contains(x) && d.min(n - d) <= FILLET_ROTATION_REACH
     });
-    let s = mean_sharpness(level, &promoted);
+    let s = mean_sharpness(level, promoted);
     near.then_some(if promoted.len() == 2 {
         FilletEnd::Turn(s)
     } else {
@@ -271,35 +254,64 @@ pub fn fillet_end(level: &Topology, caps: &Topology, v: u32, e: u32) -> Option<F
 /// `cube_creases1` L4, 0.5-0.6 at `w = h/4`, 0-0.15 at `h/2`) and the turn measured worse
 /// (pyramid_creases0 L2 2.06e-2 -> 2.40e-2 rad RMS, pyramid_creases1 L1 0.125 -> 0.131).
 pub fn irregular_crease_vertex(level: &Topology, caps: &Topology, v: u32) -> bool {
-    vertex_fillet_sharpness(level, caps, v).is_none()
-        && irregular_crease_edges(level, caps, v)
+    let creases = CreaseEdges::at(level, caps, v);
+    creases.regular_sharpness(level, v).is_none()
+        && creases
+            .irregular(level, caps, v)
             .is_some_and(|p| p.len() >= 3 || level.valence(v) >= 4)
 }
 
-/// The promoted edges at `v` in ring order where two or more meet, every sharp edge there is
-/// one and `v` is no corner for the end caps alone; `None` elsewhere.
-fn irregular_crease_edges(level: &Topology, caps: &Topology, v: u32) -> Option<Vec<u32>> {
-    if caps.vertex_sharpness(v) > level.vertex_sharpness(v) {
-        return None;
-    }
-    let (promoted, sharp) = crease_edges_at(level, caps, v);
-    (promoted.len() >= 2 && sharp == promoted.len()).then_some(promoted)
+/// The creases at a vertex `v`, what [`vertex_fillet_sharpness`], [`fillet_end`] and
+/// [`irregular_crease_vertex`] classify it by: its promoted edges ([`promoted_edge`]) in ring
+/// order, and how many of its edges are sharp for the end caps (`caps`), counted only where two
+/// or more are promoted (both classes need two; most vertices have none).
+struct CreaseEdges {
+    promoted: Vec<u32>,
+    sharp: usize,
 }
 
-/// At vertex `v`: its promoted edges ([`promoted_edge`]) in ring order, and how many of its
-/// edges are sharp for the end caps (`caps`).
-fn crease_edges_at(level: &Topology, caps: &Topology, v: u32) -> (Vec<u32>, usize) {
-    let edges = level.vertex_edges(v);
-    let promoted = edges
-        .iter()
-        .copied()
-        .filter(|&e| promoted_edge(level, caps, e))
-        .collect();
-    let sharp = edges
-        .iter()
-        .filter(|&&e| caps.edge_sharpness(e) > 0.0)
-        .count();
-    (promoted, sharp)
+impl CreaseEdges {
+    fn at(level: &Topology, caps: &Topology, v: u32) -> Self {
+        let edges = level.vertex_edges(v);
+        let promoted: Vec<u32> = edges
+            .iter()
+            .copied()
+            .filter(|&e| promoted_edge(level, caps, e))
+            .collect();
+        let sharp = if promoted.len() >= 2 {
+            edges
+                .iter()
+                .filter(|&&e| caps.edge_sharpness(e) > 0.0)
+                .count()
+        } else {
+            0
+        };
+        CreaseEdges { promoted, sharp }
+    }
+
+    /// [`vertex_fillet_sharpness`]: valence 4, the two promoted edges opposite (no face between
+    /// them: every other edge lies between two faces beside the crease, whose continuations
+    /// beyond it are the same edge) and no other sharp edge.
+    fn regular_sharpness(&self, level: &Topology, v: u32) -> Option<f32> {
+        let p = &self.promoted;
+        let opposite = p.len() == 2
+            && !level
+                .edge_faces(p[0])
+                .iter()
+                .any(|f| level.edge_faces(p[1]).contains(f));
+        (level.vertex_edges(v).len() == 4 && self.sharp == 2 && opposite)
+            .then(|| mean_sharpness(level, p))
+    }
+
+    /// The promoted edges where two or more meet, every sharp edge at `v` is one and `v` is no
+    /// corner for the end caps alone; `None` elsewhere.
+    fn irregular(&self, level: &Topology, caps: &Topology, v: u32) -> Option<&[u32]> {
+        let p = &self.promoted;
+        (caps.vertex_sharpness(v) <= level.vertex_sharpness(v)
+            && p.len() >= 2
+            && self.sharp == p.len())
+        .then_some(p.as_slice())
+    }
 }
 
 /// The mean sharpness of promoted edges `edges` (as the vertex rule averages them).
