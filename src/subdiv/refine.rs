@@ -275,6 +275,7 @@ impl Level {
             vert_edges,
             edge_sharpness,
             vertex_sharpness,
+            promoted: Vec::new(),
             holes,
             no_limit: child_no_limit(t),
             options: t.options,

@@ -297,6 +297,7 @@ pub(crate) fn with_given_rings(
         vert_edges: rings.vert_edges,
         edge_sharpness: vec![0.0; ne],
         vertex_sharpness: vec![0.0; nv],
+        promoted: Vec::new(),
         holes: vec![false; nf],
         no_limit: Vec::new(),
         options: SchemeOptions::default(),

@@ -49,6 +49,10 @@ pub struct Topology {
     pub(crate) vert_edges: Vec<u32>,
     pub(crate) edge_sharpness: Vec<f32>,
     pub(crate) vertex_sharpness: Vec<f32>,
+    /// Per edge: a promoted crease, infinitely sharp only because
+    /// [`Topology::with_semi_sharpness_as_crease`] made its semi-sharpness so (the end caps'
+    /// view of a level); empty when there is none.
+    pub(crate) promoted: Vec<bool>,
     pub(crate) holes: Vec<bool>,
     /// Faces without limit surface besides holes (with `BoundaryInterpolation::None`: faces
     /// touching a boundary vertex of the base mesh, and their descendants); empty if none.
@@ -210,6 +214,13 @@ impl Topology {
     /// Sharpness of edge `e` after tags and the boundary rule (`>= INFINITE_SHARPNESS`: infinite).
     pub fn edge_sharpness(&self, e: u32) -> f32 {
         self.edge_sharpness[e as usize]
+    }
+
+    /// Whether edge `e` is a promoted crease: infinitely sharp only because
+    /// [`Topology::with_semi_sharpness_as_crease`] made its semi-sharpness so, while the limit
+    /// is smooth across it.
+    pub fn is_promoted_edge(&self, e: u32) -> bool {
+        self.promoted.get(e as usize).copied().unwrap_or(false)
     }
 
     /// Sharpness of vertex `v` after tags and the boundary rule.

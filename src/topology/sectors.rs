@@ -105,12 +105,22 @@ impl Topology {
     /// infinitely sharp, the other semi-sharp edges and every semi-sharp vertex smooth,
     /// boundaries and infinitely sharp tags kept; borrowed when there is nothing to change. The
     /// end caps of a feature-adaptive refinement see their level's residual semi-sharpness this
-    /// way by default ([`crate::subdiv::adaptive::EndCapSharpness::Crease`]).
+    /// way by default ([`crate::subdiv::adaptive::EndCapSharpness::Crease`]). The edges made
+    /// infinitely sharp are marked promoted ([`Topology::is_promoted_edge`]).
     pub fn with_semi_sharpness_as_crease(&self, threshold: f32) -> Cow<'_, Topology> {
         if !self.has_semi_sharpness() {
             return Cow::Borrowed(self);
         }
         let mut t = self.clone();
+        t.promoted = (0..t.edge_count() as u32)
+            .map(|e| {
+                let s = t.edge_sharpness(e);
+                t.is_promoted_edge(e) || (is_semi(s) && s >= threshold)
+            })
+            .collect();
+        if !t.promoted.contains(&true) {
+            t.promoted = Vec::new();
+        }
         for s in t.edge_sharpness.iter_mut() {
             if is_semi(*s) {
                 *s = if *s >= threshold {

@@ -354,6 +354,21 @@ pub fn vertex_ring_with<P: GregoryPoint>(
         corner,
         face_sizes: super::tangents_tri::ring_face_sizes(topo, v),
         far_sector,
+        promoted: promoted_edges(topo, v),
+    }
+}
+
+/// [`VertexRing::promoted`] of vertex `v`: per incident edge, whether it is a promoted crease
+/// ([`Topology::is_promoted_edge`]); empty where none is.
+fn promoted_edges(topo: &Topology, v: u32) -> Vec<bool> {
+    let promoted: Vec<bool> = topo
+        .vertex_edges(v)
+        .iter()
+        .map(|&e| topo.is_promoted_edge(e))
+        .collect();
+    match promoted.contains(&true) {
+        true => promoted,
+        false => Vec::new(),
     }
 }
 

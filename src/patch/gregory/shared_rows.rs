@@ -39,6 +39,11 @@ use crate::topology::Topology;
 
 const NONE: u32 = u32::MAX;
 
+/// The key's sharpness word of a promoted crease (`Topology::is_promoted_edge`: its face points
+/// may differ from a real crease's, `VertexRing::one_sided_edge`): a NaN's bits, which no
+/// sharpness has.
+const PROMOTED: u32 = u32::MAX - 1;
+
 /// The local topology of a face as its construction reads it, in canonical-ring slots.
 type TypeKey = Vec<u32>;
 
@@ -163,8 +168,8 @@ impl Keyer<'_> {
 
 impl Keyer<'_> {
     /// Vertex `v` as the construction reads it, for face `f`: its sharpness, its edges (other
-    /// end's slot, sharpness, face count) and faces (sizes, vertex slots); `None` where one of
-    /// those vertices lies outside the ring.
+    /// end's slot, sharpness or [`PROMOTED`], face count) and faces (sizes, vertex slots);
+    /// `None` where one of those vertices lies outside the ring.
     fn push_vertex(&self, key: &mut TypeKey, f: u32, v: u32) -> Option<()> {
         let topo = self.topo;
         let slot = |x: u32| match self.slot[x as usize] {
@@ -176,7 +181,10 @@ impl Keyer<'_> {
         key.push(edges.len() as u32);
         for &e in edges {
             key.push(slot(topo.other_vertex(e, v))?);
-            key.push(topo.edge_sharpness(e).to_bits());
+            key.push(match topo.is_promoted_edge(e) {
+                true => PROMOTED,
+                false => topo.edge_sharpness(e).to_bits(),
+            });
             key.push(topo.edge_faces(e).len() as u32);
         }
         let faces = topo.vertex_faces(v);
@@ -199,7 +207,8 @@ impl Keyer<'_> {
     /// hold `g`'s face points next to the edge). A smooth corner (the interior construction,
     /// judged by the construction's own tests: two-stage, its derived points and cosine) is its
     /// valence, its faces' sizes and `g`'s place in its ring; another one is read in full
-    /// ([`Self::push_vertex`]).
+    /// ([`Self::push_vertex`]). Promoted creases too, whose face points are one-sided in some
+    /// sectors only (`VertexRing::one_sided_edge`): more key than needed, the same rows.
     fn push_one_sided_neighbour(
         &self,
         key: &mut TypeKey,
