@@ -660,19 +660,21 @@ fn end_cap_factors_turn_normals_towards_the_limit() {
 /// `LimitEvaluator` at equal (u, v). Measured RMS rad, rule on every promoted edge (main before,
 /// session 10-13) / off on every one / kept in two-face crease sectors only (now):
 /// `catmark_torus_creases1` L1 2.755e-2 / (not taken) / 2.590e-2, bishop L1 7.84e-3 / 5.93e-3 /
-/// 6.03e-3, car L1 8.46e-3 / 8.74e-3 / 8.52e-3. The torus and bishop bounds fail with the rule on
-/// every promoted edge, the car's with it off on every one.
+/// 6.03e-3, car L1 8.46e-3 / 8.74e-3 / 8.52e-3; with the end caps' valence-3 transversals
+/// (`END_CAP_TRANSVERSAL_SHAPE`, h67) merged the car reads 8.94e-3 with the rule off on every
+/// promoted edge and 8.73e-3 now (torus and bishop unchanged). The torus and bishop bounds fail
+/// with the rule on every promoted edge, the car's with it off on every one.
 #[test]
 fn promoted_creases_keep_eq6_face_points() {
     for (name, iso, rms_bound) in [
         ("catmark_torus_creases1", 1, 2.67e-2),
         ("catmark_bishop", 1, 7.0e-3),
-        ("catmark_car", 1, 8.62e-3),
+        ("catmark_car", 1, 8.83e-3),
     ] {
         let m = osd(name);
         let (_, s) = surface(&m, iso);
         let e = errors(&m, &s, is_end_cap, 8);
-        let rms = (e.iter().map(|x| x.3 * x.3).sum::<f64>() / e.len() as f64).sqrt();
+        let rms = rms(e.iter().map(|x| x.3));
         eprintln!("{name} L{iso}: {} samples, normal RMS {rms:.4e}", e.len());
         assert!(rms <= rms_bound, "{name}: RMS {rms:e}");
     }
