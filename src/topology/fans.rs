@@ -100,7 +100,6 @@ impl<'a> RingBuilder<'a> {
                 return;
             }
         }
-        let corner = |(f, k): (u32, u16)| self.face_offsets[f as usize] + u32::from(k);
         let mut cycle = None;
         self.runs.clear();
         for &(s, e, closed) in &self.fans {
@@ -129,7 +128,7 @@ impl<'a> RingBuilder<'a> {
                     j += 1;
                 }
                 self.runs
-                    .push((corner(self.entries[s + a % m]), s, m, a, j - a));
+                    .push((self.corner(self.entries[s + a % m]), s, m, a, j - a));
             }
         }
         self.runs.sort_unstable_by_key(|r| r.0);
@@ -145,10 +144,14 @@ impl<'a> RingBuilder<'a> {
 
     /// The position in `entries[s..e]` of the face with the smallest corner.
     fn first_corner(&self, s: usize, e: usize) -> usize {
-        let corner = |(f, k): (u32, u16)| self.face_offsets[f as usize] + u32::from(k);
         (s..e)
-            .min_by_key(|&j| corner(self.entries[j]))
+            .min_by_key(|&j| self.corner(self.entries[j]))
             .map_or(0, |j| j - s)
+    }
+
+    /// The flat corner index of corner `k` of new face `f`.
+    fn corner(&self, (f, k): (u32, u16)) -> u32 {
+        self.face_offsets[f as usize] + u32::from(k)
     }
 
     /// Closes the current vertex's ring.
