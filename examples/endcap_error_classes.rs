@@ -19,7 +19,7 @@ use std::collections::BTreeMap;
 
 use rayon::prelude::*;
 use tessera::mesh::ObjOptions;
-use tessera::patch::adaptive::promoted::{promoted_edge, promoted_vertex};
+use tessera::patch::adaptive::promoted::promoted_vertex;
 use tessera::patch::adaptive::{AdaptiveSurface, PatchShape};
 use tessera::subdiv::adaptive::AdaptiveRefinement;
 use tessera::subdiv::eval::LimitEvaluator;
@@ -153,7 +153,7 @@ fn class(t: &Topology, caps: &Topology, face: u32, (s, u): (f64, f64)) -> String
     };
     if let Some((k, x)) = edge {
         let e = fe[k];
-        if promoted_edge(t, caps, e) {
+        if caps.is_promoted_edge(e) {
             return format!("promoted-edge-s{}", t.edge_sharpness(e).floor());
         }
         let (a, b) = (fv[k], fv[(k + 1) % 4]);
@@ -161,7 +161,7 @@ fn class(t: &Topology, caps: &Topology, face: u32, (s, u): (f64, f64)) -> String
         if promoted_vertex(t, caps, near) {
             let ring = t.vertex_edges(near);
             let on: Vec<usize> = (0..ring.len())
-                .filter(|&j| promoted_edge(t, caps, ring[j]))
+                .filter(|&j| caps.is_promoted_edge(ring[j]))
                 .collect();
             let opposite = on.len() == 2 && on[1] - on[0] == ring.len() / 2;
             return format!(
@@ -179,7 +179,7 @@ fn class(t: &Topology, caps: &Topology, face: u32, (s, u): (f64, f64)) -> String
     }
     // Inside: the nearest promoted edge whose fillet (width 2^-floor(s)) holds the point.
     let band = (0..4)
-        .filter(|&k| promoted_edge(t, caps, fe[k]))
+        .filter(|&k| caps.is_promoted_edge(fe[k]))
         .map(|k| {
             let w = [u, 1.0 - s, 1.0 - u, s][k];
             (w, t.edge_sharpness(fe[k]))

@@ -43,7 +43,7 @@ use std::collections::BTreeMap;
 
 use common::meshes::osd;
 use rayon::prelude::*;
-use tessera::patch::adaptive::promoted::{promoted_edge, promoted_vertex};
+use tessera::patch::adaptive::promoted::promoted_vertex;
 use tessera::patch::adaptive::{AdaptiveSurface, PatchShape, SurfacePatch};
 use tessera::subdiv::adaptive::{AdaptiveOptions, AdaptiveRefinement, EndCapSharpness, PatchType};
 use tessera::subdiv::eval::{LimitEvaluator, LimitSample};
@@ -487,7 +487,7 @@ fn band_offset_turns_promoted_edge_normals() {
                 _ => None,
             };
             let on = t.face_size(p.face) == 4
-                && edge.is_some_and(|k| promoted_edge(t, &caps[&p.level], t.face_edges(p.face)[k]));
+                && edge.is_some_and(|k| caps[&p.level].is_promoted_edge(t.face_edges(p.face)[k]));
             on.then(|| s.normal(i, a, b).angle_between(x.normal))
         })
         .into_iter()

@@ -16,7 +16,7 @@ use rayon::prelude::*;
 use super::coarse::{patch_index, CoarseEdges};
 use super::error::DrawTablesError;
 use super::promoted::{
-    exact_frame, fillet_code, fillet_end, fillet_end_code, irregular_crease_vertex, promoted_edge,
+    exact_frame, fillet_code, fillet_end, fillet_end_code, irregular_crease_vertex,
     promoted_vertex, FilletEnd,
 };
 use super::records::{
@@ -556,7 +556,7 @@ impl AdaptiveDrawTables {
                         && census.patches[at[p.level as usize][g as usize] as usize].kind
                             == PatchType::EndCap
                 });
-                if n == 4 && fine[k] == NONE && across_cap && promoted_edge(t, caps, e) {
+                if n == 4 && fine[k] == NONE && across_cap && caps.is_promoted_edge(e) {
                     ef.flags &= !(1 << (12 + k));
                     ef.flags |= 1 << (28 + k);
                     out.records[i].fillet |= fillet_code(t.edge_sharpness(e)) << (8 * k);

@@ -22,14 +22,6 @@ use crate::subdiv::limit::SharedVertexMasks;
 use crate::topology::Topology;
 use glam::DVec3;
 
-/// Whether edge `e` is a promoted crease: infinitely sharp in `caps` (the level's end-cap
-/// topology) but not in `level` (its own), with a face on both sides.
-pub fn promoted_edge(level: &Topology, caps: &Topology, e: u32) -> bool {
-    !level.is_boundary_edge(e)
-        && caps.edge_sharpness(e) >= INFINITE_SHARPNESS
-        && level.edge_sharpness(e) < INFINITE_SHARPNESS
-}
-
 /// Whether vertex `v` touches a promoted crease, or is a corner only in `caps`.
 pub fn promoted_vertex(level: &Topology, caps: &Topology, v: u32) -> bool {
     (caps.vertex_sharpness(v) >= INFINITE_SHARPNESS
@@ -37,7 +29,7 @@ pub fn promoted_vertex(level: &Topology, caps: &Topology, v: u32) -> bool {
         || level
             .vertex_edges(v)
             .iter()
-            .any(|&e| promoted_edge(level, caps, e))
+            .any(|&e| caps.is_promoted_edge(e))
 }
 
 /// Rows (d/du, d/dv) over global refined ids of the exact limit tangents at corner `k` of face
@@ -148,7 +140,7 @@ pub fn fillet_sharpness(code: u32) -> f64 {
 
 /// The residual sharpness of the fillet at vertex `v` of `level` (its topology as `caps` sees it
 /// for the end caps) where the crease through it is regular (valence 4, two opposite promoted
-/// edges ([`promoted_edge`]) and no other sharp one, so its other edges cross the crease): the
+/// edges ([`Topology::is_promoted_edge`]) and no other sharp one, so its other edges cross the crease): the
 /// mean of the two, as the crease vertex rule averages its edges' sharpness (DeRose et al. 1998
 /// §3);
 /// `None` elsewhere (at an extraordinary crease vertex the other edges are no cross-section of
@@ -205,7 +197,7 @@ impl FilletEnd {
 
 /// [`FilletEnd`] at the end `v` of edge `e`, `None` where no fillet reaches it.
 ///
-/// A turn: where a promoted crease ([`promoted_edge`]) runs through `v` but not regularly
+/// A turn: where a promoted crease ([`Topology::is_promoted_edge`]) runs through `v` but not regularly
 /// ([`vertex_fillet_sharpness`] is `None`: valence other than 4, or the two edges not opposite):
 /// exactly two sharp edges there, both promoted; the mean of theirs, as the crease vertex rule
 /// averages its edges' sharpness (DeRose et al. 1998 §3). Its other edges are no cross-section
@@ -262,7 +254,7 @@ pub fn irregular_crease_vertex(level: &Topology, caps: &Topology, v: u32) -> boo
 }
 
 /// The creases at a vertex `v`, what [`vertex_fillet_sharpness`], [`fillet_end`] and
-/// [`irregular_crease_vertex`] classify it by: its promoted edges ([`promoted_edge`]) in ring
+/// [`irregular_crease_vertex`] classify it by: its promoted edges ([`Topology::is_promoted_edge`]) in ring
 /// order, and how many of its edges are sharp for the end caps (`caps`), counted only where two
 /// or more are promoted (both classes need two; most vertices have none).
 struct CreaseEdges {
@@ -276,7 +268,7 @@ impl CreaseEdges {
         let promoted: Vec<u32> = edges
             .iter()
             .copied()
-            .filter(|&e| promoted_edge(level, caps, e))
+            .filter(|&e| caps.is_promoted_edge(e))
             .collect();
         let sharp = if promoted.len() >= 2 {
             edges

@@ -10,8 +10,8 @@ use thiserror::Error;
 use super::promoted::{
     band_offset_factor, crease_turn_share, exact_corner_tangents, fillet_bend, fillet_code,
     fillet_cross_derivative, fillet_end, fillet_end_code, fillet_end_sharpness, fillet_many_share,
-    fillet_rotation, fillet_sharpness, irregular_crease_vertex, promoted_edge, promoted_vertex,
-    turn_towards, FilletEnd,
+    fillet_rotation, fillet_sharpness, irregular_crease_vertex, promoted_vertex, turn_towards,
+    FilletEnd,
 };
 use crate::patch::basis::{bernstein_deriv, eval_tensor};
 use crate::patch::gregory::{
@@ -682,7 +682,7 @@ fn promoted_caps(
                 let k2 = t.face_edges(g).iter().position(|&x| x == e)?;
                 (t.face_size(g) == 4).then_some((j, k2))
             });
-            if !promoted_edge(t, caps, e) {
+            if !caps.is_promoted_edge(e) {
                 if across.is_some() && !is_sharp_edge(caps, e) {
                     cap.others[k] = across;
                     for (half, v) in [fv[k], fv[(k + 1) % 4]].into_iter().enumerate() {
