@@ -35,7 +35,11 @@
 //! L5 (fitted tangents, crease end caps): cube 0.0413 / 0.1368, pole64 0.5477 / 3.0007,
 //! nonquads 0.0946 / 0.4657, car 0.0261 / 0.3968, bishop 0.0500 / 2.2182 (the car's and the
 //! bishop's rows at L1-L4 today: 0.2073 / 3.7052, 0.0914 / 1.9873, 0.0432 / 1.0624, 0.0275 /
-//! 0.6082 and 0.4696 / 12.4418, 0.2173 / 8.1397, 0.1098 / 5.2208, 0.0629 / 3.3602).
+//! 0.6082 and 0.4696 / 12.4418, 0.2173 / 8.1397, 0.1098 / 5.2208, 0.0629 / 3.3602). With the
+//! positional fillet (session 15, h71, `AdaptiveSurface::fillet_position`) the car's L1-L5 are
+//! 0.2128 / 3.7052, 0.0919 / 1.9873, 0.0386 / 1.0624, 0.0161 / 0.5661, 0.0073 / 0.3938 and the
+//! bishop's 0.4696 / 12.4418, 0.2146 / 8.1397, 0.1031 / 5.2208, 0.0487 / 3.3602, 0.0235 /
+//! 2.2182 (normals unchanged).
 
 mod common;
 
