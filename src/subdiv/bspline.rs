@@ -541,40 +541,37 @@ mod tests {
     /// a condition of `corner_kind`'s smooth case, e.g. the face sizes).
     #[test]
     fn vertex_regularity_once_is_per_face_regularity() {
-        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
         let mut regular = 0;
-        for name in [
-            "catmark_car",
-            "catmark_nonquads",
-            "catmark_smoothtris1",
-            "catmark_cube_creases2",
-            "catmark_cubes_semisharp",
-            "catmark_dart_edgecorner",
-            "catmark_hole_test1",
-            "catmark_val2_interior",
-        ] {
-            let path = format!("{dir}{name}.obj");
-            let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
-            let level0 = crate::subdiv::Level::from_mesh(&mesh).unwrap();
-            let level1 = level0.refine_topology();
-            let level2 = level1.refine_topology();
-            for t in [&level0, &level1, &level2].map(|l| l.topology()) {
-                for v in 0..t.vertex_count() as u32 {
-                    let per_face = t
-                        .vertex_faces(v)
-                        .iter()
-                        .all(|&f| corner_kind(t, v, f) != CornerKind::Irregular);
-                    assert_eq!(is_regular_vertex(t, v), per_face, "{name} vertex {v}");
-                    regular += usize::from(per_face);
-                }
-                for f in 0..t.face_count() as u32 {
-                    if t.face_vertices(f).iter().all(|&v| is_regular_vertex(t, v)) {
-                        assert_eq!(
-                            RegularPatch::gather_at_regular_corners(t, f),
-                            RegularPatch::gather(t, f),
-                            "{name} face {f}"
-                        );
-                    }
+        let levels = crate::subdiv::corpus_levels(
+            &[
+                "catmark_car",
+                "catmark_nonquads",
+                "catmark_smoothtris1",
+                "catmark_cube_creases2",
+                "catmark_cubes_semisharp",
+                "catmark_dart_edgecorner",
+                "catmark_hole_test1",
+                "catmark_val2_interior",
+            ],
+            2,
+        );
+        for (name, _, level) in &levels {
+            let t = level.topology();
+            for v in 0..t.vertex_count() as u32 {
+                let per_face = t
+                    .vertex_faces(v)
+                    .iter()
+                    .all(|&f| corner_kind(t, v, f) != CornerKind::Irregular);
+                assert_eq!(is_regular_vertex(t, v), per_face, "{name} vertex {v}");
+                regular += usize::from(per_face);
+            }
+            for f in 0..t.face_count() as u32 {
+                if t.face_vertices(f).iter().all(|&v| is_regular_vertex(t, v)) {
+                    assert_eq!(
+                        RegularPatch::gather_at_regular_corners(t, f),
+                        RegularPatch::gather(t, f),
+                        "{name} face {f}"
+                    );
                 }
             }
         }
@@ -588,37 +585,34 @@ mod tests {
     #[test]
     fn interior_grid_lines_are_the_edges_between_their_cvs() {
         use crate::subdiv::single_crease::CreaseSide;
-        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
         let mut grids = 0;
-        for name in [
-            "catmark_car",
-            "catmark_single_crease",
-            "catmark_cubes_semisharp",
-            "catmark_cube_creases2",
-            "catmark_torus_creases1",
-            "catmark_hole_test1",
-        ] {
-            let path = format!("{dir}{name}.obj");
-            let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
-            let level0 = crate::subdiv::Level::from_mesh(&mesh).unwrap();
-            let level1 = level0.refine_topology();
-            let level2 = level1.refine_topology();
-            for t in [&level0, &level1, &level2].map(|l| l.topology()) {
-                for f in 0..t.face_count() as u32 {
-                    let Some((cvs, lines)) = interior_grid_lines(t, f) else {
-                        continue;
-                    };
-                    for side in CreaseSide::ALL {
-                        let mut found = side
-                            .line()
-                            .map(|(a, b)| t.find_edge(cvs[a], cvs[b]).unwrap());
-                        let mut line = lines[side.face_edge()];
-                        found.sort_unstable();
-                        line.sort_unstable();
-                        assert_eq!(line, found, "{name} face {f} {side:?}");
-                    }
-                    grids += 1;
+        let levels = crate::subdiv::corpus_levels(
+            &[
+                "catmark_car",
+                "catmark_single_crease",
+                "catmark_cubes_semisharp",
+                "catmark_cube_creases2",
+                "catmark_torus_creases1",
+                "catmark_hole_test1",
+            ],
+            2,
+        );
+        for (name, _, level) in &levels {
+            let t = level.topology();
+            for f in 0..t.face_count() as u32 {
+                let Some((cvs, lines)) = interior_grid_lines(t, f) else {
+                    continue;
+                };
+                for side in CreaseSide::ALL {
+                    let mut found = side
+                        .line()
+                        .map(|(a, b)| t.find_edge(cvs[a], cvs[b]).unwrap());
+                    let mut line = lines[side.face_edge()];
+                    found.sort_unstable();
+                    line.sort_unstable();
+                    assert_eq!(line, found, "{name} face {f} {side:?}");
                 }
+                grids += 1;
             }
         }
         assert!(grids > 1000, "{grids}");

@@ -89,9 +89,21 @@ pub struct CreaseLine {
 /// `Level::isSingleCreasePatch` for semi-sharp creases).
 pub fn single_crease_line(topo: &Topology, face: u32) -> Option<CreaseLine> {
     let (cvs, lines) = interior_grid_lines(topo, face)?;
+    crease_line(cvs, |side| {
+        Some(lines[side.face_edge()].map(|e| topo.edge_sharpness(e)))
+    })
+}
+
+/// The single-crease line of the net `cvs` whose lines have the sharpness `line_sharpness`
+/// (`None`: a line edge is missing): exactly one side with any sharpness, the same `0 < s < 10`
+/// along its three edges.
+fn crease_line(
+    cvs: [u32; 16],
+    line_sharpness: impl Fn(CreaseSide) -> Option<[f32; 3]>,
+) -> Option<CreaseLine> {
     let mut found = None;
     for side in CreaseSide::ALL {
-        let s = lines[side.face_edge()].map(|e| topo.edge_sharpness(e));
+        let s = line_sharpness(side)?;
         if s.iter().all(|&x| x == 0.0) {
             continue;
         }
@@ -112,32 +124,16 @@ pub fn single_crease_line(topo: &Topology, face: u32) -> Option<CreaseLine> {
 mod tests {
     use super::*;
     use crate::subdiv::bspline::interior_grid;
-    use crate::ControlMesh;
 
     /// The test as it was before the grid walk gave the lines' edges: each line's edges
     /// looked up by their ends (`find_edge` between the slots of [`CreaseSide::line`]).
     fn single_crease_line_by_find_edge(topo: &Topology, face: u32) -> Option<CreaseLine> {
         let cvs = interior_grid(topo, face)?;
-        let sharp = |a: usize, b: usize| -> Option<f32> {
-            Some(topo.edge_sharpness(topo.find_edge(cvs[a], cvs[b])?))
-        };
-        let mut found = None;
-        for side in CreaseSide::ALL {
-            let s = side.line().map(|(a, b)| sharp(a, b));
-            let s = [s[0]?, s[1]?, s[2]?];
-            if s.iter().all(|&x| x == 0.0) {
-                continue;
-            }
-            if found.is_some() || s.iter().any(|&x| x != s[0]) || s[0] >= INFINITE_SHARPNESS {
-                return None;
-            }
-            found = Some((side, s[0]));
-        }
-        let (side, sharpness) = found?;
-        (sharpness > 0.0).then_some(CreaseLine {
-            cvs,
-            side,
-            sharpness,
+        crease_line(cvs, |side| {
+            let s = side
+                .line()
+                .map(|(a, b)| Some(topo.edge_sharpness(topo.find_edge(cvs[a], cvs[b])?)));
+            Some([s[0]?, s[1]?, s[2]?])
         })
     }
 
@@ -146,34 +142,29 @@ mod tests {
     /// lines, uneven sharpness or infinitely sharp lines, which are not).
     #[test]
     fn single_crease_lines_equal_the_edge_lookups() {
-        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
         let mut sides = [0; 4];
-        for name in [
-            "catmark_car",
-            "catmark_single_crease",
-            "catmark_cubes_semisharp",
-            "catmark_cube_creases1",
-            "catmark_cube_creases2",
-            "catmark_torus_creases1",
-        ] {
-            let path = format!("{dir}{name}.obj");
-            let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
-            let mut level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
-            for depth in 0..4 {
-                let t = level.topology();
-                for f in 0..t.face_count() as u32 {
-                    let line = single_crease_line(t, f);
-                    assert_eq!(
-                        line,
-                        single_crease_line_by_find_edge(t, f),
-                        "{name} level {depth} face {f}"
-                    );
-                    if let Some(line) = line {
-                        sides[line.side.face_edge()] += 1;
-                    }
-                }
-                if depth < 3 {
-                    level = level.refine_topology();
+        let levels = crate::subdiv::corpus_levels(
+            &[
+                "catmark_car",
+                "catmark_single_crease",
+                "catmark_cubes_semisharp",
+                "catmark_cube_creases1",
+                "catmark_cube_creases2",
+                "catmark_torus_creases1",
+            ],
+            3,
+        );
+        for (name, depth, level) in &levels {
+            let t = level.topology();
+            for f in 0..t.face_count() as u32 {
+                let line = single_crease_line(t, f);
+                assert_eq!(
+                    line,
+                    single_crease_line_by_find_edge(t, f),
+                    "{name} level {depth} face {f}"
+                );
+                if let Some(line) = line {
+                    sides[line.side.face_edge()] += 1;
                 }
             }
         }
