@@ -338,6 +338,49 @@ pub fn vertex_ring_with<P: GregoryPoint>(
             combine(&terms)
         })
         .collect();
+    ring_of_points(topo, v, pv, m, c)
+}
+
+/// [`vertex_ring_with`] over unit [`Weights`], vertex `u` standing for `unit(id(u))`, with the
+/// same bits: an edge midpoint `0.5 * (unit(v) + 1.0 * unit(o))` holds `0.5 * 1.0` at both
+/// ends, a face centroid `1 / n` at each corner ([`Weights::from_terms`]: a repeated id's
+/// weights summed in corner order, as `combine` sums them), each point built in one
+/// allocation instead of a unit per ring vertex and a merge per point.
+pub(super) fn vertex_ring_of_units(
+    topo: &Topology,
+    v: u32,
+    id: &impl Fn(u32) -> u32,
+) -> VertexRing<Weights> {
+    let iv = id(v);
+    let m = topo
+        .vertex_edges(v)
+        .iter()
+        .map(|&e| {
+            // `unit(iv) + 1.0 * unit(io)`, then `0.5 *` it.
+            let io = id(topo.other_vertex(e, v));
+            Weights(match iv.cmp(&io) {
+                std::cmp::Ordering::Less => vec![(iv, 0.5 * 1.0), (io, 0.5 * (1.0 * 1.0))],
+                std::cmp::Ordering::Greater => vec![(io, 0.5 * (1.0 * 1.0)), (iv, 0.5 * 1.0)],
+                std::cmp::Ordering::Equal => vec![(iv, 0.5 * (1.0 + 1.0 * 1.0))],
+            })
+        })
+        .collect();
+    let c = topo
+        .vertex_faces(v)
+        .iter()
+        .map(|&f| {
+            let fv = topo.face_vertices(f);
+            let w = 1.0 / fv.len() as f64;
+            Weights::from_terms(fv.iter().map(|&u| (id(u), w * 1.0)))
+        })
+        .collect();
+    ring_of_points(topo, v, Weights::unit(iv), m, c)
+}
+
+/// The split one-ring of vertex `v` with its points `pv`, edge midpoints `m` and face centroids
+/// `c` given: the topology's part (sharp edges, corner tag, face sizes, far sectors, promoted
+/// edges).
+fn ring_of_points<P>(topo: &Topology, v: u32, pv: P, m: Vec<P>, c: Vec<P>) -> VertexRing<P> {
     let sharp = sharp_edges(topo, v);
     let count = sharp.iter().filter(|&&s| s).count();
     let corner = ring_corner_tag(topo, v, &sharp);
@@ -466,15 +509,32 @@ pub fn gregory_vertex_two_stage<P: GregoryPoint>(
     darts: &DartLimits,
     points: &impl Fn(u32) -> [P; 3],
 ) -> Option<GregoryVertex<P>> {
+    two_stage_of_ring(
+        topo,
+        v,
+        || vertex_ring_with(topo, v, point),
+        tangents,
+        coverage,
+        darts,
+        points,
+    )
+}
+
+/// [`gregory_vertex_two_stage`] with the vertex's split ring made by `ring` (only where the
+/// vertex is covered).
+pub(super) fn two_stage_of_ring<P: GregoryPoint>(
+    topo: &Topology,
+    v: u32,
+    ring: impl FnOnce() -> VertexRing<P>,
+    tangents: GregoryTangents,
+    coverage: Coverage,
+    darts: &DartLimits,
+    points: &impl Fn(u32) -> [P; 3],
+) -> Option<GregoryVertex<P>> {
     if !vertex_covered(topo, v, coverage) {
         return None;
     }
-    GregoryVertex::from_vertex_points(
-        &vertex_ring_with(topo, v, point),
-        tangents,
-        darts,
-        points(v),
-    )
+    GregoryVertex::from_vertex_points(&ring(), tangents, darts, points(v))
 }
 
 /// A point that is no point: the ring of a vertex built over it carries the topology only.

@@ -499,8 +499,8 @@ pub fn shared_vertex_point_rows(
             for (s, &u) in ring.iter().enumerate() {
                 slot[u as usize] = s as u32;
             }
-            let unit = |u: u32| Weights::unit(slot[u as usize]);
-            let rows = vertex_point_rows_with(topo, vertices[i], &unit, tangents, darts);
+            let rows =
+                vertex_point_rows_with(topo, vertices[i], &|u| slot[u as usize], tangents, darts);
             clear(slot, ring);
             rows
         })
@@ -761,6 +761,86 @@ mod tests {
         );
         // Smooth (no sharp edge), dart (one) and crease or boundary (two) rings were compared.
         assert!((0..3).all(|s| kinds.contains_key(&s)), "{kinds:?}");
+    }
+
+    /// The split rings over unit weights built without a unit per ring vertex are bitwise
+    /// `vertex_ring_with` over `Weights::unit` (points and topology), with the identity and with
+    /// a reversing id map (ids then descend along the ring, so the sorted points reorder), on
+    /// every vertex of every level of meshes with triangles, n-gons, boundaries, holes, creases,
+    /// darts and promoted semi-sharp creases, in both end-cap topologies (fails if a midpoint's
+    /// or centroid's weight, order or a repeated id's sum differs).
+    #[test]
+    fn unit_rings_are_vertex_ring_with() {
+        use crate::patch::gregory::build::vertex_ring_of_units;
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
+        let bits = |w: &Weights| {
+            w.0.iter()
+                .map(|&(u, x)| (u, x.to_bits()))
+                .collect::<Vec<_>>()
+        };
+        let mut compared = 0;
+        let mut compare = |name: &str, topo: &Topology| {
+            let n = topo.vertex_count() as u32;
+            for v in 0..n {
+                for reverse in [false, true] {
+                    let id = |u: u32| if reverse { n - 1 - u } else { u };
+                    let got = vertex_ring_of_units(topo, v, &id);
+                    let want = vertex_ring_with(topo, v, &|u| Weights::unit(id(u)));
+                    let points = |r: &crate::patch::gregory::VertexRing<Weights>| {
+                        let mut p = vec![bits(&r.v)];
+                        p.extend(r.m.iter().chain(&r.c).map(bits));
+                        p
+                    };
+                    assert_eq!(points(&got), points(&want), "{name}: vertex {v}");
+                    assert_eq!(
+                        (&got.sharp, got.corner, &got.face_sizes),
+                        (&want.sharp, want.corner, &want.face_sizes)
+                    );
+                    assert_eq!(
+                        (&got.far_sector, &got.promoted),
+                        (&want.far_sector, &want.promoted)
+                    );
+                    compared += 1;
+                }
+            }
+        };
+        // A 12-gon: centroids of more corners than `combine` merges in one pass.
+        let gon = ControlMesh::new(ControlMeshDesc {
+            positions: (0..12)
+                .map(|k| {
+                    let a = k as f64 * std::f64::consts::TAU / 12.0;
+                    DVec3::new(a.cos(), a.sin(), 0.0)
+                })
+                .collect(),
+            face_sizes: vec![12],
+            face_vertices: (0..12).collect(),
+            ..Default::default()
+        })
+        .unwrap();
+        compare("12-gon", &Topology::new(&gon).unwrap());
+        for name in [
+            "catmark_nonquads",
+            "catmark_smoothtris1",
+            "catmark_hole_test1",
+            "catmark_dart_edgecorner",
+            "catmark_cube_creases2",
+            "catmark_cubes_semisharp",
+            "catmark_val2_interior",
+        ] {
+            let path = format!("{dir}{name}.obj");
+            let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
+            let level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
+            let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, 2).unwrap();
+            for l in &adaptive.levels {
+                let t = l.topology();
+                compare(name, &t.without_semi_sharpness());
+                compare(
+                    name,
+                    &t.with_semi_sharpness_as_crease(EndCapSharpness::CREASE_FROM),
+                );
+            }
+        }
+        assert!(compared > 1000, "{compared} rings");
     }
 
     #[test]
