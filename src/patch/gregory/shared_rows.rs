@@ -245,11 +245,15 @@ impl Keyer<'_> {
     }
 }
 
+/// Room [`ring_slots`] makes for a ring up front: a quad's ring (16 vertices at valence-4
+/// corners, 24 at valence 6) without growing it.
+const RING_CAPACITY: usize = 32;
+
 /// [`super::stencil::canonical_ring`] of face `f` with `slot` (all [`NONE`] on entry) set to each ring vertex's
 /// slot: the same list, with the membership test in `slot` instead of a scan (rings around a
 /// valence-1000 vertex have thousands of vertices).
 fn ring_slots(topo: &Topology, f: u32, slot: &mut [u32]) -> Vec<u32> {
-    let mut out: Vec<u32> = Vec::new();
+    let mut out: Vec<u32> = Vec::with_capacity(RING_CAPACITY);
     ring_walk(topo, f, |x| {
         if slot[x as usize] == NONE {
             slot[x as usize] = out.len() as u32;
