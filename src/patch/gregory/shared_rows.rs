@@ -654,6 +654,28 @@ mod tests {
         assert!(!darts.is_empty(), "no dart ring");
     }
 
+    /// Both end-cap topologies (residual semi-sharpness smooth, or infinitely sharp from
+    /// `CREASE_FROM`) of every level of the isolation-2 refinement of corpus mesh `name`.
+    fn end_cap_topologies(name: &str) -> Vec<Topology> {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
+        let path = format!("{dir}{name}.obj");
+        let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
+        let level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
+        let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, 2).unwrap();
+        adaptive
+            .levels
+            .iter()
+            .flat_map(|l| {
+                let t = l.topology();
+                [
+                    t.without_semi_sharpness().into_owned(),
+                    t.with_semi_sharpness_as_crease(EndCapSharpness::CREASE_FROM)
+                        .into_owned(),
+                ]
+            })
+            .collect()
+    }
+
     /// A grid of `n × n` quads, infinitely sharp along row `n / 2` from its left end to
     /// column `to`: vertices of one connectivity that differ only by the sharpness of their
     /// edges (smooth, crease, a dart where the crease ends inside, a corner where it meets
@@ -696,7 +718,6 @@ mod tests {
     /// tells the grid's crease vertices from its smooth ones), and rings are shared.
     #[test]
     fn shared_vertex_points_are_the_per_vertex_construction() {
-        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
         let (mut vertices, mut types) = (0, 0);
         // Vertices with vertex points, by number of sharp edges: smooth, dart, crease.
         let mut kinds = HashMap::new();
@@ -746,17 +767,8 @@ mod tests {
             "catmark_hole_test1",
             "catmark_cube_corner4",
         ] {
-            let path = format!("{dir}{name}.obj");
-            let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
-            let level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
-            let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, 2).unwrap();
-            for l in &adaptive.levels {
-                let t = l.topology();
-                compare(name, &t.without_semi_sharpness());
-                compare(
-                    name,
-                    &t.with_semi_sharpness_as_crease(EndCapSharpness::CREASE_FROM),
-                );
+            for topo in end_cap_topologies(name) {
+                compare(name, &topo);
             }
         }
         assert!(
@@ -776,7 +788,6 @@ mod tests {
     #[test]
     fn unit_rings_are_vertex_ring_with() {
         use crate::patch::gregory::build::vertex_ring_of_units;
-        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
         let bits = |w: &Weights| {
             w.0.iter()
                 .map(|&(u, x)| (u, x.to_bits()))
@@ -831,17 +842,8 @@ mod tests {
             "catmark_cubes_semisharp",
             "catmark_val2_interior",
         ] {
-            let path = format!("{dir}{name}.obj");
-            let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
-            let level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
-            let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, 2).unwrap();
-            for l in &adaptive.levels {
-                let t = l.topology();
-                compare(name, &t.without_semi_sharpness());
-                compare(
-                    name,
-                    &t.with_semi_sharpness_as_crease(EndCapSharpness::CREASE_FROM),
-                );
+            for topo in end_cap_topologies(name) {
+                compare(name, &topo);
             }
         }
         assert!(compared > 1000, "{compared} rings");
