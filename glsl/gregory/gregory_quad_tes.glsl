@@ -97,7 +97,8 @@ void quad_edge(uint patch_index, GregoryPatchInfo info, int k, float x, int from
 /// sharpness GREGORY_FILLET(info) holds (bits 8k..8k+8, 16 s) changed within its fillet, as
 /// `patch::adaptive::promoted::fillet_cross_derivative`: -(d_own + d_nbr) (1 - w/h)^2 / 2 at
 /// distance w < h = 2^-floor(s) from the edge (blended with h / 2 by the fraction of s), d_* both
-/// sides' cross-edge derivatives at the edge point (into each patch).
+/// sides' cross-edge derivatives at the edge point (into each patch); between two quads the
+/// derivative along the edge also follows the fillet's offset (`fillet_offset_factor`).
 void fillet_derivatives(GregoryPatchInfo info, float u, float v, inout vec3 du, inout vec3 dv) {
     uint code = GREGORY_FILLET(info);
     for (int k = 0; k < 4; ++k) {
@@ -123,14 +124,30 @@ void fillet_derivatives(GregoryPatchInfo info, float u, float v, inout vec3 du, 
         vec3 d_nbr = cross_any(nbr_quad, P(a), EP(a), EM(b), P(b), g_eout[2 * k], g_nbr[2 * k],
                                g_nbr[2 * k + 1], g_eout[2 * k + 1], x, 1.0 - x);
         vec3 d = (d_own + d_nbr) * ((1.0 - frac) * (-0.5 * r0 * r0) + frac * (-0.5 * r1 * r1));
+        // Between two quads the derivative along the edge gains the fillet's offset factor
+        // `h (1 - w/h)^3 / 6` (`fillet_offset_factor`) times the slope of d_own + d_nbr there.
+        vec3 along = vec3(0.0);
+        if (nbr_quad) {
+            vec3 slope = cross_quad_slope(P(a), EP(a), EM(b), P(b), EM(a), FP(a), FM(b), EP(b),
+                                          x, 1.0 - x)
+                       + cross_quad_slope(P(a), EP(a), EM(b), P(b), g_eout[2 * k], g_nbr[2 * k],
+                                          g_nbr[2 * k + 1], g_eout[2 * k + 1], x, 1.0 - x);
+            float offset = (1.0 - frac) * (exp2(-n) * (r0 * r0 * r0))
+                         + frac * (exp2(-n - 1.0) * (r1 * r1 * r1));
+            along = slope * (offset / 6.0);
+        }
         if (k == 0) {
             dv += d;
+            du += along;
         } else if (k == 1) {
             du -= d;
+            dv += along;
         } else if (k == 2) {
             dv -= d;
+            du -= along;
         } else {
             du += d;
+            dv -= along;
         }
     }
 }

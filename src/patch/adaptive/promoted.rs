@@ -121,9 +121,27 @@ pub fn fillet_cross_derivative(sharpness: f64, w: f64, d_sum: DVec3) -> DVec3 {
 /// `d_sum` along the edge, while its cross-edge direction stays `d_own - d_across` (the fillet's
 /// cross derivative there is `(d_own - d_across) / 2`).
 pub fn band_offset_factor(sharpness: f64) -> f64 {
+    fillet_offset_factor(sharpness, 0.0)
+}
+
+/// The fillet's offset `h (1 - w/h)^3 / 6` at distance `w` (own parameter) from a promoted edge
+/// of residual sharpness `sharpness` (`h = 2^-n` after `n` steps, zero beyond `h`; a fractional
+/// `n + f` blends `n` and `n + 1` steps by `f`), as a factor of `d_sum`, the sum of both sides'
+/// cross-edge derivatives at the edge point ([`fillet_cross_derivative`] is minus its
+/// derivative by `w`). Exact where the crease and its neighbourhood are regular: the crease
+/// surface's segment beside the edge has the phantom row `2c - a` where the smooth limit has the
+/// far side's `b`, and `a + b - 2c` is `h d_sum` row by row, so the smooth limit is the crease
+/// surface plus this factor times `d_sum(x)` (B-spline basis `B0(w/h) = (1 - w/h)^3 / 6`), and
+/// its derivative along the edge gains this factor times `d_sum`'s: [`band_offset_factor`] on the
+/// edge, fading to zero across the band.
+pub fn fillet_offset_factor(sharpness: f64, w: f64) -> f64 {
     let n = sharpness.floor();
     let f = sharpness - n;
-    ((1.0 - f) * (-n).exp2() + f * (-n - 1.0).exp2()) / 6.0
+    let step = |steps: f64| {
+        let r = (1.0 - w * steps.exp2()).max(0.0);
+        (-steps).exp2() * (r * r * r)
+    };
+    ((1.0 - f) * step(n) + f * step(n + 1.0)) / 6.0
 }
 
 /// The residual sharpness `s` of a promoted crease as the GPU reads it (`PatchRecord::fillet`):
