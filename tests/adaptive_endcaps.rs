@@ -719,7 +719,7 @@ fn creased_torus(n: usize, sharpness: f32) -> ControlMesh {
     ControlMesh::new(d).unwrap()
 }
 
-/// The positional fillet (`AdaptiveSurface::fillet_position`, `promoted::fillet_offset`): at a
+/// The positional fillet (`AdaptiveSurface::fillet_position`, `promoted::fillet_offset_factor`): at a
 /// regular semi-sharp crease promoted by the end caps, the limit is the crease surface plus
 /// `h d_sum (1 - w/h)^3 / 6` (the B-spline segment beside the crease after the residual steps),
 /// exactly where the end caps reproduce the crease surface. On a torus whose crease ring has
@@ -815,5 +815,35 @@ fn positional_fillet_is_continuous_across_end_caps() {
             moved > 20,
             "{name}: {moved} shared points moved by the fillet"
         );
+    }
+}
+
+/// Beside a promoted crease whose neighbourhood is regular (an 8x8 torus, every vertex of
+/// valence 4, a crease loop of sharpness 2 or 3, so residual 1 or 2 at L1), the exact limit is
+/// the end caps' crease surface plus the fillet `h d_sum(x) (1 - w/h)^3 / 6`
+/// (`promoted::fillet_offset_factor`): the drawn normal inside every end cap, both derivatives of
+/// that fillet included, equals `LimitEvaluator`'s to rounding (measured RMS 3.8e-9 / max 2.1e-8
+/// rad; the bishop's and car's regular bands at L4-L5 alike). Fails without the fillet's
+/// derivative along the edge (main before session 15, whose bands followed only its cross
+/// derivative: s = 2 1.67e-3 / 7.4e-3 rad; bishop L5 regular band points 2.0e-3 / 0.115).
+#[test]
+fn regular_fillet_bands_follow_the_limit() {
+    use common::crease_grid::{line, torus};
+    for sharpness in [2.0, 3.0] {
+        let m = torus(&line(|_| sharpness));
+        let (_, s) = surface(&m, 1);
+        let e = errors(&m, &s, is_end_cap, 8);
+        let inside: Vec<f64> = e
+            .iter()
+            .filter(|x| x.1 .0 > 0.0 && x.1 .0 < 1.0 && x.1 .1 > 0.0 && x.1 .1 < 1.0)
+            .map(|x| x.3)
+            .collect();
+        let (rms, max) = (rms(inside.iter().copied()), max(inside.iter().copied()));
+        eprintln!(
+            "crease loop s = {sharpness} L1: {} interior end-cap points, normal RMS {rms:.3e} max {max:.3e}",
+            inside.len()
+        );
+        assert!(inside.len() > 100, "{} points", inside.len());
+        assert!(max < 1e-6, "s = {sharpness}: normal max {max:e} rad");
     }
 }

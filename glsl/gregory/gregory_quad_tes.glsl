@@ -99,9 +99,10 @@ void quad_edge(uint patch_index, GregoryPatchInfo info, int k, float x, int from
 /// sharpness GREGORY_FILLET(info) holds (bits 8k..8k+8, 16 s) changed within its fillet, as
 /// `patch::adaptive::promoted::fillet_cross_derivative`: -(d_own + d_nbr) (1 - w/h)^2 / 2 at
 /// distance w < h = 2^-floor(s) from the edge (blended with h / 2 by the fraction of s), d_* both
-/// sides' cross-edge derivatives at the edge point (into each patch). `p` gains the positional
-/// fillet there, `fillet_offset(s, w) (d_own + d_nbr)` faded towards an end it does not reach
-/// whole (`AdaptiveSurface::fillet_position`).
+/// sides' cross-edge derivatives at the edge point (into each patch); between two quads the
+/// derivative along the edge also follows the fillet's offset (`fillet_offset_factor`). `p`
+/// gains that offset there, `fillet_offset(s, w) (d_own + d_nbr)` faded towards an end it does
+/// not reach whole (`AdaptiveSurface::fillet_position`).
 void fillet_derivatives(GregoryPatchInfo info, float u, float v, inout vec3 du, inout vec3 dv,
                         inout vec3 p) {
     uint code = GREGORY_FILLET(info);
@@ -131,14 +132,30 @@ void fillet_derivatives(GregoryPatchInfo info, float u, float v, inout vec3 du, 
         float share = fillet_end_share(GREGORY_FILLET_END(info, a), sharp, x)
                     * fillet_end_share(GREGORY_FILLET_END(info, b), sharp, 1.0 - x);
         p += (d_own + d_nbr) * (fillet_offset(sharp, w) * share);
+        // Between two quads the derivative along the edge gains the fillet's offset factor
+        // `h (1 - w/h)^3 / 6` (`fillet_offset_factor`) times the slope of d_own + d_nbr there.
+        vec3 along = vec3(0.0);
+        if (nbr_quad) {
+            vec3 slope = cross_quad_slope(P(a), EP(a), EM(b), P(b), EM(a), FP(a), FM(b), EP(b),
+                                          x, 1.0 - x)
+                       + cross_quad_slope(P(a), EP(a), EM(b), P(b), g_eout[2 * k], g_nbr[2 * k],
+                                          g_nbr[2 * k + 1], g_eout[2 * k + 1], x, 1.0 - x);
+            float offset = (1.0 - frac) * (exp2(-n) * (r0 * r0 * r0))
+                         + frac * (exp2(-n - 1.0) * (r1 * r1 * r1));
+            along = slope * (offset / 6.0);
+        }
         if (k == 0) {
             dv += d;
+            du += along;
         } else if (k == 1) {
             du -= d;
+            dv += along;
         } else if (k == 2) {
             dv -= d;
+            du -= along;
         } else {
             du += d;
+            dv -= along;
         }
     }
 }

@@ -8,7 +8,7 @@
 use glam::DVec3;
 
 use crate::mesh::INFINITE_SHARPNESS;
-use crate::topology::Topology;
+use crate::topology::{Topology, NONE};
 
 /// A point of the limit surface with its partial derivatives and unit normal.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -152,10 +152,11 @@ pub(crate) fn is_regular_vertex(topo: &Topology, v: u32) -> bool {
             .all(|&e| topo.edge_sharpness(e) == 0.0);
     let faces = topo.vertex_faces(v);
     if plain && !faces.is_empty() {
-        return !topo.is_boundary_vertex(v)
-            && faces.len() == 4
+        // The counts first: they are the cheap tests and settle most vertices.
+        return faces.len() == 4
             && topo.vertex_edges(v).len() == 4
-            && faces.iter().all(|&g| topo.face_size(g) == 4);
+            && faces.iter().all(|&g| topo.face_size(g) == 4)
+            && !topo.is_boundary_vertex(v);
     }
     faces
         .iter()
@@ -171,19 +172,25 @@ fn slot(p: (i32, i32)) -> usize {
     (4 * p.1 + p.0) as usize
 }
 
-/// The neighbour across edge `e` that quad `f` runs `a -> b`: its index, its corners rotated
-/// to `[b, a, r2, r3]` (`r2` adjacent to `a`, `r3` adjacent to `b`) and its edges in the same
-/// rotation (edge `i` from corner `i` to `i + 1`, so edge 1 runs `a -> r2`).
-fn across(topo: &Topology, f: u32, e: u32, a: u32, b: u32) -> Option<(u32, [u32; 4], [u32; 4])> {
+/// The neighbour across edge `e` that quad `f` runs `a -> b`, with its corners rotated to
+/// `[b, a, r2, r3]` (`r2` adjacent to `a`, `r3` adjacent to `b`) and its edges in the same
+/// rotation (edge `i` from corner `i` to `i + 1`): its index, `[r2, r3]` and its edges 1
+/// (`a -> r2`) and 3 (`r3 -> b`), the only ones the grid needs.
+fn across(topo: &Topology, f: u32, e: u32, a: u32, b: u32) -> Option<(u32, [u32; 2], [u32; 2])> {
     let g = *topo.edge_faces(e).iter().find(|&&g| g != f)?;
     let gv = topo.face_vertices(g);
     if gv.len() != 4 {
         return None;
     }
     let s = gv.iter().position(|&x| x == b)?;
-    let r: [u32; 4] = std::array::from_fn(|i| gv[(s + i) % 4]);
     let ge = topo.face_edges(g);
-    (r[1] == a).then(|| (g, r, std::array::from_fn(|i| ge[(s + i) % 4])))
+    (gv[(s + 1) & 3] == a).then(|| {
+        (
+            g,
+            [gv[(s + 2) & 3], gv[(s + 3) & 3]],
+            [ge[(s + 1) & 3], ge[(s + 3) & 3]],
+        )
+    })
 }
 
 /// The 16 grid vertices around quad `face` (corners `c`, layout of [`RegularPatch::cvs`]); sides
@@ -193,8 +200,21 @@ fn across(topo: &Topology, f: u32, e: u32, a: u32, b: u32) -> Option<(u32, [u32;
 /// Edges are taken from the faces (an edge is the only one between its two vertices, so this is
 /// the edge `find_edge` would find).
 fn grid_cvs(topo: &Topology, face: u32, c: [u32; 4], mask: u8) -> Option<[u32; 16]> {
+    grid_cvs_edges(topo, face, c, mask).map(|(cvs, _)| cvs)
+}
+
+/// [`grid_cvs`] with the grid edges leaving the face's corners: for face edge `k` not in `mask`,
+/// entry `2 k` is the edge from corner `k` and entry `2 k + 1` the edge from corner `k + 1`,
+/// both outward across edge `k` (`NONE` for the sides in `mask`).
+fn grid_cvs_edges(
+    topo: &Topology,
+    face: u32,
+    c: [u32; 4],
+    mask: u8,
+) -> Option<([u32; 16], [u32; 8])> {
     let fe = topo.face_edges(face);
     let mut cvs = [c[0]; 16];
+    let mut outward = [NONE; 8];
     for k in 0..4 {
         cvs[slot(CORNER_POS[k])] = c[k];
     }
@@ -204,17 +224,19 @@ fn grid_cvs(topo: &Topology, face: u32, c: [u32; 4], mask: u8) -> Option<[u32; 1
             continue;
         }
         let (a, b) = (c[k], c[(k + 1) % 4]);
-        let (g, n, ne) = across(topo, face, fe[k], a, b)?;
-        cvs[slot(add(CORNER_POS[k], OUT[k]))] = n[2];
-        cvs[slot(add(CORNER_POS[(k + 1) % 4], OUT[k]))] = n[3];
+        let (g, [r2, r3], [e1, e3]) = across(topo, face, fe[k], a, b)?;
+        cvs[slot(add(CORNER_POS[k], OUT[k]))] = r2;
+        cvs[slot(add(CORNER_POS[(k + 1) % 4], OUT[k]))] = r3;
+        outward[2 * k] = e1;
+        outward[2 * k + 1] = e3;
         let prev = (k + 3) % 4;
         if mask & (1 << prev) == 0 {
-            // Diagonal face at corner k: the neighbour of `n` across its edge c_k -> n[2].
-            let (_, d, _) = across(topo, g, ne[1], c[k], n[2])?;
-            cvs[slot(add(add(CORNER_POS[k], OUT[k]), OUT[prev]))] = d[3];
+            // Diagonal face at corner k: the neighbour of `g` across its edge c_k -> r2.
+            let (_, [_, d3], _) = across(topo, g, e1, c[k], r2)?;
+            cvs[slot(add(add(CORNER_POS[k], OUT[k]), OUT[prev]))] = d3;
         }
     }
-    Some(cvs)
+    Some((cvs, outward))
 }
 
 /// The corners of `face` if it is a quad with a limit surface.
@@ -227,21 +249,48 @@ fn quad_corners(topo: &Topology, face: u32) -> Option<[u32; 4]> {
 }
 
 /// The 16 grid vertices of an interior quad whose corners are all interior valence-4 vertices
-/// with only quads around them and no vertex sharpness, whatever the edge sharpness (the
-/// single-crease patch gathers its net with this, [`crate::patch::single_crease`]).
+/// with only quads around them and no vertex sharpness, whatever the edge sharpness: the net of
+/// [`interior_grid_lines`] alone (tests' oracles).
+#[cfg(test)]
 pub(crate) fn interior_grid(topo: &Topology, face: u32) -> Option<[u32; 16]> {
+    interior_grid_lines(topo, face).map(|(cvs, _)| cvs)
+}
+
+/// The 16 grid vertices of an interior quad whose corners are all interior valence-4 vertices
+/// with only quads around them and no vertex sharpness, whatever the edge sharpness (the
+/// single-crease patch gathers its net with this, [`crate::patch::single_crease`]), with the
+/// grid's four lines through the face's edges: line `k` the three
+/// edges of the grid row or column through face edge `k`, in that edge's direction (the edge
+/// from corner `k` away from the face, face edge `k`, the edge from corner `k + 1` away from the
+/// face). Read from the faces the grid walk crosses, so no edge is looked up by its ends.
+pub(crate) fn interior_grid_lines(
+    topo: &Topology,
+    face: u32,
+) -> Option<([u32; 16], [[u32; 3]; 4])> {
     let c = quad_corners(topo, face)?;
+    // The counts first: they are the cheap tests and settle most vertices.
     let plain = |v: u32| {
-        !topo.is_boundary_vertex(v)
-            && topo.vertex_sharpness(v) == 0.0
-            && topo.vertex_faces(v).len() == 4
+        topo.vertex_faces(v).len() == 4
             && topo.vertex_edges(v).len() == 4
+            && topo.vertex_sharpness(v) == 0.0
             && topo.vertex_faces(v).iter().all(|&g| topo.face_size(g) == 4)
+            && !topo.is_boundary_vertex(v)
     };
     if !c.iter().all(|&v| plain(v)) {
         return None;
     }
-    grid_cvs(topo, face, c, 0)
+    let (cvs, outward) = grid_cvs_edges(topo, face, c, 0)?;
+    let fe = topo.face_edges(face);
+    // Corner `k` continues face edge `k` backwards along the outward edge across face edge
+    // `k - 1`, corner `k + 1` forwards along the one across face edge `k + 1`.
+    let lines = std::array::from_fn(|k| {
+        [
+            outward[2 * ((k + 3) % 4) + 1],
+            fe[k],
+            outward[2 * ((k + 1) % 4)],
+        ]
+    });
+    Some((cvs, lines))
 }
 
 impl RegularPatch {
@@ -492,43 +541,80 @@ mod tests {
     /// a condition of `corner_kind`'s smooth case, e.g. the face sizes).
     #[test]
     fn vertex_regularity_once_is_per_face_regularity() {
-        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
         let mut regular = 0;
-        for name in [
-            "catmark_car",
-            "catmark_nonquads",
-            "catmark_smoothtris1",
-            "catmark_cube_creases2",
-            "catmark_cubes_semisharp",
-            "catmark_dart_edgecorner",
-            "catmark_hole_test1",
-            "catmark_val2_interior",
-        ] {
-            let path = format!("{dir}{name}.obj");
-            let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
-            let level0 = crate::subdiv::Level::from_mesh(&mesh).unwrap();
-            let level1 = level0.refine_topology();
-            let level2 = level1.refine_topology();
-            for t in [&level0, &level1, &level2].map(|l| l.topology()) {
-                for v in 0..t.vertex_count() as u32 {
-                    let per_face = t
-                        .vertex_faces(v)
-                        .iter()
-                        .all(|&f| corner_kind(t, v, f) != CornerKind::Irregular);
-                    assert_eq!(is_regular_vertex(t, v), per_face, "{name} vertex {v}");
-                    regular += usize::from(per_face);
-                }
-                for f in 0..t.face_count() as u32 {
-                    if t.face_vertices(f).iter().all(|&v| is_regular_vertex(t, v)) {
-                        assert_eq!(
-                            RegularPatch::gather_at_regular_corners(t, f),
-                            RegularPatch::gather(t, f),
-                            "{name} face {f}"
-                        );
-                    }
+        let levels = crate::subdiv::corpus_levels(
+            &[
+                "catmark_car",
+                "catmark_nonquads",
+                "catmark_smoothtris1",
+                "catmark_cube_creases2",
+                "catmark_cubes_semisharp",
+                "catmark_dart_edgecorner",
+                "catmark_hole_test1",
+                "catmark_val2_interior",
+            ],
+            2,
+        );
+        for (name, _, level) in &levels {
+            let t = level.topology();
+            for v in 0..t.vertex_count() as u32 {
+                let per_face = t
+                    .vertex_faces(v)
+                    .iter()
+                    .all(|&f| corner_kind(t, v, f) != CornerKind::Irregular);
+                assert_eq!(is_regular_vertex(t, v), per_face, "{name} vertex {v}");
+                regular += usize::from(per_face);
+            }
+            for f in 0..t.face_count() as u32 {
+                if t.face_vertices(f).iter().all(|&v| is_regular_vertex(t, v)) {
+                    assert_eq!(
+                        RegularPatch::gather_at_regular_corners(t, f),
+                        RegularPatch::gather(t, f),
+                        "{name} face {f}"
+                    );
                 }
             }
         }
         assert!(regular > 1000);
+    }
+
+    /// The grid lines `interior_grid_lines` reads from the walk are the edges `find_edge`
+    /// finds between the lines' `cvs` (each [`CreaseSide`]'s slot pairs, as a set: the lines run
+    /// along their face edge, the slots in grid order), on every face of levels 0-2 of meshes with semi-sharp and infinitely sharp creases,
+    /// boundaries and extraordinary vertices.
+    #[test]
+    fn interior_grid_lines_are_the_edges_between_their_cvs() {
+        use crate::subdiv::single_crease::CreaseSide;
+        let mut grids = 0;
+        let levels = crate::subdiv::corpus_levels(
+            &[
+                "catmark_car",
+                "catmark_single_crease",
+                "catmark_cubes_semisharp",
+                "catmark_cube_creases2",
+                "catmark_torus_creases1",
+                "catmark_hole_test1",
+            ],
+            2,
+        );
+        for (name, _, level) in &levels {
+            let t = level.topology();
+            for f in 0..t.face_count() as u32 {
+                let Some((cvs, lines)) = interior_grid_lines(t, f) else {
+                    continue;
+                };
+                for side in CreaseSide::ALL {
+                    let mut found = side
+                        .line()
+                        .map(|(a, b)| t.find_edge(cvs[a], cvs[b]).unwrap());
+                    let mut line = lines[side.face_edge()];
+                    found.sort_unstable();
+                    line.sort_unstable();
+                    assert_eq!(line, found, "{name} face {f} {side:?}");
+                }
+                grids += 1;
+            }
+        }
+        assert!(grids > 1000, "{grids}");
     }
 }

@@ -324,6 +324,7 @@ impl Level {
             &connectivity.face_edges,
             map.len(),
             fvn,
+            connectivity.edge_verts.len(),
         );
         for &v in &map {
             rings.fans_of(t, v, |g, k| (sub_face[g as usize], k));

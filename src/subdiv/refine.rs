@@ -389,7 +389,13 @@ impl Level {
             }
         }
         let face_offsets: Vec<u32> = (0..=nk as u32).map(|i| 4 * i).collect();
-        let rings = self.kept_rings(&kept, &map, &face_offsets, &edges.face_edges);
+        let rings = self.kept_rings(
+            &kept,
+            &map,
+            &face_offsets,
+            &edges.face_edges,
+            edges.verts.len(),
+        );
         let connectivity = topology::Connectivity {
             face_offsets,
             face_verts: local,
@@ -437,7 +443,7 @@ impl Level {
 
     /// The one-rings of `Level::refine_kept`'s level (kept child `kept[h]` of each corner `h`,
     /// NONE if not kept; its vertices `map` in the child numbering; its quads' `face_offsets`
-    /// and `face_edges`) from this level's: a face point's ring is its face's children
+    /// and `face_edges`, `edges` edges) from this level's: a face point's ring is its face's children
     /// (corner 2, in corner order), an edge point's the children beside the edge (corners 1
     /// and 3, as `refine_topology` orders them), a vertex point's the children at its faces'
     /// corners (corner 0) in its ring's order, fan by fan; the kept ones ordered as
@@ -448,11 +454,17 @@ impl Level {
         map: &[u32],
         face_offsets: &[u32],
         face_edges: &[u32],
+        edges: usize,
     ) -> topology::Rings {
         let t = &self.topo;
         let (nf, ne) = (t.face_count(), t.edge_count());
-        let mut rings =
-            topology::RingBuilder::new(face_offsets, face_edges, map.len(), face_edges.len());
+        let mut rings = topology::RingBuilder::new(
+            face_offsets,
+            face_edges,
+            map.len(),
+            face_edges.len(),
+            edges,
+        );
         for &old in map {
             let o = old as usize;
             if o < nf {

@@ -2,7 +2,7 @@
 //! test shared by feature-adaptive refinement ([`super::adaptive`], which stops refining such a
 //! face when asked to) and the patch's evaluation ([`crate::patch::single_crease`]).
 
-use super::bspline::interior_grid;
+use super::bspline::interior_grid_lines;
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::topology::Topology;
 
@@ -55,6 +55,17 @@ impl CreaseSide {
     pub fn line(self) -> [(usize, usize); 3] {
         std::array::from_fn(|r| (self.slot(r, 2), self.slot(r + 1, 2)))
     }
+
+    /// The face edge the line runs along (edge `k` from corner `k` to `k + 1`; corners at
+    /// `cvs` 5, 6, 10, 9).
+    pub fn face_edge(self) -> usize {
+        match self {
+            CreaseSide::V0 => 0,
+            CreaseSide::U1 => 1,
+            CreaseSide::V1 => 2,
+            CreaseSide::U0 => 3,
+        }
+    }
 }
 
 /// The net and crease line of a single-crease face: what
@@ -77,14 +88,22 @@ pub struct CreaseLine {
 /// [`SingleCreasePatch`](crate::patch::single_crease::SingleCreasePatch) documents; OpenSubdiv's
 /// `Level::isSingleCreasePatch` for semi-sharp creases).
 pub fn single_crease_line(topo: &Topology, face: u32) -> Option<CreaseLine> {
-    let cvs = interior_grid(topo, face)?;
-    let sharp = |a: usize, b: usize| -> Option<f32> {
-        Some(topo.edge_sharpness(topo.find_edge(cvs[a], cvs[b])?))
-    };
+    let (cvs, lines) = interior_grid_lines(topo, face)?;
+    crease_line(cvs, |side| {
+        Some(lines[side.face_edge()].map(|e| topo.edge_sharpness(e)))
+    })
+}
+
+/// The single-crease line of the net `cvs` whose lines have the sharpness `line_sharpness`
+/// (`None`: a line edge is missing): exactly one side with any sharpness, the same `0 < s < 10`
+/// along its three edges.
+fn crease_line(
+    cvs: [u32; 16],
+    line_sharpness: impl Fn(CreaseSide) -> Option<[f32; 3]>,
+) -> Option<CreaseLine> {
     let mut found = None;
     for side in CreaseSide::ALL {
-        let s = side.line().map(|(a, b)| sharp(a, b));
-        let s = [s[0]?, s[1]?, s[2]?];
+        let s = line_sharpness(side)?;
         if s.iter().all(|&x| x == 0.0) {
             continue;
         }
@@ -99,4 +118,56 @@ pub fn single_crease_line(topo: &Topology, face: u32) -> Option<CreaseLine> {
         side,
         sharpness,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::subdiv::bspline::interior_grid;
+
+    /// The test as it was before the grid walk gave the lines' edges: each line's edges
+    /// looked up by their ends (`find_edge` between the slots of [`CreaseSide::line`]).
+    fn single_crease_line_by_find_edge(topo: &Topology, face: u32) -> Option<CreaseLine> {
+        let cvs = interior_grid(topo, face)?;
+        crease_line(cvs, |side| {
+            let s = side
+                .line()
+                .map(|(a, b)| Some(topo.edge_sharpness(topo.find_edge(cvs[a], cvs[b])?)));
+            Some([s[0]?, s[1]?, s[2]?])
+        })
+    }
+
+    /// `single_crease_line` gives what the edge look-ups gave on every face of levels 0-3 of
+    /// meshes with semi-sharp creases (single-crease faces on each side, and faces with two
+    /// lines, uneven sharpness or infinitely sharp lines, which are not).
+    #[test]
+    fn single_crease_lines_equal_the_edge_lookups() {
+        let mut sides = [0; 4];
+        let levels = crate::subdiv::corpus_levels(
+            &[
+                "catmark_car",
+                "catmark_single_crease",
+                "catmark_cubes_semisharp",
+                "catmark_cube_creases1",
+                "catmark_cube_creases2",
+                "catmark_torus_creases1",
+            ],
+            3,
+        );
+        for (name, depth, level) in &levels {
+            let t = level.topology();
+            for f in 0..t.face_count() as u32 {
+                let line = single_crease_line(t, f);
+                assert_eq!(
+                    line,
+                    single_crease_line_by_find_edge(t, f),
+                    "{name} level {depth} face {f}"
+                );
+                if let Some(line) = line {
+                    sides[line.side.face_edge()] += 1;
+                }
+            }
+        }
+        assert!(sides.iter().all(|&n| n > 0), "{sides:?}");
+    }
 }

@@ -175,6 +175,7 @@ impl Topology {
     }
 
     /// The face across edge `k` (joining corners `k` and `k + 1`) of face `f`, if any.
+    #[inline]
     pub fn adjacent_face(&self, f: u32, k: usize) -> Option<u32> {
         let e = self.face_edges(f)[k] as usize;
         match self.edge_faces[e] {

@@ -25,12 +25,15 @@ pub(crate) struct RingBuilder<'a> {
 }
 
 impl<'a> RingBuilder<'a> {
-    /// A builder for `vertices` vertices and about `corners` corners.
+    /// A builder for `vertices` vertices, `corners` corners and `edges` edges. Every corner
+    /// lies in one ring and every edge in the rings of its two ends, so the rings hold exactly
+    /// `corners` faces and `2 * edges` edges: allocated once, never grown.
     pub(crate) fn new(
         face_offsets: &'a [u32],
         face_edges: &'a [u32],
         vertices: usize,
         corners: usize,
+        edges: usize,
     ) -> RingBuilder<'a> {
         let mut offsets = Vec::with_capacity(vertices + 1);
         offsets.push(0);
@@ -42,7 +45,7 @@ impl<'a> RingBuilder<'a> {
                 vert_faces: Vec::with_capacity(corners),
                 vert_face_local: Vec::with_capacity(corners),
                 vert_edge_offsets: offsets,
-                vert_edges: Vec::with_capacity(corners + corners / 4),
+                vert_edges: Vec::with_capacity(2 * edges),
             },
             entries: Vec::with_capacity(16),
             fans: Vec::with_capacity(4),
@@ -177,12 +180,7 @@ impl<'a> RingBuilder<'a> {
             r.vert_faces.push(f);
             r.vert_face_local.push(k);
             if open || j + 1 < a + n {
-                let c = if k == 0 {
-                    fo[f as usize + 1] - 1
-                } else {
-                    fo[f as usize] + u32::from(k) - 1
-                };
-                r.vert_edges.push(fe[c as usize]);
+                r.vert_edges.push(fe[entering_corner(fo, f, k)]);
             }
         }
     }
@@ -200,6 +198,17 @@ fn leaving(t: &Topology, f: u32, k: u16) -> u32 {
 
 /// The edge of face `f` entering its corner `k`.
 fn entering(t: &Topology, f: u32, k: u16) -> u32 {
-    let fe = t.face_edges(f);
-    fe[(usize::from(k) + fe.len() - 1) % fe.len()]
+    t.face_edges[entering_corner(&t.face_offsets, f, k)]
+}
+
+/// The flat corner index of the corner before corner `k` of face `f` (faces `face_offsets`):
+/// its edge is the one entering corner `k`.
+#[inline]
+fn entering_corner(face_offsets: &[u32], f: u32, k: u16) -> usize {
+    let c = if k == 0 {
+        face_offsets[f as usize + 1]
+    } else {
+        face_offsets[f as usize] + u32::from(k)
+    };
+    c as usize - 1
 }

@@ -4,8 +4,6 @@
 //! point to it, so both sides evaluate the one limit curve. Neighbouring patches differ by at
 //! most one level (§3.7, regularity judged per vertex): [`DrawTablesError::LevelGap`] otherwise.
 
-use std::collections::HashMap;
-
 use super::error::DrawTablesError;
 use super::records::CoarseEdge;
 use super::slots::{Slots, NONE};
@@ -124,8 +122,9 @@ pub struct CoarseEdges {
     pub mid_slots: Vec<[u32; 4]>,
     /// (level, face, edge) of the coarse patch of each record.
     owner: Vec<(u32, u32, u32)>,
-    /// (level, edge of that level) to record.
-    by_edge: HashMap<(u32, u32), u32>,
+    /// Per level, per edge of that level: its record ([`NONE`]: none; a level without
+    /// records has no entries).
+    by_edge: Vec<Vec<u32>>,
     /// Finer patch edges pointing at each record.
     refs: Vec<u8>,
 }
@@ -135,6 +134,7 @@ impl CoarseEdges {
     pub fn new(refinement: &AdaptiveRefinement, census: &PatchCensus, slots: &Slots) -> Self {
         let mut out = CoarseEdges {
             mid_slots: vec![[NONE; 4]; census.patches.len()],
+            by_edge: vec![Vec::new(); refinement.levels.len()],
             ..Default::default()
         };
         let mids: Vec<Vec<u32>> = refinement
@@ -163,7 +163,11 @@ impl CoarseEdges {
                 let Some(record) = edge_record(p, i as u32, k, mid_slot, sharp, slots) else {
                     continue;
                 };
-                out.by_edge.insert((p.level, e), out.edges.len() as u32);
+                let by_edge = &mut out.by_edge[p.level as usize];
+                if by_edge.is_empty() {
+                    by_edge.resize(t.edge_count(), NONE);
+                }
+                by_edge[e as usize] = out.edges.len() as u32;
                 out.owner.push((p.level, p.face, k as u32));
                 out.refs.push(0);
                 out.edges.push(record);
@@ -249,7 +253,11 @@ impl CoarseEdges {
             [ChildOf::Vertex(_), ChildOf::Edge(e)] | [ChildOf::Edge(e), ChildOf::Vertex(_)] => e,
             _ => return Err(gap()),
         };
-        let r = *self.by_edge.get(&(level - 1, e)).ok_or_else(gap)?;
+        let r = self.by_edge[level as usize - 1]
+            .get(e as usize)
+            .copied()
+            .filter(|&r| r != NONE)
+            .ok_or_else(gap)?;
         self.refs[r as usize] += 1;
         Ok(r)
     }

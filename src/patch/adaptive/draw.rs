@@ -319,6 +319,46 @@ fn bspline_draw(
     }
 }
 
+/// How many of each draw a census makes ([`AdaptiveDrawTables::with_tangents`]'s lists, sized
+/// up front rather than grown).
+#[derive(Default)]
+struct DrawSizes {
+    regular: usize,
+    transition: usize,
+    triangles: usize,
+    single_crease: usize,
+    single_crease_transition: usize,
+    single_crease_triangles: usize,
+    end_caps: usize,
+}
+
+impl DrawSizes {
+    /// The sizes of `census`'s draws: single-crease patches, then B-spline patches, whole or
+    /// with a fan ([`fan`]: a triangle per edge, two on a transition edge; a rotated record
+    /// keeps its number of transition edges), then end caps.
+    fn of(census: &PatchCensus) -> DrawSizes {
+        let mut n = DrawSizes::default();
+        for p in &census.patches {
+            let fan = 4 + (p.transition & 0xf).count_ones() as usize;
+            let whole = p.transition == 0;
+            match (&p.crease, &p.bspline) {
+                (Some(_), _) if whole => n.single_crease += 1,
+                (Some(_), _) => {
+                    n.single_crease_transition += 1;
+                    n.single_crease_triangles += fan;
+                }
+                (None, Some(_)) if whole => n.regular += 1,
+                (None, Some(_)) => {
+                    n.transition += 1;
+                    n.triangles += fan;
+                }
+                (None, None) => n.end_caps += 1,
+            }
+        }
+        n
+    }
+}
+
 /// The fan of transition patch `patch` with transition mask `transition`: per edge one
 /// triangle, two (its halves) on a transition edge.
 fn fan(patch: u32, transition: u32) -> impl Iterator<Item = TransitionTriangle> {
@@ -437,6 +477,7 @@ impl AdaptiveDrawTables {
             rows.push(r, 0);
         }
         let at = patch_index(refinement, census);
+        let sizes = DrawSizes::of(census);
         let mut out = AdaptiveDrawTables {
             slots,
             shared_normal,
@@ -446,14 +487,14 @@ impl AdaptiveDrawTables {
             vertex_first_row,
             refined_points: refinement.vertex_count() as u32,
             records: Vec::with_capacity(census.patches.len()),
-            regular: Vec::new(),
-            transition: Vec::new(),
-            triangles: Vec::new(),
-            single_crease: Vec::new(),
-            single_crease_transition: Vec::new(),
-            single_crease_triangles: Vec::new(),
+            regular: Vec::with_capacity(sizes.regular),
+            transition: Vec::with_capacity(sizes.transition),
+            triangles: Vec::with_capacity(sizes.triangles),
+            single_crease: Vec::with_capacity(sizes.single_crease),
+            single_crease_transition: Vec::with_capacity(sizes.single_crease_transition),
+            single_crease_triangles: Vec::with_capacity(sizes.single_crease_triangles),
             sharpness: Vec::with_capacity(census.patches.len()),
-            end_caps: Vec::new(),
+            end_caps: Vec::with_capacity(sizes.end_caps),
             coarse_edges: Vec::new(),
         };
         for (i, p) in census.patches.iter().enumerate() {

@@ -3,7 +3,7 @@
 //! crease within about `2^-s` of the patch, Nießner, Loop, Greiner 2012 §3).
 //!
 //! The end caps keep the crease for their positions, plus the limit's fillet beside it where
-//! it is known ([`fillet_offset`], faded towards irregular crease vertices,
+//! it is known ([`fillet_offset_factor`], faded towards irregular crease vertices,
 //! [`positional_fillet_end`]), and their normals on it are shared, one
 //! per point: on a promoted edge between two end caps, `cross(tangent, d_left - d_right)` of
 //! both patches' cross-edge derivatives (the normal of `gregory_edge` in
@@ -123,29 +123,30 @@ pub fn fillet_cross_derivative(sharpness: f64, w: f64, d_sum: DVec3) -> DVec3 {
 /// `d_sum` along the edge, while its cross-edge direction stays `d_own - d_across` (the fillet's
 /// cross derivative there is `(d_own - d_across) / 2`).
 pub fn band_offset_factor(sharpness: f64) -> f64 {
-    let n = sharpness.floor();
-    let f = sharpness - n;
-    ((1.0 - f) * (-n).exp2() + f * (-n - 1.0).exp2()) / 6.0
+    fillet_offset_factor(sharpness, 0.0)
 }
 
-/// The positional fillet: the limit's offset from the end caps' crease surface at distance `w`
-/// (own parameter) from a promoted edge of residual sharpness `sharpness`, as a factor of
-/// `d_sum` (the two sides' cross-edge derivatives at the edge point summed, as
-/// [`fillet_cross_derivative`]): `h (1 - w/h)^3 / 6` within `h = 2^-n` of the edge, zero
-/// beyond (the B-spline segment next to the crease after `n` more crease steps, basis `B0`;
-/// fractional `n + f` blends `n` and `n + 1` steps by `f`). Its derivative by `w` is
-/// [`fillet_cross_derivative`]'s factor; at `w = 0` it is [`band_offset_factor`].
-pub fn fillet_offset(sharpness: f64, w: f64) -> f64 {
+/// The fillet's offset `h (1 - w/h)^3 / 6` at distance `w` (own parameter) from a promoted edge
+/// of residual sharpness `sharpness` (`h = 2^-n` after `n` steps, zero beyond `h`; a fractional
+/// `n + f` blends `n` and `n + 1` steps by `f`), as a factor of `d_sum`, the sum of both sides'
+/// cross-edge derivatives at the edge point ([`fillet_cross_derivative`] is minus its
+/// derivative by `w`). Exact where the crease and its neighbourhood are regular: the crease
+/// surface's segment beside the edge has the phantom row `2c - a` where the smooth limit has the
+/// far side's `b`, and `a + b - 2c` is `h d_sum` row by row, so the smooth limit is the crease
+/// surface plus this factor times `d_sum(x)` (B-spline basis `B0(w/h) = (1 - w/h)^3 / 6`), and
+/// its derivative along the edge gains this factor times `d_sum`'s: [`band_offset_factor`] on the
+/// edge, fading to zero across the band.
+pub fn fillet_offset_factor(sharpness: f64, w: f64) -> f64 {
     let n = sharpness.floor();
     let f = sharpness - n;
     let step = |steps: f64| {
         let r = (1.0 - w * steps.exp2()).max(0.0);
-        (-steps).exp2() * (r * r * r) / 6.0
+        (-steps).exp2() * (r * r * r)
     };
-    (1.0 - f) * step(n) + f * step(n + 1.0)
+    ((1.0 - f) * step(n) + f * step(n + 1.0)) / 6.0
 }
 
-/// Whether the positional fillet ([`fillet_offset`]) of the promoted crease through vertex `v`
+/// Whether the positional fillet ([`fillet_offset_factor`]) of the promoted crease through vertex `v`
 /// reaches `v` whole: its crease is regular ([`vertex_fillet_sharpness`]: valence 4, the two
 /// promoted edges opposite, no other sharp edge), of one residual sharpness as the GPU reads it
 /// ([`fillet_code`]), `v` carries no vertex sharpness, and every face at `v` is a quad end cap
@@ -169,7 +170,7 @@ pub fn positional_fillet_end(
         && level.vertex_faces(v).iter().all(|&f| quad_cap(f))
 }
 
-/// The share of the positional fillet ([`fillet_offset`]) kept at distance `x` (own parameter)
+/// The share of the positional fillet ([`fillet_offset_factor`]) kept at distance `x` (own parameter)
 /// along a promoted edge of residual sharpness `sharpness` from an end that is no
 /// [`positional_fillet_end`]: `1 - (1 - x/h)^2` within `h` (blended by the fraction of the
 /// sharpness as [`fillet_cross_derivative`]), 1 beyond, so the offset is zero at that end and
@@ -493,21 +494,22 @@ mod tests {
         for s in [1.0, 1.5, 2.0, 2.25, 3.75] {
             for w in [0.01, 0.05, 0.1, 0.2, 0.3, 0.45] {
                 let e = 1e-6;
-                let slope = (fillet_offset(s, w + e) - fillet_offset(s, w - e)) / (2.0 * e);
+                let slope =
+                    (fillet_offset_factor(s, w + e) - fillet_offset_factor(s, w - e)) / (2.0 * e);
                 let expected = fillet_cross_derivative(s, w, DVec3::X).x;
                 assert!(
                     (slope - expected).abs() < 1e-8,
                     "s {s} w {w}: {slope} vs {expected}"
                 );
             }
-            assert!((fillet_offset(s, 0.0) - band_offset_factor(s)).abs() < 1e-16);
+            assert!((fillet_offset_factor(s, 0.0) - band_offset_factor(s)).abs() < 1e-16);
             let h = s.floor().exp2().recip();
-            assert_eq!(fillet_offset(s, h), 0.0);
+            assert_eq!(fillet_offset_factor(s, h), 0.0);
             assert_eq!(fillet_end_fade(s, 0.0), 0.0);
             assert_eq!(fillet_end_fade(s, h), 1.0);
         }
         // s = 1: h = 1/2, a quarter of the way: (3/4)^3 / 12, fade 1 - (3/4)^2.
-        assert_eq!(fillet_offset(1.0, 0.125), 0.75f64.powi(3) / 12.0);
+        assert_eq!(fillet_offset_factor(1.0, 0.125), 0.75f64.powi(3) / 12.0);
         assert_eq!(fillet_end_fade(1.0, 0.125), 1.0 - 0.5625);
     }
 

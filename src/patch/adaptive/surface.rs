@@ -10,8 +10,8 @@ use thiserror::Error;
 use super::promoted::{
     band_offset_factor, crease_turn_share, exact_corner_tangents, fillet_bend, fillet_code,
     fillet_cross_derivative, fillet_end, fillet_end_code, fillet_end_fade, fillet_end_sharpness,
-    fillet_many_share, fillet_offset, fillet_rotation, fillet_sharpness, irregular_crease_vertex,
-    positional_fillet_end, promoted_vertex, turn_towards, FilletEnd,
+    fillet_many_share, fillet_offset_factor, fillet_rotation, fillet_sharpness,
+    irregular_crease_vertex, positional_fillet_end, promoted_vertex, turn_towards, FilletEnd,
 };
 use crate::patch::basis::{bernstein_deriv, eval_tensor};
 use crate::patch::gregory::{
@@ -367,7 +367,7 @@ impl AdaptiveSurface {
 
     /// The positional fillet of end cap `i` at own `(s, t)`: what the limit adds to the end
     /// cap's crease surface within the fillet of a promoted edge between two end caps,
-    /// `super::promoted::fillet_offset` times the sum of both sides' cross-edge derivatives at
+    /// `super::promoted::fillet_offset_factor` times the sum of both sides' cross-edge derivatives at
     /// the edge point, faded towards an end that is no `super::promoted::positional_fillet_end`
     /// (`super::promoted::fillet_end_fade`). As the GPU (`glsl/gregory/gregory_quad_tes.glsl`,
     /// `gregory_edge`): on a promoted edge its own offset, on another edge between two end caps
@@ -428,7 +428,7 @@ impl AdaptiveSurface {
             return DVec3::ZERO;
         }
         let (_, d_own, d_across) = self.edge_derivatives(i, k, x, across);
-        (d_own + d_across) * (fillet_offset(sharp, w) * share)
+        (d_own + d_across) * (fillet_offset_factor(sharp, w) * share)
     }
 
     /// At corner `c` of end cap `i`, a [`positional_fillet_end`]: the positional fillet of the
@@ -447,7 +447,7 @@ impl AdaptiveSurface {
             return DVec3::ZERO;
         };
         let (_, d_own, d_across) = self.edge_derivatives(i, k, x, across);
-        (d_own + d_across) * fillet_offset(cap.sharpness[k], w)
+        (d_own + d_across) * fillet_offset_factor(cap.sharpness[k], w)
     }
 
     /// [`Self::normal`] from the patch's own derivatives `ds`, `dt` at `(s, t)`.
@@ -464,15 +464,16 @@ impl AdaptiveSurface {
             let inside = s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0;
             if inside {
                 for k in 0..4 {
-                    let Some(d) = self.fillet_change(cap, i, k, s, t) else {
+                    let Some((d, a)) = self.fillet_change(cap, i, k, s, t) else {
                         continue;
                     };
-                    // `d` changes the derivative into the patch across edge k (`edge_frame`).
+                    // `d` changes the derivative into the patch across edge k, `a` the one
+                    // along it (`edge_frame`).
                     match k {
-                        0 => dt += d,
-                        1 => ds -= d,
-                        2 => dt -= d,
-                        _ => ds += d,
+                        0 => (ds, dt) = (ds + a, dt + d),
+                        1 => (ds, dt) = (ds - d, dt + a),
+                        2 => (ds, dt) = (ds - a, dt - d),
+                        _ => (ds, dt) = (ds + d, dt - a),
                     }
                 }
             }
@@ -544,9 +545,12 @@ impl AdaptiveSurface {
         bent.then_some(n)
     }
 
-    /// The change of end cap `i`'s derivative into the patch across its edge `k` at own `(s, t)`
-    /// where edge `k` is a promoted crease between two end caps and `(s, t)` lies in its fillet
-    /// (`super::promoted::fillet_cross_derivative`); `None` elsewhere.
+    /// The changes of end cap `i`'s derivatives (into the patch across its edge `k`, along it
+    /// from corner `k`) at own `(s, t)` where edge `k` is a promoted crease between two end caps
+    /// and `(s, t)` lies in its fillet: `super::promoted::fillet_cross_derivative`, and between
+    /// two quads `super::promoted::fillet_offset_factor` times the derivative along the edge of
+    /// both sides' cross-edge derivatives' sum at the edge point (`edge_cross_slopes`, the band
+    /// offset's slope on the edge itself); `None` elsewhere.
     fn fillet_change(
         &self,
         cap: &PromotedCap,
@@ -554,7 +558,7 @@ impl AdaptiveSurface {
         k: usize,
         s: f64,
         t: f64,
-    ) -> Option<DVec3> {
+    ) -> Option<(DVec3, DVec3)> {
         let across = cap.edges[k]?;
         // (distance from edge k, position along it from corner k), own parameters.
         let (w, x) = match k {
@@ -567,10 +571,14 @@ impl AdaptiveSurface {
             return None;
         }
         let (_, d_own, d_across) = self.edge_derivatives(i, k, x, across);
-        Some(fillet_cross_derivative(
-            cap.sharpness[k],
-            w,
-            d_own + d_across,
+        let along = self
+            .edge_cross_slopes(i, k, x, across)
+            .map_or(DVec3::ZERO, |slope| {
+                fillet_offset_factor(cap.sharpness[k], w) * slope
+            });
+        Some((
+            fillet_cross_derivative(cap.sharpness[k], w, d_own + d_across),
+            along,
         ))
     }
 

@@ -315,28 +315,77 @@ pub fn vertex_ring_with<P: GregoryPoint>(
     v: u32,
     point: &impl Fn(u32) -> P,
 ) -> VertexRing<P> {
-    let pv = point(v);
-    let m = topo
-        .vertex_edges(v)
-        .iter()
-        .map(|&e| {
+    ring_of_points(
+        topo,
+        v,
+        point(v),
+        |pv, o| {
             let mut x = pv.clone();
-            x.add_scaled(1.0, &point(topo.other_vertex(e, v)));
+            x.add_scaled(1.0, &point(o));
             combine(&[(0.5, &x)])
-        })
-        .collect();
-    // A face's corners as points, then their centroid in one combination (`combine`: the same
-    // bits as adding them one by one onto zero).
-    let c = topo
-        .vertex_faces(v)
-        .iter()
-        .map(|&f| {
-            let fv = topo.face_vertices(f);
+        },
+        // A face's corners as points, then their centroid in one combination (`combine`: the
+        // same bits as adding them one by one onto zero).
+        |fv| {
             let w = 1.0 / fv.len() as f64;
             let corners: Vec<P> = fv.iter().map(|&u| point(u)).collect();
             let terms: Vec<(f64, &P)> = corners.iter().map(|x| (w, x)).collect();
             combine(&terms)
-        })
+        },
+    )
+}
+
+/// [`vertex_ring_with`] over unit [`Weights`], vertex `u` standing for `unit(id(u))`, with the
+/// same bits: an edge midpoint `0.5 * (unit(v) + 1.0 * unit(o))` holds `0.5 * 1.0` at both
+/// ends, a face centroid `1 / n` at each corner ([`Weights::from_terms`]: a repeated id's
+/// weights summed in corner order, as `combine` sums them), each point built in one
+/// allocation instead of a unit per ring vertex and a merge per point.
+pub(super) fn vertex_ring_of_units(
+    topo: &Topology,
+    v: u32,
+    id: &impl Fn(u32) -> u32,
+) -> VertexRing<Weights> {
+    let iv = id(v);
+    ring_of_points(
+        topo,
+        v,
+        Weights::unit(iv),
+        |_, o| {
+            // `unit(iv) + 1.0 * unit(io)`, then `0.5 *` it.
+            let io = id(o);
+            Weights(match iv.cmp(&io) {
+                std::cmp::Ordering::Less => vec![(iv, 0.5 * 1.0), (io, 0.5 * (1.0 * 1.0))],
+                std::cmp::Ordering::Greater => vec![(io, 0.5 * (1.0 * 1.0)), (iv, 0.5 * 1.0)],
+                std::cmp::Ordering::Equal => vec![(iv, 0.5 * (1.0 + 1.0 * 1.0))],
+            })
+        },
+        |fv| {
+            let w = 1.0 / fv.len() as f64;
+            Weights::from_terms(fv.iter().map(|&u| (id(u), w * 1.0)))
+        },
+    )
+}
+
+/// The split one-ring of vertex `v` with point `pv`: each edge's midpoint `midpoint(pv, o)`
+/// (`o` the edge's other end) and each face's centroid `centroid(face vertices)` in the
+/// topology's ring order, and the topology's part (sharp edges, corner tag, face sizes, far
+/// sectors, promoted edges).
+fn ring_of_points<P>(
+    topo: &Topology,
+    v: u32,
+    pv: P,
+    midpoint: impl Fn(&P, u32) -> P,
+    centroid: impl Fn(&[u32]) -> P,
+) -> VertexRing<P> {
+    let m = topo
+        .vertex_edges(v)
+        .iter()
+        .map(|&e| midpoint(&pv, topo.other_vertex(e, v)))
+        .collect();
+    let c = topo
+        .vertex_faces(v)
+        .iter()
+        .map(|&f| centroid(topo.face_vertices(f)))
         .collect();
     let sharp = sharp_edges(topo, v);
     let count = sharp.iter().filter(|&&s| s).count();
@@ -466,15 +515,32 @@ pub fn gregory_vertex_two_stage<P: GregoryPoint>(
     darts: &DartLimits,
     points: &impl Fn(u32) -> [P; 3],
 ) -> Option<GregoryVertex<P>> {
+    two_stage_of_ring(
+        topo,
+        v,
+        || vertex_ring_with(topo, v, point),
+        tangents,
+        coverage,
+        darts,
+        points,
+    )
+}
+
+/// [`gregory_vertex_two_stage`] with the vertex's split ring made by `ring` (only where the
+/// vertex is covered).
+pub(super) fn two_stage_of_ring<P: GregoryPoint>(
+    topo: &Topology,
+    v: u32,
+    ring: impl FnOnce() -> VertexRing<P>,
+    tangents: GregoryTangents,
+    coverage: Coverage,
+    darts: &DartLimits,
+    points: &impl Fn(u32) -> [P; 3],
+) -> Option<GregoryVertex<P>> {
     if !vertex_covered(topo, v, coverage) {
         return None;
     }
-    GregoryVertex::from_vertex_points(
-        &vertex_ring_with(topo, v, point),
-        tangents,
-        darts,
-        points(v),
-    )
+    GregoryVertex::from_vertex_points(&ring(), tangents, darts, points(v))
 }
 
 /// A point that is no point: the ring of a vertex built over it carries the topology only.

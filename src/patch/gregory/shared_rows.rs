@@ -245,11 +245,15 @@ impl Keyer<'_> {
     }
 }
 
+/// Room [`ring_slots`] makes for a ring up front: a quad's ring (16 vertices at valence-4
+/// corners, 24 at valence 6) without growing it.
+const RING_CAPACITY: usize = 32;
+
 /// [`super::stencil::canonical_ring`] of face `f` with `slot` (all [`NONE`] on entry) set to each ring vertex's
 /// slot: the same list, with the membership test in `slot` instead of a scan (rings around a
 /// valence-1000 vertex have thousands of vertices).
 fn ring_slots(topo: &Topology, f: u32, slot: &mut [u32]) -> Vec<u32> {
-    let mut out: Vec<u32> = Vec::new();
+    let mut out: Vec<u32> = Vec::with_capacity(RING_CAPACITY);
     ring_walk(topo, f, |x| {
         if slot[x as usize] == NONE {
             slot[x as usize] = out.len() as u32;
@@ -499,8 +503,8 @@ pub fn shared_vertex_point_rows(
             for (s, &u) in ring.iter().enumerate() {
                 slot[u as usize] = s as u32;
             }
-            let unit = |u: u32| Weights::unit(slot[u as usize]);
-            let rows = vertex_point_rows_with(topo, vertices[i], &unit, tangents, darts);
+            let rows =
+                vertex_point_rows_with(topo, vertices[i], &|u| slot[u as usize], tangents, darts);
             clear(slot, ring);
             rows
         })
@@ -650,6 +654,28 @@ mod tests {
         assert!(!darts.is_empty(), "no dart ring");
     }
 
+    /// Both end-cap topologies (residual semi-sharpness smooth, or infinitely sharp from
+    /// `CREASE_FROM`) of every level of the isolation-2 refinement of corpus mesh `name`.
+    fn end_cap_topologies(name: &str) -> Vec<Topology> {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
+        let path = format!("{dir}{name}.obj");
+        let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
+        let level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
+        let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, 2).unwrap();
+        adaptive
+            .levels
+            .iter()
+            .flat_map(|l| {
+                let t = l.topology();
+                [
+                    t.without_semi_sharpness().into_owned(),
+                    t.with_semi_sharpness_as_crease(EndCapSharpness::CREASE_FROM)
+                        .into_owned(),
+                ]
+            })
+            .collect()
+    }
+
     /// A grid of `n × n` quads, infinitely sharp along row `n / 2` from its left end to
     /// column `to`: vertices of one connectivity that differ only by the sharpness of their
     /// edges (smooth, crease, a dart where the crease ends inside, a corner where it meets
@@ -692,7 +718,6 @@ mod tests {
     /// tells the grid's crease vertices from its smooth ones), and rings are shared.
     #[test]
     fn shared_vertex_points_are_the_per_vertex_construction() {
-        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
         let (mut vertices, mut types) = (0, 0);
         // Vertices with vertex points, by number of sharp edges: smooth, dart, crease.
         let mut kinds = HashMap::new();
@@ -742,17 +767,8 @@ mod tests {
             "catmark_hole_test1",
             "catmark_cube_corner4",
         ] {
-            let path = format!("{dir}{name}.obj");
-            let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
-            let level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
-            let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, 2).unwrap();
-            for l in &adaptive.levels {
-                let t = l.topology();
-                compare(name, &t.without_semi_sharpness());
-                compare(
-                    name,
-                    &t.with_semi_sharpness_as_crease(EndCapSharpness::CREASE_FROM),
-                );
+            for topo in end_cap_topologies(name) {
+                compare(name, &topo);
             }
         }
         assert!(
@@ -761,6 +777,76 @@ mod tests {
         );
         // Smooth (no sharp edge), dart (one) and crease or boundary (two) rings were compared.
         assert!((0..3).all(|s| kinds.contains_key(&s)), "{kinds:?}");
+    }
+
+    /// The split rings over unit weights built without a unit per ring vertex are bitwise
+    /// `vertex_ring_with` over `Weights::unit` (points and topology), with the identity and with
+    /// a reversing id map (ids then descend along the ring, so the sorted points reorder), on
+    /// every vertex of every level of meshes with triangles, n-gons, boundaries, holes, creases,
+    /// darts and promoted semi-sharp creases, in both end-cap topologies (fails if a midpoint's
+    /// or centroid's weight, order or a repeated id's sum differs).
+    #[test]
+    fn unit_rings_are_vertex_ring_with() {
+        use crate::patch::gregory::build::vertex_ring_of_units;
+        let bits = |w: &Weights| {
+            w.0.iter()
+                .map(|&(u, x)| (u, x.to_bits()))
+                .collect::<Vec<_>>()
+        };
+        let mut compared = 0;
+        let mut compare = |name: &str, topo: &Topology| {
+            let n = topo.vertex_count() as u32;
+            for v in 0..n {
+                for reverse in [false, true] {
+                    let id = |u: u32| if reverse { n - 1 - u } else { u };
+                    let got = vertex_ring_of_units(topo, v, &id);
+                    let want = vertex_ring_with(topo, v, &|u| Weights::unit(id(u)));
+                    let points = |r: &crate::patch::gregory::VertexRing<Weights>| {
+                        let mut p = vec![bits(&r.v)];
+                        p.extend(r.m.iter().chain(&r.c).map(bits));
+                        p
+                    };
+                    assert_eq!(points(&got), points(&want), "{name}: vertex {v}");
+                    assert_eq!(
+                        (&got.sharp, got.corner, &got.face_sizes),
+                        (&want.sharp, want.corner, &want.face_sizes)
+                    );
+                    assert_eq!(
+                        (&got.far_sector, &got.promoted),
+                        (&want.far_sector, &want.promoted)
+                    );
+                    compared += 1;
+                }
+            }
+        };
+        // A 12-gon: centroids of more corners than `combine` merges in one pass.
+        let gon = ControlMesh::new(ControlMeshDesc {
+            positions: (0..12)
+                .map(|k| {
+                    let a = k as f64 * std::f64::consts::TAU / 12.0;
+                    DVec3::new(a.cos(), a.sin(), 0.0)
+                })
+                .collect(),
+            face_sizes: vec![12],
+            face_vertices: (0..12).collect(),
+            ..Default::default()
+        })
+        .unwrap();
+        compare("12-gon", &Topology::new(&gon).unwrap());
+        for name in [
+            "catmark_nonquads",
+            "catmark_smoothtris1",
+            "catmark_hole_test1",
+            "catmark_dart_edgecorner",
+            "catmark_cube_creases2",
+            "catmark_cubes_semisharp",
+            "catmark_val2_interior",
+        ] {
+            for topo in end_cap_topologies(name) {
+                compare(name, &topo);
+            }
+        }
+        assert!(compared > 1000, "{compared} rings");
     }
 
     #[test]

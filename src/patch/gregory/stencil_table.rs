@@ -13,9 +13,8 @@ use std::collections::HashMap;
 use glam::DVec3;
 
 use super::build::{
-    check_face_for, gregory_patch_for, gregory_patch_from, gregory_vertex_for,
-    gregory_vertex_two_stage, has_vertex_data, vertex_ring_with, Coverage, GregoryPatch,
-    NotGregory,
+    check_face_for, gregory_patch_for, gregory_patch_from, gregory_vertex_for, has_vertex_data,
+    two_stage_of_ring, vertex_ring_of_units, Coverage, GregoryPatch, NotGregory,
 };
 use super::eval::{edge_side_points, CornerRef};
 use super::point::{GregoryPoint, Weights};
@@ -218,7 +217,7 @@ enum CornerState {
     Built(u32),
 }
 
-/// The two-stage per-vertex data of end-cap corners ([`gregory_vertex_two_stage`], derived
+/// The two-stage per-vertex data of end-cap corners ([`super::gregory_vertex_two_stage`], derived
 /// points [`vertex_point_id`]), each vertex's built on first use: a face's rows read the data
 /// of its own corners, and of a neighbour's other corners only where the neighbour's face
 /// points beside the shared edge are one-sided (`edge_side_points`); elsewhere the neighbour
@@ -277,10 +276,10 @@ impl<'a> EndCapCorners<'a> {
             let state = &mut self.state[v as usize];
             if !matches!(state, CornerState::Built(_)) {
                 *state = CornerState::Built(self.built.len() as u32);
-                self.built.push(gregory_vertex_two_stage(
+                self.built.push(two_stage_of_ring(
                     topo,
                     v,
-                    &Weights::unit,
+                    || vertex_ring_of_units(topo, v, &|u| u),
                     self.tangents,
                     Coverage::EndCap,
                     self.darts,
@@ -402,18 +401,18 @@ pub fn vertex_point_of(topo: &Topology, id: u32) -> Option<(u32, u32)> {
 /// [`GregoryVertex::vertex_points`] in weight space (empty rows where it has none: corners,
 /// cones, a crease's unused points).
 pub fn vertex_point_rows(topo: &Topology, v: u32, tangents: GregoryTangents) -> [Weights; 3] {
-    vertex_point_rows_with(topo, v, &Weights::unit, tangents, &DartLimits::new())
+    vertex_point_rows_with(topo, v, &|u| u, tangents, &DartLimits::new())
 }
 
-/// [`vertex_point_rows`] with vertex `u` standing for `unit(u)`, dart masks from `darts`.
+/// [`vertex_point_rows`] with vertex `u` standing for `unit(id(u))`, dart masks from `darts`.
 pub fn vertex_point_rows_with(
     topo: &Topology,
     v: u32,
-    unit: &impl Fn(u32) -> Weights,
+    id: &impl Fn(u32) -> u32,
     tangents: GregoryTangents,
     darts: &DartLimits,
 ) -> [Weights; 3] {
-    let ring = vertex_ring_with(topo, v, unit);
+    let ring = vertex_ring_of_units(topo, v, id);
     GregoryVertex::vertex_points(&ring, tangents, darts).unwrap_or_default()
 }
 
