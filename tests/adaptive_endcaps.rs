@@ -684,53 +684,19 @@ fn promoted_creases_keep_eq6_face_points() {
     }
 }
 
-/// A torus of `n x n` quads (every vertex valence 4) with bumpy radii and the ring of edges at
-/// `j = n / 2` semi-sharp with `sharpness`: a regular crease with no end, so every crease vertex
-/// is a `promoted::positional_fillet_end` once its residual sharpness is promoted.
-fn creased_torus(n: usize, sharpness: f32) -> ControlMesh {
-    use glam::DVec3;
-    use std::f64::consts::TAU;
-    use tessera::mesh::{ControlMeshDesc, Crease};
-    let mut d = ControlMeshDesc::default();
-    let id = |i: usize, j: usize| ((j % n) * n + i % n) as u32;
-    for j in 0..n {
-        for i in 0..n {
-            let (a, b) = (TAU * i as f64 / n as f64, TAU * j as f64 / n as f64);
-            let r = 1.0 + 0.15 * (3.0 * a).sin() + 0.1 * (2.0 * b).cos();
-            let big = 3.0 + r * b.cos();
-            d.positions
-                .push(DVec3::new(big * a.cos(), big * a.sin(), r * b.sin()));
-        }
-    }
-    for j in 0..n {
-        for i in 0..n {
-            d.face_sizes.push(4);
-            d.face_vertices
-                .extend([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
-    for i in 0..n {
-        d.creases.push(Crease {
-            v0: id(i, n / 2),
-            v1: id(i + 1, n / 2),
-            sharpness,
-        });
-    }
-    ControlMesh::new(d).unwrap()
-}
-
 /// The positional fillet (`AdaptiveSurface::fillet_position`, `promoted::fillet_offset_factor`): at a
 /// regular semi-sharp crease promoted by the end caps, the limit is the crease surface plus
 /// `h d_sum (1 - w/h)^3 / 6` (the B-spline segment beside the crease after the residual steps),
-/// exactly where the end caps reproduce the crease surface. On a torus whose crease ring has
-/// sharpness 3 / 2.5 at isolation 1 (residual 2 / 1.5), the end caps beside the crease, 9x9
-/// grid at equal (u, v) against `LimitEvaluator`: measured max distance / diagonal 9.4e-17 for
-/// both with the offset, 1.33e-3 / 2.00e-3 without (the end caps keeping the crease, as on main,
+/// exactly where the end caps reproduce the crease surface. On a torus whose crease loop has
+/// sharpness 3 / 2.5 at isolation 1 (`common::crease_grid::torus`) (residual 2 / 1.5), the end caps beside the crease, 9x9
+/// grid at equal (u, v) against `LimitEvaluator`: measured max distance / diagonal 1.5e-16 for
+/// both with the offset, 4.48e-3 / 6.72e-3 without (the end caps keeping the crease, as on main,
 /// where this test fails).
 #[test]
 fn positional_fillet_is_exact_at_a_regular_crease() {
+    use common::crease_grid::{line, torus};
     for sharpness in [3.0, 2.5] {
-        let m = creased_torus(8, sharpness);
+        let m = torus(&line(|_| sharpness));
         let (r, s) = surface(&m, 1);
         let promoted = |p: &SurfacePatch| is_end_cap(p) && on_promoted_crease(&r, p);
         let e = errors(&m, &s, promoted, 8);
