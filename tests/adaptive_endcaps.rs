@@ -35,7 +35,11 @@
 //! L5 (fitted tangents, crease end caps): cube 0.0413 / 0.1368, pole64 0.5477 / 3.0007,
 //! nonquads 0.0946 / 0.4657, car 0.0261 / 0.3968, bishop 0.0500 / 2.2182 (the car's and the
 //! bishop's rows at L1-L4 today: 0.2073 / 3.7052, 0.0914 / 1.9873, 0.0432 / 1.0624, 0.0275 /
-//! 0.6082 and 0.4696 / 12.4418, 0.2173 / 8.1397, 0.1098 / 5.2208, 0.0629 / 3.3602).
+//! 0.6082 and 0.4696 / 12.4418, 0.2173 / 8.1397, 0.1098 / 5.2208, 0.0629 / 3.3602). With the
+//! positional fillet (session 15, h71, `AdaptiveSurface::fillet_position`) the car's L1-L5 are
+//! 0.2128 / 3.7052, 0.0919 / 1.9873, 0.0386 / 1.0624, 0.0161 / 0.5661, 0.0073 / 0.3938 and the
+//! bishop's 0.4696 / 12.4418, 0.2146 / 8.1397, 0.1031 / 5.2208, 0.0487 / 3.3602, 0.0235 /
+//! 2.2182 (normals unchanged).
 
 mod common;
 
@@ -677,6 +681,106 @@ fn promoted_creases_keep_eq6_face_points() {
         let rms = rms(e.iter().map(|x| x.3));
         eprintln!("{name} L{iso}: {} samples, normal RMS {rms:.4e}", e.len());
         assert!(rms <= rms_bound, "{name}: RMS {rms:e}");
+    }
+}
+
+/// The positional fillet (`AdaptiveSurface::fillet_position`, `promoted::fillet_offset_factor`): at a
+/// regular semi-sharp crease promoted by the end caps, the limit is the crease surface plus
+/// `h d_sum (1 - w/h)^3 / 6` (the B-spline segment beside the crease after the residual steps),
+/// exactly where the end caps reproduce the crease surface. On a torus whose crease loop has
+/// sharpness 3 / 2.5 at isolation 1 (`common::crease_grid::torus`) (residual 2 / 1.5), the end caps beside the crease, 9x9
+/// grid at equal (u, v) against `LimitEvaluator`: measured max distance / diagonal 1.5e-16 for
+/// both with the offset, 4.48e-3 / 6.72e-3 without (the end caps keeping the crease, as on main,
+/// where this test fails).
+#[test]
+fn positional_fillet_is_exact_at_a_regular_crease() {
+    use common::crease_grid::{line, torus};
+    for sharpness in [3.0, 2.5] {
+        let m = torus(&line(|_| sharpness));
+        let (r, s) = surface(&m, 1);
+        let promoted = |p: &SurfacePatch| is_end_cap(p) && on_promoted_crease(&r, p);
+        let e = errors(&m, &s, promoted, 8);
+        let worst = max(e.iter().map(|x| x.2));
+        eprintln!(
+            "sharpness {sharpness}: {} points, distance RMS {:.3e}, max {worst:.3e}",
+            e.len(),
+            rms(e.iter().map(|x| x.2))
+        );
+        assert!(e.len() >= 16 * 81, "{} points", e.len());
+        assert!(
+            worst < 1e-9,
+            "sharpness {sharpness}: max distance {worst:e}"
+        );
+        // Without the offset (the end caps' crease surface, main before it) the error is large.
+        let diag = m.bbox_diagonal();
+        let crease = at_equal_uv(&m, &s, promoted, 8, |i, st, x| {
+            let p = s.eval_patch(i, st.0, st.1).position - s.fillet_position(i, st.0, st.1);
+            p.distance(x.position) / diag
+        });
+        let crease_max = max(crease.iter().copied());
+        eprintln!("sharpness {sharpness}: without the offset max {crease_max:.3e}");
+        assert!(crease_max > 1e-4, "{crease_max:e}");
+    }
+}
+
+/// The positional fillet keeps the surface closed: every point on an edge between two end caps
+/// of one base face (9 per edge, corners included) evaluates to the same position from both
+/// (within 1e-12 of the diagonal), on meshes with promoted creases through regular vertices
+/// (the offset reaches them whole), irregular ones (it fades there) and both.
+#[test]
+fn positional_fillet_is_continuous_across_end_caps() {
+    for (name, iso) in [
+        ("catmark_cube_creases0", 1),
+        ("catmark_cube_creases1", 3),
+        ("catmark_torus_creases1", 2),
+    ] {
+        let m = osd(name);
+        let (_, s) = surface(&m, iso);
+        let diag = m.bbox_diagonal();
+        let caps: Vec<usize> = (0..s.patches.len())
+            .filter(|&i| is_end_cap(&s.patches[i]))
+            .collect();
+        let (mut pairs, mut moved, mut worst) = (0usize, 0usize, 0.0f64);
+        for &i in &caps {
+            let d = s.patches[i].domain;
+            for &(a, b) in grid(8)
+                .iter()
+                .filter(|(a, b)| *a == 0.0 || *a == 1.0 || *b == 0.0 || *b == 1.0)
+            {
+                let uv = d.origin + a * d.u + b * d.v;
+                let p = s.eval_patch(i, a, b).position;
+                for &j in &caps {
+                    let e = s.patches[j].domain;
+                    if j == i || (e.base_face, e.sub_face) != (d.base_face, d.sub_face) {
+                        continue;
+                    }
+                    let r = uv - e.origin;
+                    let det = e.u.perp_dot(e.v);
+                    let (sj, tj) = (r.perp_dot(e.v) / det, e.u.perp_dot(r) / det);
+                    let inside = |c: f64| (-1e-12..=1.0 + 1e-12).contains(&c);
+                    if !(inside(sj) && inside(tj)) {
+                        continue;
+                    }
+                    let (sj, tj) = (sj.clamp(0.0, 1.0), tj.clamp(0.0, 1.0));
+                    let q = s.eval_patch(j, sj, tj).position;
+                    let gap = p.distance(q) / diag;
+                    assert!(
+                        gap <= 1e-12,
+                        "{name} L{iso}: end caps {i} ({a}, {b}) and {j} ({sj}, {tj}) {gap:e} apart"
+                    );
+                    worst = worst.max(gap);
+                    pairs += 1;
+                    if s.fillet_position(i, a, b).length() > 1e-9 * diag {
+                        moved += 1;
+                    }
+                }
+            }
+        }
+        eprintln!("{name} L{iso}: {pairs} shared points, {moved} moved by the fillet, at most {worst:.2e} apart");
+        assert!(
+            moved > 20,
+            "{name}: {moved} shared points moved by the fillet"
+        );
     }
 }
 

@@ -76,6 +76,10 @@
 //! nonquads, cubes_semisharp, pole64); the refinement and kernels' did not. (Re-taken with both
 //! h64 and h67 merged: the car's draw tables hold both changes, the other draw tables h67's, every
 //! refinement fingerprint h64's.)
+//! And again for the positional fillet (issue 8, session 15, h71): the records of end caps with a
+//! corner the fillet reaches whole (`promoted::positional_fillet_end`) carry bit 20 + corner in
+//! `transition`; of the cases only the car without single-crease patches has such end caps, so
+//! only its draw tables changed (at 1 and 3 threads alike); the refinement and kernels' did not.
 //!
 //! The fingerprints change with any change of output, deliberate or not: a change that is meant
 //! to alter the tables (new end-cap rules, another row order) re-derives them and says so.
@@ -143,7 +147,7 @@ fn adaptive_tables_are_bitwise_unchanged() {
             "catmark_car",
             2,
             false,
-            [0x6f59503af7cf5edf, 0x974d66fe24c13fc5, 0x96ad9e273d2898b5],
+            [0x6f59503af7cf5edf, 0x974d66fe24c13fc5, 0x8f960065f331b087],
         ),
         (
             "catmark_cube_creases1",

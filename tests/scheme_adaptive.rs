@@ -313,23 +313,44 @@ fn promoted_crease_normals_equal_the_cpu() {
         ("catmark_car", 2, 8.0, 1.7e-2),
         ("catmark_cube_creases1", 3, 64.0, 4.3e-2),
     ];
-    let (mut fillets, mut turned, mut towards) = (0, 0, 0);
+    let (mut fillets, mut turned, mut towards, mut positional) = (0, 0, 0, 0);
     for (name, iso, level, rms_bound) in ev_cases {
         let m = mesh(name);
         let (surface, records) = draw(&ctx, &m, iso, uniform(level));
         let cpu = tables(&surface).cpu_surface(m.positions()).unwrap();
         let ev = LimitEvaluator::new(&m).unwrap();
         let (mut count, mut worst, mut sum_sq) = (0usize, 0.0f64, 0.0f64);
+        let diag = m.bbox_diagonal();
+        let (mut moved, mut moved_worst) = (0usize, 0.0f64);
         for r in &records {
             if r.patch.expect("adaptive records are tagged").kind != END_CAP {
                 continue;
             }
             let (u, v) = (f64::from(r.u), f64::from(r.v));
             let (i, s, t) = cpu.locate(r.face, r.sub_face, u, v).unwrap();
+            // The GPU draws the CPU's position inside every end cap (its edges and corners may
+            // be shared with a single-crease patch, whose exact edge both draw while the CPU's
+            // end cap keeps its crease there) and wherever the positional fillet
+            // (`AdaptiveSurface::fillet_position`) moves the point.
+            let inside = s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0;
+            let fillet = cpu.fillet_position(i, s, t).length() > 1e-6 * diag;
+            if inside || fillet {
+                let gpu = DVec3::from(r.position.map(f64::from));
+                let d = gpu.distance(cpu.eval_patch(i, s, t).position) / diag;
+                assert!(
+                    d <= 1e-6,
+                    "{name}: face {} ({u}, {v}): GPU position {d:.2e} of the diagonal from the CPU's",
+                    r.face
+                );
+                if fillet {
+                    moved += 1;
+                    moved_worst = moved_worst.max(d);
+                }
+            }
             let Some(shared) = cpu.promoted_normal(i, s, t) else {
                 continue;
             };
-            if tables(&surface).draw.records[i].transition >> 12 != 0 {
+            if (tables(&surface).draw.records[i].transition >> 12) & 0xff != 0 {
                 towards += 1;
             }
             let n = DVec3::from(r.normal.map(f64::from));
@@ -377,10 +398,10 @@ fn promoted_crease_normals_equal_the_cpu() {
             // On an edge of an end cap with a corner whose fillet turns the normal (record's
             // transition bit 8 + corner, `promoted::fillet_rotation`).
             let on_edge = s == 0.0 || s == 1.0 || t == 0.0 || t == 1.0;
-            if on_edge && patch_records[i].transition >> 8 != 0 {
+            if on_edge && (patch_records[i].transition >> 8) & 0xfff != 0 {
                 turned += 1;
             }
-            if on_edge && patch_records[i].transition >> 12 != 0 {
+            if on_edge && (patch_records[i].transition >> 12) & 0xff != 0 {
                 towards += 1;
             }
         }
@@ -388,6 +409,10 @@ fn promoted_crease_normals_equal_the_cpu() {
         eprintln!(
             "{name} L{iso}: {fillet} points in fillets ({turned} so far on turned edges, {towards} turned towards a vertex's normal), GPU vs CPU at most {fillet_worst:.2e} rad"
         );
+        eprintln!(
+            "{name} L{iso}: {moved} points moved by the positional fillet, GPU vs CPU at most {moved_worst:.2e} of the diagonal"
+        );
+        positional += moved;
         let rms = (sum_sq / count as f64).sqrt();
         eprintln!(
             "{name} L{iso}: {count} points on promoted creases, GPU vs CPU at most {worst:.2e} rad, vs the exact limit RMS {rms:.2e} rad"
@@ -398,6 +423,10 @@ fn promoted_crease_normals_equal_the_cpu() {
         );
     }
     assert!(fillets > 100, "{fillets} points in fillets");
+    assert!(
+        positional > 100,
+        "{positional} points moved by the positional fillet"
+    );
     assert!(
         turned > 20,
         "{turned} points on edges whose fillet turns the normal"

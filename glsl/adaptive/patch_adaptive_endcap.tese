@@ -63,6 +63,14 @@ bool end_cap_edge(GregoryPatchInfo info, int k, float x, int from_corner, inout 
             && (info.flags & (1u << uint(28 + crease))) != 0u;
         edge_fillet_beyond_slot[end] = beyond ? ((side == 0) ? 2 * crease + 1 : 2 * crease) : -1;
         edge_fillet_beyond_corner[end] = corner;
+        // The positional fillet reaches that end whole (transition bit 20 + corner): on a
+        // promoted crease no fade there; on an edge crossing the crease there, the crease's
+        // residual sharpness (its own byte, 16 s) for its offset.
+        bool positional = (bits & (1u << uint(20 + corner))) != 0u;
+        edge_fillet_positional[end] = band && positional;
+        uint crease_code = (apatches[info.pad0].fillet >> uint(8 * crease)) & 0xffu;
+        edge_fillet_position_sharpness[end] =
+            (positional && beyond) ? float(crease_code) / 16.0 : 0.0;
     }
     uint c = apatches[info.pad0].coarse[k];
     if (c == NO_ENTRY) {
@@ -89,6 +97,8 @@ uint fillet_edge_mask(uint flags) {
     sector_normal(apatches[info.pad0].corner_frame[k], nrm)
 #define GREGORY_FILLET(info) (apatches[info.pad0].fillet & fillet_edge_mask(info.flags))
 #define GREGORY_FILLET_BEYOND
+#define GREGORY_FILLET_END(info, k) \
+    ((apatches[info.pad0].transition & (1u << uint(20 + (k)))) != 0u)
 #define GREGORY_CLASS(info) adaptive_class(KIND_END_CAP, apatches[info.pad0].level)
 #define GREGORY_DISPLACE(info, u, v, tg, p, n) \
     displace_adaptive(apatches[info.pad0], vec2(u, v), tg, p, n)

@@ -234,6 +234,15 @@ const float FILLET_TURN_GAIN = 0.75;
 /// cross_quad_slope in canonical order (both sides compute the same bits).
 float edge_band_sharpness = 0.0;
 vec3 edge_band_tangent = vec3(0.0);
+/// The positional fillet (`patch::adaptive::promoted::fillet_offset`). Per canonical end, set
+/// by a stage before an edge: on a promoted crease, whether the fillet reaches that end whole
+/// (`positional_fillet_end`; else it fades there, `fillet_end_fade`); on an edge crossing a
+/// crease at a positional end (with `edge_fillet_has_beyond`), that crease's residual sharpness
+/// (0: none). canonical_edge sets edge_band_offset, the promoted crease's offset
+/// `fillet_offset(s, 0) (d_own + d_nbr)` with the ends' fades (both sides compute the same bits).
+bool edge_fillet_positional[2] = bool[2](false, false);
+float edge_fillet_position_sharpness[2] = float[2](0.0, 0.0);
+vec3 edge_band_offset = vec3(0.0);
 
 /// The fillet's change of a cross-crease derivative at distance w from the crease, `d_sum` the
 /// sum of both sides' derivatives there (`patch::adaptive::promoted::fillet_cross_derivative`).
@@ -245,6 +254,20 @@ vec3 fillet_change(float sharp, float w, vec3 d_sum) {
     precise float k = (1.0 - frac) * (-0.5 * r0 * r0) + frac * (-0.5 * r1 * r1);
     precise vec3 d = k * d_sum;
     return d;
+}
+
+/// The positional fillet's factor at distance w from a promoted crease of residual sharpness
+/// `sharp`: `h (1 - w/h)^3 / 6`, blended by the fraction of sharp
+/// (`patch::adaptive::promoted::fillet_offset`).
+float fillet_offset(float sharp, float w) {
+    precise float lo = floor(sharp);
+    precise float frac = sharp - lo;
+    precise float r0 = max(1.0 - w * exp2(lo), 0.0);
+    precise float r1 = max(1.0 - w * exp2(lo + 1.0), 0.0);
+    precise float k = (1.0 - frac) * (exp2(-lo) * (r0 * r0 * r0))
+                    + frac * (exp2(-lo - 1.0) * (r1 * r1 * r1));
+    precise float f = k * (1.0 / 6.0);
+    return f;
 }
 
 /// `(1 - w/h)`, squared if `square`, h = 2^-floor(sharp), blended with the next step by the
@@ -260,6 +283,13 @@ float fillet_fade(float sharp, float w, bool square) {
     }
     precise float f = (1.0 - frac) * r0 + frac * r1;
     return f;
+}
+
+/// The positional fillet's share at distance x along a promoted crease from an end it does not
+/// reach whole, `1 - (1 - x/h)^2` (`patch::adaptive::promoted::fillet_end_fade`); 1 at an end it
+/// reaches (`positional`).
+float fillet_end_share(bool positional, float sharp, float x) {
+    return positional ? 1.0 : 1.0 - fillet_fade(sharp, x, true);
 }
 
 /// Rodrigues' rotation of `n` about the unit `axis` by `angle`
@@ -312,6 +342,20 @@ void gregory_edge(vec3 origin, vec3 p0, vec3 e0, vec3 e1, vec3 p1, vec3 d_left, 
                   float t, float s, out vec3 pos, out vec3 nrm) {
     precise vec4 b = vec4(s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t);
     precise vec3 p = (((b.x * p0 + b.y * e0) + b.z * e1) + b.w * p1) + origin;
+    // The positional fillet: a promoted crease's own offset (canonical_edge), on an edge
+    // crossing a crease at a positional end that crease's, of the edge's derivative from that
+    // end plus its continuation's beyond the crease (`AdaptiveSurface::fillet_position`).
+    if (edge_band_sharpness > 0.0) {
+        p = p + edge_band_offset;
+    }
+    if (edge_fillet_position_sharpness[0] > 0.0 && edge_fillet_has_beyond[0]) {
+        precise vec3 sum = 3.0 * (e0 - p0) + edge_fillet_beyond[0];
+        p = p + sum * fillet_offset(edge_fillet_position_sharpness[0], t);
+    }
+    if (edge_fillet_position_sharpness[1] > 0.0 && edge_fillet_has_beyond[1]) {
+        precise vec3 sum = 3.0 * (e1 - p1) + edge_fillet_beyond[1];
+        p = p + sum * fillet_offset(edge_fillet_position_sharpness[1], s);
+    }
     precise vec3 tangent = ((s * s) * (e0 - p0) + (2.0 * t * s) * (e1 - e0)) + (t * t) * (p1 - e1);
     if (edge_band_sharpness > 0.0) {
         tangent = tangent + edge_band_tangent;
@@ -395,8 +439,14 @@ void canonical_edge(bool own_quad, bool nbr_quad, bool sharp, bool own_left, flo
         precise float h = (1.0 - frac) * exp2(-lo) + frac * exp2(-lo - 1.0);
         precise vec3 band = (slope_own + slope_nbr) * (h * (1.0 / 18.0));
         edge_band_tangent = band;
+        // The positional fillet on the crease, faded towards an end it does not reach whole.
+        precise float share = fillet_end_share(edge_fillet_positional[0], edge_band_sharpness, t)
+                            * fillet_end_share(edge_fillet_positional[1], edge_band_sharpness, s);
+        precise vec3 offset = (d_own + d_nbr) * (fillet_offset(edge_band_sharpness, 0.0) * share);
+        edge_band_offset = offset;
     } else {
         edge_band_tangent = vec3(0.0);
+        edge_band_offset = vec3(0.0);
     }
     // The edge's own normal at an end where the fillet turns it (edge_fillet_rotate): the
     // same cross(tangent, d_left - d_right) there, from the data both sides share.

@@ -10,7 +10,9 @@
 // GREGORY_EDGE_OVERRIDE(info, k, x, from_corner, pos, nrm) (true: edge k evaluated elsewhere) and
 // GREGORY_CORNER_NORMAL(info, k, nrm) (after the shared corner: a normal read elsewhere) and
 // GREGORY_FILLET(info) (per edge the residual sharpness of a fillet the interior normal follows)
-// and GREGORY_FILLET_BEYOND (the stage sets edge_fillet_beyond_slot / _corner per edge end).
+// and GREGORY_FILLET_BEYOND (the stage sets edge_fillet_beyond_slot / _corner per edge end)
+// and, with GREGORY_FILLET, GREGORY_FILLET_END(info, k) (the positional fillet reaches corner k
+// whole, `patch::adaptive::promoted::positional_fillet_end`).
 // Needs frame.glsl first; defines SPACING, CAPTURE as the stage file's.
 #ifndef TESSERA_GREGORY_QUAD_TES_GLSL
 #define TESSERA_GREGORY_QUAD_TES_GLSL
@@ -98,8 +100,11 @@ void quad_edge(uint patch_index, GregoryPatchInfo info, int k, float x, int from
 /// `patch::adaptive::promoted::fillet_cross_derivative`: -(d_own + d_nbr) (1 - w/h)^2 / 2 at
 /// distance w < h = 2^-floor(s) from the edge (blended with h / 2 by the fraction of s), d_* both
 /// sides' cross-edge derivatives at the edge point (into each patch); between two quads the
-/// derivative along the edge also follows the fillet's offset (`fillet_offset_factor`).
-void fillet_derivatives(GregoryPatchInfo info, float u, float v, inout vec3 du, inout vec3 dv) {
+/// derivative along the edge also follows the fillet's offset (`fillet_offset_factor`). `p`
+/// gains that offset there, `fillet_offset(s, w) (d_own + d_nbr)` faded towards an end it does
+/// not reach whole (`AdaptiveSurface::fillet_position`).
+void fillet_derivatives(GregoryPatchInfo info, float u, float v, inout vec3 du, inout vec3 dv,
+                        inout vec3 p) {
     uint code = GREGORY_FILLET(info);
     for (int k = 0; k < 4; ++k) {
         uint c = (code >> uint(8 * k)) & 0xffu;
@@ -124,6 +129,9 @@ void fillet_derivatives(GregoryPatchInfo info, float u, float v, inout vec3 du, 
         vec3 d_nbr = cross_any(nbr_quad, P(a), EP(a), EM(b), P(b), g_eout[2 * k], g_nbr[2 * k],
                                g_nbr[2 * k + 1], g_eout[2 * k + 1], x, 1.0 - x);
         vec3 d = (d_own + d_nbr) * ((1.0 - frac) * (-0.5 * r0 * r0) + frac * (-0.5 * r1 * r1));
+        float share = fillet_end_share(GREGORY_FILLET_END(info, a), sharp, x)
+                    * fillet_end_share(GREGORY_FILLET_END(info, b), sharp, 1.0 - x);
+        p += (d_own + d_nbr) * (fillet_offset(sharp, w) * share);
         // Between two quads the derivative along the edge gains the fillet's offset factor
         // `h (1 - w/h)^3 / 6` (`fillet_offset_factor`) times the slope of d_own + d_nbr there.
         vec3 along = vec3(0.0);
@@ -150,6 +158,27 @@ void fillet_derivatives(GregoryPatchInfo info, float u, float v, inout vec3 du, 
             dv -= along;
         }
     }
+}
+
+/// At corner k, where the positional fillet reaches it whole: the offset of the promoted crease
+/// there (edge k or k - 1), `fillet_offset(s, 0)` times the derivative along the corner's other
+/// edge plus its continuation's beyond the crease (the neighbour's other edge point there), the
+/// sum every patch at the vertex forms from the same two derivatives.
+vec3 fillet_corner_offset(GregoryPatchInfo info, int k) {
+    if (!GREGORY_FILLET_END(info, k)) {
+        return vec3(0.0);
+    }
+    uint code = GREGORY_FILLET(info);
+    int prev = (k + 3) & 3;
+    bool from_k = ((code >> uint(8 * k)) & 0xffu) != 0u;
+    uint c = from_k ? (code >> uint(8 * k)) & 0xffu : (code >> uint(8 * prev)) & 0xffu;
+    if (c == 0u) {
+        return vec3(0.0);
+    }
+    precise vec3 along = 3.0 * ((from_k ? EM(k) : EP(k)) - P(k));
+    precise vec3 beyond = 3.0 * (g_eout[from_k ? 2 * k : 2 * prev + 1] - P(k));
+    precise vec3 offset = (along + beyond) * fillet_offset(float(c) / 16.0, 0.0);
+    return offset;
 }
 #endif
 
@@ -194,7 +223,7 @@ void main() {
     {
         vec3 fu = du;
         vec3 fv = dv;
-        fillet_derivatives(info, u, v, fu, fv);
+        fillet_derivatives(info, u, v, fu, fv, p);
         nrm = safe_normal(fu, fv);
     }
 #endif
@@ -206,6 +235,13 @@ void main() {
         nrm = gregory_corner_normal(P(k), EP(k), EM(k), FP(k), FM(k));
         quad_corner_point(info.corners, info.face, u, v, p, nrm);
         GREGORY_CORNER_NORMAL(info, k, nrm);
+#ifdef GREGORY_FILLET
+        {
+            // Every patch at the vertex adds the same bits.
+            precise vec3 q = p + fillet_corner_offset(info, k);
+            p = q;
+        }
+#endif
     } else if (v == 0.0) {
         quad_edge(patch_index, info, 0, u, 0, p, nrm);
     } else if (u == 1.0) {

@@ -17,7 +17,7 @@ use super::coarse::{patch_index, CoarseEdges};
 use super::error::DrawTablesError;
 use super::promoted::{
     exact_frame, fillet_code, fillet_end, fillet_end_code, irregular_crease_vertex,
-    promoted_vertex, FilletEnd,
+    positional_fillet_end, promoted_vertex, FilletEnd,
 };
 use super::records::{
     words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
@@ -637,6 +637,21 @@ impl AdaptiveDrawTables {
                 }
             }
             let fv = t.face_vertices(p.face);
+            // The positional fillet reaches corner c whole (`positional_fillet_end`): bit 20 + c.
+            if ef.flags >> 28 != 0 {
+                let quad_cap = |g: u32| {
+                    lev.own[g as usize]
+                        && t.face_size(g) == 4
+                        && at[p.level as usize][g as usize] != NONE
+                        && census.patches[at[p.level as usize][g as usize] as usize].kind
+                            == PatchType::EndCap
+                };
+                for (c, &v) in fv.iter().enumerate() {
+                    if positional_fillet_end(t, caps, v, quad_cap) {
+                        out.records[i].transition |= 1 << (20 + c);
+                    }
+                }
+            }
             let mut corners = [slot(lev.global(fv[0])); 4];
             for (c, &v) in corners.iter_mut().zip(fv) {
                 *c = slot(lev.global(v));

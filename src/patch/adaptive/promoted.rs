@@ -2,7 +2,9 @@
 //! ([`EndCapSharpness::Crease`]) while the exact limit is smooth across them (it rounds the
 //! crease within about `2^-s` of the patch, Nießner, Loop, Greiner 2012 §3).
 //!
-//! The end caps keep the crease for their positions, but their normals on it are shared, one
+//! The end caps keep the crease for their positions, plus the limit's fillet beside it where
+//! it is known ([`fillet_offset_factor`], faded towards irregular crease vertices,
+//! [`positional_fillet_end`]), and their normals on it are shared, one
 //! per point: on a promoted edge between two end caps, `cross(tangent, d_left - d_right)` of
 //! both patches' cross-edge derivatives (the normal of `gregory_edge` in
 //! `glsl/gregory/gregory.glsl` across a smooth edge), which weights each side by its
@@ -142,6 +144,40 @@ pub fn fillet_offset_factor(sharpness: f64, w: f64) -> f64 {
         (-steps).exp2() * (r * r * r)
     };
     ((1.0 - f) * step(n) + f * step(n + 1.0)) / 6.0
+}
+
+/// Whether the positional fillet ([`fillet_offset_factor`]) of the promoted crease through vertex `v`
+/// reaches `v` whole: its crease is regular ([`vertex_fillet_sharpness`]: valence 4, the two
+/// promoted edges opposite, no other sharp edge), of one residual sharpness as the GPU reads it
+/// ([`fillet_code`]), `v` carries no vertex sharpness, and every face at `v` is a quad end cap
+/// (`quad_cap`). There the limit is locally the crease curve swept by the fillet's
+/// cross-section, so the offset holds at `v` and on the edges crossing the crease (the sum of
+/// the edge's derivative and its continuation's beyond the crease). Elsewhere the offset fades
+/// to zero at `v` ([`fillet_end_fade`]), keeping the end caps' position there, which every patch
+/// at `v` shares.
+pub fn positional_fillet_end(
+    level: &Topology,
+    caps: &Topology,
+    v: u32,
+    quad_cap: impl Fn(u32) -> bool,
+) -> bool {
+    let creases = CreaseEdges::at(level, caps, v);
+    creases.regular_sharpness(level, v).is_some()
+        && fillet_code(level.edge_sharpness(creases.promoted[0]))
+            == fillet_code(level.edge_sharpness(creases.promoted[1]))
+        && level.vertex_sharpness(v) == 0.0
+        && caps.vertex_sharpness(v) == 0.0
+        && level.vertex_faces(v).iter().all(|&f| quad_cap(f))
+}
+
+/// The share of the positional fillet ([`fillet_offset_factor`]) kept at distance `x` (own parameter)
+/// along a promoted edge of residual sharpness `sharpness` from an end that is no
+/// [`positional_fillet_end`]: `1 - (1 - x/h)^2` within `h` (blended by the fraction of the
+/// sharpness as [`fillet_cross_derivative`]), 1 beyond, so the offset is zero at that end and
+/// on the edges from it. A choice, not derived: within `h` of such a vertex the limit is the
+/// vertex's smooth neighbourhood, not the band's ([`crease_turn_share`]).
+pub fn fillet_end_fade(sharpness: f64, x: f64) -> f64 {
+    1.0 - fillet_fade(sharpness, x, 2)
 }
 
 /// The residual sharpness `s` of a promoted crease as the GPU reads it (`PatchRecord::fillet`):
@@ -448,6 +484,33 @@ mod tests {
         let expected = DVec3::new(angle.sin(), 0.0, angle.cos());
         assert!(half.distance(expected) < 1e-15, "{half} vs {expected}");
         assert_eq!(fillet_turn_weight(2.5, 0.125), 0.25);
+    }
+
+    /// The positional fillet's derivative by `w` is the normal fillet's cross-derivative factor
+    /// (central differences), its value on the edge the band offset's factor, and it ends with
+    /// the fillet (`h = 2^-floor(s)`); the end fade runs from 0 to 1 over `h`.
+    #[test]
+    fn fillet_offset_integrates_the_cross_derivative() {
+        for s in [1.0, 1.5, 2.0, 2.25, 3.75] {
+            for w in [0.01, 0.05, 0.1, 0.2, 0.3, 0.45] {
+                let e = 1e-6;
+                let slope =
+                    (fillet_offset_factor(s, w + e) - fillet_offset_factor(s, w - e)) / (2.0 * e);
+                let expected = fillet_cross_derivative(s, w, DVec3::X).x;
+                assert!(
+                    (slope - expected).abs() < 1e-8,
+                    "s {s} w {w}: {slope} vs {expected}"
+                );
+            }
+            assert!((fillet_offset_factor(s, 0.0) - band_offset_factor(s)).abs() < 1e-16);
+            let h = s.floor().exp2().recip();
+            assert_eq!(fillet_offset_factor(s, h), 0.0);
+            assert_eq!(fillet_end_fade(s, 0.0), 0.0);
+            assert_eq!(fillet_end_fade(s, h), 1.0);
+        }
+        // s = 1: h = 1/2, a quarter of the way: (3/4)^3 / 12, fade 1 - (3/4)^2.
+        assert_eq!(fillet_offset_factor(1.0, 0.125), 0.75f64.powi(3) / 12.0);
+        assert_eq!(fillet_end_fade(1.0, 0.125), 1.0 - 0.5625);
     }
 
     /// The turn towards an irregular crease vertex's normal: the given share of the angle from

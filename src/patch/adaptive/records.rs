@@ -40,7 +40,9 @@ pub struct PatchRecord {
     /// bit `16 + k`: corner `k`'s vertex is an irregular crease vertex
     /// ([`crate::patch::adaptive::promoted::irregular_crease_vertex`]), whose fillet turns the
     /// shared normal of the promoted creases from it
-    /// ([`crate::patch::adaptive::promoted::crease_turn_share`]).
+    /// ([`crate::patch::adaptive::promoted::crease_turn_share`]); bit `20 + k`: the positional
+    /// fillet reaches corner `k` whole
+    /// ([`crate::patch::adaptive::promoted::positional_fillet_end`]).
     pub transition: u32,
     /// Slot of the midpoint of transition edge `k` (the next level's edge point), else `u32::MAX`.
     pub mid_slots: [u32; 4],

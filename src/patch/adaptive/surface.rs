@@ -9,9 +9,9 @@ use thiserror::Error;
 
 use super::promoted::{
     band_offset_factor, crease_turn_share, exact_corner_tangents, fillet_bend, fillet_code,
-    fillet_cross_derivative, fillet_end, fillet_end_code, fillet_end_sharpness, fillet_many_share,
-    fillet_offset_factor, fillet_rotation, fillet_sharpness, irregular_crease_vertex,
-    promoted_vertex, turn_towards, FilletEnd,
+    fillet_cross_derivative, fillet_end, fillet_end_code, fillet_end_fade, fillet_end_sharpness,
+    fillet_many_share, fillet_offset_factor, fillet_rotation, fillet_sharpness,
+    irregular_crease_vertex, positional_fillet_end, promoted_vertex, turn_towards, FilletEnd,
 };
 use crate::patch::basis::{bernstein_deriv, eval_tensor};
 use crate::patch::gregory::{
@@ -159,7 +159,8 @@ pub struct AdaptiveSurface {
 /// index, its edge) and the edge's residual sharpness, per corner the exact limit normal, per
 /// other edge between two end caps that end cap, the fillet sharpness at its ends (0: none) and
 /// how the normal turns there rather than the tangent bending, per corner whether its vertex is
-/// an irregular crease vertex (`super::promoted::irregular_crease_vertex`).
+/// an irregular crease vertex (`super::promoted::irregular_crease_vertex`) and whether the
+/// positional fillet reaches it whole (`super::promoted::positional_fillet_end`).
 #[derive(Debug, Clone, Default)]
 struct PromotedCap {
     edges: [Option<(usize, usize)>; 4],
@@ -169,6 +170,7 @@ struct PromotedCap {
     fillet_ends: [[Option<FilletEnd>; 2]; 4],
     others: [Option<(usize, usize)>; 4],
     irregular: [bool; 4],
+    positional: [bool; 4],
 }
 
 /// The own `(s, t)` of the point at `x` along quad edge `k` (corner `k` -> `k + 1`).
@@ -178,6 +180,17 @@ fn quad_edge_point(k: usize, x: f64) -> (f64, f64) {
         1 => (1.0, x),
         2 => (1.0 - x, 1.0),
         _ => (0.0, 1.0 - x),
+    }
+}
+
+/// The quad corner an own `(s, t)` is (`None` elsewhere).
+fn quad_corner(s: f64, t: f64) -> Option<usize> {
+    match (s, t) {
+        (0.0, 0.0) => Some(0),
+        (1.0, 0.0) => Some(1),
+        (1.0, 1.0) => Some(2),
+        (0.0, 1.0) => Some(3),
+        _ => None,
     }
 }
 
@@ -348,7 +361,93 @@ impl AdaptiveSurface {
     pub fn eval_with_normal(&self, i: usize, s: f64, t: f64) -> (SurfacePoint, DVec3) {
         let (position, ds, dt) = self.eval_own(i, s, t);
         let normal = self.normal_from(i, s, t, ds, dt);
+        let position = position + self.fillet_position(i, s, t);
         (self.to_base(i, position, ds, dt), normal)
+    }
+
+    /// The positional fillet of end cap `i` at own `(s, t)`: what the limit adds to the end
+    /// cap's crease surface within the fillet of a promoted edge between two end caps,
+    /// `super::promoted::fillet_offset_factor` times the sum of both sides' cross-edge derivatives at
+    /// the edge point, faded towards an end that is no `super::promoted::positional_fillet_end`
+    /// (`super::promoted::fillet_end_fade`). As the GPU (`glsl/gregory/gregory_quad_tes.glsl`,
+    /// `gregory_edge`): on a promoted edge its own offset, on another edge between two end caps
+    /// the offsets of the creases through its positional ends (the sum there is the edge's
+    /// derivative and its continuation's beyond the crease), at a positional corner the
+    /// crease's; zero elsewhere.
+    pub fn fillet_position(&self, i: usize, s: f64, t: f64) -> DVec3 {
+        let Some(cap) = self.promoted.get(&i) else {
+            return DVec3::ZERO;
+        };
+        if let Some(c) = quad_corner(s, t) {
+            return self.crease_end_offset(cap, i, c, 0.0);
+        }
+        if let Some((k, x)) = on_quad_edge(s, t) {
+            if cap.edges[k].is_some() {
+                return self.band_offset(cap, i, k, 0.0, x);
+            }
+            if cap.others[k].is_none() {
+                return DVec3::ZERO;
+            }
+            return self.crease_end_offset(cap, i, k, x)
+                + self.crease_end_offset(cap, i, (k + 1) % 4, 1.0 - x);
+        }
+        (0..4)
+            .map(|k| {
+                // (distance from edge k, position along it from corner k), own parameters.
+                let (w, x) = match k {
+                    0 => (t, s),
+                    1 => (1.0 - s, t),
+                    2 => (1.0 - t, 1.0 - s),
+                    _ => (s, 1.0 - t),
+                };
+                self.band_offset(cap, i, k, w, x)
+            })
+            .sum()
+    }
+
+    /// The positional fillet of promoted edge `k` of end cap `i` at distance `w` from it, `x`
+    /// along it from corner `k` (zero unless the edge is a promoted crease between two end caps
+    /// and `w` within its fillet).
+    fn band_offset(&self, cap: &PromotedCap, i: usize, k: usize, w: f64, x: f64) -> DVec3 {
+        let Some(across) = cap.edges[k] else {
+            return DVec3::ZERO;
+        };
+        let sharp = cap.sharpness[k];
+        if w >= sharp.floor().exp2().recip() {
+            return DVec3::ZERO;
+        }
+        let fade = |c: usize, y: f64| {
+            if cap.positional[c] {
+                1.0
+            } else {
+                fillet_end_fade(sharp, y)
+            }
+        };
+        let share = fade(k, x) * fade((k + 1) % 4, 1.0 - x);
+        if share == 0.0 {
+            return DVec3::ZERO;
+        }
+        let (_, d_own, d_across) = self.edge_derivatives(i, k, x, across);
+        (d_own + d_across) * (fillet_offset_factor(sharp, w) * share)
+    }
+
+    /// At corner `c` of end cap `i`, a [`positional_fillet_end`]: the positional fillet of the
+    /// promoted edge there at distance `w` from it along the other edge at `c` (zero elsewhere).
+    fn crease_end_offset(&self, cap: &PromotedCap, i: usize, c: usize, w: f64) -> DVec3 {
+        if !cap.positional[c] {
+            return DVec3::ZERO;
+        }
+        // The promoted edge at `c`: edge `c` (from it) or edge `c - 1` (to it).
+        let (k, x) = if cap.edges[c].is_some() {
+            (c, 0.0)
+        } else {
+            ((c + 3) % 4, 1.0)
+        };
+        let Some(across) = cap.edges[k] else {
+            return DVec3::ZERO;
+        };
+        let (_, d_own, d_across) = self.edge_derivatives(i, k, x, across);
+        (d_own + d_across) * fillet_offset_factor(cap.sharpness[k], w)
     }
 
     /// [`Self::normal`] from the patch's own derivatives `ds`, `dt` at `(s, t)`.
@@ -491,14 +590,7 @@ impl AdaptiveSurface {
     /// (`super::promoted::crease_turn_share`). `None` elsewhere.
     pub fn promoted_normal(&self, i: usize, s: f64, t: f64) -> Option<DVec3> {
         let cap = self.promoted.get(&i)?;
-        let corner = match (s, t) {
-            (0.0, 0.0) => Some(0),
-            (1.0, 0.0) => Some(1),
-            (1.0, 1.0) => Some(2),
-            (0.0, 1.0) => Some(3),
-            _ => None,
-        };
-        if let Some(k) = corner {
+        if let Some(k) = quad_corner(s, t) {
             return cap.corners[k];
         }
         let (k, x) = on_quad_edge(s, t)?;
@@ -595,9 +687,12 @@ impl AdaptiveSurface {
         }
     }
 
-    /// Evaluates patch `i` at its own `(s, t)`, derivatives mapped to base parameters.
+    /// Evaluates patch `i` at its own `(s, t)`, derivatives mapped to base parameters; an end
+    /// cap's position with its positional fillet ([`Self::fillet_position`]; the derivatives
+    /// are the patch's own).
     pub fn eval_patch(&self, i: usize, s: f64, t: f64) -> SurfacePoint {
         let (position, ds, dt) = self.eval_own(i, s, t);
+        let position = position + self.fillet_position(i, s, t);
         self.to_base(i, position, ds, dt)
     }
 
@@ -709,6 +804,9 @@ fn promoted_caps(
         for (k, &v) in t.face_vertices(face).iter().enumerate() {
             cap.irregular[k] = irregular_crease_vertex(t, caps, v);
             if promoted_vertex(t, caps, v) {
+                cap.positional[k] = positional_fillet_end(t, caps, v, |g| {
+                    t.face_size(g) == 4 && at.contains_key(&(level, g))
+                });
                 cap.corners[k] = exact_corner_tangents(lev, face, k).map(|[du, dv]| {
                     du.apply(positions)
                         .cross(dv.apply(positions))
