@@ -8,6 +8,9 @@
 //   osd_eval MESH.obj 0 0 points > points.txt   (the 20 Gregory-basis points of every quad drawn
 //     as a Gregory-basis patch: `f corner P|Ep|Em|Fp|Fm x y z`, corner i = face vertex i, Ep
 //     towards corner i + 1, Fp next to the edge i -> i + 1, as tessera's e_plus / f_plus)
+//   osd_eval MESH.obj ISOLATION - patch-points < points.txt   (the control points of the patch
+//     holding each input point, at any isolation: an end cap's 20 Gregory-basis points as above,
+//     after a `# f:k u v type T depth D` line; compare with examples/endcap_points.rs)
 // Reads `v`, `f` and the OpenSubdiv tags tessera reads (crease, corner, hole, interpolateboundary,
 // creasemethod; interpolateboundary 0 none, 1 edge-and-corner (the default), 2 edge-only, as tessera).
 // Quads print `f u v ...`; sub-face k of another face prints `f:k u v ...` (ptex order).
@@ -31,7 +34,7 @@ using namespace OpenSubdiv;
 
 int main(int argc, char **argv) {
     if (argc < 4) {
-        std::fprintf(stderr, "usage: osd_eval MESH.obj ISOLATION GRID|- [single-crease|points]\n");
+        std::fprintf(stderr, "usage: osd_eval MESH.obj ISOLATION GRID|- [single-crease|points|patch-points]\n");
         return 2;
     }
     Mesh m;
@@ -42,6 +45,7 @@ int main(int argc, char **argv) {
     const int isolation = std::atoi(argv[2]), grid = std::atoi(argv[3]);
     const bool singleCrease = argc > 4 && std::string(argv[4]) == "single-crease";
     const bool printPoints = argc > 4 && std::string(argv[4]) == "points";
+    const bool patchPoints = argc > 4 && std::string(argv[4]) == "patch-points";
 
     const Far::TopologyDescriptor desc = describe(m);
     using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
@@ -130,6 +134,26 @@ int main(int argc, char **argv) {
         std::printf(" %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", u, v, p.p[0], p.p[1], p.p[2], nn[0],
                     nn[1], nn[2]);
     };
+    // The control points of the patch holding sub-face k of base face f at (u, v): a `# f u v
+    // type T depth D` line (T a Far::PatchDescriptor::Type), then one `corner P|Ep|Em|Fp|Fm x y z`
+    // line per Gregory-basis point (`index x y z` for other patch types).
+    auto printPatch = [&](int f, int k, double u, double v) {
+        Far::PatchTable::PatchHandle const *h = map.FindPatch(ptex.GetFaceId(f) + k, u, v);
+        if (!h) return;
+        const Far::PatchDescriptor::Type type = table->GetPatchDescriptor(*h).GetType();
+        std::printf("# %d:%d %.17g %.17g type %d depth %d\n", f, k, u, v, int(type),
+                    table->GetPatchParam(*h).GetDepth());
+        static const char *names[5] = {"P", "Ep", "Em", "Fp", "Fm"};
+        Far::ConstIndexArray cvs = table->GetPatchVertices(*h);
+        for (int c = 0; c < cvs.size(); ++c) {
+            Point const &q = points[cvs[c]];
+            if (type == Far::PatchDescriptor::GREGORY_BASIS)
+                std::printf("%d %s", c / 5, names[c % 5]);
+            else
+                std::printf("%d", c);
+            std::printf(" %.17g %.17g %.17g\n", q.p[0], q.p[1], q.p[2]);
+        }
+    };
     if (std::string(argv[3]) == "-") {
         // Points from standard input: the first three columns of `f u v ...` / `f:k u v ...` lines.
         char face[64];
@@ -139,7 +163,11 @@ int main(int argc, char **argv) {
             if (std::sscanf(rest, "%63s %lf %lf", face, &u, &v) != 3) continue;
             int f = 0, k = 0;
             if (std::sscanf(face, "%d:%d", &f, &k) < 1 || f < 0 || f >= base.GetNumFaces()) continue;
-            if (!base.IsFaceHole(f)) eval(f, k, u, v);
+            if (base.IsFaceHole(f)) continue;
+            if (patchPoints)
+                printPatch(f, k, u, v);
+            else
+                eval(f, k, u, v);
         }
     } else {
         for (int f = 0; f < base.GetNumFaces(); ++f) {
