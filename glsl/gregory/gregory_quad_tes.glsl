@@ -131,7 +131,8 @@ void fillet_derivatives(GregoryPatchInfo info, float u, float v, inout vec3 du, 
         vec3 d = (d_own + d_nbr) * ((1.0 - frac) * (-0.5 * r0 * r0) + frac * (-0.5 * r1 * r1));
         float share = fillet_end_share(GREGORY_FILLET_END(info, a), sharp, x)
                     * fillet_end_share(GREGORY_FILLET_END(info, b), sharp, 1.0 - x);
-        p += (d_own + d_nbr) * (fillet_offset(sharp, w) * share);
+        float offset = fillet_offset(sharp, w);
+        p += (d_own + d_nbr) * (offset * share);
         // Between two quads the derivative along the edge gains the fillet's offset factor
         // `h (1 - w/h)^3 / 6` (`fillet_offset_factor`) times the slope of d_own + d_nbr there.
         vec3 along = vec3(0.0);
@@ -140,9 +141,7 @@ void fillet_derivatives(GregoryPatchInfo info, float u, float v, inout vec3 du, 
                                           x, 1.0 - x)
                        + cross_quad_slope(P(a), EP(a), EM(b), P(b), g_eout[2 * k], g_nbr[2 * k],
                                           g_nbr[2 * k + 1], g_eout[2 * k + 1], x, 1.0 - x);
-            float offset = (1.0 - frac) * (exp2(-n) * (r0 * r0 * r0))
-                         + frac * (exp2(-n - 1.0) * (r1 * r1 * r1));
-            along = slope * (offset / 6.0);
+            along = slope * offset;
         }
         if (k == 0) {
             dv += d;

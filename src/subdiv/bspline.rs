@@ -577,44 +577,4 @@ mod tests {
         }
         assert!(regular > 1000);
     }
-
-    /// The grid lines `interior_grid_lines` reads from the walk are the edges `find_edge`
-    /// finds between the lines' `cvs` (each [`CreaseSide`]'s slot pairs, as a set: the lines run
-    /// along their face edge, the slots in grid order), on every face of levels 0-2 of meshes with semi-sharp and infinitely sharp creases,
-    /// boundaries and extraordinary vertices.
-    #[test]
-    fn interior_grid_lines_are_the_edges_between_their_cvs() {
-        use crate::subdiv::single_crease::CreaseSide;
-        let mut grids = 0;
-        let levels = crate::subdiv::corpus_levels(
-            &[
-                "catmark_car",
-                "catmark_single_crease",
-                "catmark_cubes_semisharp",
-                "catmark_cube_creases2",
-                "catmark_torus_creases1",
-                "catmark_hole_test1",
-            ],
-            2,
-        );
-        for (name, _, level) in &levels {
-            let t = level.topology();
-            for f in 0..t.face_count() as u32 {
-                let Some((cvs, lines)) = interior_grid_lines(t, f) else {
-                    continue;
-                };
-                for side in CreaseSide::ALL {
-                    let mut found = side
-                        .line()
-                        .map(|(a, b)| t.find_edge(cvs[a], cvs[b]).unwrap());
-                    let mut line = lines[side.face_edge()];
-                    found.sort_unstable();
-                    line.sort_unstable();
-                    assert_eq!(line, found, "{name} face {f} {side:?}");
-                }
-                grids += 1;
-            }
-        }
-        assert!(grids > 1000, "{grids}");
-    }
 }
