@@ -368,15 +368,12 @@ fn mean_sharpness(level: &Topology, edges: &[u32]) -> f32 {
 /// How many steps around a crease vertex (faces) the fillet's turn reaches ([`fillet_end`]).
 pub const FILLET_ROTATION_REACH: usize = 2;
 
-/// The exponent `p` of the turn's weight `(1 - w/h)^p` ([`fillet_rotation`]).
-pub const FILLET_TURN_EXPONENT: i32 = 1;
-
 /// The share of its angle the fillet's turn ([`fillet_rotation`]) keeps at distance `w` (own
-/// parameter) from the crease vertex: `(1 - w/h)^p`, `p` = [`FILLET_TURN_EXPONENT`], `h = 2^-n`
-/// after `n` steps, zero beyond `h`, blended between `floor(s)` and `floor(s) + 1` steps by the
-/// fraction of `s` (as [`fillet_cross_derivative`]).
+/// parameter) from the crease vertex: linear, `1 - w/h` with `h = 2^-n` after `n` steps, zero
+/// beyond `h`, blended between `floor(s)` and `floor(s) + 1` steps by the fraction of `s` (as
+/// [`fillet_cross_derivative`]); `fillet_fade(sharp, w, false)` in `glsl/gregory/gregory.glsl`.
 pub fn fillet_turn_weight(sharpness: f64, w: f64) -> f64 {
-    fillet_fade(sharpness, w, FILLET_TURN_EXPONENT)
+    fillet_fade(sharpness, w, 1)
 }
 
 /// `(1 - w/h)^p` with `h = 2^-n` after `n` steps, zero beyond `h`, blended between `floor(s)`
