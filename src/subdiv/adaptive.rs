@@ -18,6 +18,7 @@ use glam::{DVec2, DVec3};
 use super::bspline::{is_regular_vertex, RegularPatch};
 use super::level::Level;
 use super::single_crease::{single_crease_line, CreaseLine};
+use crate::mesh::INFINITE_SHARPNESS;
 use crate::topology::Topology;
 use crate::{Error, Result};
 
@@ -465,6 +466,12 @@ impl AdaptiveRefinement {
             return Vec::new();
         };
         let pt = parent.topology();
+        // A decayed corner's parent edges are all finite (an infinitely sharp one stays sharp),
+        // three or more of them `>= 1`: without such an edge there is none to look for.
+        let decaying = |s: f32| (1.0..INFINITE_SHARPNESS).contains(&s);
+        if !pt.edge_sharpnesses().iter().any(|&s| decaying(s)) {
+            return Vec::new();
+        }
         (0..caps.vertex_count() as u32)
             .map(|v| {
                 let ChildOf::Vertex(pv) = parent.child_of(v) else {
