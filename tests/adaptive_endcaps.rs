@@ -813,3 +813,83 @@ fn regular_fillet_bands_follow_the_limit() {
         assert!(max < 1e-6, "s = {sharpness}: normal max {max:e} rad");
     }
 }
+
+/// Session 15's (h72) synthetic fold: a valence-20 fan of triangles (centre vertex 0) inside two
+/// rings of quads, with three sharpness-6 creases from the centre (to first-ring vertices 0, 7
+/// and 14), first-ring radii `exp(-U(0, 2.8))` drawn once (the bishop's crease vertices 844 and
+/// 846 have rings as uneven), heights `0.5 r` inside the sector between the first two creases
+/// and `0.5 r · 0.3` elsewhere (h72's fan, the same numbers).
+fn decayed_corner_fan() -> ControlMesh {
+    use std::f64::consts::PI;
+    use tessera::patch::adaptive::decayed_fit::crease_fan;
+    const RADII: [f64; 20] = [
+        0.06877630748581029,
+        0.07037501609871269,
+        0.8535562535743198,
+        0.788485244254778,
+        0.09638575492595079,
+        0.12736274941293757,
+        0.1533173804638842,
+        0.42198644713756717,
+        0.18329770147581384,
+        0.1828580968124434,
+        0.19644530196701132,
+        0.641804180437554,
+        0.29942988585729985,
+        0.33224285165626527,
+        0.13206859563603962,
+        0.06169855449770332,
+        0.0700667216372333,
+        0.21790507805077017,
+        0.2877705757088197,
+        0.47185946724462136,
+    ];
+    // Heights by the angle of (x, y), as the generator's by the angle it placed the point at.
+    let sector = 2.0 * PI * 7.0 / RADII.len() as f64 + 1e-9;
+    crease_fan(&RADII, &[0, 7, 14], 6.0, |x, y| {
+        let side = if y.atan2(x).rem_euclid(2.0 * PI) <= sector {
+            1.0
+        } else {
+            0.3
+        };
+        0.5 * x.hypot(y) * side
+    })
+    .unwrap()
+}
+
+/// Where three sharpness-6 creases decay (isolation 6: the corner rule for six levels, smooth at
+/// the isolation level), the end caps at the centre take `DECAYED_CORNER_SCALE` (0.314 at
+/// valence 20) instead of the smooth ring's 0.517, and no drawn normal is more than 1 rad from
+/// the exact limit's (measured 0.873 rad max, RMS 3.68e-2; OpenSubdiv's end caps 0.813 / 3.45e-2).
+/// Fails on main before the decayed corners (session 15): the edge points landed 1.4x the chord
+/// beyond the adjacent corner and the patches folded, 2.906 rad max, RMS 6.90e-2. Only the
+/// isolation level's vertex point of the centre is a decayed corner: not at L5 (residual
+/// sharpness 1, crease end caps) nor L7 (decayed a level earlier).
+#[test]
+fn decayed_corner_end_caps_do_not_fold() {
+    let m = decayed_corner_fan();
+    for iso in [5, 6, 7] {
+        let r = AdaptiveRefinement::new(&Level::from_mesh(&m).unwrap(), iso).unwrap();
+        let caps = r.end_cap_topology(iso as usize);
+        let decayed: Vec<u32> = (0..caps.vertex_count() as u32)
+            .filter(|&v| caps.is_decayed_corner(v))
+            .collect();
+        match iso {
+            6 => {
+                assert_eq!(decayed.len(), 1, "L6 decayed corners {decayed:?}");
+                assert_eq!(caps.vertex_edges(decayed[0]).len(), 20);
+            }
+            _ => assert!(decayed.is_empty(), "L{iso} decayed corners {decayed:?}"),
+        }
+    }
+    let (_, s) = surface(&m, 6);
+    let e = errors(&m, &s, is_end_cap, 8);
+    let normals = e.iter().map(|x| x.3);
+    let (rms, max) = (rms(normals.clone()), max(normals));
+    eprintln!(
+        "decayed corner fan L6: {} end-cap points, normal RMS {rms:.3e} max {max:.3e}",
+        e.len()
+    );
+    assert!(e.len() > 1000, "{} points", e.len());
+    assert!(max < 1.0, "normal max {max} rad");
+}

@@ -81,6 +81,13 @@
 //! `transition`; of the cases only the car without single-crease patches has such end caps, so
 //! only its draw tables changed (at 1 and 3 threads alike); the refinement and kernels' did not.
 //!
+//! And again for the decayed corners (issue 8, session 15, h73, `Topology::is_decayed_corner`):
+//! the refinement fingerprints of every case moved with the `Debug` text of `Topology`, which has
+//! a new field (`decayed_corner`, empty on every level: only the end caps' view of a level marks
+//! them); the kernels' and draw tables' did not (no end cap of these cases has a decayed corner
+//! of a valence `DECAYED_CORNER_SCALE` lists: 7 to 24). Checked at
+//! `RAYON_NUM_THREADS=1` and `3`.
+//!
 //! The fingerprints change with any change of output, deliberate or not: a change that is meant
 //! to alter the tables (new end-cap rules, another row order) re-derives them and says so.
 
@@ -135,73 +142,73 @@ fn adaptive_tables_are_bitwise_unchanged() {
             "catmark_car",
             2,
             true,
-            [0xc71808ba34cef1b5, 0xca4a93965f2b110e, 0xd66d2f701c734c61],
+            [0xa7c525c3617c772c, 0xca4a93965f2b110e, 0xd66d2f701c734c61],
         ),
         (
             "catmark_car",
             4,
             true,
-            [0x2d97fe3e907a87e7, 0xc8ccf101f97d4dd2, 0x375f53282ef43bc4],
+            [0xbbb9e6b58551f50e, 0xc8ccf101f97d4dd2, 0x375f53282ef43bc4],
         ),
         (
             "catmark_car",
             2,
             false,
-            [0x6f59503af7cf5edf, 0x974d66fe24c13fc5, 0x8f960065f331b087],
+            [0x3c7acab3967eeff2, 0x974d66fe24c13fc5, 0x8f960065f331b087],
         ),
         (
             "catmark_cube_creases1",
             3,
             true,
-            [0xe3614f39e7e70917, 0xa1a708fbce690d15, 0x335e97c486235536],
+            [0x5216de2729f30de, 0xa1a708fbce690d15, 0x335e97c486235536],
         ),
         (
             "catmark_cube_creases2",
             4,
             false,
-            [0x56b4401b144171ac, 0xcba37c665f754f7e, 0x7ac5f325180a36b],
+            [0x7b48acce8f4a3ea1, 0xcba37c665f754f7e, 0x7ac5f325180a36b],
         ),
         (
             "catmark_dart_edgecorner",
             3,
             true,
-            [0xbc62072c26bdf1ef, 0xe436c2a865f7cf86, 0xa25bcabf1cbdbb],
+            [0x33a7609b60eac536, 0xe436c2a865f7cf86, 0xa25bcabf1cbdbb],
         ),
         (
             "catmark_hole_test1",
             2,
             true,
-            [0xc9215e60c85c9481, 0xece5b3e142e97c01, 0x7dbabf0f2e983d97],
+            [0x47752224ad804de2, 0xece5b3e142e97c01, 0x7dbabf0f2e983d97],
         ),
         (
             "catmark_nonquads",
             3,
             true,
-            [0x808f09b393e70b06, 0x3b633e102e099bde, 0x24d1e11cff3d3700],
+            [0x708989f89b9781cb, 0x3b633e102e099bde, 0x24d1e11cff3d3700],
         ),
         (
             "catmark_cubes_semisharp",
             3,
             true,
-            [0x6a6e5b8fd328194c, 0x47e42ffd83d0ff2a, 0x7bf27309c55820ec],
+            [0xa1b7d74d2225a547, 0x47e42ffd83d0ff2a, 0x7bf27309c55820ec],
         ),
         (
             "catmark_tent_creases1",
             2,
             true,
-            [0xf12bef6c3262fe83, 0x7393eafc11b56ea4, 0x842f88cf19eb7963],
+            [0x9d8a88902f40d33c, 0x7393eafc11b56ea4, 0x842f88cf19eb7963],
         ),
         (
             "catmark_single_crease",
             4,
             true,
-            [0x50c2cb6d96f23b2e, 0xe6c95c4a3b7daf47, 0x1079be7f9ed82503],
+            [0x6f5d6579df0d652b, 0xe6c95c4a3b7daf47, 0x1079be7f9ed82503],
         ),
         (
             "catmark_pole64",
             2,
             true,
-            [0x5c359f84278c1fd2, 0x49aa8020f1082c0, 0x827a7db62488c4],
+            [0xcf727495e7627861, 0x49aa8020f1082c0, 0x827a7db62488c4],
         ),
     ];
     let mut wrong = Vec::new();

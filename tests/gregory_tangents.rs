@@ -6,12 +6,13 @@ mod common;
 
 use common::meshes::mesh as load;
 use tessera::mesh::{ControlMesh, ObjOptions};
+use tessera::patch::adaptive::decayed_fit::decayed_fit_terms;
 use tessera::patch::gregory::accuracy::{measure_tangents, AccuracyOptions, AccuracyReport};
 use tessera::patch::gregory::tangent_fit::{
     band_fit_error, band_fit_scales, band_fit_terms, crease_fit_scale, crease_fit_terms, fit_error,
     fit_scale, fit_terms,
 };
-use tessera::patch::gregory::tangents::{MAX_FITTED_VALENCE, OPTIMAL_SCALE};
+use tessera::patch::gregory::tangents::{DECAYED_CORNER_SCALE, MAX_FITTED_VALENCE, OPTIMAL_SCALE};
 use tessera::patch::gregory::tangents_boundary::{
     BAND_CENTRE_SCALE, BAND_TWO_SCALE, CREASE_SCALE, MAX_FITTED_CREASE_SECTOR,
 };
@@ -29,6 +30,22 @@ fn table_entries_are_the_fit() {
         );
     }
     assert_eq!(OPTIMAL_SCALE[1], 1.0, "valence 4 keeps the bicubic");
+}
+
+/// Entries of the decayed-corner table recomputed from scratch
+/// (`examples/decayed_corner_table.rs` regenerates all of them): the fit is its minimum, below
+/// the smooth end caps' factor, which the fit on these rings finds too long.
+#[test]
+fn decayed_corner_entries_are_the_fit() {
+    for n in [7, 16, 20] {
+        let &(_, s) = DECAYED_CORNER_SCALE.iter().find(|(m, _)| *m == n).unwrap();
+        let t = decayed_fit_terms(n).unwrap();
+        let fit = -t[1] / t[2];
+        assert!((fit - s).abs() < 1e-4, "valence {n}: fit {fit}, table {s}");
+        let smooth = GregoryTangents::EndCaps.ring_factors(&vec![4; n]).tangent;
+        assert!(s < smooth, "valence {n}: {s} against the smooth {smooth}");
+        assert!(fit_error(&t, smooth) > fit_error(&t, s), "valence {n}");
+    }
 }
 
 /// ±2 % on the table entry `s` of the fit with terms `t` increases the fitted error, and the

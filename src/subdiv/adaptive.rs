@@ -18,6 +18,7 @@ use glam::{DVec2, DVec3};
 use super::bspline::{is_regular_vertex, RegularPatch};
 use super::level::Level;
 use super::single_crease::{single_crease_line, CreaseLine};
+use crate::mesh::INFINITE_SHARPNESS;
 use crate::topology::Topology;
 use crate::{Error, Result};
 
@@ -441,10 +442,54 @@ impl AdaptiveRefinement {
             .map_or(0, |l| l.first_vertex as usize + l.level.vertex_count())
     }
 
-    /// Level `level`'s topology as its end caps see it ([`Self::end_cap_sharpness`]).
+    /// Level `level`'s topology as its end caps see it ([`Self::end_cap_sharpness`]), with its
+    /// decayed corners marked ([`Topology::is_decayed_corner`]).
     pub fn end_cap_topology(&self, level: usize) -> std::borrow::Cow<'_, Topology> {
-        self.end_cap_sharpness
-            .end_cap_topology(self.levels[level].topology())
+        let caps = self
+            .end_cap_sharpness
+            .end_cap_topology(self.levels[level].topology());
+        let decayed = self.decayed_corners(level, &caps);
+        if !decayed.contains(&true) {
+            return caps;
+        }
+        let mut t = caps.into_owned();
+        t.decayed_corner = decayed;
+        std::borrow::Cow::Owned(t)
+    }
+
+    /// Per vertex of level `level` seen as `caps`: a decayed corner, smooth in `caps` (no
+    /// sharp, semi-sharp or boundary edge, no vertex sharpness) and the vertex point of a level-`level - 1` vertex
+    /// with three or more incident edges of sharpness `>= 1` there, so the last step applied
+    /// the corner rule to it in full. Empty on level 0.
+    fn decayed_corners(&self, level: usize, caps: &Topology) -> Vec<bool> {
+        let Some(parent) = level.checked_sub(1).map(|l| &self.levels[l]) else {
+            return Vec::new();
+        };
+        let pt = parent.topology();
+        // A decayed corner's parent edges are all finite (an infinitely sharp one stays sharp),
+        // three or more of them `>= 1`: without such an edge there is none to look for.
+        let decaying = |s: f32| (1.0..INFINITE_SHARPNESS).contains(&s);
+        if !pt.edge_sharpnesses().iter().any(|&s| decaying(s)) {
+            return Vec::new();
+        }
+        (0..caps.vertex_count() as u32)
+            .map(|v| {
+                let ChildOf::Vertex(pv) = parent.child_of(v) else {
+                    return false;
+                };
+                let sharp_before = pt
+                    .vertex_edges(pv)
+                    .iter()
+                    .filter(|&&e| pt.edge_sharpness(e) >= 1.0)
+                    .count();
+                let smooth_now = caps.vertex_sharpness(v) == 0.0
+                    && caps
+                        .vertex_edges(v)
+                        .iter()
+                        .all(|&e| caps.edge_sharpness(e) == 0.0 && !caps.is_boundary_edge(e));
+                sharp_before >= 3 && smooth_now
+            })
+            .collect()
     }
 }
 

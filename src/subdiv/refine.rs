@@ -276,6 +276,7 @@ impl Level {
             edge_sharpness,
             vertex_sharpness,
             promoted: Vec::new(),
+            decayed_corner: Vec::new(),
             holes,
             no_limit: child_no_limit(t),
             options: t.options,

@@ -298,6 +298,7 @@ pub(crate) fn with_given_rings(
         edge_sharpness: vec![0.0; ne],
         vertex_sharpness: vec![0.0; nv],
         promoted: Vec::new(),
+        decayed_corner: Vec::new(),
         holes: vec![false; nf],
         no_limit: Vec::new(),
         options: SchemeOptions::default(),

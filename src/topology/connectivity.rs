@@ -53,6 +53,8 @@ pub struct Topology {
     /// [`Topology::with_semi_sharpness_as_crease`] made its semi-sharpness so (the end caps'
     /// view of a level); empty when there is none.
     pub(crate) promoted: Vec<bool>,
+    /// Per vertex: a decayed corner ([`Topology::is_decayed_corner`]); empty when there is none.
+    pub(crate) decayed_corner: Vec<bool>,
     pub(crate) holes: Vec<bool>,
     /// Faces without limit surface besides holes (with `BoundaryInterpolation::None`: faces
     /// touching a boundary vertex of the base mesh, and their descendants); empty if none.
@@ -222,6 +224,18 @@ impl Topology {
     /// is smooth across it.
     pub fn is_promoted_edge(&self, e: u32) -> bool {
         self.promoted.get(e as usize).copied().unwrap_or(false)
+    }
+
+    /// Whether vertex `v` is a decayed corner: smooth here, while the step that made it took the
+    /// corner rule (three or more incident edges of sharpness `>= 1` on the parent level), so its
+    /// ring has the corner rule's layout, not the smooth characteristic one. Only the adaptive
+    /// end caps' view of a level marks them
+    /// ([`crate::subdiv::adaptive::AdaptiveRefinement::end_cap_topology`]).
+    pub fn is_decayed_corner(&self, v: u32) -> bool {
+        self.decayed_corner
+            .get(v as usize)
+            .copied()
+            .unwrap_or(false)
     }
 
     /// Sharpness of vertex `v` after tags and the boundary rule.

@@ -12,6 +12,7 @@
 //! [`draw`] turns the same patches into the GPU draw tables ([`AdaptiveDrawTables`]).
 
 mod coarse;
+pub mod decayed_fit;
 pub mod draw;
 mod error;
 pub mod promoted;

@@ -404,6 +404,7 @@ fn ring_of_points<P>(
         face_sizes: super::tangents_tri::ring_face_sizes(topo, v),
         far_sector,
         promoted: promoted_edges(topo, v),
+        decayed_corner: topo.is_decayed_corner(v),
     }
 }
 

@@ -44,6 +44,19 @@ const NONE: u32 = u32::MAX;
 /// sharpness has.
 const PROMOTED: u32 = u32::MAX - 1;
 
+/// The key's vertex-sharpness word of a decayed corner (`Topology::is_decayed_corner`: its
+/// tangents may differ from a smooth vertex's, `GregoryTangents::vertex_ring_factors`), another
+/// NaN's bits; a decayed corner has no vertex sharpness.
+const DECAYED_CORNER: u32 = u32::MAX - 2;
+
+/// The key's word for vertex `v`'s own tags: [`DECAYED_CORNER`] or its sharpness bits.
+fn vertex_word(topo: &Topology, v: u32) -> u32 {
+    match topo.is_decayed_corner(v) {
+        true => DECAYED_CORNER,
+        false => topo.vertex_sharpness(v).to_bits(),
+    }
+}
+
 /// The local topology of a face as its construction reads it, in canonical-ring slots.
 type TypeKey = Vec<u32>;
 
@@ -176,7 +189,7 @@ impl Keyer<'_> {
             NONE => None,
             s => Some(s),
         };
-        key.push(topo.vertex_sharpness(v).to_bits());
+        key.push(vertex_word(topo, v));
         let edges = topo.vertex_edges(v);
         key.push(edges.len() as u32);
         for &e in edges {
@@ -547,11 +560,7 @@ impl VertexRingKey {
         let (edges, faces) = (topo.vertex_edges(v), topo.vertex_faces(v));
         let mut ring = Vec::with_capacity(1 + 2 * edges.len());
         let mut key = Vec::with_capacity(3 + 2 * edges.len() + 5 * faces.len());
-        key.extend([
-            edges.len() as u32,
-            faces.len() as u32,
-            topo.vertex_sharpness(v).to_bits(),
-        ]);
+        key.extend([edges.len() as u32, faces.len() as u32, vertex_word(topo, v)]);
         let mut at = |u: u32, ring: &mut Vec<u32>| {
             if slot[u as usize] == NONE {
                 slot[u as usize] = ring.len() as u32;

@@ -37,6 +37,10 @@ pub struct VertexRing<P = DVec3> {
     /// Per incident edge: a promoted crease ([`crate::topology::Topology::is_promoted_edge`]),
     /// sharp for the construction but smooth in the limit; empty where there is none.
     pub promoted: Vec<bool>,
+    /// The vertex is a decayed corner ([`crate::topology::Topology::is_decayed_corner`]): the
+    /// adaptive end caps give its all-quad ring the tangents of
+    /// [`super::tangents::DECAYED_CORNER_SCALE`].
+    pub decayed_corner: bool,
 }
 
 impl<P> VertexRing<P> {
@@ -229,7 +233,7 @@ impl<P: GregoryPoint> InteriorBasis<P> {
         }
         let cos_pi_n = (PI / nf).cos();
         let sigma = 1.0 / (4.0 + cos_pi_n * cos_pi_n).sqrt();
-        let factors = tangents.ring_factors(&ring.face_sizes);
+        let factors = tangents.vertex_ring_factors(&ring.face_sizes, ring.decayed_corner);
         let scale = (2.0 / 3.0) * (factors.tangent * subdominant_eigenvalue(n)) * 2.0 / nf;
         let (a, b) = (scale * (1.0 - sigma * cos_pi_n), scale * 2.0 * sigma);
         let (mut qc, mut qs) = (P::zero(), P::zero());
@@ -448,7 +452,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
         let n = ring.m.len();
         debug_assert_eq!(ring.c.len(), n);
         let nf = n as f64;
-        let factors = tangents.ring_factors(&ring.face_sizes);
+        let factors = tangents.vertex_ring_factors(&ring.face_sizes, ring.decayed_corner);
         let InteriorBasis { p, qc, qs } = basis;
         let e = (0..n)
             .map(|j| {
@@ -456,7 +460,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
                 combine(&[(1.0, &p), (cs, &qc), (sn, &qs)])
             })
             .collect();
-        let shape = tangents.transversal_shape(&ring.face_sizes);
+        let shape = tangents.vertex_transversal_shape(&ring.face_sizes, ring.decayed_corner);
         let mut r: Vec<P> = (0..n).map(|j| inner_r(ring, j, n, shape)).collect();
         if factors.transversal != 1.0 {
             r = r
@@ -1225,6 +1229,7 @@ mod tests {
             face_sizes: vec![4; n],
             far_sector: Vec::new(),
             promoted: Vec::new(),
+            decayed_corner: false,
         }
     }
 
@@ -1565,6 +1570,7 @@ mod tests {
             face_sizes: vec![4],
             far_sector: Vec::new(),
             promoted: Vec::new(),
+            decayed_corner: false,
         };
         let g =
             GregoryVertex::new(&ring, GregoryTangents::Paper, &DartLimits::new()).expect("covered");
