@@ -588,15 +588,16 @@ impl AdaptiveDrawTables {
             let mut ef = edge_flags(caps, p.face, across, |v| lev.global(v), slot);
             // A promoted crease (`super::promoted`) between two end caps of this level: the
             // normal both share (bit 12 + k off: the neighbour's cross-edge derivative counts).
+            // A quad end cap of this level (the neighbours both fillets need).
+            let quad_cap = |g: u32| {
+                lev.own[g as usize]
+                    && t.face_size(g) == 4
+                    && at[p.level as usize][g as usize] != NONE
+                    && census.patches[at[p.level as usize][g as usize] as usize].kind
+                        == PatchType::EndCap
+            };
             for (k, &e) in t.face_edges(p.face).iter().enumerate() {
-                let across_cap = t.edge_faces(e).iter().any(|&g| {
-                    g != p.face
-                        && lev.own[g as usize]
-                        && t.face_size(g) == 4
-                        && at[p.level as usize][g as usize] != NONE
-                        && census.patches[at[p.level as usize][g as usize] as usize].kind
-                            == PatchType::EndCap
-                });
+                let across_cap = t.edge_faces(e).iter().any(|&g| g != p.face && quad_cap(g));
                 if n == 4 && fine[k] == NONE && across_cap && caps.is_promoted_edge(e) {
                     ef.flags &= !(1 << (12 + k));
                     ef.flags |= 1 << (28 + k);
@@ -639,13 +640,6 @@ impl AdaptiveDrawTables {
             let fv = t.face_vertices(p.face);
             // The positional fillet reaches corner c whole (`positional_fillet_end`): bit 20 + c.
             if ef.flags >> 28 != 0 {
-                let quad_cap = |g: u32| {
-                    lev.own[g as usize]
-                        && t.face_size(g) == 4
-                        && at[p.level as usize][g as usize] != NONE
-                        && census.patches[at[p.level as usize][g as usize] as usize].kind
-                            == PatchType::EndCap
-                };
                 for (c, &v) in fv.iter().enumerate() {
                     if positional_fillet_end(t, caps, v, quad_cap) {
                         out.records[i].transition |= 1 << (20 + c);

@@ -107,13 +107,20 @@ pub fn exact_frame(
 /// A fractional sharpness `n + f` blends the limits of `n` and `n + 1` steps by `f`, as its
 /// rule blends the points (Nießner, Loop, Greiner 2012 §3; DeRose et al. 1998 §3).
 pub fn fillet_cross_derivative(sharpness: f64, w: f64, d_sum: DVec3) -> DVec3 {
+    d_sum
+        * blend_steps(sharpness, |steps| {
+            let r = (1.0 - w * steps.exp2()).max(0.0);
+            -0.5 * r * r
+        })
+}
+
+/// `step(n)` after `n = floor(s)` crease steps, blended with `step(n + 1)` by the fraction of
+/// `s` (a fractional sharpness blends the limits of its two integer steps as its rule blends
+/// the points): the fillets' one treatment of fractional sharpness.
+fn blend_steps(sharpness: f64, step: impl Fn(f64) -> f64) -> f64 {
     let n = sharpness.floor();
     let f = sharpness - n;
-    let step = |steps: f64| {
-        let r = (1.0 - w * steps.exp2()).max(0.0);
-        -0.5 * r * r
-    };
-    d_sum * ((1.0 - f) * step(n) + f * step(n + 1.0))
+    (1.0 - f) * step(n) + f * step(n + 1.0)
 }
 
 /// The band offset's factor on a promoted edge of residual sharpness `sharpness`: the fillet
@@ -137,13 +144,10 @@ pub fn band_offset_factor(sharpness: f64) -> f64 {
 /// its derivative along the edge gains this factor times `d_sum`'s: [`band_offset_factor`] on the
 /// edge, fading to zero across the band.
 pub fn fillet_offset_factor(sharpness: f64, w: f64) -> f64 {
-    let n = sharpness.floor();
-    let f = sharpness - n;
-    let step = |steps: f64| {
+    blend_steps(sharpness, |steps| {
         let r = (1.0 - w * steps.exp2()).max(0.0);
         (-steps).exp2() * (r * r * r)
-    };
-    ((1.0 - f) * step(n) + f * step(n + 1.0)) / 6.0
+    }) / 6.0
 }
 
 /// Whether the positional fillet ([`fillet_offset_factor`]) of the promoted crease through vertex `v`
@@ -379,10 +383,7 @@ pub fn fillet_turn_weight(sharpness: f64, w: f64) -> f64 {
 /// `(1 - w/h)^p` with `h = 2^-n` after `n` steps, zero beyond `h`, blended between `floor(s)`
 /// and `floor(s) + 1` steps by the fraction of `s` (as [`fillet_cross_derivative`]).
 fn fillet_fade(sharpness: f64, w: f64, p: i32) -> f64 {
-    let n = sharpness.floor();
-    let f = sharpness - n;
-    let step = |steps: f64| (1.0 - w * steps.exp2()).max(0.0).powi(p);
-    (1.0 - f) * step(n) + f * step(n + 1.0)
+    blend_steps(sharpness, |steps| (1.0 - w * steps.exp2()).max(0.0).powi(p))
 }
 
 /// The share of the angle to the vertex's limit normal that [`turn_towards`] keeps at the

@@ -183,6 +183,17 @@ fn quad_edge_point(k: usize, x: f64) -> (f64, f64) {
     }
 }
 
+/// Own `(s, t)` as (distance from quad edge `k`, position along it from corner `k`): the inverse
+/// of [`quad_edge_point`] on the edge (`w = 0`).
+fn edge_coordinates(k: usize, s: f64, t: f64) -> (f64, f64) {
+    match k {
+        0 => (t, s),
+        1 => (1.0 - s, t),
+        2 => (1.0 - t, 1.0 - s),
+        _ => (s, 1.0 - t),
+    }
+}
+
 /// The quad corner an own `(s, t)` is (`None` elsewhere).
 fn quad_corner(s: f64, t: f64) -> Option<usize> {
     match (s, t) {
@@ -393,13 +404,7 @@ impl AdaptiveSurface {
         }
         (0..4)
             .map(|k| {
-                // (distance from edge k, position along it from corner k), own parameters.
-                let (w, x) = match k {
-                    0 => (t, s),
-                    1 => (1.0 - s, t),
-                    2 => (1.0 - t, 1.0 - s),
-                    _ => (s, 1.0 - t),
-                };
+                let (w, x) = edge_coordinates(k, s, t);
                 self.band_offset(cap, i, k, w, x)
             })
             .sum()
@@ -560,13 +565,7 @@ impl AdaptiveSurface {
         t: f64,
     ) -> Option<(DVec3, DVec3)> {
         let across = cap.edges[k]?;
-        // (distance from edge k, position along it from corner k), own parameters.
-        let (w, x) = match k {
-            0 => (t, s),
-            1 => (1.0 - s, t),
-            2 => (1.0 - t, 1.0 - s),
-            _ => (s, 1.0 - t),
-        };
+        let (w, x) = edge_coordinates(k, s, t);
         if w >= cap.sharpness[k].floor().exp2().recip() {
             return None;
         }
