@@ -8,6 +8,7 @@
 //! ```
 
 use tessera::patch::adaptive::decayed_fit::decayed_fit_terms;
+use tessera::patch::gregory::tangent_fit::{fit_error, least_squares_scale};
 use tessera::patch::gregory::GregoryTangents;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -24,9 +25,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("valence  s*      rss at s*   smooth s  rss at smooth s");
     for n in (first..=last).filter(|&n| n != 4) {
         let t = decayed_fit_terms(n)?;
-        let s = -t[1] / t[2];
+        let s = least_squares_scale(&t);
         let smooth = GregoryTangents::EndCaps.ring_factors(&vec![4; n]).tangent;
-        let rss = |s: f64| (t[0] + 2.0 * s * t[1] + s * s * t[2]).max(0.0).sqrt();
+        let rss = |s: f64| fit_error(&t, s).max(0.0).sqrt();
         println!(
             "{n:>7}  {s:.4}  {:.4e}  {smooth:.4}    {:.4e}",
             rss(s),

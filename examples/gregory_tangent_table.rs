@@ -10,6 +10,7 @@
 
 use tessera::patch::gregory::tangent_fit::{
     band_fit_error, band_fit_terms, crease_fit_terms, fit_error, fit_scale, fit_terms,
+    least_squares_scale,
 };
 use tessera::patch::gregory::tangents::MAX_FITTED_VALENCE;
 use tessera::patch::gregory::tangents_boundary::MAX_FITTED_CREASE_SECTOR;
@@ -25,7 +26,7 @@ fn main() -> tessera::Result<()> {
             continue;
         }
         let t = fit_terms(n)?;
-        let s = -t[1] / t[2];
+        let s = least_squares_scale(&t);
         println!(
             "{n:>7}  {s:.6}  {:.4e}  {:.4e}",
             fit_error(&t, 1.0).sqrt(),
@@ -50,7 +51,7 @@ fn main() -> tessera::Result<()> {
     let mut crease = Vec::new();
     for k in 3..=MAX_FITTED_CREASE_SECTOR {
         let t = crease_fit_terms(k)?;
-        let s = -t[1] / t[2];
+        let s = least_squares_scale(&t);
         println!(
             "{k:>19}  {s:.6}  {:.4e}  {:.4e}",
             fit_error(&t, 1.0).sqrt(),

@@ -6,7 +6,7 @@
 
 use super::AdaptiveSurface;
 use crate::mesh::{ControlMesh, ControlMeshDesc, Crease};
-use crate::patch::gregory::tangent_fit::fit_heights;
+use crate::patch::gregory::tangent_fit::{add_sample, fit_heights, least_squares_scale};
 use crate::patch::gregory::GregoryTangents;
 use crate::subdiv::adaptive::{AdaptiveRefinement, PatchType};
 use crate::subdiv::eval::LimitEvaluator;
@@ -122,17 +122,14 @@ pub fn decayed_fit_terms(n: usize) -> crate::Result<[f64; 3]> {
                 );
                 let b = (p1 - p0).dot(l.normal) / 0.5;
                 let a = (p0 - l.position).dot(l.normal) - 0.25 * b;
-                sums[0] += a * a;
-                sums[1] += a * b;
-                sums[2] += b * b;
+                add_sample(&mut sums, 1.0, a, b);
             }
         }
     }
     Ok(sums)
 }
 
-/// The least-squares factor `s* = −Σ ab / Σ b²` of [`decayed_fit_terms`] at valence `n`.
+/// The least-squares factor of [`decayed_fit_terms`] at valence `n`.
 pub fn decayed_fit_scale(n: usize) -> crate::Result<f64> {
-    let t = decayed_fit_terms(n)?;
-    Ok(-t[1] / t[2])
+    Ok(least_squares_scale(&decayed_fit_terms(n)?))
 }

@@ -157,9 +157,7 @@ fn terms_on(
                 let p1 = g1.eval(u, v).position;
                 let a = (p0 - l.position).dot(l.normal);
                 let b = (p1 - p0).dot(l.normal);
-                sums[0] += weight * a * a;
-                sums[1] += weight * a * b;
-                sums[2] += weight * b * b;
+                add_sample(&mut sums, weight, a, b);
             }
         }
     }
@@ -244,16 +242,26 @@ pub fn fit_error(terms: &[f64; 3], s: f64) -> f64 {
     terms[0] + 2.0 * s * terms[1] + s * s * terms[2]
 }
 
-/// The least-squares factor `s*(n) = −Σ ab / Σ b²` ([`super::tangents`] docs).
+/// Adds one sample of weight `w`, whose error is `a + s b`, to the terms `[Σ a², Σ ab, Σ b²]`.
+pub fn add_sample(sums: &mut [f64; 3], w: f64, a: f64, b: f64) {
+    sums[0] += w * a * a;
+    sums[1] += w * a * b;
+    sums[2] += w * b * b;
+}
+
+/// The least-squares factor `s* = −Σ ab / Σ b²`, the minimum of [`fit_error`].
+pub fn least_squares_scale(terms: &[f64; 3]) -> f64 {
+    -terms[1] / terms[2]
+}
+
+/// The least-squares factor `s*(n)` at valence `n` ([`super::tangents`] docs).
 pub fn fit_scale(n: usize) -> crate::Result<f64> {
-    let t = fit_terms(n)?;
-    Ok(-t[1] / t[2])
+    Ok(least_squares_scale(&fit_terms(n)?))
 }
 
 /// The least-squares factor of a crease sector of `k` faces ([`super::tangents_boundary`] docs).
 pub fn crease_fit_scale(k: usize) -> crate::Result<f64> {
-    let t = crease_fit_terms(k)?;
-    Ok(-t[1] / t[2])
+    Ok(least_squares_scale(&crease_fit_terms(k)?))
 }
 
 #[cfg(test)]
