@@ -336,6 +336,8 @@ impl Level {
         // Edges, in `topology::build`'s order: by smaller end (face points before edge
         // points, vertex points never), then by first corner (kept child `i`, edge `k`).
         let mut edges = KeptEdges::new(nk);
+        // Per edge point of `map`, in order: its kept children (`edge_point_children`).
+        let mut edge_children = Vec::with_capacity(map.len());
         for &old in &map {
             let o = old as usize;
             if o < nf {
@@ -366,7 +368,9 @@ impl Level {
                 let [a, b] = t.edge_verts[e as usize];
                 // The half at `a`: edge 0 of the child at `a` in `f0`, edge 3 of the one in
                 // `f1`; the half at `b` the other way round.
-                let [c00, c01, c10, c11] = edge_point_children(t, &kept, e);
+                let children = edge_point_children(t, &kept, e);
+                edge_children.push(children);
+                let [c00, c01, c10, c11] = children;
                 let mut halves =
                     [((c00, 0u16), (c11, 3u16), a), ((c10, 0), (c01, 3), b)].map(|(x, y, v)| {
                         let (first, second) = if y.0 < x.0 { (y, x) } else { (x, y) };
@@ -393,6 +397,7 @@ impl Level {
         let rings = self.kept_rings(
             &kept,
             &map,
+            &edge_children,
             &face_offsets,
             &edges.face_edges,
             edges.verts.len(),
@@ -443,16 +448,18 @@ impl Level {
     }
 
     /// The one-rings of `Level::refine_kept`'s level (kept child `kept[h]` of each corner `h`,
-    /// NONE if not kept; its vertices `map` in the child numbering; its quads' `face_offsets`
-    /// and `face_edges`, `edges` edges) from this level's: a face point's ring is its face's children
-    /// (corner 2, in corner order), an edge point's the children beside the edge (corners 1
-    /// and 3, as `refine_topology` orders them), a vertex point's the children at its faces'
-    /// corners (corner 0) in its ring's order, fan by fan; the kept ones ordered as
-    /// `topology::build` orders them ([`topology::RingBuilder`]).
+    /// NONE if not kept; its vertices `map` in the child numbering, its edge points' kept
+    /// children `edge_children` in that order; its quads' `face_offsets` and `face_edges`,
+    /// `edges` edges) from this level's: a face point's ring is its face's children (corner 2,
+    /// in corner order), an edge point's the children beside the edge (corners 1 and 3, as
+    /// `refine_topology` orders them), a vertex point's the children at its faces' corners
+    /// (corner 0) in its ring's order, fan by fan; the kept ones ordered as `topology::build`
+    /// orders them ([`topology::RingBuilder`]; a single fan by its quad arithmetic).
     fn kept_rings(
         &self,
         kept: &[u32],
         map: &[u32],
+        edge_children: &[[u32; 4]],
         face_offsets: &[u32],
         face_edges: &[u32],
         edges: usize,
@@ -466,29 +473,42 @@ impl Level {
             face_edges.len(),
             edges,
         );
+        let mut edge_children = edge_children.iter();
+        let mut fan = Vec::with_capacity(16);
         for &old in map {
             let o = old as usize;
+            fan.clear();
             if o < nf {
                 let (a, b) = (t.face_offsets[o] as usize, t.face_offsets[o + 1] as usize);
-                rings.fan(true, kept[a..b].iter().map(|&i| (i, 2)));
+                fan.extend(kept[a..b].iter().map(|&i| (i, 2)));
+                rings.quad_fan(true, &fan);
             } else if o < nf + ne {
-                let e = (o - nf) as u32;
-                let [c00, c01, c10, c11] = edge_point_children(t, kept, e);
-                if t.edge_faces[e as usize][1] == NONE {
-                    rings.fan(false, [(c01, 3), (c00, 1)]);
+                let [c00, c01, c10, c11] = *edge_children
+                    .next()
+                    .expect("an edge point's children per edge point");
+                if t.edge_faces[o - nf][1] == NONE {
+                    rings.quad_fan(false, &[(c01, 3), (c00, 1)]);
                 } else {
-                    rings.fan(true, [(c00, 1), (c11, 3), (c10, 1), (c01, 3)]);
+                    rings.quad_fan(true, &[(c00, 1), (c11, 3), (c10, 1), (c01, 3)]);
                 }
             } else {
                 let v = old - (nf + ne) as u32;
-                rings.fans_of(t, v, |g, k| {
+                let child = |g: u32, k: u16| {
                     (
                         kept[(t.face_offsets[g as usize] + u32::from(k)) as usize],
                         0,
                     )
-                });
+                };
+                let (faces, locals) = (t.vertex_faces(v), t.vertex_face_locals(v));
+                let open = t.vertex_edges(v).len() - faces.len();
+                if open <= 1 {
+                    fan.extend(faces.iter().zip(locals).map(|(&g, &k)| child(g, k)));
+                    rings.quad_fan(open == 0, &fan);
+                } else {
+                    rings.fans_of(t, v, child);
+                    rings.end_vertex();
+                }
             }
-            rings.end_vertex();
         }
         rings.finish()
     }

@@ -19,9 +19,8 @@ pub(crate) struct RingBuilder<'a> {
     entries: Vec<(u32, u16)>,
     /// The current vertex's fans: `(first entry, end, closed)`.
     fans: Vec<(usize, usize, bool)>,
-    /// Runs of kept faces: `(first corner, fan start, fan length, first face in the fan,
-    /// length)`.
-    runs: Vec<(u32, usize, usize, usize, usize)>,
+    /// Runs of kept faces.
+    runs: Vec<Run>,
 }
 
 impl<'a> RingBuilder<'a> {
@@ -105,33 +104,11 @@ impl<'a> RingBuilder<'a> {
         }
         let mut cycle = None;
         self.runs.clear();
+        let fo = self.face_offsets;
         for &(s, e, closed) in &self.fans {
-            let m = e - s;
-            let kept = |j: usize| self.entries[s + j % m].0 != NONE;
-            let from = if closed {
-                match (0..m).find(|&j| !kept(j)) {
-                    Some(gap) => gap + 1,
-                    None => {
-                        cycle = Some((s, m, self.first_corner(s, e)));
-                        continue;
-                    }
-                }
-            } else {
-                0
-            };
-            let to = if closed { from + m - 1 } else { m };
-            let mut j = from;
-            while j < to {
-                if !kept(j) {
-                    j += 1;
-                    continue;
-                }
-                let a = j;
-                while j < to && kept(j) {
-                    j += 1;
-                }
-                self.runs
-                    .push((self.corner(self.entries[s + a % m]), s, m, a, j - a));
+            let fan = &self.entries[s..e];
+            if !push_runs(&mut self.runs, s, fan, closed, |x| corner(fo, x)) {
+                cycle = Some((s, e - s, self.first_corner(s, e)));
             }
         }
         self.runs.sort_unstable_by_key(|r| r.0);
@@ -145,6 +122,36 @@ impl<'a> RingBuilder<'a> {
         self.next_vertex();
     }
 
+    /// Ends the current vertex, whose faces in a topology of quads (every new face a quad:
+    /// corner `k` of face `f` is `4 f + k`) form the one fan `fan` (as [`Self::fan`] takes
+    /// it): the ring [`Self::end_vertex`] gives, written straight from `fan` (no copy, no fan
+    /// list), each face's corners and edges by quad arithmetic.
+    pub(crate) fn quad_fan(&mut self, closed: bool, fan: &[(u32, u16)]) {
+        let corner = |(f, k): (u32, u16)| 4 * f + u32::from(k);
+        let fe = self.face_edges;
+        let leaving = |x| fe[corner(x) as usize];
+        let entering = |(f, k): (u32, u16)| fe[corner((f, (k + 3) & 3)) as usize];
+        self.runs.clear();
+        if push_runs(&mut self.runs, 0, fan, closed, corner) {
+            self.runs.sort_unstable_by_key(|r| r.0);
+            for &(_, _, _, a, n) in &self.runs {
+                push_run(&mut self.rings, fan, a, n, true, leaving, entering);
+            }
+        } else {
+            let first = (0..fan.len()).min_by_key(|&j| corner(fan[j])).unwrap_or(0);
+            push_run(
+                &mut self.rings,
+                fan,
+                first,
+                fan.len(),
+                false,
+                leaving,
+                entering,
+            );
+        }
+        self.next_vertex();
+    }
+
     /// The position in `entries[s..e]` of the face with the smallest corner.
     fn first_corner(&self, s: usize, e: usize) -> usize {
         (s..e)
@@ -153,8 +160,8 @@ impl<'a> RingBuilder<'a> {
     }
 
     /// The flat corner index of corner `k` of new face `f`.
-    fn corner(&self, (f, k): (u32, u16)) -> u32 {
-        self.face_offsets[f as usize] + u32::from(k)
+    fn corner(&self, x: (u32, u16)) -> u32 {
+        corner(self.face_offsets, x)
     }
 
     /// Closes the current vertex's ring.
@@ -166,29 +173,96 @@ impl<'a> RingBuilder<'a> {
         self.fans.clear();
     }
 
-    /// Faces `a..a + n` (cyclically) of the fan `entries[s..s + m]`, with the first face's
-    /// leaving edge and each face's entering edge (the last one's only for an `open` run).
+    /// Faces `a..a + n` (cyclically) of the fan `entries[s..s + m]`, as [`push_run`] writes
+    /// them.
     fn push_faces(&mut self, s: usize, m: usize, a: usize, n: usize, open: bool) {
         let (fo, fe) = (self.face_offsets, self.face_edges);
-        let r = &mut self.rings;
-        let at = |j: usize| s + if j >= m { j - m } else { j };
-        let (f0, k0) = self.entries[at(a)];
-        r.vert_edges
-            .push(fe[(fo[f0 as usize] + u32::from(k0)) as usize]);
-        for j in a..a + n {
-            let (f, k) = self.entries[at(j)];
-            r.vert_faces.push(f);
-            r.vert_face_local.push(k);
-            if open || j + 1 < a + n {
-                r.vert_edges.push(fe[entering_corner(fo, f, k)]);
-            }
-        }
+        let leaving = |x| fe[corner(fo, x) as usize];
+        let entering = |(f, k)| fe[entering_corner(fo, f, k)];
+        let fan = &self.entries[s..s + m];
+        push_run(&mut self.rings, fan, a, n, open, leaving, entering);
     }
 
     /// The rings of every vertex ended so far.
     pub(crate) fn finish(self) -> Rings {
         self.rings
     }
+}
+
+/// A run of kept faces of a fan: `(first face's corner, fan start, fan length, first face in
+/// the fan, length)`; the first face counts cyclically from the fan's start.
+type Run = (u32, usize, usize, usize, usize);
+
+/// Pushes to `runs` the runs of kept faces (not `NONE`) of `fan` (starting at `s`; `closed` as
+/// [`RingBuilder::fan`] takes it, a closed fan's runs cyclically from after its first left-out
+/// face), `corner` the flat corner index of a face's corner. `false` for a closed fan with
+/// every face kept: one cycle, no run.
+fn push_runs(
+    runs: &mut Vec<Run>,
+    s: usize,
+    fan: &[(u32, u16)],
+    closed: bool,
+    corner: impl Fn((u32, u16)) -> u32,
+) -> bool {
+    let m = fan.len();
+    let kept = |j: usize| fan[j % m].0 != NONE;
+    let from = if closed {
+        match (0..m).find(|&j| !kept(j)) {
+            Some(gap) => gap + 1,
+            None => return false,
+        }
+    } else {
+        0
+    };
+    let to = if closed { from + m - 1 } else { m };
+    let mut j = from;
+    while j < to {
+        if !kept(j) {
+            j += 1;
+            continue;
+        }
+        let a = j;
+        while j < to && kept(j) {
+            j += 1;
+        }
+        runs.push((corner(fan[a % m]), s, m, a, j - a));
+    }
+    true
+}
+
+/// Appends to `rings` faces `a..a + n` (cyclically, `a + n < 2 m`) of the fan `fan` of `m`
+/// faces, with the first face's `leaving` edge and each face's `entering` edge (the last
+/// one's only for an `open` run).
+fn push_run(
+    rings: &mut Rings,
+    fan: &[(u32, u16)],
+    a: usize,
+    n: usize,
+    open: bool,
+    leaving: impl Fn((u32, u16)) -> u32,
+    entering: impl Fn((u32, u16)) -> u32,
+) {
+    let m = fan.len();
+    let a = if a >= m { a - m } else { a };
+    // The run as the fan's end from `a` and, if it wraps, its start.
+    let head = &fan[a..(a + n).min(m)];
+    let wrapped = &fan[..(a + n).saturating_sub(m)];
+    rings.vert_edges.push(leaving(head[0]));
+    let mut left = n;
+    for &(f, k) in head.iter().chain(wrapped) {
+        left -= 1;
+        rings.vert_faces.push(f);
+        rings.vert_face_local.push(k);
+        if open || left > 0 {
+            rings.vert_edges.push(entering((f, k)));
+        }
+    }
+}
+
+/// The flat corner index of corner `k` of face `f` (faces `face_offsets`).
+#[inline]
+fn corner(face_offsets: &[u32], (f, k): (u32, u16)) -> u32 {
+    face_offsets[f as usize] + u32::from(k)
 }
 
 /// The edge of face `f` leaving its corner `k`.
@@ -211,4 +285,54 @@ fn entering_corner(face_offsets: &[u32], f: u32, k: u16) -> usize {
         face_offsets[f as usize] + u32::from(k)
     };
     c as usize - 1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `quad_fan` writes the ring `fan` + `end_vertex` give (the general path as the oracle):
+    /// every fan of up to 6 quads, open and closed, every subset of its faces kept (runs that
+    /// wrap around a closed fan's end, several runs, none), faces and corners in an order that
+    /// does not increase, so the runs' and the cycle's smallest corners are searched for.
+    #[test]
+    fn quad_fan_equals_end_vertex() {
+        let nf = 12u32;
+        let face_offsets: Vec<u32> = (0..=nf).map(|f| 4 * f).collect();
+        // Distinct edge ids per corner, not in corner order.
+        let face_edges: Vec<u32> = (0..4 * nf).map(|c| (7 * c + 3) % (4 * nf) + 100).collect();
+        let mut quad = Vec::new();
+        for m in 1..=6usize {
+            let faces: Vec<(u32, u16)> = (0..m)
+                .map(|j| (((5 * j + 3) % nf as usize) as u32, ((3 * j + 1) % 4) as u16))
+                .collect();
+            for closed in [false, true] {
+                for kept in 0..1u32 << m {
+                    let fan: Vec<(u32, u16)> = faces
+                        .iter()
+                        .enumerate()
+                        .map(|(j, &x)| if (kept >> j) & 1 == 1 { x } else { (NONE, x.1) })
+                        .collect();
+                    if kept != 0 {
+                        quad.push((closed, fan));
+                    }
+                }
+            }
+        }
+        let vertices = quad.len();
+        let corners = 4 * nf as usize * vertices;
+        let mut a = RingBuilder::new(&face_offsets, &face_edges, vertices, corners, corners);
+        let mut b = RingBuilder::new(&face_offsets, &face_edges, vertices, corners, corners);
+        for (closed, fan) in quad.drain(..) {
+            a.quad_fan(closed, &fan);
+            b.fan(closed, fan.iter().copied());
+            b.end_vertex();
+        }
+        let (a, b) = (a.finish(), b.finish());
+        assert_eq!(a.vert_face_offsets, b.vert_face_offsets);
+        assert_eq!(a.vert_faces, b.vert_faces);
+        assert_eq!(a.vert_face_local, b.vert_face_local);
+        assert_eq!(a.vert_edge_offsets, b.vert_edge_offsets);
+        assert_eq!(a.vert_edges, b.vert_edges);
+    }
 }
