@@ -174,6 +174,14 @@ pub fn positional_fillet_end(
         && level.vertex_faces(v).iter().all(|&f| quad_cap(f))
 }
 
+/// Whether distance `w` (own parameter) from a promoted edge of residual sharpness `sharpness`
+/// lies within its fillet, `w < h` with `h = 2^-floor(s)` (the wider of the two integer steps a
+/// fractional sharpness blends, [`fillet_cross_derivative`]): beyond it the fillet changes
+/// neither position nor derivative.
+pub fn within_fillet(sharpness: f64, w: f64) -> bool {
+    w < sharpness.floor().exp2().recip()
+}
+
 /// The share of the positional fillet ([`fillet_offset_factor`]) kept at distance `x` (own parameter)
 /// along a promoted edge of residual sharpness `sharpness` from an end that is no
 /// [`positional_fillet_end`]: `1 - (1 - x/h)^2` within `h` (blended by the fraction of the
@@ -503,6 +511,9 @@ mod tests {
             assert!((fillet_offset_factor(s, 0.0) - band_offset_factor(s)).abs() < 1e-16);
             let h = s.floor().exp2().recip();
             assert_eq!(fillet_offset_factor(s, h), 0.0);
+            // The fillet ends at `h`: nothing beyond, something just inside.
+            assert!(!within_fillet(s, h) && within_fillet(s, 0.999 * h));
+            assert!(fillet_offset_factor(s, 0.999 * h) > 0.0);
             assert_eq!(fillet_end_fade(s, 0.0), 0.0);
             assert_eq!(fillet_end_fade(s, h), 1.0);
         }

@@ -11,7 +11,8 @@ use super::promoted::{
     band_offset_factor, crease_turn_share, exact_corner_tangents, fillet_bend, fillet_code,
     fillet_cross_derivative, fillet_end, fillet_end_code, fillet_end_fade, fillet_end_sharpness,
     fillet_many_share, fillet_offset_factor, fillet_rotation, fillet_sharpness,
-    irregular_crease_vertex, positional_fillet_end, promoted_vertex, turn_towards, FilletEnd,
+    irregular_crease_vertex, positional_fillet_end, promoted_vertex, turn_towards, within_fillet,
+    FilletEnd,
 };
 use crate::patch::basis::{bernstein_deriv, eval_tensor};
 use crate::patch::gregory::{
@@ -418,7 +419,7 @@ impl AdaptiveSurface {
             return DVec3::ZERO;
         };
         let sharp = cap.sharpness[k];
-        if w >= sharp.floor().exp2().recip() {
+        if !within_fillet(sharp, w) {
             return DVec3::ZERO;
         }
         let fade = |c: usize, y: f64| {
@@ -566,7 +567,7 @@ impl AdaptiveSurface {
     ) -> Option<(DVec3, DVec3)> {
         let across = cap.edges[k]?;
         let (w, x) = edge_coordinates(k, s, t);
-        if w >= cap.sharpness[k].floor().exp2().recip() {
+        if !within_fillet(cap.sharpness[k], w) {
             return None;
         }
         let (_, d_own, d_across) = self.edge_derivatives(i, k, x, across);
