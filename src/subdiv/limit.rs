@@ -26,6 +26,10 @@
 pub mod masks;
 pub mod sector;
 
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, MutexGuard, PoisonError};
+
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -155,11 +159,14 @@ fn vertex_mask_rec(level: &Level, v: u32, face: u32, depth: u32) -> Result<Verte
 /// but for the order in which the local refinements sum their terms (equal to 1e-12 relative,
 /// `tests/limit_corners.rs`), and the same bits whichever vertex comes first. Other vertices
 /// are computed directly. Errors are not kept (they name the vertex).
+///
+/// Shared by reference between threads (the table behind a lock taken only to look a mask up
+/// and to store one; a mask two threads miss at once is computed by both, the same bits).
 #[derive(Debug, Default)]
 pub struct SharedVertexMasks {
-    masks: std::collections::HashMap<RingKey, VertexMask>,
+    masks: Mutex<HashMap<RingKey, VertexMask>>,
     /// Masks reused (for tests and profiles).
-    pub hits: usize,
+    hits: AtomicUsize,
 }
 
 /// Everything of a ring extraction `Level` ([`RingCorners`], `Level::try_extract_ring`) that
@@ -194,8 +201,11 @@ impl RingKey {
                 words.push(u32::from(opened || level.is_cut_edge(e)));
             }
         }
-        for (new, &old) in ring.map.iter().enumerate() {
-            let valence = ring.local.iter().filter(|&&x| x == new as u32).count();
+        let mut valences = vec![0usize; ring.map.len()];
+        for &x in &ring.local {
+            valences[x as usize] += 1;
+        }
+        for (&old, &valence) in ring.map.iter().zip(&valences) {
             let incomplete = !level.is_complete_vertex(old) || valence != t.vertex_faces(old).len();
             words.push(t.vertex_sharpness(old).to_bits());
             words.push(u32::from(incomplete));
@@ -218,7 +228,7 @@ impl RingKey {
 
 impl SharedVertexMasks {
     /// [`vertex_mask`] of vertex `v` of `level`, tangents oriented by `face`.
-    pub fn vertex_mask(&mut self, level: &Level, v: u32, face: u32) -> Result<VertexMask> {
+    pub fn vertex_mask(&self, level: &Level, v: u32, face: u32) -> Result<VertexMask> {
         let topo = level.topology();
         if v as usize >= topo.vertex_count() || !needs_refinement(topo, v) {
             return vertex_mask(level, v, face);
@@ -229,15 +239,25 @@ impl SharedVertexMasks {
         let ring = RingCorners::new(topo, v, i)
             .ok_or_else(|| Error::Invalid(format!("limit mask: vertex {v} has no face {i}")))?;
         let key = RingKey::new(level, &ring);
-        if let Some(m) = self.masks.get(&key) {
-            self.hits += 1;
+        if let Some(m) = self.table().get(&key) {
+            self.hits.fetch_add(1, Ordering::Relaxed);
             return Ok(relabelled(m, &ring.map));
         }
         let (sub, map) = level.try_extract_ring(ring)?;
         let m = refined_local_mask(&sub, 0, 0, 0)?;
         let out = relabelled(&m, &map);
-        self.masks.insert(key, m);
+        self.table().insert(key, m);
         Ok(out)
+    }
+
+    /// Masks reused so far (for tests and profiles).
+    pub fn hits(&self) -> usize {
+        self.hits.load(Ordering::Relaxed)
+    }
+
+    /// The table, locked (a panic elsewhere while it was held leaves whole entries only).
+    fn table(&self) -> MutexGuard<'_, HashMap<RingKey, VertexMask>> {
+        self.masks.lock().unwrap_or_else(PoisonError::into_inner)
     }
 }
 

@@ -217,13 +217,15 @@ fn end_cap_rows(
 /// patches (B-spline, single-crease) before end caps (whose Gregory corners are built over
 /// [`EndCapTopologies`]), in slot order (computed on the rayon pool in runs of slots, each
 /// written into flat rows of its own; one run on one thread), and whether the slot's normal is
-/// shared (one sector in the topology the frame's patch was built over).
+/// shared (one sector in the topology the frame's patch was built over). `masks`: the exact
+/// limit masks of promoted corners, shared between runs and with the sector frames.
 fn slot_rows(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
     topologies: &EndCapTopologies,
     slots: &Slots,
     corner_rows: &CornerRows,
+    masks: &SharedVertexMasks,
 ) -> (Vec<SparseRows>, Vec<bool>) {
     let mut first: Vec<Option<PatchCorner>> = vec![None; slots.len()];
     let mut shared = vec![false; slots.len()];
@@ -259,7 +261,6 @@ fn slot_rows(
         .map(|(i, run)| {
             let mut rows = SparseRows::new();
             let mut failed = Vec::new();
-            let mut masks = SharedVertexMasks::default();
             let terms: usize = run
                 .iter()
                 .flatten()
@@ -275,7 +276,7 @@ fn slot_rows(
                 }
                 let p = &census.patches[c.patch];
                 let lev = &refinement.levels[p.level as usize];
-                let frame = exact_frame(lev, p.face, c.k, corner_rows.rows(c), &mut masks);
+                let frame = exact_frame(lev, p.face, c.k, corner_rows.rows(c), masks);
                 if frame[1].0.is_empty() {
                     failed.push(s);
                 }
@@ -427,8 +428,16 @@ impl AdaptiveDrawTables {
             caps.iter().map(|c| c.terms.len()).sum::<usize>() + vertex_terms,
         );
         let corner_rows = CornerRows::new(refinement, census, &topologies, &caps);
-        let (frames, mut shared_normal) =
-            slot_rows(refinement, census, &topologies, &slots, &corner_rows);
+        // Exact limit masks of promoted corners, one table for slot and sector frames.
+        let masks = SharedVertexMasks::default();
+        let (frames, mut shared_normal) = slot_rows(
+            refinement,
+            census,
+            &topologies,
+            &slots,
+            &corner_rows,
+            &masks,
+        );
         let mut coarse = CoarseEdges::new(refinement, census, &slots);
         let sectors = SectorFrames::new(
             refinement,
@@ -438,6 +447,7 @@ impl AdaptiveDrawTables {
             &slots,
             &coarse.mid_slots,
             &corner_rows,
+            &masks,
         );
         drop(corner_rows);
         // Slot frames (the first run's flat rows extended by the others), sector frames, end

@@ -39,7 +39,7 @@ pub fn promoted_vertex(level: &Topology, caps: &Topology, v: u32) -> bool {
 /// the corner's vertex ([`vertex_mask`], `LimitEvaluator`'s corner evaluation). `None` where
 /// the mask fails (the caller keeps the end cap's own corner).
 pub fn exact_corner_tangents(lev: &AdaptiveLevel, f: u32, k: usize) -> Option<[Weights; 2]> {
-    exact_corner_tangents_shared(lev, f, k, &mut SharedVertexMasks::default())
+    exact_corner_tangents_shared(lev, f, k, &SharedVertexMasks::default())
 }
 
 /// [`exact_corner_tangents`] with the masks shared between corners whose rings are alike
@@ -48,7 +48,7 @@ pub fn exact_corner_tangents_shared(
     lev: &AdaptiveLevel,
     f: u32,
     k: usize,
-    masks: &mut SharedVertexMasks,
+    masks: &SharedVertexMasks,
 ) -> Option<[Weights; 2]> {
     let v = lev.topology().face_vertices(f)[k];
     let mask = match masks.vertex_mask(&lev.level, v, f) {
@@ -86,7 +86,7 @@ pub fn exact_frame(
     face: u32,
     k: usize,
     rows: [Weights; 3],
-    masks: &mut SharedVertexMasks,
+    masks: &SharedVertexMasks,
 ) -> [Weights; 3] {
     let [p, ..] = rows;
     match exact_corner_tangents_shared(lev, face, k, masks) {

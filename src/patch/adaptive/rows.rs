@@ -36,10 +36,10 @@ pub struct CornerRows<'a> {
     caps: &'a [FaceRows],
     /// Single-crease corner weights depend on the line's side and sharpness and the corner
     /// only: evaluated once per such shape of the census, not once per corner.
-    crease: WordHashMap<CreaseKey, CornerColumns>,
+    crease: WordHashMap<CreaseKey, CornerTable>,
     /// B-spline corner weights per face corner and phantom sides ([`bspline_corner_columns`]
     /// of `(k, mask)` at `16 k + mask`): they depend on nothing else.
-    bspline: Vec<[[f64; 16]; 3]>,
+    bspline: Vec<CornerTable>,
     /// Every corner in [`Self::visit`] order, walked once for every visit.
     corners: Vec<PatchCorner>,
 }
@@ -58,7 +58,12 @@ impl<'a> CornerRows<'a> {
             for k in 0..4 {
                 crease
                     .entry((line.side, line.sharpness.to_bits(), k))
-                    .or_insert_with(|| single_crease_corner_columns(line.side, line.sharpness, k));
+                    .or_insert_with(|| {
+                        let columns = single_crease_corner_columns(line.side, line.sharpness, k);
+                        CornerTable::new(std::array::from_fn(|r| {
+                            std::array::from_fn(|i| columns[i][r])
+                        }))
+                    });
             }
         }
         CornerRows {
@@ -67,7 +72,7 @@ impl<'a> CornerRows<'a> {
             caps,
             crease,
             bspline: (0..4 * 16)
-                .map(|i| bspline_corner_columns(i / 16, i as u8 % 16))
+                .map(|i| CornerTable::new(bspline_corner_columns(i / 16, i as u8 % 16)))
                 .collect(),
             corners: exact_first(refinement, census, topologies),
         }
@@ -77,13 +82,8 @@ impl<'a> CornerRows<'a> {
     pub fn rows(&self, c: &PatchCorner) -> [Weights; 3] {
         let p = &self.census.patches[c.patch];
         match (&p.crease, &p.bspline) {
-            (Some(line), _) => {
-                let columns = &self.crease[&(line.side, line.sharpness.to_bits(), c.k)];
-                corner_rows_of_columns(&line.cvs, columns)
-            }
-            (None, Some(b)) => self
-                .bspline_columns(b, c.k)
-                .map(|col| Weights::from_terms(b.cvs.iter().copied().zip(col))),
+            (Some(line), _) => self.crease_table(line, c.k).weights(&line.cvs),
+            (None, Some(b)) => self.bspline_table(b, c.k).weights(&b.cvs),
             (None, None) => {
                 let n = self.refinement.levels[p.level as usize]
                     .topology()
@@ -94,8 +94,13 @@ impl<'a> CornerRows<'a> {
     }
 
     /// [`bspline_corner_columns`] of `b` at corner `k`, from the table.
-    fn bspline_columns(&self, b: &RegularPatch, k: usize) -> &[[f64; 16]; 3] {
+    fn bspline_table(&self, b: &RegularPatch, k: usize) -> &CornerTable {
         &self.bspline[16 * k + usize::from(b.boundary_mask & 0xf)]
+    }
+
+    /// [`single_crease_corner_columns`] of `line` at corner `k`, from the table.
+    fn crease_table(&self, line: &CreaseLine, k: usize) -> &CornerTable {
+        &self.crease[&(line.side, line.sharpness.to_bits(), k)]
     }
 
     /// Appends the rows of corner `c` ([`Self::rows`], the same bits) to `out`; exact patches'
@@ -103,13 +108,8 @@ impl<'a> CornerRows<'a> {
     pub fn push_rows(&self, c: &PatchCorner, out: &mut SparseRows) {
         let p = &self.census.patches[c.patch];
         match (&p.crease, &p.bspline) {
-            (Some(line), _) => {
-                let columns = &self.crease[&(line.side, line.sharpness.to_bits(), c.k)];
-                let rows: [[f64; 16]; 3] =
-                    std::array::from_fn(|r| std::array::from_fn(|i| columns[i][r]));
-                push_merged(out, &line.cvs, &rows);
-            }
-            (None, Some(b)) => push_merged(out, &b.cvs, self.bspline_columns(b, c.k)),
+            (Some(line), _) => push_merged(out, &line.cvs, self.crease_table(line, c.k)),
+            (None, Some(b)) => push_merged(out, &b.cvs, self.bspline_table(b, c.k)),
             (None, None) => {
                 let n = self.refinement.levels[p.level as usize]
                     .topology()
@@ -235,6 +235,15 @@ impl SparseRows {
         }
     }
 
+    /// Appends the terms of `row` as one row (the same terms [`Self::push_term`] would append).
+    fn extend_row(&mut self, row: &RowBuffer) {
+        let n = row.len;
+        self.ids.extend_from_slice(&row.ids[..n]);
+        self.weights.extend_from_slice(&row.weights[..n]);
+        self.weights_f64.extend_from_slice(&row.weights_f64[..n]);
+        self.end_row();
+    }
+
     /// Ends the row being pushed ([`Self::push_term`]).
     fn end_row(&mut self) {
         self.offsets.push(self.ids.len() as u32);
@@ -340,19 +349,47 @@ fn bspline_corner_columns(k: usize, mask: u8) -> [[f64; 16]; 3] {
     [tensor(bu, bv), tensor(du, bv), tensor(bu, dv)]
 }
 
-/// Pushes the rows [`Weights::from_terms`] makes of each row of `rows` over control vertices
+/// A corner's rows (position, d/du, d/dv) as weights per control point (`cvs` order), with
+/// the control points each row weights: a table per corner shape ([`CornerRows`]), so
+/// [`push_merged`] walks only the control points with a weight.
+struct CornerTable {
+    rows: [[f64; 16]; 3],
+    /// Per row: bit `i` set where its weight of control point `i` is not zero.
+    live: [u16; 3],
+}
+
+impl CornerTable {
+    fn new(rows: [[f64; 16]; 3]) -> CornerTable {
+        let live = rows.map(|row| {
+            (0..16)
+                .filter(|&i| row[i] != 0.0)
+                .fold(0u16, |m, i| m | 1 << i)
+        });
+        CornerTable { rows, live }
+    }
+
+    /// The rows over control vertices `cvs` as [`Weights`].
+    fn weights(&self, cvs: &[u32; 16]) -> [Weights; 3] {
+        self.rows
+            .map(|row| Weights::from_terms(cvs.iter().copied().zip(row)))
+    }
+}
+
+/// Pushes the rows [`Weights::from_terms`] makes of each row of `table` over control vertices
 /// `cvs` (zero weights dropped, ids sorted stably, a repeated id's weights summed in that order)
 /// onto `out`, on the stack: the control points with a weight in some row (a corner's B-spline
 /// weights reach 9 of the 16) are sorted stably by id once for the three rows (a corner's
 /// position and two derivatives; the stable order of all 16 restricted to them), and each row
-/// walks them.
-fn push_merged(out: &mut SparseRows, cvs: &[u32; 16], rows: &[[f64; 16]; 3]) {
+/// walks those it weights into a row of at most 16 terms on the stack, appended to `out` in
+/// one go ([`SparseRows::extend_row`]).
+fn push_merged(out: &mut SparseRows, cvs: &[u32; 16], table: &CornerTable) {
     let mut order = [0u8; 16];
     let mut n = 0;
-    for (i, &id) in cvs.iter().enumerate() {
-        if rows.iter().all(|r| r[i] == 0.0) {
-            continue;
-        }
+    let mut any = table.live[0] | table.live[1] | table.live[2];
+    while any != 0 {
+        let i = any.trailing_zeros() as usize;
+        any &= any - 1;
+        let id = cvs[i];
         // Stable insertion: after every control point with an id not larger.
         let mut j = n;
         while j > 0 && cvs[order[j - 1] as usize] > id {
@@ -363,27 +400,79 @@ fn push_merged(out: &mut SparseRows, cvs: &[u32; 16], rows: &[[f64; 16]; 3]) {
         n += 1;
     }
     let order = &order[..n];
-    for row in rows {
+    let mut row_out = RowBuffer::default();
+    if order
+        .windows(2)
+        .all(|p| cvs[p[0] as usize] != cvs[p[1] as usize])
+    {
+        // Distinct ids (the rule): each row its weights in that order, nothing to sum.
+        for (row, &live) in table.rows.iter().zip(&table.live) {
+            for &i in order {
+                if live & (1 << i) != 0 {
+                    row_out.push((cvs[i as usize], row[i as usize]));
+                }
+            }
+            out.extend_row(&row_out);
+            row_out.len = 0;
+        }
+        return;
+    }
+    for (row, &live) in table.rows.iter().zip(&table.live) {
         // The term being summed: pushed when the next id differs.
         let mut term: Option<(u32, f64)> = None;
         for &i in order {
-            let (id, w) = (cvs[i as usize], row[i as usize]);
-            if w == 0.0 {
+            if live & (1 << i) == 0 {
                 continue;
             }
+            let (id, w) = (cvs[i as usize], row[i as usize]);
             match &mut term {
                 Some((last, sum)) if *last == id => *sum += w,
                 _ => {
                     if let Some(done) = term.replace((id, w)) {
-                        out.push_term(done);
+                        row_out.push(done);
                     }
                 }
             }
         }
         if let Some(done) = term {
-            out.push_term(done);
+            row_out.push(done);
         }
-        out.end_row();
+        out.extend_row(&row_out);
+        row_out.len = 0;
+    }
+}
+
+/// One row of at most 16 terms built on the stack ([`push_merged`]), zero f32 weights dropped
+/// as [`SparseRows::push_term`] drops them.
+struct RowBuffer {
+    ids: [u32; 16],
+    weights: [f32; 16],
+    weights_f64: [f64; 16],
+    len: usize,
+}
+
+impl Default for RowBuffer {
+    fn default() -> Self {
+        RowBuffer {
+            ids: [0; 16],
+            weights: [0.0; 16],
+            weights_f64: [0.0; 16],
+            len: 0,
+        }
+    }
+}
+
+impl RowBuffer {
+    /// Appends term `(id, w)` unless `w` rounds to a zero f32.
+    fn push(&mut self, (id, w): (u32, f64)) {
+        let w32 = w as f32;
+        if w32 != 0.0 {
+            let n = self.len;
+            self.ids[n] = id;
+            self.weights[n] = w32;
+            self.weights_f64[n] = w;
+            self.len = n + 1;
+        }
     }
 }
 
@@ -494,13 +583,19 @@ mod tests {
     /// sorted stably, a repeated id summed in its terms' order (0.1 + 0.2 + 0.3 and
     /// 0.3 + 0.2 + 0.1 differ in the last bit, so an unstable sort or a reversed sum fails), each
     /// row with its own zeros over the one order of the control vertices (fails if a row's zero
-    /// weights are taken from another row).
+    /// weights are taken from another row), a weight below f32's range dropped; over repeated
+    /// ids (the merging walk) and over 16 distinct ids in shuffled order (the walk without sums).
     #[test]
     fn merged_row_is_from_terms() {
-        let ws = [0.1, 0.2, 0.3, 0.0, -0.5, 1.0 / 3.0, 0.7, 0.0];
-        for shift in 0..16 {
-            let cvs: [u32; 16] =
-                std::array::from_fn(|i| [7, 3, 7, 9, 3, 7, 1, 9][((i + shift) % 16) % 8]);
+        let ws = [0.1, 0.2, 0.3, 0.0, -0.5, 1.0 / 3.0, 0.7, 1e-60];
+        for (shift, distinct) in (0..16).flat_map(|s| [(s, false), (s, true)]) {
+            let cvs: [u32; 16] = std::array::from_fn(|i| {
+                if distinct {
+                    ((i * 7 + shift) % 16) as u32 * 3 + 1
+                } else {
+                    [7, 3, 7, 9, 3, 7, 1, 9][((i + shift) % 16) % 8]
+                }
+            });
             // Control points with no weight in any row (every third from `shift`, as a
             // corner's B-spline weights leave 7 of 16) with `dead`.
             for dead in [false, true] {
@@ -516,12 +611,12 @@ mod tests {
                     })
                 });
                 let mut got = SparseRows::new();
-                push_merged(&mut got, &cvs, &rows);
+                push_merged(&mut got, &cvs, &CornerTable::new(rows));
                 let mut want = SparseRows::new();
                 for row in &rows {
                     want.push(&Weights::from_terms(cvs.iter().copied().zip(*row)), 0);
                 }
-                assert_eq!(got, want, "shift {shift}, dead {dead}");
+                assert_eq!(got, want, "shift {shift}, distinct {distinct}, dead {dead}");
             }
         }
     }

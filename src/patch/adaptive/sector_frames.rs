@@ -52,6 +52,8 @@ impl SectorFrames {
     /// are those of their [`EndCapTopologies`] (residual semi-sharp creases split them too),
     /// except where the slot's normal is shared (`shared_normal`, one per slot: an exact patch,
     /// e.g. single-crease, gave the point its one normal, which the end cap reads there).
+    /// `masks`: the exact limit masks of promoted corners, shared with the slot frames'.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         refinement: &AdaptiveRefinement,
         census: &PatchCensus,
@@ -60,6 +62,7 @@ impl SectorFrames {
         slots: &Slots,
         mid_slots: &[[u32; 4]],
         corner_rows: &CornerRows,
+        masks: &SharedVertexMasks,
     ) -> SectorFrames {
         let first = slots.len() as u32;
         let base = refinement.levels[0].topology();
@@ -125,7 +128,6 @@ impl SectorFrames {
         // from end caps' corners (the Gregory corner's plane is the sector's: its edge points
         // lie in it), except in one-face crease sectors, whose corner normal the GPU takes
         // from the face points instead (`gregory_corner_normal`).
-        let mut masks = SharedVertexMasks::default();
         corner_rows.visit(|c| {
             let Some(key) = corner_keys[c.patch][c.k] else {
                 return;
@@ -137,7 +139,7 @@ impl SectorFrames {
             if promoted {
                 let p = &census.patches[c.patch];
                 let lev = &refinement.levels[p.level as usize];
-                let frame = exact_frame(lev, p.face, c.k, corner_rows.rows(c), &mut masks);
+                let frame = exact_frame(lev, p.face, c.k, corner_rows.rows(c), masks);
                 if frame[1].0.is_empty() {
                     return;
                 }
