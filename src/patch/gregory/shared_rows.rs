@@ -60,8 +60,17 @@ fn vertex_word(topo: &Topology, v: u32) -> u32 {
 /// The local topology of a face as its construction reads it, in canonical-ring slots.
 type TypeKey = Vec<u32>;
 
-/// Rows over ring slots: `(slot, weight)` in the direct construction's values.
-type LocalRows = Vec<Vec<(u32, f64)>>;
+/// One type's rows over ring slots in the direct construction's values, stored column by
+/// column, so that a face's rows come out ascending in its global ids by walking its slots in
+/// id order once ([`from_slots`]) rather than sorting every row.
+struct LocalRows {
+    /// `rows + 1` term offsets: every face of the type has these.
+    offsets: Vec<u32>,
+    /// `slots + 1` offsets into `columns`.
+    starts: Vec<u32>,
+    /// Slot `s`'s terms `(row, weight)`, rows ascending: `columns[starts[s]..starts[s + 1]]`.
+    columns: Vec<(u32, f64)>,
+}
 
 /// One face's rows in two allocations rather than one per row: row `r` is
 /// `terms[offsets[r]..offsets[r + 1]]`, `(id, weight)` ids ascending, as a [`Weights`] holds
@@ -127,6 +136,12 @@ struct Keyer<'a> {
     tangents: GregoryTangents,
     slot: Vec<u32>,
     has_data: Vec<u8>,
+    /// Per face: whether it gets a patch (0 or 1, 2 for not asked): a face is the edge
+    /// neighbour of up to four faces keyed.
+    has_patch: Vec<u8>,
+    /// Per vertex: whether it is a smooth far corner in [`Self::push_one_sided_neighbour`]'s
+    /// sense (0 or 1, 2 for not asked).
+    smooth: Vec<u8>,
     /// The build's dart masks (whether one exists decides a dart's data; the construction
     /// reads the same solves).
     darts: &'a DartLimits,
@@ -145,19 +160,36 @@ impl Keyer<'_> {
 
     /// Whether face `g` gets a patch ([`super::build::gregory_patch_for`] is `Ok`).
     fn has_patch(&mut self, g: u32) -> bool {
-        check_face_for(self.topo, g, Coverage::EndCap).is_ok()
-            && self.topo.face_vertices(g).iter().all(|&v| self.has_data(v))
+        if self.has_patch[g as usize] == 2 {
+            let patch = check_face_for(self.topo, g, Coverage::EndCap).is_ok()
+                && self.topo.face_vertices(g).iter().all(|&v| self.has_data(v));
+            self.has_patch[g as usize] = u8::from(patch);
+        }
+        self.has_patch[g as usize] == 1
     }
 
-    /// The key of face `f` with canonical ring `ring` (slots set), `None` where a vertex the
-    /// construction reads lies outside the ring.
-    fn key(&mut self, f: u32, ring: &[u32]) -> Option<TypeKey> {
+    /// Whether far corner `z` takes the interior construction (`gregory_vertex_two_stage`'s
+    /// tests: covered, then the interior rule), asked once per vertex.
+    fn is_smooth(&mut self, z: u32) -> bool {
+        if self.smooth[z as usize] == 2 {
+            let topo = self.topo;
+            let smooth = vertex_covered(topo, z, Coverage::EndCap)
+                && is_interior_ring(&vertex_ring_with(topo, z, &|_| NoPoint));
+            self.smooth[z as usize] = u8::from(smooth);
+        }
+        self.smooth[z as usize] == 1
+    }
+
+    /// The key of face `f` with canonical ring `ring` (slots set) in `key` (cleared first: one
+    /// buffer for every face keyed), `None` where a vertex the construction reads lies outside
+    /// the ring.
+    fn key(&mut self, f: u32, ring: &[u32], key: &mut TypeKey) -> Option<()> {
         let topo = self.topo;
         let fv = topo.face_vertices(f);
-        let mut key = Vec::with_capacity(16 * ring.len());
+        key.clear();
         key.extend([fv.len() as u32, ring.len() as u32]);
         for &v in fv {
-            self.push_vertex(&mut key, f, v)?;
+            self.push_vertex(key, f, v)?;
         }
         let n = fv.len();
         for k in 0..n {
@@ -170,12 +202,12 @@ impl Keyer<'_> {
                     let at = topo.vertex_faces(x).iter().position(|&h| h == g)?;
                     key.push(at as u32);
                     key.push(u32::from(self.has_patch(g)));
-                    self.push_one_sided_neighbour(&mut key, f, g, x, y)?;
+                    self.push_one_sided_neighbour(key, f, g, x, y)?;
                 }
                 None => key.push(NONE),
             }
         }
-        Some(key)
+        Some(())
     }
 }
 
@@ -223,7 +255,7 @@ impl Keyer<'_> {
     /// ([`Self::push_vertex`]). Promoted creases too, whose face points are one-sided in some
     /// sectors only (`VertexRing::one_sided_edge`): more key than needed, the same rows.
     fn push_one_sided_neighbour(
-        &self,
+        &mut self,
         key: &mut TypeKey,
         f: u32,
         g: u32,
@@ -242,9 +274,7 @@ impl Keyer<'_> {
                 continue;
             }
             let faces = topo.vertex_faces(z);
-            // `gregory_vertex_two_stage`'s tests: covered, then the interior rule.
-            let smooth = vertex_covered(topo, z, Coverage::EndCap)
-                && is_interior_ring(&vertex_ring_with(topo, z, &|_| NoPoint));
+            let smooth = self.is_smooth(z);
             key.push(u32::from(smooth));
             if smooth {
                 key.push(faces.len() as u32);
@@ -286,31 +316,70 @@ fn to_slots(topo: &Topology, rows: &[Weights], slot: &[u32], ring_len: usize) ->
             s => Some(ring_len as u32 + VERTEX_POINTS * s + b),
         },
     };
-    rows.iter()
-        .map(|w| w.0.iter().map(|&(v, x)| Some((slot_of(v)?, x))).collect())
-        .collect()
+    let slots = (1 + VERTEX_POINTS as usize) * ring_len;
+    let mut offsets = Vec::with_capacity(rows.len() + 1);
+    offsets.push(0);
+    // Each term's slot, then a counting sort of the terms by slot (rows stay ascending).
+    let mut at: Vec<u32> = Vec::with_capacity(rows.iter().map(|w| w.0.len()).sum());
+    let mut starts = vec![0u32; slots + 1];
+    for w in rows {
+        for &(v, _) in &w.0 {
+            let s = slot_of(v)?;
+            at.push(s);
+            starts[s as usize + 1] += 1;
+        }
+        offsets.push(at.len() as u32);
+    }
+    for s in 0..slots {
+        starts[s + 1] += starts[s];
+    }
+    let mut next = starts.clone();
+    let mut columns = vec![(0, 0.0); at.len()];
+    let terms = rows
+        .iter()
+        .enumerate()
+        .flat_map(|(r, w)| w.0.iter().map(move |t| (r, t.1)));
+    for (&s, (r, x)) in at.iter().zip(terms) {
+        columns[next[s as usize] as usize] = (r as u32, x);
+        next[s as usize] += 1;
+    }
+    Some(LocalRows {
+        offsets,
+        starts,
+        columns,
+    })
 }
 
 /// `rows` with slots replaced by the ids of `ring` (and its vertices' derived points),
-/// ascending ids.
+/// ascending ids: the slots walked in ascending id order (the ring's vertices sorted once,
+/// then their derived points in that order, which [`vertex_point_id`] numbers past every
+/// vertex in vertex order), each column's terms appended to their rows.
 fn from_slots(topo: &Topology, rows: &LocalRows, ring: &[u32]) -> FaceRows {
-    let l = ring.len() as u32;
-    let id = |s: u32| match s.checked_sub(l) {
-        None => ring[s as usize],
-        Some(d) => vertex_point_id(topo, ring[(d / VERTEX_POINTS) as usize], d % VERTEX_POINTS),
+    let l = ring.len();
+    let mut order: Vec<u32> = (0..l as u32).collect();
+    order.sort_unstable_by_key(|&s| ring[s as usize]);
+    let mut next = rows.offsets.clone();
+    let mut terms = vec![(0, 0.0); rows.columns.len()];
+    let mut put = |s: usize, id: u32| {
+        let column = &rows.columns[rows.starts[s] as usize..rows.starts[s + 1] as usize];
+        for &(r, x) in column {
+            terms[next[r as usize] as usize] = (id, x);
+            next[r as usize] += 1;
+        }
     };
-    let mut out = FaceRows {
-        offsets: Vec::with_capacity(rows.len() + 1),
-        terms: Vec::with_capacity(rows.iter().map(Vec::len).sum()),
-    };
-    out.offsets.push(0);
-    for r in rows {
-        let start = out.terms.len();
-        out.terms.extend(r.iter().map(|&(s, x)| (id(s), x)));
-        out.terms[start..].sort_unstable_by_key(|&(v, _)| v);
-        out.offsets.push(out.terms.len() as u32);
+    for &s in &order {
+        put(s as usize, ring[s as usize]);
     }
-    out
+    for &s in &order {
+        for b in 0..VERTEX_POINTS {
+            let derived = l + (VERTEX_POINTS * s + b) as usize;
+            put(derived, vertex_point_id(topo, ring[s as usize], b));
+        }
+    }
+    FaceRows {
+        offsets: rows.offsets.clone(),
+        terms,
+    }
 }
 
 /// [`super::stencil_table::sparse_face_rows_direct`] on `faces` split into one batch per rayon
@@ -360,6 +429,8 @@ pub fn sparse_face_rows_flat(
         tangents,
         slot: vec![NONE; topo.vertex_count()],
         has_data: vec![2; topo.vertex_count()],
+        has_patch: vec![2; topo.face_count()],
+        smooth: vec![2; topo.vertex_count()],
         darts,
     };
     // Pass 1: each face's connectivity type (`None`: built directly), the first face of each
@@ -369,16 +440,20 @@ pub fn sparse_face_rows_flat(
     let mut representative: Vec<usize> = Vec::new();
     // Each face's canonical ring, walked once (the relabelling reads it again).
     let mut rings: Vec<Vec<u32>> = Vec::with_capacity(faces.len());
+    let mut key = TypeKey::new();
     for (i, &f) in faces.iter().enumerate() {
         let ring = ring_slots(topo, f, &mut keyer.slot);
-        let t = keyer.key(f, &ring).map(|key| {
-            let next = types.len() as u32;
-            let t = *types.entry(key).or_insert(next);
-            if t == next {
-                representative.push(i);
-            }
-            t
-        });
+        let t = keyer
+            .key(f, &ring, &mut key)
+            .map(|()| match types.get(key.as_slice()) {
+                Some(&t) => t,
+                None => {
+                    let t = types.len() as u32;
+                    types.insert(key.clone(), t);
+                    representative.push(i);
+                    t
+                }
+            });
         clear(&mut keyer.slot, &ring);
         type_of.push(t);
         rings.push(ring);
@@ -858,6 +933,10 @@ mod tests {
         assert!(compared > 1000, "{compared} rings");
     }
 
+    /// The ring walk visits what [`ring_walk`] documents, in order, and `ring_slots` keeps
+    /// its first appearances as [`canonical_ring`] does, on a pyramid whose faces start their
+    /// vertex lists away from the walked corner (fails if a rotation starts at the wrong face
+    /// or vertex).
     #[test]
     fn ring_slots_is_the_canonical_ring() {
         // A pyramid over a pentagon: triangles, a pentagon, valences 3 and 5.
@@ -882,6 +961,21 @@ mod tests {
         let topo = Topology::new(&mesh).unwrap();
         let mut slot = vec![NONE; topo.vertex_count()];
         for f in 0..topo.face_count() as u32 {
+            // The walk as documented: corners, then per corner its faces from `f` round,
+            // each face's vertices from the corner round.
+            let mut walk = topo.face_vertices(f).to_vec();
+            for &v in topo.face_vertices(f) {
+                let faces = topo.vertex_faces(v);
+                let start = faces.iter().position(|&g| g == f).unwrap();
+                for i in 0..faces.len() {
+                    let gv = topo.face_vertices(faces[(start + i) % faces.len()]);
+                    let k = gv.iter().position(|&x| x == v).unwrap();
+                    walk.extend((0..gv.len()).map(|t| gv[(k + t) % gv.len()]));
+                }
+            }
+            let mut visited = Vec::new();
+            ring_walk(&topo, f, |x| visited.push(x));
+            assert_eq!(visited, walk, "face {f}");
             let ring = ring_slots(&topo, f, &mut slot);
             assert_eq!(ring, canonical_ring(&topo, f));
             for (s, &v) in ring.iter().enumerate() {

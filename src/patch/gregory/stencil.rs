@@ -138,13 +138,12 @@ pub(super) fn ring_walk(topo: &Topology, f: u32, mut visit: impl FnMut(u32)) {
     for &v in topo.face_vertices(f) {
         let faces = topo.vertex_faces(v);
         let start = faces.iter().position(|&g| g == f).unwrap_or(0);
-        for i in 0..faces.len() {
-            let g = faces[(start + i) % faces.len()];
+        // `faces` from `start` round to `start - 1`, each face's vertices from `v` round: the
+        // two halves of a rotation rather than an index modulo the length per element.
+        for &g in faces[start..].iter().chain(&faces[..start]) {
             let gv = topo.face_vertices(g);
             let k = gv.iter().position(|&x| x == v).unwrap_or(0);
-            for t in 0..gv.len() {
-                visit(gv[(k + t) % gv.len()]);
-            }
+            gv[k..].iter().chain(&gv[..k]).for_each(|&x| visit(x));
         }
     }
 }
