@@ -191,18 +191,16 @@ impl Keyer<'_> {
         for &v in fv {
             self.push_vertex(key, f, v)?;
         }
+        // Edge `k` of the face joins corners `k` and `k + 1` (`Topology::face_edges`).
         let n = fv.len();
-        for k in 0..n {
+        for (k, &e) in topo.face_edges(f).iter().enumerate() {
             let (x, y) = (fv[k], fv[(k + 1) % n]);
-            let across = topo
-                .find_edge(x, y)
-                .and_then(|e| topo.edge_faces(e).iter().copied().find(|&g| g != f));
-            match across {
+            match topo.edge_faces(e).iter().copied().find(|&g| g != f) {
                 Some(g) => {
                     let at = topo.vertex_faces(x).iter().position(|&h| h == g)?;
                     key.push(at as u32);
                     key.push(u32::from(self.has_patch(g)));
-                    self.push_one_sided_neighbour(key, f, g, x, y)?;
+                    self.push_one_sided_neighbour(key, f, g, e, [x, y])?;
                 }
                 None => key.push(NONE),
             }
@@ -245,13 +243,13 @@ impl Keyer<'_> {
         Some(())
     }
 
-    /// The far corners of neighbour `g` across the sharp edge `x`-`y` of `f`, when `g`'s face
+    /// The far corners of neighbour `g` across the sharp edge `e` (`x`-`y`) of `f`, when `g`'s face
     /// points beside that edge may be one-sided (`GregoryVertex::one_sided`): there `g`'s face
     /// point next to the edge is its other one at `x` (or `y`), which reads the edge point and
     /// cosine of `g`'s corner beyond, not a corner of `f` (the rows of [`sparse_face_rows_direct`]
-    /// hold `g`'s face points next to the edge). A smooth corner (the interior construction,
-    /// judged by the construction's own tests: two-stage, its derived points and cosine) is its
-    /// valence, its faces' sizes and `g`'s place in its ring; another one is read in full
+    /// hold `g`'s face points next to the edge). A smooth corner (the interior construction, judged
+    /// by the construction's own tests: two-stage, its derived points and cosine) is its valence,
+    /// its faces' sizes and `g`'s place in its ring; another one is read in full
     /// ([`Self::push_vertex`]). Promoted creases too, whose face points are one-sided in some
     /// sectors only (`VertexRing::one_sided_edge`): more key than needed, the same rows.
     fn push_one_sided_neighbour(
@@ -259,13 +257,11 @@ impl Keyer<'_> {
         key: &mut TypeKey,
         f: u32,
         g: u32,
-        x: u32,
-        y: u32,
+        e: u32,
+        [x, y]: [u32; 2],
     ) -> Option<()> {
         let topo = self.topo;
-        let sharp = topo
-            .find_edge(x, y)
-            .is_some_and(|e| topo.edge_sharpness(e) >= crate::mesh::INFINITE_SHARPNESS);
+        let sharp = topo.edge_sharpness(e) >= crate::mesh::INFINITE_SHARPNESS;
         if !sharp || !self.tangents.one_sided_face_points(true) {
             return Some(());
         }
