@@ -168,15 +168,76 @@ const CORNER_POS: [(i32, i32); 4] = [(1, 1), (2, 1), (2, 2), (1, 2)];
 /// Outward grid direction of face edge `k`.
 const OUT: [(i32, i32); 4] = [(0, -1), (1, 0), (0, 1), (-1, 0)];
 
-fn slot(p: (i32, i32)) -> usize {
+const fn slot(p: (i32, i32)) -> usize {
     (4 * p.1 + p.0) as usize
 }
+
+/// Grid slot of face corner `k` (`CORNER_POS`).
+const CORNER_SLOT: [usize; 4] = {
+    let mut s = [0; 4];
+    let mut k = 0;
+    while k < 4 {
+        s[k] = slot(CORNER_POS[k]);
+        k += 1;
+    }
+    s
+};
+
+/// Grid slots of the far corners `r2`, `r3` of the neighbour across face edge `k` (beside
+/// corners `k` and `k + 1`, one step out along `OUT[k]`).
+const SIDE_SLOTS: [[usize; 2]; 4] = {
+    let mut s = [[0; 2]; 4];
+    let mut k = 0;
+    while k < 4 {
+        let (a, b, o) = (CORNER_POS[k], CORNER_POS[(k + 1) % 4], OUT[k]);
+        s[k] = [slot((a.0 + o.0, a.1 + o.1)), slot((b.0 + o.0, b.1 + o.1))];
+        k += 1;
+    }
+    s
+};
+
+/// Grid slot of the diagonal vertex at face corner `k` (out along `OUT[k]` and `OUT[k - 1]`).
+const DIAGONAL_SLOT: [usize; 4] = {
+    let mut s = [0; 4];
+    let mut k = 0;
+    while k < 4 {
+        let (a, o, p) = (CORNER_POS[k], OUT[k], OUT[(k + 3) % 4]);
+        s[k] = slot((a.0 + o.0 + p.0, a.1 + o.1 + p.1));
+        k += 1;
+    }
+    s
+};
 
 /// The neighbour across edge `e` that quad `f` runs `a -> b`, with its corners rotated to
 /// `[b, a, r2, r3]` (`r2` adjacent to `a`, `r3` adjacent to `b`) and its edges in the same
 /// rotation (edge `i` from corner `i` to `i + 1`): its index, `[r2, r3]` and its edges 1
 /// (`a -> r2`) and 3 (`r3 -> b`), the only ones the grid needs.
+///
+/// The rotation is the edge's position in the neighbour (a face repeats no vertex, so `b` is the
+/// neighbour's corner there exactly when it runs the edge `b -> a`); `across_by_search` is the
+/// oracle that finds `b` among the corners instead.
+#[inline]
 fn across(topo: &Topology, f: u32, e: u32, a: u32, b: u32) -> Option<(u32, [u32; 2], [u32; 2])> {
+    let (g, s) = topo.face_across_edge(e, f)?;
+    let (gv, ge) = topo.quad(g)?;
+    (gv[s] == b && gv[(s + 1) & 3] == a).then(|| {
+        (
+            g,
+            [gv[(s + 2) & 3], gv[(s + 3) & 3]],
+            [ge[(s + 1) & 3], ge[(s + 3) & 3]],
+        )
+    })
+}
+
+/// [`across`] finding `b` among the neighbour's corners (the former path; tests' oracle).
+#[cfg(test)]
+fn across_by_search(
+    topo: &Topology,
+    f: u32,
+    e: u32,
+    a: u32,
+    b: u32,
+) -> Option<(u32, [u32; 2], [u32; 2])> {
     let g = *topo.edge_faces(e).iter().find(|&&g| g != f)?;
     let gv = topo.face_vertices(g);
     if gv.len() != 4 {
@@ -212,28 +273,28 @@ fn grid_cvs_edges(
     c: [u32; 4],
     mask: u8,
 ) -> Option<([u32; 16], [u32; 8])> {
-    let fe = topo.face_edges(face);
+    let (_, fe) = topo.quad(face)?;
     let mut cvs = [c[0]; 16];
     let mut outward = [NONE; 8];
     for k in 0..4 {
-        cvs[slot(CORNER_POS[k])] = c[k];
+        cvs[CORNER_SLOT[k]] = c[k];
     }
-    let add = |p: (i32, i32), q: (i32, i32)| (p.0 + q.0, p.1 + q.1);
     for k in 0..4 {
         if mask & (1 << k) != 0 {
             continue;
         }
         let (a, b) = (c[k], c[(k + 1) % 4]);
         let (g, [r2, r3], [e1, e3]) = across(topo, face, fe[k], a, b)?;
-        cvs[slot(add(CORNER_POS[k], OUT[k]))] = r2;
-        cvs[slot(add(CORNER_POS[(k + 1) % 4], OUT[k]))] = r3;
+        let [s2, s3] = SIDE_SLOTS[k];
+        cvs[s2] = r2;
+        cvs[s3] = r3;
         outward[2 * k] = e1;
         outward[2 * k + 1] = e3;
         let prev = (k + 3) % 4;
         if mask & (1 << prev) == 0 {
             // Diagonal face at corner k: the neighbour of `g` across its edge c_k -> r2.
             let (_, [_, d3], _) = across(topo, g, e1, c[k], r2)?;
-            cvs[slot(add(add(CORNER_POS[k], OUT[k]), OUT[prev]))] = d3;
+            cvs[DIAGONAL_SLOT[k]] = d3;
         }
     }
     Some((cvs, outward))
@@ -532,6 +593,47 @@ mod tests {
         // The corner of the patch interpolates the mesh corner (corner rule).
         let s = p.eval(&pos, 0.0, 0.0);
         assert!((s.position - pos[0]).length() < 1e-12);
+    }
+
+    /// `across` reads the neighbour's rotation from the edge's position in it; the search for
+    /// `b` among its corners must agree on every face edge, in both directions and from both
+    /// faces (fails if the position is off by one or a reversed edge is accepted).
+    #[test]
+    fn across_by_position_is_across_by_search() {
+        let levels = crate::subdiv::corpus_levels(
+            &[
+                "catmark_car",
+                "catmark_nonquads",
+                "catmark_dart_edgecorner",
+                "catmark_hole_test1",
+                "catmark_val2_interior",
+            ],
+            2,
+        );
+        let (mut some, mut none) = (0, 0);
+        for (name, _, level) in &levels {
+            let t = level.topology();
+            for f in 0..t.face_count() as u32 {
+                let (fv, fe) = (t.face_vertices(f), t.face_edges(f));
+                for (k, &e) in fe.iter().enumerate() {
+                    let (a, b) = (fv[k], fv[(k + 1) % fv.len()]);
+                    for (a, b) in [(a, b), (b, a)] {
+                        let got = across(t, f, e, a, b);
+                        assert_eq!(
+                            got,
+                            across_by_search(t, f, e, a, b),
+                            "{name} face {f} edge {e}"
+                        );
+                        if got.is_some() {
+                            some += 1;
+                        } else {
+                            none += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert!(some > 10_000 && none > 10_000, "{some} found, {none} not");
     }
 
     /// The once-per-vertex judgement is the per-face one (every face around the vertex sees a

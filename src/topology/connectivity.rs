@@ -187,6 +187,33 @@ impl Topology {
         }
     }
 
+    /// The face across edge `e` from face `f` (the first of [`Self::edge_faces`] that is not
+    /// `f`) with the edge's position in it ([`Self::edge_face_locals`]); `None` when there is
+    /// none.
+    #[inline]
+    pub(crate) fn face_across_edge(&self, e: u32, f: u32) -> Option<(u32, usize)> {
+        let [f0, f1] = self.edge_faces[e as usize];
+        let [l0, l1] = self.edge_face_local[e as usize];
+        if f0 != f {
+            Some((f0, l0 as usize))
+        } else if f1 != NONE && f1 != f {
+            Some((f1, l1 as usize))
+        } else {
+            None
+        }
+    }
+
+    /// The corners and edges of face `f` ([`Self::face_vertices`], [`Self::face_edges`]) when it
+    /// is a quad.
+    #[inline]
+    pub(crate) fn quad(&self, f: u32) -> Option<(&[u32; 4], &[u32; 4])> {
+        let (a, b) = self.face_range(f);
+        Some((
+            self.face_verts[a..b].try_into().ok()?,
+            self.face_edges[a..b].try_into().ok()?,
+        ))
+    }
+
     /// Whether edge `e` has a single face.
     pub fn is_boundary_edge(&self, e: u32) -> bool {
         self.edge_faces[e as usize][1] == NONE
