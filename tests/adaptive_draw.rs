@@ -424,7 +424,7 @@ fn coarse_edges_match_both_levels() {
 fn layout_invariants() {
     for_each_case(|c| {
         let t = &c.tables;
-        assert_eq!(t.patch_record_bytes().len(), 112 * c.surface.patches.len());
+        assert_eq!(t.patch_record_bytes().len(), 144 * c.surface.patches.len());
         assert_eq!(t.regular_info_bytes().len(), 32 * t.regular.len());
         assert_eq!(t.regular_index_bytes().len(), 64 * t.regular.len());
         assert_eq!(t.transition_info_bytes().len(), 32 * t.transition.len());

@@ -88,6 +88,14 @@
 //! of a valence `DECAYED_CORNER_SCALE` lists: 7 to 24). Checked at
 //! `RAYON_NUM_THREADS=1` and `3`.
 //!
+//! And again for the exact corner offsets (issue 8, session 16, h78,
+//! `patch::adaptive::exact_corners`): every case's draw tables moved, the patch records growing
+//! from 28 to 36 words (`corner_exact`, `corner_fade`, padding), and with the exact-position
+//! frames' rows where promoted corners the positional fillet does not reach whole have only quad
+//! end caps around them (among the cases at least the car with single-crease patches at 2 and 4,
+//! cube_creases1, cubes_semisharp, single_crease). The refinement and kernels' did not; checked at
+//! `RAYON_NUM_THREADS=1` and `3`.
+//!
 //! The fingerprints change with any change of output, deliberate or not: a change that is meant
 //! to alter the tables (new end-cap rules, another row order) re-derives them and says so.
 
@@ -142,73 +150,73 @@ fn adaptive_tables_are_bitwise_unchanged() {
             "catmark_car",
             2,
             true,
-            [0xa7c525c3617c772c, 0xca4a93965f2b110e, 0xd66d2f701c734c61],
+            [0xa7c525c3617c772c, 0xca4a93965f2b110e, 0x9c1373cf0035bb3b],
         ),
         (
             "catmark_car",
             4,
             true,
-            [0xbbb9e6b58551f50e, 0xc8ccf101f97d4dd2, 0x375f53282ef43bc4],
+            [0xbbb9e6b58551f50e, 0xc8ccf101f97d4dd2, 0xbffae7c31b15874d],
         ),
         (
             "catmark_car",
             2,
             false,
-            [0x3c7acab3967eeff2, 0x974d66fe24c13fc5, 0x8f960065f331b087],
+            [0x3c7acab3967eeff2, 0x974d66fe24c13fc5, 0xad508b59630e278a],
         ),
         (
             "catmark_cube_creases1",
             3,
             true,
-            [0x5216de2729f30de, 0xa1a708fbce690d15, 0x335e97c486235536],
+            [0x5216de2729f30de, 0xa1a708fbce690d15, 0xe9e3201f7da47e4b],
         ),
         (
             "catmark_cube_creases2",
             4,
             false,
-            [0x7b48acce8f4a3ea1, 0xcba37c665f754f7e, 0x7ac5f325180a36b],
+            [0x7b48acce8f4a3ea1, 0xcba37c665f754f7e, 0x7b5975995bb217b],
         ),
         (
             "catmark_dart_edgecorner",
             3,
             true,
-            [0x33a7609b60eac536, 0xe436c2a865f7cf86, 0xa25bcabf1cbdbb],
+            [0x33a7609b60eac536, 0xe436c2a865f7cf86, 0xf2fddeb87868bef5],
         ),
         (
             "catmark_hole_test1",
             2,
             true,
-            [0x47752224ad804de2, 0xece5b3e142e97c01, 0x7dbabf0f2e983d97],
+            [0x47752224ad804de2, 0xece5b3e142e97c01, 0x94d9ec4951d9d67f],
         ),
         (
             "catmark_nonquads",
             3,
             true,
-            [0x708989f89b9781cb, 0x3b633e102e099bde, 0x24d1e11cff3d3700],
+            [0x708989f89b9781cb, 0x3b633e102e099bde, 0xa53c037641b8c40a],
         ),
         (
             "catmark_cubes_semisharp",
             3,
             true,
-            [0xa1b7d74d2225a547, 0x47e42ffd83d0ff2a, 0x7bf27309c55820ec],
+            [0xa1b7d74d2225a547, 0x47e42ffd83d0ff2a, 0x5c07c4b577b35cb8],
         ),
         (
             "catmark_tent_creases1",
             2,
             true,
-            [0x9d8a88902f40d33c, 0x7393eafc11b56ea4, 0x842f88cf19eb7963],
+            [0x9d8a88902f40d33c, 0x7393eafc11b56ea4, 0xcc6c06fe7030400c],
         ),
         (
             "catmark_single_crease",
             4,
             true,
-            [0x6f5d6579df0d652b, 0xe6c95c4a3b7daf47, 0x1079be7f9ed82503],
+            [0x6f5d6579df0d652b, 0xe6c95c4a3b7daf47, 0x6860a7c76250b72c],
         ),
         (
             "catmark_pole64",
             2,
             true,
-            [0xcf727495e7627861, 0x49aa8020f1082c0, 0x827a7db62488c4],
+            [0xcf727495e7627861, 0x49aa8020f1082c0, 0x37f8f190fa5ec9ce],
         ),
     ];
     let mut wrong = Vec::new();

@@ -25,12 +25,14 @@ const uint NO_ENTRY = 0xffffffffu;
 #define KIND_SINGLE_CREASE 4u
 #define KIND_TRANSITION 5u
 
-/// One drawn patch (112 bytes): base face and sub-face (NO_ENTRY for quads), level, kind, the map
+/// One drawn patch (144 bytes): base face and sub-face (NO_ENTRY for quads), level, kind, the map
 /// of the patch domain into the base face (origin + s axis_u + t axis_v), transition mask (bit
 /// e: the neighbour across edge e is one level finer), the slot of each transition edge's
 /// midpoint, per edge the coarse-edge record it lies on (NO_ENTRY: none), and the sector frame
 /// each corner and transition midpoint takes its normal from (NO_ENTRY: none;
-/// src/patch/adaptive/sector_frames.rs).
+/// src/patch/adaptive/sector_frames.rs); quad end caps: per corner the frame of the exact limit
+/// position the corner offset reaches (NO_ENTRY: none; src/patch/adaptive/exact_corners.rs) and
+/// the offsets' width codes (bits 8k..8k+8, 16 s).
 struct AdaptivePatch {
     uint base_face;
     uint sub_face;
@@ -45,6 +47,8 @@ struct AdaptivePatch {
     uvec4 coarse;
     uvec4 corner_frame;
     uvec4 mid_frame;
+    uvec4 corner_exact;
+    uint corner_fade;
 };
 
 layout(std430, set = 0, binding = 10) readonly buffer AdaptivePatches {

@@ -92,11 +92,78 @@ uint fillet_edge_mask(uint flags) {
     return m;
 }
 
+/// Corner k's offset to the exact limit position (`AdaptiveSurface::fillet_position`'s corner
+/// offsets): that position's frame minus the corner's slot, the same bits in every end cap there.
+vec3 corner_delta(GregoryPatchInfo info, int k) {
+    precise vec3 d = vertex_limit[apatches[info.pad0].corner_exact[k]].xyz
+                   - vertex_limit[info.corners[k]].xyz;
+    return d;
+}
+
+/// Corner k's offset at own distance x along one of its edges and w along the other,
+/// `(1 - x/h)^2 (1 - w/h)^2` (`patch::adaptive::promoted::corner_offset_share`).
+vec3 corner_offset(GregoryPatchInfo info, int k, float x, float w) {
+    float sharp = float((apatches[info.pad0].corner_fade >> uint(8 * k)) & 0xffu) / 16.0;
+    precise float share = fillet_fade(sharp, x, true) * fillet_fade(sharp, w, true);
+    precise vec3 d = corner_delta(info, k) * share;
+    return d;
+}
+
+/// Adds the corner offsets (record's corner_exact) at own (u, v): whole at a corner; on an edge
+/// both ends' in canonical order from canonical parameters (the neighbour's bits).
+void exact_corner_offsets(GregoryPatchInfo info, float u, float v, inout vec3 p) {
+    uvec4 frames = apatches[info.pad0].corner_exact;
+    if (all(equal(frames, uvec4(NO_ENTRY)))) {
+        return;
+    }
+    bool u_edge = (u == 0.0 || u == 1.0);
+    bool v_edge = (v == 0.0 || v == 1.0);
+    if (u_edge && v_edge) {
+        int k = quad_corner_index(u, v);
+        if (frames[k] != NO_ENTRY) {
+            precise vec3 q = p + corner_delta(info, k);
+            p = q;
+        }
+        return;
+    }
+    if (u_edge || v_edge) {
+        // Edge k at x from corner `from` (as main's quad_edge calls).
+        int k = (v == 0.0) ? 0 : (u == 1.0) ? 1 : (v == 1.0) ? 2 : 3;
+        float x = v_edge ? u : v;
+        int from = (k == 2) ? 3 : (k == 3) ? 0 : k;
+        int a = k;
+        int b = (k + 1) & 3;
+        bool a_is_lo = info.corners[a] < info.corners[b];
+        float t, s;
+        edge_ts(x, (from == a) == a_is_lo, t, s);
+        int lo = a_is_lo ? a : b;
+        int hi = a_is_lo ? b : a;
+        precise vec3 offset = vec3(0.0);
+        if (frames[lo] != NO_ENTRY) {
+            offset += corner_offset(info, lo, t, 0.0);
+        }
+        if (frames[hi] != NO_ENTRY) {
+            offset += corner_offset(info, hi, s, 0.0);
+        }
+        precise vec3 q = p + offset;
+        p = q;
+        return;
+    }
+    // Inside: each corner's distances along its two edges.
+    vec2 d[4] = vec2[4](vec2(u, v), vec2(1.0 - u, v), vec2(1.0 - u, 1.0 - v), vec2(u, 1.0 - v));
+    for (int k = 0; k < 4; ++k) {
+        if (frames[k] != NO_ENTRY) {
+            p += corner_offset(info, k, d[k].x, d[k].y);
+        }
+    }
+}
+
 #define GREGORY_EDGE_OVERRIDE end_cap_edge
 #define GREGORY_CORNER_NORMAL(info, k, nrm) \
     sector_normal(apatches[info.pad0].corner_frame[k], nrm)
 #define GREGORY_FILLET(info) (apatches[info.pad0].fillet & fillet_edge_mask(info.flags))
 #define GREGORY_FILLET_BEYOND
+#define GREGORY_POSITION_OFFSET exact_corner_offsets
 #define GREGORY_FILLET_END(info, k) \
     ((apatches[info.pad0].transition & (1u << uint(20 + (k)))) != 0u)
 #define GREGORY_CLASS(info) adaptive_class(KIND_END_CAP, apatches[info.pad0].level)

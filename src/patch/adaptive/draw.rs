@@ -15,6 +15,7 @@ use rayon::prelude::*;
 
 use super::coarse::{patch_index, CoarseEdges};
 use super::error::DrawTablesError;
+use super::exact_corners::ExactCorners;
 use super::promoted::{
     exact_frame, fillet_code, fillet_end, fillet_end_code, irregular_crease_vertex,
     positional_fillet_end, promoted_vertex, FilletEnd,
@@ -450,6 +451,15 @@ impl AdaptiveDrawTables {
             &masks,
         );
         drop(corner_rows);
+        let at = patch_index(refinement, census);
+        let exact = ExactCorners::new(
+            refinement,
+            census,
+            &topologies,
+            &slots,
+            &at,
+            (slots.len() + sectors.rows.len()) as u32,
+        );
         // Slot frames (the first run's flat rows extended by the others), sector frames, end
         // caps, vertex points, in one reservation past the first run.
         let mut runs = frames.into_iter();
@@ -462,9 +472,12 @@ impl AdaptiveDrawTables {
                 .flatten()
                 .map(|w| w.0.len())
                 .sum::<usize>()
+            + exact.rows.iter().map(|w| w.0.len()).sum::<usize>()
             + cap_rows.1;
         rows.reserve(
-            runs.iter().map(SparseRows::len).sum::<usize>() + 3 * sectors.rows.len() + cap_rows.0,
+            runs.iter().map(SparseRows::len).sum::<usize>()
+                + 3 * (sectors.rows.len() + exact.rows.len())
+                + cap_rows.0,
             terms,
         );
         for run in &runs {
@@ -475,6 +488,12 @@ impl AdaptiveDrawTables {
             rows.push(r, 0);
         }
         shared_normal.resize(slots.len() + sectors.rows.len(), true);
+        // Exact-position frames: no tangents, no normal.
+        for r in &exact.rows {
+            rows.push(r, 0);
+            rows.push_empty(2);
+        }
+        shared_normal.resize(shared_normal.len() + exact.rows.len(), false);
         let end_cap_first_row = rows.len() as u32;
         for c in &caps {
             for r in c.rows() {
@@ -486,7 +505,6 @@ impl AdaptiveDrawTables {
         for r in &vertex_rows {
             rows.push(r, 0);
         }
-        let at = patch_index(refinement, census);
         let sizes = DrawSizes::of(census);
         let mut out = AdaptiveDrawTables {
             slots,
@@ -531,6 +549,8 @@ impl AdaptiveDrawTables {
                 corner_frames: sectors.corners[i],
                 mid_frames: sectors.mids[i],
                 fillet: 0,
+                corner_exact: exact.frames[i],
+                corner_fade: exact.codes[i],
             };
             out.sharpness.push(p.crease.map_or(0.0, |l| l.sharpness));
             let slot = |v: u32| out.slots.of(v);
@@ -718,7 +738,7 @@ impl AdaptiveDrawTables {
             .filter(|&s| s != NONE)
     }
 
-    /// `PatchRecord`s, 112 bytes each, census order.
+    /// `PatchRecord`s, 144 bytes each, census order.
     pub fn patch_record_bytes(&self) -> Vec<u8> {
         words_bytes(self.records.iter().map(PatchRecord::words))
     }

@@ -15,6 +15,7 @@ mod coarse;
 pub mod decayed_fit;
 pub mod draw;
 mod error;
+mod exact_corners;
 pub mod promoted;
 pub mod records;
 pub mod rows;

@@ -77,6 +77,56 @@ pub fn exact_corner_tangents_shared(
     })
 }
 
+/// The row over global refined ids of the exact limit position at corner `k` of face `f` of
+/// `lev` (the position weights of [`vertex_mask`]); `None` where the mask fails.
+pub fn exact_corner_position(lev: &AdaptiveLevel, f: u32, k: usize) -> Option<Weights> {
+    let v = lev.topology().face_vertices(f)[k];
+    let mask = SharedVertexMasks::default()
+        .vertex_mask(&lev.level, v, f)
+        .map_err(|e| log::debug!("corner {k} of face {f}: no exact limit mask ({e})"))
+        .ok()?;
+    Some(Weights::from_terms(
+        mask.indices
+            .iter()
+            .zip(&mask.position)
+            .map(|(&i, &x)| (lev.global(i), x)),
+    ))
+}
+
+/// Whether the end caps at vertex `v` add its corner offset ([`corner_offset_share`]): a
+/// promoted vertex the positional fillet does not reach whole ([`positional_fillet_end`]) whose
+/// faces are all quad end caps of its level (`quad_cap`), so every patch there adds the same.
+pub fn corner_offset_vertex(
+    level: &Topology,
+    caps: &Topology,
+    v: u32,
+    quad_cap: impl Fn(u32) -> bool,
+) -> bool {
+    promoted_vertex(level, caps, v)
+        && level.vertex_faces(v).iter().all(|&g| quad_cap(g))
+        && !positional_fillet_end(level, caps, v, quad_cap)
+}
+
+/// The width code ([`fillet_code`]) of the corner offset at promoted vertex `v`
+/// ([`corner_offset_share`]): the mean residual sharpness of its promoted edges (as the vertex
+/// rule averages them), else its own vertex sharpness.
+pub fn corner_offset_code(level: &Topology, caps: &Topology, v: u32) -> u32 {
+    let creases = CreaseEdges::at(level, caps, v);
+    fillet_code(if creases.promoted.is_empty() {
+        level.vertex_sharpness(v)
+    } else {
+        mean_sharpness(level, &creases.promoted)
+    })
+}
+
+/// The share of a corner offset (exact limit position minus the end caps' corner) kept at own
+/// distances `x`, `w` from the corner along its two edges: `(1 - x/h)^2 (1 - w/h)^2`, `h = 2^-s`
+/// for the sharpness `s` of [`corner_offset_code`], blended by its fraction as
+/// [`fillet_cross_derivative`] (the complement of [`fillet_end_fade`] on a crease).
+pub fn corner_offset_share(sharpness: f64, x: f64, w: f64) -> f64 {
+    fillet_fade(sharpness, x, 2) * fillet_fade(sharpness, w, 2)
+}
+
 /// Corner `k` of face `face` of `lev` on a promoted crease: its end-cap `rows` with the
 /// tangents replaced by the exact limit's ([`exact_corner_tangents`]), the position kept (the
 /// end caps' crease position); empty tangent rows where the exact mask fails. `masks` shares

@@ -3,8 +3,8 @@
 
 use crate::patch::RegularPatch;
 
-/// Words of a [`PatchRecord`] (112 bytes).
-pub const PATCH_RECORD_WORDS: usize = 28;
+/// Words of a [`PatchRecord`] (144 bytes).
+pub const PATCH_RECORD_WORDS: usize = 36;
 /// Words of a B-spline or Gregory `PatchInfo` (32 bytes).
 pub const PATCH_INFO_WORDS: usize = 8;
 /// Words of a [`TransitionTriangle`] (16 bytes).
@@ -62,11 +62,18 @@ pub struct PatchRecord {
     /// fillet sharpness at corner `k` / `k + 1`
     /// ([`crate::patch::adaptive::promoted::fillet_end_code`], 0: none); 0 elsewhere.
     pub fillet: u32,
+    /// Quad end caps, per face corner `k`: the frame holding the exact limit position there when
+    /// the end caps add the corner offset (`patch::adaptive::exact_corners`), else `u32::MAX`.
+    pub corner_exact: [u32; 4],
+    /// Bits `8k..8k + 8`: the width code of corner `k`'s offset
+    /// ([`crate::patch::adaptive::promoted::corner_offset_code`]), 0 where it has none.
+    pub corner_fade: u32,
 }
 
 impl PatchRecord {
     /// Words 0-27: base_face, sub_face, level, kind, origin xy, u xy, v xy, transition, fillet,
-    /// mid_slots, coarse, corner_frames, mid_frames.
+    /// mid_slots, coarse, corner_frames, mid_frames; 28-32: corner_exact, corner_fade (33-35
+    /// padding: the GPU struct's std430 size is a multiple of 16 bytes).
     pub fn words(&self) -> [u32; PATCH_RECORD_WORDS] {
         let mut w = [0u32; PATCH_RECORD_WORDS];
         w[..4].copy_from_slice(&[self.base_face, self.sub_face, self.level, self.kind]);
@@ -79,6 +86,8 @@ impl PatchRecord {
         w[16..20].copy_from_slice(&self.coarse);
         w[20..24].copy_from_slice(&self.corner_frames);
         w[24..28].copy_from_slice(&self.mid_frames);
+        w[28..32].copy_from_slice(&self.corner_exact);
+        w[32] = self.corner_fade;
         w
     }
 }

@@ -8,7 +8,8 @@ use glam::{DVec2, DVec3};
 use thiserror::Error;
 
 use super::promoted::{
-    band_offset_factor, crease_turn_share, exact_corner_tangents, fillet_bend, fillet_code,
+    band_offset_factor, corner_offset_code, corner_offset_share, corner_offset_vertex,
+    crease_turn_share, exact_corner_position, exact_corner_tangents, fillet_bend, fillet_code,
     fillet_cross_derivative, fillet_end, fillet_end_code, fillet_end_fade, fillet_end_sharpness,
     fillet_many_share, fillet_offset_factor, fillet_rotation, fillet_sharpness,
     irregular_crease_vertex, positional_fillet_end, promoted_vertex, turn_towards, within_fillet,
@@ -172,6 +173,9 @@ struct PromotedCap {
     others: [Option<(usize, usize)>; 4],
     irregular: [bool; 4],
     positional: [bool; 4],
+    /// Per corner the positional fillet does not reach whole: the exact limit position minus
+    /// the end cap's corner, and the offset's width sharpness ([`corner_offset_share`]).
+    corner_offsets: [Option<(DVec3, f64)>; 4],
 }
 
 /// The own `(s, t)` of the point at `x` along quad edge `k` (corner `k` -> `k + 1`).
@@ -385,11 +389,25 @@ impl AdaptiveSurface {
     /// `gregory_edge`): on a promoted edge its own offset, on another edge between two end caps
     /// the offsets of the creases through its positional ends (the sum there is the edge's
     /// derivative and its continuation's beyond the crease), at a positional corner the
-    /// crease's; zero elsewhere.
+    /// crease's; zero elsewhere. Plus, at each promoted corner it does not reach whole, the
+    /// exact limit position's offset from the corner faded by `super::promoted::corner_offset_share`
+    /// (the GPU's `exact_corner_offsets`, `glsl/adaptive/patch_adaptive_endcap.tese`).
     pub fn fillet_position(&self, i: usize, s: f64, t: f64) -> DVec3 {
         let Some(cap) = self.promoted.get(&i) else {
             return DVec3::ZERO;
         };
+        let corners: DVec3 = (0..4)
+            .filter_map(|c| {
+                let (delta, sharpness) = cap.corner_offsets[c]?;
+                let (w, x) = edge_coordinates(c, s, t);
+                Some(delta * corner_offset_share(sharpness, x, w))
+            })
+            .sum();
+        corners + self.crease_fillet_position(cap, i, s, t)
+    }
+
+    /// [`Self::fillet_position`] without the corner offsets.
+    fn crease_fillet_position(&self, cap: &PromotedCap, i: usize, s: f64, t: f64) -> DVec3 {
         if let Some(c) = quad_corner(s, t) {
             return self.crease_end_offset(cap, i, c, 0.0);
         }
@@ -812,9 +830,25 @@ fn promoted_caps(
                         .cross(dv.apply(positions))
                         .normalize_or_zero()
                 });
+                // Where the positional fillet fades out: the exact limit position there
+                // (`super::exact_corners`, the GPU's frame).
+                let quad_cap = |g| t.face_size(g) == 4 && at.contains_key(&(level, g));
+                if let (true, PatchShape::Gregory(g)) = (
+                    corner_offset_vertex(t, caps, v, quad_cap),
+                    &patches[i].shape,
+                ) {
+                    let (a, b) = quad_edge_point(k, 0.0);
+                    let sharpness = fillet_sharpness(corner_offset_code(t, caps, v));
+                    cap.corner_offsets[k] = exact_corner_position(lev, face, k)
+                        .map(|p| (p.apply(positions) - g.eval(a, b).position, sharpness));
+                }
             }
         }
-        if cap.edges.iter().any(Option::is_some) || cap.corners.iter().any(Option::is_some) {
+        let offsets = cap.corner_offsets.iter().any(Option::is_some);
+        if offsets
+            || cap.edges.iter().any(Option::is_some)
+            || cap.corners.iter().any(Option::is_some)
+        {
             out.insert(i, cap);
         }
     }
