@@ -429,7 +429,7 @@ impl AdaptiveDrawTables {
             caps.iter().map(|c| c.terms.len()).sum::<usize>() + vertex_terms,
         );
         let corner_rows = CornerRows::new(refinement, census, &topologies, &caps);
-        // Exact limit masks of promoted corners, one table for slot and sector frames.
+        // Exact limit masks of promoted corners, one table for slot, sector and exact-corner frames.
         let masks = SharedVertexMasks::default();
         let (frames, mut shared_normal) = slot_rows(
             refinement,
@@ -459,6 +459,7 @@ impl AdaptiveDrawTables {
             &slots,
             &at,
             (slots.len() + sectors.rows.len()) as u32,
+            &masks,
         );
         // Slot frames (the first run's flat rows extended by the others), sector frames, end
         // caps, vertex points, in one reservation past the first run.

@@ -17,6 +17,7 @@ use super::slots::{Slots, NONE};
 use super::surface::EndCapTopologies;
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
+use crate::subdiv::limit::SharedVertexMasks;
 
 /// The exact-position frames of a census and which end-cap corners read them.
 #[derive(Debug, Clone, Default)]
@@ -34,7 +35,7 @@ pub struct ExactCorners {
 impl ExactCorners {
     /// The frames of the quad end caps' promoted corners the positional fillet does not reach
     /// whole, numbered from `first` in census order; `at` as
-    /// [`super::coarse::patch_index`].
+    /// [`super::coarse::patch_index`]; `masks` the build's exact limit masks.
     pub fn new(
         refinement: &AdaptiveRefinement,
         census: &PatchCensus,
@@ -42,6 +43,7 @@ impl ExactCorners {
         slots: &Slots,
         at: &[Vec<u32>],
         first: u32,
+        masks: &SharedVertexMasks,
     ) -> ExactCorners {
         let mut out = ExactCorners::default();
         let mut by_slot: HashMap<u32, u32> = HashMap::new();
@@ -68,7 +70,7 @@ impl ExactCorners {
                     let frame = match by_slot.get(&slot) {
                         Some(&f) => f,
                         None => {
-                            let Some(row) = exact_corner_position(lev, p.face, k) else {
+                            let Some(row) = exact_corner_position(lev, p.face, k, masks) else {
                                 continue;
                             };
                             let f = first + out.rows.len() as u32;

@@ -37,13 +37,8 @@ pub fn promoted_vertex(level: &Topology, caps: &Topology, v: u32) -> bool {
 /// Rows (d/du, d/dv) over global refined ids of the exact limit tangents at corner `k` of face
 /// `f` of `lev`, in the face's frame (`u` towards corner `k + 1` at corner 0): the limit mask of
 /// the corner's vertex ([`vertex_mask`], `LimitEvaluator`'s corner evaluation). `None` where
-/// the mask fails (the caller keeps the end cap's own corner).
-pub fn exact_corner_tangents(lev: &AdaptiveLevel, f: u32, k: usize) -> Option<[Weights; 2]> {
-    exact_corner_tangents_shared(lev, f, k, &SharedVertexMasks::default())
-}
-
-/// [`exact_corner_tangents`] with the masks shared between corners whose rings are alike
-/// ([`SharedVertexMasks`]; the same rows).
+/// the mask fails (the caller keeps the end cap's own corner). `masks` are shared between
+/// corners whose rings are alike ([`SharedVertexMasks`]; the same rows).
 pub fn exact_corner_tangents_shared(
     lev: &AdaptiveLevel,
     f: u32,
@@ -79,9 +74,14 @@ pub fn exact_corner_tangents_shared(
 
 /// The row over global refined ids of the exact limit position at corner `k` of face `f` of
 /// `lev` (the position weights of [`vertex_mask`]); `None` where the mask fails.
-pub fn exact_corner_position(lev: &AdaptiveLevel, f: u32, k: usize) -> Option<Weights> {
+pub fn exact_corner_position(
+    lev: &AdaptiveLevel,
+    f: u32,
+    k: usize,
+    masks: &SharedVertexMasks,
+) -> Option<Weights> {
     let v = lev.topology().face_vertices(f)[k];
-    let mask = SharedVertexMasks::default()
+    let mask = masks
         .vertex_mask(&lev.level, v, f)
         .map_err(|e| log::debug!("corner {k} of face {f}: no exact limit mask ({e})"))
         .ok()?;
@@ -128,7 +128,7 @@ pub fn corner_offset_share(sharpness: f64, x: f64, w: f64) -> f64 {
 }
 
 /// Corner `k` of face `face` of `lev` on a promoted crease: its end-cap `rows` with the
-/// tangents replaced by the exact limit's ([`exact_corner_tangents`]), the position kept (the
+/// tangents replaced by the exact limit's ([`exact_corner_tangents_shared`]), the position kept (the
 /// end caps' crease position); empty tangent rows where the exact mask fails. `masks` shares
 /// the limit masks between calls ([`exact_corner_tangents_shared`]).
 pub fn exact_frame(

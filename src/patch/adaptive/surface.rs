@@ -9,11 +9,11 @@ use thiserror::Error;
 
 use super::promoted::{
     band_offset_factor, corner_offset_code, corner_offset_share, corner_offset_vertex,
-    crease_turn_share, exact_corner_position, exact_corner_tangents, fillet_bend, fillet_code,
-    fillet_cross_derivative, fillet_end, fillet_end_code, fillet_end_fade, fillet_end_sharpness,
-    fillet_many_share, fillet_offset_factor, fillet_rotation, fillet_sharpness,
-    irregular_crease_vertex, positional_fillet_end, promoted_vertex, turn_towards, within_fillet,
-    FilletEnd,
+    crease_turn_share, exact_corner_position, exact_corner_tangents_shared, fillet_bend,
+    fillet_code, fillet_cross_derivative, fillet_end, fillet_end_code, fillet_end_fade,
+    fillet_end_sharpness, fillet_many_share, fillet_offset_factor, fillet_rotation,
+    fillet_sharpness, irregular_crease_vertex, positional_fillet_end, promoted_vertex,
+    turn_towards, within_fillet, FilletEnd,
 };
 use crate::patch::basis::{bernstein_deriv, eval_tensor};
 use crate::patch::gregory::{
@@ -24,6 +24,7 @@ use crate::patch::single_crease::SingleCreasePatch;
 #[cfg(doc)]
 use crate::subdiv::adaptive::EndCapSharpness;
 use crate::subdiv::adaptive::{AdaptivePatch, AdaptiveRefinement, Domain, PatchCensus, PatchType};
+use crate::subdiv::limit::SharedVertexMasks;
 use crate::topology::{is_sharp_edge, Topology};
 
 /// Per level, its topology as its end caps see it ([`AdaptiveRefinement::end_cap_topology`]),
@@ -787,6 +788,8 @@ fn promoted_caps(
             at.insert((p.level, p.face), i);
         }
     }
+    // Exact limit masks of promoted corners, one table for the whole surface.
+    let masks = SharedVertexMasks::default();
     let mut out = HashMap::new();
     for (&(level, face), &i) in &at {
         let lev = &refinement.levels[level as usize];
@@ -825,11 +828,12 @@ fn promoted_caps(
                 cap.positional[k] = positional_fillet_end(t, caps, v, |g| {
                     t.face_size(g) == 4 && at.contains_key(&(level, g))
                 });
-                cap.corners[k] = exact_corner_tangents(lev, face, k).map(|[du, dv]| {
-                    du.apply(positions)
-                        .cross(dv.apply(positions))
-                        .normalize_or_zero()
-                });
+                cap.corners[k] =
+                    exact_corner_tangents_shared(lev, face, k, &masks).map(|[du, dv]| {
+                        du.apply(positions)
+                            .cross(dv.apply(positions))
+                            .normalize_or_zero()
+                    });
                 // Where the positional fillet fades out: the exact limit position there
                 // (`super::exact_corners`, the GPU's frame).
                 let quad_cap = |g| t.face_size(g) == 4 && at.contains_key(&(level, g));
@@ -839,7 +843,7 @@ fn promoted_caps(
                 ) {
                     let (a, b) = quad_edge_point(k, 0.0);
                     let sharpness = fillet_sharpness(corner_offset_code(t, caps, v));
-                    cap.corner_offsets[k] = exact_corner_position(lev, face, k)
+                    cap.corner_offsets[k] = exact_corner_position(lev, face, k, &masks)
                         .map(|p| (p.apply(positions) - g.eval(a, b).position, sharpness));
                 }
             }
