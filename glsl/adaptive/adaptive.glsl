@@ -49,6 +49,7 @@ struct AdaptivePatch {
     uvec4 mid_frame;
     uvec4 corner_exact;
     uint corner_fade;
+    uint fillet_fine[3];
 };
 
 layout(std430, set = 0, binding = 10) readonly buffer AdaptivePatches {

@@ -15,6 +15,19 @@
 int edge_fillet_beyond_slot[2] = int[2](-1, -1);
 int edge_fillet_beyond_corner[2] = int[2](0, 0);
 
+/// The residual sharpness of edge k when it is a promoted crease between two end caps (flag bit
+/// 28 + k), 0 elsewhere: its 24-bit code in the record's fillet_fine words (upper 16 bits in
+/// word k / 2 at bit 16 (k mod 2), lower 8 in word 2 at bit 8k), 2^20 s
+/// (`patch::adaptive::promoted::fillet_fine_code`; exact in a float).
+float fillet_fine_sharpness(GregoryPatchInfo info, int k) {
+    if ((info.flags & (1u << uint(28 + k))) == 0u) {
+        return 0.0;
+    }
+    uint hi = (apatches[info.pad0].fillet_fine[k >> 1] >> uint(16 * (k & 1))) & 0xffffu;
+    uint lo = (apatches[info.pad0].fillet_fine[2] >> uint(8 * k)) & 0xffu;
+    return float((hi << 8u) | lo) / 1048576.0;
+}
+
 /// Edge k (corner k -> k + 1) at x measured from corner `from_corner`, when it lies on a coarser
 /// patch.
 bool end_cap_edge(GregoryPatchInfo info, int k, float x, int from_corner, inout vec3 pos,
@@ -26,14 +39,10 @@ bool end_cap_edge(GregoryPatchInfo info, int k, float x, int from_corner, inout 
     // edge that is no promoted crease: flag bit 28 + k off) in canonical order, with the
     // corners' normals (as drawn there): gregory_edge bends the edge's tangent with them.
     uint code = (apatches[info.pad0].fillet >> uint(8 * k)) & 0xffu;
-    // A promoted crease (flag bit 28 + k): its sharpness (16 s) for the band offset
-    // (canonical_edge's edge_band_tangent), no fillet ends.
-    edge_band_sharpness = 0.0;
+    // A promoted crease (flag bit 28 + k): its sharpness (fillet_fine_sharpness) for the band
+    // offset (canonical_edge's edge_band_tangent), no fillet ends.
     bool band = (info.flags & (1u << uint(28 + k))) != 0u;
-    if (band) {
-        edge_band_sharpness = float(code) / 16.0;
-        code = 0u;
-    }
+    edge_band_sharpness = fillet_fine_sharpness(info, k);
     bool a_is_lo = info.corners[k] < info.corners[(k + 1) & 3];
     for (int side = 0; side < 2; ++side) {
         int corner = (k + side) & 3;
@@ -65,12 +74,11 @@ bool end_cap_edge(GregoryPatchInfo info, int k, float x, int from_corner, inout 
         edge_fillet_beyond_corner[end] = corner;
         // The positional fillet reaches that end whole (transition bit 20 + corner): on a
         // promoted crease no fade there; on an edge crossing the crease there, the crease's
-        // residual sharpness (its own byte, 16 s) for its offset.
+        // residual sharpness (fillet_fine_sharpness) for its offset.
         bool positional = (bits & (1u << uint(20 + corner))) != 0u;
         edge_fillet_positional[end] = band && positional;
-        uint crease_code = (apatches[info.pad0].fillet >> uint(8 * crease)) & 0xffu;
         edge_fillet_position_sharpness[end] =
-            (positional && beyond) ? float(crease_code) / 16.0 : 0.0;
+            (positional && beyond) ? fillet_fine_sharpness(info, crease) : 0.0;
     }
     uint c = apatches[info.pad0].coarse[k];
     if (c == NO_ENTRY) {
@@ -79,17 +87,6 @@ bool end_cap_edge(GregoryPatchInfo info, int k, float x, int from_corner, inout 
     int other = (from_corner == k) ? ((k + 1) & 3) : k;
     fine_edge_point(c, info.corners[from_corner], info.corners[other], x, pos, nrm);
     return true;
-}
-
-/// The bytes of the fillet word that are promoted creases' (flag bits 28-31).
-uint fillet_edge_mask(uint flags) {
-    uint m = 0u;
-    for (int k = 0; k < 4; ++k) {
-        if ((flags & (1u << uint(28 + k))) != 0u) {
-            m |= 0xffu << uint(8 * k);
-        }
-    }
-    return m;
 }
 
 /// Corner k's offset to the exact limit position (`AdaptiveSurface::fillet_position`'s corner
@@ -161,7 +158,7 @@ void exact_corner_offsets(GregoryPatchInfo info, float u, float v, inout vec3 p)
 #define GREGORY_EDGE_OVERRIDE end_cap_edge
 #define GREGORY_CORNER_NORMAL(info, k, nrm) \
     sector_normal(apatches[info.pad0].corner_frame[k], nrm)
-#define GREGORY_FILLET(info) (apatches[info.pad0].fillet & fillet_edge_mask(info.flags))
+#define GREGORY_FILLET fillet_fine_sharpness
 #define GREGORY_FILLET_BEYOND
 #define GREGORY_POSITION_OFFSET exact_corner_offsets
 #define GREGORY_FILLET_END(info, k) \

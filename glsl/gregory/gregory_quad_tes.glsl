@@ -9,7 +9,8 @@
 // GREGORY_CAPTURE(info, u, v, p, n) (with CAPTURE), and optionally
 // GREGORY_EDGE_OVERRIDE(info, k, x, from_corner, pos, nrm) (true: edge k evaluated elsewhere) and
 // GREGORY_CORNER_NORMAL(info, k, nrm) (after the shared corner: a normal read elsewhere) and
-// GREGORY_FILLET(info) (per edge the residual sharpness of a fillet the interior normal follows)
+// GREGORY_FILLET(info, k) (edge k's residual sharpness of a fillet the interior normal follows,
+// 0: none)
 // and GREGORY_FILLET_BEYOND (the stage sets edge_fillet_beyond_slot / _corner per edge end)
 // and, with GREGORY_FILLET, GREGORY_FILLET_END(info, k) (the positional fillet reaches corner k
 // whole, `patch::adaptive::promoted::positional_fillet_end`) and
@@ -97,7 +98,7 @@ void quad_edge(uint patch_index, GregoryPatchInfo info, int k, float x, int from
 
 #ifdef GREGORY_FILLET
 /// Inside the patch: du, dv with the cross-edge derivative of every edge k whose residual
-/// sharpness GREGORY_FILLET(info) holds (bits 8k..8k+8, 16 s) changed within its fillet, as
+/// sharpness GREGORY_FILLET(info, k) is non-zero changed within its fillet, as
 /// `patch::adaptive::promoted::fillet_cross_derivative`: -(d_own + d_nbr) (1 - w/h)^2 / 2 at
 /// distance w < h = 2^-floor(s) from the edge (blended with h / 2 by the fraction of s), d_* both
 /// sides' cross-edge derivatives at the edge point (into each patch); between two quads the
@@ -106,13 +107,11 @@ void quad_edge(uint patch_index, GregoryPatchInfo info, int k, float x, int from
 /// not reach whole (`AdaptiveSurface::fillet_position`).
 void fillet_derivatives(GregoryPatchInfo info, float u, float v, inout vec3 du, inout vec3 dv,
                         inout vec3 p) {
-    uint code = GREGORY_FILLET(info);
     for (int k = 0; k < 4; ++k) {
-        uint c = (code >> uint(8 * k)) & 0xffu;
-        if (c == 0u) {
+        float sharp = GREGORY_FILLET(info, k);
+        if (sharp == 0.0) {
             continue;
         }
-        float sharp = float(c) / 16.0;
         float n = floor(sharp);
         float frac = sharp - n;
         // (distance from edge k, position along it from corner k).
@@ -168,16 +167,15 @@ vec3 fillet_corner_offset(GregoryPatchInfo info, int k) {
     if (!GREGORY_FILLET_END(info, k)) {
         return vec3(0.0);
     }
-    uint code = GREGORY_FILLET(info);
     int prev = (k + 3) & 3;
-    bool from_k = ((code >> uint(8 * k)) & 0xffu) != 0u;
-    uint c = from_k ? (code >> uint(8 * k)) & 0xffu : (code >> uint(8 * prev)) & 0xffu;
-    if (c == 0u) {
+    bool from_k = GREGORY_FILLET(info, k) != 0.0;
+    float sharp = from_k ? GREGORY_FILLET(info, k) : GREGORY_FILLET(info, prev);
+    if (sharp == 0.0) {
         return vec3(0.0);
     }
     precise vec3 along = 3.0 * ((from_k ? EM(k) : EP(k)) - P(k));
     precise vec3 beyond = 3.0 * (g_eout[from_k ? 2 * k : 2 * prev + 1] - P(k));
-    precise vec3 offset = (along + beyond) * fillet_offset(float(c) / 16.0, 0.0);
+    precise vec3 offset = (along + beyond) * fillet_offset(sharp, 0.0);
     return offset;
 }
 #endif

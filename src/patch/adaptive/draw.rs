@@ -17,8 +17,8 @@ use super::coarse::{patch_index, CoarseEdges};
 use super::error::DrawTablesError;
 use super::exact_corners::ExactCorners;
 use super::promoted::{
-    exact_frame, fillet_code, fillet_end, fillet_end_code, irregular_crease_vertex,
-    positional_fillet_end, promoted_vertex, FilletEnd,
+    exact_frame, fillet_end, fillet_end_code, fillet_fine_code, fillet_fine_words,
+    irregular_crease_vertex, positional_fillet_end, promoted_vertex, FilletEnd,
 };
 use super::records::{
     words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
@@ -552,6 +552,7 @@ impl AdaptiveDrawTables {
                 fillet: 0,
                 corner_exact: exact.frames[i],
                 corner_fade: exact.codes[i],
+                fillet_fine: [0; 3],
             };
             out.sharpness.push(p.crease.map_or(0.0, |l| l.sharpness));
             let slot = |v: u32| out.slots.of(v);
@@ -627,12 +628,13 @@ impl AdaptiveDrawTables {
                     && census.patches[at[p.level as usize][g as usize] as usize].kind
                         == PatchType::EndCap
             };
+            let mut fine_codes = [0u32; 4];
             for (k, &e) in t.face_edges(p.face).iter().enumerate() {
                 let across_cap = t.edge_faces(e).iter().any(|&g| g != p.face && quad_cap(g));
                 if n == 4 && fine[k] == NONE && across_cap && caps.is_promoted_edge(e) {
                     ef.flags &= !(1 << (12 + k));
                     ef.flags |= 1 << (28 + k);
-                    out.records[i].fillet |= fillet_code(t.edge_sharpness(e)) << (8 * k);
+                    fine_codes[k] = fillet_fine_code(t.edge_sharpness(e));
                     // Its shared normal turns towards the limit's within the fillet of an
                     // irregular crease vertex at either end (`crease_turn_share`): bit 16 + the
                     // corner.
@@ -668,6 +670,7 @@ impl AdaptiveDrawTables {
                     }
                 }
             }
+            out.records[i].fillet_fine = fillet_fine_words(fine_codes);
             let fv = t.face_vertices(p.face);
             // The positional fillet reaches corner c whole (`positional_fillet_end`): bit 20 + c.
             if ef.flags >> 28 != 0 {

@@ -242,8 +242,8 @@ pub fn fillet_end_fade(sharpness: f64, x: f64) -> f64 {
     1.0 - fillet_fade(sharpness, x, 2)
 }
 
-/// The residual sharpness `s` of a promoted crease as the GPU reads it (`PatchRecord::fillet`):
-/// `16 s` rounded, in 16..=255 (`s` from 1 to 15.9; the fillet of a sharper edge is narrower
+/// A residual sharpness `s` in 16ths, as the corner offsets' widths read it
+/// (`PatchRecord::corner_fade`, [`corner_offset_code`]): `16 s` rounded, in 16..=255 (`s` from 1 to 15.9; the fillet of a sharper edge is narrower
 /// than 2^-15 of the end cap).
 pub fn fillet_code(sharpness: f32) -> u32 {
     (sharpness * 16.0).round().clamp(16.0, 255.0) as u32
@@ -252,6 +252,43 @@ pub fn fillet_code(sharpness: f32) -> u32 {
 /// The sharpness of [`fillet_code`] `code`.
 pub fn fillet_sharpness(code: u32) -> f64 {
     f64::from(code) / 16.0
+}
+
+/// The scale of [`fillet_fine_code`]: 2^20 per unit of sharpness, the resolution of an `f32`
+/// sharpness in 8..16 (finer ones round to within 2^-21).
+const FILLET_FINE_SCALE: f32 = 1_048_576.0;
+
+/// The residual sharpness `s` of a promoted crease as its fillet reads it
+/// (`PatchRecord::fillet_fine`): `2^20 s` rounded, in 2^20..2^24 (`s` from 1 to just under 16,
+/// as [`fillet_code`]'s range), 24 bits per edge so that a fractional `s` such as 1.7 is read
+/// to within 5e-7 rather than [`fillet_code`]'s 1/32
+/// (`catmark_torus_creases0`'s 1.7 read as 1.6875 bent its regular bands by 1.7e-3 rad RMS).
+pub fn fillet_fine_code(sharpness: f32) -> u32 {
+    (sharpness * FILLET_FINE_SCALE)
+        .round()
+        .clamp(FILLET_FINE_SCALE, 16_777_215.0) as u32
+}
+
+/// The sharpness of [`fillet_fine_code`] `code` (exact: the code has 24 bits).
+pub fn fillet_fine_sharpness(code: u32) -> f64 {
+    f64::from(code) / f64::from(FILLET_FINE_SCALE)
+}
+
+/// The three record words holding [`fillet_fine_code`]s `codes` (per face edge `k`, 0: none):
+/// bits `16 (k mod 2)..+16` of word `k / 2` hold a code's upper 16 bits, bits `8k..8k + 8` of
+/// word 2 its lower 8 (`glsl/adaptive/patch_adaptive_endcap.tese`'s `fillet_fine_sharpness`).
+pub fn fillet_fine_words(codes: [u32; 4]) -> [u32; 3] {
+    let mut w = [0u32; 3];
+    for (k, &c) in codes.iter().enumerate() {
+        w[k / 2] |= (c >> 8) << (16 * (k % 2));
+        w[2] |= (c & 0xff) << (8 * k);
+    }
+    w
+}
+
+/// Edge `k`'s code in [`fillet_fine_words`] `words`.
+pub fn fillet_fine_code_of(words: [u32; 3], k: usize) -> u32 {
+    (((words[k / 2] >> (16 * (k % 2))) & 0xffff) << 8) | ((words[2] >> (8 * k)) & 0xff)
 }
 
 /// The residual sharpness of the fillet at vertex `v` of `level` (its topology as `caps` sees it
@@ -523,6 +560,34 @@ pub fn fillet_rotation(sharpness: f64, w: f64, own: DVec3, limit: DVec3, n: DVec
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every f32 residual sharpness that is a multiple of 2^-20 in 1..16 reads back exactly
+    /// through the packed record words, each edge's code apart from the others'; 4.7 - 3 (an
+    /// f32 with 2^-21 steps) to within 2^-21, where `fillet_code` reads 1.6875.
+    #[test]
+    fn fillet_fine_codes_read_back_exact() {
+        let s: [f32; 4] = [1.0, 4.7 - 3.0, 15.999_999, 9.0 + 3.0 / 1_048_576.0];
+        let codes = s.map(fillet_fine_code);
+        let words = fillet_fine_words(codes);
+        for k in 0..4 {
+            assert_eq!(fillet_fine_code_of(words, k), codes[k], "edge {k}");
+            let back = fillet_fine_sharpness(codes[k]);
+            assert!(
+                (back - f64::from(s[k])).abs() <= 0.5 / 1_048_576.0,
+                "edge {k}: {back}"
+            );
+        }
+        assert_eq!(fillet_fine_sharpness(codes[0]), 1.0);
+        assert_eq!(fillet_fine_sharpness(codes[3]), f64::from(s[3]));
+        assert_eq!(fillet_sharpness(fillet_code(s[1])), 1.6875);
+        // Out of range: clamped as fillet_code.
+        assert_eq!(fillet_fine_sharpness(fillet_fine_code(0.5)), 1.0);
+        assert!(fillet_fine_sharpness(fillet_fine_code(40.0)) < 16.0);
+        // Alone in its bits: edge 2's code does not reach edge 3's.
+        let only = fillet_fine_words([0, 0, codes[2], 0]);
+        assert_eq!(fillet_fine_code_of(only, 3), 0);
+        assert_eq!(fillet_fine_code_of(only, 1), 0);
+    }
 
     /// The turn ends at the limit normal on the vertex and leaves `n` alone beyond the fillet;
     /// in between it is the rotation by the weighted angle (closed form: a turn in the xz plane).

@@ -55,11 +55,9 @@ pub struct PatchRecord {
     pub corner_frames: [u32; 4],
     /// The same for the midpoint of transition edge `k`.
     pub mid_frames: [u32; 4],
-    /// End caps, per face edge `k`, bits `8k..8k + 8`: on a promoted crease between two end caps
-    /// (draw flag bit `28 + k`) its residual sharpness
-    /// ([`crate::patch::adaptive::promoted::fillet_code`]), whose fillet the interior normals
-    /// follow; on another edge between two end caps, bits `8k..8k + 4` / `8k + 4..8k + 8` the
-    /// fillet sharpness at corner `k` / `k + 1`
+    /// End caps, per face edge `k` that is no promoted crease (draw flag bit `28 + k` off; a
+    /// promoted one's sharpness is in [`PatchRecord::fillet_fine`]) between two end caps, bits
+    /// `8k..8k + 4` / `8k + 4..8k + 8`: the fillet sharpness at corner `k` / `k + 1`
     /// ([`crate::patch::adaptive::promoted::fillet_end_code`], 0: none); 0 elsewhere.
     pub fillet: u32,
     /// Quad end caps, per face corner `k`: the frame holding the exact limit position there when
@@ -68,12 +66,18 @@ pub struct PatchRecord {
     /// Bits `8k..8k + 8`: the width code of corner `k`'s offset
     /// ([`crate::patch::adaptive::promoted::corner_offset_code`]), 0 where it has none.
     pub corner_fade: u32,
+    /// Per face edge `k` that is a promoted crease between two end caps (draw flag bit `28 + k`):
+    /// its residual sharpness in 24 bits, whose fillet the interior normals follow
+    /// ([`crate::patch::adaptive::promoted::fillet_fine_code`], packed by
+    /// [`crate::patch::adaptive::promoted::fillet_fine_words`]), which its fillet and band
+    /// offset read instead of [`PatchRecord::fillet`]'s 16ths; 0 elsewhere.
+    pub fillet_fine: [u32; 3],
 }
 
 impl PatchRecord {
     /// Words 0-27: base_face, sub_face, level, kind, origin xy, u xy, v xy, transition, fillet,
-    /// mid_slots, coarse, corner_frames, mid_frames; 28-32: corner_exact, corner_fade (33-35
-    /// padding: the GPU struct's std430 size is a multiple of 16 bytes).
+    /// mid_slots, coarse, corner_frames, mid_frames; 28-32: corner_exact, corner_fade; 33-35:
+    /// fillet_fine.
     pub fn words(&self) -> [u32; PATCH_RECORD_WORDS] {
         let mut w = [0u32; PATCH_RECORD_WORDS];
         w[..4].copy_from_slice(&[self.base_face, self.sub_face, self.level, self.kind]);
@@ -88,6 +92,7 @@ impl PatchRecord {
         w[24..28].copy_from_slice(&self.mid_frames);
         w[28..32].copy_from_slice(&self.corner_exact);
         w[32] = self.corner_fade;
+        w[33..36].copy_from_slice(&self.fillet_fine);
         w
     }
 }

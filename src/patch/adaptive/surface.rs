@@ -10,10 +10,10 @@ use thiserror::Error;
 use super::promoted::{
     band_offset_factor, corner_offset_code, corner_offset_share, corner_offset_vertex,
     crease_turn_share, exact_corner_position, exact_corner_tangents_shared, fillet_bend,
-    fillet_code, fillet_cross_derivative, fillet_end, fillet_end_code, fillet_end_fade,
-    fillet_end_sharpness, fillet_many_share, fillet_offset_factor, fillet_rotation,
-    fillet_sharpness, irregular_crease_vertex, positional_fillet_end, promoted_vertex,
-    turn_towards, within_fillet, FilletEnd,
+    fillet_cross_derivative, fillet_end, fillet_end_code, fillet_end_fade, fillet_end_sharpness,
+    fillet_fine_code, fillet_fine_sharpness, fillet_many_share, fillet_offset_factor,
+    fillet_rotation, fillet_sharpness, irregular_crease_vertex, positional_fillet_end,
+    promoted_vertex, turn_towards, within_fillet, FilletEnd,
 };
 use crate::patch::basis::{bernstein_deriv, eval_tensor};
 use crate::patch::gregory::{
@@ -820,7 +820,7 @@ fn promoted_caps(
                 continue;
             }
             cap.edges[k] = across;
-            cap.sharpness[k] = fillet_sharpness(fillet_code(t.edge_sharpness(e)));
+            cap.sharpness[k] = fillet_fine_sharpness(fillet_fine_code(t.edge_sharpness(e)));
         }
         for (k, &v) in t.face_vertices(face).iter().enumerate() {
             cap.irregular[k] = irregular_crease_vertex(t, caps, v);
