@@ -114,10 +114,28 @@ const MAX_LOCAL_STEPS: u32 = 12;
 /// The limit mask of vertex `v` of `level`, with tangents oriented by face `face` (one of the
 /// faces of `v`). Errors if `face` is not incident to `v` or the local iteration fails.
 pub fn vertex_mask(level: &Level, v: u32, face: u32) -> Result<VertexMask> {
-    vertex_mask_rec(level, v, face, 0)
+    vertex_mask_rec(level, v, face, 0, LocalStep::Kept)
 }
 
-fn vertex_mask_rec(level: &Level, v: u32, face: u32, depth: u32) -> Result<VertexMask> {
+/// How a local refinement step around a vertex makes the child's ring.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum LocalStep {
+    /// Only the children of the vertex's corners (`Level::refine_kept`, the child's ring
+    /// extraction itself) and only the refinement matrix's rows the child's mask reads.
+    Kept,
+    /// The whole ring refined (`Level::refine`), then the child's ring extracted: the former
+    /// path, kept as the test oracle of [`LocalStep::Kept`].
+    #[cfg(test)]
+    WholeRing,
+}
+
+fn vertex_mask_rec(
+    level: &Level,
+    v: u32,
+    face: u32,
+    depth: u32,
+    step: LocalStep,
+) -> Result<VertexMask> {
     let topo = level.topology();
     if v as usize >= topo.vertex_count() || face as usize >= topo.face_count() {
         return Err(Error::Invalid(format!(
@@ -137,7 +155,7 @@ fn vertex_mask_rec(level: &Level, v: u32, face: u32, depth: u32) -> Result<Verte
                 "limit mask: vertex {v} still semi-sharp after {depth} local refinements"
             )));
         }
-        return refined_mask(level, v, i, depth);
+        return refined_mask(level, v, i, depth, step);
     }
     let sharp = edges
         .iter()
@@ -146,7 +164,7 @@ fn vertex_mask_rec(level: &Level, v: u32, face: u32, depth: u32) -> Result<Verte
     if sharp == 0 && !is_inf(topo.vertex_sharpness(v)) && !topo.is_boundary_vertex(v) {
         return Ok(smooth_mask(level, v, i));
     }
-    eigen_mask(level, v, i, sharp, depth)
+    eigen_mask(level, v, i, sharp, depth, step)
 }
 
 /// Limit masks ([`vertex_mask`]) of vertices that need local refinement (semi-sharp or next to
@@ -244,7 +262,7 @@ impl SharedVertexMasks {
             return Ok(relabelled(m, &ring.map));
         }
         let (sub, map) = level.try_extract_ring(ring)?;
-        let m = refined_local_mask(&sub, 0, 0, 0)?;
+        let m = refined_local_mask(&sub, 0, 0, 0, LocalStep::Kept)?;
         let out = relabelled(&m, &map);
         self.table().insert(key, m);
         Ok(out)
@@ -368,14 +386,117 @@ fn ring_extraction(level: &Level, v: u32) -> Result<(Level, Vec<u32>, u32)> {
 }
 
 /// One local refinement step around `v`, then the mask of its child vertex, mapped back.
-fn refined_mask(level: &Level, v: u32, i: usize, depth: u32) -> Result<VertexMask> {
+fn refined_mask(
+    level: &Level,
+    v: u32,
+    i: usize,
+    depth: u32,
+    step: LocalStep,
+) -> Result<VertexMask> {
     let (sub, map, v_sub) = ring_extraction(level, v)?;
-    Ok(mapped(refined_local_mask(&sub, v_sub, i, depth)?, &map))
+    Ok(mapped(
+        refined_local_mask(&sub, v_sub, i, depth, step)?,
+        &map,
+    ))
 }
 
 /// [`refined_mask`] of vertex `v_sub` of its ring's extraction `sub` (face `i` of `v_sub`, which
 /// is sub face `i`), over `sub`'s vertices.
-fn refined_local_mask(sub: &Level, v_sub: u32, i: usize, depth: u32) -> Result<VertexMask> {
+fn refined_local_mask(
+    sub: &Level,
+    v_sub: u32,
+    i: usize,
+    depth: u32,
+    step: LocalStep,
+) -> Result<VertexMask> {
+    #[cfg(test)]
+    if step == LocalStep::WholeRing {
+        return whole_ring_refined_mask(sub, v_sub, i, depth, step);
+    }
+    match kept_corners(sub.topology(), v_sub) {
+        Some(keep) => kept_refined_mask(sub, v_sub, i, depth, &keep),
+        None => whole_ring_refined_mask(sub, v_sub, i, depth, step),
+    }
+}
+
+/// The corners of `v` in its faces' order: the child faces at `v`'s vertex point in its ring's
+/// order (`Level::refine_topology`), when they increase as `Level::refine_kept` needs.
+fn kept_corners(topo: &Topology, v: u32) -> Option<Vec<u32>> {
+    let keep: Vec<u32> = (topo.vertex_faces(v).iter())
+        .zip(topo.vertex_face_locals(v))
+        .map(|(&g, &l)| topo.face_offsets[g as usize] + u32::from(l))
+        .collect();
+    keep.windows(2).all(|w| w[0] < w[1]).then_some(keep)
+}
+
+/// [`refined_local_mask`] through `sub.refine_kept(keep)`, which is
+/// `sub.refine_topology().try_extract(keep)`: the ring extraction of `v_sub`'s child that the
+/// whole-ring path makes, made directly. The child's mask over it is pulled back through the
+/// rows of `sub`'s refinement matrix it reads, computed one by one. The same terms in the same
+/// order as [`whole_ring_refined_mask`], so the same bits (`tests::kept_steps_are_whole_ring_steps`).
+fn kept_refined_mask(
+    sub: &Level,
+    v_sub: u32,
+    i: usize,
+    depth: u32,
+    keep: &[u32],
+) -> Result<VertexMask> {
+    let st = sub.topology();
+    let lost = || {
+        Error::Invalid(format!(
+            "limit mask: ring vertex {v_sub} lost in refinement"
+        ))
+    };
+    let (child, map) = sub.refine_kept(keep)?;
+    let v_full = (st.face_count() + st.edge_count()) as u32 + v_sub;
+    let v_child = map.binary_search(&v_full).map_err(|_| lost())? as u32;
+    // Child face `k` is the child of `v_sub`'s `k`-th face at its corner.
+    let k = (st.vertex_faces(v_sub).iter())
+        .position(|&g| g == i as u32)
+        .ok_or_else(lost)?;
+    let ct = child.topology();
+    if !ct
+        .vertex_faces(v_child)
+        .iter()
+        .copied()
+        .eq(0..keep.len() as u32)
+    {
+        // Not the whole-ring path's extraction (its faces in another order).
+        return whole_ring_refined_mask(sub, v_sub, i, depth, LocalStep::Kept);
+    }
+    let cm = if needs_refinement(ct, v_child) {
+        // `child` is already the ring extraction `refined_mask` would make of it.
+        if depth + 1 >= MAX_LOCAL_STEPS {
+            return Err(Error::Invalid(format!(
+                "limit mask: ring vertex {v_sub} still semi-sharp after {} local refinements",
+                depth + 1
+            )));
+        }
+        refined_local_mask(&child, v_child, k, depth + 1, LocalStep::Kept)?
+    } else {
+        vertex_mask_rec(&child, v_child, k as u32, depth + 1, LocalStep::Kept)?
+    };
+    let mut t = Vec::new();
+    let mut buf = Vec::new();
+    for (j, &c) in cm.indices.iter().enumerate() {
+        let w = [cm.position[j], cm.tangent_u[j], cm.tangent_v[j]];
+        sub.refine_matrix_row(map[c as usize] as usize, &mut buf);
+        t.extend(
+            buf.iter()
+                .map(|&(col, x)| (col, [w[0] * x, w[1] * x, w[2] * x])),
+        );
+    }
+    Ok(VertexMask::from_triples(t))
+}
+
+/// [`refined_local_mask`] by refining the whole of `sub` and looking up `v_sub`'s child there.
+fn whole_ring_refined_mask(
+    sub: &Level,
+    v_sub: u32,
+    i: usize,
+    depth: u32,
+    step: LocalStep,
+) -> Result<VertexMask> {
     // Extraction keeps the order of the given faces: faces[i] is sub face i.
     let face_sub = i as u32;
     let (child, r) = sub.refine();
@@ -391,7 +512,7 @@ fn refined_local_mask(sub: &Level, v_sub: u32, i: usize, depth: u32) -> Result<V
         })?;
     let v_child = (st.face_count() + st.edge_count()) as u32 + v_sub;
     let child_face = sub.child_faces(face_sub).start + corner as u32;
-    let cm = vertex_mask_rec(&child, v_child, child_face, depth + 1)?;
+    let cm = vertex_mask_rec(&child, v_child, child_face, depth + 1, step)?;
     Ok(pull_back(&cm, &r, |c| c))
 }
 
@@ -424,7 +545,14 @@ pub fn face_point_mask(level: &Level, f: u32) -> Result<VertexMask> {
 /// Mask from the eigenvectors of the local subdivision matrix restricted to the face's sector
 /// (sectors between infinitely sharp edges do not interact: crease and corner rules only read
 /// the sharp edges' ends).
-fn eigen_mask(level: &Level, v: u32, i: usize, sharp: usize, depth: u32) -> Result<VertexMask> {
+fn eigen_mask(
+    level: &Level,
+    v: u32,
+    i: usize,
+    sharp: usize,
+    depth: u32,
+    step: LocalStep,
+) -> Result<VertexMask> {
     let topo = level.topology();
     let faces = topo.vertex_faces(v).to_vec();
     let fail = || Error::Invalid(format!("limit mask: no convergence at vertex {v}"));
@@ -484,7 +612,7 @@ fn eigen_mask(level: &Level, v: u32, i: usize, sharp: usize, depth: u32) -> Resu
         if depth >= MAX_LOCAL_STEPS {
             return Err(fail());
         }
-        return refined_mask(level, v, i, depth);
+        return refined_mask(level, v, i, depth, step);
     }
     let m = ring.len();
     let pos_in_ring = |x: u32| ring.iter().position(|&y| y == x);
@@ -685,4 +813,76 @@ pub struct LimitStencilTables {
     pub tangent_u: StencilTable,
     /// Second tangents.
     pub tangent_v: StencilTable,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every mask that refines locally, of every vertex and face of every corpus mesh (and of
+    /// its first uniform level), and the same masks over the vertices' ring extractions as
+    /// `SharedVertexMasks` makes them: the kept-corner steps give the whole-ring steps' bits.
+    #[test]
+    fn kept_steps_are_whole_ring_steps() {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .filter_map(|e| {
+                let name = e.unwrap().file_name().into_string().unwrap();
+                name.strip_suffix(".obj").map(str::to_string)
+            })
+            .collect();
+        names.sort();
+        let bits = |m: &VertexMask| {
+            let w = [&m.position, &m.tangent_u, &m.tangent_v];
+            let w: Vec<Vec<u64>> = w
+                .iter()
+                .map(|x| x.iter().map(|y| y.to_bits()).collect())
+                .collect();
+            (m.indices.clone(), w)
+        };
+        let mut compared = 0;
+        // Non-manifold meshes are refused by `Level::from_mesh` and skipped.
+        let levels = names.iter().flat_map(|name| {
+            let path = format!("{dir}{name}.obj");
+            let mesh = crate::ControlMesh::from_obj_file(&path, &Default::default()).ok()?;
+            let level = Level::from_mesh(&mesh).ok()?;
+            let next = level.refine_topology();
+            Some([(name, 0, level), (name, 1, next)])
+        });
+        for (name, d, level) in levels.flatten() {
+            let topo = level.topology();
+            for v in 0..topo.vertex_count() as u32 {
+                if !needs_refinement(topo, v) {
+                    continue;
+                }
+                for (i, &f) in topo.vertex_faces(v).iter().enumerate() {
+                    let kept = vertex_mask_rec(&level, v, f, 0, LocalStep::Kept);
+                    let whole = vertex_mask_rec(&level, v, f, 0, LocalStep::WholeRing);
+                    let ring = RingCorners::new(topo, v, i).unwrap();
+                    let (sub, _) = level.try_extract_ring(ring).unwrap();
+                    let kept_ring = refined_local_mask(&sub, 0, 0, 0, LocalStep::Kept);
+                    let whole_ring = refined_local_mask(&sub, 0, 0, 0, LocalStep::WholeRing);
+                    for (a, b) in [(kept, whole), (kept_ring, whole_ring)] {
+                        match (a, b) {
+                            (Ok(a), Ok(b)) => {
+                                assert_eq!(
+                                    bits(&a),
+                                    bits(&b),
+                                    "{name} level {d} vertex {v} face {f}"
+                                )
+                            }
+                            (a, b) => assert_eq!(
+                                a.is_ok(),
+                                b.is_ok(),
+                                "{name} level {d} vertex {v} face {f}: {a:?} / {b:?}"
+                            ),
+                        }
+                        compared += 1;
+                    }
+                }
+            }
+        }
+        assert!(compared > 1000, "{compared} masks compared");
+    }
 }

@@ -5,7 +5,7 @@
 use super::level::Level;
 use super::rules::{child_edge_sharpness, decrement, fractional_weight, vertex_rule};
 use super::rules::{VertexMask, VertexRule};
-use super::sparse::SparseMatrix;
+use super::sparse::{merge_row, SparseMatrix};
 use crate::topology::Topology;
 use glam::DVec3;
 
@@ -15,15 +15,15 @@ impl Level {
     pub fn refine_matrix(&self) -> SparseMatrix {
         let t = &self.topo;
         let (nf, ne, nv) = (t.face_count(), t.edge_count(), t.vertex_count());
-        SparseMatrix::from_rows(nf + ne + nv, nv, |r, buf| {
-            if r < nf {
-                face_row(t, r as u32, buf);
-            } else if r < nf + ne {
-                edge_row(t, (r - nf) as u32, buf);
-            } else {
-                vertex_row(t, (r - nf - ne) as u32, buf);
-            }
-        })
+        SparseMatrix::from_rows(nf + ne + nv, nv, |r, buf| child_row(t, r, buf))
+    }
+
+    /// Row `r` of [`Self::refine_matrix`] (child vertex `r`) into `buf` (cleared first), the
+    /// same `(column, weight)` pairs in the same order, without the other rows.
+    pub(crate) fn refine_matrix_row(&self, r: usize, buf: &mut Vec<(u32, f64)>) {
+        buf.clear();
+        child_row(&self.topo, r, buf);
+        merge_row(buf);
     }
 
     /// The refinement matrix composed with `rhs` (whose rows are this level's vertices):
@@ -31,20 +31,24 @@ impl Level {
     pub fn compose_refinement(&self, rhs: &SparseMatrix) -> SparseMatrix {
         let t = &self.topo;
         let (nf, ne, nv) = (t.face_count(), t.edge_count(), t.vertex_count());
-        SparseMatrix::compose_rows(nf + ne + nv, rhs, |r, buf| {
-            if r < nf {
-                face_row(t, r as u32, buf);
-            } else if r < nf + ne {
-                edge_row(t, (r - nf) as u32, buf);
-            } else {
-                vertex_row(t, (r - nf - ne) as u32, buf);
-            }
-        })
+        SparseMatrix::compose_rows(nf + ne + nv, rhs, |r, buf| child_row(t, r, buf))
     }
 
     /// The child vertex positions from this level's positions (one entry per vertex).
     pub fn refine_positions(&self, positions: &[DVec3]) -> Vec<DVec3> {
         self.refine_matrix().apply_vec(positions)
+    }
+}
+
+/// Child vertex `r` (`[face | edge | vertex points]`) as parent terms, unmerged.
+fn child_row(t: &Topology, r: usize, buf: &mut Vec<(u32, f64)>) {
+    let (nf, ne) = (t.face_count(), t.edge_count());
+    if r < nf {
+        face_row(t, r as u32, buf);
+    } else if r < nf + ne {
+        edge_row(t, (r - nf) as u32, buf);
+    } else {
+        vertex_row(t, (r - nf - ne) as u32, buf);
     }
 }
 
