@@ -203,7 +203,7 @@ pub fn fillet_offset_factor(sharpness: f64, w: f64) -> f64 {
 /// Whether the positional fillet ([`fillet_offset_factor`]) of the promoted crease through vertex `v`
 /// reaches `v` whole: its crease is regular ([`vertex_fillet_sharpness`]: valence 4, the two
 /// promoted edges opposite, no other sharp edge), of one residual sharpness as the GPU reads it
-/// ([`fillet_code`]), `v` carries no vertex sharpness, and every face at `v` is a quad end cap
+/// ([`fillet_fine_code`]: each end cap's crossing edge takes its own crease's), `v` carries no vertex sharpness, and every face at `v` is a quad end cap
 /// (`quad_cap`). There the limit is locally the crease curve swept by the fillet's
 /// cross-section, so the offset holds at `v` and on the edges crossing the crease (the sum of
 /// the edge's derivative and its continuation's beyond the crease). Elsewhere the offset fades
@@ -217,8 +217,8 @@ pub fn positional_fillet_end(
 ) -> bool {
     let creases = CreaseEdges::at(level, caps, v);
     creases.regular_sharpness(level, v).is_some()
-        && fillet_code(level.edge_sharpness(creases.promoted[0]))
-            == fillet_code(level.edge_sharpness(creases.promoted[1]))
+        && fillet_fine_code(level.edge_sharpness(creases.promoted[0]))
+            == fillet_fine_code(level.edge_sharpness(creases.promoted[1]))
         && level.vertex_sharpness(v) == 0.0
         && caps.vertex_sharpness(v) == 0.0
         && level.vertex_faces(v).iter().all(|&f| quad_cap(f))
