@@ -10,7 +10,7 @@ use super::slots::{Slots, NONE};
 use crate::patch::edge_grid::edge_grid;
 use crate::patch::single_crease::Rotation;
 use crate::subdiv::adaptive::{
-    AdaptiveLevel, AdaptivePatch, AdaptiveRefinement, ChildOf, PatchCensus,
+    AdaptiveLevel, AdaptivePatch, AdaptiveRefinement, ChildOf, PatchCensus, PatchType,
 };
 use crate::topology::is_sharp_edge;
 
@@ -25,6 +25,16 @@ pub fn patch_index(refinement: &AdaptiveRefinement, census: &PatchCensus) -> Vec
         at[p.level as usize][p.face as usize] = i as u32;
     }
     at
+}
+
+/// Whether face `g` of `lev` is a quad end cap drawn at that level (`at`: that level's
+/// [`patch_index`]), the neighbour the fillets and corner offsets of
+/// [`super::promoted`] need on every side.
+pub fn is_quad_end_cap(lev: &AdaptiveLevel, census: &PatchCensus, at: &[u32], g: u32) -> bool {
+    lev.own[g as usize]
+        && lev.topology().face_size(g) == 4
+        && at[g as usize] != NONE
+        && census.patches[at[g as usize] as usize].kind == PatchType::EndCap
 }
 
 /// Per edge of `lev`, the next level's vertex that is its edge point ([`NONE`] if not kept).

@@ -13,7 +13,7 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::coarse::{patch_index, CoarseEdges};
+use super::coarse::{is_quad_end_cap, patch_index, CoarseEdges};
 use super::error::DrawTablesError;
 use super::exact_corners::ExactCorners;
 use super::promoted::{
@@ -621,13 +621,7 @@ impl AdaptiveDrawTables {
             // A promoted crease (`super::promoted`) between two end caps of this level: the
             // normal both share (bit 12 + k off: the neighbour's cross-edge derivative counts).
             // A quad end cap of this level (the neighbours both fillets need).
-            let quad_cap = |g: u32| {
-                lev.own[g as usize]
-                    && t.face_size(g) == 4
-                    && at[p.level as usize][g as usize] != NONE
-                    && census.patches[at[p.level as usize][g as usize] as usize].kind
-                        == PatchType::EndCap
-            };
+            let quad_cap = |g: u32| is_quad_end_cap(lev, census, &at[p.level as usize], g);
             let mut fine_codes = [0u32; 4];
             for (k, &e) in t.face_edges(p.face).iter().enumerate() {
                 let across_cap = t.edge_faces(e).iter().any(|&g| g != p.face && quad_cap(g));

@@ -12,6 +12,7 @@
 
 use std::collections::HashMap;
 
+use super::coarse::is_quad_end_cap;
 use super::promoted::{corner_offset_code, corner_offset_vertex, exact_corner_position};
 use super::slots::{Slots, NONE};
 use super::surface::EndCapTopologies;
@@ -55,13 +56,7 @@ impl ExactCorners {
             if p.kind == PatchType::EndCap && t.face_size(p.face) == 4 {
                 let caps = topologies.get(p.level);
                 // A quad end cap of this level (the positional fillet's neighbours).
-                let quad_cap = |g: u32| {
-                    let j = at[p.level as usize][g as usize];
-                    lev.own[g as usize]
-                        && t.face_size(g) == 4
-                        && j != NONE
-                        && census.patches[j as usize].kind == PatchType::EndCap
-                };
+                let quad_cap = |g: u32| is_quad_end_cap(lev, census, &at[p.level as usize], g);
                 for (k, &v) in t.face_vertices(p.face).iter().enumerate() {
                     if !corner_offset_vertex(t, caps, v, quad_cap) {
                         continue;
