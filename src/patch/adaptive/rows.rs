@@ -59,10 +59,11 @@ impl<'a> CornerRows<'a> {
                 crease
                     .entry((line.side, line.sharpness.to_bits(), k))
                     .or_insert_with(|| {
-                        let columns = single_crease_corner_columns(line.side, line.sharpness, k);
-                        CornerTable::new(std::array::from_fn(|r| {
-                            std::array::from_fn(|i| columns[i][r])
-                        }))
+                        CornerTable::new(single_crease_corner_table_rows(
+                            line.side,
+                            line.sharpness,
+                            k,
+                        ))
                     });
             }
         }
@@ -98,7 +99,7 @@ impl<'a> CornerRows<'a> {
         &self.bspline[16 * k + usize::from(b.boundary_mask & 0xf)]
     }
 
-    /// [`single_crease_corner_columns`] of `line` at corner `k`, from the table.
+    /// [`single_crease_corner_table_rows`] of `line` at corner `k`, from the table.
     fn crease_table(&self, line: &CreaseLine, k: usize) -> &CornerTable {
         &self.crease[&(line.side, line.sharpness.to_bits(), k)]
     }
@@ -479,20 +480,22 @@ impl RowBuffer {
 /// A single-crease corner's shape: crease side, sharpness bits, face corner.
 type CreaseKey = (CreaseSide, u32, usize);
 
-/// Per control point (`cvs` order) the weights of a corner's position, d/du and d/dv.
-type CornerColumns = [[f64; 3]; 16];
-
 /// Rows (position, d/du, d/dv) of the single-crease patch of `line` (global control vertices)
 /// at its face corner `k`: its exact evaluation ([`SingleCreasePatch::eval`], Nießner, Loop,
 /// Greiner 2012 §3) as weights, read off by linearity (one unit control point at a time).
 pub fn single_crease_corner_rows(line: &CreaseLine, k: usize) -> [Weights; 3] {
-    let columns = single_crease_corner_columns(line.side, line.sharpness, k);
-    corner_rows_of_columns(&line.cvs, &columns)
+    CornerTable::new(single_crease_corner_table_rows(
+        line.side,
+        line.sharpness,
+        k,
+    ))
+    .weights(&line.cvs)
 }
 
-/// The weights of [`single_crease_corner_rows`] per control point: they depend on the crease's
-/// side and sharpness and the corner, not on the control vertices.
-fn single_crease_corner_columns(side: CreaseSide, sharpness: f32, k: usize) -> CornerColumns {
+/// The weights of [`single_crease_corner_rows`] (position, d/du, d/dv rows over the 16 control
+/// points, `cvs` order): they depend on the crease's side and sharpness and the corner, not on
+/// the control vertices.
+fn single_crease_corner_table_rows(side: CreaseSide, sharpness: f32, k: usize) -> [[f64; 16]; 3] {
     let (u, v) = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)][k];
     let local = SingleCreasePatch {
         face: 0,
@@ -501,17 +504,14 @@ fn single_crease_corner_columns(side: CreaseSide, sharpness: f32, k: usize) -> C
         sharpness,
     };
     let mut unit = [DVec3::ZERO; 16];
-    std::array::from_fn(|i| {
+    let mut rows = [[0.0; 16]; 3];
+    for i in 0..16 {
         unit[i] = DVec3::X;
         let e = local.eval(&unit, u, v);
         unit[i] = DVec3::ZERO;
-        [e.position.x, e.du.x, e.dv.x]
-    })
-}
-
-/// Rows (position, d/du, d/dv) over control vertices `cvs` with weights `columns`.
-fn corner_rows_of_columns(cvs: &[u32; 16], columns: &CornerColumns) -> [Weights; 3] {
-    std::array::from_fn(|r| Weights::from_terms(cvs.iter().zip(columns).map(|(&g, w)| (g, w[r]))))
+        [rows[0][i], rows[1][i], rows[2][i]] = [e.position.x, e.du.x, e.dv.x];
+    }
+    rows
 }
 
 /// Rows (position, tangent towards corner `k + 1`, tangent towards corner `k - 1`) of a Gregory
