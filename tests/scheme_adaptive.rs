@@ -27,7 +27,9 @@ use common::conformance::assert_watertight;
 use common::golden::check_golden;
 use common::gpu::{assert_validation_clean, context};
 use common::meshes::{corpus_options, mesh, osd_names, osd_path};
-use common::watertight::{assert_adaptive_points_equal_by_side, EndCapCreases};
+use common::watertight::{
+    assert_adaptive_points_equal_by_side, assert_equal_at_shared_domain_points, EndCapCreases,
+};
 
 /// Kind code of end caps in the capture tag (`KIND_END_CAP`).
 const END_CAP: u8 = 3;
@@ -516,9 +518,10 @@ fn watertight_across_levels_and_types() {
                 tess.mode, tess.spacing, tess.level
             );
             let edges = assert_watertight(&what, &surface, &records);
+            let inner = assert_equal_at_shared_domain_points(&records);
             let (pairs, on_crease) = assert_adaptive_points_equal_by_side(&m, iso, &records);
             eprintln!(
-                "{what}: {edges} base edges equal from both sides, {pairs} coincident pairs bitwise equal ({on_crease} on end-cap creases)"
+                "{what}: {edges} base edges equal from both sides, {inner} domain points shared inside faces, {pairs} coincident pairs bitwise equal ({on_crease} on end-cap creases)"
             );
             assert!(pairs > 0);
             on_creases += on_crease;
@@ -544,6 +547,7 @@ fn watertight_where_crease_halves_differ_below_16ths() {
     for level in [3.0, 8.0] {
         let (surface, records) = draw(&ctx, &m, 1, uniform(level));
         let edges = assert_watertight("torus 2.70 / 2.71", &surface, &records);
+        assert_equal_at_shared_domain_points(&records);
         let (pairs, on_crease) = assert_adaptive_points_equal_by_side(&m, 1, &records);
         eprintln!("torus 2.70 / 2.71 iso 1 level {level}: {edges} base edges equal from both sides, {pairs} coincident pairs bitwise equal ({on_crease} on end-cap creases)");
         assert!(
