@@ -196,11 +196,12 @@ mod tests {
     /// The data shared per ring type is bitwise the per-vertex two-stage construction over the
     /// vertex's own ids (`two_stage_of_ring` over the unit ring of those ids, the path
     /// `EndCapCorners` took before), on every covered vertex of every level of the isolation-2
-    /// refinement of meshes with triangles, n-gons, high valence, boundaries, holes, creases,
-    /// corners, darts and promoted semi-sharp creases, in both end-cap topologies and both
-    /// tangent rules; smooth, crease, corner and dart vertices compared, and types shared
-    /// (fails if the key leaves out a tag the construction reads, e.g. the far crease sectors
-    /// or promoted edges, or the relabelling misplaces a derived point).
+    /// refinement of meshes with triangles, n-gons, high valence, boundaries, holes, bands,
+    /// creases, corners, darts and promoted semi-sharp creases, in both end-cap topologies and
+    /// every tangent rule (`Bands` reads the far crease sectors); smooth, crease, corner and dart
+    /// vertices compared, and types shared (fails if the key leaves out a tag the construction
+    /// reads, e.g. the far crease sectors or promoted edges, or the relabelling misplaces a
+    /// derived point).
     #[test]
     fn shared_corner_data_is_the_per_vertex_construction() {
         let (mut compared, mut shared) = (0, 0);
@@ -217,9 +218,16 @@ mod tests {
             "catmark_cubes_semisharp",
             "catmark_val2_interior",
             "catmark_xord_boundary",
+            "catmark_gregory_test3",
         ] {
             for topo in end_cap_topologies(name) {
-                for tangents in [GregoryTangents::Paper, GregoryTangents::Optimal] {
+                for tangents in [
+                    GregoryTangents::Paper,
+                    GregoryTangents::Optimal,
+                    GregoryTangents::Bands,
+                    GregoryTangents::EndCaps,
+                    GregoryTangents::Scaled(1.1),
+                ] {
                     let darts = DartLimits::new();
                     let mut types = CornerTypes::new(&topo, tangents, &darts);
                     let basis =
