@@ -27,6 +27,7 @@
 
 pub mod accuracy;
 mod build;
+mod corner_types;
 pub mod edge_flags;
 mod eval;
 mod point;

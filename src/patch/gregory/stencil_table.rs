@@ -14,8 +14,9 @@ use glam::DVec3;
 
 use super::build::{
     check_face_for, gregory_patch_for, gregory_patch_from, gregory_vertex_for, has_vertex_data,
-    two_stage_of_ring, vertex_ring_of_units, Coverage, GregoryPatch, NotGregory,
+    vertex_covered, vertex_ring_of_units, Coverage, GregoryPatch, NotGregory,
 };
+use super::corner_types::CornerTypes;
 use super::eval::{edge_side_points, CornerRef};
 use super::point::{GregoryPoint, Weights};
 use super::stencil::{dense_rows, stencil_ring, NoStencil, MAX_RING, ROWS_PER_CORNER};
@@ -224,12 +225,13 @@ enum CornerState {
 /// needs only to have a patch, which its other corners' topology decides.
 struct EndCapCorners<'a> {
     topo: &'a Topology,
-    tangents: GregoryTangents,
     darts: &'a DartLimits,
     /// The data of the vertices built, in build order (a batch builds a few hundred of a
     /// level's vertices: no entry per vertex of the level to fill and drop).
     built: Vec<Option<GregoryVertex<Weights>>>,
     state: Vec<CornerState>,
+    /// The two-stage data per ring type the vertices' data is relabelled from.
+    types: CornerTypes<'a>,
 }
 
 impl<'a> EndCapCorners<'a> {
@@ -253,7 +255,7 @@ impl<'a> EndCapCorners<'a> {
         };
         EndCapCorners {
             topo,
-            tangents,
+            types: CornerTypes::new(topo, tangents, darts),
             darts,
             built: Vec::new(),
             state,
@@ -268,23 +270,15 @@ impl<'a> EndCapCorners<'a> {
         }
     }
 
-    /// Builds the data of `vertices` not built yet.
+    /// Builds the data of `vertices` not built yet, once per ring type ([`CornerTypes`]).
     fn build(&mut self, vertices: &[u32]) {
-        let topo = self.topo;
-        let basis = |v: u32| [0, 1, 2].map(|b| Weights::unit(vertex_point_id(topo, v, b)));
         for &v in vertices {
             let state = &mut self.state[v as usize];
             if !matches!(state, CornerState::Built(_)) {
                 *state = CornerState::Built(self.built.len() as u32);
-                self.built.push(two_stage_of_ring(
-                    topo,
-                    v,
-                    || vertex_ring_of_units(topo, v, &|u| u),
-                    self.tangents,
-                    Coverage::EndCap,
-                    self.darts,
-                    &basis,
-                ));
+                let covered = vertex_covered(self.topo, v, Coverage::EndCap);
+                self.built
+                    .push(covered.then(|| self.types.vertex(v)).flatten());
             }
         }
     }
