@@ -160,7 +160,25 @@ impl SubdivisionTables {
                 p => Ok(p),
             }
         };
-        let mut out = SubdivisionTables::default();
+        // Sized up front: one entry per child, the face corners and the rings in the indices.
+        let ring_len: usize = placement
+            .vertices
+            .iter()
+            .filter(|&&(v, _)| (v as usize) < t.vertex_count())
+            .map(|&(v, _)| t.vertex_edges(v).len() + t.vertex_faces(v).len())
+            .sum();
+        let corners: usize = placement
+            .faces
+            .iter()
+            .filter(|&&(f, _)| (f as usize) < t.face_count())
+            .map(|&(f, _)| t.face_size(f))
+            .sum();
+        let mut out = SubdivisionTables {
+            faces: Vec::with_capacity(placement.faces.len()),
+            edges: Vec::with_capacity(placement.edges.len()),
+            vertices: Vec::with_capacity(placement.vertices.len()),
+            indices: Vec::with_capacity(corners + ring_len),
+        };
         for &(f, dst) in &placement.faces {
             let verts = t.face_vertices(f);
             out.faces.push(FaceEntry {
@@ -272,15 +290,18 @@ fn range(what: &str, i: u32) -> Error {
 fn vertex_rules(level: &Level, v: u32) -> ([VertexRule; 2], f64, [u32; 2]) {
     let t = level.topology();
     let edges = t.vertex_edges(v);
-    let ps: Vec<f32> = edges.iter().map(|&e| t.edge_sharpness(e)).collect();
     let pv = t.vertex_sharpness(v);
-    let sharp_of = |s: &[f32]| -> Vec<usize> { (0..s.len()).filter(|&i| s[i] > 0.0).collect() };
-    let psharp = sharp_of(&ps);
-    let prule = vertex_rule(pv, psharp.len());
-    let crease_of = |sharp: &[usize]| [sharp[0] as u32, sharp[1] as u32];
+    // The parent rule from a count of the sharp edges first: most vertices are smooth or darts,
+    // whose rule needs no sharpness lists.
+    let sharp_edges = edges.iter().filter(|&&e| t.edge_sharpness(e) > 0.0).count();
+    let prule = vertex_rule(pv, sharp_edges);
     if matches!(prule, VertexRule::Smooth | VertexRule::Dart) {
         return ([prule, prule], 1.0, [NO_POINT; 2]);
     }
+    let ps: Vec<f32> = edges.iter().map(|&e| t.edge_sharpness(e)).collect();
+    let sharp_of = |s: &[f32]| -> Vec<usize> { (0..s.len()).filter(|&i| s[i] > 0.0).collect() };
+    let psharp = sharp_of(&ps);
+    let crease_of = |sharp: &[usize]| [sharp[0] as u32, sharp[1] as u32];
     let cs: Vec<f32> = edges
         .iter()
         .map(|&e| child_edge_sharpness(t, e, v))
@@ -363,9 +384,12 @@ impl RefinementTables {
             ..Default::default()
         };
         for (lev, next) in refinement.levels.iter().zip(&refinement.levels[1..]) {
+            let n = next.level.vertex_count();
             let mut placement = ChildPlacement {
                 parent_offset: lev.first_vertex,
-                ..Default::default()
+                faces: Vec::with_capacity(n),
+                edges: Vec::with_capacity(n),
+                vertices: Vec::with_capacity(n),
             };
             for i in 0..next.level.vertex_count() as u32 {
                 let dst = next.first_vertex + i;

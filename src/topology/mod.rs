@@ -21,7 +21,9 @@ pub(crate) use build::{build, with_given_rings, Connectivity, Rings};
 pub(crate) use connectivity::NONE;
 pub use connectivity::{FaceClass, Topology};
 pub(crate) use fans::RingBuilder;
-pub use sectors::{is_sharp_edge, sector_count, sector_faces, sector_slots, single_normal_vertex};
+pub use sectors::{
+    is_sharp_edge, sector_count, sector_counts, sector_faces, sector_slots, single_normal_vertex,
+};
 
 #[cfg(test)]
 mod tests;

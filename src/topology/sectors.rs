@@ -3,7 +3,7 @@
 
 use std::borrow::Cow;
 
-use super::Topology;
+use super::{Topology, NONE};
 use crate::mesh::INFINITE_SHARPNESS;
 
 /// Boundary or infinitely sharp edge.
@@ -23,6 +23,32 @@ pub fn sector_count(topo: &Topology, v: u32) -> usize {
     } else {
         sharp
     }
+}
+
+/// [`sector_count`] of every vertex, from one pass over the edges (each sharp edge, as
+/// [`is_sharp_edge`] says, counted at both its ends) and one over the ring offsets (a vertex
+/// with no face or fewer faces than edges is a boundary vertex, as
+/// [`Topology::is_boundary_vertex`] says) instead of one ring walk per vertex.
+pub fn sector_counts(topo: &Topology) -> Vec<u32> {
+    let mut counts = vec![0u32; topo.vertex_count()];
+    let edges = topo.edge_verts.iter().zip(&topo.edge_faces);
+    for ((&[a, b], &[_, f1]), &s) in edges.zip(&topo.edge_sharpness) {
+        if f1 == NONE || s >= INFINITE_SHARPNESS {
+            counts[a as usize] += 1;
+            counts[b as usize] += 1;
+        }
+    }
+    let rings = topo
+        .vert_face_offsets
+        .windows(2)
+        .zip(topo.vert_edge_offsets.windows(2));
+    for (c, (f, e)) in counts.iter_mut().zip(rings) {
+        let faces = f[1] - f[0];
+        if *c > 0 && (faces == 0 || e[1] - e[0] != faces) {
+            *c -= 1;
+        }
+    }
+    counts
 }
 
 /// Face slots (indices into `vertex_faces(v)`) of `v`'s sector containing face slot `i`
@@ -136,5 +162,43 @@ impl Topology {
             }
         }
         Cow::Owned(t)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The counts of one pass over the edges are the per-vertex ring counts, on every vertex of
+    /// levels 0-2 of meshes with boundaries, corners, infinitely sharp creases, darts and holes
+    /// (fails if a boundary vertex's first sharp edge is not discounted, or an edge is counted
+    /// at one end only).
+    #[test]
+    fn sector_counts_are_per_vertex_counts() {
+        let levels = crate::subdiv::corpus_levels(
+            &[
+                "catmark_car",
+                "catmark_cubes_infsharp",
+                "catmark_dart_edgecorner",
+                "catmark_edgecorner",
+                "catmark_hole_test1",
+                "catmark_inf_crease1",
+            ],
+            2,
+        );
+        let mut split = 0;
+        for (name, _, level) in &levels {
+            let t = level.topology();
+            let counts = sector_counts(t);
+            for v in 0..t.vertex_count() as u32 {
+                assert_eq!(
+                    counts[v as usize] as usize,
+                    sector_count(t, v),
+                    "{name} vertex {v}"
+                );
+                split += usize::from(counts[v as usize] >= 2);
+            }
+        }
+        assert!(split > 100, "{split} vertices of two or more sectors");
     }
 }

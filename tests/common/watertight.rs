@@ -634,3 +634,37 @@ pub fn map_displacement_seams(
     assert_eq!(pairs.len(), before, "{what}: shared points split apart");
     (pairs.len(), worst)
 }
+
+/// Inside a base face: every domain point two or more patches emitted (same face, sub-face and
+/// (u, v) bits) has the same position bits from each, however far apart a crack would put
+/// them (the pair test of [`coincident_pairs`] sees only points closer than 1e-6 of the
+/// diagonal). Returns how many such points were compared.
+pub fn assert_equal_at_shared_domain_points(records: &[CaptureRecord]) -> usize {
+    type Key = (u32, Option<u32>, u32, u32);
+    let mut at: HashMap<Key, &CaptureRecord> = HashMap::new();
+    let mut shared = std::collections::HashSet::new();
+    for r in records {
+        let key = (r.face, r.sub_face, r.u.to_bits(), r.v.to_bits());
+        match at.get(&key) {
+            None => {
+                at.insert(key, r);
+            }
+            Some(q) => {
+                assert!(
+                    position_bits(q) == position_bits(r),
+                    "face {} sub-face {:?} ({}, {}): {:?} and {:?} ({:?} / {:?})",
+                    r.face,
+                    r.sub_face,
+                    r.u,
+                    r.v,
+                    q.position,
+                    r.position,
+                    q.patch,
+                    r.patch
+                );
+                shared.insert(key);
+            }
+        }
+    }
+    shared.len()
+}

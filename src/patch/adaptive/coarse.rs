@@ -232,6 +232,10 @@ impl CoarseEdges {
     /// The record face edge `k` of face `f` of `level` lies on (its neighbour across is drawn
     /// one level coarser), [`NONE`] when the neighbour is of the same level, finer, or not
     /// drawn (boundary, hole, no limit surface).
+    ///
+    /// The common case (the neighbour is of the same level, or there is none) is settled inline;
+    /// only edges beside a face of another level go on to [`Self::lookup_coarser`].
+    #[inline]
     pub fn lookup(
         &mut self,
         refinement: &AdaptiveRefinement,
@@ -240,10 +244,24 @@ impl CoarseEdges {
         k: usize,
     ) -> Result<u32, DrawTablesError> {
         let lev = &refinement.levels[level as usize];
+        match lev.topology().adjacent_face(f, k) {
+            Some(h) if !lev.own[h as usize] => self.lookup_coarser(refinement, level, f, k, h),
+            _ => Ok(NONE),
+        }
+    }
+
+    /// [`Self::lookup`] of face edge `k` of `f` whose neighbour `h` is not drawn at `level`.
+    #[inline(never)]
+    fn lookup_coarser(
+        &mut self,
+        refinement: &AdaptiveRefinement,
+        level: u32,
+        f: u32,
+        k: usize,
+        h: u32,
+    ) -> Result<u32, DrawTablesError> {
+        let lev = &refinement.levels[level as usize];
         let t = lev.topology();
-        let Some(h) = t.adjacent_face(f, k).filter(|&h| !lev.own[h as usize]) else {
-            return Ok(NONE);
-        };
         let gap = || DrawTablesError::LevelGap {
             base_face: lev.domains[f as usize].base_face,
             level,

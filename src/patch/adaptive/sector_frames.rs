@@ -27,7 +27,7 @@ use crate::mesh::INFINITE_SHARPNESS;
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
 use crate::subdiv::limit::SharedVertexMasks;
-use crate::topology::{sector_count, sector_faces, Topology};
+use crate::topology::{sector_counts, sector_faces, Topology};
 
 /// The sector frames of a census and which patch corners and midpoints read them.
 #[derive(Debug, Clone, Default)]
@@ -174,12 +174,13 @@ impl SectorFrames {
     }
 }
 
-/// [`sector_count`] per vertex of each level's topology and of its end caps' (the same
-/// where the end caps borrow the level's), each vertex counted once: a vertex is the corner of
-/// up to four patches of its level.
+/// [`sector_counts`] of each level's topology and of its end caps' (the same where the end caps
+/// borrow the level's), each counted on first use in one pass over its edges: a patch corner
+/// asks for a vertex's count up to four times, and the pass is cheaper than a ring walk per
+/// vertex asked.
 struct SectorCounts<'t> {
-    /// Per level: its topology and its end caps', each with its counts (`u32::MAX`: not
-    /// counted yet; allocated on first use).
+    /// Per level: its topology and its end caps', each with its counts (empty: not counted
+    /// yet).
     levels: Vec<[(&'t Topology, Vec<u32>); 2]>,
 }
 
@@ -199,18 +200,15 @@ impl<'t> SectorCounts<'t> {
         SectorCounts { levels }
     }
 
-    /// [`sector_count`] of vertex `v` of level `level`, in its end caps' topology if `caps`.
+    /// [`crate::topology::sector_count`] of vertex `v` of level `level`, in its end caps'
+    /// topology if `caps`.
     fn get(&mut self, level: u32, caps: bool, v: u32) -> usize {
         let pair = &mut self.levels[level as usize];
         let which = usize::from(caps && !std::ptr::eq(pair[0].0, pair[1].0));
         let (topo, counts) = &mut pair[which];
         if counts.is_empty() {
-            *counts = vec![u32::MAX; topo.vertex_count()];
+            *counts = sector_counts(topo);
         }
-        let c = &mut counts[v as usize];
-        if *c == u32::MAX {
-            *c = sector_count(topo, v) as u32;
-        }
-        *c as usize
+        counts[v as usize] as usize
     }
 }
