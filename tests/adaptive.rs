@@ -486,6 +486,30 @@ fn info_prints_single_crease_counts() {
     );
 }
 
+/// Each adaptive step, made from its level in place (`subdiv::ring_step`), is the refinement of
+/// the sub-level its faces make (`AdaptiveLevel::uniform_step`: `Level::extract_increasing`
+/// then `Level::refine_kept`, the path it replaced) bit for bit: the next level's topology,
+/// sharpness, holes, cut edges and incomplete vertices (their `Debug` text, floats in
+/// round-trip form), vertex numbering included, on every loadable corpus shape at isolation 4,
+/// with and without single-crease patches.
+#[test]
+fn steps_in_place_equal_sub_level_refinements() {
+    for (name, m) in corpus() {
+        for options in [AdaptiveOptions::new(4), single(4)] {
+            let (r, _) = refine_with(&m, options);
+            for (l, pair) in r.levels.windows(2).enumerate() {
+                let step = pair[0].uniform_step().unwrap().unwrap();
+                assert_eq!(
+                    format!("{:?}", pair[1].level),
+                    format!("{:?}", step.child),
+                    "{name} level {}",
+                    l + 1
+                );
+            }
+        }
+    }
+}
+
 /// `AdaptiveLevel::child_of` (a per-vertex array made with the step) names the component the
 /// step's refined sub-level says: its face, its vertex, or the level's edge joining the
 /// sub-level edge's two ends (`find_edge`, the lookup the array replaced), on every loadable
@@ -496,7 +520,10 @@ fn child_of_is_the_sub_levels_component() {
         for options in [AdaptiveOptions::new(3), single(3)] {
             let (r, _) = refine_with(&m, options);
             for (l, lev) in r.levels.iter().enumerate() {
-                let Some(step) = &lev.refinement else { break };
+                let Some(step) = lev.uniform_step() else {
+                    break;
+                };
+                let step = step.unwrap();
                 let sub = step.parent.topology();
                 let (nf, ne) = (sub.face_count() as u32, sub.edge_count() as u32);
                 for (v, &p) in step.child_points.iter().enumerate() {

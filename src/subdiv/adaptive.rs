@@ -6,17 +6,20 @@
 //! of the faces refined at level `l` plus, for every other face touching a vertex of a refined
 //! face, its child at that corner — exactly the ring that gives each child of a refined face
 //! its 4x4 neighbourhood (§3.3). Refining level `l` is one uniform [`Level::refine`] of the
-//! sub-level made of the refined faces and that ring ([`Refinement::parent`]), keeping the child
-//! faces just described; those are made straight from the sub-level ([`Level::refine_kept`],
-//! without the whole child level), and the sub-level's edges and one-rings are taken from level
-//! `l`'s ([`Level::extract_increasing`]). Vertices are numbered globally level after level:
+//! sub-level made of the refined faces and that ring, keeping the child faces just described
+//! ([`UniformStep`]); those are made from level `l` in place, as OpenSubdiv's `Vtr::Refinement`
+//! refines a selection of its parent: the child vertices are the face, edge and vertex points of
+//! the selected components, numbered and related by fixed rules from level `l`'s relations
+//! (`ring_step`, `kept`), with no sub-level extracted. Vertices are numbered globally level after level:
 //! vertex `i` of level `l` is global vertex [`AdaptiveLevel::first_vertex`]` + i`, one buffer for
 //! every level (thesis §4.2).
 
 use glam::{DVec2, DVec3};
 
 use super::bspline::{is_regular_vertex, RegularPatch};
+use super::kept::{refine_kept_in, StepParent};
 use super::level::Level;
+use super::ring_step::RingStep;
 use super::single_crease::{single_crease_line, CreaseLine};
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::topology::Topology;
@@ -84,14 +87,29 @@ pub enum ChildOf {
     Vertex(u32),
 }
 
-/// One sparse refinement step, level `l` to `l + 1`: what a table builder needs.
-///
-/// The child vertices are rows of `parent.refine()`'s matrix (columns: `parent` vertices), so
+/// One sparse refinement step, level `l` to `l + 1`: what a table builder needs. The step
+/// refines the level's faces `parent_faces` in place (`subdiv::ring_step`): level `l + 1` is
+/// made from level `l` by index arithmetic, with no sub-level extracted.
+#[derive(Debug, Clone)]
+pub struct Refinement {
+    /// The level-`l` faces the step refines (increasing): the refined faces and their ring.
+    pub parent_faces: Vec<u32>,
+    /// Level-`l + 1` face to the level-`l` corner it is the child of (a flat corner index);
+    /// increasing.
+    pub child_corners: Vec<u32>,
+    /// Per level-`l + 1` vertex: the level-`l` component producing it.
+    child_of: Vec<ChildOf>,
+}
+
+/// A step as one uniform [`Level::refine`] of the sub-level its faces make
+/// ([`Level::extract_increasing`]), keeping the children it keeps ([`Level::refine_kept`]): how
+/// the step was once computed, rebuilt on demand ([`AdaptiveLevel::uniform_step`]) for the
+/// refined positions, `Debug` and tests. The child vertices are rows of `parent.refine()`'s
+/// matrix (columns: `parent` vertices), so
 /// `child = M[child_points] * positions_l[parent_vertices]`.
 #[derive(Clone)]
-pub struct Refinement {
-    /// The refined sub-level of level `l` (from [`Level::extract`]): the refined faces and their
-    /// ring.
+pub struct UniformStep {
+    /// The refined sub-level of level `l`: the refined faces and their ring.
     pub parent: Level,
     /// `parent` face to level-`l` face.
     pub parent_faces: Vec<u32>,
@@ -103,13 +121,13 @@ pub struct Refinement {
     /// Level-`l + 1` face to its index in `parent.refine()`'s child faces (the corner of
     /// `parent` it comes from, as a flat corner index).
     pub child_faces: Vec<u32>,
-    /// Per level-`l + 1` vertex: the level-`l` component producing it (`child_points` read
-    /// through `parent_faces`, the sub-level's edges' level-`l` edges and `parent_vertices`).
-    child_of: Vec<ChildOf>,
+    /// Level `l + 1` as `parent.refine_kept(&child_faces)` makes it.
+    pub child: Level,
 }
 
-/// The fields above but `child_of`, which is derived from them and left out.
-impl std::fmt::Debug for Refinement {
+/// Printed as the step was when it held its sub-level (named `Refinement`, the child level left
+/// out): the refinement's fingerprints (`tests/adaptive_fingerprint.rs`) hash this text.
+impl std::fmt::Debug for UniformStep {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Refinement")
             .field("parent", &self.parent)
@@ -122,7 +140,7 @@ impl std::fmt::Debug for Refinement {
 }
 
 /// One level of an [`AdaptiveRefinement`].
-#[derive(Debug, Clone)]
+#[derive(Clone)]
 pub struct AdaptiveLevel {
     /// The sparse topology of this level (the whole base mesh at level 0).
     pub level: Level,
@@ -163,17 +181,68 @@ impl AdaptiveLevel {
     /// # Panics
     /// On the last level (no refinement).
     pub fn child_face_parent(&self, c: u32) -> (u32, usize) {
-        let r = self.step();
-        let h = r.child_faces[c as usize];
-        let offsets = r.parent.topology().face_offsets();
-        let sf = offsets.partition_point(|&o| o <= h) - 1;
-        (r.parent_faces[sf], (h - offsets[sf]) as usize)
+        let h = self.step().child_corners[c as usize];
+        let offsets = self.topology().face_offsets();
+        let f = offsets.partition_point(|&o| o <= h) - 1;
+        (f as u32, (h - offsets[f]) as usize)
+    }
+
+    /// The step to the next level as one uniform refinement of an extracted sub-level
+    /// ([`UniformStep`]); `None` on the last level.
+    pub fn uniform_step(&self) -> Option<Result<UniformStep>> {
+        let r = self.refinement.as_ref()?;
+        let step = || {
+            let (parent, parent_vertices) = self.level.extract_increasing(&r.parent_faces)?;
+            let (to, so) = (
+                self.topology().face_offsets(),
+                parent.topology().face_offsets(),
+            );
+            let mut i = 0;
+            let child_faces = r
+                .child_corners
+                .iter()
+                .map(|&h| {
+                    while to[r.parent_faces[i] as usize + 1] <= h {
+                        i += 1;
+                    }
+                    so[i] + h - to[r.parent_faces[i] as usize]
+                })
+                .collect::<Vec<u32>>();
+            let (child, child_points) = parent.refine_kept(&child_faces)?;
+            Ok(UniformStep {
+                parent,
+                parent_faces: r.parent_faces.clone(),
+                parent_vertices,
+                child_points,
+                child_faces,
+                child,
+            })
+        };
+        Some(step())
     }
 
     fn step(&self) -> &Refinement {
         self.refinement
             .as_ref()
             .expect("the last adaptive level has no refinement")
+    }
+}
+
+/// The fields, the step printed as its [`UniformStep`] (as the step was once stored).
+impl std::fmt::Debug for AdaptiveLevel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let step = self
+            .uniform_step()
+            .transpose()
+            .map_err(|_| std::fmt::Error)?;
+        f.debug_struct("AdaptiveLevel")
+            .field("level", &self.level)
+            .field("first_vertex", &self.first_vertex)
+            .field("own", &self.own)
+            .field("refined", &self.refined)
+            .field("domains", &self.domains)
+            .field("refinement", &step)
+            .finish()
     }
 }
 
@@ -422,7 +491,8 @@ impl AdaptiveRefinement {
         let mut out = Vec::with_capacity(self.vertex_count());
         out.extend_from_slice(base);
         for lev in &self.levels {
-            let Some(r) = &lev.refinement else { break };
+            let Some(r) = lev.uniform_step() else { break };
+            let r = r.expect("a refined level's faces extract");
             let first = lev.first_vertex as usize;
             let sub: Vec<DVec3> = r
                 .parent_vertices
@@ -533,14 +603,13 @@ fn refine_sparse(cur: &mut AdaptiveLevel) -> Result<AdaptiveLevel> {
     let ring: Vec<u32> = (0..t.face_count() as u32)
         .filter(|&f| t.face_vertices(f).iter().any(|&v| selected[v as usize]))
         .collect();
-    let (parent, parent_vertices, parent_edges) = cur.level.extract_increasing_with_edges(&ring)?;
     let mut keep = Vec::new();
     let mut own = Vec::new();
     let mut domains = Vec::new();
-    for (i, &f) in ring.iter().enumerate() {
+    for &f in &ring {
         let r = cur.refined[f as usize];
         let fv = t.face_vertices(f);
-        let off = parent.topology().face_offsets()[i];
+        let off = t.face_offsets()[f as usize];
         for (k, &v) in fv.iter().enumerate() {
             if r || selected[v as usize] {
                 keep.push(off + k as u32);
@@ -549,7 +618,21 @@ fn refine_sparse(cur: &mut AdaptiveLevel) -> Result<AdaptiveLevel> {
             }
         }
     }
-    let (level, child_points) = parent.refine_kept(&keep)?;
+    let step = RingStep::new(&cur.level, &ring, &keep)?;
+    let (level, child_points) = refine_kept_in(&step, &keep)?;
+    let (nf, ne) = (t.face_count() as u32, step.edge_point_count());
+    let child_of = child_points
+        .iter()
+        .map(|&p| {
+            if p < nf {
+                ChildOf::Face(p)
+            } else if p < nf + ne {
+                ChildOf::Edge(step.point_edge(p - nf))
+            } else {
+                ChildOf::Vertex(p - nf - ne)
+            }
+        })
+        .collect();
     let next = AdaptiveLevel {
         first_vertex: cur.first_vertex + t.vertex_count() as u32,
         own,
@@ -558,28 +641,9 @@ fn refine_sparse(cur: &mut AdaptiveLevel) -> Result<AdaptiveLevel> {
         refinement: None,
         level,
     };
-    let (nf, ne) = (
-        parent.face_count() as u32,
-        parent.topology().edge_count() as u32,
-    );
-    let child_of = child_points
-        .iter()
-        .map(|&p| {
-            if p < nf {
-                ChildOf::Face(ring[p as usize])
-            } else if p < nf + ne {
-                ChildOf::Edge(parent_edges[(p - nf) as usize])
-            } else {
-                ChildOf::Vertex(parent_vertices[(p - nf - ne) as usize])
-            }
-        })
-        .collect();
     cur.refinement = Some(Refinement {
-        parent,
         parent_faces: ring,
-        parent_vertices,
-        child_points,
-        child_faces: keep,
+        child_corners: keep,
         child_of,
     });
     Ok(next)

@@ -216,15 +216,6 @@ impl Level {
     /// the next edges. Each vertex's one-ring is its ring here without the faces left out
     /// (`topology::RingBuilder`).
     pub fn extract_increasing(&self, faces: &[u32]) -> Result<(Level, Vec<u32>)> {
-        self.extract_increasing_with_edges(faces)
-            .map(|(level, map, _)| (level, map))
-    }
-
-    /// [`Self::extract_increasing`] with, per extracted edge, its edge in this level.
-    pub(crate) fn extract_increasing_with_edges(
-        &self,
-        faces: &[u32],
-    ) -> Result<(Level, Vec<u32>, Vec<u32>)> {
         let t = &self.topo;
         if faces.is_empty() {
             return Err(crate::Error::EmptyMesh(
@@ -333,7 +324,7 @@ impl Level {
         let rings = rings.finish();
         let sub = topology::with_given_rings(map.len(), connectivity, rings, max_size);
         let level = self.tag_extraction(sub, faces, &map, &old_edge);
-        Ok((level, map, old_edge))
+        Ok((level, map))
     }
 
     /// The faces of vertex `v` extracted in a numbering that depends only on the ring's shape

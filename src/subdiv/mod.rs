@@ -7,10 +7,12 @@
 pub mod adaptive;
 pub mod bspline;
 pub mod eval;
+mod kept;
 mod level;
 pub mod limit;
 mod points;
 mod refine;
+mod ring_step;
 pub mod rules;
 pub mod single_crease;
 pub mod sparse;
