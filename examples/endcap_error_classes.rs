@@ -21,7 +21,7 @@
 //! error set to zero.
 //!
 //! ```sh
-//! cargo run --example endcap_error_classes -- MESH.obj ISOLATION
+//! cargo run --example endcap_error_classes -- MESH.obj ISOLATION [STEPS]
 //! ```
 
 use std::collections::BTreeMap;
@@ -36,7 +36,9 @@ use tessera::subdiv::Level;
 use tessera::topology::Topology;
 use tessera::ControlMesh;
 
-/// Grid steps per end-cap side.
+/// Grid steps per end-cap side unless the third argument gives them (8: the 9x9 grid of
+/// `adaptive_grid endcaps:9`, whose points are lattice points of `patch::adaptive::lattice_frames`;
+/// 7: a grid between them).
 const STEPS: usize = 8;
 
 /// A sample: patch index, own (s, t), base (u, v), class, whether it is near an irregular
@@ -49,9 +51,10 @@ type Sums = (usize, f64, f64, f64, f64);
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let (Some(path), Some(iso)) = (args.first(), args.get(1)) else {
-        return Err("usage: endcap_error_classes MESH.obj ISOLATION".into());
+        return Err("usage: endcap_error_classes MESH.obj ISOLATION [STEPS]".into());
     };
     let iso: u32 = iso.parse()?;
+    let steps: usize = args.get(2).map_or(Ok(STEPS), |s| s.parse())?;
     let mesh = ControlMesh::from_obj_file(path, &ObjOptions::default())?;
     let r = AdaptiveRefinement::new(&Level::from_mesh(&mesh)?, iso)?;
     let s = AdaptiveSurface::new(&r, mesh.positions())?;
@@ -68,9 +71,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let caps = caps_by_level
             .entry(p.level)
             .or_insert_with(|| r.end_cap_topology(p.level as usize));
-        for j in 0..=STEPS {
-            for k in 0..=STEPS {
-                let st = (k as f64 / STEPS as f64, j as f64 / STEPS as f64);
+        for j in 0..=steps {
+            for k in 0..=steps {
+                let st = (k as f64 / steps as f64, j as f64 / steps as f64);
                 let d = p.domain;
                 let uv = d.origin + st.0 * d.u + st.1 * d.v;
                 groups
@@ -233,6 +236,7 @@ fn class(t: &Topology, caps: &Topology, face: u32, (s, u): (f64, f64)) -> String
                 ring.len(),
                 on.len(),
                 if opposite { "-opposite" } else { "" },
+                // In eighths of the edge whatever the grid.
                 (step * STEPS as f64).round()
             );
         }

@@ -9,4 +9,13 @@ layout(std430, set = 0, binding = 13) readonly buffer EndCapPoints {
     vec4 endcap_points[];
 };
 
+/// The end caps' lattice regions near irregular crease vertices
+/// (src/patch/adaptive/lattice_frames.rs `LatticeFrames::table_words`): word e per end cap (its
+/// GregoryPatchInfo index) the index of its block, NO_ENTRY for none; a block is a head word
+/// (bits 8c..8c+8 per corner c: bits 0-3 its region's steps, bits 4-7 its cells, 0 for none),
+/// then per corner the index of its cells^2 node frames (node (a, b) at a + cells b).
+layout(std430, set = 0, binding = 16) readonly buffer EndCapLattice {
+    uint lattice[];
+};
+
 #endif

@@ -5,6 +5,7 @@
 // Defines: SPACING, CAPTURE.
 #include "frame.glsl"
 #include "adaptive.glsl"
+#include "endcap.glsl"
 // End-cap points are absolute (endcap_points.comp sums refined points; the corners are limit
 // slots, not control points): every corner's origin is zero.
 #define GREGORY_CORNER_ORIGIN(info, k) vec3(0.0)
@@ -155,6 +156,103 @@ void exact_corner_offsets(GregoryPatchInfo info, float u, float v, inout vec3 p)
     }
 }
 
+/// Node (a, b)'s value in a lattice region whose node frames start at `table` (`cells` per
+/// side): the frame's exact limit normal, `drawn` on the border (a or b == cells) or where the
+/// node has no frame (`patch::adaptive::lattice_frames::lattice_normal`).
+vec3 lattice_node(uint table, uint cells, uint a, uint b, vec3 drawn) {
+    if (a >= cells || b >= cells) {
+        return drawn;
+    }
+    uint f = lattice[table + a + cells * b];
+    if (f == NO_ENTRY) {
+        return drawn;
+    }
+    return vertex_normal[f].xyz;
+}
+
+/// Linear along a region's edge from its vertex at d (in cells): the nearer node first.
+vec3 lattice_along(uint table, uint cells, bool along_x, float d, vec3 drawn) {
+    float a0 = floor(d);
+    precise float ta = d - a0;
+    uint a = uint(a0);
+    vec3 n0 = along_x ? lattice_node(table, cells, a, 0u, drawn)
+                      : lattice_node(table, cells, 0u, a, drawn);
+    vec3 n1 = along_x ? lattice_node(table, cells, a + 1u, 0u, drawn)
+                      : lattice_node(table, cells, 0u, a + 1u, drawn);
+    precise vec3 n = n0 * (1.0 - ta) + n1 * ta;
+    return n;
+}
+
+/// The normal within a lattice region of end cap `cap` (`AdaptiveSurface::normal`'s lattice,
+/// `patch::adaptive::lattice_frames::lattice_normal`): bilinear in the lattice cell over the
+/// nodes' exact limit normals, border nodes taking the drawn normal `nrm`; on an edge from the
+/// region's vertex linear from canonical parameters (edge_ts), so both end caps there get the same
+/// bits. Corners keep theirs.
+void lattice_normals(GregoryPatchInfo info, uint cap, float u, float v, inout vec3 nrm) {
+    uint at = lattice[cap];
+    if (at == NO_ENTRY) {
+        return;
+    }
+    bool u_edge = (u == 0.0 || u == 1.0);
+    bool v_edge = (v == 0.0 || v == 1.0);
+    if (u_edge && v_edge) {
+        return;
+    }
+    uint head = lattice[at];
+    vec3 drawn = normalize(nrm);
+    for (int c = 0; c < 4; ++c) {
+        uint bits = (head >> uint(8 * c)) & 0xffu;
+        uint cells = bits >> 4u;
+        if (cells == 0u) {
+            continue;
+        }
+        float scale = exp2(float(bits & 0xfu));
+        uint table = lattice[at + 1u + uint(c)];
+        if (u_edge || v_edge) {
+            // Edge k at x from corner `from` (as main's quad_edge calls); the region's edges are
+            // k = c (its x axis) and k = c - 1 (its w axis).
+            int k = (v == 0.0) ? 0 : (u == 1.0) ? 1 : (v == 1.0) ? 2 : 3;
+            if (k != c && k != ((c + 3) & 3)) {
+                continue;
+            }
+            float x = v_edge ? u : v;
+            int from = (k == 2) ? 3 : (k == 3) ? 0 : k;
+            bool a_is_lo = info.corners[k] < info.corners[(k + 1) & 3];
+            float t, s;
+            edge_ts(x, (from == k) == a_is_lo, t, s);
+            // Corner c is edge k's start (k == c) or end; its distance from it canonically.
+            bool c_is_lo = (k == c) == a_is_lo;
+            precise float d = (c_is_lo ? t : s) * scale;
+            if (d >= float(cells)) {
+                continue;
+            }
+            nrm = normalize(lattice_along(table, cells, k == c, d, drawn));
+            return;
+        }
+        // (x, w): along edge c from corner c, distance from edge c.
+        float x = (c == 0) ? u : (c == 1) ? v : (c == 2) ? 1.0 - u : 1.0 - v;
+        float w = (c == 0) ? v : (c == 1) ? 1.0 - u : (c == 2) ? 1.0 - v : u;
+        precise float fx = x * scale;
+        precise float fw = w * scale;
+        if (fx >= float(cells) || fw >= float(cells)) {
+            continue;
+        }
+        float a0 = floor(fx);
+        float b0 = floor(fw);
+        precise float ta = fx - a0;
+        precise float tb = fw - b0;
+        uint a = uint(a0);
+        uint b = uint(b0);
+        precise vec3 n = lattice_node(table, cells, a, b, drawn) * ((1.0 - ta) * (1.0 - tb))
+                       + lattice_node(table, cells, a + 1u, b, drawn) * (ta * (1.0 - tb))
+                       + lattice_node(table, cells, a, b + 1u, drawn) * ((1.0 - ta) * tb)
+                       + lattice_node(table, cells, a + 1u, b + 1u, drawn) * (ta * tb);
+        nrm = normalize(n);
+        return;
+    }
+}
+
+#define GREGORY_NORMAL_OVERRIDE(info, cap, u, v, nrm) lattice_normals(info, cap, u, v, nrm)
 #define GREGORY_EDGE_OVERRIDE end_cap_edge
 #define GREGORY_CORNER_NORMAL(info, k, nrm) \
     sector_normal(apatches[info.pad0].corner_frame[k], nrm)

@@ -14,7 +14,9 @@
 // and GREGORY_FILLET_BEYOND (the stage sets edge_fillet_beyond_slot / _corner per edge end)
 // and, with GREGORY_FILLET, GREGORY_FILLET_END(info, k) (the positional fillet reaches corner k
 // whole, `patch::adaptive::promoted::positional_fillet_end`) and
-// GREGORY_POSITION_OFFSET(info, u, v, p) (after the shared corners and edges: adds to p).
+// GREGORY_POSITION_OFFSET(info, u, v, p) (after the shared corners and edges: adds to p) and
+// GREGORY_NORMAL_OVERRIDE(info, patch_index, u, v, nrm) (after the shared corners and edges:
+// replaces nrm).
 // Needs frame.glsl first; defines SPACING, CAPTURE as the stage file's.
 #ifndef TESSERA_GREGORY_QUAD_TES_GLSL
 #define TESSERA_GREGORY_QUAD_TES_GLSL
@@ -250,6 +252,9 @@ void main() {
         quad_edge(patch_index, info, 3, v, 0, p, nrm);
     }
 
+#ifdef GREGORY_NORMAL_OVERRIDE
+    GREGORY_NORMAL_OVERRIDE(info, patch_index, u, v, nrm);
+#endif
 #ifdef GREGORY_POSITION_OFFSET
     GREGORY_POSITION_OFFSET(info, u, v, p);
 #endif

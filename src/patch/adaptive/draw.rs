@@ -16,6 +16,7 @@ use rayon::prelude::*;
 use super::coarse::{is_quad_end_cap, patch_index, CoarseEdges};
 use super::error::DrawTablesError;
 use super::exact_corners::ExactCorners;
+use super::lattice_frames::LatticeFrames;
 use super::promoted::{
     exact_frame, fillet_end, fillet_end_code, fillet_fine_code, fillet_fine_words,
     irregular_crease_vertex, positional_fillet_end, promoted_vertex, FilletEnd,
@@ -95,6 +96,10 @@ pub struct AdaptiveDrawTables {
     pub end_caps: Vec<EndCapDraw>,
     /// Edges of coarse patches with a finer neighbour.
     pub coarse_edges: Vec<CoarseEdge>,
+    /// The end caps' lattice regions near irregular crease vertices, one word per end cap then
+    /// their blocks (`super::lattice_frames::LatticeFrames::table_words`); their frames follow
+    /// the exact-position frames.
+    pub end_cap_lattice: Vec<u32>,
 }
 
 /// Id bit marking a derived vertex point in the uploaded row ids ([`AdaptiveDrawTables::row_id_bytes`]):
@@ -461,8 +466,17 @@ impl AdaptiveDrawTables {
             (slots.len() + sectors.rows.len()) as u32,
             &masks,
         );
-        // Slot frames (the first run's flat rows extended by the others), sector frames, end
-        // caps, vertex points, in one reservation past the first run.
+        let lattice = LatticeFrames::new(
+            refinement,
+            census,
+            &topologies,
+            &at,
+            (slots.len() + sectors.rows.len() + exact.rows.len()) as u32,
+            &masks,
+        );
+        // Slot frames (the first run's flat rows extended by the others), sector frames,
+        // exact-position and lattice frames, end caps, vertex points, in one reservation past
+        // the first run.
         let mut runs = frames.into_iter();
         let mut rows = runs.next().unwrap_or_else(SparseRows::new);
         let runs: Vec<SparseRows> = runs.collect();
@@ -474,10 +488,16 @@ impl AdaptiveDrawTables {
                 .map(|w| w.0.len())
                 .sum::<usize>()
             + exact.rows.iter().map(|w| w.0.len()).sum::<usize>()
+            + lattice
+                .rows
+                .iter()
+                .flatten()
+                .map(|w| w.0.len())
+                .sum::<usize>()
             + cap_rows.1;
         rows.reserve(
             runs.iter().map(SparseRows::len).sum::<usize>()
-                + 3 * (sectors.rows.len() + exact.rows.len())
+                + 3 * (sectors.rows.len() + exact.rows.len() + lattice.rows.len())
                 + cap_rows.0,
             terms,
         );
@@ -495,6 +515,14 @@ impl AdaptiveDrawTables {
             rows.push_empty(2);
         }
         shared_normal.resize(shared_normal.len() + exact.rows.len(), false);
+        // Lattice frames: no position, the exact tangents, a normal.
+        for r in &lattice.rows {
+            rows.push_empty(1);
+            for w in r {
+                rows.push(w, 0);
+            }
+        }
+        shared_normal.resize(shared_normal.len() + lattice.rows.len(), true);
         let end_cap_first_row = rows.len() as u32;
         for c in &caps {
             for r in c.rows() {
@@ -525,6 +553,7 @@ impl AdaptiveDrawTables {
             sharpness: Vec::with_capacity(census.patches.len()),
             end_caps: Vec::with_capacity(sizes.end_caps),
             coarse_edges: Vec::new(),
+            end_cap_lattice: Vec::new(),
         };
         for (i, p) in census.patches.iter().enumerate() {
             let lev = &refinement.levels[p.level as usize];
@@ -690,6 +719,7 @@ impl AdaptiveDrawTables {
         }
         coarse.check_halves(refinement)?;
         out.coarse_edges = coarse.edges;
+        out.end_cap_lattice = lattice.table_words(out.end_caps.iter().map(|c| c.record as usize));
         log::debug!(
             "adaptive draw tables: {} slots, {} rows, {} regular + {} transition ({} triangles) B-spline patches, {} + {} ({} triangles) single-crease patches, {} end caps, {} coarse edges, {} bytes",
             out.slots.len(),
@@ -826,6 +856,11 @@ impl AdaptiveDrawTables {
         words_bytes(self.end_caps.iter().map(|c| c.grid))
     }
 
+    /// The end caps' lattice table ([`Self::end_cap_lattice`]), u32 words.
+    pub fn end_cap_lattice_bytes(&self) -> Vec<u8> {
+        words_bytes(self.end_cap_lattice.iter().map(|&w| [w]))
+    }
+
     /// Coarse edges, 64 bytes each.
     pub fn coarse_edge_bytes(&self) -> Vec<u8> {
         words_bytes(self.coarse_edges.iter().map(CoarseEdge::words))
@@ -886,6 +921,7 @@ impl AdaptiveDrawTables {
             + (self.triangles.len() + self.single_crease_triangles.len()) * (TRIANGLE_WORDS + 16)
             + self.end_caps.len() * 48
             + self.coarse_edges.len() * COARSE_EDGE_WORDS
+            + self.end_cap_lattice.len()
             + self.rows.offsets.len()
             + 2 * self.rows.ids.len();
         4 * words

@@ -16,6 +16,7 @@ pub mod decayed_fit;
 pub mod draw;
 mod error;
 mod exact_corners;
+pub mod lattice_frames;
 pub mod promoted;
 pub mod records;
 pub mod rows;

@@ -7,6 +7,8 @@ use std::collections::HashMap;
 use glam::{DVec2, DVec3};
 use thiserror::Error;
 
+use super::coarse::patch_index;
+use super::lattice_frames::{lattice_normal, LatticeFrames};
 use super::promoted::{
     band_offset_factor, corner_offset_code, corner_offset_share, corner_offset_vertex,
     crease_turn_share, exact_corner_position, exact_corner_tangents_shared, fillet_bend,
@@ -156,6 +158,18 @@ pub struct AdaptiveSurface {
     by_base: Vec<Vec<u32>>,
     /// End caps with a corner or edge on a promoted crease (`super::promoted`), by patch index.
     promoted: HashMap<usize, PromotedCap>,
+    /// End caps with lattice regions (`super::lattice_frames`), by patch index.
+    lattice: HashMap<usize, Vec<LatticeNormals>>,
+}
+
+/// A lattice region of an end cap (`super::lattice_frames::LatticeRegion`) with its nodes'
+/// exact limit normals (`None`: the node takes the drawn normal).
+#[derive(Debug, Clone)]
+struct LatticeNormals {
+    corner: usize,
+    steps: u32,
+    cells: u32,
+    normals: Vec<Option<DVec3>>,
 }
 
 /// What an end cap shares on promoted creases: per face edge the end cap across it (patch
@@ -355,11 +369,13 @@ impl AdaptiveSurface {
             by_base[p.domain.base_face as usize].push(i as u32);
         }
         let promoted = promoted_caps(refinement, &census, &patches, &positions);
+        let lattice = lattice_normals(refinement, &census, &positions);
         Ok(AdaptiveSurface {
             positions,
             patches,
             by_base,
             promoted,
+            lattice,
         })
     }
 
@@ -475,8 +491,31 @@ impl AdaptiveSurface {
         (d_own + d_across) * fillet_offset_factor(cap.sharpness[k], w)
     }
 
-    /// [`Self::normal`] from the patch's own derivatives `ds`, `dt` at `(s, t)`.
-    fn normal_from(&self, i: usize, s: f64, t: f64, mut ds: DVec3, mut dt: DVec3) -> DVec3 {
+    /// [`Self::normal`] from the patch's own derivatives `ds`, `dt` at `(s, t)`: the drawn
+    /// normal ([`Self::drawn_normal`]), interpolated with the exact lattice normals within a
+    /// lattice region (`super::lattice_frames::lattice_normal`, the GPU's `lattice_normals`).
+    fn normal_from(&self, i: usize, s: f64, t: f64, ds: DVec3, dt: DVec3) -> DVec3 {
+        let drawn = self.drawn_normal(i, s, t, ds, dt);
+        let Some(regions) = self.lattice.get(&i) else {
+            return drawn;
+        };
+        if quad_corner(s, t).is_some() {
+            return drawn;
+        }
+        regions
+            .iter()
+            .find_map(|r| {
+                let (w, x) = edge_coordinates(r.corner, s, t);
+                lattice_normal(r.steps, r.cells, x, w, drawn, |a, b| {
+                    r.normals[(a + r.cells * b) as usize]
+                })
+            })
+            .map_or(drawn, DVec3::normalize_or_zero)
+    }
+
+    /// The end cap's own normal at `(s, t)` from its derivatives `ds`, `dt` ([`Self::normal`]
+    /// without the lattice).
+    fn drawn_normal(&self, i: usize, s: f64, t: f64, mut ds: DVec3, mut dt: DVec3) -> DVec3 {
         self.promoted_normal(i, s, t).unwrap_or_else(|| {
             let Some(cap) = self.promoted.get(&i) else {
                 return ds.cross(dt).normalize_or_zero();
@@ -771,6 +810,48 @@ impl AdaptiveSurface {
         let (i, s, t) = self.locate(base_face, sub_face, u, v)?;
         Some(self.eval_patch(i, s, t))
     }
+}
+
+/// Per end cap with lattice regions (`super::lattice_frames`, census order): the regions with
+/// their nodes' exact limit normals over `positions`.
+fn lattice_normals(
+    refinement: &AdaptiveRefinement,
+    census: &PatchCensus,
+    positions: &[DVec3],
+) -> HashMap<usize, Vec<LatticeNormals>> {
+    let topologies = EndCapTopologies::new(refinement, census);
+    let at = patch_index(refinement, census);
+    let frames = LatticeFrames::new(
+        refinement,
+        census,
+        &topologies,
+        &at,
+        0,
+        &SharedVertexMasks::default(),
+    );
+    let normal = |f: u32| {
+        let [d1, d2] = frames.rows.get(f as usize)?;
+        Some(
+            d1.apply(positions)
+                .cross(d2.apply(positions))
+                .normalize_or_zero(),
+        )
+    };
+    (frames.regions.iter().enumerate())
+        .filter(|(_, r)| !r.is_empty())
+        .map(|(i, regions)| {
+            let regions = regions
+                .iter()
+                .map(|r| LatticeNormals {
+                    corner: r.corner as usize,
+                    steps: r.steps,
+                    cells: r.cells,
+                    normals: r.frames.iter().map(|&f| normal(f)).collect(),
+                })
+                .collect();
+            (i, regions)
+        })
+        .collect()
 }
 
 /// The end caps of `patches` (census order) on promoted creases: per quad end cap the end cap

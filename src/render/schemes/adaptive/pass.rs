@@ -30,8 +30,8 @@ use crate::Result;
 /// The pass's own set-0 bindings (`glsl/common/frame.glsl`, `gregory/gregory.glsl`,
 /// `adaptive/*.glsl`, `single_crease/single_crease.glsl`): B-spline and single-crease patch
 /// records, Gregory records, Gregory grids, adaptive patch records, coarse edges, transition
-/// triangles, per-record crease sharpness, then end-cap points.
-const OWN_BINDINGS: [u32; 8] = [1, 6, 7, 10, 11, 12, 4, 13];
+/// triangles, per-record crease sharpness, end-cap lattice regions, then end-cap points.
+const OWN_BINDINGS: [u32; 9] = [1, 6, 7, 10, 11, 12, 4, 16, 13];
 
 /// One pipeline's patches: index buffer (control points or one dummy index per patch) and
 /// the runs it is drawn in.
@@ -190,7 +190,7 @@ struct TableLayout {
     patches: usize,
     refined_points: u32,
     refinement: (usize, Vec<[KernelRange; 3]>),
-    records: [usize; 7],
+    records: [usize; 8],
     indices: [usize; 5],
     rows: [usize; 4],
     /// The fan groups' draw runs.
@@ -205,7 +205,7 @@ impl TableLayout {
         d: &AdaptiveDrawTables,
         refined_points: u32,
         refinement: (usize, &[[KernelRange; 3]]),
-        records: &[Vec<u8>; 7],
+        records: &[Vec<u8>; 8],
         indices: &[Vec<u8>; 5],
         rows: [usize; 4],
         fans: &FanOrders,
@@ -223,7 +223,7 @@ impl TableLayout {
 }
 
 /// Labels of the record tables ([`record_bytes`]).
-const RECORD_LABELS: [&str; 7] = [
+const RECORD_LABELS: [&str; 8] = [
     "adaptive b-spline records",
     "adaptive end-cap records",
     "adaptive end-cap grids",
@@ -231,11 +231,12 @@ const RECORD_LABELS: [&str; 7] = [
     "adaptive coarse edges",
     "adaptive transition fans",
     "adaptive crease sharpness",
+    "adaptive end-cap lattice",
 ];
 
-/// The record tables, bound at [`OWN_BINDINGS`]`[..7]`, fan triangles in the draw order of
+/// The record tables, bound at [`OWN_BINDINGS`]`[..8]`, fan triangles in the draw order of
 /// `fans`.
-fn record_bytes(d: &AdaptiveDrawTables, fans: &FanOrders) -> [Vec<u8>; 7] {
+fn record_bytes(d: &AdaptiveDrawTables, fans: &FanOrders) -> [Vec<u8>; 8] {
     [
         bspline_info_bytes(d),
         end_cap_info_bytes(d),
@@ -244,6 +245,7 @@ fn record_bytes(d: &AdaptiveDrawTables, fans: &FanOrders) -> [Vec<u8>; 7] {
         d.coarse_edge_bytes(),
         triangle_bytes(d, fans),
         d.sharpness_bytes(),
+        d.end_cap_lattice_bytes(),
     ]
 }
 
@@ -472,7 +474,7 @@ impl AdaptivePass {
             kind: DescriptorKind::StorageBuffer,
             buffer,
         };
-        let mut own: Vec<BufferBinding<'_>> = OWN_BINDINGS[..7]
+        let mut own: Vec<BufferBinding<'_>> = OWN_BINDINGS[..8]
             .iter()
             .zip(&records)
             .map(|(&b, buf)| sb(b, buf))

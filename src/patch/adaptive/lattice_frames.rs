@@ -1,0 +1,486 @@
+//! Exact limit normal frames on a lattice near the irregular crease vertices, which the end
+//! caps' normals interpolate there (the README's *Where the rise comes from*).
+//!
+//! Within the fillet width `h = 2^-floor(s)` (own parameter) of an end-cap corner at a promoted
+//! vertex whose crease is not regular ([`vertex_fillet_sharpness`] is `None`) the limit is the
+//! vertex's smoothed neighbourhood, a region of fixed size on the surface, while the end caps draw
+//! the crease surface; the normal error there does not fall with the isolation level `L`. Here
+//! every lattice point `(a, b) 2^-J` of such a region (`J` = [`LATTICE_STEPS`], the region's own
+//! coordinates `(x, w)`: along the corner's edge `c` and away from it, as
+//! `AdaptiveSurface`'s `edge_coordinates(c, ..)`) is a vertex of level `L + J` of a local
+//! refinement, and its exact limit tangents ([`SharedVertexMasks::vertex_mask`] there) are rows
+//! over the level-`L` points, pulled back through the `J` refinement matrices: the GPU computes
+//! their normals every frame from the refined points (`glsl/adaptive/limit_frames.comp`), so they
+//! follow an animation. A lattice point's frame is shared by every end cap holding it (one per
+//! level-`(L + J)` vertex: the corner, the points on the edges from it, each face's own), so both
+//! sides of a shared edge read the same frames. Nodes with `a` or `b` equal to the region's
+//! width in cells are its border: they take the end cap's own drawn normal at the point
+//! ([`lattice_normal`]), so there is no seam where the region ends.
+
+use std::collections::{BTreeMap, HashMap};
+
+use glam::DVec3;
+
+use super::coarse::is_quad_end_cap;
+use super::promoted::{
+    corner_offset_code, fillet_sharpness, promoted_vertex, vertex_fillet_sharpness,
+};
+use super::slots::NONE;
+use super::surface::EndCapTopologies;
+use crate::patch::gregory::Weights;
+use crate::subdiv::adaptive::{AdaptiveLevel, AdaptiveRefinement, PatchCensus, PatchType};
+use crate::subdiv::limit::SharedVertexMasks;
+use crate::subdiv::sparse::SparseMatrix;
+use crate::subdiv::Level;
+
+/// Refinement steps `J` of the lattice: its spacing is `2^-J` of the end cap (README: `J = 4`
+/// measured better in h83's prototype, at 4x the frames; not built).
+pub const LATTICE_STEPS: u32 = 3;
+
+/// One region of an end cap: the lattice at its corner `corner`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LatticeRegion {
+    /// The face corner at the irregular crease vertex.
+    pub corner: u32,
+    /// The lattice spacing is `2^-steps` of the end cap.
+    pub steps: u32,
+    /// Cells per side (at most 15): the region is `x, w < cells 2^-steps`.
+    pub cells: u32,
+    /// Per node `(a, b)`, `a, b < cells`, at `a + cells b`: its frame ([`NONE`] where the exact
+    /// mask failed: the node takes the drawn normal).
+    pub frames: Vec<u32>,
+}
+
+/// The lattice frames of a census and the regions of its end caps.
+#[derive(Debug, Clone, Default)]
+pub struct LatticeFrames {
+    /// Per frame: its exact limit tangent rows (d1, d2) over global refined ids,
+    /// `cross(d1, d2)` outward.
+    pub rows: Vec<[Weights; 2]>,
+    /// Per census patch: its regions (none for most).
+    pub regions: Vec<Vec<LatticeRegion>>,
+}
+
+/// Which lattice point a frame is: the region's vertex, a point on an edge from it (the edge,
+/// cells from the vertex), or one inside a face (face, corner, `a`, `b`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+enum Node {
+    Vertex(u32),
+    Edge(u32, u32, u32),
+    Face(u32, u32, u32, u32),
+}
+
+/// Whether the end caps at vertex `v` of `lev` interpolate lattice frames: a promoted vertex
+/// whose crease is not regular and whose faces are all quad end caps of its level (`quad_cap`).
+pub fn lattice_vertex(
+    level: &crate::topology::Topology,
+    caps: &crate::topology::Topology,
+    v: u32,
+    quad_cap: impl Fn(u32) -> bool,
+) -> bool {
+    promoted_vertex(level, caps, v)
+        && vertex_fillet_sharpness(level, caps, v).is_none()
+        && level.vertex_faces(v).iter().all(|&g| quad_cap(g))
+}
+
+/// Cells of the lattice beyond the fillet width `h` (measured: with none, the nodes at `h`
+/// taking the drawn normal, the exact normal changes too fast between the last exact node and
+/// the border, `catmark_cube_creases1` L3 max 0.17 rad against the end caps' 0.095).
+pub const LATTICE_MARGIN: u32 = 1;
+
+/// `floor(s)` for the sharpness `s` of [`corner_offset_code`] at vertex `v` (the mean residual
+/// sharpness of its promoted edges, else its vertex sharpness): the fillet width there is
+/// `h = 2^-floor(s)` of the end cap.
+pub fn fillet_steps(
+    level: &crate::topology::Topology,
+    caps: &crate::topology::Topology,
+    v: u32,
+) -> u32 {
+    fillet_sharpness(corner_offset_code(level, caps, v)).floor() as u32
+}
+
+/// `(steps, cells)` of the region at vertex `v`: spacing `2^-J` (`steps` = [`LATTICE_STEPS`]),
+/// `h = 2^-`[`fillet_steps`] rounded up to a cell, plus [`LATTICE_MARGIN`] cells (at most the
+/// end cap; at most half of it where two of its corners have regions, see
+/// [`LatticeFrames::new`]). A region narrower than a cell is not refined deeper (measured: at
+/// `h = 2^-4`, car isolation 2, four local steps cost 5.4x the build's instructions).
+pub fn lattice_size(
+    level: &crate::topology::Topology,
+    caps: &crate::topology::Topology,
+    v: u32,
+) -> (u32, u32) {
+    let floor = fillet_steps(level, caps, v);
+    let steps = LATTICE_STEPS;
+    let within = if floor >= steps {
+        1
+    } else {
+        1 << (steps - floor)
+    };
+    (steps, (within + LATTICE_MARGIN).min(1 << steps))
+}
+
+impl LatticeFrames {
+    /// The lattice frames of the quad end caps' corners at [`lattice_vertex`]es, numbered from
+    /// `first` in census order; `at` as `super::coarse::patch_index`; `masks` the build's exact
+    /// limit masks.
+    pub fn new(
+        refinement: &AdaptiveRefinement,
+        census: &PatchCensus,
+        topologies: &EndCapTopologies,
+        at: &[Vec<u32>],
+        first: u32,
+        masks: &SharedVertexMasks,
+    ) -> LatticeFrames {
+        let mut out = LatticeFrames {
+            rows: Vec::new(),
+            regions: vec![Vec::new(); census.patches.len()],
+        };
+        let mut ids: HashMap<(u32, Node), u32> = HashMap::new();
+        // Per (level, vertex): its refined neighbourhood, built once.
+        let mut local: HashMap<(u32, u32), Option<Neighbourhood>> = HashMap::new();
+        for (i, p) in census.patches.iter().enumerate() {
+            let lev = &refinement.levels[p.level as usize];
+            let t = lev.topology();
+            if p.kind != PatchType::EndCap || t.face_size(p.face) != 4 {
+                continue;
+            }
+            let caps = topologies.get(p.level);
+            let quad_cap = |g: u32| is_quad_end_cap(lev, census, &at[p.level as usize], g);
+            let fv = t.face_vertices(p.face);
+            let fe = t.face_edges(p.face);
+            let corners: Vec<usize> = (0..4)
+                .filter(|&c| lattice_vertex(t, caps, fv[c], quad_cap))
+                .collect();
+            for &c in &corners {
+                let v = fv[c];
+                let (steps, mut cells) = lattice_size(t, caps, v);
+                if corners.len() > 1 {
+                    // Two regions in one end cap (isolation 0 only: at a finer level only the
+                    // vertex point corner of a quad can be such a vertex) stay apart.
+                    cells = cells.min(1 << (steps - 1));
+                }
+                let mut frames = Vec::with_capacity((cells * cells) as usize);
+                for b in 0..cells {
+                    for a in 0..cells {
+                        let node = match (a, b) {
+                            (0, 0) => Node::Vertex(v),
+                            (a, 0) => Node::Edge(v, fe[c], a),
+                            (0, b) => Node::Edge(v, fe[(c + 3) % 4], b),
+                            (a, b) => Node::Face(p.face, c as u32, a, b),
+                        };
+                        let key = (p.level, node);
+                        if let Some(&f) = ids.get(&key) {
+                            frames.push(f);
+                            continue;
+                        }
+                        let rows = if (a, b) == (0, 0) {
+                            corner_rows(lev, v, p.face, masks)
+                        } else {
+                            let hood = local
+                                .entry((p.level, v))
+                                .or_insert_with(|| Neighbourhood::new(lev, v, steps));
+                            hood.as_ref()
+                                .and_then(|h| h.node_rows(lev, p.face, c, (a, b), masks))
+                        };
+                        let f = match rows {
+                            Some(r) => {
+                                let f = first + out.rows.len() as u32;
+                                out.rows.push(r);
+                                f
+                            }
+                            None => NONE,
+                        };
+                        ids.insert(key, f);
+                        frames.push(f);
+                    }
+                }
+                out.regions[i].push(LatticeRegion {
+                    corner: c as u32,
+                    steps,
+                    cells,
+                    frames,
+                });
+            }
+        }
+        out
+    }
+
+    /// The regions' side table of the end caps (`glsl/adaptive/endcap.glsl`'s `lattice`): word
+    /// `e` per end cap (`end_caps` their census patches, draw order) the index of its block in
+    /// the same table, [`NONE`] for none; a block is a head word (bits `8c..8c + 8` per corner
+    /// `c`: bits 0-3 its region's steps, bits 4-7 its cells, 0 for none), then per
+    /// corner the index of its node frames (`cells^2`, [`LatticeRegion::frames`]'s order; 0
+    /// where none).
+    pub fn table_words(&self, end_caps: impl ExactSizeIterator<Item = usize>) -> Vec<u32> {
+        let mut words = vec![NONE; end_caps.len()];
+        for (e, i) in end_caps.enumerate() {
+            let regions = &self.regions[i];
+            if regions.is_empty() {
+                continue;
+            }
+            words[e] = words.len() as u32;
+            let block = words.len();
+            words.extend([0u32; 5]);
+            for r in regions {
+                let c = r.corner as usize;
+                words[block] |= (r.steps | (r.cells << 4)) << (8 * c);
+                words[block + 1 + c] = words.len() as u32;
+                words.extend(&r.frames);
+            }
+        }
+        words
+    }
+}
+
+/// Exact limit tangent rows at vertex `v` of `lev` in face `face`'s sector (global ids).
+fn corner_rows(
+    lev: &AdaptiveLevel,
+    v: u32,
+    face: u32,
+    masks: &SharedVertexMasks,
+) -> Option<[Weights; 2]> {
+    let m = masks
+        .vertex_mask(&lev.level, v, face)
+        .map_err(|e| log::debug!("lattice vertex {v}: no exact limit mask ({e})"))
+        .ok()?;
+    let row =
+        |w: &[f64]| Weights::from_terms(m.indices.iter().zip(w).map(|(&i, &x)| (lev.global(i), x)));
+    Some([row(&m.tangent_u), row(&m.tangent_v)])
+}
+
+/// The faces touching the faces at a vertex, extracted from its level and refined `steps`
+/// times: every lattice point of its regions is a vertex of the last level, whose limit mask
+/// reads only points inside that neighbourhood.
+struct Neighbourhood {
+    /// Extracted faces (sub face `i` is `faces[i]`).
+    faces: Vec<u32>,
+    /// Extracted vertex -> level vertex.
+    map: Vec<u32>,
+    /// The extraction, then each refinement.
+    levels: Vec<Level>,
+    /// Refinement matrices: `matrices[l]` maps `levels[l]`'s points to `levels[l + 1]`'s.
+    matrices: Vec<SparseMatrix>,
+}
+
+impl Neighbourhood {
+    fn new(lev: &AdaptiveLevel, v: u32, steps: u32) -> Option<Neighbourhood> {
+        let t = lev.topology();
+        let mut faces: Vec<u32> = t
+            .vertex_faces(v)
+            .iter()
+            .flat_map(|&f| t.face_vertices(f).iter())
+            .flat_map(|&u| t.vertex_faces(u).iter().copied())
+            .collect();
+        faces.sort_unstable();
+        faces.dedup();
+        let (sub, map) = lev
+            .level
+            .try_extract(&faces)
+            .map_err(|e| log::debug!("lattice vertex {v}: no extraction ({e})"))
+            .ok()?;
+        let mut levels = vec![sub];
+        let mut matrices = Vec::new();
+        for _ in 0..steps {
+            let (child, r) = levels.last()?.refine();
+            levels.push(child);
+            matrices.push(r);
+        }
+        Some(Neighbourhood {
+            faces,
+            map,
+            levels,
+            matrices,
+        })
+    }
+
+    /// The exact limit tangent rows (global ids of `lev`) at node `(a, b)` of the region at
+    /// corner `c` of `face`.
+    fn node_rows(
+        &self,
+        lev: &AdaptiveLevel,
+        face: u32,
+        c: usize,
+        (a, b): (u32, u32),
+        masks: &SharedVertexMasks,
+    ) -> Option<[Weights; 2]> {
+        let steps = self.matrices.len();
+        let n = 1u32 << steps;
+        // The region's (x, w) = (a, b) as the face's own (s, t), in 2^-steps.
+        let (mut s, mut t) = match c {
+            0 => (a, b),
+            1 => (n - b, a),
+            2 => (n - a, n - b),
+            _ => (b, n - a),
+        };
+        let mut f = self.faces.binary_search(&face).ok()? as u32;
+        let mut half = n / 2;
+        for l in 0..steps {
+            // The child at the corner whose quadrant holds the point: (x, w) from that corner.
+            let (j, x, w) = if s <= half && t <= half {
+                (0, s, t)
+            } else if s >= half && t <= half {
+                (1, t, 2 * half - s)
+            } else if s >= half && t >= half {
+                (2, 2 * half - s, 2 * half - t)
+            } else {
+                (3, 2 * half - t, s)
+            };
+            f = self.levels[l].child_faces(f).start + j;
+            (s, t) = (x, w);
+            half /= 2;
+        }
+        let last = &self.levels[steps];
+        let k = match (s, t) {
+            (0, 0) => 0,
+            (1, 0) => 1,
+            (1, 1) => 2,
+            _ => 3,
+        };
+        let vertex = last.topology().face_vertices(f)[k];
+        let m = masks
+            .vertex_mask(last, vertex, f)
+            .map_err(|e| log::debug!("lattice node ({a}, {b}) of face {face}: no mask ({e})"))
+            .ok()?;
+        // Pulled back level by level: weights over each level's points.
+        let mut terms: BTreeMap<u32, [f64; 2]> = m
+            .indices
+            .iter()
+            .enumerate()
+            .map(|(j, &i)| (i, [m.tangent_u[j], m.tangent_v[j]]))
+            .collect();
+        for r in self.matrices.iter().rev() {
+            let mut up: BTreeMap<u32, [f64; 2]> = BTreeMap::new();
+            for (&i, w) in &terms {
+                let (cols, weights) = r.row(i as usize);
+                for (&col, &x) in cols.iter().zip(weights) {
+                    let e = up.entry(col).or_insert([0.0; 2]);
+                    e[0] += w[0] * x;
+                    e[1] += w[1] * x;
+                }
+            }
+            terms = up;
+        }
+        let row = |d: usize| {
+            Weights::from_terms(
+                terms
+                    .iter()
+                    .map(|(&i, w)| (lev.global(self.map[i as usize]), w[d])),
+            )
+        };
+        Some([row(0), row(1)])
+    }
+}
+
+/// The normal at own `(x, w)` of a region (its corner's edge coordinates) of `cells` cells of
+/// width `2^-steps`, `None` outside it: bilinear in the lattice cell over the node normals
+/// `node(a, b)` (`None`: a border node or a failed mask, which takes `drawn`, the end cap's own
+/// normal at the point); on the region's edges (`w = 0` or `x = 0`) linear along the edge from
+/// the vertex, nearer node first, so both end caps there add the same terms in the same order.
+/// Unnormalized.
+pub fn lattice_normal(
+    steps: u32,
+    cells: u32,
+    x: f64,
+    w: f64,
+    drawn: DVec3,
+    node: impl Fn(u32, u32) -> Option<DVec3>,
+) -> Option<DVec3> {
+    let scale = f64::from(steps).exp2();
+    let (fx, fw) = (x * scale, w * scale);
+    let n = f64::from(cells);
+    if fx >= n || fw >= n {
+        return None;
+    }
+    let value = |a: u32, b: u32| {
+        if a < cells && b < cells {
+            node(a, b).unwrap_or(drawn)
+        } else {
+            drawn
+        }
+    };
+    let along = |d: f64, at: &dyn Fn(u32) -> DVec3| {
+        let a0 = d.floor();
+        let ta = d - a0;
+        let a0 = a0 as u32;
+        at(a0) * (1.0 - ta) + at(a0 + 1) * ta
+    };
+    if fw == 0.0 {
+        return Some(along(fx, &|a| value(a, 0)));
+    }
+    if fx == 0.0 {
+        return Some(along(fw, &|b| value(0, b)));
+    }
+    let (a0, b0) = (fx.floor(), fw.floor());
+    let (ta, tb) = (fx - a0, fw - b0);
+    let (a0, b0) = (a0 as u32, b0 as u32);
+    Some(
+        value(a0, b0) * ((1.0 - ta) * (1.0 - tb))
+            + value(a0 + 1, b0) * (ta * (1.0 - tb))
+            + value(a0, b0 + 1) * ((1.0 - ta) * tb)
+            + value(a0 + 1, b0 + 1) * (ta * tb),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// At a node the node's normal, on the border the drawn one, between them the bilinear
+    /// blend (closed form); on the region's edges linear along them; outside the region `None`.
+    #[test]
+    fn lattice_normal_interpolates_nodes_and_border() {
+        let node = |a: u32, b: u32| Some(DVec3::new(f64::from(a), f64::from(b), 1.0));
+        let drawn = DVec3::new(0.0, 0.0, -1.0);
+        // Two cells of 1/8: the region is x, w < 1/4, nodes 0 and 1 exact, 2 the border.
+        let at = |x: f64, w: f64| lattice_normal(3, 2, x, w, drawn, node);
+        assert_eq!(at(0.125, 0.125), Some(DVec3::new(1.0, 1.0, 1.0)));
+        assert_eq!(at(0.25, 0.1), None);
+        assert_eq!(at(0.1, 0.25), None);
+        // Halfway between node (1, 1) and the border node (2, 1) at w = 1/8.
+        let mid = at(0.1875, 0.125).unwrap();
+        assert_eq!(mid, 0.5 * DVec3::new(1.0, 1.0, 1.0) + 0.5 * drawn);
+        // A quarter into cell (0, 0): weights 9/16, 3/16, 3/16, 1/16.
+        let q = at(1.0 / 32.0, 1.0 / 32.0).unwrap();
+        let expected = DVec3::new(0.0, 0.0, 1.0) * (9.0 / 16.0)
+            + DVec3::new(1.0, 0.0, 1.0) * (3.0 / 16.0)
+            + DVec3::new(0.0, 1.0, 1.0) * (3.0 / 16.0)
+            + DVec3::new(1.0, 1.0, 1.0) * (1.0 / 16.0);
+        assert!(q.distance(expected) < 1e-15, "{q}");
+        // On the edge w = 0, three quarters of the way to the border.
+        let e = at(0.25 - 1.0 / 32.0, 0.0).unwrap();
+        assert_eq!(e, DVec3::new(1.0, 0.0, 1.0) * 0.25 + drawn * 0.75);
+    }
+
+    /// The side table: one word per end cap, a block per end cap with regions holding the head
+    /// (steps, cells per corner) and each region's frames.
+    #[test]
+    fn table_words_address_each_region() {
+        let region = |corner, cells: u32, first: u32| LatticeRegion {
+            corner,
+            steps: 3,
+            cells,
+            frames: (first..first + cells * cells).collect(),
+        };
+        let frames = LatticeFrames {
+            rows: Vec::new(),
+            regions: vec![
+                vec![],
+                vec![region(2, 2, 10)],
+                vec![],
+                vec![region(0, 1, 7), region(3, 4, 20)],
+            ],
+        };
+        // End caps are census patches 1 and 3.
+        let w = frames.table_words([1usize, 3].into_iter());
+        assert_eq!(&w[..2], &[2, 2 + 5 + 4]);
+        assert_eq!(w[2], (3 | (2 << 4)) << 16);
+        assert_eq!(w[3 + 2], 7);
+        assert_eq!(&w[7..11], &[10, 11, 12, 13]);
+        let b = w[1] as usize;
+        assert_eq!(w[b], (3 | (1 << 4)) | ((3 | (4 << 4)) << 24));
+        assert_eq!(w[w[b + 1] as usize], 7);
+        let fourth = w[b + 4] as usize;
+        assert_eq!(&w[fourth..fourth + 16], &(20..36).collect::<Vec<u32>>()[..]);
+        assert_eq!(w.len(), fourth + 16);
+    }
+}
