@@ -68,6 +68,7 @@ pub fn run(ctx: &Context, mesh: &ControlMesh, sweep: &Sweep<'_>) -> Result<Vec<S
                     single_crease,
                     gregory_tangents: Default::default(),
                     end_cap_sharpness: Default::default(),
+                    lattice_normals: tessera::render::PlanOptions::DEFAULT_LATTICE_NORMALS,
                     pm_crease_scalar: None,
                 },
             )?;

@@ -6,13 +6,13 @@ use image::RgbaImage;
 use tessera::render::compare::{
     compare_scheme, error_map, exact_reference, CompareDesc, SchemeComparison,
 };
-use tessera::render::{
-    render_to_image, ColorBy, OffscreenDesc, PlanOptions, RenderDesc, Scheme, SchemeLimits, UpAxis,
-};
+use tessera::render::{render_to_image, ColorBy, OffscreenDesc, RenderDesc, Scheme, UpAxis};
 use tessera::subdiv::eval::GridSample;
 use tessera::{Error, Result};
 
-use super::render::{check_validation, clamp_level, context, load, parse_size, AdaptiveArgs};
+use super::render::{
+    check_validation, clamp_level, context, load, parse_size, plan_options, AdaptiveArgs,
+};
 
 /// Arguments of `tessera compare`.
 #[derive(Args)]
@@ -87,12 +87,7 @@ pub fn run(args: CompareArgs) -> Result<()> {
         frames: args.frames,
         width,
         height,
-        plan: PlanOptions::new(SchemeLimits::from_context(&ctx))
-            .with_isolation(args.adaptive.isolation)
-            .with_single_crease(args.adaptive.single_crease)
-            .with_gregory_tangents(args.adaptive.tangents())
-            .with_end_cap_sharpness(args.adaptive.end_cap_sharpness)
-            .with_pm_crease_scalar(args.adaptive.pm_crease_scalar),
+        plan: plan_options(&ctx, &args.adaptive),
     };
     let schemes = if args.schemes.is_empty() {
         Scheme::ALL.to_vec()

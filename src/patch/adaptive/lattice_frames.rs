@@ -135,6 +135,9 @@ impl LatticeFrames {
             rows: Vec::new(),
             regions: vec![Vec::new(); census.patches.len()],
         };
+        if !refinement.lattice_normals {
+            return out;
+        }
         let mut ids: HashMap<(u32, Node), u32> = HashMap::new();
         // Per (level, vertex): its refined neighbourhood, built once.
         let mut local: HashMap<(u32, u32), Option<Neighbourhood>> = HashMap::new();

@@ -75,6 +75,9 @@ pub struct PlanOptions {
     /// How the adaptive scheme's end caps treat semi-sharpness left at the isolation level
     /// (`--end-cap-sharpness crease|smooth`).
     pub end_cap_sharpness: EndCapSharpness,
+    /// Whether the adaptive scheme's end caps draw exact lattice normals near irregular crease
+    /// vertices (`--lattice-normals`, on by default; [`crate::subdiv::adaptive::AdaptiveOptions::lattice_normals`]).
+    pub lattice_normals: bool,
     /// Crease scalar of the untagged edges of `--scheme pm` (`--pm-crease-scalar`, eq. 14 of
     /// Myles, Ni, Peters 2008; `None`: 2/3, the smooth surface); tagged edges get
     /// `a · 2^{-sharpness}` ([`crate::patch::pm::crease_scalar`]).
@@ -86,6 +89,9 @@ impl PlanOptions {
     /// Whether the adaptive scheme draws single-crease patches when not told.
     pub const DEFAULT_SINGLE_CREASE: bool = true;
 
+    /// Whether the adaptive scheme draws lattice normals when not told.
+    pub const DEFAULT_LATTICE_NORMALS: bool = true;
+
     pub const DEFAULT_ISOLATION: u32 = 3;
 
     /// `limits` with the default settings.
@@ -96,7 +102,16 @@ impl PlanOptions {
             single_crease: Self::DEFAULT_SINGLE_CREASE,
             gregory_tangents: GregoryTangents::default(),
             end_cap_sharpness: EndCapSharpness::default(),
+            lattice_normals: Self::DEFAULT_LATTICE_NORMALS,
             pm_crease_scalar: None,
+        }
+    }
+
+    /// The same options with the adaptive end caps' lattice normals on or off.
+    pub fn with_lattice_normals(self, lattice_normals: bool) -> PlanOptions {
+        PlanOptions {
+            lattice_normals,
+            ..self
         }
     }
 

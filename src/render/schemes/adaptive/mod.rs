@@ -110,6 +110,7 @@ impl AdaptiveTables {
             isolation: opts.isolation,
             single_crease: opts.single_crease,
             end_cap_sharpness: opts.end_cap_sharpness,
+            lattice_normals: opts.lattice_normals,
         };
         Self::build((**topo).clone(), faces, options, opts.gregory_tangents)
     }
@@ -150,6 +151,7 @@ impl AdaptiveTables {
             isolation: self.adaptive.isolation,
             single_crease: self.adaptive.single_crease,
             end_cap_sharpness: self.adaptive.end_cap_sharpness,
+            lattice_normals: self.adaptive.lattice_normals,
         };
         Self::build(topo, &self.faces, options, self.tangents)
             .map_err(|(f, why)| crate::Error::Invalid(format!("face {f}: {why}")))
