@@ -7,8 +7,8 @@
 //! around a selection seen through the level itself ([`super::ring_step::RingStep`]): the same
 //! child level as extracting those faces first, without the extraction.
 
+use super::corners::{child_face_with, next_corner, prev_corner};
 use super::level::{local_vertex_ids, Level};
-use super::refine::{child_face_with, next_corner, prev_corner};
 use super::rules::{child_edge_sharpness, decrement};
 use crate::topology::{self, NONE};
 use crate::{Error, Result};

@@ -6,6 +6,7 @@
 
 pub mod adaptive;
 pub mod bspline;
+mod corners;
 pub mod eval;
 mod kept;
 mod level;
@@ -43,4 +44,44 @@ pub(crate) fn corpus_levels(names: &[&str], depth: u32) -> Vec<(String, u32, Lev
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::topology::{sector_count, sector_counts};
+
+    /// `topology::sector_counts` (here, where refined levels are at hand: `topology` must not
+    /// use `subdiv`): the counts of one pass over the edges are the per-vertex ring counts, on every vertex of
+    /// levels 0-2 of meshes with boundaries, corners, infinitely sharp creases, darts and holes
+    /// (fails if a boundary vertex's first sharp edge is not discounted, or an edge is counted
+    /// at one end only).
+    #[test]
+    fn sector_counts_are_per_vertex_counts() {
+        let levels = corpus_levels(
+            &[
+                "catmark_car",
+                "catmark_cubes_infsharp",
+                "catmark_dart_edgecorner",
+                "catmark_edgecorner",
+                "catmark_hole_test1",
+                "catmark_inf_crease1",
+            ],
+            2,
+        );
+        let mut split = 0;
+        for (name, _, level) in &levels {
+            let t = level.topology();
+            let counts = sector_counts(t);
+            for v in 0..t.vertex_count() as u32 {
+                assert_eq!(
+                    counts[v as usize] as usize,
+                    sector_count(t, v),
+                    "{name} vertex {v}"
+                );
+                split += usize::from(counts[v as usize] >= 2);
+            }
+        }
+        assert!(split > 100, "{split} vertices of two or more sectors");
+    }
 }

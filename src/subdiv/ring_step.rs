@@ -5,9 +5,9 @@
 //! would make, so [`super::kept::refine_kept_in`] gives that sub-level's refinement bit for bit
 //! (vertex numbering included).
 
+use super::corners::{next_corner, prev_corner};
 use super::kept::{StepEdge, StepParent};
 use super::level::Level;
-use super::refine::next_corner;
 use crate::topology::NONE;
 use crate::{Error, Result};
 
@@ -70,7 +70,7 @@ impl<'a> RingStep<'a> {
                      face and every face at its vertex must be refined or in the ring"
                 )));
             }
-            let hp = super::refine::prev_corner(t, f, h);
+            let hp = prev_corner(t, f, h);
             for e in [t.face_edges[h as usize], t.face_edges[hp]] {
                 if point[e as usize] == NONE {
                     point[e as usize] = 0;

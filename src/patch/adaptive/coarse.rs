@@ -10,32 +10,9 @@ use super::slots::{Slots, NONE};
 use crate::patch::edge_grid::edge_grid;
 use crate::patch::single_crease::Rotation;
 use crate::subdiv::adaptive::{
-    AdaptiveLevel, AdaptivePatch, AdaptiveRefinement, ChildOf, PatchCensus, PatchType,
+    AdaptiveLevel, AdaptivePatch, AdaptiveRefinement, ChildOf, PatchCensus,
 };
 use crate::topology::is_sharp_edge;
-
-/// Per level, face to its census patch ([`NONE`] when the face is not drawn at that level).
-pub fn patch_index(refinement: &AdaptiveRefinement, census: &PatchCensus) -> Vec<Vec<u32>> {
-    let mut at: Vec<Vec<u32>> = refinement
-        .levels
-        .iter()
-        .map(|l| vec![NONE; l.level.face_count()])
-        .collect();
-    for (i, p) in census.patches.iter().enumerate() {
-        at[p.level as usize][p.face as usize] = i as u32;
-    }
-    at
-}
-
-/// Whether face `g` of `lev` is a quad end cap drawn at that level (`at`: that level's
-/// [`patch_index`]), the neighbour the fillets and corner offsets of
-/// [`super::promoted`] need on every side.
-pub fn is_quad_end_cap(lev: &AdaptiveLevel, census: &PatchCensus, at: &[u32], g: u32) -> bool {
-    lev.own[g as usize]
-        && lev.topology().face_size(g) == 4
-        && at[g as usize] != NONE
-        && census.patches[at[g as usize] as usize].kind == PatchType::EndCap
-}
 
 /// Per edge of `lev`, the next level's vertex that is its edge point ([`NONE`] if not kept).
 fn edge_points(lev: &AdaptiveLevel, next: &AdaptiveLevel) -> Vec<u32> {
@@ -187,7 +164,7 @@ impl CoarseEdges {
     }
 
     /// A [`WHOLE_EDGE`] record for face edge `k` of end cap `f` of `level` when the patch across
-    /// it (same level; `at`: [`patch_index`]) is a single-crease patch and the edge is one of its
+    /// it (same level; `at`: [`super::census_index::patch_index`]) is a single-crease patch and the edge is one of its
     /// crease-aware curves (its crease edge or an edge across its crease line), so the end cap
     /// evaluates that curve as the single-crease patch does; [`NONE`] otherwise (the grid curve
     /// of the end cap's B-spline-neighbour rule is then the same curve).

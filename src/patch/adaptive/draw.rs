@@ -13,7 +13,8 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::coarse::{is_quad_end_cap, patch_index, CoarseEdges};
+use super::census_index::{is_quad_end_cap, patch_index};
+use super::coarse::CoarseEdges;
 use super::error::DrawTablesError;
 use super::exact_corners::ExactCorners;
 use super::lattice_frames::LatticeFrames;

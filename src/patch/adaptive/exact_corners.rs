@@ -12,7 +12,7 @@
 
 use std::collections::HashMap;
 
-use super::coarse::is_quad_end_cap;
+use super::census_index::is_quad_end_cap;
 use super::promoted::{corner_offset_code, corner_offset_vertex, exact_corner_position};
 use super::slots::{Slots, NONE};
 use super::surface::EndCapTopologies;
@@ -36,7 +36,7 @@ pub struct ExactCorners {
 impl ExactCorners {
     /// The frames of the quad end caps' promoted corners the positional fillet does not reach
     /// whole, numbered from `first` in census order; `at` as
-    /// [`super::coarse::patch_index`]; `masks` the build's exact limit masks.
+    /// [`super::census_index::patch_index`]; `masks` the build's exact limit masks.
     pub fn new(
         refinement: &AdaptiveRefinement,
         census: &PatchCensus,

@@ -21,12 +21,11 @@ use std::collections::{BTreeMap, HashMap};
 
 use glam::DVec3;
 
-use super::coarse::is_quad_end_cap;
+use super::census_index::{is_quad_end_cap, EndCapTopologies};
 use super::promoted::{
     corner_offset_code, fillet_sharpness, promoted_vertex, vertex_fillet_sharpness,
 };
 use super::slots::NONE;
-use super::surface::EndCapTopologies;
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptiveLevel, AdaptiveRefinement, PatchCensus, PatchType};
 use crate::subdiv::limit::SharedVertexMasks;
@@ -121,7 +120,7 @@ pub fn lattice_size(
 
 impl LatticeFrames {
     /// The lattice frames of the quad end caps' corners at [`lattice_vertex`]es, numbered from
-    /// `first` in census order; `at` as `super::coarse::patch_index`; `masks` the build's exact
+    /// `first` in census order; `at` as `super::census_index::patch_index`; `masks` the build's exact
     /// limit masks.
     pub fn new(
         refinement: &AdaptiveRefinement,

@@ -11,6 +11,7 @@
 //!
 //! [`draw`] turns the same patches into the GPU draw tables ([`AdaptiveDrawTables`]).
 
+mod census_index;
 mod coarse;
 pub mod decayed_fit;
 pub mod draw;

@@ -1,13 +1,12 @@
 //! The CPU surface of an adaptive refinement: B-spline patches and Gregory end caps, evaluable
 //! at base-face parameters.
 
-use std::borrow::Cow;
 use std::collections::HashMap;
 
 use glam::{DVec2, DVec3};
 use thiserror::Error;
 
-use super::coarse::patch_index;
+use super::census_index::patch_index;
 use super::lattice_frames::{lattice_normal, LatticeFrames};
 use super::promoted::{
     band_offset_factor, corner_offset_code, corner_offset_share, corner_offset_vertex,
@@ -27,42 +26,9 @@ use crate::patch::single_crease::SingleCreasePatch;
 use crate::subdiv::adaptive::EndCapSharpness;
 use crate::subdiv::adaptive::{AdaptivePatch, AdaptiveRefinement, Domain, PatchCensus, PatchType};
 use crate::subdiv::limit::SharedVertexMasks;
-use crate::topology::{is_sharp_edge, Topology};
+use crate::topology::is_sharp_edge;
 
-/// Per level, its topology as its end caps see it ([`AdaptiveRefinement::end_cap_topology`]),
-/// built once for the levels with end caps (the isolation level); the level's own topology
-/// elsewhere.
-pub struct EndCapTopologies<'a> {
-    refinement: &'a AdaptiveRefinement,
-    levels: Vec<Option<Cow<'a, Topology>>>,
-}
-
-impl<'a> EndCapTopologies<'a> {
-    /// The end-cap topologies of `refinement`'s levels holding end caps of `census`.
-    pub fn new(refinement: &'a AdaptiveRefinement, census: &PatchCensus) -> Self {
-        let mut levels: Vec<Option<Cow<'a, Topology>>> =
-            (0..refinement.levels.len()).map(|_| None).collect();
-        for p in census
-            .patches
-            .iter()
-            .filter(|p| p.kind == PatchType::EndCap)
-        {
-            let l = p.level as usize;
-            if levels[l].is_none() {
-                levels[l] = Some(refinement.end_cap_topology(l));
-            }
-        }
-        EndCapTopologies { refinement, levels }
-    }
-
-    /// Level `level`'s topology as its end caps see it.
-    pub fn get(&self, level: u32) -> &Topology {
-        match &self.levels[level as usize] {
-            Some(t) => t,
-            None => self.refinement.levels[level as usize].topology(),
-        }
-    }
-}
+pub use super::census_index::EndCapTopologies;
 
 /// Why an end cap could not be built.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

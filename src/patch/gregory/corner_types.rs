@@ -11,7 +11,6 @@
 
 use super::build::{far_crease_sectors, vertex_ring_of_units};
 use super::point::Weights;
-use super::stencil_table::vertex_point_id;
 use super::tangents::GregoryTangents;
 #[cfg(doc)]
 use super::vertex::VertexRing;
@@ -170,11 +169,53 @@ fn relabel(d: &GregoryVertex<Weights>, id: &impl Fn(u32) -> u32) -> GregoryVerte
     }
 }
 
+/// Derived points per vertex in the two-stage rows ([`GregoryVertex::vertex_points`]: a smooth
+/// vertex's limit position, cosine and sine sums, a dart's limit position and two tangents, a
+/// crease's sector tangents).
+pub const VERTEX_POINTS: u32 = super::vertex::VERTEX_POINTS as u32;
+
+/// The id of derived point `b` ([`GregoryVertex::vertex_points`]) of vertex `v` in the rows of
+/// the direct sparse face rows (`sparse_face_rows_direct`): past every vertex of `topo` (`vertex_count + 3 v + b`), so it
+/// sorts after the vertices and with `v`.
+pub fn vertex_point_id(topo: &Topology, v: u32, b: u32) -> u32 {
+    topo.vertex_count() as u32 + VERTEX_POINTS * v + b
+}
+
+/// The vertex and derived point of `id`, `None` for a vertex id ([`vertex_point_id`]).
+pub fn vertex_point_of(topo: &Topology, id: u32) -> Option<(u32, u32)> {
+    let d = id.checked_sub(topo.vertex_count() as u32)?;
+    Some((d / VERTEX_POINTS, d % VERTEX_POINTS))
+}
+
+#[cfg(test)]
+/// Both end-cap topologies (residual semi-sharpness smooth, or infinitely sharp from
+/// `CREASE_FROM`) of every level of the isolation-2 refinement of corpus mesh `name`.
+pub(super) fn end_cap_topologies(name: &str) -> Vec<Topology> {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
+    let path = format!("{dir}{name}.obj");
+    let mesh = crate::mesh::ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
+    let level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
+    let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, 2).unwrap();
+    adaptive
+        .levels
+        .iter()
+        .flat_map(|l| {
+            let t = l.topology();
+            [
+                t.without_semi_sharpness().into_owned(),
+                t.with_semi_sharpness_as_crease(
+                    crate::subdiv::adaptive::EndCapSharpness::CREASE_FROM,
+                )
+                .into_owned(),
+            ]
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::patch::gregory::build::{two_stage_of_ring, vertex_covered, Coverage};
-    use crate::patch::gregory::shared_rows::end_cap_topologies;
     use crate::patch::gregory::VertexKind;
     use std::collections::HashSet;
 

@@ -668,29 +668,7 @@ fn clear(slot: &mut [u32], ring: &[u32]) {
 }
 
 #[cfg(test)]
-/// Both end-cap topologies (residual semi-sharpness smooth, or infinitely sharp from
-/// `CREASE_FROM`) of every level of the isolation-2 refinement of corpus mesh `name`.
-pub(super) fn end_cap_topologies(name: &str) -> Vec<Topology> {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
-    let path = format!("{dir}{name}.obj");
-    let mesh = crate::mesh::ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
-    let level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
-    let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, 2).unwrap();
-    adaptive
-        .levels
-        .iter()
-        .flat_map(|l| {
-            let t = l.topology();
-            [
-                t.without_semi_sharpness().into_owned(),
-                t.with_semi_sharpness_as_crease(
-                    crate::subdiv::adaptive::EndCapSharpness::CREASE_FROM,
-                )
-                .into_owned(),
-            ]
-        })
-        .collect()
-}
+use super::corner_types::end_cap_topologies;
 
 #[cfg(test)]
 mod tests {

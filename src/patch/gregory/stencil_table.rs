@@ -373,23 +373,7 @@ pub(super) fn sparse_face_rows_direct_with(
         .collect()
 }
 
-/// Derived points per vertex in the two-stage rows ([`GregoryVertex::vertex_points`]: a smooth
-/// vertex's limit position, cosine and sine sums, a dart's limit position and two tangents, a
-/// crease's sector tangents).
-pub const VERTEX_POINTS: u32 = super::vertex::VERTEX_POINTS as u32;
-
-/// The id of derived point `b` ([`GregoryVertex::vertex_points`]) of vertex `v` in the rows of
-/// [`sparse_face_rows_direct`]: past every vertex of `topo` (`vertex_count + 3 v + b`), so it
-/// sorts after the vertices and with `v`.
-pub fn vertex_point_id(topo: &Topology, v: u32, b: u32) -> u32 {
-    topo.vertex_count() as u32 + VERTEX_POINTS * v + b
-}
-
-/// The vertex and derived point of `id`, `None` for a vertex id ([`vertex_point_id`]).
-pub fn vertex_point_of(topo: &Topology, id: u32) -> Option<(u32, u32)> {
-    let d = id.checked_sub(topo.vertex_count() as u32)?;
-    Some((d / VERTEX_POINTS, d % VERTEX_POINTS))
-}
+pub use super::corner_types::{vertex_point_id, vertex_point_of, VERTEX_POINTS};
 
 /// The first-stage rows of vertex `v` over `topo`'s vertices: its
 /// [`GregoryVertex::vertex_points`] in weight space (empty rows where it has none: corners,
