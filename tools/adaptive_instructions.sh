@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Instructions per `AdaptiveTables::new` (the README's preprocessing table): cachegrind's user
+# Instructions per `AdaptiveTables::new` (docs/measured.md's preprocessing table): cachegrind's user
 # instructions of `examples/adaptive_preprocess MESH ISO 3` minus `... 1`, halved (two builds),
 # one thread; deterministic, so binaries of two commits compare in one run whatever the load.
 #   tools/adaptive_instructions.sh ISO MESH BINARY...   (copies of target/release/examples/adaptive_preprocess)
