@@ -668,7 +668,7 @@ fn clear(slot: &mut [u32], ring: &[u32]) {
 }
 
 #[cfg(test)]
-use super::corner_types::end_cap_topologies;
+use super::corner_types::{end_cap_topologies, DECAYED_CORNER_DISKS};
 
 #[cfg(test)]
 mod tests {
@@ -774,9 +774,10 @@ mod tests {
     /// The shared vertex points are bitwise the per-vertex construction on every vertex, on
     /// every level of the adaptive refinement of meshes with triangles, n-gons, high valence,
     /// boundaries, holes, infinitely sharp creases, corners and darts, in both end-cap
-    /// topologies, and on a creased grid (fails if the ring key leaves out what the
-    /// construction reads, e.g. face sizes, the faces' vertices or the edges' sharpness, which
-    /// tells the grid's crease vertices from its smooth ones), and rings are shared.
+    /// topologies, on a creased grid and on a decayed corner (fails if the ring key leaves out
+    /// what the construction reads, e.g. face sizes, the faces' vertices, the edges' sharpness,
+    /// which tells the grid's crease vertices from its smooth ones, or the decayed-corner tag,
+    /// which the end caps' tangents read), and rings are shared.
     #[test]
     fn shared_vertex_points_are_the_per_vertex_construction() {
         let (mut vertices, mut types) = (0, 0);
@@ -786,7 +787,11 @@ mod tests {
             let all: Vec<u32> = (0..topo.vertex_count() as u32)
                 .filter(|&v| !topo.vertex_faces(v).is_empty())
                 .collect();
-            for tangents in [GregoryTangents::Paper, GregoryTangents::Optimal] {
+            for tangents in [
+                GregoryTangents::Paper,
+                GregoryTangents::Optimal,
+                GregoryTangents::EndCaps,
+            ] {
                 let shared = shared_vertex_point_rows(topo, &all, tangents, &DartLimits::new());
                 for (&v, got) in all.iter().zip(&shared) {
                     let want =
@@ -818,6 +823,7 @@ mod tests {
         };
         compare("creased grid", &creased_grid(8, 5));
         for name in [
+            DECAYED_CORNER_DISKS,
             "catmark_nonquads",
             "catmark_smoothtris1",
             "catmark_pole8",
