@@ -194,16 +194,42 @@ impl Setup {
             .map(|&f| nearby_exact_samples(topo, &dense, f))
             .collect();
         let n = self.unknowns.len();
+        let mut index = vec![None; topo.face_count()];
+        for (i, &f) in faces.iter().enumerate() {
+            index[f as usize] = Some(i);
+        }
+        // Per face, the unknowns that move it: those at its corners (an edge point enters
+        // the patches of the faces at its vertex only, face points through eq. 6 included).
+        let mut touching: Vec<Vec<usize>> = vec![Vec::new(); faces.len()];
+        for (k, u) in self.unknowns.iter().enumerate() {
+            for &f in topo.vertex_faces(u.vertex) {
+                if let Some(i) = index[f as usize] {
+                    touching[i].push(k);
+                }
+            }
+        }
         let mut x = vec![0.0; n];
         for round in 0..=ROUNDS {
-            let now = patches(topo, &with_offsets(&self.base, &self.unknowns, &x), faces);
-            let dirs: Vec<Vec<GregoryPatch>> = (0..n)
-                .map(|k| {
-                    let mut y = x.clone();
-                    y[k] += 1.0;
-                    patches(topo, &with_offsets(&self.base, &self.unknowns, &y), faces)
-                })
-                .collect();
+            let mut current = with_offsets(&self.base, &self.unknowns, &x);
+            let now = patches(topo, &current, faces);
+            // Per face, the patch with each touching unknown moved by 1 (the others at `x`), in
+            // the order of `touching`.
+            let mut moved: Vec<Vec<GregoryPatch>> = vec![Vec::new(); faces.len()];
+            for u in &self.unknowns {
+                let slot = &mut current[u.vertex as usize];
+                let saved = slot.clone();
+                let g = slot.as_mut().expect("a Gregory vertex");
+                for &(j, d) in &u.moves {
+                    g.e[j] += d;
+                }
+                for &f in topo.vertex_faces(u.vertex) {
+                    if let Some(i) = index[f as usize] {
+                        let patch = gregory_patch(topo, &current, f).expect("a Gregory face");
+                        moved[i].push(patch);
+                    }
+                }
+                current[u.vertex as usize] = saved;
+            }
             let mut a = vec![vec![0.0; n]; n];
             let mut b = vec![0.0; n];
             let (mut e2, mut w) = (0.0, 0.0);
@@ -213,14 +239,14 @@ impl Setup {
                     let l = closest_exact(&self.ev, p, &cands[i], f)?;
                     let normal = l.sample.normal;
                     let d0 = (p - l.sample.position).dot(normal);
-                    let g: Vec<f64> = dirs
+                    let g: Vec<f64> = moved[i]
                         .iter()
-                        .map(|q| (q[i].eval(u, v).position - p).dot(normal))
+                        .map(|q| (q.eval(u, v).position - p).dot(normal))
                         .collect();
-                    for r in 0..n {
-                        b[r] -= d0 * g[r];
-                        for c in 0..n {
-                            a[r][c] += g[r] * g[c];
+                    for (r, &kr) in touching[i].iter().enumerate() {
+                        b[kr] -= d0 * g[r];
+                        for (c, &kc) in touching[i].iter().enumerate() {
+                            a[kr][kc] += g[r] * g[c];
                         }
                     }
                     e2 += d0 * d0;

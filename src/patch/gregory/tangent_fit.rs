@@ -322,7 +322,7 @@ mod tests {
             }
         }
         a[0][0] = 0.0;
-        b[0] = b[0] - 11.0 * want[0];
+        b[0] -= 11.0 * want[0];
         let got = solve_normal_equations(a, b);
         for (g, w) in got.iter().zip(&want) {
             assert!((g - w).abs() < 1e-9, "{got:?}");
