@@ -79,6 +79,7 @@
 //! follow the refined chords (`GregoryVertex::sectored`).
 
 use super::tangents::GregoryTangents;
+use crate::topology::Topology;
 
 /// The largest crease sector (faces) with a fitted entry in [`CREASE_SCALE`].
 pub const MAX_FITTED_CREASE_SECTOR: usize = 16;
@@ -178,6 +179,14 @@ pub fn sector_band(k: usize, far: impl IntoIterator<Item = usize>) -> usize {
         2 => far.next().filter(|&f| f >= 3).unwrap_or(0),
         _ => usize::from(far.all(|f| f >= 2)),
     }
+}
+
+/// The words of vertex `v`'s frozen crease-sector factors ([`Topology::crease_factors`], read
+/// under [`GregoryTangents::Fitted`]; 0 where none) in the end caps' shared-row and ring-type
+/// keys (`super::shared_rows`, `super::corner_types`): two rings of one connectivity with
+/// different factors must not share rows.
+pub(super) fn crease_factor_words(topo: &Topology, v: u32) -> [u32; 2] {
+    topo.crease_factors(v).unwrap_or_default().map(f32::to_bits)
 }
 
 #[cfg(test)]
