@@ -113,6 +113,14 @@ impl FaceRows {
         &self.terms[self.offsets[r] as usize..self.offsets[r + 1] as usize]
     }
 
+    /// Appends every row of `other`.
+    pub fn append(&mut self, other: &FaceRows) {
+        let base = self.terms.len() as u32;
+        self.offsets
+            .extend(other.offsets.iter().skip(1).map(|&o| base + o));
+        self.terms.extend_from_slice(&other.terms);
+    }
+
     /// Every row in order.
     pub fn rows(&self) -> impl Iterator<Item = &[(u32, f64)]> {
         (0..self.len()).map(|r| self.row(r))
@@ -542,7 +550,8 @@ pub fn sparse_face_rows_flat(
 }
 
 /// [`super::stencil_table::vertex_point_rows`] of every vertex of `vertices` (smooth, dart and
-/// crease vertices of `topo` as end-cap corners; empty rows for others), the construction run
+/// crease vertices of `topo` as end-cap corners; empty rows for others), vertex `i`'s rows
+/// `3 i..3 i + 3` of the flat rows returned, the construction run
 /// once per ring type (Loop et al. 2009 §4.1, shared as the end-cap rows are, module docs): the
 /// rows of a vertex read only its edges' other ends and sharpness, its faces' vertices and its
 /// own sharpness, so vertices whose rings read the same in first-appearance slots
@@ -554,7 +563,7 @@ pub fn shared_vertex_point_rows(
     vertices: &[u32],
     tangents: GregoryTangents,
     darts: &DartLimits,
-) -> Vec<[Weights; 3]> {
+) -> FaceRows {
     let fresh = || vec![NONE; topo.vertex_count()];
     let keys: Vec<VertexRingKey> = vertices
         .par_iter()
@@ -598,20 +607,35 @@ pub fn shared_vertex_point_rows(
         vertices.len(),
         representative.len()
     );
-    keys.par_iter()
-        .zip(&type_of)
-        .with_min_len(256)
-        .map(|(key, &t)| {
-            local[t as usize].each_ref().map(|w| {
-                let mut terms: Vec<(u32, f64)> =
-                    w.0.iter()
-                        .map(|&(s, x)| (key.ring[s as usize], x))
-                        .collect();
-                terms.sort_unstable_by_key(|&(u, _)| u);
-                Weights(terms)
-            })
+    // Relabelled into flat rows, runs of vertices on the pool (no allocation per row).
+    let parts: Vec<FaceRows> = keys
+        .par_chunks(256)
+        .zip(type_of.par_chunks(256))
+        .map(|(keys, types)| {
+            let mut out = FaceRows::default();
+            out.offsets.reserve(3 * keys.len() + 1);
+            out.offsets.push(0);
+            for (key, &t) in keys.iter().zip(types) {
+                for w in &local[t as usize] {
+                    let start = out.terms.len();
+                    out.terms
+                        .extend(w.0.iter().map(|&(s, x)| (key.ring[s as usize], x)));
+                    out.terms[start..].sort_unstable_by_key(|&(u, _)| u);
+                    out.offsets.push(out.terms.len() as u32);
+                }
+            }
+            out
         })
-        .collect()
+        .collect();
+    let mut out = FaceRows {
+        offsets: Vec::with_capacity(3 * keys.len() + 1),
+        terms: Vec::with_capacity(parts.iter().map(|p| p.terms.len()).sum()),
+    };
+    out.offsets.push(0);
+    for part in &parts {
+        out.append(part);
+    }
+    out
 }
 
 /// What [`super::stencil_table::vertex_point_rows`] reads of a vertex's ring, in slots: the
@@ -788,15 +812,17 @@ mod tests {
                 .collect();
             for tangents in [GregoryTangents::Paper, GregoryTangents::Optimal] {
                 let shared = shared_vertex_point_rows(topo, &all, tangents, &DartLimits::new());
-                for (&v, got) in all.iter().zip(&shared) {
+                assert_eq!(shared.len(), 3 * all.len());
+                for (i, &v) in all.iter().enumerate() {
                     let want =
                         crate::patch::gregory::stencil_table::vertex_point_rows(topo, v, tangents);
-                    let bits = |w: &[Weights; 3]| {
+                    let got: Vec<Weights> = (3 * i..3 * i + 3).map(|r| shared.weights(r)).collect();
+                    let bits = |w: &[Weights]| {
                         w.iter()
                             .map(|w| w.0.iter().map(|&(u, x)| (u, x.to_bits())).collect())
                             .collect::<Vec<Vec<_>>>()
                     };
-                    assert_eq!(bits(got), bits(&want), "{name}: vertex {v}");
+                    assert_eq!(bits(&got), bits(&want), "{name}: vertex {v}");
                     if !want[0].0.is_empty() || !want[1].0.is_empty() {
                         let ring = vertex_ring_with(topo, v, &|_| NoPoint);
                         let sharp = ring.sharp.iter().filter(|&&s| s).count();
