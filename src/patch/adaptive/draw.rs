@@ -34,7 +34,7 @@ use crate::patch::gregory::edge_flags::{edge_flags, Across};
 use crate::patch::gregory::shared_rows::{
     shared_vertex_point_rows, sparse_face_rows_flat, FaceRows,
 };
-use crate::patch::gregory::stencil_table::{vertex_point_of, VERTEX_POINTS};
+use crate::patch::gregory::stencil_table::VERTEX_POINTS;
 use crate::patch::gregory::{DartLimits, GregoryTangents};
 use crate::patch::single_crease::{gpu_cvs, Rotation, SingleCreasePatch};
 use crate::patch::RegularPatch;
@@ -152,17 +152,19 @@ fn end_cap_rows(
         }
     }
     // Number the vertex points the rows read, level by level in (vertex, point) order: `at`
-    // is indexed by a level's `VERTEX_POINTS * v + b`.
+    // is indexed by a level's `VERTEX_POINTS * v + b`, which is a derived id minus the level's
+    // vertex count (`vertex_point_id`).
     let mut index: Vec<Vec<u32>> = vec![Vec::new(); refinement.levels.len()];
     for (l, rows) in &local {
         let t = topologies.get(*l);
+        let n = t.vertex_count() as u32;
         let at = &mut index[*l as usize];
         for &(id, _) in &rows.terms {
-            if let Some((v, b)) = vertex_point_of(t, id) {
+            if id >= n {
                 if at.is_empty() {
                     at.resize(VERTEX_POINTS as usize * t.vertex_count(), NONE);
                 }
-                at[(VERTEX_POINTS * v + b) as usize] = 0;
+                at[(id - n) as usize] = 0;
             }
         }
     }
@@ -192,10 +194,12 @@ fn end_cap_rows(
                 &index[l as usize],
             );
             // Global ids: monotone in the local ones, so rows stay ascending.
+            let n = t.vertex_count() as u32;
             for (id, _) in rows.terms.iter_mut() {
-                *id = match vertex_point_of(t, *id) {
-                    None => lev.global(*id),
-                    Some((v, b)) => first + at[(VERTEX_POINTS * v + b) as usize],
+                *id = if *id < n {
+                    lev.global(*id)
+                } else {
+                    first + at[(*id - n) as usize]
                 };
             }
             rows
