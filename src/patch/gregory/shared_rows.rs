@@ -555,7 +555,7 @@ pub fn sparse_face_rows_flat(
 /// once per ring type (Loop et al. 2009 §4.1, shared as the end-cap rows are, module docs): the
 /// rows of a vertex read only its edges' other ends and sharpness, its faces' vertices and its
 /// own sharpness, so vertices whose rings read the same in first-appearance slots
-/// (`VertexRingKey`) have the same weights slot by slot, and every weight is the same sequence
+/// (`RingKeys`) have the same weights slot by slot, and every weight is the same sequence
 /// of `a + w * b` updates whatever the ids. Bitwise the per-vertex rows; the keys, the types'
 /// rows and the relabelling run on the rayon pool. Dart masks from `darts`.
 pub fn shared_vertex_point_rows(
@@ -565,24 +565,27 @@ pub fn shared_vertex_point_rows(
     darts: &DartLimits,
 ) -> FaceRows {
     let fresh = || vec![NONE; topo.vertex_count()];
-    let keys: Vec<VertexRingKey> = vertices
-        .par_iter()
-        .with_min_len(256)
-        .map_init(fresh, |slot, &v| {
-            let key = VertexRingKey::new(topo, v, slot);
-            key.clear(slot);
-            key
+    // The keys of runs of `RUN` vertices, each run's in flat arrays (no allocation per vertex).
+    const RUN: usize = 256;
+    let runs: Vec<RingKeys> = vertices
+        .par_chunks(RUN)
+        .map_init(fresh, |slot, run| {
+            let mut keys = RingKeys::default();
+            for &v in run {
+                keys.push(topo, v, slot);
+            }
+            keys
         })
         .collect();
+    let key_of = |i: usize| (&runs[i / RUN], i % RUN);
     let mut types: WordHashMap<&[u32], u32> = WordHashMap::default();
     // Per type: the index of a vertex of it; per vertex: its type.
     let mut representative: Vec<usize> = Vec::new();
-    let type_of: Vec<u32> = keys
-        .iter()
-        .enumerate()
-        .map(|(i, key)| {
+    let type_of: Vec<u32> = (0..vertices.len())
+        .map(|i| {
+            let (keys, j) = key_of(i);
             let next = types.len() as u32;
-            let t = *types.entry(&key.key).or_insert(next);
+            let t = *types.entry(keys.key(j)).or_insert(next);
             if t == next {
                 representative.push(i);
             }
@@ -592,7 +595,8 @@ pub fn shared_vertex_point_rows(
     let local: Vec<[Weights; 3]> = representative
         .par_iter()
         .map_init(fresh, |slot, &i| {
-            let ring = &keys[i].ring;
+            let (keys, j) = key_of(i);
+            let ring = keys.ring(j);
             for (s, &u) in ring.iter().enumerate() {
                 slot[u as usize] = s as u32;
             }
@@ -607,19 +611,20 @@ pub fn shared_vertex_point_rows(
         vertices.len(),
         representative.len()
     );
-    // Relabelled into flat rows, runs of vertices on the pool (no allocation per row).
-    let parts: Vec<FaceRows> = keys
-        .par_chunks(256)
-        .zip(type_of.par_chunks(256))
+    // Relabelled into flat rows, run by run on the pool (no allocation per row).
+    let parts: Vec<FaceRows> = runs
+        .par_iter()
+        .zip(type_of.par_chunks(RUN))
         .map(|(keys, types)| {
             let mut out = FaceRows::default();
-            out.offsets.reserve(3 * keys.len() + 1);
+            out.offsets.reserve(3 * types.len() + 1);
             out.offsets.push(0);
-            for (key, &t) in keys.iter().zip(types) {
+            for (j, &t) in types.iter().enumerate() {
+                let ring = keys.ring(j);
                 for w in &local[t as usize] {
                     let start = out.terms.len();
                     out.terms
-                        .extend(w.0.iter().map(|&(s, x)| (key.ring[s as usize], x)));
+                        .extend(w.0.iter().map(|&(s, x)| (ring[s as usize], x)));
                     out.terms[start..].sort_unstable_by_key(|&(u, _)| u);
                     out.offsets.push(out.terms.len() as u32);
                 }
@@ -628,7 +633,7 @@ pub fn shared_vertex_point_rows(
         })
         .collect();
     let mut out = FaceRows {
-        offsets: Vec::with_capacity(3 * keys.len() + 1),
+        offsets: Vec::with_capacity(3 * vertices.len() + 1),
         terms: Vec::with_capacity(parts.iter().map(|p| p.terms.len()).sum()),
     };
     out.offsets.push(0);
@@ -638,49 +643,64 @@ pub fn shared_vertex_point_rows(
     out
 }
 
-/// What [`super::stencil_table::vertex_point_rows`] reads of a vertex's ring, in slots: the
-/// vertex at slot 0, its edges' other ends and its faces' vertices numbered by first appearance
-/// in that order.
-struct VertexRingKey {
-    /// Edge count, face count, the vertex's sharpness bits, each edge's other end and
-    /// sharpness bits, each face's size and vertices.
-    key: Vec<u32>,
-    /// The vertex of each slot.
+/// What [`super::stencil_table::vertex_point_rows`] reads of the rings of a run of vertices, in
+/// slots, flat: per vertex its key (edge count, face count, the vertex's sharpness bits, each
+/// edge's other end and sharpness bits, each face's size and vertices) and its ring (the vertex
+/// of each slot: the vertex at slot 0, its edges' other ends and its faces' vertices numbered by
+/// first appearance in that order).
+#[derive(Default)]
+struct RingKeys {
+    words: Vec<u32>,
+    /// `vertices + 1` offsets into `words` (empty before the first vertex).
+    word_at: Vec<u32>,
     ring: Vec<u32>,
+    /// `vertices + 1` offsets into `ring` (empty before the first vertex).
+    ring_at: Vec<u32>,
 }
 
-impl VertexRingKey {
-    /// The key of `v`, with `slot` (all [`NONE`] on entry) set to each ring vertex's slot.
-    fn new(topo: &Topology, v: u32, slot: &mut [u32]) -> VertexRingKey {
+impl RingKeys {
+    /// Appends the key and ring of `v`; `slot` is all [`NONE`] on entry and on return.
+    fn push(&mut self, topo: &Topology, v: u32, slot: &mut [u32]) {
+        if self.word_at.is_empty() {
+            self.word_at.push(0);
+            self.ring_at.push(0);
+        }
         let (edges, faces) = (topo.vertex_edges(v), topo.vertex_faces(v));
-        let mut ring = Vec::with_capacity(1 + 2 * edges.len());
-        let mut key = Vec::with_capacity(3 + 2 * edges.len() + 5 * faces.len());
-        key.extend([edges.len() as u32, faces.len() as u32, vertex_word(topo, v)]);
+        let first = self.ring.len();
+        let (words, ring) = (&mut self.words, &mut self.ring);
+        words.extend([edges.len() as u32, faces.len() as u32, vertex_word(topo, v)]);
         let mut at = |u: u32, ring: &mut Vec<u32>| {
             if slot[u as usize] == NONE {
-                slot[u as usize] = ring.len() as u32;
+                slot[u as usize] = (ring.len() - first) as u32;
                 ring.push(u);
             }
             slot[u as usize]
         };
-        at(v, &mut ring);
+        at(v, ring);
         for &e in edges {
-            key.push(at(topo.other_vertex(e, v), &mut ring));
-            key.push(topo.edge_sharpness(e).to_bits());
+            words.push(at(topo.other_vertex(e, v), ring));
+            words.push(topo.edge_sharpness(e).to_bits());
         }
         for &f in faces {
             let fv = topo.face_vertices(f);
-            key.push(fv.len() as u32);
+            words.push(fv.len() as u32);
             for &u in fv {
-                key.push(at(u, &mut ring));
+                words.push(at(u, ring));
             }
         }
-        VertexRingKey { key, ring }
+        clear(slot, &ring[first..]);
+        self.word_at.push(words.len() as u32);
+        self.ring_at.push(ring.len() as u32);
     }
 
-    /// Resets the slots set by [`Self::new`].
-    fn clear(&self, slot: &mut [u32]) {
-        clear(slot, &self.ring);
+    /// The key of vertex `j` of the run.
+    fn key(&self, j: usize) -> &[u32] {
+        &self.words[self.word_at[j] as usize..self.word_at[j + 1] as usize]
+    }
+
+    /// The ring of vertex `j` of the run.
+    fn ring(&self, j: usize) -> &[u32] {
+        &self.ring[self.ring_at[j] as usize..self.ring_at[j + 1] as usize]
     }
 }
 
@@ -831,14 +851,12 @@ mod tests {
                 }
             }
             let mut slot = vec![NONE; topo.vertex_count()];
-            let keys: std::collections::HashSet<Vec<u32>> = all
-                .iter()
-                .map(|&v| {
-                    let k = VertexRingKey::new(topo, v, &mut slot);
-                    k.clear(&mut slot);
-                    k.key
-                })
-                .collect();
+            let mut ring_keys = RingKeys::default();
+            for &v in &all {
+                ring_keys.push(topo, v, &mut slot);
+            }
+            let keys: std::collections::HashSet<&[u32]> =
+                (0..all.len()).map(|j| ring_keys.key(j)).collect();
             vertices += all.len();
             types += keys.len();
         };
