@@ -8,7 +8,7 @@ use std::collections::{HashMap, HashSet};
 
 use common::capture::{
     capture, gregory_faces, gregory_vs_capture_with_budget, image, offscreen, param_key,
-    patch_type_image, scheme_surface, sorted, uniform, Animation,
+    patch_type_image, scheme_surface, scheme_surface_with, sorted, uniform, Animation,
 };
 use common::golden::check_golden;
 use common::gpu::{assert_validation_clean, context};
@@ -17,7 +17,10 @@ use common::watertight::{boundary, point_bits, Boundary};
 use glam::DVec3;
 use tessera::gpu::Context;
 use tessera::mesh::{ControlMesh, ObjOptions};
-use tessera::patch::gregory::{gregory_patch, gregory_vertices, GregoryPatch};
+use tessera::patch::gregory::vertex_fit;
+use tessera::patch::gregory::{
+    gregory_patch, gregory_vertices_with, GregoryPatch, GregoryTangents,
+};
 use tessera::patch::RegularPatch;
 use tessera::render::schemes::gregory::irregular_faces;
 use tessera::render::{
@@ -32,7 +35,10 @@ const STRICT_MIXED: bool = true;
 /// One frame: regular faces through the B-spline renderer, the Gregory faces the two-stage
 /// variant accepts through it; both captured.
 struct Frame {
+    /// The CPU side's topology: with the frozen factors under `Fitted` (fitted here, not read
+    /// from the plan).
     topo: Topology,
+    tangents: GregoryTangents,
     positions: Vec<DVec3>,
     regular: Vec<RegularPatch>,
     gregory: Vec<u32>,
@@ -44,8 +50,19 @@ struct Frame {
 /// Renders `mesh` through the integrated renderer with `scheme`, coloured by patch type, and
 /// captures it.
 fn render_scheme(ctx: &Context, mesh: &ControlMesh, tess: TessSettings, scheme: Scheme) -> Frame {
-    let surface = scheme_surface(ctx, mesh, tess.level as u32, scheme);
-    let topo = Topology::new(mesh).unwrap();
+    render_scheme_with(ctx, mesh, tess, scheme, GregoryTangents::default())
+}
+
+/// [`render_scheme`] with the given edge-tangent lengths.
+fn render_scheme_with(
+    ctx: &Context,
+    mesh: &ControlMesh,
+    tess: TessSettings,
+    scheme: Scheme,
+    tangents: GregoryTangents,
+) -> Frame {
+    let surface = scheme_surface_with(ctx, mesh, tess.level as u32, scheme, tangents);
+    let topo = vertex_fit::for_tangents(mesh, Topology::new(mesh).unwrap(), tangents).unwrap();
     let gregory = gregory_faces(&surface).to_vec();
     let rejected = irregular_faces(&topo).len() - gregory.len();
     let desc = RenderDesc {
@@ -58,6 +75,7 @@ fn render_scheme(ctx: &Context, mesh: &ControlMesh, tess: TessSettings, scheme: 
     let gregory_records = records.iter().filter(|r| set.contains(&r.face)).count();
     Frame {
         topo,
+        tangents,
         positions: surface.positions.clone(),
         regular: surface.regular_patches().to_vec(),
         gregory,
@@ -80,7 +98,7 @@ fn bbox_diagonal(points: &[DVec3]) -> f64 {
 /// Max position error / bbox diagonal and max normal angle (interior points; edge points) of
 /// the Gregory records against the CPU construction at the same parameters.
 fn compare_with_cpu(fr: &Frame) -> (f64, f64, f64) {
-    let verts = gregory_vertices(&fr.topo, &fr.positions);
+    let verts = gregory_vertices_with(&fr.topo, &fr.positions, fr.tangents);
     let patches: HashMap<u32, GregoryPatch> = fr
         .gregory
         .iter()
@@ -554,6 +572,115 @@ fn gpu_accuracy_equals_cpu_accuracy_on_quads() {
             assert!((g - c).abs() <= 1e-6, "{scheme:?}: {g} vs {c}");
         }
         assert!((gpu.rms_normal - cpu.rms_normal).abs() <= 1e-4);
+    }
+    assert_validation_clean(&ctx);
+}
+
+/// `--gregory-tangents fitted` on the meshes with free crease sectors (the factors fitted on the
+/// mesh at plan build and frozen, `gregory::vertex_fit`), both GPU constructions: the capture
+/// is the CPU construction with the factors (fitted again here) within the tolerances of
+/// `gpu_matches_cpu_construction`, and bitwise watertight. The CPU surfaces with and without
+/// the factors are far apart at the captured points, so GPU tables that left the factors out
+/// would fail the position check.
+#[test]
+fn fitted_tangents_gpu_matches_cpu_and_is_watertight() {
+    let mut shared = 0;
+    for name in ["catmark_gregory_test3", "catmark_xord_boundary"] {
+        let mesh = osd(name);
+        for scheme in [Scheme::GregoryVs, Scheme::GregoryStencil] {
+            let Some(ctx) = context() else { return };
+            let fr = render_scheme_with(&ctx, &mesh, uniform(6.0), scheme, GregoryTangents::Fitted);
+            assert_validation_clean(&ctx);
+            assert!(!fr.gregory.is_empty(), "{name} {scheme:?}");
+            let (pos, n_in, n_edge) = compare_with_cpu(&fr);
+            let optimal = Frame {
+                topo: Topology::new(&mesh).unwrap(),
+                tangents: GregoryTangents::Optimal,
+                positions: fr.positions.clone(),
+                regular: Vec::new(),
+                gregory: fr.gregory.clone(),
+                rejected: 0,
+                records: fr.records.clone(),
+                gregory_records: fr.gregory_records,
+            };
+            let (off, _, _) = compare_with_cpu(&optimal);
+            let (n, mixed) = check_watertight(&fr, name);
+            eprintln!(
+                "{name} {scheme:?} fitted: {} Gregory patches, max pos err {pos:.2e} of diag \
+                 (optimal's CPU surface {off:.2e} away), normals {n_in:.2e} / {n_edge:.2e}, \
+                 {n} shared points bitwise equal ({mixed} Gregory/B-spline)",
+                fr.gregory.len()
+            );
+            assert!(
+                pos <= 1e-5 && off > 1e-3,
+                "{name} {scheme:?}: {pos:e}, {off:e}"
+            );
+            assert!(
+                n_in <= 3e-5 && n_edge <= 3e-5,
+                "{name} {scheme:?}: {n_in:e} {n_edge:e}"
+            );
+            shared += n;
+        }
+    }
+    // gregory_test3 has one Gregory face and no regular one (its others are semi-sharp).
+    assert!(shared > 0, "no shared point");
+}
+
+/// Fitted factors are frozen: after `update_positions` to a twisted pose the capture is the
+/// CPU construction at the new pose with the rest pose's factors (a rebuild with the same
+/// frozen factors), not the one with factors fitted again on the new pose, which is farther
+/// than the tolerance away.
+#[test]
+fn fitted_factors_stay_frozen_under_animation() {
+    use tessera::render::animate::twist;
+    let Some(ctx) = context() else { return };
+    let mut mesh = osd("catmark_xord_boundary");
+    let render = RenderDesc {
+        tess: uniform(5.0),
+        ..RenderDesc::default()
+    };
+    let off = offscreen(128, 128);
+    let rest_topo = vertex_fit::for_tangents(
+        &mesh,
+        Topology::new(&mesh).unwrap(),
+        GregoryTangents::Fitted,
+    )
+    .unwrap();
+    for scheme in [Scheme::GregoryVs, Scheme::GregoryStencil] {
+        let surface = scheme_surface_with(&ctx, &mesh, 5, scheme, GregoryTangents::Fitted);
+        let gregory = gregory_faces(&surface).to_vec();
+        assert!(!gregory.is_empty(), "{scheme:?}");
+        let mut animation = Animation::new(&ctx, &surface, &render, &off);
+        let rest = mesh.positions().to_vec();
+        let moved = twist(&rest, DVec3::Z, 1.2, 0.25);
+        animation.move_to(&moved).unwrap();
+        let records = animation.frame();
+        let frame = |topo: Topology| Frame {
+            topo,
+            tangents: GregoryTangents::Fitted,
+            positions: moved.clone(),
+            regular: Vec::new(),
+            gregory: gregory.clone(),
+            rejected: 0,
+            records: records.clone(),
+            gregory_records: 0,
+        };
+        let (frozen, _, _) = compare_with_cpu(&frame(rest_topo.clone()));
+        mesh.set_positions(&moved).unwrap();
+        let refit_topo = vertex_fit::for_tangents(
+            &mesh,
+            Topology::new(&mesh).unwrap(),
+            GregoryTangents::Fitted,
+        )
+        .unwrap();
+        mesh.set_positions(&rest).unwrap();
+        let (refit, _, _) = compare_with_cpu(&frame(refit_topo));
+        eprintln!("{scheme:?}: frozen {frozen:.2e}, refit {refit:.2e} of the diagonal");
+        assert!(
+            frozen <= 1e-5,
+            "{scheme:?}: {frozen:e} from the frozen factors"
+        );
+        assert!(refit > 1e-5, "{scheme:?}: {refit:e} from a refit");
     }
     assert_validation_clean(&ctx);
 }

@@ -207,11 +207,13 @@ pub struct AdaptiveArgs {
     /// valence at all-quad vertices, tangents and transversal vectors scaled per ring at vertices
     /// with triangles, cross-boundary tangents scaled per sector size at boundary and crease
     /// vertices; `patch::gregory::tangents`), `paper` (the paper's 2/3 λ q, Loop et al. 2009
-    /// §3.3), `bands` (`optimal` with the 2-ring fit at crease sectors on a band), `end-caps`
+    /// §3.3), `bands` (`optimal` with the 2-ring fit at crease sectors on a band), `fitted`
+    /// (`optimal` with each free crease sector's factor fitted to the exact limit on the mesh
+    /// as loaded, the rest pose, and frozen: `--animate` keeps them; `patch::gregory::vertex_fit`), `end-caps`
     /// (`optimal` with the adaptive end caps' own factors, at every Gregory patch) or `scaled:S`
     /// (the paper's tangents times S at every valence but 4; for experiments).
     #[arg(long, default_value_t = GregoryTangents::default(),
-          value_name = "paper|optimal|bands|end-caps|scaled:S",
+          value_name = "paper|optimal|bands|fitted|end-caps|scaled:S",
           value_parser = |s: &str| s.parse::<GregoryTangents>())]
     pub gregory_tangents: GregoryTangents,
     /// `--scheme adaptive`: how end caps treat semi-sharpness left at the isolation level:

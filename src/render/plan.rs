@@ -9,6 +9,7 @@ use super::fallback::{self, FallbackFace, FallbackMesh};
 use super::schemes::{PatchScheme, PlanOptions, Refusal, Scheme, SchemeLimits};
 use super::surface::SurfaceData;
 use crate::mesh::ControlMesh;
+use crate::patch::gregory::vertex_fit;
 use crate::subdiv::eval::{LimitEvaluator, LimitSample};
 use crate::topology::Topology;
 use crate::Result;
@@ -23,7 +24,10 @@ pub fn plan_passes(
     passes: &[&dyn PatchScheme],
     opts: &PlanOptions,
 ) -> Result<SurfaceData> {
-    let topo = Arc::new(Topology::new(mesh)?);
+    // `--gregory-tangents fitted`: the factors are fitted here, on the pose planned (the rest
+    // pose), and frozen in the topology the tables are built from.
+    let topo = vertex_fit::for_tangents(mesh, Topology::new(mesh)?, opts.gregory_tangents)?;
+    let topo = Arc::new(topo);
     let mut surface = SurfaceData {
         positions: mesh.positions().to_vec(),
         topology: Some(topo.clone()),

@@ -279,6 +279,7 @@ impl Level {
             vertex_sharpness,
             promoted: Vec::new(),
             decayed_corner: Vec::new(),
+            crease_factors: Vec::new(),
             holes,
             no_limit: child_no_limit(t),
             options: t.options,

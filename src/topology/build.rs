@@ -299,6 +299,7 @@ pub(crate) fn with_given_rings(
         vertex_sharpness: vec![0.0; nv],
         promoted: Vec::new(),
         decayed_corner: Vec::new(),
+        crease_factors: Vec::new(),
         holes: vec![false; nf],
         no_limit: Vec::new(),
         options: SchemeOptions::default(),

@@ -55,6 +55,9 @@ pub struct Topology {
     pub(crate) promoted: Vec<bool>,
     /// Per vertex: a decayed corner ([`Topology::is_decayed_corner`]); empty when there is none.
     pub(crate) decayed_corner: Vec<bool>,
+    /// Per vertex: the frozen cross-boundary factors of its two crease sectors
+    /// ([`Topology::crease_factors`]); empty when none is set.
+    pub(crate) crease_factors: Vec<[f32; 2]>,
     pub(crate) holes: Vec<bool>,
     /// Faces without limit surface besides holes (with `BoundaryInterpolation::None`: faces
     /// touching a boundary vertex of the base mesh, and their descendants); empty if none.
@@ -263,6 +266,28 @@ impl Topology {
             .get(v as usize)
             .copied()
             .unwrap_or(false)
+    }
+
+    /// The cross-boundary factors of crease vertex `v`'s two crease sectors (in the order of
+    /// `patch::gregory::sectors`), fitted on a rest pose and frozen
+    /// (`patch::gregory::vertex_fit`, read under `GregoryTangents::Fitted`); `None` where no
+    /// factor was set, and a 0 entry for a sector without one.
+    pub fn crease_factors(&self, v: u32) -> Option<[f32; 2]> {
+        self.crease_factors
+            .get(v as usize)
+            .copied()
+            .filter(|f| f != &[0.0; 2])
+    }
+
+    /// This topology with the per-vertex crease-sector factors `factors` (one entry per vertex,
+    /// or empty for none; [`Topology::crease_factors`]).
+    ///
+    /// # Panics
+    /// If `factors` is neither empty nor one entry per vertex (a caller's bug).
+    pub fn with_crease_factors(mut self, factors: Vec<[f32; 2]>) -> Topology {
+        assert!(factors.is_empty() || factors.len() == self.vertex_count());
+        self.crease_factors = factors;
+        self
     }
 
     /// Sharpness of vertex `v` after tags and the boundary rule.

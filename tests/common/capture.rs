@@ -8,14 +8,15 @@ use glam::DVec3;
 use image::RgbaImage;
 use tessera::gpu::{vk, Buffer, Context, MemoryLocation, PipelineStats};
 use tessera::mesh::ControlMesh;
+use tessera::patch::gregory::GregoryTangents;
 use tessera::render::renderer::resolve_tess_for;
 use tessera::render::schemes::gregory::irregular_faces;
 use tessera::render::schemes::gregory_vs::{select_faces, GregoryVsTables, VsBudget};
 use tessera::render::session::{GregorySession, GregoryVariant, SessionOptions};
 use tessera::render::{
-    capture_capacity_for, render_to_image, surface_for_scheme, CaptureRecord, ColorBy,
-    OffscreenDesc, OffscreenSession, RenderDesc, Scheme, SchemeLimits, Spacing, SurfaceData,
-    TessMode, TessSettings,
+    capture_capacity_for, render_to_image, surface_for_scheme, surface_for_scheme_with,
+    CaptureRecord, ColorBy, OffscreenDesc, OffscreenSession, PlanOptions, RenderDesc, Scheme,
+    SchemeLimits, Spacing, SurfaceData, TessMode, TessSettings,
 };
 use tessera::topology::Topology;
 
@@ -106,6 +107,18 @@ pub fn scheme_surface(
     scheme: Scheme,
 ) -> SurfaceData {
     surface_for_scheme(mesh, level, scheme, &SchemeLimits::from_context(ctx)).unwrap()
+}
+
+/// [`scheme_surface`] with the given edge-tangent lengths (`--gregory-tangents`).
+pub fn scheme_surface_with(
+    ctx: &Context,
+    mesh: &ControlMesh,
+    level: u32,
+    scheme: Scheme,
+    tangents: GregoryTangents,
+) -> SurfaceData {
+    let opts = PlanOptions::new(SchemeLimits::from_context(ctx)).with_gregory_tangents(tangents);
+    surface_for_scheme_with(mesh, level, scheme, &opts).unwrap()
 }
 
 /// One frame of `surface`.

@@ -14,9 +14,10 @@
 //! Distances are reported as fractions of the control mesh's bounding-box diagonal.
 
 use super::build::{check_face, gregory_patch, gregory_vertices_with, GregoryPatch};
+pub use super::closest::{closest_exact, nearby_exact_samples, normal_angle, Located};
 use super::tangents::GregoryTangents;
 use crate::patch::regular::RegularPatch;
-use crate::subdiv::eval::{GridSample, LimitEvaluator, LimitSample};
+use crate::subdiv::eval::{GridSample, LimitEvaluator};
 use crate::topology::Topology;
 use crate::{ControlMesh, Result};
 use glam::DVec3;
@@ -100,118 +101,6 @@ pub struct FaceHeat {
     pub samples: Vec<HeatSample>,
 }
 
-/// One exact sample with its location.
-#[derive(Debug, Clone, Copy)]
-pub struct Located {
-    /// Face.
-    pub face: usize,
-    /// Sub-face (0 for quads).
-    pub sub: usize,
-    /// Parameter u.
-    pub u: f64,
-    /// Parameter v.
-    pub v: f64,
-    /// The exact sample there.
-    pub sample: LimitSample,
-}
-
-/// Candidate starting points for [`closest_exact`] near face `f`: the dense exact samples of the
-/// face and of every face sharing a vertex with it.
-pub fn nearby_exact_samples(
-    topo: &Topology,
-    dense: &[Option<Vec<GridSample>>],
-    f: u32,
-) -> Vec<Located> {
-    let mut near: Vec<u32> = topo
-        .face_vertices(f)
-        .iter()
-        .flat_map(|&v| topo.vertex_faces(v).iter().copied())
-        .collect();
-    near.sort_unstable();
-    near.dedup();
-    near.iter()
-        .filter_map(|&g| dense[g as usize].as_ref().map(|s| (g, s)))
-        .flat_map(|(g, s)| {
-            s.iter().map(move |x| Located {
-                face: g as usize,
-                sub: x.sub,
-                u: x.u,
-                v: x.v,
-                sample: x.sample,
-            })
-        })
-        .collect()
-}
-
-/// The exact point closest to `x`: the nearest of `candidates` (from [`nearby_exact_samples`]
-/// of face `f`), refined by `project`.
-pub fn closest_exact(
-    ev: &LimitEvaluator,
-    x: DVec3,
-    candidates: &[Located],
-    f: u32,
-) -> Result<Located> {
-    let start = candidates
-        .iter()
-        .min_by(|a, b| {
-            let da = (a.sample.position - x).length_squared();
-            let db = (b.sample.position - x).length_squared();
-            da.total_cmp(&db)
-        })
-        .copied()
-        .ok_or_else(|| crate::Error::Invalid(format!("face {f}: no exact samples")))?;
-    project(ev, x, start)
-}
-
-/// Angle between two normals; a zero normal (collinear derivatives) counts as the worst case,
-/// π, not as 0.
-pub fn normal_angle(a: DVec3, b: DVec3) -> f64 {
-    let angle = a.angle_between(b);
-    if angle.is_finite() {
-        angle
-    } else {
-        std::f64::consts::PI
-    }
-}
-
-/// Gauss-Newton projection of `x` onto the exact surface starting from `start`, within its
-/// (sub-)face, `[0, 1]^2` clamped.
-fn project(ev: &LimitEvaluator, x: DVec3, start: Located) -> Result<Located> {
-    let mut best = start;
-    let mut d_best = (best.sample.position - x).length_squared();
-    let mut cur = start;
-    for _ in 0..6 {
-        let s = cur.sample;
-        let r = x - s.position;
-        let (a, b, c) = (s.du.dot(s.du), s.du.dot(s.dv), s.dv.dot(s.dv));
-        let det = a * c - b * b;
-        if det.abs() < 1e-300 {
-            break;
-        }
-        let (ru, rv) = (s.du.dot(r), s.dv.dot(r));
-        let du = (c * ru - b * rv) / det;
-        let dv = (a * rv - b * ru) / det;
-        let u = (cur.u + du).clamp(0.0, 1.0);
-        let v = (cur.v + dv).clamp(0.0, 1.0);
-        if (u - cur.u).abs() < 1e-13 && (v - cur.v).abs() < 1e-13 {
-            break;
-        }
-        let sample = ev.eval(cur.face, cur.sub, u, v)?;
-        cur = Located {
-            u,
-            v,
-            sample,
-            ..cur
-        };
-        let d = (sample.position - x).length_squared();
-        if d < d_best {
-            d_best = d;
-            best = cur;
-        }
-    }
-    Ok(best)
-}
-
 /// Parameter points of a face's sample grid: `(u, v)` for quads, barycentric `(s, t)` for
 /// triangles.
 fn sample_params(n: usize, triangle: bool) -> Vec<(f64, f64)> {
@@ -262,7 +151,7 @@ fn sample(
     keep_samples: bool,
 ) -> Result<(AccuracyReport, Vec<FaceHeat>)> {
     let grid = options.grid.max(1);
-    let topo = Topology::new(mesh)?;
+    let topo = super::vertex_fit::for_tangents(mesh, Topology::new(mesh)?, tangents)?;
     let ev = LimitEvaluator::new(mesh)?;
     let positions = mesh.positions();
     let verts = gregory_vertices_with(&topo, positions, tangents);

@@ -405,6 +405,7 @@ fn ring_of_points<P>(
         far_sector,
         promoted: promoted_edges(topo, v),
         decayed_corner: topo.is_decayed_corner(v),
+        crease_factors: topo.crease_factors(v),
     }
 }
 

@@ -12,6 +12,7 @@
 use super::build::{far_crease_sectors, vertex_ring_of_units};
 use super::point::Weights;
 use super::tangents::GregoryTangents;
+use super::tangents_boundary::crease_factor_words;
 #[cfg(doc)]
 use super::vertex::VertexRing;
 use super::vertex::{DartLimits, GregoryVertex};
@@ -118,7 +119,8 @@ impl<'a> CornerTypes<'a> {
 /// What `v`'s split ring over its slots ([`vertex_ring_of_units`]) is made of, without making
 /// it: each edge's other end and its sharp and promoted flags (the midpoints,
 /// [`VertexRing::sharp`], [`VertexRing::promoted`]), each face's size and vertices (the
-/// centroids, [`VertexRing::face_sizes`]), the corner and decayed-corner tags, and a crease
+/// centroids, [`VertexRing::face_sizes`]), the corner and decayed-corner tags, the frozen
+/// crease-sector factors ([`VertexRing::crease_factors`]), and a crease
 /// ring's far crease sectors ([`far_crease_sectors`], which reads the edges' far ends' rings).
 fn push_ring(topo: &Topology, v: u32, slot: &[u32], key: &mut RingType) {
     let (edges, faces) = (topo.vertex_edges(v), topo.vertex_faces(v));
@@ -138,6 +140,7 @@ fn push_ring(topo: &Topology, v: u32, slot: &[u32], key: &mut RingType) {
     }
     let corner = topo.vertex_sharpness(v) >= INFINITE_SHARPNESS || sharp_count > 2;
     key.push(u32::from(corner) | u32::from(topo.is_decayed_corner(v)) << 1);
+    key.extend(crease_factor_words(topo, v));
     if sharp_count == 2 && !corner {
         let sharp: Vec<bool> = edges.iter().map(|&e| is_sharp(e)).collect();
         key.extend(
@@ -229,6 +232,16 @@ pub(super) fn end_cap_topologies(name: &str) -> Vec<Topology> {
 }
 
 #[cfg(test)]
+/// `topo` with frozen crease-sector factors (`GregoryTangents::Fitted`), a different pair at
+/// every vertex: rings of one connectivity with different factors.
+pub(super) fn with_test_crease_factors(topo: Topology) -> Topology {
+    let factors = (0..topo.vertex_count())
+        .map(|v| [0.5 + 1e-3 * v as f32, 1.5 + 1e-3 * v as f32])
+        .collect();
+    topo.with_crease_factors(factors)
+}
+
+#[cfg(test)]
 /// The name [`end_cap_topologies`] takes for [`decayed_corner_disks`].
 pub(super) const DECAYED_CORNER_DISKS: &str = "decayed corner disks";
 
@@ -296,8 +309,9 @@ mod tests {
     /// creases, corners, darts and promoted semi-sharp creases, in both end-cap topologies and
     /// every tangent rule (`Bands` reads the far crease sectors); smooth, crease, corner and dart
     /// vertices compared, and types shared (fails if the key leaves out a tag the construction
-    /// reads, e.g. the far crease sectors or promoted edges, or the relabelling misplaces a
-    /// derived point). A decayed corner is compared too; the key's decayed-corner tag cannot
+    /// reads, e.g. the far crease sectors, promoted edges or, on `xord_boundary` with
+    /// [`with_test_crease_factors`] under `Fitted`, the frozen factors, or the relabelling
+    /// misplaces a derived point). A decayed corner is compared too; the key's decayed-corner tag cannot
     /// be shown missing here: the tag changes only the first stage (the vertex points, whose
     /// key `shared_rows` tests) at the valences where it has a factor.
     #[test]
@@ -319,13 +333,23 @@ mod tests {
             "catmark_xord_boundary",
             "catmark_gregory_test3",
         ] {
-            for topo in end_cap_topologies(name) {
+            let mut topos = end_cap_topologies(name);
+            if name == "catmark_xord_boundary" {
+                let fitted: Vec<Topology> = topos
+                    .iter()
+                    .cloned()
+                    .map(with_test_crease_factors)
+                    .collect();
+                topos.extend(fitted);
+            }
+            for topo in topos {
                 for tangents in [
                     GregoryTangents::Paper,
                     GregoryTangents::Optimal,
                     GregoryTangents::Bands,
                     GregoryTangents::EndCaps,
                     GregoryTangents::Scaled(1.1),
+                    GregoryTangents::Fitted,
                 ] {
                     let darts = DartLimits::new();
                     let mut types = CornerTypes::new(&topo, tangents, &darts);

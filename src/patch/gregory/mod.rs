@@ -27,6 +27,7 @@
 
 pub mod accuracy;
 mod build;
+pub mod closest;
 mod corner_types;
 pub mod edge_flags;
 mod eval;
@@ -41,6 +42,7 @@ pub mod tangents_boundary;
 pub mod tangents_tri;
 pub mod tangents_tri_fit;
 mod vertex;
+pub mod vertex_fit;
 pub(crate) mod word_hash;
 
 pub use build::{

@@ -33,6 +33,7 @@ use super::stencil_table::{
     VERTEX_POINTS,
 };
 use super::tangents::GregoryTangents;
+use super::tangents_boundary::crease_factor_words;
 use super::vertex::{is_interior_ring, DartLimits};
 use super::word_hash::WordHashMap;
 use crate::topology::Topology;
@@ -228,6 +229,7 @@ impl Keyer<'_> {
             s => Some(s),
         };
         key.push(vertex_word(topo, v));
+        key.extend(crease_factor_words(topo, v));
         let edges = topo.vertex_edges(v);
         key.push(edges.len() as u32);
         for &e in edges {
@@ -669,6 +671,7 @@ impl RingKeys {
         let first = self.ring.len();
         let (words, ring) = (&mut self.words, &mut self.ring);
         words.extend([edges.len() as u32, faces.len() as u32, vertex_word(topo, v)]);
+        words.extend(crease_factor_words(topo, v));
         let mut at = |u: u32, ring: &mut Vec<u32>| {
             if slot[u as usize] == NONE {
                 slot[u as usize] = (ring.len() - first) as u32;
@@ -712,7 +715,7 @@ fn clear(slot: &mut [u32], ring: &[u32]) {
 }
 
 #[cfg(test)]
-use super::corner_types::{end_cap_topologies, DECAYED_CORNER_DISKS};
+use super::corner_types::{end_cap_topologies, with_test_crease_factors, DECAYED_CORNER_DISKS};
 
 #[cfg(test)]
 mod tests {
@@ -821,7 +824,8 @@ mod tests {
     /// topologies, on a creased grid and on a decayed corner (fails if the ring key leaves out
     /// what the construction reads, e.g. face sizes, the faces' vertices, the edges' sharpness,
     /// which tells the grid's crease vertices from its smooth ones, or the decayed-corner tag,
-    /// which the end caps' tangents read), and rings are shared.
+    /// which the end caps' tangents read; `Fitted` with frozen factors compared too), and rings
+    /// are shared.
     #[test]
     fn shared_vertex_points_are_the_per_vertex_construction() {
         let (mut vertices, mut types) = (0, 0);
@@ -835,6 +839,7 @@ mod tests {
                 GregoryTangents::Paper,
                 GregoryTangents::Optimal,
                 GregoryTangents::EndCaps,
+                GregoryTangents::Fitted,
             ] {
                 let shared = shared_vertex_point_rows(topo, &all, tangents, &DartLimits::new());
                 assert_eq!(shared.len(), 3 * all.len());
@@ -866,6 +871,13 @@ mod tests {
             types += keys.len();
         };
         compare("creased grid", &creased_grid(8, 5));
+        // Frozen crease-sector factors (`GregoryTangents::Fitted`), a different pair at every
+        // vertex. (The factor words cannot be shown missing here: no two crease rings of
+        // three or more faces in a sector share a key on these levels; `corner_types`' oracle
+        // shows them on the second stage.)
+        for topo in end_cap_topologies("catmark_xord_boundary") {
+            compare("xord_boundary, fitted", &with_test_crease_factors(topo));
+        }
         for name in [
             DECAYED_CORNER_DISKS,
             "catmark_nonquads",

@@ -22,7 +22,7 @@
 //! 4. smooth vertices only: two words, the `f32` bits of the edge-tangent factor `s` and of the
 //!    transversal factor `ρ` ([`super::GregoryTangents::ring_factors`]; both 1.0 for the
 //!    paper's construction); crease vertices only: `nf` words, per incident face the `f32` bits
-//!    of the cross-boundary factor `s(k)` of its sector ([`super::GregoryTangents::crease_scale`],
+//!    of the cross-boundary factor `s(k)` of its sector ([`super::GregoryTangents::sector_scale`],
 //!    keyed on the sector's 2-ring, `super::tangents_boundary::sector_band`);
 //! 5. crease and corner vertices: one word, 1 if the face points beside sharp edges are
 //!    one-sided ([`super::GregoryVertex::one_sided`] not empty: `Optimal` on a ring of quads),
@@ -103,15 +103,17 @@ impl GregoryVertexTable {
                 } else {
                     vec![0; ne]
                 };
-                let factor = |k: usize, band: usize| {
-                    (tangents.crease_scale(k, band, quads) as f32).to_bits()
+                let fitted = topo.crease_factors(v);
+                let factor = |k: usize, band: usize, index: usize| {
+                    let own = fitted.map(|f| f[index.min(1)]);
+                    (tangents.sector_scale(k, band, quads, own) as f32).to_bits()
                 };
-                crease_words = vec![factor(0, 0); nf];
-                for s in sectors(&sharp, nf) {
+                crease_words = vec![factor(0, 0, 0); nf];
+                for (index, s) in sectors(&sharp, nf).into_iter().enumerate() {
                     let band = sector_band(s.faces, (1..s.faces).map(|i| far[(s.start + i) % ne]));
                     for i in 0..s.faces {
                         sector_words[(s.start + i) % ne] = s.start as u32 | (s.faces as u32) << 16;
-                        crease_words[(s.start + i) % ne] = factor(s.faces, band);
+                        crease_words[(s.start + i) % ne] = factor(s.faces, band, index);
                     }
                 }
             }

@@ -58,7 +58,7 @@ use super::tangents_tri::RingFactors;
 /// Edge-tangent lengths of smooth (and dart) vertices.
 ///
 /// The default is [`GregoryTangents::Optimal`], or what the environment variable
-/// `TESSERA_GREGORY_TANGENTS` names (`paper` or `optimal`, read once), so that whole test files
+/// `TESSERA_GREGORY_TANGENTS` names (any `--gregory-tangents` spelling, read once), so that whole test files
 /// and tools can be run with either construction without a flag on every call.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum GregoryTangents {
@@ -81,6 +81,12 @@ pub enum GregoryTangents {
     /// rings of the valences they list: what the adaptive end caps take under `Optimal`
     /// ([`GregoryTangents::for_end_caps`]); the level-0 Gregory schemes keep `Optimal`.
     EndCaps,
+    /// [`GregoryTangents::Optimal`], with the cross-boundary factor of each free crease sector
+    /// (those `Scaled(s)` scales) fitted per vertex to the exact limit on the rest pose and then
+    /// frozen ([`super::vertex_fit`]; the factors ride on the topology,
+    /// [`crate::topology::Topology::crease_factors`], set by the plan build). Sectors without a
+    /// factor take `Optimal`'s; the adaptive end caps take [`GregoryTangents::EndCaps`].
+    Fitted,
 }
 
 /// Tangent and transversal factors `(s, ρ)` of the adaptive end caps at all-quad rings of
@@ -194,9 +200,10 @@ impl GregoryTangents {
                 let last = OPTIMAL_SCALE[MAX_FITTED_VALENCE - 3];
                 last * (MAX_FITTED_VALENCE as f64 / n as f64).powf(TAIL_EXPONENT)
             }
-            GregoryTangents::Optimal | GregoryTangents::Bands | GregoryTangents::EndCaps => {
-                OPTIMAL_SCALE[n.max(3) - 3]
-            }
+            GregoryTangents::Optimal
+            | GregoryTangents::Bands
+            | GregoryTangents::EndCaps
+            | GregoryTangents::Fitted => OPTIMAL_SCALE[n.max(3) - 3],
         };
         s as f32 as f64
     }
@@ -286,20 +293,24 @@ impl GregoryTangents {
     }
 
     /// The construction the adaptive end caps take: [`GregoryTangents::EndCaps`] for
-    /// [`GregoryTangents::Optimal`], any other construction as is.
+    /// [`GregoryTangents::Optimal`] and [`GregoryTangents::Fitted`] (whose factors are fitted
+    /// on the level-0 patches), any other construction as is.
     pub fn for_end_caps(self) -> Self {
         match self {
-            GregoryTangents::Optimal => GregoryTangents::EndCaps,
+            GregoryTangents::Optimal | GregoryTangents::Fitted => GregoryTangents::EndCaps,
             t => t,
         }
     }
 
-    /// The construction away from crease sectors on a band and from the end-cap rings of
-    /// [`END_CAP_FACTORS`]: [`GregoryTangents::Bands`] and [`GregoryTangents::EndCaps`] are
+    /// The construction away from crease sectors on a band, from the end-cap rings of
+    /// [`END_CAP_FACTORS`] and from fitted crease sectors: [`GregoryTangents::Bands`],
+    /// [`GregoryTangents::EndCaps`] and [`GregoryTangents::Fitted`] are
     /// [`GregoryTangents::Optimal`] there.
     pub(crate) fn without_bands(self) -> Self {
         match self {
-            GregoryTangents::Bands | GregoryTangents::EndCaps => GregoryTangents::Optimal,
+            GregoryTangents::Bands | GregoryTangents::EndCaps | GregoryTangents::Fitted => {
+                GregoryTangents::Optimal
+            }
             t => t,
         }
     }
@@ -312,6 +323,7 @@ impl GregoryTangents {
             GregoryTangents::Scaled(_) => "scaled",
             GregoryTangents::Bands => "bands",
             GregoryTangents::EndCaps => "end-caps",
+            GregoryTangents::Fitted => "fitted",
         }
     }
 }
@@ -349,11 +361,12 @@ impl std::str::FromStr for GregoryTangents {
             "optimal" => Ok(GregoryTangents::Optimal),
             "bands" => Ok(GregoryTangents::Bands),
             "end-caps" => Ok(GregoryTangents::EndCaps),
+            "fitted" => Ok(GregoryTangents::Fitted),
             _ => match s.strip_prefix("scaled:").map(str::parse::<f64>) {
                 Some(Ok(k)) if k.is_finite() && k > 0.0 => Ok(GregoryTangents::Scaled(k)),
                 _ => Err(format!(
-                    "Gregory tangents '{s}': expected 'paper', 'optimal', 'bands', 'end-caps' \
-                     or 'scaled:S' with S a positive number"
+                    "Gregory tangents '{s}': expected 'paper', 'optimal', 'bands', 'fitted', \
+                     'end-caps' or 'scaled:S' with S a positive number"
                 )),
             },
         }
@@ -483,6 +496,7 @@ mod tests {
             GregoryTangents::Optimal,
             GregoryTangents::Bands,
             GregoryTangents::EndCaps,
+            GregoryTangents::Fitted,
             GregoryTangents::Scaled(0.7),
         ] {
             assert_eq!(t.to_string().parse::<GregoryTangents>(), Ok(t));

@@ -79,6 +79,7 @@
 //! follow the refined chords (`GregoryVertex::sectored`).
 
 use super::tangents::GregoryTangents;
+use crate::topology::Topology;
 
 /// The largest crease sector (faces) with a fitted entry in [`CREASE_SCALE`].
 pub const MAX_FITTED_CREASE_SECTOR: usize = 16;
@@ -126,7 +127,8 @@ impl GregoryTangents {
     /// elsewhere, whatever the band; `Bands` takes [`BAND_TWO_SCALE`] and [`BAND_CENTRE_SCALE`]
     /// on a band of quad rings and `Optimal`'s factors elsewhere ("Bands" in the module docs).
     pub fn crease_scale(self, k: usize, band: usize, quads: bool) -> f64 {
-        // The end caps' own factors are at smooth rings only: `EndCaps` is `Optimal` here.
+        // The end caps' own factors are at smooth rings only: `EndCaps` is `Optimal` here, and
+        // `Fitted` too where a sector has no fitted factor (`Self::sector_scale`).
         let s = match self {
             GregoryTangents::Paper => 1.0,
             _ if k <= 1 || (k == 2 && band == 0) => 1.0,
@@ -137,16 +139,30 @@ impl GregoryTangents {
             GregoryTangents::Bands if quads && band == 1 => {
                 BAND_CENTRE_SCALE[k.min(MAX_FITTED_CREASE_SECTOR) - 3]
             }
-            GregoryTangents::Optimal | GregoryTangents::Bands | GregoryTangents::EndCaps
+            GregoryTangents::Optimal
+            | GregoryTangents::Bands
+            | GregoryTangents::EndCaps
+            | GregoryTangents::Fitted
                 if !quads || k == 2 =>
             {
                 1.0
             }
-            GregoryTangents::Optimal | GregoryTangents::Bands | GregoryTangents::EndCaps => {
-                CREASE_SCALE[k.min(MAX_FITTED_CREASE_SECTOR) - 3]
-            }
+            GregoryTangents::Optimal
+            | GregoryTangents::Bands
+            | GregoryTangents::EndCaps
+            | GregoryTangents::Fitted => CREASE_SCALE[k.min(MAX_FITTED_CREASE_SECTOR) - 3],
         };
         s as f32 as f64
+    }
+
+    /// The factor on the cross-boundary tangent of a crease sector as [`Self::crease_scale`],
+    /// but under [`GregoryTangents::Fitted`] the sector's frozen factor `fitted` where it has
+    /// one (`Topology::crease_factors`, 0 for none; [`super::vertex_fit`]). Already an `f32`.
+    pub fn sector_scale(self, k: usize, band: usize, quads: bool, fitted: Option<f32>) -> f64 {
+        match fitted {
+            Some(s) if self == GregoryTangents::Fitted && s > 0.0 => f64::from(s),
+            _ => self.crease_scale(k, band, quads),
+        }
     }
 }
 
@@ -163,6 +179,14 @@ pub fn sector_band(k: usize, far: impl IntoIterator<Item = usize>) -> usize {
         2 => far.next().filter(|&f| f >= 3).unwrap_or(0),
         _ => usize::from(far.all(|f| f >= 2)),
     }
+}
+
+/// The words of vertex `v`'s frozen crease-sector factors ([`Topology::crease_factors`], read
+/// under [`GregoryTangents::Fitted`]; 0 where none) in the end caps' shared-row and ring-type
+/// keys (`super::shared_rows`, `super::corner_types`): two rings of one connectivity with
+/// different factors must not share rows.
+pub(super) fn crease_factor_words(topo: &Topology, v: u32) -> [u32; 2] {
+    topo.crease_factors(v).unwrap_or_default().map(f32::to_bits)
 }
 
 #[cfg(test)]
@@ -193,6 +217,23 @@ mod tests {
             GregoryTangents::Optimal.crease_scale(99, 0, true),
             CREASE_SCALE[MAX_FITTED_CREASE_SECTOR - 3] as f32 as f64
         );
+    }
+
+    #[test]
+    fn only_fitted_reads_a_sectors_frozen_factor() {
+        let fitted = GregoryTangents::Fitted;
+        for (k, band, quads) in [(2, 0, true), (2, 3, true), (3, 0, true), (5, 1, false)] {
+            let optimal = GregoryTangents::Optimal.crease_scale(k, band, quads);
+            assert_eq!(fitted.crease_scale(k, band, quads), optimal);
+            assert_eq!(fitted.sector_scale(k, band, quads, None), optimal);
+            assert_eq!(fitted.sector_scale(k, band, quads, Some(0.0)), optimal);
+            assert_eq!(fitted.sector_scale(k, band, quads, Some(1.25)), 1.25);
+            for t in [GregoryTangents::Optimal, GregoryTangents::EndCaps] {
+                assert_eq!(t.sector_scale(k, band, quads, Some(1.25)), optimal);
+            }
+        }
+        assert_eq!(fitted.for_end_caps(), GregoryTangents::EndCaps);
+        assert!(fitted.one_sided_face_points(true));
     }
 
     #[test]

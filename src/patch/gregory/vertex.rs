@@ -41,6 +41,9 @@ pub struct VertexRing<P = DVec3> {
     /// adaptive end caps give its all-quad ring the tangents of
     /// [`super::tangents::DECAYED_CORNER_SCALE`].
     pub decayed_corner: bool,
+    /// The vertex's frozen crease-sector factors
+    /// ([`crate::topology::Topology::crease_factors`], read under `GregoryTangents::Fitted`).
+    pub crease_factors: Option<[f32; 2]>,
 }
 
 impl<P> VertexRing<P> {
@@ -386,9 +389,10 @@ impl<P: GregoryPoint> GregoryVertex<P> {
             }
             Rule::Crease => {
                 let mut out = [P::zero(), P::zero(), P::zero()];
-                for (t, sec) in out.iter_mut().zip(sectors(&ring.sharp, ring.c.len())) {
+                let secs = sectors(&ring.sharp, ring.c.len());
+                for (i, (t, sec)) in out.iter_mut().zip(secs).enumerate() {
                     if sec.faces >= DERIVED_CREASE_SECTOR {
-                        *t = crease_sector_tangent(ring, tangents, sec);
+                        *t = crease_sector_tangent(ring, tangents, i, sec);
                     }
                 }
                 Some(out)
@@ -421,7 +425,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
             }
             Rule::Crease => Self::sectored_with(ring, tangents, &|i, sec| match i {
                 _ if sec.faces < DERIVED_CREASE_SECTOR => {
-                    crease_sector_tangent(ring, tangents, sec)
+                    crease_sector_tangent(ring, tangents, i, sec)
                 }
                 0 => a.clone(),
                 _ => b.clone(),
@@ -610,8 +614,8 @@ impl<P: GregoryPoint> GregoryVertex<P> {
     ///   interior mode (0.58 to 0.63) exceeds the sharp edges' 1/2, so the exact inner edge
     ///   curves have no finite tangent and the sharp edges' tangents do not span the surface.
     pub fn sectored(ring: &VertexRing<P>, tangents: GregoryTangents) -> Option<GregoryVertex<P>> {
-        Self::sectored_with(ring, tangents, &|_, sec| {
-            crease_sector_tangent(ring, tangents, sec)
+        Self::sectored_with(ring, tangents, &|i, sec| {
+            crease_sector_tangent(ring, tangents, i, sec)
         })
     }
 
@@ -743,19 +747,22 @@ fn inner_r<P: GregoryPoint>(ring: &VertexRing<P>, j: usize, ne: usize, t: f64) -
     ])
 }
 
-/// The scaled cross-boundary tangent `s(k) T/3` of crease sector `sec` (`k >= 2` faces) of
-/// `ring`: [`crease_tangent_weights`] over the sector's edge midpoints and face centroids,
-/// times the factor [`GregoryTangents::crease_scale`] (§4.6; the paper's at `s = 1`).
+/// The scaled cross-boundary tangent `s(k) T/3` of crease sector `sec` (`k >= 2` faces, number
+/// `index` in [`sectors`] order) of `ring`: [`crease_tangent_weights`] over the sector's edge
+/// midpoints and face centroids, times the factor [`GregoryTangents::sector_scale`] (§4.6; the
+/// paper's at `s = 1`; a frozen per-vertex factor under `Fitted`).
 fn crease_sector_tangent<P: GregoryPoint>(
     ring: &VertexRing<P>,
     tangents: GregoryTangents,
+    index: usize,
     sec: Sector,
 ) -> P {
     let (s, k, ne) = (sec.start, sec.faces, ring.m.len());
     let (wv, wm, wc) = crease_tangent_weights(k);
     // `f * w` is `w` bit for bit at the paper's `f = 1`.
     let far = (1..k).map(|i| ring.far_sector.get((s + i) % ne).copied().unwrap_or(0));
-    let f = tangents.crease_scale(k, sector_band(k, far), ring.quads());
+    let fitted = ring.crease_factors.map(|f| f[index.min(1)]);
+    let f = tangents.sector_scale(k, sector_band(k, far), ring.quads(), fitted);
     let mut tan = combine(&[(f * wv / 3.0, &ring.v)]);
     for (i, w) in wm.iter().enumerate() {
         tan.add_scaled(f * w / 3.0, &ring.m[(s + i) % ne]);
@@ -1230,6 +1237,7 @@ mod tests {
             far_sector: Vec::new(),
             promoted: Vec::new(),
             decayed_corner: false,
+            crease_factors: None,
         }
     }
 
@@ -1571,6 +1579,7 @@ mod tests {
             far_sector: Vec::new(),
             promoted: Vec::new(),
             decayed_corner: false,
+            crease_factors: None,
         };
         let g =
             GregoryVertex::new(&ring, GregoryTangents::Paper, &DartLimits::new()).expect("covered");
