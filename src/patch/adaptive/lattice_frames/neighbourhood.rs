@@ -1,8 +1,6 @@
 //! The local refinement around one region vertex ([`Neighbourhood`]) and its nodes' exact limit
 //! tangent rows.
 
-use std::collections::BTreeMap;
-
 use super::NONE;
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::AdaptiveLevel;
@@ -94,7 +92,7 @@ impl Neighbourhood {
         faces.dedup();
         let (sub, map) = lev
             .level
-            .extract_increasing(&faces)
+            .try_extract(&faces)
             .map_err(|e| log::debug!("lattice vertex {v}: no extraction ({e})"))
             .ok()?;
         let centre = map.binary_search(&v).ok()? as u32;
@@ -136,6 +134,7 @@ impl Neighbourhood {
         c: usize,
         (a, b): (u32, u32),
         masks: &SharedVertexMasks,
+        sums: &mut PullBack,
     ) -> Option<[Weights; 2]> {
         let steps = self.matrices.len();
         let n = 1u32 << steps;
@@ -180,35 +179,68 @@ impl Neighbourhood {
             .vertex_mask(last, vertex, f)
             .map_err(|e| log::debug!("lattice node ({a}, {b}) of face {face}: no mask ({e})"))
             .ok()?;
-        // Pulled back level by level: weights over each level's points, keyed by their whole
-        // refinement's ids (the order the sums take), with their own.
+        // Pulled back level by level: weights over each level's points (whole refinement's id,
+        // own id, weights), in increasing whole id, the order the sums take.
         let ids = &self.whole[steps];
-        let mut terms: BTreeMap<u32, (u32, [f64; 2])> = m
+        let mut terms: Vec<(u32, u32, [f64; 2])> = m
             .indices
             .iter()
             .enumerate()
-            .map(|(j, &i)| (ids[i as usize], (i, [m.tangent_u[j], m.tangent_v[j]])))
+            .map(|(j, &i)| (ids[i as usize], i, [m.tangent_u[j], m.tangent_v[j]]))
             .collect();
+        terms.sort_unstable_by_key(|x| x.0);
         for (r, ids) in self.matrices.iter().zip(&self.whole).rev() {
-            let mut up: BTreeMap<u32, (u32, [f64; 2])> = BTreeMap::new();
-            for (i, w) in terms.values() {
-                let (cols, weights) = r.row(*i as usize);
-                for (&col, &x) in cols.iter().zip(weights) {
-                    let e = &mut up.entry(ids[col as usize]).or_insert((col, [0.0; 2])).1;
-                    e[0] += w[0] * x;
-                    e[1] += w[1] * x;
-                }
-            }
-            terms = up;
+            sums.pull_back(&mut terms, r, ids);
         }
         let row = |d: usize| {
             Weights::from_terms(
                 terms
-                    .values()
-                    .map(|(i, w)| (lev.global(self.map[*i as usize]), w[d])),
+                    .iter()
+                    .map(|&(_, i, w)| (lev.global(self.map[i as usize]), w[d])),
             )
         };
         Some([row(0), row(1)])
+    }
+}
+
+/// The accumulators of [`Neighbourhood::node_rows`]' pull-back, reused from node to node.
+#[derive(Debug, Default)]
+pub(super) struct PullBack {
+    /// Per point of the coarser level: its sum so far.
+    sums: Vec<[f64; 2]>,
+    /// Per point: whether it has a sum.
+    seen: Vec<bool>,
+    /// The points with a sum, in the order first reached.
+    touched: Vec<u32>,
+}
+
+impl PullBack {
+    /// `terms` (whole id, own id, weights; increasing whole id) of a finer level as terms of
+    /// the coarser one through its refinement rows `r` (`ids` the coarser points' whole ids):
+    /// each sum adds its products term by term, in the order of `terms`.
+    fn pull_back(&mut self, terms: &mut Vec<(u32, u32, [f64; 2])>, r: &SparseMatrix, ids: &[u32]) {
+        self.sums.resize(r.cols(), [0.0; 2]);
+        self.seen.resize(r.cols(), false);
+        for &(_, i, w) in terms.iter() {
+            let (cols, weights) = r.row(i as usize);
+            for (&col, &x) in cols.iter().zip(weights) {
+                let c = col as usize;
+                if !self.seen[c] {
+                    self.seen[c] = true;
+                    self.touched.push(col);
+                }
+                self.sums[c][0] += w[0] * x;
+                self.sums[c][1] += w[1] * x;
+            }
+        }
+        terms.clear();
+        for &col in &self.touched {
+            let c = col as usize;
+            self.seen[c] = false;
+            terms.push((ids[c], col, std::mem::take(&mut self.sums[c])));
+        }
+        self.touched.clear();
+        terms.sort_unstable_by_key(|x| x.0);
     }
 }
 
