@@ -17,6 +17,8 @@
 //! width in cells are its border: they take the end cap's own drawn normal at the point
 //! ([`lattice_normal`]), so there is no seam where the region ends.
 
+mod neighbourhood;
+
 use std::collections::HashMap;
 
 use glam::DVec3;
@@ -25,8 +27,6 @@ use super::census_index::{is_quad_end_cap, EndCapTopologies};
 use super::promoted::{
     corner_offset_code, fillet_sharpness, mask_row, promoted_vertex, vertex_fillet_sharpness,
 };
-mod neighbourhood;
-
 use super::slots::NONE;
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptiveLevel, AdaptiveRefinement, PatchCensus, PatchType};
@@ -142,7 +142,7 @@ impl LatticeFrames {
         )
     }
 
-    /// [`Self::new`] with each region vertex's neighbourhood made by `hood(lev, v, steps,
+    /// [`Self::new`] with each region vertex's neighbourhood made by `make(lev, v, steps,
     /// cells)`.
     fn with_neighbourhoods(
         refinement: &AdaptiveRefinement,
@@ -151,7 +151,7 @@ impl LatticeFrames {
         at: &[Vec<u32>],
         first: u32,
         masks: &SharedVertexMasks,
-        hood: fn(&AdaptiveLevel, u32, u32, u32) -> Option<Neighbourhood>,
+        make: fn(&AdaptiveLevel, u32, u32, u32) -> Option<Neighbourhood>,
     ) -> LatticeFrames {
         let mut out = LatticeFrames {
             rows: Vec::new(),
@@ -179,7 +179,9 @@ impl LatticeFrames {
                 .collect();
             for &c in &corners {
                 let v = fv[c];
-                let (steps, mut cells) = lattice_size(t, caps, v);
+                // The vertex's neighbourhood serves its widest region.
+                let (steps, widest) = lattice_size(t, caps, v);
+                let mut cells = widest;
                 if corners.len() > 1 {
                     // Two regions in one end cap (isolation 0 only: at a finer level only the
                     // vertex point corner of a quad can be such a vertex) stay apart.
@@ -204,7 +206,7 @@ impl LatticeFrames {
                         } else {
                             let hood = local
                                 .entry((p.level, v))
-                                .or_insert_with(|| hood(lev, v, steps, lattice_size(t, caps, v).1));
+                                .or_insert_with(|| make(lev, v, steps, widest));
                             hood.as_ref()
                                 .and_then(|h| h.node_rows(lev, p.face, c, (a, b), masks, &mut sums))
                         };
