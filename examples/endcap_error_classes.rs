@@ -1,4 +1,4 @@
-//! The end caps' error against the exact limit per point class (the README's *Where the fillet
+//! The end caps' error against the exact limit per point class (docs/measured.md's *Where the fillet
 //! cells' error sits*): a 9x9 grid of each end cap's own (s, t) (as `adaptive_grid endcaps:9`),
 //! the drawn normal (`AdaptiveSurface::eval_with_normal`) and position against `LimitEvaluator`
 //! at equal (u, v), summed per class of point relative to the promoted creases

@@ -1,6 +1,6 @@
 //! Dev tool: the Gregory control points of a mesh's Gregory quads beside OpenSubdiv's
 //! Gregory-basis points (`osd_eval MESH 0 0 points`), and captures with OpenSubdiv's points
-//! substituted by kind, to see which points carry an accuracy difference (README, issue 10).
+//! substituted by kind, to see which points carry an accuracy difference (docs/measured.md, issue 10).
 //!
 //! ```sh
 //! cargo run --example gregory_boundary_points -- MESH.obj CAPTURE.txt OSD_POINTS.txt OUTDIR [paper|optimal]

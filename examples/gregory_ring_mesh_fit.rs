@@ -13,6 +13,7 @@
 use std::collections::BTreeMap;
 use tessera::mesh::ObjOptions;
 use tessera::patch::gregory::accuracy::{closest_exact, nearby_exact_samples};
+use tessera::patch::gregory::tangent_fit::solve_normal_equations;
 use tessera::patch::gregory::tangents_tri::{ring_face_sizes, ring_key, RingFactors};
 use tessera::patch::gregory::tangents_tri_fit::{face_samples, with_factors};
 use tessera::patch::gregory::{
@@ -21,32 +22,6 @@ use tessera::patch::gregory::{
 use tessera::subdiv::eval::LimitEvaluator;
 use tessera::topology::Topology;
 use tessera::ControlMesh;
-
-fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Vec<f64> {
-    let n = b.len();
-    for i in 0..n {
-        a[i][i] += 1e-12;
-        let p = (i..n)
-            .max_by(|&x, &y| a[x][i].abs().total_cmp(&a[y][i].abs()))
-            .unwrap();
-        a.swap(i, p);
-        b.swap(i, p);
-        for r in i + 1..n {
-            let f = a[r][i] / a[i][i];
-            let pivot = a[i].clone();
-            for (x, y) in a[r].iter_mut().zip(&pivot).skip(i) {
-                *x -= f * y;
-            }
-            b[r] -= f * b[i];
-        }
-    }
-    let mut x = vec![0.0; n];
-    for i in (0..n).rev() {
-        let s: f64 = (i + 1..n).map(|c| a[i][c] * x[c]).sum();
-        x[i] = (b[i] - s) / a[i][i];
-    }
-    x
-}
 
 fn main() -> tessera::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -127,7 +102,7 @@ fn main() -> tessera::Result<()> {
             }
         }
         println!("round {round}: RMS normal distance {:.4e}", (e2 / w).sqrt());
-        let x = solve(a, b);
+        let x = solve_normal_equations(a, b);
         for k in 0..nk {
             fs[k].tangent += x[k];
             if !fix_rho {

@@ -255,7 +255,7 @@ fn end_cap_error_falls_with_isolation() {
 }
 
 /// The valence-3 end caps at pole64's triangles' centres hold its end caps' normal maxima, on
-/// their edges from the extraordinary vertex and inside near it (README, *Valence-3
+/// their edges from the extraordinary vertex and inside near it (docs/measured.md, *Valence-3
 /// transversals*). With the end caps' valence-3 transversal shape and factors
 /// (`END_CAP_TRANSVERSAL_SHAPE`, `END_CAP_FACTORS`) the maxima over a 9x9 grid of every end
 /// cap's own (s, t), against `LimitEvaluator` at equal (u, v), are below OpenSubdiv's Gregory

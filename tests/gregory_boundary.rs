@@ -487,7 +487,7 @@ fn dart_corners_equal_the_exact_limit() {
 }
 
 /// The 2-ring key of crease sectors (`tangents_boundary::sector_band` over
-/// `VertexRing::far_sector`) at the vertices of the README's two meshes behind OpenSubdiv, read
+/// `VertexRing::far_sector`) at the vertices of docs/measured.md's two meshes behind OpenSubdiv, read
 /// off their OBJ files by hand: `xord_boundary`'s fans one face deep (centre vertex 0 of three
 /// faces, both inner edges ending on two-face boundary vertices: 1; vertex 3, two faces, inner
 /// edge ending on the three-face centre: 3), `gregory_test3`'s three-face vertex 7 (one inner
@@ -533,7 +533,7 @@ fn band_keys_read_the_two_ring() {
 /// named like [`tessera::patch::gregory::GregoryQuad`]'s fields) on the shared corpus meshes:
 /// the three corners of one face per mesh that are not at a crease vertex of three or more
 /// faces (corner 0 of both is, where OpenSubdiv's cross-boundary tangent is Biermann et al.'s
-/// stencil, not tessera's exact-plane one: README, boundary and crease vertices). Corners 1
+/// stencil, not tessera's exact-plane one: docs/measured.md, boundary and crease vertices). Corners 1
 /// and 2 are alone in a corner sector (rule 3: the B-spline corner's face points), corner 3
 /// is a boundary vertex of two faces (rule 2: beside the sharp edge, the other face point).
 /// The third field: the face points the paper's construction puts more than 1e-3 away.

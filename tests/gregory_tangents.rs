@@ -149,7 +149,7 @@ fn measured(name: &str, tangents: GregoryTangents) -> AccuracyReport {
 fn fitted_tangents_beat_the_papers_on_quad_meshes() {
     // Not everywhere: on meshes whose valence-3 vertices sit in nearly flat regions
     // (`catmark_gregory_test0`, the pawn and the rook) the paper's longer tangents are closer,
-    // see the README's table. Meshes with crease sectors of three or more faces:
+    // see docs/measured.md's table. Meshes with crease sectors of three or more faces:
     // `crease_rule_reaches_its_measured_bounds`.
     for name in ["catmark_cube", "catmark_gregory_test8"] {
         let paper = measured(name, GregoryTangents::Paper);
@@ -165,7 +165,7 @@ fn fitted_tangents_beat_the_papers_on_quad_meshes() {
 #[test]
 fn band_tables_bring_band_meshes_closer() {
     // `--gregory-tangents bands` on the two meshes with bands, measured independently by the
-    // README's Metro-style distance as 1.15x OpenSubdiv from 1.22x and 1.36x; here the
+    // docs/measured.md's Metro-style distance as 1.15x OpenSubdiv from 1.22x and 1.36x; here the
     // closest-point measure of `measured` on `xord_boundary` (its fans one face deep are the
     // band the fit was made on). Every face without a band keeps `Optimal`'s bits.
     let optimal = measured("catmark_xord_boundary", GregoryTangents::Optimal);
@@ -197,11 +197,11 @@ fn jittered(name: &str) -> ControlMesh {
 }
 
 /// Optimal's crease rule (`s(k) T`, one-sided face points beside sharp edges, B-spline face
-/// points at one-face corners) on the meshes of the README's boundary table whose Gregory faces
+/// points at one-face corners) on the meshes of docs/measured.md's boundary table whose Gregory faces
 /// touch crease sectors of three or more quads: RMS distance and normal (grid 6, closest exact
 /// point, `gregory::accuracy`) below bounds measured with it (about 3 % above). gregory_test3 and
 /// its jittered copy beat the paper (pre-change, with reflected face points: 8.67e-4 and 8.4e-4,
-/// above their bounds); xord_boundary does not (README: the exact corner plane keeps it at
+/// above their bounds); xord_boundary does not (docs/measured.md: the exact corner plane keeps it at
 /// OpenSubdiv's 1.36×).
 #[test]
 fn crease_rule_reaches_its_measured_bounds() {

@@ -144,7 +144,7 @@ fn fitted_factors_beat_the_paper_on_the_pyramid_and_nonquads() {
 #[test]
 fn on_smoothtris0_normals_improve_and_distance_stays_near() {
     // Measured (grid 8): normals 0.70 of the paper's, distance 1.17 (the valence-20 poles' fit
-    // shortens the tangents, which this mesh does not want: README).
+    // shortens the tangents, which this mesh does not want: docs/measured.md).
     let (d, n) = ratios(&load("catmark_smoothtris0"));
     assert!(n < 0.8 && d < 1.3, "{d} {n}");
 }

@@ -58,7 +58,7 @@ fn regular_quads_exact_through_the_gpu() {
 }
 
 /// Accuracy against the exact limit at the TES points of level 8 (`tessera error MESH --scheme
-/// acc`, closest exact point, ACC faces only), bounded by today's figures rounded up (README).
+/// acc`, closest exact point, ACC faces only), bounded by today's figures rounded up (docs/measured.md).
 #[test]
 fn accuracy_against_the_exact_limit() {
     accuracy_within(

@@ -159,7 +159,7 @@ fn limit_points_interpolated_exactly() {
 }
 
 /// Accuracy against the exact limit at the TES points of level 8 (`tessera error MESH --scheme
-/// qas`, closest exact point), bounded by today's figures rounded up (README table).
+/// qas`, closest exact point), bounded by today's figures rounded up (docs/measured.md table).
 #[test]
 fn accuracy_against_the_exact_limit() {
     accuracy_within(
@@ -273,7 +273,7 @@ fn patch_samples(
 /// centres through `subdiv::limit::face_point_mask` against `LimitEvaluator`); over every fan
 /// triangle's barycentric grid of step ⅛, compared with the exact limit at the same sub-face
 /// parameters (an upper bound of the closest-point distance), the RMS and largest distance (of
-/// the bbox diagonal) and the RMS and largest angle of the shading normal are reported (README)
+/// the bbox diagonal) and the RMS and largest angle of the shading normal are reported (docs/measured.md)
 /// and bounded by the measured figures rounded up; the sub-face map round-trips.
 #[test]
 fn ngon_fans_against_the_exact_limit() {
@@ -570,7 +570,7 @@ fn animation_equals_rebuild() {
 
 /// The per-frame CPU work of animation (limit stencils applied, patches fitted, records
 /// written to bytes): the moved points equal the exact limit of the moved mesh, and the median
-/// time over 15 runs is reported (README).
+/// time over 15 runs is reported (docs/measured.md).
 #[test]
 fn per_frame_update() {
     for name in ["catmark_car", "catmark_bishop"] {

@@ -334,7 +334,7 @@ macro_rules! gregory_conformance {
         /// Gregory faces no less accurate than measured against the exact limit by closest point
         /// at the TES points of level 8 (`tessera error embedded:mixed --scheme gregory-* --grid
         /// 8`: RMS 6.32e-4, max 6.76e-3 of the diagonal, RMS normal 2.14e-2 rad, before and after
-        /// the scheme architecture; the CPU construction's grid gives the README's 5.67e-4).
+        /// the scheme architecture; the CPU construction's grid gives docs/measured.md's 5.67e-4).
         #[test]
         fn accuracy_against_the_exact_limit() {
             let Some(ctx) = context() else { return };

@@ -1,5 +1,5 @@
 // osd_prep: OpenSubdiv 3.5's preprocessing of `--scheme adaptive`'s work, REPEAT times, for
-// instruction counts under valgrind beside tessera's `examples/adaptive_preprocess` (README,
+// instruction counts under valgrind beside tessera's `examples/adaptive_preprocess` (docs/measured.md,
 // "CPU preprocessing"): per repeat a `Far::TopologyRefiner` from the OBJ (loaded and tagged as
 // tools/osd_eval/osd_eval.cpp does, `tools/osd_eval/obj_mesh.h`), `RefineAdaptive` to ISOLATION and, unless STEP says
 // otherwise, `PatchTableFactory::Create` with Gregory-basis end caps (double precision, infinitely

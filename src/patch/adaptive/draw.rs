@@ -34,8 +34,8 @@ use crate::patch::gregory::edge_flags::{edge_flags, Across};
 use crate::patch::gregory::shared_rows::{
     shared_vertex_point_rows, sparse_face_rows_flat, FaceRows,
 };
-use crate::patch::gregory::stencil_table::{vertex_point_of, VERTEX_POINTS};
-use crate::patch::gregory::{DartLimits, GregoryTangents, Weights};
+use crate::patch::gregory::stencil_table::VERTEX_POINTS;
+use crate::patch::gregory::{DartLimits, GregoryTangents};
 use crate::patch::single_crease::{gpu_cvs, Rotation, SingleCreasePatch};
 use crate::patch::RegularPatch;
 use crate::subdiv::adaptive::{AdaptiveRefinement, Domain, PatchCensus, PatchType};
@@ -113,8 +113,8 @@ struct EndCapRows {
     /// vertices, then vertex points (`refined + 3 k + b`).
     caps: Vec<FaceRows>,
     /// Per vertex point `k` (those the caps read, in (level, vertex, point) order): its
-    /// first-stage row over global refined ids.
-    vertices: Vec<Weights>,
+    /// first-stage row (row `k`) over global refined ids.
+    vertices: FaceRows,
 }
 
 /// Rows of every end cap in census order, with the first-stage rows of the vertex points they
@@ -152,17 +152,19 @@ fn end_cap_rows(
         }
     }
     // Number the vertex points the rows read, level by level in (vertex, point) order: `at`
-    // is indexed by a level's `VERTEX_POINTS * v + b`.
+    // is indexed by a level's `VERTEX_POINTS * v + b`, which is a derived id minus the level's
+    // vertex count (`vertex_point_id`).
     let mut index: Vec<Vec<u32>> = vec![Vec::new(); refinement.levels.len()];
     for (l, rows) in &local {
         let t = topologies.get(*l);
+        let n = t.vertex_count() as u32;
         let at = &mut index[*l as usize];
         for &(id, _) in &rows.terms {
-            if let Some((v, b)) = vertex_point_of(t, id) {
+            if id >= n {
                 if at.is_empty() {
                     at.resize(VERTEX_POINTS as usize * t.vertex_count(), NONE);
                 }
-                at[(VERTEX_POINTS * v + b) as usize] = 0;
+                at[(id - n) as usize] = 0;
             }
         }
     }
@@ -192,27 +194,35 @@ fn end_cap_rows(
                 &index[l as usize],
             );
             // Global ids: monotone in the local ones, so rows stay ascending.
+            let n = t.vertex_count() as u32;
             for (id, _) in rows.terms.iter_mut() {
-                *id = match vertex_point_of(t, *id) {
-                    None => lev.global(*id),
-                    Some((v, b)) => first + at[(VERTEX_POINTS * v + b) as usize],
+                *id = if *id < n {
+                    lev.global(*id)
+                } else {
+                    first + at[(*id - n) as usize]
                 };
             }
             rows
         })
         .collect();
-    let mut vertices = Vec::with_capacity(count as usize);
+    let mut vertices = FaceRows {
+        offsets: Vec::with_capacity(count as usize + 1),
+        terms: Vec::new(),
+    };
+    vertices.offsets.push(0);
     for group in read.chunk_by(|a, b| a.0 == b.0) {
         let l = group[0].0;
         let lev = &refinement.levels[l as usize];
         let at: Vec<u32> = group.iter().map(|&(_, v, _)| v).collect();
         let rows = shared_vertex_point_rows(topologies.get(l), &at, tangents, &darts);
-        for (r, &(_, _, mask)) in rows.into_iter().zip(group) {
-            for (b, mut w) in r.into_iter().enumerate() {
+        vertices.terms.reserve(rows.terms.len());
+        for (i, &(_, _, mask)) in group.iter().enumerate() {
+            for b in 0..VERTEX_POINTS as usize {
                 if mask & (1 << b) != 0 {
                     // Monotone: rows stay ascending.
-                    w.0.iter_mut().for_each(|(u, _)| *u = lev.global(*u));
-                    vertices.push(w);
+                    let row = rows.row(3 * i + b).iter();
+                    vertices.terms.extend(row.map(|&(u, w)| (lev.global(u), w)));
+                    vertices.offsets.push(vertices.terms.len() as u32);
                 }
             }
         }
@@ -428,7 +438,7 @@ impl AdaptiveDrawTables {
             caps,
             vertices: vertex_rows,
         } = end_cap_rows(refinement, census, &topologies, tangents)?;
-        let vertex_terms = vertex_rows.iter().map(|w| w.0.len()).sum::<usize>();
+        let vertex_terms = vertex_rows.terms.len();
         // End caps and vertex points: (rows, terms).
         let cap_rows = (
             END_CAP_ROWS * caps.len() + vertex_rows.len(),
@@ -532,8 +542,8 @@ impl AdaptiveDrawTables {
             rows.push_empty(END_CAP_ROWS - c.len());
         }
         let vertex_first_row = rows.len() as u32;
-        for r in &vertex_rows {
-            rows.push(r, 0);
+        for r in vertex_rows.rows() {
+            rows.push_terms(r, 0);
         }
         let sizes = DrawSizes::of(census);
         let mut out = AdaptiveDrawTables {
@@ -586,11 +596,11 @@ impl AdaptiveDrawTables {
             };
             out.sharpness.push(p.crease.map_or(0.0, |l| l.sharpness));
             let slot = |v: u32| out.slots.of(v);
-            let face_slots: Vec<u32> = t
-                .face_vertices(p.face)
-                .iter()
-                .map(|&v| slot(lev.global(v)))
-                .collect();
+            // The first four corners' slots (B-spline and single-crease patches are quads).
+            let mut face_slots = [NONE; 4];
+            for (s, &v) in face_slots.iter_mut().zip(t.face_vertices(p.face)) {
+                *s = slot(lev.global(v));
+            }
             // Sector frames in the drawn patch's corner order (a rotated single-crease patch's
             // corners are the face's in another order): matched by slot.
             let drawn_frames = |draw: &BSplineDraw| {

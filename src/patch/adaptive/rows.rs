@@ -236,13 +236,14 @@ impl SparseRows {
         }
     }
 
-    /// Appends the terms of `row` as one row (the same terms [`Self::push_term`] would append).
-    fn extend_row(&mut self, row: &RowBuffer) {
-        let n = row.len;
-        self.ids.extend_from_slice(&row.ids[..n]);
-        self.weights.extend_from_slice(&row.weights[..n]);
-        self.weights_f64.extend_from_slice(&row.weights_f64[..n]);
-        self.end_row();
+    /// Appends the three rows of `rows` (the same terms [`Self::push_term`] would append).
+    fn extend_rows(&mut self, rows: &CornerBuffer) {
+        let n = rows.len;
+        let base = self.ids.len() as u32;
+        self.ids.extend_from_slice(&rows.ids[..n]);
+        self.weights.extend_from_slice(&rows.weights[..n]);
+        self.weights_f64.extend_from_slice(&rows.weights_f64[..n]);
+        self.offsets.extend(rows.ends.map(|e| base + e));
     }
 
     /// Ends the row being pushed ([`Self::push_term`]).
@@ -357,16 +358,21 @@ struct CornerTable {
     rows: [[f64; 16]; 3],
     /// Per row: bit `i` set where its weight of control point `i` is not zero.
     live: [u16; 3],
+    /// The weights rounded to f32.
+    rows_f32: [[f32; 16]; 3],
+    /// Per row: bit `i` set where its f32 weight of control point `i` is not zero.
+    live_f32: [u16; 3],
 }
 
 impl CornerTable {
     fn new(rows: [[f64; 16]; 3]) -> CornerTable {
-        let live = rows.map(|row| {
-            (0..16)
-                .filter(|&i| row[i] != 0.0)
-                .fold(0u16, |m, i| m | 1 << i)
-        });
-        CornerTable { rows, live }
+        let rows_f32 = rows.map(|row| row.map(|w| w as f32));
+        CornerTable {
+            live: rows.map(|row| nonzero_mask(row.map(|w| w != 0.0))),
+            live_f32: rows_f32.map(|row| nonzero_mask(row.map(|w| w != 0.0))),
+            rows,
+            rows_f32,
+        }
     }
 
     /// The rows over control vertices `cvs` as [`Weights`].
@@ -376,104 +382,125 @@ impl CornerTable {
     }
 }
 
+/// Bit `i` set where `nonzero[i]`.
+fn nonzero_mask(nonzero: [bool; 16]) -> u16 {
+    (0..16)
+        .filter(|&i| nonzero[i])
+        .fold(0u16, |m, i| m | 1 << i)
+}
+
 /// Pushes the rows [`Weights::from_terms`] makes of each row of `table` over control vertices
 /// `cvs` (zero weights dropped, ids sorted stably, a repeated id's weights summed in that order)
 /// onto `out`, on the stack: the control points with a weight in some row (a corner's B-spline
 /// weights reach 9 of the 16) are sorted stably by id once for the three rows (a corner's
-/// position and two derivatives; the stable order of all 16 restricted to them), and each row
-/// walks those it weights into a row of at most 16 terms on the stack, appended to `out` in
-/// one go ([`SparseRows::extend_row`]).
+/// position and two derivatives; the stable order of all 16 restricted to them, as the order of
+/// the keys `id << 4 | i`), and each row walks those it weights into one buffer of the corner's
+/// at most 48 terms on the stack, appended to `out` in one go ([`SparseRows::extend_rows`]).
 fn push_merged(out: &mut SparseRows, cvs: &[u32; 16], table: &CornerTable) {
-    let mut order = [0u8; 16];
+    let mut keys = [0u64; 16];
     let mut n = 0;
     let mut any = table.live[0] | table.live[1] | table.live[2];
     while any != 0 {
-        let i = any.trailing_zeros() as usize;
+        let i = any.trailing_zeros();
         any &= any - 1;
-        let id = cvs[i];
-        // Stable insertion: after every control point with an id not larger.
+        let key = (u64::from(cvs[i as usize]) << 4) | u64::from(i);
+        // Insertion; the keys are distinct, so their order is the stable order by id.
         let mut j = n;
-        while j > 0 && cvs[order[j - 1] as usize] > id {
-            order[j] = order[j - 1];
+        while j > 0 && keys[j - 1] > key {
+            keys[j] = keys[j - 1];
             j -= 1;
         }
-        order[j] = i as u8;
+        keys[j] = key;
         n += 1;
     }
-    let order = &order[..n];
-    let mut row_out = RowBuffer::default();
-    if order
-        .windows(2)
-        .all(|p| cvs[p[0] as usize] != cvs[p[1] as usize])
-    {
-        // Distinct ids (the rule): each row its weights in that order, nothing to sum.
-        for (row, &live) in table.rows.iter().zip(&table.live) {
-            for &i in order {
+    let keys = &keys[..n];
+    let mut buf = CornerBuffer::default();
+    if keys.windows(2).all(|p| p[0] >> 4 != p[1] >> 4) {
+        // Distinct ids (the rule): each row its weights in that order, nothing to sum; the f32
+        // weights and their zeros from the table.
+        for r in 0..3 {
+            let live = table.live_f32[r];
+            for &key in keys {
+                let i = (key & 15) as usize;
                 if live & (1 << i) != 0 {
-                    row_out.push((cvs[i as usize], row[i as usize]));
+                    buf.push_nonzero((key >> 4) as u32, table.rows[r][i], table.rows_f32[r][i]);
                 }
             }
-            out.extend_row(&row_out);
-            row_out.len = 0;
+            buf.end_row(r);
         }
+        out.extend_rows(&buf);
         return;
     }
-    for (row, &live) in table.rows.iter().zip(&table.live) {
+    for (r, (row, &live)) in table.rows.iter().zip(&table.live).enumerate() {
         // The term being summed: pushed when the next id differs.
         let mut term: Option<(u32, f64)> = None;
-        for &i in order {
+        for &key in keys {
+            let i = (key & 15) as usize;
             if live & (1 << i) == 0 {
                 continue;
             }
-            let (id, w) = (cvs[i as usize], row[i as usize]);
+            let (id, w) = ((key >> 4) as u32, row[i]);
             match &mut term {
                 Some((last, sum)) if *last == id => *sum += w,
                 _ => {
                     if let Some(done) = term.replace((id, w)) {
-                        row_out.push(done);
+                        buf.push(done);
                     }
                 }
             }
         }
         if let Some(done) = term {
-            row_out.push(done);
+            buf.push(done);
         }
-        out.extend_row(&row_out);
-        row_out.len = 0;
+        buf.end_row(r);
     }
+    out.extend_rows(&buf);
 }
 
-/// One row of at most 16 terms built on the stack ([`push_merged`]), zero f32 weights dropped
-/// as [`SparseRows::push_term`] drops them.
-struct RowBuffer {
-    ids: [u32; 16],
-    weights: [f32; 16],
-    weights_f64: [f64; 16],
+/// A corner's three rows of at most 16 terms each, built on the stack ([`push_merged`]), zero
+/// f32 weights dropped as [`SparseRows::push_term`] drops them.
+struct CornerBuffer {
+    ids: [u32; 48],
+    weights: [f32; 48],
+    weights_f64: [f64; 48],
     len: usize,
+    /// Each row's end.
+    ends: [u32; 3],
 }
 
-impl Default for RowBuffer {
+impl Default for CornerBuffer {
     fn default() -> Self {
-        RowBuffer {
-            ids: [0; 16],
-            weights: [0.0; 16],
-            weights_f64: [0.0; 16],
+        CornerBuffer {
+            ids: [0; 48],
+            weights: [0.0; 48],
+            weights_f64: [0.0; 48],
             len: 0,
+            ends: [0; 3],
         }
     }
 }
 
-impl RowBuffer {
+impl CornerBuffer {
     /// Appends term `(id, w)` unless `w` rounds to a zero f32.
     fn push(&mut self, (id, w): (u32, f64)) {
         let w32 = w as f32;
         if w32 != 0.0 {
-            let n = self.len;
-            self.ids[n] = id;
-            self.weights[n] = w32;
-            self.weights_f64[n] = w;
-            self.len = n + 1;
+            self.push_nonzero(id, w, w32);
         }
+    }
+
+    /// Appends term `(id, w)` whose f32 weight `w32` (`w as f32`) is not zero.
+    fn push_nonzero(&mut self, id: u32, w: f64, w32: f32) {
+        let n = self.len;
+        self.ids[n] = id;
+        self.weights[n] = w32;
+        self.weights_f64[n] = w;
+        self.len = n + 1;
+    }
+
+    /// Ends row `r`.
+    fn end_row(&mut self, r: usize) {
+        self.ends[r] = self.len as u32;
     }
 }
 

@@ -189,14 +189,20 @@ pub fn vertex_point_of(topo: &Topology, id: u32) -> Option<(u32, u32)> {
 
 #[cfg(test)]
 /// Both end-cap topologies (residual semi-sharpness smooth, or infinitely sharp from
-/// `CREASE_FROM`) of every level of the isolation-2 refinement of corpus mesh `name`.
+/// `CREASE_FROM`) of every level of the isolation-2 refinement of corpus mesh `name`; for
+/// [`DECAYED_CORNER_DISKS`] those of [`decayed_corner_disks`] and each level's own end-cap
+/// topology (`AdaptiveRefinement::end_cap_topology`, the build's: it marks decayed corners).
 pub(super) fn end_cap_topologies(name: &str) -> Vec<Topology> {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
-    let path = format!("{dir}{name}.obj");
-    let mesh = crate::mesh::ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
-    let level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
+    use crate::mesh::ControlMesh;
+    let mesh = if name == DECAYED_CORNER_DISKS {
+        ControlMesh::from_obj_str(&decayed_corner_disks(), name, &Default::default())
+    } else {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
+        ControlMesh::from_obj_file(format!("{dir}{name}.obj"), &Default::default())
+    };
+    let level = crate::subdiv::Level::from_mesh(&mesh.unwrap()).unwrap();
     let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, 2).unwrap();
-    adaptive
+    let mut out: Vec<Topology> = adaptive
         .levels
         .iter()
         .flat_map(|l| {
@@ -209,7 +215,56 @@ pub(super) fn end_cap_topologies(name: &str) -> Vec<Topology> {
                 .into_owned(),
             ]
         })
-        .collect()
+        .collect();
+    if name == DECAYED_CORNER_DISKS {
+        let own = (0..adaptive.levels.len()).map(|l| adaptive.end_cap_topology(l).into_owned());
+        out.extend(own);
+        let decayed = out
+            .iter()
+            .flat_map(|t| (0..t.vertex_count() as u32).filter(|&v| t.is_decayed_corner(v)))
+            .count();
+        assert_eq!(decayed, 1, "the first disk's centre decays once");
+    }
+    out
+}
+
+#[cfg(test)]
+/// The name [`end_cap_topologies`] takes for [`decayed_corner_disks`].
+pub(super) const DECAYED_CORNER_DISKS: &str = "decayed corner disks";
+
+#[cfg(test)]
+/// Two disjoint quad disks around a valence-8 centre (every quad `centre, spoke i, rim i,
+/// spoke i + 1`), the first with three spokes at sharpness 1: at level 1 its centre's vertex
+/// point is a decayed corner (`Topology::is_decayed_corner`) with the ring of the second's,
+/// which is not, and the end caps' tangents read the tag there
+/// (`GregoryTangents::decayed_corner_scale` at valence 8). No corpus mesh has a decayed corner.
+fn decayed_corner_disks() -> String {
+    let mut obj = String::new();
+    for copy in 0..2 {
+        let x = 5.0 * copy as f64;
+        obj += &format!("v {x} 0 0\n");
+        for k in 0..16 {
+            let (r, a) = (
+                1.0 + 0.2 * (k % 2) as f64,
+                std::f64::consts::PI * k as f64 / 8.0,
+            );
+            obj += &format!(
+                "v {} {} {}\n",
+                x + r * a.cos(),
+                r * a.sin(),
+                0.1 * (k % 3) as f64
+            );
+        }
+        let o = 17 * copy + 1;
+        for i in 0..8 {
+            let spoke = |i: usize| o + 1 + 2 * (i % 8);
+            obj += &format!("f {o} {} {} {}\n", spoke(i), spoke(i) + 1, spoke(i + 1));
+        }
+    }
+    for spoke in [0, 3, 5] {
+        obj += &format!("t crease 2/1/0 0 {} 1.0\n", 1 + 2 * spoke);
+    }
+    obj
 }
 
 #[cfg(test)]
@@ -242,12 +297,15 @@ mod tests {
     /// every tangent rule (`Bands` reads the far crease sectors); smooth, crease, corner and dart
     /// vertices compared, and types shared (fails if the key leaves out a tag the construction
     /// reads, e.g. the far crease sectors or promoted edges, or the relabelling misplaces a
-    /// derived point).
+    /// derived point). A decayed corner is compared too; the key's decayed-corner tag cannot
+    /// be shown missing here: the tag changes only the first stage (the vertex points, whose
+    /// key `shared_rows` tests) at the valences where it has a factor.
     #[test]
     fn shared_corner_data_is_the_per_vertex_construction() {
         let (mut compared, mut shared) = (0, 0);
         let mut kinds = HashSet::new();
         for name in [
+            DECAYED_CORNER_DISKS,
             "catmark_car",
             "catmark_nonquads",
             "catmark_smoothtris1",

@@ -113,6 +113,14 @@ impl FaceRows {
         &self.terms[self.offsets[r] as usize..self.offsets[r + 1] as usize]
     }
 
+    /// Appends every row of `other`.
+    pub fn append(&mut self, other: &FaceRows) {
+        let base = self.terms.len() as u32;
+        self.offsets
+            .extend(other.offsets.iter().skip(1).map(|&o| base + o));
+        self.terms.extend_from_slice(&other.terms);
+    }
+
     /// Every row in order.
     pub fn rows(&self) -> impl Iterator<Item = &[(u32, f64)]> {
         (0..self.len()).map(|r| self.row(r))
@@ -542,11 +550,12 @@ pub fn sparse_face_rows_flat(
 }
 
 /// [`super::stencil_table::vertex_point_rows`] of every vertex of `vertices` (smooth, dart and
-/// crease vertices of `topo` as end-cap corners; empty rows for others), the construction run
+/// crease vertices of `topo` as end-cap corners; empty rows for others), vertex `i`'s rows
+/// `3 i..3 i + 3` of the flat rows returned, the construction run
 /// once per ring type (Loop et al. 2009 §4.1, shared as the end-cap rows are, module docs): the
 /// rows of a vertex read only its edges' other ends and sharpness, its faces' vertices and its
 /// own sharpness, so vertices whose rings read the same in first-appearance slots
-/// (`VertexRingKey`) have the same weights slot by slot, and every weight is the same sequence
+/// (`RingKeys`) have the same weights slot by slot, and every weight is the same sequence
 /// of `a + w * b` updates whatever the ids. Bitwise the per-vertex rows; the keys, the types'
 /// rows and the relabelling run on the rayon pool. Dart masks from `darts`.
 pub fn shared_vertex_point_rows(
@@ -554,26 +563,29 @@ pub fn shared_vertex_point_rows(
     vertices: &[u32],
     tangents: GregoryTangents,
     darts: &DartLimits,
-) -> Vec<[Weights; 3]> {
+) -> FaceRows {
     let fresh = || vec![NONE; topo.vertex_count()];
-    let keys: Vec<VertexRingKey> = vertices
-        .par_iter()
-        .with_min_len(256)
-        .map_init(fresh, |slot, &v| {
-            let key = VertexRingKey::new(topo, v, slot);
-            key.clear(slot);
-            key
+    // The keys of runs of `RUN` vertices, each run's in flat arrays (no allocation per vertex).
+    const RUN: usize = 256;
+    let runs: Vec<RingKeys> = vertices
+        .par_chunks(RUN)
+        .map_init(fresh, |slot, run| {
+            let mut keys = RingKeys::default();
+            for &v in run {
+                keys.push(topo, v, slot);
+            }
+            keys
         })
         .collect();
+    let key_of = |i: usize| (&runs[i / RUN], i % RUN);
     let mut types: WordHashMap<&[u32], u32> = WordHashMap::default();
     // Per type: the index of a vertex of it; per vertex: its type.
     let mut representative: Vec<usize> = Vec::new();
-    let type_of: Vec<u32> = keys
-        .iter()
-        .enumerate()
-        .map(|(i, key)| {
+    let type_of: Vec<u32> = (0..vertices.len())
+        .map(|i| {
+            let (keys, j) = key_of(i);
             let next = types.len() as u32;
-            let t = *types.entry(&key.key).or_insert(next);
+            let t = *types.entry(keys.key(j)).or_insert(next);
             if t == next {
                 representative.push(i);
             }
@@ -583,7 +595,8 @@ pub fn shared_vertex_point_rows(
     let local: Vec<[Weights; 3]> = representative
         .par_iter()
         .map_init(fresh, |slot, &i| {
-            let ring = &keys[i].ring;
+            let (keys, j) = key_of(i);
+            let ring = keys.ring(j);
             for (s, &u) in ring.iter().enumerate() {
                 slot[u as usize] = s as u32;
             }
@@ -598,65 +611,96 @@ pub fn shared_vertex_point_rows(
         vertices.len(),
         representative.len()
     );
-    keys.par_iter()
-        .zip(&type_of)
-        .with_min_len(256)
-        .map(|(key, &t)| {
-            local[t as usize].each_ref().map(|w| {
-                let mut terms: Vec<(u32, f64)> =
-                    w.0.iter()
-                        .map(|&(s, x)| (key.ring[s as usize], x))
-                        .collect();
-                terms.sort_unstable_by_key(|&(u, _)| u);
-                Weights(terms)
-            })
+    // Relabelled into flat rows, run by run on the pool (no allocation per row).
+    let parts: Vec<FaceRows> = runs
+        .par_iter()
+        .zip(type_of.par_chunks(RUN))
+        .map(|(keys, types)| {
+            let mut out = FaceRows::default();
+            out.offsets.reserve(3 * types.len() + 1);
+            out.offsets.push(0);
+            for (j, &t) in types.iter().enumerate() {
+                let ring = keys.ring(j);
+                for w in &local[t as usize] {
+                    let start = out.terms.len();
+                    out.terms
+                        .extend(w.0.iter().map(|&(s, x)| (ring[s as usize], x)));
+                    out.terms[start..].sort_unstable_by_key(|&(u, _)| u);
+                    out.offsets.push(out.terms.len() as u32);
+                }
+            }
+            out
         })
-        .collect()
+        .collect();
+    let mut out = FaceRows {
+        offsets: Vec::with_capacity(3 * vertices.len() + 1),
+        terms: Vec::with_capacity(parts.iter().map(|p| p.terms.len()).sum()),
+    };
+    out.offsets.push(0);
+    for part in &parts {
+        out.append(part);
+    }
+    out
 }
 
-/// What [`super::stencil_table::vertex_point_rows`] reads of a vertex's ring, in slots: the
-/// vertex at slot 0, its edges' other ends and its faces' vertices numbered by first appearance
-/// in that order.
-struct VertexRingKey {
-    /// Edge count, face count, the vertex's sharpness bits, each edge's other end and
-    /// sharpness bits, each face's size and vertices.
-    key: Vec<u32>,
-    /// The vertex of each slot.
+/// What [`super::stencil_table::vertex_point_rows`] reads of the rings of a run of vertices, in
+/// slots, flat: per vertex its key (edge count, face count, the vertex's sharpness bits, each
+/// edge's other end and sharpness bits, each face's size and vertices) and its ring (the vertex
+/// of each slot: the vertex at slot 0, its edges' other ends and its faces' vertices numbered by
+/// first appearance in that order).
+#[derive(Default)]
+struct RingKeys {
+    words: Vec<u32>,
+    /// `vertices + 1` offsets into `words` (empty before the first vertex).
+    word_at: Vec<u32>,
     ring: Vec<u32>,
+    /// `vertices + 1` offsets into `ring` (empty before the first vertex).
+    ring_at: Vec<u32>,
 }
 
-impl VertexRingKey {
-    /// The key of `v`, with `slot` (all [`NONE`] on entry) set to each ring vertex's slot.
-    fn new(topo: &Topology, v: u32, slot: &mut [u32]) -> VertexRingKey {
+impl RingKeys {
+    /// Appends the key and ring of `v`; `slot` is all [`NONE`] on entry and on return.
+    fn push(&mut self, topo: &Topology, v: u32, slot: &mut [u32]) {
+        if self.word_at.is_empty() {
+            self.word_at.push(0);
+            self.ring_at.push(0);
+        }
         let (edges, faces) = (topo.vertex_edges(v), topo.vertex_faces(v));
-        let mut ring = Vec::with_capacity(1 + 2 * edges.len());
-        let mut key = Vec::with_capacity(3 + 2 * edges.len() + 5 * faces.len());
-        key.extend([edges.len() as u32, faces.len() as u32, vertex_word(topo, v)]);
+        let first = self.ring.len();
+        let (words, ring) = (&mut self.words, &mut self.ring);
+        words.extend([edges.len() as u32, faces.len() as u32, vertex_word(topo, v)]);
         let mut at = |u: u32, ring: &mut Vec<u32>| {
             if slot[u as usize] == NONE {
-                slot[u as usize] = ring.len() as u32;
+                slot[u as usize] = (ring.len() - first) as u32;
                 ring.push(u);
             }
             slot[u as usize]
         };
-        at(v, &mut ring);
+        at(v, ring);
         for &e in edges {
-            key.push(at(topo.other_vertex(e, v), &mut ring));
-            key.push(topo.edge_sharpness(e).to_bits());
+            words.push(at(topo.other_vertex(e, v), ring));
+            words.push(topo.edge_sharpness(e).to_bits());
         }
         for &f in faces {
             let fv = topo.face_vertices(f);
-            key.push(fv.len() as u32);
+            words.push(fv.len() as u32);
             for &u in fv {
-                key.push(at(u, &mut ring));
+                words.push(at(u, ring));
             }
         }
-        VertexRingKey { key, ring }
+        clear(slot, &ring[first..]);
+        self.word_at.push(words.len() as u32);
+        self.ring_at.push(ring.len() as u32);
     }
 
-    /// Resets the slots set by [`Self::new`].
-    fn clear(&self, slot: &mut [u32]) {
-        clear(slot, &self.ring);
+    /// The key of vertex `j` of the run.
+    fn key(&self, j: usize) -> &[u32] {
+        &self.words[self.word_at[j] as usize..self.word_at[j + 1] as usize]
+    }
+
+    /// The ring of vertex `j` of the run.
+    fn ring(&self, j: usize) -> &[u32] {
+        &self.ring[self.ring_at[j] as usize..self.ring_at[j + 1] as usize]
     }
 }
 
@@ -668,7 +712,7 @@ fn clear(slot: &mut [u32], ring: &[u32]) {
 }
 
 #[cfg(test)]
-use super::corner_types::end_cap_topologies;
+use super::corner_types::{end_cap_topologies, DECAYED_CORNER_DISKS};
 
 #[cfg(test)]
 mod tests {
@@ -774,9 +818,10 @@ mod tests {
     /// The shared vertex points are bitwise the per-vertex construction on every vertex, on
     /// every level of the adaptive refinement of meshes with triangles, n-gons, high valence,
     /// boundaries, holes, infinitely sharp creases, corners and darts, in both end-cap
-    /// topologies, and on a creased grid (fails if the ring key leaves out what the
-    /// construction reads, e.g. face sizes, the faces' vertices or the edges' sharpness, which
-    /// tells the grid's crease vertices from its smooth ones), and rings are shared.
+    /// topologies, on a creased grid and on a decayed corner (fails if the ring key leaves out
+    /// what the construction reads, e.g. face sizes, the faces' vertices, the edges' sharpness,
+    /// which tells the grid's crease vertices from its smooth ones, or the decayed-corner tag,
+    /// which the end caps' tangents read), and rings are shared.
     #[test]
     fn shared_vertex_points_are_the_per_vertex_construction() {
         let (mut vertices, mut types) = (0, 0);
@@ -786,17 +831,23 @@ mod tests {
             let all: Vec<u32> = (0..topo.vertex_count() as u32)
                 .filter(|&v| !topo.vertex_faces(v).is_empty())
                 .collect();
-            for tangents in [GregoryTangents::Paper, GregoryTangents::Optimal] {
+            for tangents in [
+                GregoryTangents::Paper,
+                GregoryTangents::Optimal,
+                GregoryTangents::EndCaps,
+            ] {
                 let shared = shared_vertex_point_rows(topo, &all, tangents, &DartLimits::new());
-                for (&v, got) in all.iter().zip(&shared) {
+                assert_eq!(shared.len(), 3 * all.len());
+                for (i, &v) in all.iter().enumerate() {
                     let want =
                         crate::patch::gregory::stencil_table::vertex_point_rows(topo, v, tangents);
-                    let bits = |w: &[Weights; 3]| {
+                    let got: Vec<Weights> = (3 * i..3 * i + 3).map(|r| shared.weights(r)).collect();
+                    let bits = |w: &[Weights]| {
                         w.iter()
                             .map(|w| w.0.iter().map(|&(u, x)| (u, x.to_bits())).collect())
                             .collect::<Vec<Vec<_>>>()
                     };
-                    assert_eq!(bits(got), bits(&want), "{name}: vertex {v}");
+                    assert_eq!(bits(&got), bits(&want), "{name}: vertex {v}");
                     if !want[0].0.is_empty() || !want[1].0.is_empty() {
                         let ring = vertex_ring_with(topo, v, &|_| NoPoint);
                         let sharp = ring.sharp.iter().filter(|&&s| s).count();
@@ -805,19 +856,18 @@ mod tests {
                 }
             }
             let mut slot = vec![NONE; topo.vertex_count()];
-            let keys: std::collections::HashSet<Vec<u32>> = all
-                .iter()
-                .map(|&v| {
-                    let k = VertexRingKey::new(topo, v, &mut slot);
-                    k.clear(&mut slot);
-                    k.key
-                })
-                .collect();
+            let mut ring_keys = RingKeys::default();
+            for &v in &all {
+                ring_keys.push(topo, v, &mut slot);
+            }
+            let keys: std::collections::HashSet<&[u32]> =
+                (0..all.len()).map(|j| ring_keys.key(j)).collect();
             vertices += all.len();
             types += keys.len();
         };
         compare("creased grid", &creased_grid(8, 5));
         for name in [
+            DECAYED_CORNER_DISKS,
             "catmark_nonquads",
             "catmark_smoothtris1",
             "catmark_pole8",

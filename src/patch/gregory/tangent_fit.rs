@@ -264,9 +264,75 @@ pub fn crease_fit_scale(k: usize) -> crate::Result<f64> {
     Ok(least_squares_scale(&crease_fit_terms(k)?))
 }
 
+/// Solves the normal equations `a x = b` of a least-squares fit of several factors at once (a
+/// symmetric positive semi-definite `a`, a few dozen unknowns): Gaussian elimination with
+/// partial pivoting, `1e-12` added to the diagonal so that a factor no sample sees gets 0.
+/// Used by the on-mesh fits (`examples/gregory_ring_mesh_fit.rs`,
+/// `examples/gregory_vertex_fit.rs`).
+pub fn solve_normal_equations(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Vec<f64> {
+    let n = b.len();
+    for i in 0..n {
+        a[i][i] += 1e-12;
+        let p = (i..n)
+            .max_by(|&x, &y| a[x][i].abs().total_cmp(&a[y][i].abs()))
+            .unwrap_or(i);
+        a.swap(i, p);
+        b.swap(i, p);
+        for r in i + 1..n {
+            let f = a[r][i] / a[i][i];
+            let pivot = a[i].clone();
+            for (x, y) in a[r].iter_mut().zip(&pivot).skip(i) {
+                *x -= f * y;
+            }
+            b[r] -= f * b[i];
+        }
+    }
+    let mut x = vec![0.0; n];
+    for i in (0..n).rev() {
+        let s: f64 = (i + 1..n).map(|c| a[i][c] * x[c]).sum();
+        x[i] = (b[i] - s) / a[i][i];
+    }
+    x
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn normal_equations_recover_a_known_fit() {
+        // Rows of a design matrix and a right-hand side made from known factors: the normal
+        // equations' solution is those factors (the system needs a row swap: a[0][0] = 0).
+        let rows = [
+            [0.0, 2.0, 1.0],
+            [1.0, -1.0, 0.5],
+            [3.0, 0.0, -2.0],
+            [1.0, 1.0, 1.0],
+        ];
+        let want = [0.7, -1.3, 2.1];
+        let mut a = vec![vec![0.0; 3]; 3];
+        let mut b = vec![0.0; 3];
+        for row in &rows {
+            let y: f64 = row.iter().zip(&want).map(|(r, w)| r * w).sum();
+            for i in 0..3 {
+                b[i] += row[i] * y;
+                for j in 0..3 {
+                    a[i][j] += row[i] * row[j];
+                }
+            }
+        }
+        a[0][0] = 0.0;
+        b[0] -= 11.0 * want[0];
+        let got = solve_normal_equations(a, b);
+        for (g, w) in got.iter().zip(&want) {
+            assert!((g - w).abs() < 1e-9, "{got:?}");
+        }
+        // A factor no sample sees stays 0.
+        assert_eq!(
+            solve_normal_equations(vec![vec![0.0]], vec![0.0]),
+            vec![0.0]
+        );
+    }
 
     #[test]
     fn fit_mesh_is_regular_but_one_vertex() {

@@ -1488,7 +1488,7 @@ mod tests {
             sides[0] |= 1;
             sides[k - 1] |= 2;
             assert_eq!(opt.one_sided, sides);
-            // Not on a ring with a triangle (README: nonquads loses to the reflected ring).
+            // Not on a ring with a triangle (docs/measured.md: nonquads loses to the reflected ring).
             let mut tri = boundary_ring(k);
             tri.face_sizes[k / 2] = 3;
             let opt = GregoryVertex::sectored(&tri, GregoryTangents::Optimal).unwrap();

@@ -53,7 +53,7 @@
 //! centre on `(1, 1)`, the outer edge on the sub-faces' `v = 0` / `u = 0` edges.
 //!
 //! Accuracy drops where the normal turns fast and unevenly across a face (the quadratic through
-//! three normals overshoots; e.g. the bishop's tight lathe bands: README figures), and, as the
+//! three normals overshoots; e.g. the bishop's tight lathe bands: docs/measured.md's figures), and, as the
 //! paper says, at high valences.
 
 pub mod bezier;
