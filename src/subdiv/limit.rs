@@ -67,7 +67,12 @@ pub struct VertexMask {
 impl VertexMask {
     fn from_triples(mut t: Vec<(u32, [f64; 3])>) -> VertexMask {
         t.sort_unstable_by_key(|x| x.0);
-        let mut m = VertexMask::default();
+        let mut m = VertexMask {
+            indices: Vec::with_capacity(t.len()),
+            position: Vec::with_capacity(t.len()),
+            tangent_u: Vec::with_capacity(t.len()),
+            tangent_v: Vec::with_capacity(t.len()),
+        };
         for (i, w) in t {
             if m.indices.last() == Some(&i) {
                 let k = m.indices.len() - 1;

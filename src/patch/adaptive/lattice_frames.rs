@@ -17,20 +17,21 @@
 //! width in cells are its border: they take the end cap's own drawn normal at the point
 //! ([`lattice_normal`]), so there is no seam where the region ends.
 
-use std::collections::{BTreeMap, HashMap};
+mod neighbourhood;
+
+use std::collections::HashMap;
 
 use glam::DVec3;
 
 use super::census_index::{is_quad_end_cap, EndCapTopologies};
 use super::promoted::{
-    corner_offset_code, fillet_sharpness, promoted_vertex, vertex_fillet_sharpness,
+    corner_offset_code, fillet_sharpness, mask_row, promoted_vertex, vertex_fillet_sharpness,
 };
 use super::slots::NONE;
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptiveLevel, AdaptiveRefinement, PatchCensus, PatchType};
 use crate::subdiv::limit::SharedVertexMasks;
-use crate::subdiv::sparse::SparseMatrix;
-use crate::subdiv::Level;
+use neighbourhood::{Neighbourhood, PullBack};
 
 /// Refinement steps `J` of the lattice: its spacing is `2^-J` of the end cap (README: `J = 4`
 /// measured better in h83's prototype, at 4x the frames; not built).
@@ -130,6 +131,28 @@ impl LatticeFrames {
         first: u32,
         masks: &SharedVertexMasks,
     ) -> LatticeFrames {
+        Self::with_neighbourhoods(
+            refinement,
+            census,
+            topologies,
+            at,
+            first,
+            masks,
+            Neighbourhood::new,
+        )
+    }
+
+    /// [`Self::new`] with each region vertex's neighbourhood made by `make(lev, v, steps,
+    /// cells)`.
+    fn with_neighbourhoods(
+        refinement: &AdaptiveRefinement,
+        census: &PatchCensus,
+        topologies: &EndCapTopologies,
+        at: &[Vec<u32>],
+        first: u32,
+        masks: &SharedVertexMasks,
+        make: fn(&AdaptiveLevel, u32, u32, u32) -> Option<Neighbourhood>,
+    ) -> LatticeFrames {
         let mut out = LatticeFrames {
             rows: Vec::new(),
             regions: vec![Vec::new(); census.patches.len()],
@@ -140,6 +163,7 @@ impl LatticeFrames {
         let mut ids: HashMap<(u32, Node), u32> = HashMap::new();
         // Per (level, vertex): its refined neighbourhood, built once.
         let mut local: HashMap<(u32, u32), Option<Neighbourhood>> = HashMap::new();
+        let mut sums = PullBack::default();
         for (i, p) in census.patches.iter().enumerate() {
             let lev = &refinement.levels[p.level as usize];
             let t = lev.topology();
@@ -155,7 +179,9 @@ impl LatticeFrames {
                 .collect();
             for &c in &corners {
                 let v = fv[c];
-                let (steps, mut cells) = lattice_size(t, caps, v);
+                // The vertex's neighbourhood serves its widest region.
+                let (steps, widest) = lattice_size(t, caps, v);
+                let mut cells = widest;
                 if corners.len() > 1 {
                     // Two regions in one end cap (isolation 0 only: at a finer level only the
                     // vertex point corner of a quad can be such a vertex) stay apart.
@@ -180,9 +206,9 @@ impl LatticeFrames {
                         } else {
                             let hood = local
                                 .entry((p.level, v))
-                                .or_insert_with(|| Neighbourhood::new(lev, v, steps));
+                                .or_insert_with(|| make(lev, v, steps, widest));
                             hood.as_ref()
-                                .and_then(|h| h.node_rows(lev, p.face, c, (a, b), masks))
+                                .and_then(|h| h.node_rows(lev, p.face, c, (a, b), masks, &mut sums))
                         };
                         let f = match rows {
                             Some(r) => {
@@ -245,132 +271,8 @@ fn corner_rows(
         .vertex_mask(&lev.level, v, face)
         .map_err(|e| log::debug!("lattice vertex {v}: no exact limit mask ({e})"))
         .ok()?;
-    let row =
-        |w: &[f64]| Weights::from_terms(m.indices.iter().zip(w).map(|(&i, &x)| (lev.global(i), x)));
+    let row = |w: &[f64]| mask_row(lev, &m.indices, w, 1.0);
     Some([row(&m.tangent_u), row(&m.tangent_v)])
-}
-
-/// The faces touching the faces at a vertex, extracted from its level and refined `steps`
-/// times: every lattice point of its regions is a vertex of the last level, whose limit mask
-/// reads only points inside that neighbourhood.
-struct Neighbourhood {
-    /// Extracted faces (sub face `i` is `faces[i]`).
-    faces: Vec<u32>,
-    /// Extracted vertex -> level vertex.
-    map: Vec<u32>,
-    /// The extraction, then each refinement.
-    levels: Vec<Level>,
-    /// Refinement matrices: `matrices[l]` maps `levels[l]`'s points to `levels[l + 1]`'s.
-    matrices: Vec<SparseMatrix>,
-}
-
-impl Neighbourhood {
-    fn new(lev: &AdaptiveLevel, v: u32, steps: u32) -> Option<Neighbourhood> {
-        let t = lev.topology();
-        let mut faces: Vec<u32> = t
-            .vertex_faces(v)
-            .iter()
-            .flat_map(|&f| t.face_vertices(f).iter())
-            .flat_map(|&u| t.vertex_faces(u).iter().copied())
-            .collect();
-        faces.sort_unstable();
-        faces.dedup();
-        let (sub, map) = lev
-            .level
-            .try_extract(&faces)
-            .map_err(|e| log::debug!("lattice vertex {v}: no extraction ({e})"))
-            .ok()?;
-        let mut levels = vec![sub];
-        let mut matrices = Vec::new();
-        for _ in 0..steps {
-            let (child, r) = levels.last()?.refine();
-            levels.push(child);
-            matrices.push(r);
-        }
-        Some(Neighbourhood {
-            faces,
-            map,
-            levels,
-            matrices,
-        })
-    }
-
-    /// The exact limit tangent rows (global ids of `lev`) at node `(a, b)` of the region at
-    /// corner `c` of `face`.
-    fn node_rows(
-        &self,
-        lev: &AdaptiveLevel,
-        face: u32,
-        c: usize,
-        (a, b): (u32, u32),
-        masks: &SharedVertexMasks,
-    ) -> Option<[Weights; 2]> {
-        let steps = self.matrices.len();
-        let n = 1u32 << steps;
-        // The region's (x, w) = (a, b) as the face's own (s, t), in 2^-steps.
-        let (mut s, mut t) = match c {
-            0 => (a, b),
-            1 => (n - b, a),
-            2 => (n - a, n - b),
-            _ => (b, n - a),
-        };
-        let mut f = self.faces.binary_search(&face).ok()? as u32;
-        let mut half = n / 2;
-        for l in 0..steps {
-            // The child at the corner whose quadrant holds the point: (x, w) from that corner.
-            let (j, x, w) = if s <= half && t <= half {
-                (0, s, t)
-            } else if s >= half && t <= half {
-                (1, t, 2 * half - s)
-            } else if s >= half && t >= half {
-                (2, 2 * half - s, 2 * half - t)
-            } else {
-                (3, 2 * half - t, s)
-            };
-            f = self.levels[l].child_faces(f).start + j;
-            (s, t) = (x, w);
-            half /= 2;
-        }
-        let last = &self.levels[steps];
-        let k = match (s, t) {
-            (0, 0) => 0,
-            (1, 0) => 1,
-            (1, 1) => 2,
-            _ => 3,
-        };
-        let vertex = last.topology().face_vertices(f)[k];
-        let m = masks
-            .vertex_mask(last, vertex, f)
-            .map_err(|e| log::debug!("lattice node ({a}, {b}) of face {face}: no mask ({e})"))
-            .ok()?;
-        // Pulled back level by level: weights over each level's points.
-        let mut terms: BTreeMap<u32, [f64; 2]> = m
-            .indices
-            .iter()
-            .enumerate()
-            .map(|(j, &i)| (i, [m.tangent_u[j], m.tangent_v[j]]))
-            .collect();
-        for r in self.matrices.iter().rev() {
-            let mut up: BTreeMap<u32, [f64; 2]> = BTreeMap::new();
-            for (&i, w) in &terms {
-                let (cols, weights) = r.row(i as usize);
-                for (&col, &x) in cols.iter().zip(weights) {
-                    let e = up.entry(col).or_insert([0.0; 2]);
-                    e[0] += w[0] * x;
-                    e[1] += w[1] * x;
-                }
-            }
-            terms = up;
-        }
-        let row = |d: usize| {
-            Weights::from_terms(
-                terms
-                    .iter()
-                    .map(|(&i, w)| (lev.global(self.map[i as usize]), w[d])),
-            )
-        };
-        Some([row(0), row(1)])
-    }
 }
 
 /// The normal at own `(x, w)` of a region (its corner's edge coordinates) of `cells` cells of
@@ -426,6 +328,7 @@ pub fn lattice_normal(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::subdiv::Level;
 
     /// At a node the node's normal, on the border the drawn one, between them the bilinear
     /// blend (closed form); on the region's edges linear along them; outside the region `None`.
@@ -451,6 +354,53 @@ mod tests {
         // On the edge w = 0, three quarters of the way to the border.
         let e = at(0.25 - 1.0 / 32.0, 0.0).unwrap();
         assert_eq!(e, DVec3::new(1.0, 0.0, 1.0) * 0.25 + drawn * 0.75);
+    }
+
+    /// The kept refinements give every lattice frame's rows bit for bit as refining the
+    /// extraction as whole levels does (`Neighbourhood::whole`).
+    #[test]
+    fn kept_neighbourhoods_are_whole_refinements() {
+        use crate::patch::adaptive::census_index::patch_index;
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
+        for (name, isolation) in [
+            ("catmark_car", 2),
+            ("catmark_cube_creases1", 3),
+            ("catmark_cubes_semisharp", 3),
+            ("catmark_single_crease", 4),
+            ("catmark_bishop", 2),
+        ] {
+            let path = format!("{dir}{name}.obj");
+            let mesh = crate::mesh::ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
+            let level = Level::from_mesh(&mesh).unwrap();
+            let refinement = AdaptiveRefinement::new(&level, isolation).unwrap();
+            let census = PatchCensus::new(&refinement);
+            let topologies = EndCapTopologies::new(&refinement, &census);
+            let at = patch_index(&refinement, &census);
+            let masks = SharedVertexMasks::default();
+            let build = |hood| {
+                LatticeFrames::with_neighbourhoods(
+                    &refinement,
+                    &census,
+                    &topologies,
+                    &at,
+                    0,
+                    &masks,
+                    hood,
+                )
+            };
+            let (kept, whole) = (build(Neighbourhood::new), build(Neighbourhood::whole));
+            assert_eq!(kept.regions, whole.regions, "{name}");
+            assert_eq!(kept.rows.len(), whole.rows.len(), "{name}");
+            let bits = |w: &Weights| -> Vec<(u32, u64)> {
+                w.0.iter().map(|&(i, x)| (i, x.to_bits())).collect()
+            };
+            for (f, (a, b)) in kept.rows.iter().zip(&whole.rows).enumerate() {
+                for d in 0..2 {
+                    assert_eq!(bits(&a[d]), bits(&b[d]), "{name} frame {f} row {d}");
+                }
+            }
+            assert!(!kept.rows.is_empty(), "{name}: no lattice frames");
+        }
     }
 
     /// The side table: one word per end cap, a block per end cap with regions holding the head

@@ -53,14 +53,7 @@ pub fn exact_corner_tangents_shared(
             return None;
         }
     };
-    let row = |w: &[f64], sign: f64| {
-        Weights::from_terms(
-            mask.indices
-                .iter()
-                .zip(w)
-                .map(|(&i, &x)| (lev.global(i), sign * x)),
-        )
-    };
+    let row = |w: &[f64], sign: f64| mask_row(lev, &mask.indices, w, sign);
     // `tangent_u` points to corner k + 1, `tangent_v` to corner k - 1 (as
     // `subdiv::eval::corner_sample`): d/du and d/dv of the face.
     let (tu, tv) = (&mask.tangent_u, &mask.tangent_v);
@@ -85,12 +78,18 @@ pub fn exact_corner_position(
         .vertex_mask(&lev.level, v, f)
         .map_err(|e| log::debug!("corner {k} of face {f}: no exact limit mask ({e})"))
         .ok()?;
-    Some(Weights::from_terms(
-        mask.indices
+    Some(mask_row(lev, &mask.indices, &mask.position, 1.0))
+}
+
+/// Weights `w` of a limit mask over vertices `indices` of `lev`, times `sign`, as a row over
+/// global refined ids (`sign` 1 leaves them as they are, bit for bit).
+pub(super) fn mask_row(lev: &AdaptiveLevel, indices: &[u32], w: &[f64], sign: f64) -> Weights {
+    Weights::from_terms(
+        indices
             .iter()
-            .zip(&mask.position)
-            .map(|(&i, &x)| (lev.global(i), x)),
-    ))
+            .zip(w)
+            .map(|(&i, &x)| (lev.global(i), sign * x)),
+    )
 }
 
 /// Whether the end caps at vertex `v` add its corner offset ([`corner_offset_share`]): a

@@ -228,8 +228,24 @@ pub fn end_caps(
     positions: &[DVec3],
     tangents: GregoryTangents,
 ) -> Result<Vec<SurfacePatch>, EndCapError> {
+    end_caps_seen(
+        refinement,
+        census,
+        &EndCapTopologies::new(refinement, census),
+        positions,
+        tangents,
+    )
+}
+
+/// [`end_caps`] over the levels' end-cap topologies `topologies`.
+fn end_caps_seen(
+    refinement: &AdaptiveRefinement,
+    census: &PatchCensus,
+    topologies: &EndCapTopologies,
+    positions: &[DVec3],
+    tangents: GregoryTangents,
+) -> Result<Vec<SurfacePatch>, EndCapError> {
     let tangents = tangents.for_end_caps();
-    let topologies = EndCapTopologies::new(refinement, census);
     let darts = DartLimits::new();
     census
         .patches
@@ -309,7 +325,9 @@ impl AdaptiveSurface {
     ) -> Result<AdaptiveSurface, EndCapError> {
         let census = PatchCensus::new(refinement);
         let positions = refinement.refine_positions(base);
-        let mut caps = end_caps(refinement, &census, &positions, tangents)?.into_iter();
+        let topologies = EndCapTopologies::new(refinement, &census);
+        let mut caps =
+            end_caps_seen(refinement, &census, &topologies, &positions, tangents)?.into_iter();
         let patches = census
             .patches
             .iter()
@@ -334,8 +352,11 @@ impl AdaptiveSurface {
         for (i, p) in patches.iter().enumerate() {
             by_base[p.domain.base_face as usize].push(i as u32);
         }
-        let promoted = promoted_caps(refinement, &census, &patches, &positions);
-        let lattice = lattice_normals(refinement, &census, &positions);
+        // Exact limit masks, one table for the whole surface.
+        let masks = SharedVertexMasks::default();
+        let inputs = (&census, &topologies, &masks);
+        let promoted = promoted_caps(refinement, inputs, &patches, &positions);
+        let lattice = lattice_normals(refinement, inputs, &positions);
         Ok(AdaptiveSurface {
             positions,
             patches,
@@ -778,23 +799,23 @@ impl AdaptiveSurface {
     }
 }
 
+/// What the surface's end caps are built from, once per surface: the census, the levels'
+/// end-cap topologies and the exact limit masks' table.
+type EndCapInputs<'a> = (
+    &'a PatchCensus,
+    &'a EndCapTopologies<'a>,
+    &'a SharedVertexMasks,
+);
+
 /// Per end cap with lattice regions (`super::lattice_frames`, census order): the regions with
 /// their nodes' exact limit normals over `positions`.
 fn lattice_normals(
     refinement: &AdaptiveRefinement,
-    census: &PatchCensus,
+    (census, topologies, masks): EndCapInputs,
     positions: &[DVec3],
 ) -> HashMap<usize, Vec<LatticeNormals>> {
-    let topologies = EndCapTopologies::new(refinement, census);
     let at = patch_index(refinement, census);
-    let frames = LatticeFrames::new(
-        refinement,
-        census,
-        &topologies,
-        &at,
-        0,
-        &SharedVertexMasks::default(),
-    );
+    let frames = LatticeFrames::new(refinement, census, topologies, &at, 0, masks);
     let normal = |f: u32| {
         let [d1, d2] = frames.rows.get(f as usize)?;
         Some(
@@ -824,19 +845,16 @@ fn lattice_normals(
 /// across each promoted edge and the exact limit normal at each promoted corner.
 fn promoted_caps(
     refinement: &AdaptiveRefinement,
-    census: &PatchCensus,
+    (_, topologies, masks): EndCapInputs,
     patches: &[SurfacePatch],
     positions: &[DVec3],
 ) -> HashMap<usize, PromotedCap> {
-    let topologies = EndCapTopologies::new(refinement, census);
     let mut at: HashMap<(u32, u32), usize> = HashMap::new();
     for (i, p) in patches.iter().enumerate() {
         if matches!(p.shape, PatchShape::Gregory(_)) {
             at.insert((p.level, p.face), i);
         }
     }
-    // Exact limit masks of promoted corners, one table for the whole surface.
-    let masks = SharedVertexMasks::default();
     let mut out = HashMap::new();
     for (&(level, face), &i) in &at {
         let lev = &refinement.levels[level as usize];
@@ -876,7 +894,7 @@ fn promoted_caps(
                     t.face_size(g) == 4 && at.contains_key(&(level, g))
                 });
                 cap.corners[k] =
-                    exact_corner_tangents_shared(lev, face, k, &masks).map(|[du, dv]| {
+                    exact_corner_tangents_shared(lev, face, k, masks).map(|[du, dv]| {
                         du.apply(positions)
                             .cross(dv.apply(positions))
                             .normalize_or_zero()
@@ -890,7 +908,7 @@ fn promoted_caps(
                 ) {
                     let (a, b) = quad_edge_point(k, 0.0);
                     let sharpness = fillet_sharpness(corner_offset_code(t, caps, v));
-                    cap.corner_offsets[k] = exact_corner_position(lev, face, k, &masks)
+                    cap.corner_offsets[k] = exact_corner_position(lev, face, k, masks)
                         .map(|p| (p.apply(positions) - g.eval(a, b).position, sharpness));
                 }
             }
