@@ -25,8 +25,12 @@ pub fn plan_passes(
     opts: &PlanOptions,
 ) -> Result<SurfaceData> {
     // `--gregory-tangents fitted`: the factors are fitted here, on the pose planned (the rest
-    // pose), and frozen in the topology the tables are built from.
-    let topo = vertex_fit::for_tangents(mesh, Topology::new(mesh)?, opts.gregory_tangents)?;
+    // pose), and frozen in the topology the tables are built from, when a pass reads them.
+    let topo = Topology::new(mesh)?;
+    let topo = match passes.iter().any(|p| p.reads_fitted_crease_factors()) {
+        true => vertex_fit::for_tangents(mesh, topo, opts.gregory_tangents)?,
+        false => topo,
+    };
     let topo = Arc::new(topo);
     let mut surface = SurfaceData {
         positions: mesh.positions().to_vec(),

@@ -278,6 +278,13 @@ pub trait PatchScheme: Sync {
     fn takes_every_face(&self) -> bool {
         false
     }
+
+    /// Whether this pass builds level-0 Gregory patches, the only construction that reads the
+    /// frozen crease factors of `--gregory-tangents fitted` (`patch::gregory::vertex_fit`): the
+    /// plan fits them only when a pass does.
+    fn reads_fitted_crease_factors(&self) -> bool {
+        false
+    }
 }
 
 /// What a pass's GPU resources are created from.

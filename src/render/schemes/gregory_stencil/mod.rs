@@ -141,6 +141,10 @@ impl PatchScheme for GregoryStencilScheme {
         "gregory-stencil"
     }
 
+    fn reads_fitted_crease_factors(&self) -> bool {
+        true
+    }
+
     fn plan(&self, topo: &Arc<Topology>, candidates: &[u32], opts: &PlanOptions) -> PassPlan {
         let limits = &opts.limits;
         let (covered, mut refused) = gregory::covered_faces(self.name(), topo, candidates);

@@ -162,6 +162,10 @@ impl PatchScheme for GregoryVsScheme {
         "gregory-vs"
     }
 
+    fn reads_fitted_crease_factors(&self) -> bool {
+        true
+    }
+
     fn plan(&self, topo: &Arc<Topology>, candidates: &[u32], opts: &PlanOptions) -> PassPlan {
         let limits = &opts.limits;
         let Some(budget) = VsBudget::for_limits(limits) else {
