@@ -66,7 +66,7 @@ impl Setup {
     }
 
     fn fit(&self, smooth: bool) -> VertexFit<'_> {
-        VertexFit::new(&self.topo, self.mesh.positions(), &self.ev, smooth)
+        VertexFit::new(&self.topo, self.mesh.positions(), smooth)
     }
 
     /// Writes every level-0 Gregory face of `fit` with factor offsets `x` (CPU evaluation)
@@ -119,14 +119,14 @@ fn main() -> tessera::Result<()> {
                 ));
             }
             println!("fit on the rest pose:");
-            let (x, rms) = rest_fit.fit()?;
+            let (x, rms) = rest_fit.fit(&rest.ev)?;
             (
                 x,
                 rms.iter().map(|r| r / rest.mesh.bbox_diagonal()).collect(),
             )
         }
         None => {
-            let (x, rms) = pose_fit.fit()?;
+            let (x, rms) = pose_fit.fit(&pose.ev)?;
             (x, rms.iter().map(|r| r / diagonal).collect::<Vec<_>>())
         }
     };

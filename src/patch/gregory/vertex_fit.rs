@@ -151,7 +151,6 @@ struct Round {
 /// One mesh's fit: its construction, the faces sampled and the free factors.
 pub struct VertexFit<'a> {
     topo: &'a Topology,
-    ev: &'a LimitEvaluator,
     /// The `Optimal` construction.
     pub base: Vertices,
     /// The level-0 Gregory faces at a vertex with a free factor (the faces sampled).
@@ -161,14 +160,9 @@ pub struct VertexFit<'a> {
 }
 
 impl<'a> VertexFit<'a> {
-    /// The fit of the mesh with topology `topo`, control points `positions` and exact surface
-    /// `ev`, smooth vertices' factors included if `smooth`.
-    pub fn new(
-        topo: &'a Topology,
-        positions: &[DVec3],
-        ev: &'a LimitEvaluator,
-        smooth: bool,
-    ) -> VertexFit<'a> {
+    /// The fit of the mesh with topology `topo` and control points `positions`, smooth
+    /// vertices' factors included if `smooth`.
+    pub fn new(topo: &'a Topology, positions: &[DVec3], smooth: bool) -> VertexFit<'a> {
         let base = gregory_vertices_with(topo, positions, GregoryTangents::Optimal);
         let factors = free_factors(topo, positions, &base, smooth);
         let mut free = vec![false; topo.vertex_count()];
@@ -182,16 +176,15 @@ impl<'a> VertexFit<'a> {
             .collect();
         VertexFit {
             topo,
-            ev,
             base,
             faces,
             factors,
         }
     }
 
-    /// The exact grids of the sampled faces and of the faces sharing a vertex with them (the
-    /// closest-point candidates), `None` elsewhere.
-    fn dense_grids(&self) -> Result<Vec<Option<Vec<GridSample>>>> {
+    /// The exact grids (`ev`) of the sampled faces and of the faces sharing a vertex with them
+    /// (the closest-point candidates), `None` elsewhere.
+    fn dense_grids(&self, ev: &LimitEvaluator) -> Result<Vec<Option<Vec<GridSample>>>> {
         let topo = self.topo;
         let mut near = vec![false; topo.face_count()];
         for &f in &self.faces {
@@ -204,22 +197,23 @@ impl<'a> VertexFit<'a> {
         near.par_iter()
             .enumerate()
             .map(|(g, &n)| match n {
-                true => self.ev.eval_grid(g, DENSE_GRID).map(Some),
+                true => ev.eval_grid(g, DENSE_GRID).map(Some),
                 false => Ok(None),
             })
             .collect()
     }
 
-    /// The factor offsets from the construction's after [`ROUNDS`] ICP rounds (module docs),
-    /// with the RMS normal distance of the sampled faces before each round's solve and after the
-    /// last (`ROUNDS + 1` entries; absolute, not divided by the diagonal).
-    pub fn fit(&self) -> Result<(Vec<f64>, Vec<f64>)> {
+    /// The factor offsets from the construction's after [`ROUNDS`] ICP rounds (module docs)
+    /// against the exact surface `ev`, with the RMS normal distance of the sampled faces before
+    /// each round's solve and after the last (`ROUNDS + 1` entries; absolute, not divided by the
+    /// diagonal).
+    pub fn fit(&self, ev: &LimitEvaluator) -> Result<(Vec<f64>, Vec<f64>)> {
         let (topo, faces) = (self.topo, &self.faces);
         let n = self.factors.len();
         if n == 0 || faces.is_empty() {
             return Ok((vec![0.0; n], Vec::new()));
         }
-        let dense = self.dense_grids()?;
+        let dense = self.dense_grids(ev)?;
         let cands: Vec<_> = faces
             .iter()
             .map(|&f| nearby_exact_samples(topo, &dense, f))
@@ -241,7 +235,7 @@ impl<'a> VertexFit<'a> {
         let mut x = vec![0.0; n];
         let mut rms = Vec::with_capacity(ROUNDS + 1);
         for round in 0..=ROUNDS {
-            let Round { a, b, e2, w } = self.normal_equations(&x, &index, &touching, &cands)?;
+            let Round { a, b, e2, w } = self.normal_equations(ev, &x, &index, &touching, &cands)?;
             rms.push((e2 / w).sqrt());
             if round < ROUNDS {
                 for (xi, s) in x.iter_mut().zip(solve_normal_equations(a, b)) {
@@ -256,6 +250,7 @@ impl<'a> VertexFit<'a> {
     /// normal distance and sample count at `x`.
     fn normal_equations(
         &self,
+        ev: &LimitEvaluator,
         x: &[f64],
         index: &[Option<usize>],
         touching: &[Vec<usize>],
@@ -291,7 +286,7 @@ impl<'a> VertexFit<'a> {
                     .into_iter()
                     .map(|(u, v)| {
                         let p = now[i].eval(u, v).position;
-                        let l = closest_exact(self.ev, p, &cands[i], f)?;
+                        let l = closest_exact(ev, p, &cands[i], f)?;
                         let normal = l.sample.normal;
                         let g = moved[i]
                             .iter()
@@ -338,13 +333,13 @@ fn patches(topo: &Topology, verts: &Vertices, faces: &[u32]) -> Result<Vec<Grego
 /// Logs the fit's cost.
 pub fn fit_crease_factors(mesh: &ControlMesh, topo: &Topology) -> Result<Vec<[f32; 2]>> {
     let clock = std::time::Instant::now();
-    let ev = LimitEvaluator::new(mesh)?;
-    let fit = VertexFit::new(topo, mesh.positions(), &ev, false);
+    let fit = VertexFit::new(topo, mesh.positions(), false);
     if fit.factors.is_empty() {
         log::debug!("fitted Gregory tangents: no free crease sector");
         return Ok(Vec::new());
     }
-    let (x, rms) = fit.fit()?;
+    // The exact surface only where there is something to fit.
+    let (x, rms) = fit.fit(&LimitEvaluator::new(mesh)?)?;
     let mut out = vec![[0.0f32; 2]; topo.vertex_count()];
     for (u, dx) in fit.factors.iter().zip(&x) {
         let Some(sector) = u.sector else { continue };
