@@ -611,12 +611,17 @@ fn refine_sparse(cur: &mut AdaptiveLevel) -> Result<AdaptiveLevel> {
         }
     }
     close_over_holes(t, &mut selected);
-    let ring: Vec<u32> = (0..t.face_count() as u32)
-        .filter(|&f| t.face_vertices(f).iter().any(|&v| selected[v as usize]))
-        .collect();
-    let mut keep = Vec::new();
-    let mut own = Vec::new();
-    let mut domains = Vec::new();
+    // Every array sized up front (at most every face in the ring, at most every corner of the
+    // ring kept): no growth, each of which would copy the array.
+    let mut ring = Vec::with_capacity(t.face_count());
+    ring.extend(
+        (0..t.face_count() as u32)
+            .filter(|&f| t.face_vertices(f).iter().any(|&v| selected[v as usize])),
+    );
+    let corners = ring.iter().map(|&f| t.face_size(f)).sum();
+    let mut keep = Vec::with_capacity(corners);
+    let mut own = Vec::with_capacity(corners);
+    let mut domains = Vec::with_capacity(corners);
     for &f in &ring {
         let r = cur.refined[f as usize];
         let fv = t.face_vertices(f);
@@ -779,6 +784,8 @@ fn classify_level(
     let first = patches.len();
     {
         let t = lev.level.topology();
+        // At most one patch an own face: no growth.
+        patches.reserve(lev.own.iter().filter(|&&o| o).count());
         let mut regular = RegularTest::new(t);
         for f in 0..t.face_count() as u32 {
             if !lev.own[f as usize] || !t.has_limit_surface(f) {

@@ -227,7 +227,16 @@ pub(super) fn refine_kept_in<P: StepParent>(p: &P, keep: &[u32]) -> Result<(Leve
     // (`Level::child_flags`) or when the kept quads miss some of its faces there.
     let flagged = p.has_flags();
     let bad = |v: u32| !p.is_complete_vertex(v);
-    let face_bad = |f: u32| t.face_vertices(f).iter().any(|&v| bad(v));
+    // Per parent face: whether a corner is incomplete, judged once (a face is asked for by its
+    // face point, the edge points of its edges and the vertex points of its corners).
+    let mut face_bad_memo = vec![UNJUDGED; if flagged { nf } else { 0 }];
+    let mut face_bad = |f: u32| {
+        let memo = &mut face_bad_memo[f as usize];
+        if *memo == UNJUDGED {
+            *memo = u8::from(t.face_vertices(f).iter().any(|&v| bad(v)));
+        }
+        *memo == 1
+    };
     let mut incomplete = vec![false; map.len()];
     for (v, &old) in map.iter().enumerate() {
         let o = old as usize;
@@ -345,6 +354,9 @@ fn edge_point_children(parent: &Level, kept: &[u32], edge: &StepEdge) -> [u32; 4
     [c00, c01, c10, c11]
 }
 
+/// A parent face not judged yet in `refine_kept_in`'s per-face memo (0 complete, 1 not).
+const UNJUDGED: u8 = 2;
+
 /// The edges of a [`refine_kept_in`] level as they are made.
 struct KeptEdges {
     /// Per kept child's corner `4 i + k`: its edge `k` (`NONE` until made).
@@ -372,6 +384,7 @@ impl KeptEdges {
 
     /// The next edge: edge `k` of kept child `i` (`first`, oriented as there; `local` the
     /// kept quads' corners), and of `second` if kept.
+    #[inline(always)]
     fn push(
         &mut self,
         local: &[u32],

@@ -473,7 +473,8 @@ fn marked_vertex_ids(old_verts: &[u32], vertex_count: usize) -> (Vec<u32>, Vec<u
     for &v in old_verts {
         local_of[v as usize] = 0;
     }
-    let mut map = Vec::new();
+    // At most one vertex a corner (no growth).
+    let mut map = Vec::with_capacity(old_verts.len().min(vertex_count));
     for (v, l) in local_of.iter_mut().enumerate() {
         if *l == 0 {
             *l = map.len() as u32;

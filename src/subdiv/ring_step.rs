@@ -47,8 +47,10 @@ impl<'a> RingStep<'a> {
                 outside[v as usize] = true;
             }
         }
+        // Per edge: NONE, then its index in `found`, then its index in `edges`.
         let mut point = vec![NONE; t.edge_count()];
-        // Per edge point, in the order found: (sort key, index in `found`).
+        // Per edge point, in the order found: its sort key (smaller end, first corner) and its
+        // edge as the sub-level has it.
         let mut keys = Vec::with_capacity(2 * keep.len());
         let mut found = Vec::with_capacity(2 * keep.len());
         let mut f = 0usize;
@@ -73,25 +75,28 @@ impl<'a> RingStep<'a> {
             let hp = prev_corner(t, f, h);
             for e in [t.face_edges[h as usize], t.face_edges[hp]] {
                 if point[e as usize] == NONE {
-                    point[e as usize] = 0;
+                    point[e as usize] = found.len() as u32;
                     let edge = ring_edge(level, &in_ring, e);
                     let h0 = t.face_offsets[edge.faces[0] as usize] + u32::from(edge.locals[0]);
                     let [a, b] = t.edge_verts[e as usize];
-                    keys.push((
-                        u64::from(a.min(b)) << 32 | u64::from(h0),
-                        found.len() as u32,
-                    ));
-                    found.push((e, edge));
+                    keys.push(u64::from(a.min(b)) << 32 | u64::from(h0));
+                    found.push(edge);
                 }
             }
         }
         // The sub-level numbers edges by smaller end, then by first corner: both increase with
-        // the level's (`Level::extract_increasing`). Each key is its edge's alone.
+        // the level's (`Level::extract_increasing`). Each key is its edge's alone, and names
+        // it: the edge leaving its first corner.
         keys.sort_unstable();
-        let edges: Vec<(u32, StepEdge)> = keys.iter().map(|&(_, j)| found[j as usize]).collect();
-        for (i, &(e, _)) in edges.iter().enumerate() {
-            point[e as usize] = i as u32;
-        }
+        let edges: Vec<(u32, StepEdge)> = keys
+            .iter()
+            .enumerate()
+            .map(|(i, &key)| {
+                let e = t.face_edges[key as u32 as usize];
+                let j = std::mem::replace(&mut point[e as usize], i as u32);
+                (e, found[j as usize])
+            })
+            .collect();
         Ok(RingStep {
             level,
             outside,

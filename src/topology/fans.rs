@@ -131,13 +131,8 @@ impl<'a> RingBuilder<'a> {
         let fe = self.face_edges;
         let leaving = |x| fe[corner(x) as usize];
         let entering = |(f, k): (u32, u16)| fe[corner((f, (k + 3) & 3)) as usize];
-        self.runs.clear();
-        if push_runs(&mut self.runs, 0, fan, closed, corner) {
-            self.runs.sort_unstable_by_key(|r| r.0);
-            for &(_, _, _, a, n) in &self.runs {
-                push_run(&mut self.rings, fan, a, n, true, leaving, entering);
-            }
-        } else {
+        if closed && fan.iter().all(|x| x.0 != NONE) {
+            // One cycle from its smallest corner.
             let first = (0..fan.len()).min_by_key(|&j| corner(fan[j])).unwrap_or(0);
             push_run(
                 &mut self.rings,
@@ -148,6 +143,14 @@ impl<'a> RingBuilder<'a> {
                 leaving,
                 entering,
             );
+        } else {
+            // Open, or closed with a gap: runs, never the one cycle.
+            self.runs.clear();
+            push_runs(&mut self.runs, 0, fan, closed, corner);
+            self.runs.sort_unstable_by_key(|r| r.0);
+            for &(_, _, _, a, n) in &self.runs {
+                push_run(&mut self.rings, fan, a, n, true, leaving, entering);
+            }
         }
         self.next_vertex();
     }
@@ -232,7 +235,9 @@ fn push_runs(
 
 /// Appends to `rings` faces `a..a + n` (cyclically, `a + n < 2 m`) of the fan `fan` of `m`
 /// faces, with the first face's `leaving` edge and each face's `entering` edge (the last
-/// one's only for an `open` run).
+/// one's only for an `open` run). Inlined into its callers (one call a vertex), whose
+/// `leaving` and `entering` then compile to plain loads.
+#[inline(always)]
 fn push_run(
     rings: &mut Rings,
     fan: &[(u32, u16)],
