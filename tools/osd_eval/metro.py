@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Metro-style distance of a surface's sample points to the exact limit surface (dev only).
 
-    metro.py EXACT.txt OTHER.txt DIAGONAL [--faces-from FILE]
+    metro.py EXACT.txt OTHER.txt DIAGONAL [--faces-from FILE] [--one-sided MESH.obj]
 
 EXACT.txt is `tessera limit MESH --grid N` (a lattice of (N+1)^2 points per face or sub-face,
 `f u v x y z nx ny nz`); it is triangulated per lattice cell into a dense piecewise-linear copy
@@ -12,7 +12,11 @@ surface (16 candidate triangles nearest by centroid, exact point-triangle distan
 angle between its normal and the exact normal interpolated there. Prints RMS and max of both,
 distances as fractions of DIAGONAL. `--faces-from FILE` keeps only the points of OTHER whose base
 face (the id before any `:k`) has a point in FILE (e.g. compare OpenSubdiv on the faces a
-tessera capture draws, leaving out faces tessera keeps on its exact CPU path). Independent of tessera's own closest-point search
+tessera capture draws, leaving out faces tessera keeps on its exact CPU path). `--one-sided MESH.obj` pairs each point only with exact
+triangles on its own side of the mesh's infinitely sharp creases (tags `t crease 2/1/0 a b s`,
+s >= 10): the faces reachable from its base face across smooth and semi-sharp edges. Near such a
+crease the plain closest point may lie on the other side, whose normal differs by the dihedral
+angle; a point with no own-side triangle among its 64 nearest is left out and counted. Independent of tessera's own closest-point search
 (`gregory::accuracy::closest_exact`) and of any parameterisation. Needs numpy and scipy.
 """
 import sys
@@ -54,6 +58,39 @@ def triangulate(keys, rows):
                 tris.append((p00, p10, p11))
                 tris.append((p00, p11, p01))
     return np.array(tris)
+
+
+def smooth_regions(obj_path):
+    """Per base face of the OBJ, the id of its region: faces joined across edges that are not
+    infinitely sharp (union-find over shared edges)."""
+    faces, sharp = [], set()
+    for line in open(obj_path):
+        t = line.split()
+        if not t:
+            continue
+        if t[0] == "f":
+            faces.append([int(x.split("/")[0]) - 1 for x in t[1:]])
+        elif t[0] == "t" and t[1] == "crease" and t[2] == "2/1/0" and float(t[5]) >= 10:
+            a, b = int(t[3]), int(t[4])
+            sharp.add((min(a, b), max(a, b)))
+    parent = list(range(len(faces)))
+
+    def find(x):
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    by_edge = defaultdict(list)
+    for f, vs in enumerate(faces):
+        for i, a in enumerate(vs):
+            b = vs[(i + 1) % len(vs)]
+            by_edge[(min(a, b), max(a, b))].append(f)
+    for e, fs in by_edge.items():
+        if e not in sharp:
+            for g in fs[1:]:
+                parent[find(g)] = find(fs[0])
+    return [find(f) for f in range(len(faces))]
 
 
 def closest_on_triangles(p, a, b, c):
@@ -104,13 +141,19 @@ def main():
         keep_keys, _ = read(sys.argv[sys.argv.index("--faces-from") + 1])
         keep = {k.split(":")[0] for k in keep_keys}
         other = other[[k.split(":")[0] in keep for k in okeys]]
+        okeys = [k for k in okeys if k.split(":")[0] in keep]
     tris = triangulate(ekeys, exact)
     pos, nrm = exact[:, 2:5], exact[:, 5:8]
     cen = pos[tris].mean(axis=1)
     tree = cKDTree(cen)
     q = other[:, 2:5]
     qn = other[:, 5:8]
-    k = 16
+    one_sided = "--one-sided" in sys.argv
+    k = 64 if one_sided else 16
+    if one_sided:
+        region = smooth_regions(sys.argv[sys.argv.index("--one-sided") + 1])
+        tri_region = np.array([region[int(ekeys[t[0]].split(":")[0])] for t in tris])
+        q_region = np.array([region[int(key.split(":")[0])] for key in okeys])
     _, cand = tree.query(q, k=k)
     best = np.full(len(q), np.inf)
     bestn = np.zeros((len(q), 3))
@@ -120,13 +163,21 @@ def main():
         d = np.linalg.norm(q - cp, axis=1)
         n = w[:, 0:1] * nrm[t[:, 0]] + w[:, 1:2] * nrm[t[:, 1]] + w[:, 2:3] * nrm[t[:, 2]]
         better = d < best
+        if one_sided:
+            better &= tri_region[cand[:, j]] == q_region
         best[better] = d[better]
         bestn[better] = n[better]
+    unmatched = 0
+    if one_sided:
+        found = np.isfinite(best)
+        unmatched = int((~found).sum())
+        best, bestn, qn = best[found], bestn[found], qn[found]
     bestn /= np.linalg.norm(bestn, axis=1, keepdims=True)
     qn = qn / np.maximum(np.linalg.norm(qn, axis=1, keepdims=True), 1e-300)
     ang = np.arccos(np.clip(np.einsum("ij,ij->i", bestn, qn), -1, 1))
     d = best / diag
-    print(f"points {len(q)} exact-triangles {len(tris)} distance/diag rms {np.sqrt(np.mean(d*d)):.3e} "
+    extra = f" (one-sided; {unmatched} points without an own-side triangle left out)" if one_sided else ""
+    print(f"points {len(best)}{extra} exact-triangles {len(tris)} distance/diag rms {np.sqrt(np.mean(d*d)):.3e} "
           f"max {d.max():.3e} normal rad rms {np.sqrt(np.mean(ang*ang)):.3e} max {ang.max():.3e}")
 
 
