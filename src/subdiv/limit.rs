@@ -316,36 +316,35 @@ fn smooth_mask(level: &Level, v: u32, i: usize) -> VertexMask {
     let edges = topo.vertex_edges(v);
     let n = faces.len();
     let (wv, we, wf) = masks::smooth_position(n);
-    let ((tue, tuf), (tve, tvf)) = if n == 2 {
-        // Valence 2: Halstead's tangents vanish. The subdominant spectrum is 1/4 (twice, left
-        // eigenvectors e_0 - e_1 and f_0 - f_1) and -1/4; the plane of the two positive modes,
-        // oriented as the face (e_a at angle 0, the face's far corner at angle pi/2). The -1/4
-        // mode is as strong, so the faces' own normals alternate about this plane as they
-        // approach the vertex and have no limit; the plane is their mean
-        // (tests/limit_corners.rs, `valence_two_normals_alternate_about_the_quarter_modes_plane`).
-        let mut e = vec![0.0; 2];
-        let mut f = vec![0.0; 2];
-        e[i] = 0.5;
-        e[1 - i] = -0.5;
-        f[i] = 0.5;
-        f[1 - i] = -0.5;
-        ((e, vec![0.0; 2]), (vec![0.0; 2], f))
-    } else {
-        (
-            masks::smooth_tangent(n, i),
-            masks::smooth_tangent(n, (i + 1) % n),
-        )
-    };
     let mut t = Vec::with_capacity(2 * n + 1);
     t.push((v, [wv, 0.0, 0.0]));
+    // Halstead's tangents per valence (computed once); valence 2 below.
+    let table = (n != 2).then(|| masks::SmoothTangent::of(n));
     for j in 0..n {
         let e = topo.other_vertex(edges[j], v);
         let fv = topo.face_vertices(faces[j]);
         let f = fv[(locals[j] as usize + 2) % 4];
-        t.push((e, [we, tue[j], tve[j]]));
-        t.push((f, [wf, tuf[j], tvf[j]]));
+        // Tangent weights `(e, f)` of ring index `j`: `u` along edge `i`, `v` along edge `i + 1`.
+        let [(tue, tuf), (tve, tvf)] = match &table {
+            Some(table) => [table.at(j, i), table.at(j, (i + 1) % n)],
+            None => valence_two_tangents(i, j),
+        };
+        t.push((e, [we, tue, tve]));
+        t.push((f, [wf, tuf, tvf]));
     }
     VertexMask::from_triples(t)
+}
+
+/// Tangent weights `[(e, f) of u, (e, f) of v]` of ring index `j` of a valence-2 vertex seen from
+/// its face `i`. Halstead's tangents vanish there. The subdominant spectrum is 1/4 (twice, left
+/// eigenvectors e_0 - e_1 and f_0 - f_1) and -1/4; the plane of the two positive modes,
+/// oriented as the face (e_a at angle 0, the face's far corner at angle pi/2). The -1/4 mode is
+/// as strong, so the faces' own normals alternate about this plane as they approach the vertex
+/// and have no limit; the plane is their mean (tests/limit_corners.rs,
+/// `valence_two_normals_alternate_about_the_quarter_modes_plane`).
+fn valence_two_tangents(i: usize, j: usize) -> [(f64, f64); 2] {
+    let w = if j == i { 0.5 } else { -0.5 };
+    [(w, 0.0), (0.0, w)]
 }
 
 /// Row `r` of a sparse matrix as `(column, weight)` pairs.

@@ -293,7 +293,7 @@ fn slot_rows(
                 }
                 let p = &census.patches[c.patch];
                 let lev = &refinement.levels[p.level as usize];
-                let frame = exact_frame(lev, p.face, c.k, corner_rows.rows(c), masks);
+                let frame = exact_frame(lev, p.face, c.k, corner_rows.position_row(c), masks);
                 if frame[1].0.is_empty() {
                     failed.push(s);
                 }

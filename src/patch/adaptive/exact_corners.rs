@@ -10,12 +10,11 @@
 //! position (its tangent rows empty: no normal); every quad end cap there reads it, so all add
 //! the same `delta` (exact minus slot position) at the vertex, faded alike along shared edges.
 
-use std::collections::HashMap;
-
 use super::census_index::is_quad_end_cap;
 use super::promoted::{corner_offset_code, corner_offset_vertex, exact_corner_position};
 use super::slots::{Slots, NONE};
 use super::surface::EndCapTopologies;
+use crate::patch::gregory::word_hash::WordHashMap;
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
 use crate::subdiv::limit::SharedVertexMasks;
@@ -47,7 +46,7 @@ impl ExactCorners {
         masks: &SharedVertexMasks,
     ) -> ExactCorners {
         let mut out = ExactCorners::default();
-        let mut by_slot: HashMap<u32, u32> = HashMap::new();
+        let mut by_slot: WordHashMap<u32, u32> = WordHashMap::default();
         for p in &census.patches {
             let mut frames = [NONE; 4];
             let mut codes = 0;

@@ -126,18 +126,17 @@ pub fn corner_offset_share(sharpness: f64, x: f64, w: f64) -> f64 {
     fillet_fade(sharpness, x, 2) * fillet_fade(sharpness, w, 2)
 }
 
-/// Corner `k` of face `face` of `lev` on a promoted crease: its end-cap `rows` with the
-/// tangents replaced by the exact limit's ([`exact_corner_tangents_shared`]), the position kept (the
-/// end caps' crease position); empty tangent rows where the exact mask fails. `masks` shares
-/// the limit masks between calls ([`exact_corner_tangents_shared`]).
+/// Corner `k` of face `face` of `lev` on a promoted crease: its end-cap position row `p` (the
+/// end caps' crease position) with the exact limit's tangents
+/// ([`exact_corner_tangents_shared`]); empty tangent rows where the exact mask fails. `masks`
+/// shares the limit masks between calls ([`exact_corner_tangents_shared`]).
 pub fn exact_frame(
     lev: &AdaptiveLevel,
     face: u32,
     k: usize,
-    rows: [Weights; 3],
+    p: Weights,
     masks: &SharedVertexMasks,
 ) -> [Weights; 3] {
-    let [p, ..] = rows;
     match exact_corner_tangents_shared(lev, face, k, masks) {
         Some([du, dv]) => [p, du, dv],
         None => [p, Weights::default(), Weights::default()],

@@ -22,8 +22,6 @@ pub struct PatchCorner {
     pub k: usize,
     /// Its vertex in the patch's level.
     pub vertex: u32,
-    /// Whether the corner lies alone in a crease sector (end caps; `one_face_crease_sector`).
-    pub singular: bool,
     /// End caps: the index of the patch's rows in `caps`.
     cap: usize,
 }
@@ -33,6 +31,7 @@ pub struct PatchCorner {
 pub struct CornerRows<'a> {
     refinement: &'a AdaptiveRefinement,
     census: &'a PatchCensus,
+    topologies: &'a EndCapTopologies<'a>,
     caps: &'a [FaceRows],
     /// Single-crease corner weights depend on the line's side and sharpness and the corner
     /// only: evaluated once per such shape of the census, not once per corner.
@@ -50,7 +49,7 @@ impl<'a> CornerRows<'a> {
     pub fn new(
         refinement: &'a AdaptiveRefinement,
         census: &'a PatchCensus,
-        topologies: &EndCapTopologies,
+        topologies: &'a EndCapTopologies<'a>,
         caps: &'a [FaceRows],
     ) -> CornerRows<'a> {
         let mut crease = WordHashMap::default();
@@ -70,12 +69,13 @@ impl<'a> CornerRows<'a> {
         CornerRows {
             refinement,
             census,
+            topologies,
             caps,
             crease,
             bspline: (0..4 * 16)
                 .map(|i| CornerTable::new(bspline_corner_columns(i / 16, i as u8 % 16)))
                 .collect(),
-            corners: exact_first(refinement, census, topologies),
+            corners: exact_first(refinement, census),
         }
     }
 
@@ -89,9 +89,31 @@ impl<'a> CornerRows<'a> {
                 let n = self.refinement.levels[p.level as usize]
                     .topology()
                     .face_size(p.face);
-                gregory_corner_rows(&self.caps[c.cap], n, c.k, c.singular)
+                gregory_corner_rows(&self.caps[c.cap], n, c.k, self.singular(c))
             }
         }
+    }
+
+    /// The position row of corner `c` ([`Self::rows`]' first, the same bits), without its
+    /// tangent rows.
+    pub fn position_row(&self, c: &PatchCorner) -> Weights {
+        let p = &self.census.patches[c.patch];
+        match (&p.crease, &p.bspline) {
+            (None, None) => self.caps[c.cap].weights(c.k),
+            _ => {
+                let [position, ..] = self.rows(c);
+                position
+            }
+        }
+    }
+
+    /// Whether end-cap corner `c` lies alone in a crease sector of its end caps' topology
+    /// (`one_face_crease_sector`; false for a B-spline patch's corner): asked only of the
+    /// corners whose rows are taken, not computed for every corner.
+    pub fn singular(&self, c: &PatchCorner) -> bool {
+        let p = &self.census.patches[c.patch];
+        p.bspline.is_none()
+            && one_face_crease_sector(self.topologies.get(p.level), c.vertex, p.face)
     }
 
     /// [`bspline_corner_columns`] of `b` at corner `k`, from the table.
@@ -115,7 +137,7 @@ impl<'a> CornerRows<'a> {
                 let n = self.refinement.levels[p.level as usize]
                     .topology()
                     .face_size(p.face);
-                push_gregory_corner_rows(out, &self.caps[c.cap], n, c.k, c.singular);
+                push_gregory_corner_rows(out, &self.caps[c.cap], n, c.k, self.singular(c));
             }
         }
     }
@@ -131,7 +153,11 @@ impl<'a> CornerRows<'a> {
             .topology()
             .face_size(p.face);
         let rows = &self.caps[c.cap];
-        let second = if c.singular { 3 * n + c.k } else { 2 * n + c.k };
+        let second = if self.singular(c) {
+            3 * n + c.k
+        } else {
+            2 * n + c.k
+        };
         3 * rows.row(c.k).len() + rows.row(n + c.k).len() + rows.row(second).len()
     }
 
@@ -144,12 +170,8 @@ impl<'a> CornerRows<'a> {
 }
 
 /// Every corner of every census patch, exact patches (B-spline, single-crease) first, then end
-/// caps (`singular` judged over `topologies`).
-fn exact_first(
-    refinement: &AdaptiveRefinement,
-    census: &PatchCensus,
-    topologies: &EndCapTopologies,
-) -> Vec<PatchCorner> {
+/// caps.
+fn exact_first(refinement: &AdaptiveRefinement, census: &PatchCensus) -> Vec<PatchCorner> {
     let mut cap_of = Vec::with_capacity(census.patches.len());
     let mut cap = 0;
     for p in &census.patches {
@@ -168,8 +190,6 @@ fn exact_first(
                     patch: i,
                     k,
                     vertex: v,
-                    singular: end_caps
-                        && one_face_crease_sector(topologies.get(p.level), v, p.face),
                     cap,
                 });
             }

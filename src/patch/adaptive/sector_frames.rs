@@ -17,13 +17,12 @@
 //! (a point created by refinement lies inside a base edge or face, and only base edges are
 //! infinitely sharp, so its sectors are the base faces beside it).
 
-use std::collections::HashMap;
-
 use super::promoted::{exact_frame, promoted_vertex};
 use super::rows::CornerRows;
 use super::slots::{Slots, NONE};
 use super::surface::EndCapTopologies;
 use crate::mesh::INFINITE_SHARPNESS;
+use crate::patch::gregory::word_hash::WordHashMap;
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
 use crate::subdiv::limit::SharedVertexMasks;
@@ -79,7 +78,7 @@ impl SectorFrames {
                 (s, b)
             }
         };
-        let mut index: HashMap<SectorKey, u32> = HashMap::new();
+        let mut index: WordHashMap<SectorKey, u32> = WordHashMap::default();
         let mut out = SectorFrames::default();
         let mut counts = SectorCounts::new(refinement, topologies);
         // Corner keys per census patch (NONE slot: one sector, nothing to share).
@@ -133,13 +132,13 @@ impl SectorFrames {
                 return;
             };
             let promoted = promoted_corners[c.patch][c.k];
-            if (c.singular && !promoted) || index.contains_key(&key) {
+            if index.contains_key(&key) || (!promoted && corner_rows.singular(c)) {
                 return;
             }
             if promoted {
                 let p = &census.patches[c.patch];
                 let lev = &refinement.levels[p.level as usize];
-                let frame = exact_frame(lev, p.face, c.k, corner_rows.rows(c), masks);
+                let frame = exact_frame(lev, p.face, c.k, corner_rows.position_row(c), masks);
                 if frame[1].0.is_empty() {
                     return;
                 }

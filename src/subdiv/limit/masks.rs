@@ -5,7 +5,9 @@
 //! counter-clockwise around the vertex, `f[i]` the vertex opposite the centre in the quad
 //! between edges `i` and `i + 1`.
 
+use std::borrow::Cow;
 use std::f64::consts::PI;
+use std::sync::OnceLock;
 
 /// Weights of the smooth interior limit position on a quad ring:
 /// `(n^2 v + 4 sum e + sum f) / (n (n + 5))` (Halstead, Kass, DeRose 1993, §A; the dominant left
@@ -23,16 +25,52 @@ pub fn smooth_position(n: usize) -> (f64, f64, f64) {
 /// regular case `n = 4` gives exactly the bicubic B-spline partial derivative.
 /// Returns `(w_e, w_f)` (the centre weight is 0).
 pub fn smooth_tangent(n: usize, start: usize) -> (Vec<f64>, Vec<f64>) {
-    let nf = n as f64;
-    let c1 = (2.0 * PI / nf).cos();
-    let a = 1.0 + c1 + (PI / nf).cos() * (2.0 * (9.0 + c1)).sqrt();
-    let c = |i: usize| {
+    let table = SmoothTangent::of(n);
+    (0..n).map(|i| table.at(i, start)).unzip()
+}
+
+/// [`smooth_tangent`] of one valence along edge 0, from which every `start` is a rotation (its
+/// weights depend on `i - start` only): computed once per valence ([`SmoothTangent::of`]).
+#[derive(Debug, Clone)]
+pub struct SmoothTangent {
+    /// `A_n c_k / 12` for `k = i - start` (mod `n`).
+    edge: Vec<f64>,
+    /// `(c_k + c_{k+1}) / 12`.
+    face: Vec<f64>,
+}
+
+/// Valences whose [`SmoothTangent`] is kept once computed (larger ones are computed per call).
+const TABLED_VALENCES: usize = 64;
+
+impl SmoothTangent {
+    /// The weights of valence `n` (`n >= 1`), computed on first use of that valence (up to
+    /// 64).
+    pub fn of(n: usize) -> Cow<'static, SmoothTangent> {
+        static TABLES: [OnceLock<SmoothTangent>; TABLED_VALENCES + 1] =
+            [const { OnceLock::new() }; TABLED_VALENCES + 1];
+        match TABLES.get(n) {
+            Some(cell) => Cow::Borrowed(cell.get_or_init(|| Self::new(n))),
+            None => Cow::Owned(Self::new(n)),
+        }
+    }
+
+    fn new(n: usize) -> SmoothTangent {
+        let nf = n as f64;
+        let c1 = (2.0 * PI / nf).cos();
+        let a = 1.0 + c1 + (PI / nf).cos() * (2.0 * (9.0 + c1)).sqrt();
+        let c: Vec<f64> = (0..n).map(|k| (2.0 * PI * k as f64 / nf).cos()).collect();
+        SmoothTangent {
+            edge: c.iter().map(|&ck| a * ck / 12.0).collect(),
+            face: (0..n).map(|k| (c[k] + c[(k + 1) % n]) / 12.0).collect(),
+        }
+    }
+
+    /// `(w_e, w_f)` of ring index `i` for the tangent along edge `start`.
+    pub fn at(&self, i: usize, start: usize) -> (f64, f64) {
+        let n = self.edge.len();
         let k = (i + n - start % n) % n;
-        (2.0 * PI * k as f64 / nf).cos()
-    };
-    let we = (0..n).map(|i| a * c(i) / 12.0).collect();
-    let wf = (0..n).map(|i| (c(i) + c(i + 1)) / 12.0).collect();
-    (we, wf)
+        (self.edge[k], self.face[k])
+    }
 }
 
 /// Limit position of a crease vertex (two infinitely sharp edges, crease rule): the cubic
@@ -342,6 +380,31 @@ mod tests {
         }
         a[..m].copy_from_slice(&r);
         Dense { m, a }
+    }
+
+    /// The per-valence table gives the closed form bit for bit (Halstead's `A_n c_k / 12` and
+    /// `(c_k + c_{k+1}) / 12`, each cosine taken at its own `k = i - start` mod `n`), for tabled
+    /// valences and for valences past the table, any `start` (also past `n`).
+    #[test]
+    fn smooth_tangent_table_is_the_closed_form() {
+        for n in (3..=12).chain([63, 64, 65, 100]) {
+            let nf = n as f64;
+            let c1 = (2.0 * PI / nf).cos();
+            let a = 1.0 + c1 + (PI / nf).cos() * (2.0 * (9.0 + c1)).sqrt();
+            let c =
+                |i: usize, start: usize| (2.0 * PI * ((i + n - start % n) % n) as f64 / nf).cos();
+            for start in [0, 1, n - 1, n + 2] {
+                let (we, wf) = smooth_tangent(n, start);
+                for i in 0..n {
+                    let (e, f) = (
+                        a * c(i, start) / 12.0,
+                        (c(i, start) + c(i + 1, start)) / 12.0,
+                    );
+                    assert_eq!(we[i].to_bits(), e.to_bits(), "n {n}, start {start}, e {i}");
+                    assert_eq!(wf[i].to_bits(), f.to_bits(), "n {n}, start {start}, f {i}");
+                }
+            }
+        }
     }
 
     #[test]
