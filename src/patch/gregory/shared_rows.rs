@@ -24,6 +24,7 @@ use super::build::{
     check_face_for, has_vertex_data, vertex_covered, vertex_ring_with, Coverage, NoPoint,
     NotGregory,
 };
+pub use super::face_rows::FaceRows;
 use super::point::Weights;
 use super::stencil::ring_walk;
 #[cfg(doc)]
@@ -71,71 +72,6 @@ struct LocalRows {
     starts: Vec<u32>,
     /// Slot `s`'s terms `(row, weight)`, rows ascending: `columns[starts[s]..starts[s + 1]]`.
     columns: Vec<(u32, f64)>,
-}
-
-/// One face's rows in two allocations rather than one per row: row `r` is
-/// `terms[offsets[r]..offsets[r + 1]]`, `(id, weight)` ids ascending, as a [`Weights`] holds
-/// them (vertices, then vertex points: [`super::stencil_table::vertex_point_id`]).
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct FaceRows {
-    /// `rows + 1` term offsets.
-    pub offsets: Vec<u32>,
-    /// The terms of every row.
-    pub terms: Vec<(u32, f64)>,
-}
-
-impl FaceRows {
-    /// The same rows as `rows`.
-    pub fn from_weights(rows: &[Weights]) -> FaceRows {
-        let mut out = FaceRows {
-            offsets: Vec::with_capacity(rows.len() + 1),
-            terms: Vec::with_capacity(rows.iter().map(|w| w.0.len()).sum()),
-        };
-        out.offsets.push(0);
-        for w in rows {
-            out.terms.extend_from_slice(&w.0);
-            out.offsets.push(out.terms.len() as u32);
-        }
-        out
-    }
-
-    /// Number of rows.
-    pub fn len(&self) -> usize {
-        self.offsets.len().saturating_sub(1)
-    }
-
-    /// Whether there is no row.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// Row `r`.
-    pub fn row(&self, r: usize) -> &[(u32, f64)] {
-        &self.terms[self.offsets[r] as usize..self.offsets[r + 1] as usize]
-    }
-
-    /// Appends every row of `other`.
-    pub fn append(&mut self, other: &FaceRows) {
-        let base = self.terms.len() as u32;
-        self.offsets
-            .extend(other.offsets.iter().skip(1).map(|&o| base + o));
-        self.terms.extend_from_slice(&other.terms);
-    }
-
-    /// Every row in order.
-    pub fn rows(&self) -> impl Iterator<Item = &[(u32, f64)]> {
-        (0..self.len()).map(|r| self.row(r))
-    }
-
-    /// Row `r` as a [`Weights`].
-    pub fn weights(&self, r: usize) -> Weights {
-        Weights(self.row(r).to_vec())
-    }
-
-    /// Every row as a [`Weights`].
-    pub fn to_weights(&self) -> Vec<Weights> {
-        (0..self.len()).map(|r| self.weights(r)).collect()
-    }
 }
 
 /// Per-call state: the slot of each vertex of the face being keyed, and which vertices get

@@ -18,8 +18,8 @@ use super::build::{
 };
 use super::corner_types::{CornerTypes, LazyCorner};
 use super::eval::{edge_side_points, CornerRef};
+use super::face_rows::FaceRows;
 use super::point::{GregoryPoint, Weights};
-use super::shared_rows::FaceRows;
 use super::stencil::{dense_rows, stencil_ring, NoStencil, MAX_RING, ROWS_PER_CORNER};
 use super::tangents::GregoryTangents;
 use super::vertex::{DartLimits, GregoryVertex};
