@@ -36,10 +36,8 @@ pub(super) struct CornerTypes<'a> {
     ring: Vec<u32>,
     /// One buffer for every key (a map entry copies it only for a new type).
     key: RingType,
-    /// Each type's index in `data`.
-    types: WordHashMap<RingType, u32>,
     /// Each type's data over slots (`None`: the construction declines the ring).
-    data: Vec<Option<GregoryVertex<Weights>>>,
+    types: WordHashMap<RingType, Option<GregoryVertex<Weights>>>,
     /// Vertices whose data came from a type already built.
     pub shared: usize,
 }
@@ -55,7 +53,6 @@ impl<'a> CornerTypes<'a> {
             ring: Vec::new(),
             key: RingType::new(),
             types: WordHashMap::default(),
-            data: Vec::new(),
             shared: 0,
         }
     }
@@ -63,91 +60,38 @@ impl<'a> CornerTypes<'a> {
     /// [`GregoryVertex::from_vertex_points`] of covered vertex `v`'s split ring over unit
     /// weights, derived point `b` the unit of [`vertex_point_id`] `(v, b)`: bitwise what
     /// [`super::build::two_stage_of_ring`] builds over `v`'s ids. The split ring over slots is
-    /// made only for a new type. Every entry of [`Self::corner`] filled (the tests' reference
-    /// of the lazy form).
-    #[cfg(test)]
+    /// made only for a new type.
     pub fn vertex(&mut self, v: u32) -> Option<GregoryVertex<Weights>> {
-        let mut corner = self.corner(v)?;
-        for j in 0..corner.data.r_plus.len() {
-            self.fill(&mut corner, j);
-        }
-        Some(corner.data)
-    }
-
-    /// [`Self::vertex`] with only its limit point, cosines and tags relabelled, its edge points
-    /// and transversal vectors left empty until a patch corner reads them ([`Self::fill`]):
-    /// a vertex serves the few faces of a batch around it, not all of its ring.
-    pub fn corner(&mut self, v: u32) -> Option<LazyCorner> {
         let topo = self.topo;
         self.number_ring(v);
         let l = self.ring.len() as u32;
         self.key.clear();
         self.key.push(l);
         push_ring(topo, v, &self.slot, &mut self.key);
-        let ty = match self.types.get(self.key.as_slice()) {
-            Some(&ty) => {
+        let local = match self.types.get(self.key.as_slice()) {
+            Some(local) => {
                 self.shared += 1;
-                ty
+                local
             }
             None => {
                 let slot = &self.slot;
                 let ring = vertex_ring_of_units(topo, v, &|u| slot[u as usize]);
                 let points = [0, 1, 2].map(|b| Weights::unit(l + b));
-                let ty = self.data.len() as u32;
-                self.data.push(GregoryVertex::from_vertex_points(
-                    &ring,
-                    self.tangents,
-                    self.darts,
-                    points,
-                ));
-                self.types.insert(self.key.clone(), ty);
-                ty
+                let local =
+                    GregoryVertex::from_vertex_points(&ring, self.tangents, self.darts, points);
+                self.types.entry(self.key.clone()).or_insert(local)
             }
         };
+        let ids = &self.ring;
+        let id = |s: u32| match ids.get(s as usize) {
+            Some(&u) => u,
+            None => vertex_point_id(topo, v, s - l),
+        };
+        let out = local.as_ref().map(|d| relabel(d, &id));
         for &u in &self.ring {
             self.slot[u as usize] = NONE;
         }
-        let local = self.data[ty as usize].as_ref()?;
-        let ring = self.ring.clone();
-        let p = relabel(&local.p, &ring_ids(topo, v, &ring));
-        // Empty weights allocate nothing.
-        let unfilled = |w: &[Weights]| vec![Weights::default(); w.len()];
-        Some(LazyCorner {
-            data: GregoryVertex {
-                kind: local.kind,
-                n: local.n,
-                p,
-                e: unfilled(&local.e),
-                r_plus: unfilled(&local.r_plus),
-                r_minus: unfilled(&local.r_minus),
-                cosine: local.cosine.clone(),
-                one_sided: local.one_sided.clone(),
-            },
-            v,
-            ty,
-            ring,
-        })
-    }
-
-    /// Relabels what the patch corner of `corner`'s face `j` reads (`CornerRef`: edge points
-    /// `j` and `j + 1`, transversal vectors `j`), where not done yet; each entry bitwise
-    /// [`Self::vertex`]'s.
-    pub fn fill(&self, corner: &mut LazyCorner, j: usize) {
-        let Some(local) = &self.data[corner.ty as usize] else {
-            return;
-        };
-        let id = ring_ids(self.topo, corner.v, &corner.ring);
-        let put = |out: &mut Weights, w: &Weights| {
-            if out.0.is_empty() && !w.0.is_empty() {
-                *out = relabel(w, &id);
-            }
-        };
-        let d = &mut corner.data;
-        let ne = local.e.len();
-        put(&mut d.e[j], &local.e[j]);
-        put(&mut d.e[(j + 1) % ne], &local.e[(j + 1) % ne]);
-        put(&mut d.r_plus[j], &local.r_plus[j]);
-        put(&mut d.r_minus[j], &local.r_minus[j]);
+        out
     }
 
     /// Numbers `v`'s ring in `slot` / `ring` by first appearance: `v`, its edges' other ends,
@@ -207,35 +151,25 @@ fn push_ring(topo: &Topology, v: u32, slot: &[u32], key: &mut RingType) {
     }
 }
 
-/// Vertex `v`'s id of each slot of its ring `ring`: the ring's vertices, then `v`'s derived
-/// points ([`vertex_point_id`]).
-fn ring_ids<'a>(topo: &'a Topology, v: u32, ring: &'a [u32]) -> impl Fn(u32) -> u32 + 'a {
-    let l = ring.len() as u32;
-    move |s: u32| match ring.get(s as usize) {
-        Some(&u) => u,
-        None => vertex_point_id(topo, v, s - l),
+/// `d` with each weight's id `s` replaced by `id(s)` (distinct slots to distinct ids), ids
+/// ascending again.
+fn relabel(d: &GregoryVertex<Weights>, id: &impl Fn(u32) -> u32) -> GregoryVertex<Weights> {
+    let map = |w: &Weights| {
+        let mut terms: Vec<(u32, f64)> = w.0.iter().map(|&(s, x)| (id(s), x)).collect();
+        terms.sort_unstable_by_key(|&(u, _)| u);
+        Weights(terms)
+    };
+    let all = |ws: &[Weights]| ws.iter().map(map).collect();
+    GregoryVertex {
+        kind: d.kind,
+        n: d.n,
+        p: map(&d.p),
+        e: all(&d.e),
+        r_plus: all(&d.r_plus),
+        r_minus: all(&d.r_minus),
+        cosine: d.cosine.clone(),
+        one_sided: d.one_sided.clone(),
     }
-}
-
-/// `w` with each id `s` replaced by `id(s)` (distinct slots to distinct ids), ids ascending
-/// again.
-fn relabel(w: &Weights, id: &impl Fn(u32) -> u32) -> Weights {
-    let mut terms: Vec<(u32, f64)> = w.0.iter().map(|&(s, x)| (id(s), x)).collect();
-    terms.sort_unstable_by_key(|&(u, _)| u);
-    Weights(terms)
-}
-
-/// A vertex's two-stage data from [`CornerTypes::corner`], filled per patch corner by
-/// [`CornerTypes::fill`].
-pub(super) struct LazyCorner {
-    /// The data, edge points and transversal vectors empty until filled.
-    pub data: GregoryVertex<Weights>,
-    /// The vertex.
-    v: u32,
-    /// Its ring type (index of [`CornerTypes`]' data).
-    ty: u32,
-    /// The vertex of each slot of its ring.
-    ring: Vec<u32>,
 }
 
 /// Derived points per vertex in the two-stage rows ([`GregoryVertex::vertex_points`]: a smooth

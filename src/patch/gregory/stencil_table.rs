@@ -16,7 +16,7 @@ use super::build::{
     check_face_for, gregory_patch_for, gregory_patch_from, gregory_vertex_for, has_vertex_data,
     vertex_covered, vertex_ring_of_units, Coverage, GregoryPatch, NotGregory,
 };
-use super::corner_types::{CornerTypes, LazyCorner};
+use super::corner_types::CornerTypes;
 use super::eval::{edge_side_points, CornerRef};
 use super::face_rows::FaceRows;
 use super::point::{GregoryPoint, Weights};
@@ -249,7 +249,7 @@ struct EndCapCorners<'a> {
     darts: &'a DartLimits,
     /// The data of the vertices built, in build order (a batch builds a few hundred of a
     /// level's vertices: no entry per vertex of the level to fill and drop).
-    built: Vec<Option<LazyCorner>>,
+    built: Vec<Option<GregoryVertex<Weights>>>,
     state: Vec<CornerState>,
     /// The two-stage data per ring type the vertices' data is relabelled from.
     types: CornerTypes<'a>,
@@ -286,23 +286,9 @@ impl<'a> EndCapCorners<'a> {
     /// The data of vertex `v` if it is built and has some.
     fn vertex(&self, v: u32) -> Option<&GregoryVertex<Weights>> {
         match self.state[v as usize] {
-            CornerState::Built(i) => self.built[i as usize].as_ref().map(|c| &c.data),
+            CornerState::Built(i) => self.built[i as usize].as_ref(),
             _ => None,
         }
-    }
-
-    /// Fills what the patch corner of built vertex `v` in face `g` reads ([`CornerTypes::fill`]).
-    fn fill(&mut self, v: u32, g: u32) {
-        let CornerState::Built(i) = self.state[v as usize] else {
-            return;
-        };
-        let (Some(corner), Some(j)) = (
-            self.built[i as usize].as_mut(),
-            self.topo.vertex_faces(v).iter().position(|&h| h == g),
-        ) else {
-            return;
-        };
-        self.types.fill(corner, j);
     }
 
     /// Builds the data of `vertices` not built yet, once per ring type ([`CornerTypes`]).
@@ -313,7 +299,7 @@ impl<'a> EndCapCorners<'a> {
                 *state = CornerState::Built(self.built.len() as u32);
                 let covered = vertex_covered(self.topo, v, Coverage::EndCap);
                 self.built
-                    .push(covered.then(|| self.types.corner(v)).flatten());
+                    .push(covered.then(|| self.types.vertex(v)).flatten());
             }
         }
     }
@@ -356,8 +342,6 @@ impl<'a> EndCapCorners<'a> {
             }
         }
         self.build(&[x, y]);
-        self.fill(x, g);
-        self.fill(y, g);
         let d = if m == 3 { 4.0 } else { 3.0 };
         let (cx, cy) = (self.corner(x, g)?, self.corner(y, g)?);
         if let Some(near) = edge_side_points(&cx, &cy, d, None, None) {
@@ -366,11 +350,8 @@ impl<'a> EndCapCorners<'a> {
         self.build(gv);
         // Every corner of `g` has data (as `gregory_patch_from` requires): for a quad the
         // corners after `x` and before `y` are its other two, for a triangle its third.
-        let (after, before) = (gv[(k2 + 2) % m], gv[(k2 + m - 1) % m]);
-        self.fill(after, g);
-        self.fill(before, g);
-        let next = self.corner(after, g)?;
-        let prev = self.corner(before, g)?;
+        let next = self.corner(gv[(k2 + 2) % m], g)?;
+        let prev = self.corner(gv[(k2 + m - 1) % m], g)?;
         let (cx, cy) = (self.corner(x, g)?, self.corner(y, g)?);
         edge_side_points(&cx, &cy, d, Some(&next), Some(&prev))
     }
@@ -415,9 +396,6 @@ pub(super) fn sparse_face_rows_direct_with(
         .iter()
         .map(|&f| {
             corners.build(topo.face_vertices(f));
-            for &v in topo.face_vertices(f) {
-                corners.fill(v, f);
-            }
             let own = gregory_patch_from(topo, f, Coverage::EndCap, |v| corners.vertex(v))?;
             let rows = 9 * topo.face_size(f);
             let mut out = FaceRows {
