@@ -186,23 +186,35 @@ fn assemble<P: GregoryPoint, const N: usize>(
 
 /// The points of a patch beside its edge from corner `y` to the next corner `x`, as `assemble`
 /// makes them: `[e_plus at x, e_minus at y, f_minus at x, f_plus at y]` (what a neighbour
-/// across that edge reads, `stencil_table`), from the two corners alone; `None` where the
-/// one-sided rule makes one of these face points the corner's other one, which reads the
-/// patch's other corners.
+/// across that edge reads, `stencil_table`), from the two corners and, where the one-sided rule
+/// makes one of these face points the corner's other one, from the patch's corner after `x`
+/// (`x_next`) or before `y` (`y_prev`): the same calls as `assemble`, so the same bits. `None`
+/// where such a corner is needed and not given.
 pub(super) fn edge_side_points<P: GregoryPoint>(
     x: &CornerRef<'_, P>,
     y: &CornerRef<'_, P>,
     d: f64,
+    x_next: Option<&CornerRef<'_, P>>,
+    y_prev: Option<&CornerRef<'_, P>>,
 ) -> Option<[P; 4]> {
-    if x.sides() == 2 || y.sides() == 1 {
-        return None;
-    }
-    Some([
-        x.e_plus().clone(),
-        y.e_minus().clone(),
-        x.f_minus(y, d),
-        y.f_plus(x, d),
-    ])
+    // `assemble`'s swap: beside one sharp edge the face point is the corner's other one.
+    let x_next = match x.sides() {
+        2 => Some(x_next?),
+        _ => None,
+    };
+    let y_prev = match y.sides() {
+        1 => Some(y_prev?),
+        _ => None,
+    };
+    let f_minus_x = match x_next {
+        Some(next) => x.f_plus(next, d),
+        None => x.f_minus(y, d),
+    };
+    let f_plus_y = match y_prev {
+        Some(prev) => y.f_minus(prev, d),
+        None => y.f_plus(x, d),
+    };
+    Some([x.e_plus().clone(), y.e_minus().clone(), f_minus_x, f_plus_y])
 }
 
 /// `(a * x + b * y) / (a + b)`, or the mean at the singular corner `a + b == 0` (§4.4).

@@ -31,6 +31,7 @@ pub mod closest;
 mod corner_types;
 pub mod edge_flags;
 mod eval;
+mod face_rows;
 mod point;
 pub mod shared_rows;
 pub mod stencil;

@@ -24,6 +24,7 @@ use super::build::{
     check_face_for, has_vertex_data, vertex_covered, vertex_ring_with, Coverage, NoPoint,
     NotGregory,
 };
+pub use super::face_rows::FaceRows;
 use super::point::Weights;
 use super::stencil::ring_walk;
 #[cfg(doc)]
@@ -71,71 +72,6 @@ struct LocalRows {
     starts: Vec<u32>,
     /// Slot `s`'s terms `(row, weight)`, rows ascending: `columns[starts[s]..starts[s + 1]]`.
     columns: Vec<(u32, f64)>,
-}
-
-/// One face's rows in two allocations rather than one per row: row `r` is
-/// `terms[offsets[r]..offsets[r + 1]]`, `(id, weight)` ids ascending, as a [`Weights`] holds
-/// them (vertices, then vertex points: [`super::stencil_table::vertex_point_id`]).
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct FaceRows {
-    /// `rows + 1` term offsets.
-    pub offsets: Vec<u32>,
-    /// The terms of every row.
-    pub terms: Vec<(u32, f64)>,
-}
-
-impl FaceRows {
-    /// The same rows as `rows`.
-    pub fn from_weights(rows: &[Weights]) -> FaceRows {
-        let mut out = FaceRows {
-            offsets: Vec::with_capacity(rows.len() + 1),
-            terms: Vec::with_capacity(rows.iter().map(|w| w.0.len()).sum()),
-        };
-        out.offsets.push(0);
-        for w in rows {
-            out.terms.extend_from_slice(&w.0);
-            out.offsets.push(out.terms.len() as u32);
-        }
-        out
-    }
-
-    /// Number of rows.
-    pub fn len(&self) -> usize {
-        self.offsets.len().saturating_sub(1)
-    }
-
-    /// Whether there is no row.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// Row `r`.
-    pub fn row(&self, r: usize) -> &[(u32, f64)] {
-        &self.terms[self.offsets[r] as usize..self.offsets[r + 1] as usize]
-    }
-
-    /// Appends every row of `other`.
-    pub fn append(&mut self, other: &FaceRows) {
-        let base = self.terms.len() as u32;
-        self.offsets
-            .extend(other.offsets.iter().skip(1).map(|&o| base + o));
-        self.terms.extend_from_slice(&other.terms);
-    }
-
-    /// Every row in order.
-    pub fn rows(&self) -> impl Iterator<Item = &[(u32, f64)]> {
-        (0..self.len()).map(|r| self.row(r))
-    }
-
-    /// Row `r` as a [`Weights`].
-    pub fn weights(&self, r: usize) -> Weights {
-        Weights(self.row(r).to_vec())
-    }
-
-    /// Every row as a [`Weights`].
-    pub fn to_weights(&self) -> Vec<Weights> {
-        (0..self.len()).map(|r| self.weights(r)).collect()
-    }
 }
 
 /// Per-call state: the slot of each vertex of the face being keyed, and which vertices get
@@ -314,7 +250,7 @@ fn ring_slots(topo: &Topology, f: u32, slot: &mut [u32]) -> Vec<u32> {
 
 /// `rows` over slots, or `None` when a weight lies outside the ring: vertex `v` at its slot,
 /// derived point `b` of `v` ([`vertex_point_id`]) at `ring_len + 3 slot(v) + b`.
-fn to_slots(topo: &Topology, rows: &[Weights], slot: &[u32], ring_len: usize) -> Option<LocalRows> {
+fn to_slots(topo: &Topology, rows: &FaceRows, slot: &[u32], ring_len: usize) -> Option<LocalRows> {
     let slot_of = |id: u32| match vertex_point_of(topo, id) {
         None => Some(slot[id as usize]).filter(|&s| s != NONE),
         Some((v, b)) => match slot[v as usize] {
@@ -323,18 +259,14 @@ fn to_slots(topo: &Topology, rows: &[Weights], slot: &[u32], ring_len: usize) ->
         },
     };
     let slots = (1 + VERTEX_POINTS as usize) * ring_len;
-    let mut offsets = Vec::with_capacity(rows.len() + 1);
-    offsets.push(0);
+    let offsets = rows.offsets.clone();
     // Each term's slot, then a counting sort of the terms by slot (rows stay ascending).
-    let mut at: Vec<u32> = Vec::with_capacity(rows.iter().map(|w| w.0.len()).sum());
+    let mut at: Vec<u32> = Vec::with_capacity(rows.terms.len());
     let mut starts = vec![0u32; slots + 1];
-    for w in rows {
-        for &(v, _) in &w.0 {
-            let s = slot_of(v)?;
-            at.push(s);
-            starts[s as usize + 1] += 1;
-        }
-        offsets.push(at.len() as u32);
+    for &(v, _) in &rows.terms {
+        let s = slot_of(v)?;
+        at.push(s);
+        starts[s as usize + 1] += 1;
     }
     for s in 0..slots {
         starts[s + 1] += starts[s];
@@ -342,9 +274,9 @@ fn to_slots(topo: &Topology, rows: &[Weights], slot: &[u32], ring_len: usize) ->
     let mut next = starts.clone();
     let mut columns = vec![(0, 0.0); at.len()];
     let terms = rows
-        .iter()
+        .rows()
         .enumerate()
-        .flat_map(|(r, w)| w.0.iter().map(move |t| (r, t.1)));
+        .flat_map(|(r, w)| w.iter().map(move |t| (r, t.1)));
     for (&s, (r, x)) in at.iter().zip(terms) {
         columns[next[s as usize] as usize] = (r as u32, x);
         next[s as usize] += 1;
@@ -398,7 +330,7 @@ fn direct_batches(
     tangents: GregoryTangents,
     darts: &DartLimits,
     has_data: &[u8],
-) -> Vec<Result<Vec<Weights>, NotGregory>> {
+) -> Vec<Result<FaceRows, NotGregory>> {
     let direct = |batch| sparse_face_rows_direct_with(topo, batch, tangents, darts, Some(has_data));
     let per = faces.len().div_ceil(rayon::current_num_threads()).max(64);
     if faces.len() <= per {
@@ -471,10 +403,8 @@ pub fn sparse_face_rows_flat(
         (0..faces.len()).filter(|&i| pick(i)).collect()
     };
     let first = batch(&|i| is_rep(i, type_of[i]));
-    let mut rows: Vec<Option<Result<Vec<Weights>, NotGregory>>> =
+    let mut rows: Vec<Option<Result<FaceRows, NotGregory>>> =
         (0..faces.len()).map(|_| None).collect();
-    // Rows built directly, in their final form.
-    let flat = |r: Result<Vec<Weights>, NotGregory>| r.map(|r| FaceRows::from_weights(&r));
     let first_faces: Vec<u32> = first.iter().map(|&i| faces[i]).collect();
     for (&i, r) in first.iter().zip(direct_batches(
         topo,
@@ -530,7 +460,7 @@ pub fn sparse_face_rows_flat(
         .enumerate()
         .with_min_len(256)
         .map(|(i, (r, ring))| {
-            r.map(flat).unwrap_or_else(|| {
+            r.unwrap_or_else(|| {
                 let t = type_of[i].expect("faces without type are built in the first batch");
                 let local = local[t as usize].as_ref();
                 Ok(from_slots(

@@ -18,6 +18,7 @@ use super::build::{
 };
 use super::corner_types::CornerTypes;
 use super::eval::{edge_side_points, CornerRef};
+use super::face_rows::FaceRows;
 use super::point::{GregoryPoint, Weights};
 use super::stencil::{dense_rows, stencil_ring, NoStencil, MAX_RING, ROWS_PER_CORNER};
 use super::tangents::GregoryTangents;
@@ -143,39 +144,59 @@ fn table_rows_with<P: GregoryPoint>(
     topo: &Topology,
     f: u32,
     own: &GregoryPatch<P>,
-    mut neighbour: impl FnMut(u32, usize) -> Option<[P; 4]>,
+    neighbour: impl FnMut(u32, usize) -> Option<[P; 4]>,
 ) -> Vec<P> {
-    let [_, e_plus, e_minus, f_plus, f_minus] = own.points();
+    let mut rows: Vec<P> = Vec::with_capacity(9 * topo.face_size(f));
+    table_rows_into(topo, f, own, neighbour, |p| rows.push(p.clone()));
+    rows
+}
+
+/// [`table_rows_with`], each row handed to `push` in order, by reference (no row cloned).
+fn table_rows_into<P: GregoryPoint>(
+    topo: &Topology,
+    f: u32,
+    own: &GregoryPatch<P>,
+    mut neighbour: impl FnMut(u32, usize) -> Option<[P; 4]>,
+    mut push: impl FnMut(&P),
+) {
+    let points = own.points();
+    let [_, e_plus, e_minus, f_plus, f_minus] = points;
     let fv = topo.face_vertices(f);
     let n = fv.len();
-    let mut rows: Vec<P> = Vec::with_capacity(9 * n);
-    rows.extend(own.points().into_iter().flatten().cloned());
-    let mut nbr = Vec::with_capacity(2 * n);
-    for k in 0..n {
-        let (x, y) = (fv[k], fv[(k + 1) % n]);
-        let across = topo
-            .find_edge(x, y)
-            .and_then(|e| topo.edge_faces(e).iter().copied().find(|&g| g != f));
-        let theirs = across.and_then(|g| {
+    points.into_iter().flatten().for_each(&mut push);
+    let theirs: Vec<Option<[P; 4]>> = (0..n)
+        .map(|k| {
+            let (x, y) = (fv[k], fv[(k + 1) % n]);
+            let g = topo
+                .find_edge(x, y)
+                .and_then(|e| topo.edge_faces(e).iter().copied().find(|&g| g != f))?;
             let d = topo.face_vertices(g);
             let m = d.len();
             // In g the edge runs y -> x: corner k2 = y, k2 + 1 = x.
             let k2 = (0..m).find(|&i| d[i] == y && d[(i + 1) % m] == x)?;
             neighbour(g, k2)
-        });
-        let [ex, ey, fx, fy] = theirs.unwrap_or_else(|| {
-            [
-                e_minus[k].clone(),
-                e_plus[(k + 1) % n].clone(),
-                f_plus[k].clone(),
-                f_minus[(k + 1) % n].clone(),
-            ]
-        });
-        rows.extend([ex, ey]);
-        nbr.extend([fx, fy]);
+        })
+        .collect();
+    // Edge k's `[ex, ey, fx, fy]`: the neighbour's, else the patch's own points there.
+    let side = |k: usize| match &theirs[k] {
+        Some([ex, ey, fx, fy]) => [ex, ey, fx, fy],
+        None => [
+            &e_minus[k],
+            &e_plus[(k + 1) % n],
+            &f_plus[k],
+            &f_minus[(k + 1) % n],
+        ],
+    };
+    for k in 0..n {
+        let [ex, ey, _, _] = side(k);
+        push(ex);
+        push(ey);
     }
-    rows.extend(nbr);
-    rows
+    for k in 0..n {
+        let [_, _, fx, fy] = side(k);
+        push(fx);
+        push(fy);
+    }
 }
 
 /// Per-vertex data in weight space of every corner of `faces` and of their edge neighbours
@@ -306,7 +327,8 @@ impl<'a> EndCapCorners<'a> {
 
     /// `side_points` of the end-cap patch of face `g` at its corner `k2` (`None` where `g`
     /// has no patch): from corners `k2` and `k2 + 1` alone (`edge_side_points`) unless the
-    /// face points there are one-sided, else from `g`'s whole patch; the same bits either way.
+    /// face points there are one-sided, else with `g`'s other corners too (built then); the
+    /// same bits as `g`'s whole patch either way, without assembling it.
     fn side_points(&mut self, g: u32, k2: usize) -> Option<[Weights; 4]> {
         let topo = self.topo;
         check_face_for(topo, g, Coverage::EndCap).ok()?;
@@ -321,12 +343,17 @@ impl<'a> EndCapCorners<'a> {
         }
         self.build(&[x, y]);
         let d = if m == 3 { 4.0 } else { 3.0 };
-        let near = edge_side_points(&self.corner(x, g)?, &self.corner(y, g)?, d);
-        near.or_else(|| {
-            self.build(gv);
-            let q = gregory_patch_from(topo, g, Coverage::EndCap, |v| self.vertex(v)).ok()?;
-            Some(side_points(&q, k2))
-        })
+        let (cx, cy) = (self.corner(x, g)?, self.corner(y, g)?);
+        if let Some(near) = edge_side_points(&cx, &cy, d, None, None) {
+            return Some(near);
+        }
+        self.build(gv);
+        // Every corner of `g` has data (as `gregory_patch_from` requires): for a quad the
+        // corners after `x` and before `y` are its other two, for a triangle its third.
+        let next = self.corner(gv[(k2 + 2) % m], g)?;
+        let prev = self.corner(gv[(k2 + m - 1) % m], g)?;
+        let (cx, cy) = (self.corner(x, g)?, self.corner(y, g)?);
+        edge_side_points(&cx, &cy, d, Some(&next), Some(&prev))
     }
 }
 
@@ -348,27 +375,40 @@ pub fn sparse_face_rows_direct(
     darts: &DartLimits,
 ) -> Vec<Result<Vec<Weights>, NotGregory>> {
     sparse_face_rows_direct_with(topo, faces, tangents, darts, None)
+        .into_iter()
+        .map(|r| r.map(|r| r.to_weights()))
+        .collect()
 }
 
-/// [`sparse_face_rows_direct`] with whether each vertex has data known where `known` says (per
-/// vertex 0 or 1, 2 for not known: the end-cap keys' answers of `has_vertex_data`, asked again
-/// here otherwise).
+/// [`sparse_face_rows_direct`], each face's rows in one [`FaceRows`] (written as they come,
+/// no row copied), with whether each vertex has data known where `known` says (per vertex 0
+/// or 1, 2 for not known: the end-cap keys' answers of `has_vertex_data`, asked again here
+/// otherwise).
 pub(super) fn sparse_face_rows_direct_with(
     topo: &Topology,
     faces: &[u32],
     tangents: GregoryTangents,
     darts: &DartLimits,
     known: Option<&[u8]>,
-) -> Vec<Result<Vec<Weights>, NotGregory>> {
+) -> Vec<Result<FaceRows, NotGregory>> {
     let mut corners = EndCapCorners::new(topo, tangents, darts, known);
     faces
         .iter()
         .map(|&f| {
             corners.build(topo.face_vertices(f));
             let own = gregory_patch_from(topo, f, Coverage::EndCap, |v| corners.vertex(v))?;
-            Ok(table_rows_with(topo, f, &own, |g, k2| {
-                corners.side_points(g, k2)
-            }))
+            let rows = 9 * topo.face_size(f);
+            let mut out = FaceRows {
+                offsets: Vec::with_capacity(rows + 1),
+                terms: Vec::new(),
+            };
+            out.offsets.push(0);
+            let neighbour = |g, k2| corners.side_points(g, k2);
+            table_rows_into(topo, f, &own, neighbour, |w: &Weights| {
+                out.terms.extend_from_slice(&w.0);
+                out.offsets.push(out.terms.len() as u32);
+            });
+            Ok(out)
         })
         .collect()
 }

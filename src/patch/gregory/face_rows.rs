@@ -1,0 +1,70 @@
+//! One face's sparse stencil rows in flat arrays ([`FaceRows`]): what the end caps' row
+//! construction ([`super::stencil_table`], [`super::shared_rows`]) hands on, without an
+//! allocation per row.
+
+use super::point::Weights;
+
+/// One face's rows in two allocations rather than one per row: row `r` is
+/// `terms[offsets[r]..offsets[r + 1]]`, `(id, weight)` ids ascending, as a [`Weights`] holds
+/// them (vertices, then vertex points: [`super::stencil_table::vertex_point_id`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FaceRows {
+    /// `rows + 1` term offsets.
+    pub offsets: Vec<u32>,
+    /// The terms of every row.
+    pub terms: Vec<(u32, f64)>,
+}
+
+impl FaceRows {
+    /// The same rows as `rows`.
+    pub fn from_weights(rows: &[Weights]) -> FaceRows {
+        let mut out = FaceRows {
+            offsets: Vec::with_capacity(rows.len() + 1),
+            terms: Vec::with_capacity(rows.iter().map(|w| w.0.len()).sum()),
+        };
+        out.offsets.push(0);
+        for w in rows {
+            out.terms.extend_from_slice(&w.0);
+            out.offsets.push(out.terms.len() as u32);
+        }
+        out
+    }
+
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        self.offsets.len().saturating_sub(1)
+    }
+
+    /// Whether there is no row.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Row `r`.
+    pub fn row(&self, r: usize) -> &[(u32, f64)] {
+        &self.terms[self.offsets[r] as usize..self.offsets[r + 1] as usize]
+    }
+
+    /// Appends every row of `other`.
+    pub fn append(&mut self, other: &FaceRows) {
+        let base = self.terms.len() as u32;
+        self.offsets
+            .extend(other.offsets.iter().skip(1).map(|&o| base + o));
+        self.terms.extend_from_slice(&other.terms);
+    }
+
+    /// Every row in order.
+    pub fn rows(&self) -> impl Iterator<Item = &[(u32, f64)]> {
+        (0..self.len()).map(|r| self.row(r))
+    }
+
+    /// Row `r` as a [`Weights`].
+    pub fn weights(&self, r: usize) -> Weights {
+        Weights(self.row(r).to_vec())
+    }
+
+    /// Every row as a [`Weights`].
+    pub fn to_weights(&self) -> Vec<Weights> {
+        (0..self.len()).map(|r| self.weights(r)).collect()
+    }
+}
