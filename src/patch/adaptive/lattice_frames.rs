@@ -213,8 +213,8 @@ impl EndCaps<'_> {
             let fe = t.face_edges(p.face);
             let mut corners = [0usize; 4];
             let mut count = 0;
-            for c in 0..4 {
-                if lattice_vertex(t, caps, fv[c], quad_cap) {
+            for (c, &v) in fv.iter().enumerate().take(4) {
+                if lattice_vertex(t, caps, v, quad_cap) {
                     corners[count] = c;
                     count += 1;
                 }
