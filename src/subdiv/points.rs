@@ -26,16 +26,6 @@ impl Level {
         merge_row(buf);
     }
 
-    /// The rows `rows` (child vertices in [`Self::refine_matrix`]'s numbering) of the
-    /// refinement matrix, in that order: the same `(column, weight)` pairs as there, without
-    /// the other rows (the points of a `Level::refine_kept` level from `rows`, its map).
-    pub(crate) fn refine_matrix_rows(&self, rows: &[u32]) -> SparseMatrix {
-        let t = &self.topo;
-        SparseMatrix::from_rows(rows.len(), t.vertex_count(), |r, buf| {
-            child_row(t, rows[r] as usize, buf)
-        })
-    }
-
     /// The refinement matrix composed with `rhs` (whose rows are this level's vertices):
     /// the child vertices in terms of `rhs`'s columns, without storing the matrix.
     pub fn compose_refinement(&self, rhs: &SparseMatrix) -> SparseMatrix {

@@ -19,8 +19,6 @@
 
 mod neighbourhood;
 
-use std::collections::HashMap;
-
 use glam::DVec3;
 
 use super::census_index::{is_quad_end_cap, EndCapTopologies};
@@ -28,6 +26,7 @@ use super::promoted::{
     corner_offset_code, fillet_sharpness, mask_row, promoted_vertex, vertex_fillet_sharpness,
 };
 use super::slots::NONE;
+use crate::patch::gregory::word_hash::WordHashMap;
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptiveLevel, AdaptiveRefinement, PatchCensus, PatchType};
 use crate::subdiv::limit::SharedVertexMasks;
@@ -61,13 +60,12 @@ pub struct LatticeFrames {
     pub regions: Vec<Vec<LatticeRegion>>,
 }
 
-/// Which lattice point a frame is: the region's vertex, a point on an edge from it (the edge,
-/// cells from the vertex), or one inside a face (face, corner, `a`, `b`).
+/// Which lattice point on a region's edges a frame is: the region's vertex or a point on an
+/// edge from it (the edge, cells from the vertex).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 enum Node {
     Vertex(u32),
     Edge(u32, u32, u32),
-    Face(u32, u32, u32, u32),
 }
 
 /// Whether the end caps at vertex `v` of `lev` interpolate lattice frames: a promoted vertex
@@ -119,6 +117,19 @@ pub fn lattice_size(
     (steps, (within + LATTICE_MARGIN).min(1 << steps))
 }
 
+/// The end caps [`LatticeFrames::new`] reads.
+#[derive(Clone, Copy)]
+struct EndCaps<'a> {
+    /// The adaptive refinement whose end caps hold the regions.
+    refinement: &'a AdaptiveRefinement,
+    /// Its patches.
+    census: &'a PatchCensus,
+    /// Per level, its topology as its end caps see it.
+    topologies: &'a EndCapTopologies<'a>,
+    /// Per level, per face: its census patch (`super::census_index::patch_index`).
+    at: &'a [Vec<u32>],
+}
+
 impl LatticeFrames {
     /// The lattice frames of the quad end caps' corners at [`lattice_vertex`]es, numbered from
     /// `first` in census order; `at` as `super::census_index::patch_index`; `masks` the build's exact
@@ -131,106 +142,13 @@ impl LatticeFrames {
         first: u32,
         masks: &SharedVertexMasks,
     ) -> LatticeFrames {
-        Self::with_neighbourhoods(
+        let caps = EndCaps {
             refinement,
             census,
             topologies,
             at,
-            first,
-            masks,
-            Neighbourhood::new,
-        )
-    }
-
-    /// [`Self::new`] with each region vertex's neighbourhood made by `make(lev, v, steps,
-    /// cells)`.
-    fn with_neighbourhoods(
-        refinement: &AdaptiveRefinement,
-        census: &PatchCensus,
-        topologies: &EndCapTopologies,
-        at: &[Vec<u32>],
-        first: u32,
-        masks: &SharedVertexMasks,
-        make: fn(&AdaptiveLevel, u32, u32, u32) -> Option<Neighbourhood>,
-    ) -> LatticeFrames {
-        let mut out = LatticeFrames {
-            rows: Vec::new(),
-            regions: vec![Vec::new(); census.patches.len()],
         };
-        if !refinement.lattice_normals {
-            return out;
-        }
-        let mut ids: HashMap<(u32, Node), u32> = HashMap::new();
-        // Per (level, vertex): its refined neighbourhood, built once.
-        let mut local: HashMap<(u32, u32), Option<Neighbourhood>> = HashMap::new();
-        let mut sums = PullBack::default();
-        for (i, p) in census.patches.iter().enumerate() {
-            let lev = &refinement.levels[p.level as usize];
-            let t = lev.topology();
-            if p.kind != PatchType::EndCap || t.face_size(p.face) != 4 {
-                continue;
-            }
-            let caps = topologies.get(p.level);
-            let quad_cap = |g: u32| is_quad_end_cap(lev, census, &at[p.level as usize], g);
-            let fv = t.face_vertices(p.face);
-            let fe = t.face_edges(p.face);
-            let corners: Vec<usize> = (0..4)
-                .filter(|&c| lattice_vertex(t, caps, fv[c], quad_cap))
-                .collect();
-            for &c in &corners {
-                let v = fv[c];
-                // The vertex's neighbourhood serves its widest region.
-                let (steps, widest) = lattice_size(t, caps, v);
-                let mut cells = widest;
-                if corners.len() > 1 {
-                    // Two regions in one end cap (isolation 0 only: at a finer level only the
-                    // vertex point corner of a quad can be such a vertex) stay apart.
-                    cells = cells.min(1 << (steps - 1));
-                }
-                let mut frames = Vec::with_capacity((cells * cells) as usize);
-                for b in 0..cells {
-                    for a in 0..cells {
-                        let node = match (a, b) {
-                            (0, 0) => Node::Vertex(v),
-                            (a, 0) => Node::Edge(v, fe[c], a),
-                            (0, b) => Node::Edge(v, fe[(c + 3) % 4], b),
-                            (a, b) => Node::Face(p.face, c as u32, a, b),
-                        };
-                        let key = (p.level, node);
-                        if let Some(&f) = ids.get(&key) {
-                            frames.push(f);
-                            continue;
-                        }
-                        let rows = if (a, b) == (0, 0) {
-                            corner_rows(lev, v, p.face, masks)
-                        } else {
-                            let hood = local
-                                .entry((p.level, v))
-                                .or_insert_with(|| make(lev, v, steps, widest));
-                            hood.as_ref()
-                                .and_then(|h| h.node_rows(lev, p.face, c, (a, b), masks, &mut sums))
-                        };
-                        let f = match rows {
-                            Some(r) => {
-                                let f = first + out.rows.len() as u32;
-                                out.rows.push(r);
-                                f
-                            }
-                            None => NONE,
-                        };
-                        ids.insert(key, f);
-                        frames.push(f);
-                    }
-                }
-                out.regions[i].push(LatticeRegion {
-                    corner: c as u32,
-                    steps,
-                    cells,
-                    frames,
-                });
-            }
-        }
-        out
+        caps.frames(first, masks, Neighbourhood::new)
     }
 
     /// The regions' side table of the end caps (`glsl/adaptive/endcap.glsl`'s `lattice`): word
@@ -257,6 +175,106 @@ impl LatticeFrames {
             }
         }
         words
+    }
+}
+
+impl EndCaps<'_> {
+    /// [`LatticeFrames::new`] with each region vertex's neighbourhood made by `make(lev, v,
+    /// steps, cells)`.
+    fn frames(
+        self,
+        first: u32,
+        masks: &SharedVertexMasks,
+        make: fn(&AdaptiveLevel, u32, u32, u32) -> Option<Neighbourhood>,
+    ) -> LatticeFrames {
+        let (refinement, census) = (self.refinement, self.census);
+        let mut out = LatticeFrames {
+            rows: Vec::new(),
+            regions: vec![Vec::new(); census.patches.len()],
+        };
+        if !refinement.lattice_normals {
+            return out;
+        }
+        // The frames of the nodes on a region's edges, which the end caps there share (a node
+        // inside a face is in one region only).
+        let mut ids: WordHashMap<(u32, Node), u32> = WordHashMap::default();
+        // Per (level, vertex): its refined neighbourhood, built once.
+        let mut local: WordHashMap<(u32, u32), Option<Neighbourhood>> = WordHashMap::default();
+        let mut sums = PullBack::default();
+        for (i, p) in census.patches.iter().enumerate() {
+            let lev = &refinement.levels[p.level as usize];
+            let t = lev.topology();
+            if p.kind != PatchType::EndCap || t.face_size(p.face) != 4 {
+                continue;
+            }
+            let caps = self.topologies.get(p.level);
+            let quad_cap = |g: u32| is_quad_end_cap(lev, census, &self.at[p.level as usize], g);
+            let fv = t.face_vertices(p.face);
+            let fe = t.face_edges(p.face);
+            let mut corners = [0usize; 4];
+            let mut count = 0;
+            for (c, &v) in fv.iter().enumerate().take(4) {
+                if lattice_vertex(t, caps, v, quad_cap) {
+                    corners[count] = c;
+                    count += 1;
+                }
+            }
+            for &c in &corners[..count] {
+                let v = fv[c];
+                // The vertex's neighbourhood serves its widest region.
+                let (steps, widest) = lattice_size(t, caps, v);
+                let mut cells = widest;
+                if count > 1 {
+                    // Two regions in one end cap (isolation 0 only: at a finer level only the
+                    // vertex point corner of a quad can be such a vertex) stay apart.
+                    cells = cells.min(1 << (steps - 1));
+                }
+                let mut frames = Vec::with_capacity((cells * cells) as usize);
+                for b in 0..cells {
+                    for a in 0..cells {
+                        let node = match (a, b) {
+                            (0, 0) => Some(Node::Vertex(v)),
+                            (a, 0) => Some(Node::Edge(v, fe[c], a)),
+                            (0, b) => Some(Node::Edge(v, fe[(c + 3) % 4], b)),
+                            _ => None,
+                        };
+                        let key = node.map(|n| (p.level, n));
+                        if let Some(&f) = key.and_then(|k| ids.get(&k)) {
+                            frames.push(f);
+                            continue;
+                        }
+                        let rows = if (a, b) == (0, 0) {
+                            corner_rows(lev, v, p.face, masks)
+                        } else {
+                            let hood = local
+                                .entry((p.level, v))
+                                .or_insert_with(|| make(lev, v, steps, widest));
+                            hood.as_mut()
+                                .and_then(|h| h.node_rows(lev, p.face, c, (a, b), masks, &mut sums))
+                        };
+                        let f = match rows {
+                            Some(r) => {
+                                let f = first + out.rows.len() as u32;
+                                out.rows.push(r);
+                                f
+                            }
+                            None => NONE,
+                        };
+                        if let Some(k) = key {
+                            ids.insert(k, f);
+                        }
+                        frames.push(f);
+                    }
+                }
+                out.regions[i].push(LatticeRegion {
+                    corner: c as u32,
+                    steps,
+                    cells,
+                    frames,
+                });
+            }
+        }
+        out
     }
 }
 
@@ -377,17 +395,13 @@ mod tests {
             let topologies = EndCapTopologies::new(&refinement, &census);
             let at = patch_index(&refinement, &census);
             let masks = SharedVertexMasks::default();
-            let build = |hood| {
-                LatticeFrames::with_neighbourhoods(
-                    &refinement,
-                    &census,
-                    &topologies,
-                    &at,
-                    0,
-                    &masks,
-                    hood,
-                )
+            let caps = EndCaps {
+                refinement: &refinement,
+                census: &census,
+                topologies: &topologies,
+                at: &at,
             };
+            let build = |hood| caps.frames(0, &masks, hood);
             let (kept, whole) = (build(Neighbourhood::new), build(Neighbourhood::whole));
             assert_eq!(kept.regions, whole.regions, "{name}");
             assert_eq!(kept.rows.len(), whole.rows.len(), "{name}");

@@ -5,7 +5,6 @@ use super::NONE;
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::AdaptiveLevel;
 use crate::subdiv::limit::SharedVertexMasks;
-use crate::subdiv::sparse::SparseMatrix;
 use crate::subdiv::Level;
 use crate::topology::Topology;
 
@@ -37,17 +36,19 @@ pub(super) struct Neighbourhood {
     /// Per step `l`: per corner of `levels[l]`, its child face in `levels[l + 1]` ([`NONE`]
     /// where not kept).
     children: Vec<Vec<u32>>,
-    /// Refinement rows: `matrices[l]` gives `levels[l + 1]`'s points from `levels[l]`'s.
-    matrices: Vec<SparseMatrix>,
+    /// Refinement rows: `steps[l]` gives `levels[l + 1]`'s points from `levels[l]`'s.
+    steps: Vec<StepRows>,
     /// Per level: its vertices' ids in the whole refinement of the extraction.
     whole: Vec<Vec<u32>>,
+    /// Per level: its vertices in increasing whole id.
+    order: Vec<Vec<u32>>,
 }
 
 impl Neighbourhood {
     /// The neighbourhood of vertex `v` of `lev` for regions of at most `cells` cells of
     /// `2^-steps`.
     pub(super) fn new(lev: &AdaptiveLevel, v: u32, steps: u32, cells: u32) -> Option<Self> {
-        let (mut out, centre) = Self::extraction(lev, v)?;
+        let (mut out, centre) = Self::extraction(lev, v, steps)?;
         let mut labels = vec![2u32; out.map.len()];
         let t = out.levels[0].topology();
         for &f in t.vertex_faces(centre) {
@@ -71,23 +72,25 @@ impl Neighbourhood {
                 .ok()?;
             labels = child_labels(pt, &labels, &rows);
             whole = whole.child(pt, &keep, &rows, child.topology())?;
-            out.matrices.push(parent.refine_matrix_rows(&rows));
+            out.steps.push(StepRows::new(rows));
             out.children.push(children);
+            out.order.push(increasing(&whole.vertices));
             out.whole.push(whole.vertices.clone());
             out.levels.push(child);
         }
         Some(out)
     }
 
-    /// The faces touching the faces at `v` extracted, no step yet; `v`'s id there.
-    fn extraction(lev: &AdaptiveLevel, v: u32) -> Option<(Self, u32)> {
+    /// The faces touching the faces at `v` extracted, no step yet (room for `steps`); `v`'s id
+    /// there.
+    fn extraction(lev: &AdaptiveLevel, v: u32, steps: u32) -> Option<(Self, u32)> {
         let t = lev.topology();
-        let mut faces: Vec<u32> = t
-            .vertex_faces(v)
-            .iter()
-            .flat_map(|&f| t.face_vertices(f).iter())
-            .flat_map(|&u| t.vertex_faces(u).iter().copied())
-            .collect();
+        let mut faces = Vec::with_capacity(64);
+        for &f in t.vertex_faces(v) {
+            for &u in t.face_vertices(f) {
+                faces.extend_from_slice(t.vertex_faces(u));
+            }
+        }
         faces.sort_unstable();
         faces.dedup();
         let (sub, map) = lev
@@ -96,14 +99,21 @@ impl Neighbourhood {
             .map_err(|e| log::debug!("lattice vertex {v}: no extraction ({e})"))
             .ok()?;
         let centre = map.binary_search(&v).ok()? as u32;
-        let whole = vec![(0..map.len() as u32).collect()];
+        let n = steps as usize;
+        let mut whole = Vec::with_capacity(n + 1);
+        whole.push((0..map.len() as u32).collect());
+        let mut order = Vec::with_capacity(n + 1);
+        order.push((0..map.len() as u32).collect());
+        let mut levels = Vec::with_capacity(n + 1);
+        levels.push(sub);
         let out = Neighbourhood {
             faces,
             map,
-            levels: vec![sub],
-            children: Vec::new(),
-            matrices: Vec::new(),
+            levels,
+            children: Vec::with_capacity(n),
+            steps: Vec::with_capacity(n),
             whole,
+            order,
         };
         Some((out, centre))
     }
@@ -112,14 +122,16 @@ impl Neighbourhood {
     /// path, the test oracle of the kept refinements.
     #[cfg(test)]
     pub(super) fn whole(lev: &AdaptiveLevel, v: u32, steps: u32, _cells: u32) -> Option<Self> {
-        let (mut out, _) = Self::extraction(lev, v)?;
+        let (mut out, _) = Self::extraction(lev, v, steps)?;
         for _ in 0..steps {
             let parent = out.levels.last()?;
-            let (child, r) = parent.refine();
+            let child = parent.refine_topology();
             out.children
                 .push((0..parent.topology().corner_count() as u32).collect());
-            out.matrices.push(r);
+            out.steps
+                .push(StepRows::new((0..child.vertex_count() as u32).collect()));
             out.whole.push((0..child.vertex_count() as u32).collect());
+            out.order.push((0..child.vertex_count() as u32).collect());
             out.levels.push(child);
         }
         Some(out)
@@ -128,7 +140,7 @@ impl Neighbourhood {
     /// The exact limit tangent rows (global ids of `lev`) at node `(a, b)` of the region at
     /// corner `c` of `face`.
     pub(super) fn node_rows(
-        &self,
+        &mut self,
         lev: &AdaptiveLevel,
         face: u32,
         c: usize,
@@ -136,7 +148,7 @@ impl Neighbourhood {
         masks: &SharedVertexMasks,
         sums: &mut PullBack,
     ) -> Option<[Weights; 2]> {
-        let steps = self.matrices.len();
+        let steps = self.steps.len();
         let n = 1u32 << steps;
         // The region's (x, w) = (a, b) as the face's own (s, t), in 2^-steps.
         let (mut s, mut t) = match c {
@@ -182,24 +194,36 @@ impl Neighbourhood {
         // Pulled back level by level: weights over each level's points (whole refinement's id,
         // own id, weights), in increasing whole id, the order the sums take.
         let ids = &self.whole[steps];
-        let mut terms: Vec<(u32, u32, [f64; 2])> = m
-            .indices
-            .iter()
-            .enumerate()
-            .map(|(j, &i)| (ids[i as usize], i, [m.tangent_u[j], m.tangent_v[j]]))
-            .collect();
+        let mut terms = std::mem::take(&mut sums.terms);
+        terms.clear();
+        terms.extend(
+            m.indices
+                .iter()
+                .enumerate()
+                .map(|(j, &i)| (ids[i as usize], i, [m.tangent_u[j], m.tangent_v[j]])),
+        );
         terms.sort_unstable_by_key(|x| x.0);
-        for (r, ids) in self.matrices.iter().zip(&self.whole).rev() {
-            sums.pull_back(&mut terms, r, ids);
+        for l in (0..steps).rev() {
+            let rows = &mut self.steps[l];
+            let (ids, order) = (&self.whole[l], &self.order[l]);
+            sums.pull_back(&mut terms, &self.levels[l], rows, ids, order);
         }
+        // The extraction's whole ids are its own, which increase with the level's ids: the
+        // terms are in increasing global id, one per id, what `Weights::from_terms` makes of
+        // them.
         let row = |d: usize| {
-            Weights::from_terms(
+            let mut w = Vec::with_capacity(terms.len());
+            w.extend(
                 terms
                     .iter()
+                    .filter(|t| t.2[d] != 0.0)
                     .map(|&(_, i, w)| (lev.global(self.map[i as usize]), w[d])),
-            )
+            );
+            Weights(w)
         };
-        Some([row(0), row(1)])
+        let out = [row(0), row(1)];
+        sums.terms = terms;
+        Some(out)
     }
 }
 
@@ -210,37 +234,87 @@ pub(super) struct PullBack {
     sums: Vec<[f64; 2]>,
     /// Per point: whether it has a sum.
     seen: Vec<bool>,
-    /// The points with a sum, in the order first reached.
-    touched: Vec<u32>,
+    /// A node's terms (whole id, own id, weights) as they are pulled back.
+    terms: Vec<(u32, u32, [f64; 2])>,
 }
 
 impl PullBack {
     /// `terms` (whole id, own id, weights; increasing whole id) of a finer level as terms of
-    /// the coarser one through its refinement rows `r` (`ids` the coarser points' whole ids):
-    /// each sum adds its products term by term, in the order of `terms`.
-    fn pull_back(&mut self, terms: &mut Vec<(u32, u32, [f64; 2])>, r: &SparseMatrix, ids: &[u32]) {
-        self.sums.resize(r.cols(), [0.0; 2]);
-        self.seen.resize(r.cols(), false);
+    /// the coarser level `parent` through its refinement rows `rows` (`ids` the coarser
+    /// points' whole ids, `order` its points in increasing whole id): each sum adds its
+    /// products term by term, in the order of `terms`.
+    fn pull_back(
+        &mut self,
+        terms: &mut Vec<(u32, u32, [f64; 2])>,
+        parent: &Level,
+        rows: &mut StepRows,
+        ids: &[u32],
+        order: &[u32],
+    ) {
+        self.sums.resize(parent.vertex_count(), [0.0; 2]);
+        self.seen.resize(parent.vertex_count(), false);
         for &(_, i, w) in terms.iter() {
-            let (cols, weights) = r.row(i as usize);
-            for (&col, &x) in cols.iter().zip(weights) {
+            for &(col, x) in rows.row(parent, i) {
                 let c = col as usize;
-                if !self.seen[c] {
-                    self.seen[c] = true;
-                    self.touched.push(col);
-                }
+                self.seen[c] = true;
                 self.sums[c][0] += w[0] * x;
                 self.sums[c][1] += w[1] * x;
             }
         }
         terms.clear();
-        for &col in &self.touched {
+        for &col in order {
             let c = col as usize;
-            self.seen[c] = false;
-            terms.push((ids[c], col, std::mem::take(&mut self.sums[c])));
+            if self.seen[c] {
+                self.seen[c] = false;
+                terms.push((ids[c], col, std::mem::take(&mut self.sums[c])));
+            }
         }
-        self.touched.clear();
-        terms.sort_unstable_by_key(|x| x.0);
+    }
+}
+
+/// The vertices `0..ids.len()` in increasing `ids`.
+fn increasing(ids: &[u32]) -> Vec<u32> {
+    let mut order: Vec<u32> = (0..ids.len() as u32).collect();
+    order.sort_unstable_by_key(|&i| ids[i as usize]);
+    order
+}
+
+/// The refinement rows of one kept step (`Level::refine_matrix_row`), each made when a node
+/// first reads it: the nodes read a part of the kept vertices' rows.
+struct StepRows {
+    /// Per vertex of the finer level: its id in the coarser level's child numbering.
+    ids: Vec<u32>,
+    /// Per vertex of the finer level: its row's range in `terms` ([`NONE`] before it is made).
+    spans: Vec<[u32; 2]>,
+    /// The rows made so far, `(column, weight)`.
+    terms: Vec<(u32, f64)>,
+    /// One row as it is made.
+    scratch: Vec<(u32, f64)>,
+}
+
+impl StepRows {
+    /// No row made yet of the vertices `ids` (child numbering).
+    fn new(ids: Vec<u32>) -> Self {
+        StepRows {
+            spans: vec![[NONE; 2]; ids.len()],
+            // Room for most rows (a quad mesh's rows hold 4, 6 or 9 terms).
+            terms: Vec::with_capacity(8 * ids.len()),
+            ids,
+            scratch: Vec::with_capacity(32),
+        }
+    }
+
+    /// Row `i` (a finer vertex) over the points of `parent`, the coarser level.
+    fn row(&mut self, parent: &Level, i: u32) -> &[(u32, f64)] {
+        let [mut a, mut b] = self.spans[i as usize];
+        if a == NONE {
+            parent.refine_matrix_row(self.ids[i as usize] as usize, &mut self.scratch);
+            a = self.terms.len() as u32;
+            self.terms.extend_from_slice(&self.scratch);
+            b = self.terms.len() as u32;
+            self.spans[i as usize] = [a, b];
+        }
+        &self.terms[a as usize..b as usize]
     }
 }
 
@@ -253,15 +327,17 @@ fn kept_children(t: &Topology, labels: &[u32], bound: u32) -> (Vec<u32>, Vec<u32
     for f in 0..t.face_count() as u32 {
         let fv = t.face_vertices(f);
         let n = fv.len();
-        let d = |k: usize| labels[fv[k % n] as usize];
-        let (lo, hi) = (0..n).fold((u32::MAX, 0), |(lo, hi), k| (lo.min(d(k)), hi.max(d(k))));
+        let d = |k: usize| labels[fv[k] as usize];
+        let (lo, hi) = fv.iter().fold((u32::MAX, 0), |(lo, hi), &u| {
+            let x = labels[u as usize];
+            (lo.min(x), hi.max(x))
+        });
         let off = t.face_offsets[f as usize];
         for k in 0..n {
             let du = d(k);
-            let least = (2 * du)
-                .min(du + d(k + 1))
-                .min(du + d(k + n - 1))
-                .min(lo + hi);
+            let next = d(if k + 1 == n { 0 } else { k + 1 });
+            let prev = d(if k == 0 { n - 1 } else { k - 1 });
+            let least = (2 * du).min(du + next).min(du + prev).min(lo + hi);
             if least < bound {
                 children[(off + k as u32) as usize] = keep.len() as u32;
                 keep.push(off + k as u32);
