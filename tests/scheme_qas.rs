@@ -168,7 +168,9 @@ fn accuracy_against_the_exact_limit() {
             ("embedded:mixed", 1.4e-3, 1.4e-2, 2.8e-2),
             ("catmark_nonquads", 1.1e-3, 6.1e-3, 2.1e-2),
             ("catmark_cube", 2.1e-3, 3.3e-3, 3.0e-2),
-            ("catmark_car", 1.6e-4, 1.6e-3, 1.5e-1),
+            // Normal RMS 1.51e-1 (1.42e-1 before session 19's closest-point fix, which finds
+            // closer exact points, some across an edge with another normal).
+            ("catmark_car", 1.6e-4, 1.6e-3, 1.6e-1),
             ("catmark_bishop", 6.5e-5, 9.0e-4, 1.5e-1),
         ],
     );

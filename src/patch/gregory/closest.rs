@@ -80,14 +80,14 @@ pub fn nearby_exact_samples(
 }
 
 /// How many (sub-)faces [`closest_exact`] projects from: the nearest seed of each of the
-/// nearest `SEED_FACES` (sub-)faces. [`project`] stays inside its seed's (sub-)face, so one
+/// nearest `SEED_FACES` (sub-)faces. The projection stays inside its seed's (sub-)face, so one
 /// seed in the wrong face (near an edge, or where the patch bulges towards a neighbour)
 /// cannot reach the closest point; three cover an edge and its two ends' next faces.
 pub const SEED_FACES: usize = 3;
 
 /// The exact point closest to `x`: the nearest seed of each of the [`SEED_FACES`] nearest
 /// (sub-)faces among `candidates` (from [`nearby_exact_samples`] of face `f`), each refined by
-/// `project` within its (sub-)face, and the closest of those.
+/// Gauss-Newton projection within its (sub-)face, and the closest of those.
 pub fn closest_exact(
     ev: &LimitEvaluator,
     x: DVec3,
