@@ -105,8 +105,7 @@ impl GregoryVertexTable {
                 };
                 let fitted = topo.crease_factors(v);
                 let factor = |k: usize, band: usize, index: usize| {
-                    let own = fitted.map(|f| f[index.min(1)]);
-                    (tangents.sector_scale(k, band, quads, own) as f32).to_bits()
+                    (tangents.sector_scale(k, band, quads, fitted, index) as f32).to_bits()
                 };
                 crease_words = vec![factor(0, 0, 0); nf];
                 for (index, s) in sectors(&sharp, nf).into_iter().enumerate() {

@@ -155,11 +155,20 @@ impl GregoryTangents {
         s as f32 as f64
     }
 
-    /// The factor on the cross-boundary tangent of a crease sector as [`Self::crease_scale`],
-    /// but under [`GregoryTangents::Fitted`] the sector's frozen factor `fitted` where it has
-    /// one (`Topology::crease_factors`, 0 for none; [`super::vertex_fit`]). Already an `f32`.
-    pub fn sector_scale(self, k: usize, band: usize, quads: bool, fitted: Option<f32>) -> f64 {
-        match fitted {
+    /// The factor on the cross-boundary tangent of crease sector number `sector` (in
+    /// `super::sectors` order) as [`Self::crease_scale`], but under [`GregoryTangents::Fitted`]
+    /// the sector's frozen factor where its vertex's pair `fitted` has one
+    /// (`Topology::crease_factors` at `crease_factor_slot`, 0 for none;
+    /// [`super::vertex_fit`]). Already an `f32`.
+    pub fn sector_scale(
+        self,
+        k: usize,
+        band: usize,
+        quads: bool,
+        fitted: Option<[f32; 2]>,
+        sector: usize,
+    ) -> f64 {
+        match fitted.map(|f| f[crease_factor_slot(sector)]) {
             Some(s) if self == GregoryTangents::Fitted && s > 0.0 => f64::from(s),
             _ => self.crease_scale(k, band, quads),
         }
@@ -179,6 +188,13 @@ pub fn sector_band(k: usize, far: impl IntoIterator<Item = usize>) -> usize {
         2 => far.next().filter(|&f| f >= 3).unwrap_or(0),
         _ => usize::from(far.all(|f| f >= 2)),
     }
+}
+
+/// The entry of a vertex's frozen crease-sector pair (`Topology::crease_factors`) that crease
+/// sector number `sector` (in `super::sectors` order) reads and [`super::vertex_fit`] writes: a
+/// crease vertex has two sectors.
+pub(super) fn crease_factor_slot(sector: usize) -> usize {
+    sector.min(1)
 }
 
 /// The words of vertex `v`'s frozen crease-sector factors ([`Topology::crease_factors`], read
@@ -225,11 +241,24 @@ mod tests {
         for (k, band, quads) in [(2, 0, true), (2, 3, true), (3, 0, true), (5, 1, false)] {
             let optimal = GregoryTangents::Optimal.crease_scale(k, band, quads);
             assert_eq!(fitted.crease_scale(k, band, quads), optimal);
-            assert_eq!(fitted.sector_scale(k, band, quads, None), optimal);
-            assert_eq!(fitted.sector_scale(k, band, quads, Some(0.0)), optimal);
-            assert_eq!(fitted.sector_scale(k, band, quads, Some(1.25)), 1.25);
+            assert_eq!(fitted.sector_scale(k, band, quads, None, 0), optimal);
+            assert_eq!(
+                fitted.sector_scale(k, band, quads, Some([0.0, 1.5]), 0),
+                optimal
+            );
+            assert_eq!(
+                fitted.sector_scale(k, band, quads, Some([1.25, 0.0]), 0),
+                1.25
+            );
+            assert_eq!(
+                fitted.sector_scale(k, band, quads, Some([0.0, 1.5]), 1),
+                1.5
+            );
             for t in [GregoryTangents::Optimal, GregoryTangents::EndCaps] {
-                assert_eq!(t.sector_scale(k, band, quads, Some(1.25)), optimal);
+                assert_eq!(
+                    t.sector_scale(k, band, quads, Some([1.25, 1.25]), 0),
+                    optimal
+                );
             }
         }
         assert_eq!(fitted.for_end_caps(), GregoryTangents::EndCaps);

@@ -761,8 +761,13 @@ fn crease_sector_tangent<P: GregoryPoint>(
     let (wv, wm, wc) = crease_tangent_weights(k);
     // `f * w` is `w` bit for bit at the paper's `f = 1`.
     let far = (1..k).map(|i| ring.far_sector.get((s + i) % ne).copied().unwrap_or(0));
-    let fitted = ring.crease_factors.map(|f| f[index.min(1)]);
-    let f = tangents.sector_scale(k, sector_band(k, far), ring.quads(), fitted);
+    let f = tangents.sector_scale(
+        k,
+        sector_band(k, far),
+        ring.quads(),
+        ring.crease_factors,
+        index,
+    );
     let mut tan = combine(&[(f * wv / 3.0, &ring.v)]);
     for (i, w) in wm.iter().enumerate() {
         tan.add_scaled(f * w / 3.0, &ring.m[(s + i) % ne]);

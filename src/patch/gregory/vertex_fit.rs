@@ -28,6 +28,7 @@ use rayon::prelude::*;
 
 use super::closest::{closest_exact, nearby_exact_samples, Located};
 use super::tangent_fit::solve_normal_equations;
+use super::tangents_boundary::crease_factor_slot;
 use super::tangents_tri_fit::face_samples;
 use super::{
     check_face_level0, gregory_faces, gregory_patch, gregory_vertices_with, sectors, vertex_ring,
@@ -344,7 +345,7 @@ pub fn fit_crease_factors(mesh: &ControlMesh, topo: &Topology) -> Result<Vec<[f3
     for (u, dx) in fit.factors.iter().zip(&x) {
         let Some(sector) = u.sector else { continue };
         let s = (u.start + dx) as f32;
-        out[u.vertex as usize][sector.min(1)] = if s.is_finite() && s > 0.0 {
+        out[u.vertex as usize][crease_factor_slot(sector)] = if s.is_finite() && s > 0.0 {
             s
         } else {
             log::warn!(
