@@ -260,7 +260,8 @@ fn end_cap_error_falls_with_isolation() {
 /// (`END_CAP_TRANSVERSAL_SHAPE`, `END_CAP_FACTORS`) the maxima over a 9x9 grid of every end
 /// cap's own (s, t), against `LimitEvaluator` at equal (u, v), are below OpenSubdiv's Gregory
 /// end caps' at the same points (`tools/osd_eval/endcaps.sh`: L1 3.471e-2, L2 1.003e-2 rad;
-/// tessera 3.42e-2, 9.94e-3; the rule before 3.75e-2, 1.14e-2).
+/// tessera 3.42e-2, 9.94e-3; the rule before 3.75e-2, 1.14e-2; with session 20's valence-3
+/// `ρ` 0.785, 3.40e-2, 9.88e-3).
 #[test]
 fn valence_three_end_caps_beat_opensubdiv_maxima() {
     for (iso, opensubdiv) in [(1, 3.471e-2), (2, 1.003e-2)] {
@@ -635,7 +636,8 @@ fn approximated_corners_converge() {
 /// 2.90e-3, 1.73e-2, 6.43e-4, `tools/osd_eval/endcaps.sh`); pole64 normal max 1.18e-2 → 1.14e-2
 /// (OpenSubdiv 1.00e-2). The normal bounds lie between the two; the distance bound is
 /// OpenSubdiv's. The pre-change code fails the normal bounds, the level-0 factors (the end caps
-/// built with `GregoryTangents::Optimal` instead of `EndCaps`) too.
+/// built with `GregoryTangents::Optimal` instead of `EndCaps`) too. With session 20's valence-3
+/// `ρ` 0.785: nonquads normal RMS 2.70e-3, max 1.56e-2, distance 5.92e-4; pole64 max 9.88e-3.
 #[test]
 fn end_cap_factors_turn_normals_towards_the_limit() {
     for (name, rms_bound, max_bound, dist_bound) in [

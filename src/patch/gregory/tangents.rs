@@ -97,13 +97,16 @@ pub enum GregoryTangents {
 /// and plane and tangent-plane continuity hold for any positive pair. Chosen by a sweep of the end-cap grid
 /// error against `LimitEvaluator` at L = 1..5 on nonquads, pole64 and the cube (README, "End-cap
 /// factors"): valence 5 and 6 want longer transversals, valence 3 shorter ones. The valence-3
-/// entry was re-chosen with [`END_CAP_TRANSVERSAL_SHAPE`] (README, "Valence-3 transversals").
+/// entry was re-chosen with [`END_CAP_TRANSVERSAL_SHAPE`] (README, "Valence-3 transversals"),
+/// its `ρ` (0.8 → 0.785) by a sweep of the four statistics (RMS and max distance and normal)
+/// against OpenSubdiv's end caps on cube, pole64, nonquads, car and bishop at L = 1..5 on the
+/// 9- and 8-point grids: every ratio ≤ 0.9971 (docs/measured.md, *Session 20: valence-3 ρ*).
 pub const END_CAP_FACTORS: [(usize, RingFactors); 3] = [
     (
         3,
         RingFactors {
             tangent: 0.955,
-            transversal: 0.8,
+            transversal: 0.785,
         },
     ),
     (
