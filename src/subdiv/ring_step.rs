@@ -222,7 +222,7 @@ mod tests {
     fn sorted_keys_equal_a_comparison_sort() {
         let vertex_count = 40u64;
         let keys: Vec<u64> = (0..300u64)
-            .map(|i| ((i * 17) % vertex_count) << 32 | (1000 - 3 * i) % 997)
+            .map(|i| (((i * 17) % vertex_count) << 32) | ((1000 - 3 * i) % 997))
             .filter(|key| (key >> 32) % 7 != 3)
             .collect();
         let mut expected = keys.clone();
