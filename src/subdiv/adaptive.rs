@@ -423,6 +423,12 @@ impl AdaptiveRefinement {
     /// smooth or on the line, so the children next to it of a refined neighbour are regular or
     /// single-crease again (tested on the corpus).
     pub fn with_options(base: &Level, options: AdaptiveOptions) -> Result<AdaptiveRefinement> {
+        Self::from_level(base.clone(), options)
+    }
+
+    /// [`Self::with_options`] of a base level the refinement takes as its level 0 (no copy
+    /// of its topology).
+    pub fn from_level(base: Level, options: AdaptiveOptions) -> Result<AdaptiveRefinement> {
         let AdaptiveOptions {
             isolation,
             single_crease,
@@ -445,7 +451,7 @@ impl AdaptiveRefinement {
             })
             .collect();
         let mut current = AdaptiveLevel {
-            level: base.clone(),
+            level: base,
             first_vertex: 0,
             own: vec![true; nf],
             refined: vec![false; nf],

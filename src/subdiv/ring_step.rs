@@ -20,9 +20,9 @@ pub(super) struct RingStep<'a> {
     level: &'a Level,
     /// Per vertex of the level: a corner of a face not in `ring` (incomplete in the sub-level).
     outside: Vec<bool>,
-    /// The kept children's edge points, each its edge as the sub-level has it, in the
-    /// sub-level's edge order.
-    edges: Vec<(u32, StepEdge)>,
+    /// The kept children's edge points, each its edge as the sub-level has it and whether it
+    /// is cut there ([`StepParent::is_cut_edge`]), in the sub-level's edge order.
+    edges: Vec<(u32, StepEdge, bool)>,
     /// Per edge of the level: its index in `edges`, or NONE.
     point: Vec<u32>,
 }
@@ -87,14 +87,16 @@ impl<'a> RingStep<'a> {
         // The sub-level numbers edges by smaller end, then by first corner: both increase with
         // the level's (`Level::extract_increasing`). Each key is its edge's alone, and names
         // it: the edge leaving its first corner.
-        keys.sort_unstable();
-        let edges: Vec<(u32, StepEdge)> = keys
+        let keys = sorted_keys(&keys, t.vertex_count());
+        let edges: Vec<(u32, StepEdge, bool)> = keys
             .iter()
             .enumerate()
             .map(|(i, &key)| {
                 let e = t.face_edges[key as u32 as usize];
                 let j = std::mem::replace(&mut point[e as usize], i as u32);
-                (e, found[j as usize])
+                let edge = found[j as usize];
+                let opened = edge.faces[1] == NONE && !t.is_boundary_edge(e);
+                (e, edge, opened || level.is_cut_edge(e))
             })
             .collect();
         Ok(RingStep {
@@ -104,6 +106,33 @@ impl<'a> RingStep<'a> {
             point,
         })
     }
+}
+
+/// `keys` (smaller end vertex `<< 32 |` first corner, distinct, ends below `vertex_count`)
+/// in increasing order: counted by end vertex, then each end's few keys (its edges to larger
+/// vertices) ordered by insertion.
+fn sorted_keys(keys: &[u64], vertex_count: usize) -> Vec<u64> {
+    let mut start = vec![0u32; vertex_count + 1];
+    for &key in keys {
+        start[(key >> 32) as usize + 1] += 1;
+    }
+    for v in 0..vertex_count {
+        start[v + 1] += start[v];
+    }
+    let mut sorted = vec![0u64; keys.len()];
+    for &key in keys {
+        let slot = &mut start[(key >> 32) as usize];
+        // Insertion among the end's keys placed so far (those from `slot`'s bucket start on
+        // lie before it in `sorted`, all with this end).
+        let mut i = *slot as usize;
+        *slot += 1;
+        while i > 0 && sorted[i - 1] > key && sorted[i - 1] >> 32 == key >> 32 {
+            sorted[i] = sorted[i - 1];
+            i -= 1;
+        }
+        sorted[i] = key;
+    }
+    sorted
 }
 
 /// Edge `e` of `level` as the sub-level of the faces `in_ring` has it: its first face the one
@@ -156,8 +185,7 @@ impl StepParent for RingStep<'_> {
     }
 
     fn is_cut_edge(&self, e: u32) -> bool {
-        let opened = self.edge(e).faces[1] == NONE && !self.level.topo.is_boundary_edge(e);
-        opened || self.level.is_cut_edge(e)
+        self.edges[self.point[e as usize] as usize].2
     }
 
     fn is_complete_vertex(&self, v: u32) -> bool {
@@ -186,5 +214,22 @@ mod tests {
         ring.sort_unstable();
         let step = RingStep::new(level, &ring, &[h]).unwrap();
         assert_eq!(step.edge_point_count(), 2);
+    }
+
+    /// `sorted_keys` orders as a comparison sort does: keys of many ends, several per end in
+    /// decreasing corner order, ends 0 and the last one, gaps.
+    #[test]
+    fn sorted_keys_equal_a_comparison_sort() {
+        let vertex_count = 40u64;
+        let keys: Vec<u64> = (0..300u64)
+            .map(|i| (((i * 17) % vertex_count) << 32) | ((1000 - 3 * i) % 997))
+            .filter(|key| (key >> 32) % 7 != 3)
+            .collect();
+        let mut expected = keys.clone();
+        expected.sort_unstable();
+        expected.dedup();
+        assert_eq!(expected.len(), keys.len(), "distinct keys");
+        assert_eq!(sorted_keys(&keys, vertex_count as usize), expected);
+        assert!(sorted_keys(&[], 3).is_empty());
     }
 }

@@ -138,23 +138,30 @@ impl Topology {
             return Cow::Borrowed(self);
         }
         let mut t = self.clone();
-        t.promoted = (0..t.edge_count() as u32)
-            .map(|e| {
-                let s = t.edge_sharpness(e);
-                t.is_promoted_edge(e) || (is_semi(s) && s >= threshold)
+        // One pass over the edges: each one's promoted flag from its sharpness before the
+        // change, then the change.
+        let was_promoted = std::mem::take(&mut t.promoted);
+        let mut any = false;
+        let promoted: Vec<bool> = t
+            .edge_sharpness
+            .iter_mut()
+            .enumerate()
+            .map(|(e, s)| {
+                let semi = is_semi(*s);
+                let p = was_promoted.get(e).copied().unwrap_or(false) || (semi && *s >= threshold);
+                if semi {
+                    *s = if *s >= threshold {
+                        INFINITE_SHARPNESS
+                    } else {
+                        0.0
+                    };
+                }
+                any |= p;
+                p
             })
             .collect();
-        if !t.promoted.contains(&true) {
-            t.promoted = Vec::new();
-        }
-        for s in t.edge_sharpness.iter_mut() {
-            if is_semi(*s) {
-                *s = if *s >= threshold {
-                    INFINITE_SHARPNESS
-                } else {
-                    0.0
-                };
-            }
+        if any {
+            t.promoted = promoted;
         }
         for s in t.vertex_sharpness.iter_mut() {
             if is_semi(*s) {

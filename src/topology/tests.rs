@@ -243,3 +243,68 @@ fn face_classes_follow_the_documented_order() {
     // Face 8 = (3,1): interior, valence 4, quads only, no sharpness near it.
     assert_eq!(t.face_class(8), FaceClass::RegularQuad);
 }
+
+/// `with_semi_sharpness_as_crease` against the rule edge by edge: semi-sharp edges from the
+/// threshold on infinitely sharp and promoted, below it smooth, smooth, infinitely sharp and
+/// boundary edges kept and not promoted, semi-sharp vertices smooth; applied again to its own
+/// output (promoted edges stay promoted, nothing new) and borrowed when nothing is semi-sharp.
+#[test]
+fn semi_sharpness_as_crease_follows_the_rule_per_edge() {
+    let mut d = grid(4, 4);
+    let sharpness = [
+        (6, 7, 0.5),
+        (7, 8, 1.0),
+        (11, 12, 2.5),
+        (12, 13, 0.0),
+        (16, 17, 10.0),
+    ];
+    for (v0, v1, s) in sharpness {
+        d.creases.push(Crease {
+            v0,
+            v1,
+            sharpness: s,
+        });
+    }
+    d.corners.push(crate::mesh::Corner {
+        vertex: 18,
+        sharpness: 0.75,
+    });
+    let t = Topology::new(&ControlMesh::new(d).unwrap()).unwrap();
+    let caps = t.with_semi_sharpness_as_crease(1.0);
+    assert!(matches!(caps, std::borrow::Cow::Owned(_)));
+    let mut promoted = 0;
+    for e in 0..t.edge_count() as u32 {
+        let s = t.edge_sharpness(e);
+        let semi = s > 0.0 && s < INFINITE_SHARPNESS;
+        let expected = match (semi, s >= 1.0) {
+            (true, true) => INFINITE_SHARPNESS,
+            (true, false) => 0.0,
+            (false, _) => s,
+        };
+        assert_eq!(caps.edge_sharpness(e), expected, "edge {e}");
+        assert_eq!(caps.is_promoted_edge(e), semi && s >= 1.0, "edge {e}");
+        promoted += usize::from(caps.is_promoted_edge(e));
+    }
+    assert_eq!(promoted, 2);
+    assert_eq!(caps.vertex_sharpness(18), 0.0);
+    // A second application: no semi-sharpness left, borrowed, the promoted edges kept.
+    let again = caps.with_semi_sharpness_as_crease(1.0);
+    assert!(matches!(again, std::borrow::Cow::Borrowed(_)));
+    // Promoted edges survive an application that changes something else.
+    let mut semi = caps.into_owned();
+    let e = semi.find_edge(1, 6).unwrap();
+    semi.edge_sharpness[e as usize] = 3.0;
+    let third = semi.with_semi_sharpness_as_crease(1.0);
+    assert_eq!(
+        (0..t.edge_count() as u32)
+            .filter(|&e| third.is_promoted_edge(e))
+            .count(),
+        3
+    );
+    // Nothing semi-sharp: borrowed.
+    let plain = Topology::new(&ControlMesh::new(grid(2, 2)).unwrap()).unwrap();
+    assert!(matches!(
+        plain.with_semi_sharpness_as_crease(1.0),
+        std::borrow::Cow::Borrowed(_)
+    ));
+}

@@ -126,7 +126,7 @@ impl AdaptiveTables {
         let first = faces.first().copied().unwrap_or(0);
         let base = Level::from_topology(topo);
         let adaptive =
-            AdaptiveRefinement::with_options(&base, options).map_err(|e| (first, e.to_string()))?;
+            AdaptiveRefinement::from_level(base, options).map_err(|e| (first, e.to_string()))?;
         let refinement =
             RefinementTables::adaptive(&adaptive).map_err(|e| (first, e.to_string()))?;
         let draw = AdaptiveDrawTables::with_tangents(&adaptive, tangents)
