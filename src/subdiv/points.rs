@@ -118,6 +118,31 @@ fn regular_row(t: &Topology, r: usize, buf: &mut Vec<(u32, f64)>) -> bool {
     true
 }
 
+/// The ring edges with positive sharpness, as [`vertex_row`] hands them to
+/// `VertexMask::add_rule`: on the stack up to 16 edges.
+#[derive(Default)]
+struct SharpEdges {
+    small: [usize; 16],
+    big: Vec<usize>,
+}
+
+impl SharpEdges {
+    /// The indices `i` with `sharpness[i] > 0`, increasing.
+    fn of(&mut self, sharpness: &[f32]) -> &[usize] {
+        let sharp = (0..sharpness.len()).filter(|&i| sharpness[i] > 0.0);
+        if sharpness.len() > self.small.len() {
+            self.big.extend(sharp);
+            return &self.big;
+        }
+        let mut n = 0;
+        for i in sharp {
+            self.small[n] = i;
+            n += 1;
+        }
+        &self.small[..n]
+    }
+}
+
 /// Whether sharpness `s` is smooth (`<= 0`; not NaN), as [`vertex_row`] and [`edge_row`] judge.
 fn smooth(s: f32) -> bool {
     s <= 0.0
@@ -191,21 +216,22 @@ fn vertex_row(t: &Topology, v: u32, buf: &mut Vec<(u32, f64)>) {
     }
     let pv = t.vertex_sharpness[v as usize];
     let cv = decrement(pv);
-    let psharp: Vec<usize> = (0..ne).filter(|&i| ps[i] > 0.0).collect();
+    let (mut pbuf, mut cbuf) = (SharpEdges::default(), SharpEdges::default());
+    let psharp = pbuf.of(ps);
     let prule = vertex_rule(pv, psharp.len());
     let mut mask = VertexMask::default();
     mask.reset(ne, faces.len());
     if matches!(prule, VertexRule::Smooth | VertexRule::Dart) {
-        mask.add_rule(prule, &psharp, 1.0);
+        mask.add_rule(prule, psharp, 1.0);
     } else {
-        let csharp: Vec<usize> = (0..ne).filter(|&i| cs[i] > 0.0).collect();
+        let csharp = cbuf.of(cs);
         let crule = vertex_rule(cv, csharp.len());
         if crule == prule {
-            mask.add_rule(prule, &psharp, 1.0);
+            mask.add_rule(prule, psharp, 1.0);
         } else {
             let w = fractional_weight(pv, cv, ps, cs);
-            mask.add_rule(prule, &psharp, w);
-            mask.add_rule(crule, &csharp, 1.0 - w);
+            mask.add_rule(prule, psharp, w);
+            mask.add_rule(crule, csharp, 1.0 - w);
         }
     }
     buf.push((v, mask.vertex));
