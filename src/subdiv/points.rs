@@ -69,7 +69,7 @@ fn regular_row(t: &Topology, r: usize, buf: &mut Vec<(u32, f64)>) -> bool {
     if r < nf + ne {
         let e = (r - nf) as u32;
         let ([f0, f1], [l0, l1]) = (t.edge_faces[e as usize], t.edge_face_local[e as usize]);
-        if f1 == NONE || !smooth(t.edge_sharpness[e as usize]) {
+        if f1 == NONE || !is_smooth_sharpness(t.edge_sharpness[e as usize]) {
             return false;
         }
         let (Some((q0, _)), Some((q1, _))) = (t.quad(f0), t.quad(f1)) else {
@@ -91,8 +91,10 @@ fn regular_row(t: &Topology, r: usize, buf: &mut Vec<(u32, f64)>) -> bool {
     let (edges, faces) = (t.vertex_edges(v), t.vertex_faces(v));
     if edges.len() != 4
         || faces.len() != 4
-        || !smooth(t.vertex_sharpness[v as usize])
-        || edges.iter().any(|&e| !smooth(t.edge_sharpness[e as usize]))
+        || !is_smooth_sharpness(t.vertex_sharpness[v as usize])
+        || edges
+            .iter()
+            .any(|&e| !is_smooth_sharpness(t.edge_sharpness[e as usize]))
     {
         return false;
     }
@@ -144,7 +146,7 @@ impl SharpEdges {
 }
 
 /// Whether sharpness `s` is smooth (`<= 0`; not NaN), as [`vertex_row`] and [`edge_row`] judge.
-fn smooth(s: f32) -> bool {
+fn is_smooth_sharpness(s: f32) -> bool {
     s <= 0.0
 }
 
