@@ -324,7 +324,7 @@ impl StepRows {
 /// face's smallest corner label is below `bound` (`labels` per vertex of `t`), increasing,
 /// and per corner its index among them ([`NONE`] where not kept).
 fn kept_children(t: &Topology, labels: &[u32], bound: u32) -> (Vec<u32>, Vec<u32>) {
-    let mut keep = Vec::new();
+    let mut keep = Vec::with_capacity(t.corner_count());
     let mut children = vec![NONE; t.corner_count()];
     for f in 0..t.face_count() as u32 {
         let fv = t.face_vertices(f);
