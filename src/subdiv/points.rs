@@ -6,7 +6,7 @@ use super::level::Level;
 use super::rules::{child_edge_sharpness, decrement, fractional_weight, vertex_rule};
 use super::rules::{VertexMask, VertexRule};
 use super::sparse::{merge_row, SparseMatrix};
-use crate::topology::Topology;
+use crate::topology::{Topology, NONE};
 use glam::DVec3;
 
 impl Level {
@@ -22,7 +22,9 @@ impl Level {
     /// same `(column, weight)` pairs in the same order, without the other rows.
     pub(crate) fn refine_matrix_row(&self, r: usize, buf: &mut Vec<(u32, f64)>) {
         buf.clear();
-        child_row(&self.topo, r, buf);
+        if !regular_row(&self.topo, r, buf) {
+            child_row(&self.topo, r, buf);
+        }
         merge_row(buf);
     }
 
@@ -50,6 +52,102 @@ fn child_row(t: &Topology, r: usize, buf: &mut Vec<(u32, f64)>) {
     } else {
         vertex_row(t, (r - nf - ne) as u32, buf);
     }
+}
+
+/// Child vertex `r` pre-merged when its row has the regular smooth weights: the edge point of
+/// a smooth edge between two quads (ends 3/8, the far corners 1/16) or the vertex point of a
+/// smooth valence-4 interior vertex whose four faces are quads around it (9/16, edge
+/// neighbours 3/32, diagonals 1/64); false (`buf` untouched) otherwise. Every weight and every
+/// partial sum of [`child_row`]'s terms there is a multiple of 2^-6 below 2, exact in `f64`,
+/// so [`merge_row`] of these few terms gives the bits of [`merge_row`] of `child_row`'s, in
+/// whatever order either adds them (and the sort of 6 or 9 terms is short).
+fn regular_row(t: &Topology, r: usize, buf: &mut Vec<(u32, f64)>) -> bool {
+    let (nf, ne) = (t.face_count(), t.edge_count());
+    if r < nf {
+        return false;
+    }
+    if r < nf + ne {
+        let e = (r - nf) as u32;
+        let ([f0, f1], [l0, l1]) = (t.edge_faces[e as usize], t.edge_face_local[e as usize]);
+        if f1 == NONE || !is_smooth_sharpness(t.edge_sharpness[e as usize]) {
+            return false;
+        }
+        let (Some((q0, _)), Some((q1, _))) = (t.quad(f0), t.quad(f1)) else {
+            return false;
+        };
+        let [a, b] = t.edge_verts[e as usize];
+        let (l0, l1) = (usize::from(l0), usize::from(l1));
+        buf.extend([
+            (a, 0.375),
+            (b, 0.375),
+            (q0[(l0 + 2) % 4], 0.0625),
+            (q0[(l0 + 3) % 4], 0.0625),
+            (q1[(l1 + 2) % 4], 0.0625),
+            (q1[(l1 + 3) % 4], 0.0625),
+        ]);
+        return true;
+    }
+    let v = (r - nf - ne) as u32;
+    let (edges, faces) = (t.vertex_edges(v), t.vertex_faces(v));
+    if edges.len() != 4
+        || faces.len() != 4
+        || !is_smooth_sharpness(t.vertex_sharpness[v as usize])
+        || edges
+            .iter()
+            .any(|&e| !is_smooth_sharpness(t.edge_sharpness[e as usize]))
+    {
+        return false;
+    }
+    let ring: [u32; 4] = std::array::from_fn(|i| t.other_vertex(edges[i], v));
+    let start = buf.len();
+    buf.push((v, 0.5625));
+    buf.extend(ring.map(|u| (u, 0.09375)));
+    for (i, (&f, &k)) in faces.iter().zip(t.vertex_face_locals(v)).enumerate() {
+        // Face `i` lies between edges `i` and `i + 1`: its corners beside `v` are their ends.
+        let Some((q, _)) = t.quad(f) else {
+            buf.truncate(start);
+            return false;
+        };
+        let k = usize::from(k);
+        let sides = [q[(k + 1) % 4], q[(k + 3) % 4]];
+        let ends = [ring[i], ring[(i + 1) % 4]];
+        if q[k] != v || !(sides == ends || sides == [ends[1], ends[0]]) {
+            buf.truncate(start);
+            return false;
+        }
+        buf.push((q[(k + 2) % 4], 0.015625));
+    }
+    true
+}
+
+/// The ring edges with positive sharpness, as [`vertex_row`] hands them to
+/// `VertexMask::add_rule`: on the stack up to 16 edges.
+#[derive(Default)]
+struct SharpEdges {
+    small: [usize; 16],
+    big: Vec<usize>,
+}
+
+impl SharpEdges {
+    /// The indices `i` with `sharpness[i] > 0`, increasing.
+    fn of(&mut self, sharpness: &[f32]) -> &[usize] {
+        let sharp = (0..sharpness.len()).filter(|&i| sharpness[i] > 0.0);
+        if sharpness.len() > self.small.len() {
+            self.big.extend(sharp);
+            return &self.big;
+        }
+        let mut n = 0;
+        for i in sharp {
+            self.small[n] = i;
+            n += 1;
+        }
+        &self.small[..n]
+    }
+}
+
+/// Whether sharpness `s` is smooth (`<= 0`; not NaN), as [`vertex_row`] and [`edge_row`] judge.
+fn is_smooth_sharpness(s: f32) -> bool {
+    s <= 0.0
 }
 
 /// Face point: the centroid.
@@ -120,21 +218,22 @@ fn vertex_row(t: &Topology, v: u32, buf: &mut Vec<(u32, f64)>) {
     }
     let pv = t.vertex_sharpness[v as usize];
     let cv = decrement(pv);
-    let psharp: Vec<usize> = (0..ne).filter(|&i| ps[i] > 0.0).collect();
+    let (mut pbuf, mut cbuf) = (SharpEdges::default(), SharpEdges::default());
+    let psharp = pbuf.of(ps);
     let prule = vertex_rule(pv, psharp.len());
     let mut mask = VertexMask::default();
     mask.reset(ne, faces.len());
     if matches!(prule, VertexRule::Smooth | VertexRule::Dart) {
-        mask.add_rule(prule, &psharp, 1.0);
+        mask.add_rule(prule, psharp, 1.0);
     } else {
-        let csharp: Vec<usize> = (0..ne).filter(|&i| cs[i] > 0.0).collect();
+        let csharp = cbuf.of(cs);
         let crule = vertex_rule(cv, csharp.len());
         if crule == prule {
-            mask.add_rule(prule, &psharp, 1.0);
+            mask.add_rule(prule, psharp, 1.0);
         } else {
             let w = fractional_weight(pv, cv, ps, cs);
-            mask.add_rule(prule, &psharp, w);
-            mask.add_rule(crule, &csharp, 1.0 - w);
+            mask.add_rule(prule, psharp, w);
+            mask.add_rule(crule, csharp, 1.0 - w);
         }
     }
     buf.push((v, mask.vertex));
@@ -149,5 +248,51 @@ fn vertex_row(t: &Topology, v: u32, buf: &mut Vec<(u32, f64)>) {
             let w = mask.faces[i] / verts.len() as f64;
             buf.extend(verts.iter().map(|&u| (u, w)));
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::ControlMesh;
+
+    /// The regular rows' short path gives every row of every level bit for bit as merging
+    /// `child_row`'s terms does, and it is taken (meshes with creases, semi-sharp creases,
+    /// boundaries, holes, non-quads, extraordinary vertices; two refinements each).
+    #[test]
+    fn regular_rows_are_merged_child_rows() {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
+        let mut regular = 0;
+        for name in [
+            "catmark_cube_creases1",
+            "catmark_cubes_semisharp",
+            "catmark_hole_test1",
+            "catmark_nonquads",
+            "catmark_pole8",
+            "catmark_car",
+        ] {
+            let path = format!("{dir}{name}.obj");
+            let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
+            let mut level = Level::from_mesh(&mesh).unwrap();
+            for _ in 0..3 {
+                let t = level.topology();
+                let rows = t.face_count() + t.edge_count() + t.vertex_count();
+                let (mut fast, mut full) = (Vec::new(), Vec::new());
+                for r in 0..rows {
+                    level.refine_matrix_row(r, &mut fast);
+                    full.clear();
+                    child_row(t, r, &mut full);
+                    merge_row(&mut full);
+                    let bits = |row: &[(u32, f64)]| -> Vec<(u32, u64)> {
+                        row.iter().map(|&(i, w)| (i, w.to_bits())).collect()
+                    };
+                    assert_eq!(bits(&fast), bits(&full), "{name} row {r}");
+                    let mut probe = Vec::new();
+                    regular += usize::from(regular_row(t, r, &mut probe));
+                }
+                level = level.refine_topology();
+            }
+        }
+        assert!(regular > 1000, "regular rows taken {regular}");
     }
 }

@@ -62,7 +62,7 @@ impl Neighbourhood {
             bounds[l] = bounds[l + 1] / 2 + 1;
         }
         let mut whole = WholeIds::extraction(t);
-        for &bound in &bounds[1..] {
+        for (l, &bound) in bounds[1..].iter().enumerate() {
             let parent = out.levels.last()?;
             let pt = parent.topology();
             let (keep, children) = kept_children(pt, &labels, bound);
@@ -71,7 +71,9 @@ impl Neighbourhood {
                 .map_err(|e| log::debug!("lattice vertex {v}: no local refinement ({e})"))
                 .ok()?;
             labels = child_labels(pt, &labels, &rows);
-            whole = whole.child(pt, &keep, &rows, child.topology())?;
+            // The last level's edges number no further step.
+            let edges = (l + 1 < steps as usize).then(|| child.topology());
+            whole = whole.child(pt, &keep, &rows, edges)?;
             out.steps.push(StepRows::new(rows));
             out.children.push(children);
             out.order.push(increasing(&whole.vertices));
@@ -322,7 +324,7 @@ impl StepRows {
 /// face's smallest corner label is below `bound` (`labels` per vertex of `t`), increasing,
 /// and per corner its index among them ([`NONE`] where not kept).
 fn kept_children(t: &Topology, labels: &[u32], bound: u32) -> (Vec<u32>, Vec<u32>) {
-    let mut keep = Vec::new();
+    let mut keep = Vec::with_capacity(t.corner_count());
     let mut children = vec![NONE; t.corner_count()];
     for f in 0..t.face_count() as u32 {
         let fv = t.face_vertices(f);
@@ -409,8 +411,15 @@ impl WholeIds {
     }
 
     /// The ids of the kept refinement `child` of this level (`t`): its faces the children of
-    /// corners `keep`, its vertices `rows` in the child numbering of `t`.
-    fn child(&self, t: &Topology, keep: &[u32], rows: &[u32], child: &Topology) -> Option<Self> {
+    /// corners `keep`, its vertices `rows` in the child numbering of `t`; its edges' only when
+    /// `child` is given (a level that is refined further).
+    fn child(
+        &self,
+        t: &Topology,
+        keep: &[u32],
+        rows: &[u32],
+        child: Option<&Topology>,
+    ) -> Option<Self> {
         let [nf, ne, fv] = self.counts;
         let (tf, te) = (t.face_count() as u32, t.edge_count() as u32);
         let mut f = 0u32;
@@ -435,6 +444,31 @@ impl WholeIds {
                 }
             })
             .collect();
+        let (edges, same_first) = match child {
+            Some(c) => self.child_edges(t, rows, c)?,
+            None => Default::default(),
+        };
+        Some(WholeIds {
+            extraction: false,
+            faces,
+            edges,
+            same_first,
+            vertices,
+            counts: [fv, fv + 2 * ne, 4 * fv],
+        })
+    }
+
+    /// The whole ids of the edges of the kept refinement `child` of this level (`t`, its
+    /// vertices `rows` in the child numbering of `t`) and per edge whether its first end is the
+    /// whole edge's.
+    fn child_edges(
+        &self,
+        t: &Topology,
+        rows: &[u32],
+        child: &Topology,
+    ) -> Option<(Vec<u32>, Vec<bool>)> {
+        let fv = self.counts[2];
+        let (tf, te) = (t.face_count() as u32, t.edge_count() as u32);
         let mut edges = Vec::with_capacity(child.edge_count());
         let mut same_first = Vec::with_capacity(child.edge_count());
         for e in 0..child.edge_count() as u32 {
@@ -465,13 +499,6 @@ impl WholeIds {
             edges.push(id);
             same_first.push(ep_first != flipped);
         }
-        Some(WholeIds {
-            extraction: false,
-            faces,
-            edges,
-            same_first,
-            vertices,
-            counts: [fv, fv + 2 * ne, 4 * fv],
-        })
+        Some((edges, same_first))
     }
 }
