@@ -178,14 +178,7 @@ pub fn check_vertex_for(
     f: u32,
     coverage: Coverage,
 ) -> Result<(), NotGregory> {
-    let vs = topo.vertex_sharpness(v);
-    let semi = |s: f32| s > 0.0 && !is_inf(s);
-    if semi(vs)
-        || topo
-            .vertex_edges(v)
-            .iter()
-            .any(|&e| semi(topo.edge_sharpness(e)))
-    {
+    if touches_semi_sharpness(topo, v) {
         return Err(NotGregory::SemiSharp { face: f, vertex: v });
     }
     if coverage == Coverage::EndCap {
@@ -208,6 +201,18 @@ pub fn check_vertex_for(
         return Err(NotGregory::OneFaceCreaseSector { face: f, vertex: v });
     }
     Ok(())
+}
+
+/// Whether vertex `v` or one of its edges has a semi-sharp (finite, nonzero) sharpness: the
+/// first test of [`check_vertex_for`], the only one with [`Coverage::EndCap`], which reads the
+/// vertex alone, not the face.
+fn touches_semi_sharpness(topo: &Topology, v: u32) -> bool {
+    let semi = |s: f32| s > 0.0 && !is_inf(s);
+    semi(topo.vertex_sharpness(v))
+        || topo
+            .vertex_edges(v)
+            .iter()
+            .any(|&e| semi(topo.edge_sharpness(e)))
 }
 
 /// Whether face `f` lies alone in a sector of crease vertex `v` (two infinitely sharp edges,
@@ -250,6 +255,15 @@ pub fn check_face(topo: &Topology, f: u32) -> Result<(), NotGregory> {
 
 /// [`check_face`] for the given coverage.
 pub fn check_face_for(topo: &Topology, f: u32, coverage: Coverage) -> Result<(), NotGregory> {
+    check_face_shape(topo, f)?;
+    topo.face_vertices(f)
+        .iter()
+        .try_for_each(|&v| check_vertex_for(topo, v, f, coverage))
+}
+
+/// [`check_face_for`]'s tests of the face itself, before its corners': a limit surface, three
+/// or four corners.
+pub(super) fn check_face_shape(topo: &Topology, f: u32) -> Result<(), NotGregory> {
     if !topo.has_limit_surface(f) {
         return Err(NotGregory::NoSurface { face: f });
     }
@@ -260,8 +274,19 @@ pub fn check_face_for(topo: &Topology, f: u32, coverage: Coverage) -> Result<(),
             size: fv.len(),
         });
     }
-    fv.iter()
-        .try_for_each(|&v| check_vertex_for(topo, v, f, coverage))
+    Ok(())
+}
+
+/// Whether face `f` passes [`check_face_for`] with [`Coverage::EndCap`] and every corner has
+/// data (`has_data(v)`: [`has_vertex_data`]), i.e. gets an end-cap patch: a corner with data
+/// is covered, so passes the end-cap corner test, which reads the vertex alone
+/// ([`vertex_covered`]); only the face's own tests remain.
+pub(super) fn end_cap_patch_with(
+    topo: &Topology,
+    f: u32,
+    has_data: impl FnMut(&u32) -> bool,
+) -> bool {
+    check_face_shape(topo, f).is_ok() && topo.face_vertices(f).iter().all(has_data)
 }
 
 /// [`check_face`] for the level-0 Gregory schemes (`gregory-stencil`, `gregory-vs`), which also
@@ -497,10 +522,13 @@ pub fn gregory_vertex_for<P: GregoryPoint>(
 /// Whether some face of `v` passes [`check_vertex_for`]: the test before per-vertex data.
 pub(super) fn vertex_covered(topo: &Topology, v: u32, coverage: Coverage) -> bool {
     let faces = topo.vertex_faces(v);
-    !faces.is_empty()
-        && faces
+    match coverage {
+        // The end-cap test reads the vertex alone: one answer for every face.
+        Coverage::EndCap => !faces.is_empty() && !touches_semi_sharpness(topo, v),
+        Coverage::Exact => faces
             .iter()
-            .any(|&f| check_vertex_for(topo, v, f, coverage).is_ok())
+            .any(|&f| check_vertex_for(topo, v, f, coverage).is_ok()),
+    }
 }
 
 /// [`gregory_vertex_for`] with the vertex's first stage ([`GregoryVertex::vertex_points`]: a

@@ -21,7 +21,7 @@
 use rayon::prelude::*;
 
 use super::build::{
-    check_face_for, has_vertex_data, vertex_covered, vertex_ring_with, Coverage, NoPoint,
+    end_cap_patch_with, has_vertex_data, vertex_covered, vertex_ring_with, Coverage, NoPoint,
     NotGregory,
 };
 pub use super::face_rows::FaceRows;
@@ -106,8 +106,7 @@ impl Keyer<'_> {
     /// Whether face `g` gets a patch ([`super::build::gregory_patch_for`] is `Ok`).
     fn has_patch(&mut self, g: u32) -> bool {
         if self.has_patch[g as usize] == 2 {
-            let patch = check_face_for(self.topo, g, Coverage::EndCap).is_ok()
-                && self.topo.face_vertices(g).iter().all(|&v| self.has_data(v));
+            let patch = end_cap_patch_with(self.topo, g, |&v| self.has_data(v));
             self.has_patch[g as usize] = u8::from(patch);
         }
         self.has_patch[g as usize] == 1
@@ -657,6 +656,46 @@ mod tests {
     use glam::DVec3;
     use std::collections::HashMap;
 
+    /// Meshes with holes, boundaries, darts, corners, infinitely sharp and semi-sharp creases,
+    /// n-gons, triangles and valence-2 vertices.
+    const TOPOLOGY_CORPUS: [&str; 10] = [
+        "catmark_hole_test1",
+        "catmark_hole_test4",
+        "catmark_dart_edgecorner",
+        "catmark_cube_corner4",
+        "catmark_cube_creases2",
+        "catmark_nonquads",
+        "catmark_smoothtris1",
+        "catmark_val2_interior",
+        "catmark_xord_boundary",
+        "catmark_cubes_semisharp",
+    ];
+
+    /// The topologies of every level of the isolation-2 adaptive refinement of corpus mesh
+    /// `name`: both end-cap topologies (residual semi-sharpness smooth, or infinitely sharp from
+    /// `CREASE_FROM`: darts where a semi-sharp line ends), after the level's own (semi-sharpness
+    /// kept) if `own`.
+    fn level_topologies(name: &str, own: bool) -> Vec<Topology> {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
+        let path = format!("{dir}{name}.obj");
+        let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
+        let level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
+        let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, 2).unwrap();
+        let mut out = Vec::new();
+        for l in &adaptive.levels {
+            let t = l.topology();
+            if own {
+                out.push(t.clone());
+            }
+            out.push(t.without_semi_sharpness().into_owned());
+            out.push(
+                t.with_semi_sharpness_as_crease(EndCapSharpness::CREASE_FROM)
+                    .into_owned(),
+            );
+        }
+        out
+    }
+
     /// The topological answer is the construction's, on every vertex of every level of the
     /// feature-adaptive refinement (sparse levels: rings cut open at their edge) of meshes with
     /// holes, boundaries, darts, corners, creases, n-gons, triangles and valence-2 vertices, in
@@ -664,35 +703,10 @@ mod tests {
     /// construction rejects, or the coverage test is skipped).
     #[test]
     fn vertex_data_by_topology_is_the_constructions() {
-        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
         let mut seen = [0usize; 2];
         let darts = DartLimits::new();
-        for name in [
-            "catmark_hole_test1",
-            "catmark_hole_test4",
-            "catmark_dart_edgecorner",
-            "catmark_cube_corner4",
-            "catmark_cube_creases2",
-            "catmark_nonquads",
-            "catmark_smoothtris1",
-            "catmark_val2_interior",
-            "catmark_xord_boundary",
-            "catmark_cubes_semisharp",
-        ] {
-            let path = format!("{dir}{name}.obj");
-            let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
-            let level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
-            let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, 2).unwrap();
-            // Both end-cap topologies: residual semi-sharpness smooth, or infinitely sharp
-            // from `CREASE_FROM` (darts where a semi-sharp line ends).
-            let topologies = adaptive.levels.iter().flat_map(|l| {
-                let t = l.topology();
-                [
-                    t.without_semi_sharpness(),
-                    t.with_semi_sharpness_as_crease(EndCapSharpness::CREASE_FROM),
-                ]
-            });
-            for topo in topologies {
+        for name in TOPOLOGY_CORPUS {
+            for topo in level_topologies(name, false) {
                 for v in 0..topo.vertex_count() as u32 {
                     let point = |_: u32| 0.0f64;
                     let want = gregory_vertex_for(
@@ -712,6 +726,47 @@ mod tests {
         }
         assert!(seen[0] > 0 && seen[1] > 0, "{seen:?}");
         assert!(!darts.is_empty(), "no dart ring");
+    }
+
+    /// The end-cap shortcuts of the keys and corners are the checks they stand for, on every
+    /// vertex and face of every level of the adaptive refinement of `TOPOLOGY_CORPUS` (with
+    /// semi-sharp and infinitely sharp creases, holes, darts and n-gons), in the levels' own
+    /// topologies (semi-sharpness kept) and both end-cap ones: `vertex_covered` with end-cap
+    /// coverage is `check_vertex_for` passing at some face of the vertex, and
+    /// `end_cap_patch_with` over `has_vertex_data` is `check_face_for` passing with data at
+    /// every corner (fails if the one-face coverage test misreads a semi-sharp vertex or edge,
+    /// or if the face test drops the face's own checks).
+    #[test]
+    fn end_cap_shortcuts_are_the_checks() {
+        use crate::patch::gregory::build::{check_vertex_for, end_cap_patch_with};
+        use crate::patch::gregory::check_face_for;
+        let darts = DartLimits::new();
+        // Per answer: uncovered vertices, covered ones, faces without and with a patch.
+        let mut seen = [0usize; 4];
+        for name in TOPOLOGY_CORPUS {
+            for topo in level_topologies(name, true) {
+                for v in 0..topo.vertex_count() as u32 {
+                    let want = topo
+                        .vertex_faces(v)
+                        .iter()
+                        .any(|&f| check_vertex_for(&topo, v, f, Coverage::EndCap).is_ok());
+                    assert_eq!(
+                        vertex_covered(&topo, v, Coverage::EndCap),
+                        want,
+                        "{name}: vertex {v}"
+                    );
+                    seen[usize::from(want)] += 1;
+                }
+                let data = |v: &u32| has_vertex_data(&topo, *v, &darts);
+                for f in 0..topo.face_count() as u32 {
+                    let want = check_face_for(&topo, f, Coverage::EndCap).is_ok()
+                        && topo.face_vertices(f).iter().all(data);
+                    assert_eq!(end_cap_patch_with(&topo, f, data), want, "{name}: face {f}");
+                    seen[2 + usize::from(want)] += 1;
+                }
+            }
+        }
+        assert!(seen.iter().all(|&n| n > 0), "{seen:?}");
     }
 
     /// A grid of `n × n` quads, infinitely sharp along row `n / 2` from its left end to

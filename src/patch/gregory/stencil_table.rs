@@ -13,7 +13,7 @@ use std::collections::HashMap;
 use glam::DVec3;
 
 use super::build::{
-    check_face_for, gregory_patch_for, gregory_patch_from, gregory_vertex_for, has_vertex_data,
+    check_face_shape, gregory_patch_for, gregory_patch_from, gregory_vertex_for, has_vertex_data,
     vertex_covered, vertex_ring_of_units, Coverage, GregoryPatch, NotGregory,
 };
 use super::corner_types::CornerTypes;
@@ -331,7 +331,8 @@ impl<'a> EndCapCorners<'a> {
     /// same bits as `g`'s whole patch either way, without assembling it.
     fn side_points(&mut self, g: u32, k2: usize) -> Option<[Weights; 4]> {
         let topo = self.topo;
-        check_face_for(topo, g, Coverage::EndCap).ok()?;
+        // `check_face_for`'s corner tests are implied by the corners' data (`end_cap_patch_with`).
+        check_face_shape(topo, g).ok()?;
         let gv = topo.face_vertices(g);
         let m = gv.len();
         let (y, x) = (gv[k2], gv[(k2 + 1) % m]);
