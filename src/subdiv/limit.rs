@@ -184,7 +184,9 @@ fn vertex_mask_rec(
 /// are computed directly. Errors are not kept (they name the vertex).
 ///
 /// Shared by reference between threads (the table behind a lock taken only to look a mask up
-/// and to store one; a mask two threads miss at once is computed by both, the same bits).
+/// and to store one; a mask two threads miss at once is computed by both, the same bits). The
+/// table hashes its keys with [`WordHashMap`]'s word hash, which has no per-run seed, so a
+/// build's instruction count repeats from run to run.
 #[derive(Debug, Default)]
 pub struct SharedVertexMasks {
     masks: Mutex<WordHashMap<RingKey, VertexMask>>,
