@@ -61,7 +61,7 @@ impl ExactCorners {
                 let quad_cap = |g: u32| is_quad_end_cap(lev, census, &at[p.level as usize], g);
                 for (k, &v) in t.face_vertices(p.face).iter().enumerate() {
                     let code = *offset_codes.entry((p.level, v)).or_insert_with(|| {
-                        corner_offset_vertex(t, caps, v, &quad_cap)
+                        corner_offset_vertex(t, caps, v, quad_cap)
                             .then(|| corner_offset_code(t, caps, v))
                     });
                     let Some(code) = code else {

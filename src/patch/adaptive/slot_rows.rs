@@ -11,7 +11,7 @@ use rayon::prelude::*;
 
 use super::promoted::{exact_frame, promoted_vertex};
 use super::rows::{CornerRows, PatchCorner, SparseRows};
-use super::slots::Slots;
+use super::slots::{Slots, NONE};
 use super::surface::EndCapTopologies;
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
@@ -22,10 +22,10 @@ use crate::topology::single_normal_vertex;
 pub struct SlotCorners {
     /// Per slot: the corner whose rows it takes.
     first: Vec<Option<PatchCorner>>,
-    /// The slots whose corner is an end cap's on a promoted crease where the exact limit has one
-    /// normal (`super::promoted`), increasing: their frames take the exact tangents.
-    exact_slots: Vec<usize>,
-    /// Their frames ([`exact_frame`]; empty tangent rows where the exact mask failed).
+    /// Per slot: its frame in `exact_frames` where its corner is an end cap's on a promoted crease
+    /// where the exact limit has one normal (`super::promoted`), else [`NONE`].
+    exact_of: Vec<u32>,
+    /// Those slots' frames ([`exact_frame`]; empty tangent rows where the exact mask failed).
     exact_frames: Vec<[Weights; 3]>,
     /// Per slot: whether its normal is shared (one sector in the topology the frame's patch was
     /// built over; not where a promoted corner's exact mask failed, which keeps its end cap's
@@ -67,7 +67,6 @@ impl SlotCorners {
                 };
             }
         });
-        exact_slots.sort_unstable();
         let exact_frames: Vec<[Weights; 3]> = exact_slots
             .par_iter()
             .map(|&s| {
@@ -77,14 +76,16 @@ impl SlotCorners {
                 exact_frame(lev, p.face, c.k, corner_rows.position_row(&c), masks)
             })
             .collect();
-        for (&s, frame) in exact_slots.iter().zip(&exact_frames) {
+        let mut exact_of = vec![NONE; slots.len()];
+        for (i, (&s, frame)) in exact_slots.iter().zip(&exact_frames).enumerate() {
+            exact_of[s] = i as u32;
             if frame[1].0.is_empty() {
                 shared[s] = false;
             }
         }
         SlotCorners {
             first,
-            exact_slots,
+            exact_of,
             exact_frames,
             shared,
         }
@@ -131,8 +132,8 @@ impl SlotCorners {
 
     /// The exact frame of slot `s`, if its corner takes one.
     fn exact_frame(&self, s: usize) -> Option<&[Weights; 3]> {
-        let i = self.exact_slots.binary_search(&s).ok()?;
-        Some(&self.exact_frames[i])
+        let i = self.exact_of[s];
+        (i != NONE).then(|| &self.exact_frames[i as usize])
     }
 
     /// At least the number of terms [`Self::push_run`] appends for the slots from `first_slot`
