@@ -185,8 +185,8 @@ fn vertex_mask_rec(
 ///
 /// Shared by reference between threads (the table behind a lock taken only to look a mask up
 /// and to store one; a mask two threads miss at once is computed by both, the same bits). The
-/// table hashes its keys with [`WordHashMap`]'s word hash, which has no per-run seed, so a
-/// build's instruction count repeats from run to run.
+/// table hashes its keys with the crate's word hash (`subdiv::word_hash`), which has no per-run
+/// seed, so a build's instruction count repeats from run to run.
 #[derive(Debug, Default)]
 pub struct SharedVertexMasks {
     masks: Mutex<WordHashMap<RingKey, VertexMask>>,
