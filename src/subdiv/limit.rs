@@ -26,7 +26,6 @@
 pub mod masks;
 pub mod sector;
 
-use std::collections::HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
@@ -34,6 +33,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::level::RingCorners;
+use super::word_hash::WordHashMap;
 use super::{Level, SparseMatrix, StencilTable};
 use crate::mesh::{BoundaryInterpolation, CreaseMethod, INFINITE_SHARPNESS};
 use crate::topology::{sector_slots, Topology};
@@ -184,10 +184,12 @@ fn vertex_mask_rec(
 /// are computed directly. Errors are not kept (they name the vertex).
 ///
 /// Shared by reference between threads (the table behind a lock taken only to look a mask up
-/// and to store one; a mask two threads miss at once is computed by both, the same bits).
+/// and to store one; a mask two threads miss at once is computed by both, the same bits). The
+/// table hashes its keys with the crate's word hash (`subdiv::word_hash`), which has no per-run
+/// seed, so a build's instruction count repeats from run to run.
 #[derive(Debug, Default)]
 pub struct SharedVertexMasks {
-    masks: Mutex<HashMap<RingKey, VertexMask>>,
+    masks: Mutex<WordHashMap<RingKey, VertexMask>>,
     /// Masks reused (for tests and profiles).
     hits: AtomicUsize,
 }
@@ -279,7 +281,7 @@ impl SharedVertexMasks {
     }
 
     /// The table, locked (a panic elsewhere while it was held leaves whole entries only).
-    fn table(&self) -> MutexGuard<'_, HashMap<RingKey, VertexMask>> {
+    fn table(&self) -> MutexGuard<'_, WordHashMap<RingKey, VertexMask>> {
         self.masks.lock().unwrap_or_else(PoisonError::into_inner)
     }
 }
@@ -287,13 +289,17 @@ impl SharedVertexMasks {
 /// Mask `m` over an extraction's vertices as a mask over the extracted level's, through the
 /// extraction's injective vertex map `map` (in any order), indices increasing.
 fn relabelled(m: &VertexMask, map: &[u32]) -> VertexMask {
-    let mut order: Vec<usize> = (0..m.indices.len()).collect();
-    order.sort_unstable_by_key(|&k| map[m.indices[k] as usize]);
+    // (new index, term): the indices are distinct, so the order is that of the new indices.
+    let mut order: Vec<(u32, u32)> = (m.indices.iter().enumerate())
+        .map(|(k, &i)| (map[i as usize], k as u32))
+        .collect();
+    order.sort_unstable();
+    let pick = |w: &[f64]| order.iter().map(|&(_, k)| w[k as usize]).collect();
     VertexMask {
-        indices: order.iter().map(|&k| map[m.indices[k] as usize]).collect(),
-        position: order.iter().map(|&k| m.position[k]).collect(),
-        tangent_u: order.iter().map(|&k| m.tangent_u[k]).collect(),
-        tangent_v: order.iter().map(|&k| m.tangent_v[k]).collect(),
+        indices: order.iter().map(|&(i, _)| i).collect(),
+        position: pick(&m.position),
+        tangent_u: pick(&m.tangent_u),
+        tangent_v: pick(&m.tangent_v),
     }
 }
 

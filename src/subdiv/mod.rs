@@ -19,6 +19,7 @@ pub mod single_crease;
 pub mod sparse;
 mod stencil;
 pub mod tables;
+pub(crate) mod word_hash;
 
 pub use level::Level;
 pub use sparse::SparseMatrix;

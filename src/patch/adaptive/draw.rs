@@ -11,7 +11,6 @@
 //! is face-edge numbering, edges 2 and 3 run against the face), end caps face order.
 
 use glam::{DVec2, DVec3};
-use rayon::prelude::*;
 
 use super::census_index::{is_quad_end_cap, patch_index};
 use super::coarse::CoarseEdges;
@@ -19,14 +18,15 @@ use super::error::DrawTablesError;
 use super::exact_corners::ExactCorners;
 use super::lattice_frames::LatticeFrames;
 use super::promoted::{
-    exact_frame, fillet_end, fillet_end_code, fillet_fine_code, fillet_fine_words,
-    irregular_crease_vertex, positional_fillet_end, promoted_vertex, FilletEnd,
+    fillet_end, fillet_end_code, fillet_fine_code, fillet_fine_words, irregular_crease_vertex,
+    positional_fillet_end, FilletEnd,
 };
 use super::records::{
     words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
 };
-use super::rows::{CornerRows, PatchCorner, SparseRows};
+use super::rows::{CornerRows, SparseRows};
 use super::sector_frames::SectorFrames;
+use super::slot_rows::SlotCorners;
 use super::slots::{Slots, NONE};
 use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure, EndCapTopologies};
 use crate::patch::edge_grid::PATCH_EDGES;
@@ -40,7 +40,7 @@ use crate::patch::single_crease::{gpu_cvs, Rotation, SingleCreasePatch};
 use crate::patch::RegularPatch;
 use crate::subdiv::adaptive::{AdaptiveRefinement, Domain, PatchCensus, PatchType};
 use crate::subdiv::limit::SharedVertexMasks;
-use crate::topology::{is_sharp_edge, single_normal_vertex};
+use crate::topology::is_sharp_edge;
 
 /// Rows per end cap: 20 control points and 16 extra rows (quads), 15 + 12 then empty rows
 /// (triangles, isolation 0 only), in [`crate::patch::gregory::stencil_table`] order.
@@ -230,91 +230,6 @@ fn end_cap_rows(
     Ok(EndCapRows { caps, vertices })
 }
 
-/// Slot rows (position, du, dv) from the first census patch with the slot as a corner, exact
-/// patches (B-spline, single-crease) before end caps (whose Gregory corners are built over
-/// [`EndCapTopologies`]), in slot order (computed on the rayon pool in runs of slots, each
-/// written into flat rows of its own; one run on one thread), and whether the slot's normal is
-/// shared (one sector in the topology the frame's patch was built over). `masks`: the exact
-/// limit masks of promoted corners, shared between runs and with the sector frames.
-fn slot_rows(
-    refinement: &AdaptiveRefinement,
-    census: &PatchCensus,
-    topologies: &EndCapTopologies,
-    slots: &Slots,
-    corner_rows: &CornerRows,
-    masks: &SharedVertexMasks,
-) -> (Vec<SparseRows>, Vec<bool>) {
-    let mut first: Vec<Option<PatchCorner>> = vec![None; slots.len()];
-    let mut shared = vec![false; slots.len()];
-    // Whether the slot's first corner is an end cap's on a promoted crease (`super::promoted`)
-    // where the exact limit has one normal: the frame takes the exact tangents.
-    let mut exact = vec![false; slots.len()];
-    corner_rows.visit(|c| {
-        let p = &census.patches[c.patch];
-        let lev = &refinement.levels[p.level as usize];
-        let s = slots.of(lev.global(c.vertex)) as usize;
-        if first[s].is_none() {
-            first[s] = Some(*c);
-            shared[s] = match p.kind {
-                PatchType::EndCap => {
-                    let (t, caps) = (lev.topology(), topologies.get(p.level));
-                    exact[s] =
-                        promoted_vertex(t, caps, c.vertex) && single_normal_vertex(t, c.vertex);
-                    exact[s] || single_normal_vertex(caps, c.vertex)
-                }
-                _ => single_normal_vertex(lev.topology(), c.vertex),
-            };
-        }
-    });
-    let chunk = if rayon::current_num_threads() == 1 {
-        first.len().max(1)
-    } else {
-        256
-    };
-    // Per run: its flat rows, and the slots whose promoted corner's exact mask failed.
-    let runs: Vec<(SparseRows, Vec<usize>)> = first
-        .par_chunks(chunk)
-        .enumerate()
-        .map(|(i, run)| {
-            let mut rows = SparseRows::new();
-            let mut failed = Vec::new();
-            let terms: usize = run
-                .iter()
-                .flatten()
-                .map(|c| corner_rows.terms_bound(c))
-                .sum();
-            rows.reserve(3 * run.len(), terms);
-            for (j, c) in run.iter().enumerate() {
-                let Some(c) = c else { continue };
-                let s = i * chunk + j;
-                if !exact[s] {
-                    corner_rows.push_rows(c, &mut rows);
-                    continue;
-                }
-                let p = &census.patches[c.patch];
-                let lev = &refinement.levels[p.level as usize];
-                let frame = exact_frame(lev, p.face, c.k, corner_rows.position_row(c), masks);
-                if frame[1].0.is_empty() {
-                    failed.push(s);
-                }
-                for w in &frame {
-                    rows.push(w, 0);
-                }
-            }
-            (rows, failed)
-        })
-        .collect();
-    let mut frames = Vec::with_capacity(runs.len());
-    for (rows, failed) in runs {
-        // A promoted corner whose exact mask failed keeps its end cap's corner, one per sector.
-        for s in failed {
-            shared[s] = false;
-        }
-        frames.push(rows);
-    }
-    (frames, shared)
-}
-
 /// The [`BSplineDraw`] of census record `record` with control vertices `patch`: corner slots
 /// and flags (boundary mask, bit `4 + e` when edge `e` runs from the larger slot).
 fn bspline_draw(
@@ -447,7 +362,7 @@ impl AdaptiveDrawTables {
         let corner_rows = CornerRows::new(refinement, census, &topologies, &caps);
         // Exact limit masks of promoted corners, one table for slot, sector and exact-corner frames.
         let masks = SharedVertexMasks::default();
-        let (frames, mut shared_normal) = slot_rows(
+        let mut slot_corners = SlotCorners::new(
             refinement,
             census,
             &topologies,
@@ -455,6 +370,7 @@ impl AdaptiveDrawTables {
             &corner_rows,
             &masks,
         );
+        let mut shared_normal = std::mem::take(&mut slot_corners.shared);
         let mut coarse = CoarseEdges::new(refinement, census, &slots);
         let sectors = SectorFrames::new(
             refinement,
@@ -466,7 +382,6 @@ impl AdaptiveDrawTables {
             &corner_rows,
             &masks,
         );
-        drop(corner_rows);
         let at = patch_index(refinement, census);
         let exact = ExactCorners::new(
             refinement,
@@ -485,19 +400,14 @@ impl AdaptiveDrawTables {
             (slots.len() + sectors.rows.len() + exact.rows.len()) as u32,
             &masks,
         );
-        // Slot frames (the first run's flat rows extended by the others), sector frames,
-        // exact-position and lattice frames, end caps, vertex points, in one reservation past
-        // the first run.
-        let mut runs = frames.into_iter();
-        let mut rows = runs.next().unwrap_or_else(SparseRows::new);
-        let runs: Vec<SparseRows> = runs.collect();
-        let terms = runs.iter().map(|r| r.ids.len()).sum::<usize>()
-            + sectors
-                .rows
-                .iter()
-                .flatten()
-                .map(|w| w.0.len())
-                .sum::<usize>()
+        // Slot frames, then sector frames, exact-position and lattice frames, end caps, vertex
+        // points, in one buffer made with room for all.
+        let terms = sectors
+            .rows
+            .iter()
+            .flatten()
+            .map(|w| w.0.len())
+            .sum::<usize>()
             + exact.rows.iter().map(|w| w.0.len()).sum::<usize>()
             + lattice
                 .rows
@@ -506,16 +416,14 @@ impl AdaptiveDrawTables {
                 .map(|w| w.0.len())
                 .sum::<usize>()
             + cap_rows.1;
-        rows.reserve(
-            runs.iter().map(SparseRows::len).sum::<usize>()
-                + 3 * (sectors.rows.len() + exact.rows.len() + lattice.rows.len())
-                + cap_rows.0,
-            terms,
+        let mut rows = slot_corners.rows(
+            &corner_rows,
+            (
+                3 * (sectors.rows.len() + exact.rows.len() + lattice.rows.len()) + cap_rows.0,
+                terms,
+            ),
         );
-        for run in &runs {
-            rows.append(run);
-        }
-        drop(runs);
+        drop(corner_rows);
         for r in sectors.rows.iter().flatten() {
             rows.push(r, 0);
         }

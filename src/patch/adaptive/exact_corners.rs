@@ -47,6 +47,9 @@ impl ExactCorners {
     ) -> ExactCorners {
         let mut out = ExactCorners::default();
         let mut by_slot: WordHashMap<u32, u32> = WordHashMap::default();
+        // Per (level, vertex): its offset's width code where it is a corner-offset vertex, else
+        // `None`; a property of the vertex, asked by each of its up to four quad end caps.
+        let mut offset_codes: WordHashMap<(u32, u32), Option<u32>> = WordHashMap::default();
         for p in &census.patches {
             let mut frames = [NONE; 4];
             let mut codes = 0;
@@ -57,9 +60,13 @@ impl ExactCorners {
                 // A quad end cap of this level (the positional fillet's neighbours).
                 let quad_cap = |g: u32| is_quad_end_cap(lev, census, &at[p.level as usize], g);
                 for (k, &v) in t.face_vertices(p.face).iter().enumerate() {
-                    if !corner_offset_vertex(t, caps, v, quad_cap) {
+                    let code = *offset_codes.entry((p.level, v)).or_insert_with(|| {
+                        corner_offset_vertex(t, caps, v, quad_cap)
+                            .then(|| corner_offset_code(t, caps, v))
+                    });
+                    let Some(code) = code else {
                         continue;
-                    }
+                    };
                     let slot = slots.of(lev.global(v));
                     let frame = match by_slot.get(&slot) {
                         Some(&f) => f,
@@ -74,7 +81,7 @@ impl ExactCorners {
                         }
                     };
                     frames[k] = frame;
-                    codes |= corner_offset_code(t, caps, v) << (8 * k);
+                    codes |= code << (8 * k);
                 }
             }
             out.frames.push(frames);

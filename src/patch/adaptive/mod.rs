@@ -22,6 +22,7 @@ pub mod promoted;
 pub mod records;
 pub mod rows;
 mod sector_frames;
+mod slot_rows;
 pub mod slots;
 mod surface;
 

@@ -18,9 +18,9 @@ use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::AdaptiveLevel;
 #[cfg(doc)]
 use crate::subdiv::adaptive::EndCapSharpness;
-#[cfg(doc)]
-use crate::subdiv::limit::vertex_mask;
 use crate::subdiv::limit::SharedVertexMasks;
+#[cfg(doc)]
+use crate::subdiv::limit::{vertex_mask, VertexMask};
 use crate::topology::Topology;
 use glam::DVec3;
 
@@ -82,14 +82,22 @@ pub fn exact_corner_position(
 }
 
 /// Weights `w` of a limit mask over vertices `indices` of `lev`, times `sign`, as a row over
-/// global refined ids (`sign` 1 leaves them as they are, bit for bit).
+/// global refined ids (`sign` 1 leaves them as they are, bit for bit). A mask's indices
+/// increase ([`VertexMask`]) and global ids keep their order, so the terms are taken as they
+/// come, zeros dropped: what [`Weights::from_terms`], which any other order goes through,
+/// makes of them.
 pub(super) fn mask_row(lev: &AdaptiveLevel, indices: &[u32], w: &[f64], sign: f64) -> Weights {
-    Weights::from_terms(
-        indices
-            .iter()
-            .zip(w)
-            .map(|(&i, &x)| (lev.global(i), sign * x)),
-    )
+    let terms = indices
+        .iter()
+        .zip(w)
+        .map(|(&i, &x)| (lev.global(i), sign * x));
+    if !indices.windows(2).all(|p| p[0] < p[1]) {
+        return Weights::from_terms(terms);
+    }
+    // Room for every term up front (a filtered `collect` would grow from nothing).
+    let mut row = Vec::with_capacity(indices.len());
+    row.extend(terms.filter(|&(_, x)| x != 0.0));
+    Weights(row)
 }
 
 /// Whether the end caps at vertex `v` add its corner offset ([`corner_offset_share`]): a

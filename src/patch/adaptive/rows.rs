@@ -423,17 +423,13 @@ fn push_merged(out: &mut SparseRows, cvs: &[u32; 16], table: &CornerTable) {
     while any != 0 {
         let i = any.trailing_zeros();
         any &= any - 1;
-        let key = (u64::from(cvs[i as usize]) << 4) | u64::from(i);
-        // Insertion; the keys are distinct, so their order is the stable order by id.
-        let mut j = n;
-        while j > 0 && keys[j - 1] > key {
-            keys[j] = keys[j - 1];
-            j -= 1;
-        }
-        keys[j] = key;
+        keys[n] = (u64::from(cvs[i as usize]) << 4) | u64::from(i);
         n += 1;
     }
-    let keys = &keys[..n];
+    // The keys are distinct, so their order is the stable order by id.
+    let keys = &mut keys[..n];
+    keys.sort_unstable();
+    let keys = &*keys;
     let mut buf = CornerBuffer::default();
     if keys.windows(2).all(|p| p[0] >> 4 != p[1] >> 4) {
         // Distinct ids (the rule): each row its weights in that order, nothing to sum; the f32

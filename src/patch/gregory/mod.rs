@@ -44,7 +44,8 @@ pub mod tangents_tri;
 pub mod tangents_tri_fit;
 mod vertex;
 pub mod vertex_fit;
-pub(crate) mod word_hash;
+/// The house's word hash, kept in `subdiv` (which cannot use `patch`) and re-exported here.
+pub(crate) use crate::subdiv::word_hash;
 
 pub use build::{
     check_face, check_face_for, check_face_level0, check_vertex, check_vertex_for, gregory_faces,

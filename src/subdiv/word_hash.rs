@@ -1,7 +1,9 @@
-//! A word-at-a-time hash for the maps of the end-cap rows, keyed by ids, counts and bit
-//! patterns of the crate's own topology (not adversarial input): the multiply-rotate step of
-//! rustc's `FxHasher`, one step per 8 bytes instead of SipHash's rounds per word. Lookups only:
-//! no output depends on a map's iteration order.
+//! A word-at-a-time hash for the maps of the limit masks and the end-cap rows, keyed by ids,
+//! counts and bit patterns of the crate's own topology (not adversarial input): the
+//! multiply-rotate step of rustc's `FxHasher`, one step per 8 bytes instead of SipHash's rounds
+//! per word, and no random seed (instruction counts repeat from run to run). Lookups only: no
+//! output depends on a map's iteration order. In `subdiv` so that both `subdiv` and `patch` use
+//! it (`patch::gregory::word_hash` re-exports it).
 
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};

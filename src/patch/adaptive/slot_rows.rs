@@ -1,0 +1,177 @@
+//! Slot frames' rows (position, d/du, d/dv of each frame slot, [`super::slots`]), from the first
+//! census patch with the slot as a corner, exact patches (B-spline, single-crease) before end
+//! caps ([`CornerRows::visit`]), in two steps: [`SlotCorners::new`] picks each slot's corner and
+//! computes the exact frames of promoted corners (a failed one unshares its slot's normal, which
+//! the sector frames read), and [`SlotCorners::rows`] writes the rows once the frames after them
+//! are known, into one buffer with room for those too: the slot rows, most of the frame rows,
+//! are written once and not copied when the buffer grows for the frames after them (cachegrind
+//! counts a large copy at about one instruction per two bytes).
+
+use rayon::prelude::*;
+
+use super::promoted::{exact_frame, promoted_vertex};
+use super::rows::{CornerRows, PatchCorner, SparseRows};
+use super::slots::{Slots, NONE};
+use super::surface::EndCapTopologies;
+use crate::patch::gregory::Weights;
+use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
+use crate::subdiv::limit::SharedVertexMasks;
+use crate::topology::single_normal_vertex;
+
+/// Each slot's corner and the exact frames of the promoted ones.
+pub struct SlotCorners {
+    /// Per slot: the corner whose rows it takes.
+    first: Vec<Option<PatchCorner>>,
+    /// Per slot: its frame in `exact_frames` where its corner is an end cap's on a promoted crease
+    /// where the exact limit has one normal (`super::promoted`), else [`NONE`].
+    exact_of: Vec<u32>,
+    /// Those slots' frames ([`exact_frame`]; empty tangent rows where the exact mask failed).
+    exact_frames: Vec<[Weights; 3]>,
+    /// Per slot: whether its normal is shared (one sector in the topology the frame's patch was
+    /// built over; not where a promoted corner's exact mask failed, which keeps its end cap's
+    /// corner, one per sector).
+    pub shared: Vec<bool>,
+}
+
+impl SlotCorners {
+    /// The corners of `slots` over `corner_rows`' visit; `masks` the exact limit masks of
+    /// promoted corners, shared with the sector frames.
+    pub fn new(
+        refinement: &AdaptiveRefinement,
+        census: &PatchCensus,
+        topologies: &EndCapTopologies,
+        slots: &Slots,
+        corner_rows: &CornerRows,
+        masks: &SharedVertexMasks,
+    ) -> SlotCorners {
+        let mut first: Vec<Option<PatchCorner>> = vec![None; slots.len()];
+        let mut shared = vec![false; slots.len()];
+        let mut exact_slots = Vec::new();
+        corner_rows.visit(|c| {
+            let p = &census.patches[c.patch];
+            let lev = &refinement.levels[p.level as usize];
+            let s = slots.of(lev.global(c.vertex)) as usize;
+            if first[s].is_none() {
+                first[s] = Some(*c);
+                shared[s] = match p.kind {
+                    PatchType::EndCap => {
+                        let (t, caps) = (lev.topology(), topologies.get(p.level));
+                        let exact =
+                            promoted_vertex(t, caps, c.vertex) && single_normal_vertex(t, c.vertex);
+                        if exact {
+                            exact_slots.push(s);
+                        }
+                        exact || single_normal_vertex(caps, c.vertex)
+                    }
+                    _ => single_normal_vertex(lev.topology(), c.vertex),
+                };
+            }
+        });
+        let exact_frames: Vec<[Weights; 3]> = exact_slots
+            .par_iter()
+            .map(|&s| {
+                let c = first[s].expect("an exact slot has its corner");
+                let p = &census.patches[c.patch];
+                let lev = &refinement.levels[p.level as usize];
+                exact_frame(lev, p.face, c.k, corner_rows.position_row(&c), masks)
+            })
+            .collect();
+        let mut exact_of = vec![NONE; slots.len()];
+        for (i, (&s, frame)) in exact_slots.iter().zip(&exact_frames).enumerate() {
+            exact_of[s] = i as u32;
+            if frame[1].0.is_empty() {
+                shared[s] = false;
+            }
+        }
+        SlotCorners {
+            first,
+            exact_of,
+            exact_frames,
+            shared,
+        }
+    }
+
+    /// The slot rows in slot order (computed on the rayon pool in runs of slots, each written
+    /// into flat rows of its own and appended; on one thread straight into the result), with
+    /// room for `spare` (rows, terms) more.
+    pub fn rows(&self, corner_rows: &CornerRows, spare: (usize, usize)) -> SparseRows {
+        let chunk = if rayon::current_num_threads() == 1 {
+            self.first.len().max(1)
+        } else {
+            256
+        };
+        let mut out = SparseRows::new();
+        if chunk >= self.first.len() {
+            out.reserve(
+                3 * self.first.len() + spare.0,
+                self.terms_bound(0, &self.first, corner_rows) + spare.1,
+            );
+            self.push_run(0, &self.first, corner_rows, &mut out);
+            return out;
+        }
+        let runs: Vec<SparseRows> = self
+            .first
+            .par_chunks(chunk)
+            .enumerate()
+            .map(|(i, run)| {
+                let mut rows = SparseRows::new();
+                rows.reserve(3 * run.len(), self.terms_bound(i * chunk, run, corner_rows));
+                self.push_run(i * chunk, run, corner_rows, &mut rows);
+                rows
+            })
+            .collect();
+        out.reserve(
+            runs.iter().map(SparseRows::len).sum::<usize>() + spare.0,
+            runs.iter().map(|r| r.ids.len()).sum::<usize>() + spare.1,
+        );
+        for run in &runs {
+            out.append(run);
+        }
+        out
+    }
+
+    /// The exact frame of slot `s`, if its corner takes one.
+    fn exact_frame(&self, s: usize) -> Option<&[Weights; 3]> {
+        let i = self.exact_of[s];
+        (i != NONE).then(|| &self.exact_frames[i as usize])
+    }
+
+    /// At least the number of terms [`Self::push_run`] appends for the slots from `first_slot`
+    /// with corners `run`.
+    fn terms_bound(
+        &self,
+        first_slot: usize,
+        run: &[Option<PatchCorner>],
+        corner_rows: &CornerRows,
+    ) -> usize {
+        (run.iter().enumerate())
+            .filter_map(|(j, c)| Some((first_slot + j, c.as_ref()?)))
+            .map(|(s, c)| match self.exact_frame(s) {
+                Some(frame) => frame.iter().map(|w| w.0.len()).sum(),
+                None => corner_rows.terms_bound(c),
+            })
+            .sum()
+    }
+
+    /// Appends the rows of the slots from `first_slot` with corners `run` to `out` (none for a
+    /// slot without a corner).
+    fn push_run(
+        &self,
+        first_slot: usize,
+        run: &[Option<PatchCorner>],
+        corner_rows: &CornerRows,
+        out: &mut SparseRows,
+    ) {
+        for (j, c) in run.iter().enumerate() {
+            let Some(c) = c else { continue };
+            match self.exact_frame(first_slot + j) {
+                Some(frame) => {
+                    for w in frame {
+                        out.push(w, 0);
+                    }
+                }
+                None => corner_rows.push_rows(c, out),
+            }
+        }
+    }
+}
