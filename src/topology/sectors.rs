@@ -138,9 +138,8 @@ impl Topology {
             return Cow::Borrowed(self);
         }
         let mut t = self.clone();
-        // One pass over the edges: each one's promoted flag from its sharpness before the
-        // change, then the change.
-        let was_promoted = std::mem::take(&mut t.promoted);
+        // One pass over the edges: each one's promoted flag from `self`'s (before the
+        // change), then the change.
         let mut any = false;
         let promoted: Vec<bool> = t
             .edge_sharpness
@@ -148,7 +147,7 @@ impl Topology {
             .enumerate()
             .map(|(e, s)| {
                 let semi = is_semi(*s);
-                let p = was_promoted.get(e).copied().unwrap_or(false) || (semi && *s >= threshold);
+                let p = self.is_promoted_edge(e as u32) || (semi && *s >= threshold);
                 if semi {
                     *s = if *s >= threshold {
                         INFINITE_SHARPNESS
@@ -160,9 +159,7 @@ impl Topology {
                 p
             })
             .collect();
-        if any {
-            t.promoted = promoted;
-        }
+        t.promoted = if any { promoted } else { Vec::new() };
         for s in t.vertex_sharpness.iter_mut() {
             if is_semi(*s) {
                 *s = 0.0;

@@ -362,7 +362,7 @@ impl AdaptiveDrawTables {
         let corner_rows = CornerRows::new(refinement, census, &topologies, &caps);
         // Exact limit masks of promoted corners, one table for slot, sector and exact-corner frames.
         let masks = SharedVertexMasks::default();
-        let mut slot_corners = SlotCorners::new(
+        let (slot_corners, mut shared_normal) = SlotCorners::new(
             refinement,
             census,
             &topologies,
@@ -370,7 +370,6 @@ impl AdaptiveDrawTables {
             &corner_rows,
             &masks,
         );
-        let mut shared_normal = std::mem::take(&mut slot_corners.shared);
         let mut coarse = CoarseEdges::new(refinement, census, &slots);
         let sectors = SectorFrames::new(
             refinement,

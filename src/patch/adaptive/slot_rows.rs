@@ -27,15 +27,13 @@ pub struct SlotCorners {
     exact_of: Vec<u32>,
     /// Those slots' frames ([`exact_frame`]; empty tangent rows where the exact mask failed).
     exact_frames: Vec<[Weights; 3]>,
-    /// Per slot: whether its normal is shared (one sector in the topology the frame's patch was
-    /// built over; not where a promoted corner's exact mask failed, which keeps its end cap's
-    /// corner, one per sector).
-    pub shared: Vec<bool>,
 }
 
 impl SlotCorners {
-    /// The corners of `slots` over `corner_rows`' visit; `masks` the exact limit masks of
-    /// promoted corners, shared with the sector frames.
+    /// The corners of `slots` over `corner_rows`' visit, and per slot whether its normal is
+    /// shared (one sector in the topology the frame's patch was built over; not where a
+    /// promoted corner's exact mask failed, which keeps its end cap's corner, one per sector);
+    /// `masks` the exact limit masks of promoted corners, shared with the sector frames.
     pub fn new(
         refinement: &AdaptiveRefinement,
         census: &PatchCensus,
@@ -43,7 +41,7 @@ impl SlotCorners {
         slots: &Slots,
         corner_rows: &CornerRows,
         masks: &SharedVertexMasks,
-    ) -> SlotCorners {
+    ) -> (SlotCorners, Vec<bool>) {
         let mut first: Vec<Option<PatchCorner>> = vec![None; slots.len()];
         let mut shared = vec![false; slots.len()];
         let mut exact_slots = Vec::new();
@@ -83,12 +81,12 @@ impl SlotCorners {
                 shared[s] = false;
             }
         }
-        SlotCorners {
+        let corners = SlotCorners {
             first,
             exact_of,
             exact_frames,
-            shared,
-        }
+        };
+        (corners, shared)
     }
 
     /// The slot rows in slot order (computed on the rayon pool in runs of slots, each written
