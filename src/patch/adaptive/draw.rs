@@ -31,9 +31,7 @@ use super::slots::{Slots, NONE};
 use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure, EndCapTopologies};
 use crate::patch::edge_grid::PATCH_EDGES;
 use crate::patch::gregory::edge_flags::{edge_flags, Across};
-use crate::patch::gregory::shared_rows::{
-    shared_vertex_point_rows, sparse_face_rows_flat, FaceRows,
-};
+use crate::patch::gregory::shared_rows::{end_cap_face_rows, shared_vertex_point_rows, FaceRows};
 use crate::patch::gregory::stencil_table::VERTEX_POINTS;
 use crate::patch::gregory::{DartLimits, GregoryTangents};
 use crate::patch::single_crease::{gpu_cvs, Rotation, SingleCreasePatch};
@@ -118,8 +116,8 @@ struct EndCapRows {
 }
 
 /// Rows of every end cap in census order, with the first-stage rows of the vertex points they
-/// read (`sparse_face_rows_flat`, whose derived ids are numbered here per level, ascending
-/// in (level, vertex, point), so rows stay ascending).
+/// read (`end_cap_face_rows`, written once with global ids: the vertex points numbered here
+/// per level, ascending in (level, vertex, point), so rows stay ascending).
 fn end_cap_rows(
     refinement: &AdaptiveRefinement,
     census: &PatchCensus,
@@ -132,7 +130,7 @@ fn end_cap_rows(
         .filter(|p| p.kind == PatchType::EndCap)
         .collect();
     let tangents = tangents.for_end_caps();
-    let mut local = Vec::with_capacity(caps.len());
+    let mut local = Vec::new();
     // Dart masks solved once for every level and both stages.
     let darts = DartLimits::new();
     for group in caps.chunk_by(|a, b| a.level == b.level) {
@@ -140,32 +138,27 @@ fn end_cap_rows(
             check_end_cap(refinement, p)?;
         }
         let faces: Vec<u32> = group.iter().map(|p| p.face).collect();
-        let t = topologies.get(group[0].level);
-        for (p, rows) in group
-            .iter()
-            .zip(sparse_face_rows_flat(t, &faces, tangents, &darts))
-        {
-            local.push((
-                p.level,
-                rows.map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?,
-            ));
+        let rows = end_cap_face_rows(topologies.get(group[0].level), &faces, tangents, &darts);
+        for (i, p) in group.iter().enumerate() {
+            rows.result(i)
+                .map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?;
         }
+        local.push((group[0].level, rows));
     }
     // Number the vertex points the rows read, level by level in (vertex, point) order: `at`
-    // is indexed by a level's `VERTEX_POINTS * v + b`, which is a derived id minus the level's
-    // vertex count (`vertex_point_id`).
+    // is indexed by a level's `VERTEX_POINTS * v + b` (`vertex_point_id` less the level's
+    // vertex count).
     let mut index: Vec<Vec<u32>> = vec![Vec::new(); refinement.levels.len()];
     for (l, rows) in &local {
         let t = topologies.get(*l);
-        let n = t.vertex_count() as u32;
         let at = &mut index[*l as usize];
-        for &(id, _) in &rows.terms {
-            if id >= n {
+        for i in 0..rows.len() {
+            rows.derived_read(t, i, |v, b| {
                 if at.is_empty() {
                     at.resize(VERTEX_POINTS as usize * t.vertex_count(), NONE);
                 }
-                at[(id - n) as usize] = 0;
-            }
+                at[(VERTEX_POINTS * v + b) as usize] = 0;
+            });
         }
     }
     // (level, vertex, points read as a bit mask) per vertex with a vertex point read.
@@ -185,26 +178,17 @@ fn end_cap_rows(
         }
     }
     let first = refinement.vertex_count() as u32;
-    let caps = local
-        .into_iter()
-        .map(|(l, mut rows)| {
-            let (lev, t, at) = (
-                &refinement.levels[l as usize],
-                topologies.get(l),
-                &index[l as usize],
-            );
-            // Global ids: monotone in the local ones, so rows stay ascending.
-            let n = t.vertex_count() as u32;
-            for (id, _) in rows.terms.iter_mut() {
-                *id = if *id < n {
-                    lev.global(*id)
-                } else {
-                    first + at[(*id - n) as usize]
-                };
-            }
-            rows
-        })
-        .collect();
+    let mut caps = Vec::with_capacity(caps.len());
+    for (l, rows) in &local {
+        let (lev, t, at) = (
+            &refinement.levels[*l as usize],
+            topologies.get(*l),
+            &index[*l as usize],
+        );
+        // Global ids: monotone in the local ones, so rows stay ascending.
+        let derived = |v, b| first + at[(VERTEX_POINTS * v + b) as usize];
+        caps.extend(rows.all_rows(t, &|u| lev.global(u), &derived));
+    }
     let mut vertices = FaceRows {
         offsets: Vec::with_capacity(count as usize + 1),
         terms: Vec::new(),

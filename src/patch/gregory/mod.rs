@@ -28,6 +28,7 @@
 pub mod accuracy;
 mod build;
 pub mod closest;
+mod corner_rings;
 mod corner_types;
 pub mod edge_flags;
 mod eval;

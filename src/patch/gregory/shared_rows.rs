@@ -1,8 +1,10 @@
 //! The sparse end-cap rows of [`super::stencil_table::sparse_face_rows_direct`] computed once per
 //! connectivity type (Loop et al. 2009 §4.3, as [`super::stencil_table::GregoryStencilTable`]
-//! shares f32 types): faces whose local topology reads the same in the slots of their canonical
-//! ring ([`super::stencil::canonical_ring`]) run the very same construction steps on the same slots, so their
-//! rows are one set of weights over slots, relabelled with each face's global ids.
+//! shares f32 types): faces whose local topology reads the same in the slots of their ring
+//! (their corners' one-rings, corner by corner, each vertex once: the vertices of
+//! [`super::stencil::canonical_ring`] in another order) run the very same construction steps
+//! on the same slots, so their rows are one set of weights over slots, relabelled with each
+//! face's ids ([`EndCapFaceRows::rows`]: the caller's, in one pass over the terms).
 //!
 //! Why the bits agree: a row weight of the direct construction is the sequence of
 //! `a + w * b` updates the construction applies to that vertex's entry, in construction order;
@@ -10,8 +12,9 @@
 //! vertex ids, and ids only decide where an entry sits in the sorted row. The `TypeKey`
 //! records everything the construction reads (face sizes and vertex slots of every face around
 //! every corner, each corner's edges with their other end, sharpness bits and face counts, and
-//! whether each edge neighbour gets a patch), so two faces with equal keys produce equal rows
-//! slot by slot. A face whose rows leave its ring, or that gets no patch, is built directly.
+//! whether each edge neighbour gets a patch; the corners' part as each corner's shape, made
+//! once per vertex, and its ring's slots in the face's ring), so two faces with equal keys
+//! produce equal rows slot by slot. A face whose rows leave its ring, or that gets no patch, is built directly.
 //! The rows are two-stage ([`sparse_face_rows_direct`]): the vertex points of a smooth, dart or
 //! crease corner (`vertex_count + 3 v + b`, [`super::GregoryVertex::vertex_points`]) take the
 //! slots `ring_len + 3 slot(v) + b`; which rule a corner takes is part of its topology, hence of
@@ -24,9 +27,9 @@ use super::build::{
     end_cap_patch_with, has_vertex_data, vertex_covered, vertex_ring_with, Coverage, NoPoint,
     NotGregory,
 };
+use super::corner_rings::{edge_word, vertex_word, CornerRings};
 pub use super::face_rows::FaceRows;
 use super::point::Weights;
-use super::stencil::ring_walk;
 #[cfg(doc)]
 use super::stencil_table::sparse_face_rows_direct;
 use super::stencil_table::{
@@ -41,25 +44,7 @@ use crate::topology::Topology;
 
 const NONE: u32 = u32::MAX;
 
-/// The key's sharpness word of a promoted crease (`Topology::is_promoted_edge`: its face points
-/// may differ from a real crease's, `VertexRing::one_sided_edge`): a NaN's bits, which no
-/// sharpness has.
-const PROMOTED: u32 = u32::MAX - 1;
-
-/// The key's vertex-sharpness word of a decayed corner (`Topology::is_decayed_corner`: its
-/// tangents may differ from a smooth vertex's, `GregoryTangents::vertex_ring_factors`), another
-/// NaN's bits; a decayed corner has no vertex sharpness.
-const DECAYED_CORNER: u32 = u32::MAX - 2;
-
-/// The key's word for vertex `v`'s own tags: [`DECAYED_CORNER`] or its sharpness bits.
-fn vertex_word(topo: &Topology, v: u32) -> u32 {
-    match topo.is_decayed_corner(v) {
-        true => DECAYED_CORNER,
-        false => topo.vertex_sharpness(v).to_bits(),
-    }
-}
-
-/// The local topology of a face as its construction reads it, in canonical-ring slots.
+/// The local topology of a face as its construction reads it, in the slots of its ring.
 type TypeKey = Vec<u32>;
 
 /// One type's rows over ring slots in the direct construction's values, stored column by
@@ -90,9 +75,25 @@ struct Keyer<'a> {
     /// The build's dart masks (whether one exists decides a dart's data; the construction
     /// reads the same solves).
     darts: &'a DartLimits,
+    /// The corners' rings and shapes, each made once.
+    corners: CornerRings<'a>,
 }
 
-impl Keyer<'_> {
+impl<'a> Keyer<'a> {
+    /// Nothing asked yet, no slot set.
+    fn new(topo: &'a Topology, tangents: GregoryTangents, darts: &'a DartLimits) -> Self {
+        Keyer {
+            topo,
+            tangents,
+            slot: vec![NONE; topo.vertex_count()],
+            has_data: vec![2; topo.vertex_count()],
+            has_patch: vec![2; topo.face_count()],
+            smooth: vec![2; topo.vertex_count()],
+            darts,
+            corners: CornerRings::new(topo),
+        }
+    }
+
     /// Whether vertex `v` gets per-vertex data ([`super::gregory_vertex_for`] is `Some`): topology only,
     /// so the scalar construction answers for the weight one.
     fn has_data(&mut self, v: u32) -> bool {
@@ -124,17 +125,45 @@ impl Keyer<'_> {
         self.smooth[z as usize] == 1
     }
 
-    /// The key of face `f` with canonical ring `ring` (slots set) in `key` (cleared first: one
-    /// buffer for every face keyed), `None` where a vertex the construction reads lies outside
+    /// The key of face `f` in `key` (cleared first: one buffer for every face keyed), its ring
+    /// in `ring` with `slot` set (the vertices of its corners' rings, [`CornerRings::corner`],
+    /// in corner order, each once); `None` where a vertex the construction reads lies outside
     /// the ring.
-    fn key(&mut self, f: u32, ring: &[u32], key: &mut TypeKey) -> Option<()> {
+    ///
+    /// Each corner is its shape id and the place of `f` among its faces, then every entry of
+    /// every corner's ring is its slot in the face's ring: with the shapes this is what
+    /// [`Self::push_vertex`] writes of each corner (its edges' other ends and its faces'
+    /// vertices in the face's slots), so faces with equal keys read the same.
+    fn key(&mut self, f: u32, key: &mut TypeKey) -> (Vec<u32>, Option<()>) {
         let topo = self.topo;
         let fv = topo.face_vertices(f);
         key.clear();
-        key.extend([fv.len() as u32, ring.len() as u32]);
+        key.push(fv.len() as u32);
         for &v in fv {
-            self.push_vertex(key, f, v)?;
+            let at = topo.vertex_faces(v).iter().position(|&g| g == f);
+            key.extend([self.corners.corner(v).0, at.map_or(NONE, |j| j as u32)]);
         }
+        let mut ring: Vec<u32> = Vec::with_capacity(RING_CAPACITY);
+        for &v in fv {
+            for &u in self.corners.corner(v).1 {
+                let s = &mut self.slot[u as usize];
+                if *s == NONE {
+                    *s = ring.len() as u32;
+                    ring.push(u);
+                }
+                key.push(*s);
+            }
+        }
+        let edges = self.key_edges(f, key);
+        (ring, edges)
+    }
+
+    /// The words of `f`'s key after its corners: per edge, the neighbour across it (its place
+    /// at the edge's first corner, whether it gets a patch, its far corners where its face
+    /// points there are one-sided), [`NONE`] where there is none.
+    fn key_edges(&mut self, f: u32, key: &mut TypeKey) -> Option<()> {
+        let topo = self.topo;
+        let fv = topo.face_vertices(f);
         // Edge `k` of the face joins corners `k` and `k + 1` (`Topology::face_edges`).
         let n = fv.len();
         for (k, &e) in topo.face_edges(f).iter().enumerate() {
@@ -169,10 +198,7 @@ impl Keyer<'_> {
         key.push(edges.len() as u32);
         for &e in edges {
             key.push(slot(topo.other_vertex(e, v))?);
-            key.push(match topo.is_promoted_edge(e) {
-                true => PROMOTED,
-                false => topo.edge_sharpness(e).to_bits(),
-            });
+            key.push(edge_word(topo, e));
             key.push(topo.edge_faces(e).len() as u32);
         }
         let faces = topo.vertex_faces(v);
@@ -229,23 +255,9 @@ impl Keyer<'_> {
     }
 }
 
-/// Room [`ring_slots`] makes for a ring up front: a quad's ring (16 vertices at valence-4
-/// corners, 24 at valence 6) without growing it.
+/// Room [`Keyer::key`] makes for a face's ring up front: a quad's ring (16 vertices at
+/// valence-4 corners, 24 at valence 6) without growing it.
 const RING_CAPACITY: usize = 32;
-
-/// [`super::stencil::canonical_ring`] of face `f` with `slot` (all [`NONE`] on entry) set to each ring vertex's
-/// slot: the same list, with the membership test in `slot` instead of a scan (rings around a
-/// valence-1000 vertex have thousands of vertices).
-fn ring_slots(topo: &Topology, f: u32, slot: &mut [u32]) -> Vec<u32> {
-    let mut out: Vec<u32> = Vec::with_capacity(RING_CAPACITY);
-    ring_walk(topo, f, |x| {
-        if slot[x as usize] == NONE {
-            slot[x as usize] = out.len() as u32;
-            out.push(x);
-        }
-    });
-    out
-}
 
 /// `rows` over slots, or `None` when a weight lies outside the ring: vertex `v` at its slot,
 /// derived point `b` of `v` ([`vertex_point_id`]) at `ring_len + 3 slot(v) + b`.
@@ -287,36 +299,63 @@ fn to_slots(topo: &Topology, rows: &FaceRows, slot: &[u32], ring_len: usize) -> 
     })
 }
 
-/// `rows` with slots replaced by the ids of `ring` (and its vertices' derived points),
-/// ascending ids: the slots walked in ascending id order (the ring's vertices sorted once,
-/// then their derived points in that order, which [`vertex_point_id`] numbers past every
-/// vertex in vertex order), each column's terms appended to their rows.
-fn from_slots(topo: &Topology, rows: &LocalRows, ring: &[u32]) -> FaceRows {
+/// `rows` with slots replaced by ids: the vertex of slot `s` (`ring[s]`) by `vertex(ring[s])`,
+/// its derived point `b` by `derived(ring[s], b)`; ascending ids when both maps are monotone
+/// (in the vertex, then in `(vertex, point)`) and every derived id exceeds every vertex id, as
+/// [`vertex_point_id`] numbers them: the slots walked in ascending order of their vertices
+/// (sorted once), then their derived points in that order, each column's terms appended to
+/// their rows.
+fn from_slots(
+    rows: &LocalRows,
+    ring: &[u32],
+    vertex: &(impl Fn(u32) -> u32 + ?Sized),
+    derived: &(impl Fn(u32, u32) -> u32 + ?Sized),
+) -> FaceRows {
     let l = ring.len();
     let mut order: Vec<u32> = (0..l as u32).collect();
     order.sort_unstable_by_key(|&s| ring[s as usize]);
-    let mut next = rows.offsets.clone();
-    let mut terms = vec![(0, 0.0); rows.columns.len()];
-    let mut put = |s: usize, id: u32| {
-        let column = &rows.columns[rows.starts[s] as usize..rows.starts[s + 1] as usize];
-        for &(r, x) in column {
-            terms[next[r as usize] as usize] = (id, x);
-            next[r as usize] += 1;
+    let terms = SCATTER.with(|scatter| {
+        let (next, terms) = &mut *scatter.borrow_mut();
+        next.clear();
+        next.extend_from_slice(&rows.offsets);
+        if terms.len() < rows.columns.len() {
+            terms.resize(rows.columns.len(), (0, 0.0));
         }
-    };
-    for &s in &order {
-        put(s as usize, ring[s as usize]);
-    }
-    for &s in &order {
-        for b in 0..VERTEX_POINTS {
-            let derived = l + (VERTEX_POINTS * s + b) as usize;
-            put(derived, vertex_point_id(topo, ring[s as usize], b));
+        let mut put = |s: usize, id: u32| {
+            let column = &rows.columns[rows.starts[s] as usize..rows.starts[s + 1] as usize];
+            for &(r, x) in column {
+                terms[next[r as usize] as usize] = (id, x);
+                next[r as usize] += 1;
+            }
+        };
+        for &s in &order {
+            put(s as usize, vertex(ring[s as usize]));
         }
-    }
+        for &s in &order {
+            for b in 0..VERTEX_POINTS {
+                let column = l + (VERTEX_POINTS * s + b) as usize;
+                if rows.starts[column] < rows.starts[column + 1] {
+                    put(column, derived(ring[s as usize], b));
+                }
+            }
+        }
+        terms[..rows.columns.len()].to_vec()
+    });
     FaceRows {
         offsets: rows.offsets.clone(),
         terms,
     }
+}
+
+/// Row cursors and every term [`from_slots`] scatters into before copying them out at their
+/// length: no zeroed allocation per face.
+type Scatter = (Vec<u32>, Vec<(u32, f64)>);
+
+thread_local! {
+    /// [`from_slots`]'s buffers (they keep their capacity).
+    static SCATTER: std::cell::RefCell<Scatter> = const {
+        std::cell::RefCell::new((Vec::new(), Vec::new()))
+    };
 }
 
 /// [`super::stencil_table::sparse_face_rows_direct`] on `faces` split into one batch per rayon
@@ -353,44 +392,158 @@ pub fn sparse_face_rows(
         .collect()
 }
 
-/// The rows of [`sparse_face_rows`], each face's in one [`FaceRows`]. The direct batches and
-/// the relabelling run on the rayon pool. Dart masks from `darts` (one cache per build).
+/// The rows of [`sparse_face_rows`], each face's in one [`FaceRows`]
+/// ([`EndCapFaceRows::rows`] with the level's ids).
 pub fn sparse_face_rows_flat(
     topo: &Topology,
     faces: &[u32],
     tangents: GregoryTangents,
     darts: &DartLimits,
 ) -> Vec<Result<FaceRows, NotGregory>> {
-    let mut keyer = Keyer {
-        topo,
-        tangents,
-        slot: vec![NONE; topo.vertex_count()],
-        has_data: vec![2; topo.vertex_count()],
-        has_patch: vec![2; topo.face_count()],
-        smooth: vec![2; topo.vertex_count()],
-        darts,
-    };
+    let shared = end_cap_face_rows(topo, faces, tangents, darts);
+    let derived = |v, b| vertex_point_id(topo, v, b);
+    (0..faces.len())
+        .map(|i| {
+            shared
+                .result(i)
+                .map(|()| shared.rows(topo, i, &|u| u, &derived))
+        })
+        .collect()
+}
+
+/// The end-cap rows of one face as [`end_cap_face_rows`] keeps them.
+enum FaceRow {
+    /// Built directly: over the level's vertices and [`vertex_point_id`]s.
+    Direct(FaceRows),
+    /// Its type's rows over slots, and the face's ring (the vertex of each slot).
+    Shared { local: u32, ring: Vec<u32> },
+}
+
+/// The end-cap rows of a set of faces with the construction run once per connectivity type
+/// (module docs), each face's kept as built (directly, or its type's rows over slots and its
+/// ring) until [`Self::rows`] writes them with the caller's ids: one pass over the terms where
+/// relabelling them to the level's ids and then to the caller's would take two.
+pub struct EndCapFaceRows {
+    local: Vec<LocalRows>,
+    faces: Vec<Result<FaceRow, NotGregory>>,
+}
+
+impl EndCapFaceRows {
+    /// Number of faces.
+    pub fn len(&self) -> usize {
+        self.faces.len()
+    }
+
+    /// Whether there is no face.
+    pub fn is_empty(&self) -> bool {
+        self.faces.is_empty()
+    }
+
+    /// Whether face `i` (of the faces asked, in order) gets a patch, or why not.
+    pub fn result(&self, i: usize) -> Result<(), NotGregory> {
+        self.faces[i].as_ref().map(|_| ()).map_err(|e| *e)
+    }
+
+    /// Calls `mark(v, b)` for each derived point `b` of vertex `v` ([`vertex_point_id`]) face
+    /// `i`'s rows read (a point may come more than once); nothing for a face without patch.
+    pub fn derived_read(&self, topo: &Topology, i: usize, mut mark: impl FnMut(u32, u32)) {
+        match &self.faces[i] {
+            Ok(FaceRow::Direct(rows)) => rows
+                .terms
+                .iter()
+                .filter_map(|&(id, _)| vertex_point_of(topo, id))
+                .for_each(|(v, b)| mark(v, b)),
+            Ok(FaceRow::Shared { local, ring }) => {
+                let starts = &self.local[*local as usize].starts;
+                let l = ring.len();
+                for (s, &v) in ring.iter().enumerate() {
+                    for b in 0..VERTEX_POINTS {
+                        let column = l + VERTEX_POINTS as usize * s + b as usize;
+                        if starts[column] < starts[column + 1] {
+                            mark(v, b);
+                        }
+                    }
+                }
+            }
+            Err(_) => {}
+        }
+    }
+
+    /// Face `i`'s rows (empty for a face without patch) with vertex `u` written as
+    /// `vertex(u)` and derived point `b` of vertex `v` as `derived(v, b)`: both monotone, every
+    /// derived id past every vertex id (as [`vertex_point_id`]), so rows stay ascending.
+    pub fn rows(
+        &self,
+        topo: &Topology,
+        i: usize,
+        vertex: &(dyn Fn(u32) -> u32 + Sync),
+        derived: &(dyn Fn(u32, u32) -> u32 + Sync),
+    ) -> FaceRows {
+        match &self.faces[i] {
+            Ok(FaceRow::Direct(rows)) => {
+                let terms = rows.terms.iter().map(|&(id, x)| {
+                    let id = match vertex_point_of(topo, id) {
+                        None => vertex(id),
+                        Some((v, b)) => derived(v, b),
+                    };
+                    (id, x)
+                });
+                FaceRows {
+                    offsets: rows.offsets.clone(),
+                    terms: terms.collect(),
+                }
+            }
+            Ok(FaceRow::Shared { local, ring }) => {
+                from_slots(&self.local[*local as usize], ring, vertex, derived)
+            }
+            Err(_) => FaceRows::default(),
+        }
+    }
+
+    /// [`Self::rows`] of every face with a patch, in order, on the rayon pool.
+    pub fn all_rows(
+        &self,
+        topo: &Topology,
+        vertex: &(dyn Fn(u32) -> u32 + Sync),
+        derived: &(dyn Fn(u32, u32) -> u32 + Sync),
+    ) -> Vec<FaceRows> {
+        (0..self.len())
+            .into_par_iter()
+            .with_min_len(256)
+            .map(|i| self.rows(topo, i, vertex, derived))
+            .collect()
+    }
+}
+
+/// The rows of `faces` with the construction run once per connectivity type, kept per face
+/// as built ([`EndCapFaceRows`]). The direct batches run on the rayon pool. Dart masks from
+/// `darts` (one cache per build).
+pub fn end_cap_face_rows(
+    topo: &Topology,
+    faces: &[u32],
+    tangents: GregoryTangents,
+    darts: &DartLimits,
+) -> EndCapFaceRows {
+    let mut keyer = Keyer::new(topo, tangents, darts);
     // Pass 1: each face's connectivity type (`None`: built directly), the first face of each
     // type its representative.
     let mut types: WordHashMap<TypeKey, u32> = WordHashMap::default();
     let mut type_of: Vec<Option<u32>> = Vec::with_capacity(faces.len());
     let mut representative: Vec<usize> = Vec::new();
-    // Each face's canonical ring, walked once (the relabelling reads it again).
+    // Each face's ring, numbered once (the relabelling reads it again).
     let mut rings: Vec<Vec<u32>> = Vec::with_capacity(faces.len());
     let mut key = TypeKey::new();
     for (i, &f) in faces.iter().enumerate() {
-        let ring = ring_slots(topo, f, &mut keyer.slot);
-        let t = keyer
-            .key(f, &ring, &mut key)
-            .map(|()| match types.get(key.as_slice()) {
-                Some(&t) => t,
-                None => {
-                    let t = types.len() as u32;
-                    types.insert(key.clone(), t);
-                    representative.push(i);
-                    t
-                }
-            });
+        let (ring, keyed) = keyer.key(f, &mut key);
+        let t = keyed.map(|()| match types.get(key.as_slice()) {
+            Some(&t) => t,
+            None => {
+                let t = types.len() as u32;
+                types.insert(key.clone(), t);
+                representative.push(i);
+                t
+            }
+        });
         clear(&mut keyer.slot, &ring);
         type_of.push(t);
         rings.push(ring);
@@ -453,23 +606,38 @@ pub fn sparse_face_rows_flat(
     )) {
         rows[i] = Some(r);
     }
-    let out = rows
-        .into_par_iter()
-        .zip(rings)
-        .enumerate()
-        .with_min_len(256)
-        .map(|(i, (r, ring))| {
-            r.unwrap_or_else(|| {
-                let t = type_of[i].expect("faces without type are built in the first batch");
-                let local = local[t as usize].as_ref();
-                Ok(from_slots(
-                    topo,
-                    local.expect("types without rows are built in the second batch"),
-                    &ring,
-                ))
-            })
+    // The types' rows in one list, each type with rows at its place there.
+    let mut kept: Vec<LocalRows> = Vec::new();
+    let at: Vec<u32> = local
+        .into_iter()
+        .map(|l| match l {
+            Some(l) => {
+                kept.push(l);
+                kept.len() as u32 - 1
+            }
+            None => NONE,
         })
         .collect();
+    let out = EndCapFaceRows {
+        local: kept,
+        faces: rows
+            .into_iter()
+            .zip(rings)
+            .enumerate()
+            .map(|(i, (r, ring))| match r {
+                Some(r) => r.map(FaceRow::Direct),
+                None => {
+                    let t = type_of[i].expect("faces without type are built in the first batch");
+                    let local = at[t as usize];
+                    assert_ne!(
+                        local, NONE,
+                        "types without rows are built in the second batch"
+                    );
+                    Ok(FaceRow::Shared { local, ring })
+                }
+            })
+            .collect(),
+    };
     log::trace!(
         "end-cap rows: {} faces, {} connectivity types, {} + {} built directly",
         faces.len(),
@@ -651,7 +819,7 @@ mod tests {
     use super::*;
     use crate::mesh::{ControlMesh, ControlMeshDesc};
     use crate::patch::gregory::gregory_vertex_for;
-    use crate::patch::gregory::stencil::canonical_ring;
+    use crate::patch::gregory::stencil::{canonical_ring, ring_walk};
     use crate::subdiv::adaptive::EndCapSharpness;
     use glam::DVec3;
     use std::collections::HashMap;
@@ -957,12 +1125,16 @@ mod tests {
         assert!(compared > 1000, "{compared} rings");
     }
 
-    /// The ring walk visits what [`ring_walk`] documents, in order, and `ring_slots` keeps
-    /// its first appearances as [`canonical_ring`] does, on a pyramid whose faces start their
-    /// vertex lists away from the walked corner (fails if a rotation starts at the wrong face
-    /// or vertex).
+    /// The ring walk visits what [`ring_walk`] documents, in order, and a face's key numbers
+    /// its ring as [`Keyer::key`] documents (its corners' rings, each vertex of their rings
+    /// once, in corner order), the same vertices as [`canonical_ring`], with `slot` set, on a
+    /// pyramid whose faces start their vertex lists away from the walked corner, where every
+    /// face has its own key (the apex's five triangles sit at five places in its ring); on a
+    /// grid, the faces whose corners are interior share one key and the others do not (fails
+    /// if a rotation starts at the wrong face or vertex, a ring vertex is missed or repeated,
+    /// or the key reads ids rather than slots).
     #[test]
-    fn ring_slots_is_the_canonical_ring() {
+    fn face_keys_number_the_corners_rings() {
         // A pyramid over a pentagon: triangles, a pentagon, valences 3 and 5.
         let mut positions: Vec<DVec3> = (0..5)
             .map(|k| {
@@ -983,7 +1155,9 @@ mod tests {
         })
         .unwrap();
         let topo = Topology::new(&mesh).unwrap();
-        let mut slot = vec![NONE; topo.vertex_count()];
+        let darts = DartLimits::new();
+        let mut keyer = Keyer::new(&topo, GregoryTangents::default(), &darts);
+        let mut keys = Vec::new();
         for f in 0..topo.face_count() as u32 {
             // The walk as documented: corners, then per corner its faces from `f` round,
             // each face's vertices from the corner round.
@@ -1000,12 +1174,128 @@ mod tests {
             let mut visited = Vec::new();
             ring_walk(&topo, f, |x| visited.push(x));
             assert_eq!(visited, walk, "face {f}");
-            let ring = ring_slots(&topo, f, &mut slot);
-            assert_eq!(ring, canonical_ring(&topo, f));
+            let mut key = TypeKey::new();
+            let (ring, keyed) = keyer.key(f, &mut key);
+            assert!(keyed.is_some(), "face {f}");
+            // Each corner, its edges' other ends, its faces' vertices in face order.
+            let mut want: Vec<u32> = Vec::new();
+            for &v in topo.face_vertices(f) {
+                let ends = topo
+                    .vertex_edges(v)
+                    .iter()
+                    .map(|&e| topo.other_vertex(e, v));
+                let around = topo
+                    .vertex_faces(v)
+                    .iter()
+                    .flat_map(|&g| topo.face_vertices(g));
+                for u in std::iter::once(v).chain(ends).chain(around.copied()) {
+                    if !want.contains(&u) {
+                        want.push(u);
+                    }
+                }
+            }
+            assert_eq!(ring, want, "face {f}");
+            let mut sorted = ring.clone();
+            sorted.sort_unstable();
+            let mut canonical = canonical_ring(&topo, f);
+            canonical.sort_unstable();
+            assert_eq!(sorted, canonical, "face {f}");
             for (s, &v) in ring.iter().enumerate() {
-                assert_eq!(slot[v as usize], s as u32);
-                slot[v as usize] = NONE;
+                assert_eq!(keyer.slot[v as usize], s as u32);
+            }
+            clear(&mut keyer.slot, &ring);
+            keys.push(key);
+        }
+        let distinct: std::collections::HashSet<&TypeKey> = keys.iter().collect();
+        assert_eq!(distinct.len(), keys.len());
+        // A grid of 8 x 8 quads: faces with interior corners are those off the border.
+        let grid = creased_grid(8, 0);
+        let mut keyer = Keyer::new(&grid, GregoryTangents::default(), &darts);
+        let (mut inner, mut outer) = (Vec::new(), Vec::new());
+        for f in 0..64u32 {
+            let mut key = TypeKey::new();
+            let (ring, keyed) = keyer.key(f, &mut key);
+            assert!(keyed.is_some(), "grid face {f}");
+            clear(&mut keyer.slot, &ring);
+            let (x, y) = (f % 8, f / 8);
+            match (1..7).contains(&x) && (1..7).contains(&y) {
+                true => inner.push((f, ring.len(), key)),
+                false => outer.push(key),
             }
         }
+        assert_eq!(inner.len(), 36);
+        for (f, l, key) in &inner {
+            assert_eq!(*l, 16, "grid face {f}");
+            assert_eq!(*key, inner[0].2, "grid face {f}");
+        }
+        assert!(outer.iter().all(|k| *k != inner[0].2));
+    }
+
+    /// [`EndCapFaceRows::rows`] with other ids is the level's rows ([`sparse_face_rows_flat`])
+    /// relabelled term by term, and [`EndCapFaceRows::derived_read`] marks exactly the
+    /// derived points those rows read, on every face of every level of meshes with n-gons,
+    /// holes, creases, darts and semi-sharp creases (faces without patch included: no rows,
+    /// nothing read), shared and directly built faces both met (fails if a shared face's
+    /// column of derived points is skipped or mislabelled, or a direct face's terms are
+    /// relabelled as vertices).
+    #[test]
+    fn face_rows_take_the_callers_ids() {
+        let darts = DartLimits::new();
+        let (mut shared, mut direct) = (0, 0);
+        for name in [
+            "catmark_nonquads",
+            "catmark_dart_edgecorner",
+            "catmark_cubes_semisharp",
+        ] {
+            for topo in level_topologies(name, false) {
+                let n = topo.vertex_count() as u32;
+                let faces: Vec<u32> = (0..topo.face_count() as u32).collect();
+                let tangents = GregoryTangents::default();
+                let rows = end_cap_face_rows(&topo, &faces, tangents, &darts);
+                let flat = sparse_face_rows_flat(&topo, &faces, tangents, &darts);
+                // Monotone, derived ids past every vertex id, none the level's own.
+                let vertex = |u: u32| 2 * u + 5;
+                let derived = |v: u32, b: u32| 2 * n + 10 + 7 * v + b;
+                for (i, want) in flat.iter().enumerate() {
+                    match &rows.faces[i] {
+                        Ok(FaceRow::Shared { .. }) => shared += 1,
+                        Ok(FaceRow::Direct(_)) => direct += 1,
+                        Err(_) => {}
+                    }
+                    let got = rows.rows(&topo, i, &vertex, &derived);
+                    let mut read = std::collections::BTreeSet::new();
+                    rows.derived_read(&topo, i, |v, b| {
+                        read.insert((v, b));
+                    });
+                    let Ok(want) = want else {
+                        assert!(got.is_empty() && read.is_empty(), "{name}: face {i}");
+                        continue;
+                    };
+                    let relabel = |id: u32| match vertex_point_of(&topo, id) {
+                        None => vertex(id),
+                        Some((v, b)) => derived(v, b),
+                    };
+                    let terms: Vec<(u32, u64)> = want
+                        .terms
+                        .iter()
+                        .map(|&(u, x)| (relabel(u), x.to_bits()))
+                        .collect();
+                    let bits: Vec<(u32, u64)> =
+                        got.terms.iter().map(|&(u, x)| (u, x.to_bits())).collect();
+                    assert_eq!(
+                        (&got.offsets, bits),
+                        (&want.offsets, terms),
+                        "{name}: face {i}"
+                    );
+                    let want_read: std::collections::BTreeSet<(u32, u32)> = want
+                        .terms
+                        .iter()
+                        .filter_map(|&(u, _)| vertex_point_of(&topo, u))
+                        .collect();
+                    assert_eq!(read, want_read, "{name}: face {i}");
+                }
+            }
+        }
+        assert!(shared > 0 && direct > 0, "{shared} shared, {direct} direct");
     }
 }
