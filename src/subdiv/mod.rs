@@ -11,7 +11,7 @@ pub mod eval;
 mod kept;
 mod level;
 pub mod limit;
-mod points;
+pub(crate) mod points;
 mod refine;
 mod ring_step;
 pub mod rules;

@@ -162,20 +162,28 @@ fn face_row(t: &Topology, f: u32, buf: &mut Vec<(u32, f64)>) {
 /// (DeRose et al. 1998, section 3; Köbler 2013, section 3.2).
 fn edge_row(t: &Topology, e: u32, buf: &mut Vec<(u32, f64)>) {
     let [a, b] = t.edge_verts[e as usize];
-    let s = t.edge_sharpness[e as usize] as f64;
-    if t.is_boundary_edge(e) || s >= 1.0 {
-        buf.extend([(a, 0.5), (b, 0.5)]);
+    let (ends, faces) = edge_point_weights(t.edge_sharpness[e as usize], t.is_boundary_edge(e));
+    buf.extend([(a, ends), (b, ends)]);
+    if faces == 0.0 {
         return;
+    }
+    for &f in t.edge_faces(e) {
+        let verts = t.face_vertices(f);
+        let w = faces / verts.len() as f64;
+        buf.extend(verts.iter().map(|&v| (v, w)));
+    }
+}
+
+/// The weights of [`edge_row`] for an edge of sharpness `s` (`boundary`: one face): each end's,
+/// and each face centroid's (`0` for the midpoint).
+pub(crate) fn edge_point_weights(s: f32, boundary: bool) -> (f64, f64) {
+    let s = s as f64;
+    if boundary || s >= 1.0 {
+        return (0.5, 0.0);
     }
     let sharp = s.max(0.0);
     let smooth = 1.0 - sharp;
-    let ends = 0.5 * sharp + 0.25 * smooth;
-    buf.extend([(a, ends), (b, ends)]);
-    for &f in t.edge_faces(e) {
-        let verts = t.face_vertices(f);
-        let w = 0.25 * smooth / verts.len() as f64;
-        buf.extend(verts.iter().map(|&v| (v, w)));
-    }
+    (0.5 * sharp + 0.25 * smooth, 0.25 * smooth)
 }
 
 /// Vertex point: the parent rule, blended with the child rule by the fractional weight when
@@ -216,26 +224,14 @@ fn vertex_row(t: &Topology, v: u32, buf: &mut Vec<(u32, f64)>) {
         ps[i] = t.edge_sharpness[e as usize];
         cs[i] = child_edge_sharpness(t, e, v);
     }
-    let pv = t.vertex_sharpness[v as usize];
-    let cv = decrement(pv);
-    let (mut pbuf, mut cbuf) = (SharpEdges::default(), SharpEdges::default());
-    let psharp = pbuf.of(ps);
-    let prule = vertex_rule(pv, psharp.len());
     let mut mask = VertexMask::default();
-    mask.reset(ne, faces.len());
-    if matches!(prule, VertexRule::Smooth | VertexRule::Dart) {
-        mask.add_rule(prule, psharp, 1.0);
-    } else {
-        let csharp = cbuf.of(cs);
-        let crule = vertex_rule(cv, csharp.len());
-        if crule == prule {
-            mask.add_rule(prule, psharp, 1.0);
-        } else {
-            let w = fractional_weight(pv, cv, ps, cs);
-            mask.add_rule(prule, psharp, w);
-            mask.add_rule(crule, csharp, 1.0 - w);
-        }
-    }
+    vertex_point_mask(
+        &mut mask,
+        t.vertex_sharpness[v as usize],
+        ps,
+        cs,
+        faces.len(),
+    );
     buf.push((v, mask.vertex));
     for (i, &e) in edges.iter().enumerate() {
         if mask.edges[i] != 0.0 {
@@ -247,6 +243,31 @@ fn vertex_row(t: &Topology, v: u32, buf: &mut Vec<(u32, f64)>) {
             let verts = t.face_vertices(f);
             let w = mask.faces[i] / verts.len() as f64;
             buf.extend(verts.iter().map(|&u| (u, w)));
+        }
+    }
+}
+
+/// The vertex-point mask of [`vertex_row`] into `mask`: a ring of `ps.len()` edges of
+/// sharpness `ps` (`cs` their halves' at the vertex after the step) and `nf` faces, vertex
+/// sharpness `pv`; the parent rule, blended with the child rule by the fractional weight when
+/// they differ.
+pub(crate) fn vertex_point_mask(mask: &mut VertexMask, pv: f32, ps: &[f32], cs: &[f32], nf: usize) {
+    let cv = decrement(pv);
+    let (mut pbuf, mut cbuf) = (SharpEdges::default(), SharpEdges::default());
+    let psharp = pbuf.of(ps);
+    let prule = vertex_rule(pv, psharp.len());
+    mask.reset(ps.len(), nf);
+    if matches!(prule, VertexRule::Smooth | VertexRule::Dart) {
+        mask.add_rule(prule, psharp, 1.0);
+    } else {
+        let csharp = cbuf.of(cs);
+        let crule = vertex_rule(cv, csharp.len());
+        if crule == prule {
+            mask.add_rule(prule, psharp, 1.0);
+        } else {
+            let w = fractional_weight(pv, cv, ps, cs);
+            mask.add_rule(prule, psharp, w);
+            mask.add_rule(crule, csharp, 1.0 - w);
         }
     }
 }

@@ -58,15 +58,25 @@ pub fn vertex_rule(vertex_sharpness: f32, sharp_edges: usize) -> VertexRule {
 /// sharpness of the other semi-sharp edges at `v`; plain `s - 1` when there are none; smooth
 /// stays smooth and infinite stays infinite (OpenSubdiv's Chaikin creasing).
 pub fn child_edge_sharpness(topo: &Topology, e: u32, v: u32) -> f32 {
-    let s = topo.edge_sharpness[e as usize];
-    if s <= 0.0 || is_infinite(s) || topo.options.crease_method == CreaseMethod::Normal {
+    let others = topo.vertex_edges(v).iter().filter(|&&o| o != e);
+    let others = others.map(|&o| topo.edge_sharpness[o as usize]);
+    child_sharpness(
+        topo.edge_sharpness[e as usize],
+        others,
+        topo.options.crease_method,
+    )
+}
+
+/// [`child_edge_sharpness`] of an edge of sharpness `s` whose end `v` has the other edges of
+/// sharpness `others`, under `method`.
+pub fn child_sharpness(s: f32, others: impl IntoIterator<Item = f32>, method: CreaseMethod) -> f32 {
+    if s <= 0.0 || is_infinite(s) || method == CreaseMethod::Normal {
         return decrement(s);
     }
     let mut sum = 0.0f32;
     let mut count = 0u32;
-    for &o in topo.vertex_edges(v) {
-        let so = topo.edge_sharpness[o as usize];
-        if o != e && so > 0.0 && !is_infinite(so) {
+    for so in others {
+        if so > 0.0 && !is_infinite(so) {
             sum += so;
             count += 1;
         }

@@ -20,10 +20,16 @@ pub(crate) type Block = (Vec<usize>, Vec<u32>, Vec<f64>);
 
 /// Sorts a row by column and adds up repeated columns, dropping exact zeros.
 pub(crate) fn merge_row(row: &mut Vec<(u32, f64)>) {
-    if row.len() > 1 {
-        row.sort_unstable_by_key(|x| x.0);
-        let mut w = 0usize;
-        for r in 1..row.len() {
+    merge_row_from(row, 0);
+}
+
+/// [`merge_row`] of the terms of `row` from `start` on (the row pushed last into a list of
+/// rows), the terms before them untouched.
+pub(crate) fn merge_row_from(row: &mut Vec<(u32, f64)>, start: usize) {
+    if row.len() > start + 1 {
+        row[start..].sort_unstable_by_key(|x| x.0);
+        let mut w = start;
+        for r in start + 1..row.len() {
             if row[r].0 == row[w].0 {
                 row[w].1 += row[r].1;
             } else {
@@ -33,7 +39,14 @@ pub(crate) fn merge_row(row: &mut Vec<(u32, f64)>) {
         }
         row.truncate(w + 1);
     }
-    row.retain(|x| x.1 != 0.0);
+    let mut k = start;
+    for r in start..row.len() {
+        if row[r].1 != 0.0 {
+            row[k] = row[r];
+            k += 1;
+        }
+    }
+    row.truncate(k);
 }
 
 impl SparseMatrix {

@@ -18,6 +18,7 @@
 //! ([`lattice_normal`]), so there is no seam where the region ends.
 
 mod neighbourhood;
+mod sector_grids;
 
 use glam::DVec3;
 
@@ -31,6 +32,7 @@ use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptiveLevel, AdaptiveRefinement, PatchCensus, PatchType};
 use crate::subdiv::limit::SharedVertexMasks;
 use neighbourhood::{Neighbourhood, PullBack};
+use sector_grids::{GridSums, SectorGrids};
 
 /// Refinement steps `J` of the lattice: its spacing is `2^-J` of the end cap (README: `J = 4`
 /// measured better in h83's prototype, at 4x the frames; not built).
@@ -148,7 +150,7 @@ impl LatticeFrames {
             topologies,
             at,
         };
-        caps.frames(first, masks, Neighbourhood::new)
+        caps.frames(first, masks, Local::new)
     }
 
     /// The regions' side table of the end caps (`glsl/adaptive/endcap.glsl`'s `lattice`): word
@@ -185,7 +187,7 @@ impl EndCaps<'_> {
         self,
         first: u32,
         masks: &SharedVertexMasks,
-        make: fn(&AdaptiveLevel, u32, u32, u32) -> Option<Neighbourhood>,
+        make: fn(&AdaptiveLevel, u32, u32, u32) -> Option<Local>,
     ) -> LatticeFrames {
         let (refinement, census) = (self.refinement, self.census);
         let mut out = LatticeFrames {
@@ -199,8 +201,8 @@ impl EndCaps<'_> {
         // inside a face is in one region only).
         let mut ids: WordHashMap<(u32, Node), u32> = WordHashMap::default();
         // Per (level, vertex): its refined neighbourhood, built once.
-        let mut local: WordHashMap<(u32, u32), Option<Neighbourhood>> = WordHashMap::default();
-        let mut sums = PullBack::default();
+        let mut local: WordHashMap<(u32, u32), Option<Local>> = WordHashMap::default();
+        let mut sums = Sums::default();
         for (i, p) in census.patches.iter().enumerate() {
             let lev = &refinement.levels[p.level as usize];
             let t = lev.topology();
@@ -278,6 +280,49 @@ impl EndCaps<'_> {
     }
 }
 
+/// The local refinement around one region vertex.
+enum Local {
+    /// Its sector grids (most region vertices; boxed: the last level's topology is large).
+    Grids(Box<SectorGrids>),
+    /// Its kept refinement as levels (the regions wider than the sector grids hold).
+    Kept(Neighbourhood),
+}
+
+/// The pull-backs' accumulators, reused from node to node.
+#[derive(Default)]
+struct Sums {
+    grids: GridSums,
+    kept: PullBack,
+}
+
+impl Local {
+    /// The local refinement of vertex `v` of `lev` for regions of at most `cells` cells of
+    /// `2^-steps`: its sector grids where they hold the nodes, else its kept levels.
+    fn new(lev: &AdaptiveLevel, v: u32, steps: u32, cells: u32) -> Option<Local> {
+        match SectorGrids::new(lev, v, steps, cells) {
+            Some(g) => Some(Local::Grids(Box::new(g))),
+            None => Neighbourhood::new(lev, v, steps, cells).map(Local::Kept),
+        }
+    }
+
+    /// The exact limit tangent rows (global ids of `lev`) at node `(a, b)` of the region at
+    /// corner `c` of `face`.
+    fn node_rows(
+        &mut self,
+        lev: &AdaptiveLevel,
+        face: u32,
+        c: usize,
+        node: (u32, u32),
+        masks: &SharedVertexMasks,
+        sums: &mut Sums,
+    ) -> Option<[Weights; 2]> {
+        match self {
+            Local::Grids(g) => g.node_rows(lev, face, node, masks, &mut sums.grids),
+            Local::Kept(k) => k.node_rows(lev, face, c, node, masks, &mut sums.kept),
+        }
+    }
+}
+
 /// Exact limit tangent rows at vertex `v` of `lev` in face `face`'s sector (global ids).
 fn corner_rows(
     lev: &AdaptiveLevel,
@@ -346,6 +391,7 @@ pub fn lattice_normal(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::ControlMesh;
     use crate::subdiv::Level;
 
     /// At a node the node's normal, on the border the drawn one, between them the bilinear
@@ -374,46 +420,178 @@ mod tests {
         assert_eq!(e, DVec3::new(1.0, 0.0, 1.0) * 0.25 + drawn * 0.75);
     }
 
+    /// Mesh `name` of the corpus, its adaptive refinement at `isolation` and the end caps
+    /// [`LatticeFrames::new`] reads, handed to `f`.
+    fn with_end_caps(name: &str, isolation: u32, f: impl FnOnce(&ControlMesh, EndCaps)) {
+        use crate::patch::adaptive::census_index::patch_index;
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
+        let path = format!("{dir}{name}.obj");
+        let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
+        let level = Level::from_mesh(&mesh).unwrap();
+        let refinement = AdaptiveRefinement::new(&level, isolation).unwrap();
+        let census = PatchCensus::new(&refinement);
+        let topologies = EndCapTopologies::new(&refinement, &census);
+        let at = patch_index(&refinement, &census);
+        let caps = EndCaps {
+            refinement: &refinement,
+            census: &census,
+            topologies: &topologies,
+            at: &at,
+        };
+        f(&mesh, caps);
+    }
+
+    /// Meshes and isolation levels with lattice regions (promoted creases).
+    const FRAME_MESHES: [(&str, u32); 5] = [
+        ("catmark_car", 2),
+        ("catmark_cube_creases1", 3),
+        ("catmark_cubes_semisharp", 3),
+        ("catmark_single_crease", 4),
+        ("catmark_bishop", 2),
+    ];
+
+    /// The frames of `caps` on the kept levels (`Neighbourhood`) at every region vertex.
+    fn kept_frames(caps: EndCaps, masks: &SharedVertexMasks) -> LatticeFrames {
+        caps.frames(0, masks, |lev, v, steps, cells| {
+            Neighbourhood::new(lev, v, steps, cells).map(Local::Kept)
+        })
+    }
+
     /// The kept refinements give every lattice frame's rows bit for bit as refining the
     /// extraction as whole levels does (`Neighbourhood::whole`).
     #[test]
     fn kept_neighbourhoods_are_whole_refinements() {
-        use crate::patch::adaptive::census_index::patch_index;
-        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
+        for &(name, isolation) in &FRAME_MESHES {
+            with_end_caps(name, isolation, |_, caps| {
+                let masks = SharedVertexMasks::default();
+                let build = |hood| caps.frames(0, &masks, hood);
+                let kept = kept_frames(caps, &masks);
+                let whole = build(|lev, v, steps, cells| {
+                    Neighbourhood::whole(lev, v, steps, cells).map(Local::Kept)
+                });
+                assert_eq!(kept.regions, whole.regions, "{name}");
+                assert_eq!(kept.rows.len(), whole.rows.len(), "{name}");
+                let bits = |w: &Weights| -> Vec<(u32, u64)> {
+                    w.0.iter().map(|&(i, x)| (i, x.to_bits())).collect()
+                };
+                for (f, (a, b)) in kept.rows.iter().zip(&whole.rows).enumerate() {
+                    for d in 0..2 {
+                        assert_eq!(bits(&a[d]), bits(&b[d]), "{name} frame {f} row {d}");
+                    }
+                }
+                assert!(!kept.rows.is_empty(), "{name}: no lattice frames");
+            });
+        }
+    }
+
+    /// The sector grids give every lattice frame the kept refinement's normal: for any points
+    /// (a hash of the id), `cross(d1, d2)` of the two frames' rows point the same way within
+    /// rounding (the tangents may be taken along another face's edges). Fails on a wrong step
+    /// rule, sharpness, orientation or node.
+    #[test]
+    fn sector_grids_give_the_kept_refinements_normals() {
+        let mut grids = 0;
+        for &(name, isolation) in FRAME_MESHES.iter().chain(&[("catmark_car", 4)]) {
+            with_end_caps(name, isolation, |_, caps| {
+                let masks = SharedVertexMasks::default();
+                let fast = caps.frames(0, &masks, Local::new);
+                let kept = kept_frames(caps, &masks);
+                assert_eq!(fast.regions, kept.regions, "{name}");
+                assert_eq!(fast.rows.len(), kept.rows.len(), "{name}");
+                let point = |i: u32| {
+                    let h = |k: u32| {
+                        let x = (i
+                            .wrapping_mul(2654435761)
+                            .wrapping_add(k.wrapping_mul(40503)))
+                            >> 8;
+                        f64::from(x % 1000) / 1000.0 - 0.5
+                    };
+                    DVec3::new(h(1), h(2), h(3))
+                };
+                let apply = |w: &Weights| w.0.iter().map(|&(i, x)| point(i) * x).sum::<DVec3>();
+                let normal = |r: &[Weights; 2]| apply(&r[0]).cross(apply(&r[1])).normalize();
+                for (f, (a, b)) in fast.rows.iter().zip(&kept.rows).enumerate() {
+                    let (na, nb) = (normal(a), normal(b));
+                    assert!(na.dot(nb) > 1.0 - 1e-12, "{name} frame {f}: {na} {nb}");
+                }
+                // The frames the sector grids alone give (the others: corners, wide regions).
+                let only = caps.frames(0, &masks, |lev, v, steps, cells| {
+                    SectorGrids::new(lev, v, steps, cells).map(|g| Local::Grids(Box::new(g)))
+                });
+                let corners: usize = (fast.regions.iter().flatten())
+                    .filter(|r| r.frames[0] != NONE)
+                    .count();
+                assert_eq!(
+                    only.rows.len(),
+                    fast.rows.len(),
+                    "{name}: {corners} corners"
+                );
+                grids += only.rows.len();
+            });
+        }
+        assert!(grids > 100, "{grids} frames");
+    }
+
+    /// Every lattice frame is the exact limit normal at its node: `cross(d1, d2)` of its rows
+    /// over the refined points, against `LimitEvaluator` at the node's (u, v) (the node
+    /// `(a, b) 2^-steps` from the region's corner along its two edges). Fails on a wrong step
+    /// rule, sharpness, orientation or node of the sector grids (or the kept levels).
+    #[test]
+    fn lattice_frames_are_the_limit_normals() {
+        use crate::subdiv::eval::LimitEvaluator;
         for (name, isolation) in [
             ("catmark_car", 2),
             ("catmark_cube_creases1", 3),
-            ("catmark_cubes_semisharp", 3),
-            ("catmark_single_crease", 4),
             ("catmark_bishop", 2),
         ] {
-            let path = format!("{dir}{name}.obj");
-            let mesh = crate::mesh::ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
-            let level = Level::from_mesh(&mesh).unwrap();
-            let refinement = AdaptiveRefinement::new(&level, isolation).unwrap();
-            let census = PatchCensus::new(&refinement);
-            let topologies = EndCapTopologies::new(&refinement, &census);
-            let at = patch_index(&refinement, &census);
-            let masks = SharedVertexMasks::default();
-            let caps = EndCaps {
-                refinement: &refinement,
-                census: &census,
-                topologies: &topologies,
-                at: &at,
-            };
-            let build = |hood| caps.frames(0, &masks, hood);
-            let (kept, whole) = (build(Neighbourhood::new), build(Neighbourhood::whole));
-            assert_eq!(kept.regions, whole.regions, "{name}");
-            assert_eq!(kept.rows.len(), whole.rows.len(), "{name}");
-            let bits = |w: &Weights| -> Vec<(u32, u64)> {
-                w.0.iter().map(|&(i, x)| (i, x.to_bits())).collect()
-            };
-            for (f, (a, b)) in kept.rows.iter().zip(&whole.rows).enumerate() {
-                for d in 0..2 {
-                    assert_eq!(bits(&a[d]), bits(&b[d]), "{name} frame {f} row {d}");
+            with_end_caps(name, isolation, |mesh, caps| {
+                let (refinement, census) = (caps.refinement, caps.census);
+                let masks = SharedVertexMasks::default();
+                let frames = caps.frames(0, &masks, Local::new);
+                let points = refinement.refine_positions(mesh.positions());
+                let ev = LimitEvaluator::new(mesh).unwrap();
+                let apply = |w: &Weights| {
+                    w.0.iter()
+                        .map(|&(i, x)| points[i as usize] * x)
+                        .sum::<DVec3>()
+                };
+                let (mut checked, mut worst) = (0, 0.0f64);
+                for (p, regions) in census.patches.iter().zip(&frames.regions) {
+                    let d = refinement.levels[p.level as usize].domains[p.face as usize];
+                    for r in regions {
+                        let n = 1u32 << r.steps;
+                        for (k, &f) in r.frames.iter().enumerate() {
+                            if f == NONE {
+                                continue;
+                            }
+                            let (a, b) = (k as u32 % r.cells, k as u32 / r.cells);
+                            let (s, t) = match r.corner {
+                                0 => (a, b),
+                                1 => (n - b, a),
+                                2 => (n - a, n - b),
+                                _ => (b, n - a),
+                            };
+                            let (s, t) = (f64::from(s) / f64::from(n), f64::from(t) / f64::from(n));
+                            let uv = d.origin + s * d.u + t * d.v;
+                            let sub = d.sub_face.unwrap_or(0) as usize;
+                            let x = ev
+                                .eval_points(d.base_face as usize, sub, &[(uv.x, uv.y)])
+                                .unwrap();
+                            let rows = &frames.rows[f as usize];
+                            let normal = apply(&rows[0]).cross(apply(&rows[1])).normalize();
+                            let angle = normal.angle_between(x[0].normal);
+                            worst = worst.max(angle);
+                            assert!(
+                                angle < 1e-7,
+                                "{name} frame {f} node ({a}, {b}): {angle:e} rad"
+                            );
+                            checked += 1;
+                        }
+                    }
                 }
-            }
-            assert!(!kept.rows.is_empty(), "{name}: no lattice frames");
+
+                assert!(checked > 50, "{name}: {checked} nodes, max {worst:e} rad");
+            });
         }
     }
 
