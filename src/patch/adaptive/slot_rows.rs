@@ -14,7 +14,7 @@ use super::rows::{CornerRows, PatchCorner, SparseRows};
 use super::slots::{Slots, NONE};
 use super::surface::EndCapTopologies;
 use crate::patch::gregory::Weights;
-use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
+use crate::subdiv::adaptive::{AdaptivePatch, AdaptiveRefinement, PatchCensus, PatchType};
 use crate::subdiv::limit::SharedVertexMasks;
 use crate::topology::single_normal_vertex;
 
@@ -61,7 +61,10 @@ impl SlotCorners {
                         }
                         exact || single_normal_vertex(caps, c.vertex)
                     }
-                    _ => single_normal_vertex(lev.topology(), c.vertex),
+                    _ => {
+                        smooth_bspline_corner(p, c.k)
+                            || single_normal_vertex(lev.topology(), c.vertex)
+                    }
                 };
             }
         });
@@ -170,6 +173,58 @@ impl SlotCorners {
                 }
                 None => corner_rows.push_rows(c, out),
             }
+        }
+    }
+}
+
+/// Whether corner `k` of `p` is a B-spline patch's corner with neither face edge beside it on a
+/// phantom side (`RegularPatch::boundary_mask`: boundary or infinitely sharp): a regular corner
+/// there is a smooth interior vertex of valence 4 (a regular crease or corner sector has a sharp
+/// edge of each of its faces at the vertex, `bspline::corner_kind`), whose point has one sector
+/// and one normal ([`single_normal_vertex`]), judged without walking its ring.
+fn smooth_bspline_corner(p: &AdaptivePatch, k: usize) -> bool {
+    let beside = 1 << k | 1 << ((k + 3) % 4);
+    p.crease.is_none() && p.bspline.is_some_and(|b| b.boundary_mask & beside == 0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::subdiv::corpus_levels;
+
+    /// Every census corner `smooth_bspline_corner` takes for one normal has one
+    /// (`single_normal_vertex` of its level), and it takes some on every mesh; over meshes with
+    /// boundaries, infinitely sharp creases and corners, darts and semi-sharp creases.
+    #[test]
+    fn smooth_bspline_corners_have_one_normal() {
+        let cases = [
+            ("catmark_car", 2),
+            ("catmark_cube_creases1", 3),
+            ("catmark_cube_corner4", 2),
+            ("catmark_dart_edgecorner", 3),
+            ("catmark_tent_creases1", 2),
+            ("catmark_single_crease", 3),
+            ("catmark_hole_test1", 2),
+        ];
+        let names: Vec<&str> = cases.iter().map(|c| c.0).collect();
+        for ((name, _, level), (_, isolation)) in corpus_levels(&names, 0).iter().zip(cases) {
+            let refinement = AdaptiveRefinement::new(level, isolation).unwrap();
+            let census = refinement.census();
+            let mut taken = 0;
+            for p in &census.patches {
+                let t = refinement.levels[p.level as usize].topology();
+                for (k, &v) in t.face_vertices(p.face).iter().enumerate().take(4) {
+                    if smooth_bspline_corner(p, k) {
+                        taken += 1;
+                        assert!(
+                            single_normal_vertex(t, v),
+                            "{name}: vertex {v} of face {}",
+                            p.face
+                        );
+                    }
+                }
+            }
+            assert!(taken > 0, "{name}");
         }
     }
 }
