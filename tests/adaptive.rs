@@ -488,26 +488,176 @@ fn info_prints_single_crease_counts() {
 
 /// Each adaptive step, made from its level in place (`subdiv::ring_step`), is the refinement of
 /// the sub-level its faces make (`AdaptiveLevel::uniform_step`: `Level::extract_increasing`
-/// then `Level::refine_kept`, the path it replaced) bit for bit: the next level's topology,
-/// sharpness, holes, cut edges and incomplete vertices (their `Debug` text, floats in
-/// round-trip form), vertex numbering included, on every loadable corpus shape at isolation 4,
-/// with and without single-crease patches.
+/// then `Level::refine_kept`, the path it replaced) up to numbering and ring starts: the same
+/// quads corner for corner, the vertex and edge maps they induce one-to-one, and through them
+/// the same edges (ends, faces, sharpness bit for bit, cut flags), vertices (sharpness,
+/// completeness) and one-rings (faces and edges), each ring a valid one (`check_fans`), on every
+/// loadable corpus shape at isolation 4, with and without single-crease patches.
 #[test]
 fn steps_in_place_equal_sub_level_refinements() {
     for (name, m) in corpus() {
         for options in [AdaptiveOptions::new(4), single(4)] {
             let (r, _) = refine_with(&m, options);
             for (l, pair) in r.levels.windows(2).enumerate() {
-                let step = pair[0].uniform_step().unwrap().unwrap();
-                assert_eq!(
-                    format!("{:?}", pair[1].level),
-                    format!("{:?}", step.child),
-                    "{name} level {}",
-                    l + 1
-                );
+                let step = pair[0].uniform_step(&pair[1]).unwrap().unwrap();
+                let at = format!("{name} level {}", l + 1);
+                same_level_up_to_numbering(&pair[1].level, &step.child, &at);
             }
         }
     }
+}
+
+/// `a` and `b` are one level numbered apart (see `steps_in_place_equal_sub_level_refinements`),
+/// their faces in the same order.
+fn same_level_up_to_numbering(a: &Level, b: &Level, at: &str) {
+    let (ta, tb) = (a.topology(), b.topology());
+    assert_eq!(ta.face_count(), tb.face_count(), "{at}");
+    assert_eq!(ta.vertex_count(), tb.vertex_count(), "{at}");
+    assert_eq!(ta.edge_count(), tb.edge_count(), "{at}");
+    // The vertex and edge maps the corners induce, each checked one-to-one.
+    let one_to_one = |pairs: &mut dyn Iterator<Item = (u32, u32)>, n: usize, what: &str| {
+        let (mut to, mut from) = (vec![u32::MAX; n], vec![u32::MAX; n]);
+        for (x, y) in pairs {
+            assert!(
+                to[x as usize] == u32::MAX || to[x as usize] == y,
+                "{at}: {what} {x}"
+            );
+            assert!(
+                from[y as usize] == u32::MAX || from[y as usize] == x,
+                "{at}: {what} {x}"
+            );
+            to[x as usize] = y;
+            from[y as usize] = x;
+        }
+        assert!(!to.contains(&u32::MAX), "{at}: a {what} is on no face");
+        to
+    };
+    let faces = 0..ta.face_count() as u32;
+    let vmap = one_to_one(
+        &mut faces.clone().flat_map(|f| {
+            let (x, y) = (ta.face_vertices(f), tb.face_vertices(f));
+            assert_eq!(x.len(), y.len(), "{at} face {f}");
+            x.iter().copied().zip(y.iter().copied()).collect::<Vec<_>>()
+        }),
+        ta.vertex_count(),
+        "vertex",
+    );
+    let emap = one_to_one(
+        &mut faces.clone().flat_map(|f| {
+            let (x, y) = (ta.face_edges(f), tb.face_edges(f));
+            x.iter().copied().zip(y.iter().copied()).collect::<Vec<_>>()
+        }),
+        ta.edge_count(),
+        "edge",
+    );
+    for f in faces {
+        assert_eq!(ta.is_hole(f), tb.is_hole(f), "{at} face {f}");
+        assert_eq!(
+            ta.has_limit_surface(f),
+            tb.has_limit_surface(f),
+            "{at} face {f}"
+        );
+    }
+    for e in 0..ta.edge_count() as u32 {
+        let g = emap[e as usize];
+        let at = format!("{at} edge {e}");
+        assert_eq!(
+            ta.edge_vertices(e).map(|v| vmap[v as usize]),
+            tb.edge_vertices(g),
+            "{at}"
+        );
+        assert_eq!(ta.edge_faces(e), tb.edge_faces(g), "{at}");
+        assert_eq!(ta.edge_face_locals(e), tb.edge_face_locals(g), "{at}");
+        assert_eq!(
+            ta.edge_sharpness(e).to_bits(),
+            tb.edge_sharpness(g).to_bits(),
+            "{at}"
+        );
+        assert_eq!(a.is_cut_edge(e), b.is_cut_edge(g), "{at}");
+    }
+    for v in 0..ta.vertex_count() as u32 {
+        let w = vmap[v as usize];
+        let at = format!("{at} vertex {v}");
+        assert_eq!(
+            ta.vertex_sharpness(v).to_bits(),
+            tb.vertex_sharpness(w).to_bits(),
+            "{at}"
+        );
+        assert_eq!(a.is_complete_vertex(v), b.is_complete_vertex(w), "{at}");
+        let ring = |t: &Topology, v: u32| {
+            let mut x: Vec<(u32, u16)> = t
+                .vertex_faces(v)
+                .iter()
+                .copied()
+                .zip(t.vertex_face_locals(v).iter().copied())
+                .collect();
+            x.sort_unstable();
+            x
+        };
+        assert_eq!(ring(ta, v), ring(tb, w), "{at}");
+        let mut ea: Vec<u32> = ta
+            .vertex_edges(v)
+            .iter()
+            .map(|&e| emap[e as usize])
+            .collect();
+        let mut eb = tb.vertex_edges(w).to_vec();
+        ea.sort_unstable();
+        eb.sort_unstable();
+        assert_eq!(ea, eb, "{at}");
+        check_fans(ta, v, &at);
+    }
+}
+
+/// Vertex `v`'s ring is fans one after the other, each its faces counter-clockwise with the edge
+/// leaving `v` in its first face, then the edge entering `v` in each face (the next face's
+/// leaving one), ending on an edge with one face; or a single closed fan, the last face's
+/// entering edge the first one's leaving edge.
+fn check_fans(t: &Topology, v: u32, at: &str) {
+    let (faces, locals, edges) = (
+        t.vertex_faces(v),
+        t.vertex_face_locals(v),
+        t.vertex_edges(v),
+    );
+    let leaving = |j: usize| t.face_edges(faces[j])[usize::from(locals[j])];
+    let entering = |j: usize| {
+        let fe = t.face_edges(faces[j]);
+        fe[(usize::from(locals[j]) + fe.len() - 1) % fe.len()]
+    };
+    for (j, (&f, &k)) in faces.iter().zip(locals).enumerate() {
+        assert_eq!(t.face_vertices(f)[usize::from(k)], v, "{at} face {j}");
+    }
+    if edges.len() == faces.len() {
+        for (j, &e) in edges.iter().enumerate() {
+            assert_eq!(e, leaving(j), "{at} face {j}");
+            assert_eq!(entering(j), leaving((j + 1) % faces.len()), "{at} face {j}");
+        }
+        return;
+    }
+    let mut c = 0;
+    let mut j = 0;
+    while j < faces.len() {
+        assert_eq!(edges[c], leaving(j), "{at} face {j}");
+        assert_eq!(
+            t.edge_faces(edges[c]).len(),
+            1,
+            "{at}: a fan starts on a one-face edge"
+        );
+        loop {
+            c += 1;
+            assert_eq!(edges[c], entering(j), "{at} face {j}");
+            j += 1;
+            if j == faces.len() || leaving(j) != edges[c] {
+                break;
+            }
+        }
+        assert_eq!(
+            t.edge_faces(edges[c]).len(),
+            1,
+            "{at}: a fan ends on a one-face edge"
+        );
+        c += 1;
+    }
+    assert_eq!(c, edges.len(), "{at}");
 }
 
 /// `AdaptiveLevel::child_of` (a per-vertex array made with the step) names the component the
@@ -519,8 +669,9 @@ fn child_of_is_the_sub_levels_component() {
     for (name, m) in corpus() {
         for options in [AdaptiveOptions::new(3), single(3)] {
             let (r, _) = refine_with(&m, options);
-            for (l, lev) in r.levels.iter().enumerate() {
-                let Some(step) = lev.uniform_step() else {
+            for (l, pair) in r.levels.windows(2).enumerate() {
+                let lev = &pair[0];
+                let Some(step) = lev.uniform_step(&pair[1]) else {
                     break;
                 };
                 let step = step.unwrap();

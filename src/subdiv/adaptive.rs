@@ -9,17 +9,17 @@
 //! sub-level made of the refined faces and that ring, keeping the child faces just described
 //! ([`UniformStep`]); those are made from level `l` in place, as OpenSubdiv's `Vtr::Refinement`
 //! refines a selection of its parent: the child vertices are the face, edge and vertex points of
-//! the selected components, numbered and related by fixed rules from level `l`'s relations
-//! (`ring_step`, `kept`), with no sub-level extracted. Vertices are numbered globally level after level:
+//! the selected components, their edges and one-rings written from level `l`'s relations
+//! (`ring_step`), with no sub-level extracted; so the step is that refinement up to numbering
+//! and ring starts. Vertices are numbered globally level after level:
 //! vertex `i` of level `l` is global vertex [`AdaptiveLevel::first_vertex`]` + i`, one buffer for
 //! every level (thesis §4.2).
 
 use glam::{DVec2, DVec3};
 
 use super::bspline::{is_regular_vertex, RegularPatch};
-use super::kept::{refine_kept_in, StepParent};
 use super::level::Level;
-use super::ring_step::RingStep;
+use super::ring_step::refine_in_place;
 use super::single_crease::{single_crease_line, CreaseLine};
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::topology::Topology;
@@ -104,10 +104,9 @@ pub struct Refinement {
 /// A step as one uniform [`Level::refine`] of the sub-level its faces make
 /// ([`Level::extract_increasing`]), keeping the children it keeps ([`Level::refine_kept`]): how
 /// the step was once computed, rebuilt on demand ([`AdaptiveLevel::uniform_step`]) for the
-/// refined positions, `Debug` and tests. The child vertices are rows of `parent.refine()`'s
-/// matrix (columns: `parent` vertices), so
-/// `child = M[child_points] * positions_l[parent_vertices]`.
-#[derive(Clone)]
+/// refined positions and tests. The child vertices are rows of `parent.refine()`'s matrix
+/// (columns: `parent` vertices), so `child = M[child_points] * positions_l[parent_vertices]`.
+#[derive(Debug, Clone)]
 pub struct UniformStep {
     /// The refined sub-level of level `l`: the refined faces and their ring.
     pub parent: Level,
@@ -116,31 +115,20 @@ pub struct UniformStep {
     /// `parent` vertex to level-`l` vertex.
     pub parent_vertices: Vec<u32>,
     /// Level-`l + 1` vertex to its index in `parent.refine()`'s child numbering
-    /// (`[face points | edge points | vertex points]`); increasing.
+    /// (`[face points | edge points | vertex points]`).
     pub child_points: Vec<u32>,
     /// Level-`l + 1` face to its index in `parent.refine()`'s child faces (the corner of
     /// `parent` it comes from, as a flat corner index).
     pub child_faces: Vec<u32>,
-    /// Level `l + 1` as `parent.refine_kept(&child_faces)` makes it.
+    /// Level `l + 1` as `parent.refine_kept(&child_faces)` makes it: the same quads as the
+    /// step's level, corner for corner, numbered and ordered as `topology::build` would.
     pub child: Level,
-}
-
-/// Printed as the step was when it held its sub-level (named `Refinement`, the child level left
-/// out): the refinement's fingerprints (`tests/adaptive_fingerprint.rs`) hash this text.
-impl std::fmt::Debug for UniformStep {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Refinement")
-            .field("parent", &self.parent)
-            .field("parent_faces", &self.parent_faces)
-            .field("parent_vertices", &self.parent_vertices)
-            .field("child_points", &self.child_points)
-            .field("child_faces", &self.child_faces)
-            .finish()
-    }
+    /// `child` vertex to its index in `parent.refine()`'s child numbering; increasing.
+    pub child_map: Vec<u32>,
 }
 
 /// One level of an [`AdaptiveRefinement`].
-#[derive(Clone)]
+#[derive(Debug, Clone)]
 pub struct AdaptiveLevel {
     /// The sparse topology of this level (the whole base mesh at level 0).
     pub level: Level,
@@ -187,9 +175,9 @@ impl AdaptiveLevel {
         (f as u32, (h - offsets[f]) as usize)
     }
 
-    /// The step to the next level as one uniform refinement of an extracted sub-level
+    /// The step to `next` (the next level) as one uniform refinement of an extracted sub-level
     /// ([`UniformStep`]); `None` on the last level.
-    pub fn uniform_step(&self) -> Option<Result<UniformStep>> {
+    pub fn uniform_step(&self, next: &AdaptiveLevel) -> Option<Result<UniformStep>> {
         let r = self.refinement.as_ref()?;
         let step = || {
             let (parent, parent_vertices) = self.level.extract_increasing(&r.parent_faces)?;
@@ -208,7 +196,14 @@ impl AdaptiveLevel {
                     so[i] + h - to[r.parent_faces[i] as usize]
                 })
                 .collect::<Vec<u32>>();
-            let (child, child_points) = parent.refine_kept(&child_faces)?;
+            let (child, child_map) = parent.refine_kept(&child_faces)?;
+            // The step's level and `child` have the same quads, corner for corner: a vertex's
+            // child point is its counterpart's at any corner it holds.
+            let mut child_points = vec![0; next.level.vertex_count()];
+            let corners = next.topology().face_verts.iter();
+            for (&v, &w) in corners.zip(&child.topology().face_verts) {
+                child_points[v as usize] = child_map[w as usize];
+            }
             Ok(UniformStep {
                 parent,
                 parent_faces: r.parent_faces.clone(),
@@ -216,6 +211,7 @@ impl AdaptiveLevel {
                 child_points,
                 child_faces,
                 child,
+                child_map,
             })
         };
         Some(step())
@@ -225,24 +221,6 @@ impl AdaptiveLevel {
         self.refinement
             .as_ref()
             .expect("the last adaptive level has no refinement")
-    }
-}
-
-/// The fields, the step printed as its [`UniformStep`] (as the step was once stored).
-impl std::fmt::Debug for AdaptiveLevel {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let step = self
-            .uniform_step()
-            .transpose()
-            .map_err(|_| std::fmt::Error)?;
-        f.debug_struct("AdaptiveLevel")
-            .field("level", &self.level)
-            .field("first_vertex", &self.first_vertex)
-            .field("own", &self.own)
-            .field("refined", &self.refined)
-            .field("domains", &self.domains)
-            .field("refinement", &step)
-            .finish()
     }
 }
 
@@ -507,8 +485,11 @@ impl AdaptiveRefinement {
     pub fn refine_positions(&self, base: &[DVec3]) -> Vec<DVec3> {
         let mut out = Vec::with_capacity(self.vertex_count());
         out.extend_from_slice(base);
-        for lev in &self.levels {
-            let Some(r) = lev.uniform_step() else { break };
+        for pair in self.levels.windows(2) {
+            let (lev, next) = (&pair[0], &pair[1]);
+            let Some(r) = lev.uniform_step(next) else {
+                break;
+            };
             let r = r.expect("a refined level's faces extract");
             let first = lev.first_vertex as usize;
             let sub: Vec<DVec3> = r
@@ -640,21 +621,11 @@ fn refine_sparse(cur: &mut AdaptiveLevel) -> Result<AdaptiveLevel> {
             }
         }
     }
-    let step = RingStep::new(&cur.level, &ring, &keep)?;
-    let (level, child_points) = refine_kept_in(&step, &keep)?;
-    let (nf, ne) = (t.face_count() as u32, step.edge_point_count());
-    let child_of = child_points
-        .iter()
-        .map(|&p| {
-            if p < nf {
-                ChildOf::Face(p)
-            } else if p < nf + ne {
-                ChildOf::Edge(step.point_edge(p - nf))
-            } else {
-                ChildOf::Vertex(p - nf - ne)
-            }
-        })
-        .collect();
+    let (level, points) = refine_in_place(&cur.level, &ring, &keep)?;
+    let mut child_of = Vec::with_capacity(level.vertex_count());
+    child_of.extend(points.faces.iter().map(|&f| ChildOf::Face(f)));
+    child_of.extend(points.edges.iter().map(|&e| ChildOf::Edge(e)));
+    child_of.extend(points.vertices.iter().map(|&v| ChildOf::Vertex(v)));
     let next = AdaptiveLevel {
         first_vertex: cur.first_vertex + t.vertex_count() as u32,
         own,

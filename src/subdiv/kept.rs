@@ -2,10 +2,10 @@
 //! made from the parent by index arithmetic: the sparse step of feature-adaptive refinement
 //! (Köbler 2013 §3.3; OpenSubdiv's `Vtr::Refinement` with sparse selection).
 //!
-//! The parent is a [`StepParent`]: a [`Level`] refined as a whole (its children numbered
-//! `[face points | edge points | vertex points]`, [`Level::refine_kept`]), or a level's faces
-//! around a selection seen through the level itself ([`super::ring_step::RingStep`]): the same
-//! child level as extracting those faces first, without the extraction.
+//! The parent is a [`Level`] refined as a whole (its children numbered
+//! `[face points | edge points | vertex points]`, [`Level::refine_kept`]). The adaptive step
+//! refines a level's faces around a selection in place instead (`super::ring_step`), without
+//! `topology::build`'s numbering.
 
 use super::corners::{child_face_with, next_corner, prev_corner};
 use super::level::{local_vertex_ids, Level};
@@ -13,95 +13,38 @@ use super::rules::{child_edge_sharpness, decrement};
 use crate::topology::{self, NONE};
 use crate::{Error, Result};
 
-/// An edge of a step's parent as the step sees it: ends oriented as in its first face, its
-/// faces (the second [`NONE`] on a boundary of the parent) and its index in each.
+/// An edge of the parent: ends oriented as in its first face, its faces (the second [`NONE`]
+/// on a boundary) and its index in each.
 #[derive(Debug, Clone, Copy)]
-pub(super) struct StepEdge {
-    pub verts: [u32; 2],
-    pub faces: [u32; 2],
-    pub locals: [u16; 2],
+struct StepEdge {
+    verts: [u32; 2],
+    faces: [u32; 2],
+    locals: [u16; 2],
 }
 
-/// The parent of a sparse step: a level whose faces, corners, vertices, one-rings, sharpness
-/// and holes the kept children refer to (the rings and sharpness of the kept children's corner
-/// vertices as the parent has them), with the parent's edges, numbering of edge points and
-/// completeness, which may differ from the level's.
-pub(super) trait StepParent {
-    /// The level the step's faces, corners and vertices belong to.
-    fn level(&self) -> &Level;
-    /// Number of edge points in the child numbering `[face points | edge points | vertex
-    /// points]`.
-    fn edge_point_count(&self) -> u32;
-    /// The edge point (index among the edge points) of the level's edge `e`.
-    fn edge_point(&self, e: u32) -> u32;
-    /// The level's edge of edge point `i`.
-    fn point_edge(&self, i: u32) -> u32;
-    /// The level's edge `e` as the parent has it.
-    fn edge(&self, e: u32) -> StepEdge;
-    /// Whether edge `e` is a boundary of the parent only because of an extraction.
-    fn is_cut_edge(&self, e: u32) -> bool;
-    /// Whether vertex `v` is complete in the parent (see [`Level`]).
-    fn is_complete_vertex(&self, v: u32) -> bool;
-    /// False when no edge is cut and every vertex is complete (a shortcut, never required).
-    fn has_flags(&self) -> bool;
-}
-
-impl StepParent for Level {
-    fn level(&self) -> &Level {
-        self
-    }
-
-    fn edge_point_count(&self) -> u32 {
-        self.topo.edge_count() as u32
-    }
-
-    fn edge_point(&self, e: u32) -> u32 {
-        e
-    }
-
-    fn point_edge(&self, i: u32) -> u32 {
-        i
-    }
-
-    fn edge(&self, e: u32) -> StepEdge {
-        let t = &self.topo;
+impl StepEdge {
+    /// Edge `e` of `t`.
+    fn of(t: &topology::Topology, e: u32) -> StepEdge {
         StepEdge {
             verts: t.edge_verts[e as usize],
             faces: t.edge_faces[e as usize],
             locals: t.edge_face_local[e as usize],
         }
     }
-
-    fn is_cut_edge(&self, e: u32) -> bool {
-        Level::is_cut_edge(self, e)
-    }
-
-    fn is_complete_vertex(&self, v: u32) -> bool {
-        Level::is_complete_vertex(self, v)
-    }
-
-    fn has_flags(&self) -> bool {
-        !(self.cut.is_empty() && self.incomplete.is_empty())
-    }
 }
 
-/// The child faces `keep` (flat corner indices of `p`'s level, increasing) of `p`'s refinement
-/// as a level of their own, with the map from its vertices to the child numbering
-/// `[face points | edge points | vertex points]` (`p`'s edge points): for a [`Level`], the same
-/// level and map as `refine_topology().try_extract(keep)`, without building the whole child
+/// The child faces `keep` (flat corner indices of `lv`, increasing) of `lv`'s refinement as a
+/// level of their own, with the map from its vertices to the child numbering
+/// `[face points | edge points | vertex points]`: the same level and map as
+/// `lv.refine_topology().try_extract(keep)`, without building the whole child
 /// level nor bucketing the kept quads' edges. Every child edge is a spoke (face point to the
 /// edge point of a face's corner) or a half of a parent edge; in the child vertices' increasing
 /// order (face points, then edge points) its id, ends, faces, sharpness and cut flag follow
 /// from the parent by index arithmetic, in the order `topology::build` gives them (by smaller
 /// end vertex, then by first corner), and so do the one-rings (`kept_rings`).
-pub(super) fn refine_kept_in<P: StepParent>(p: &P, keep: &[u32]) -> Result<(Level, Vec<u32>)> {
-    let lv = p.level();
+pub(super) fn refine_kept_in(lv: &Level, keep: &[u32]) -> Result<(Level, Vec<u32>)> {
     let t = &lv.topo;
-    let (nf, ne, fv) = (
-        t.face_count(),
-        p.edge_point_count() as usize,
-        t.corner_count(),
-    );
+    let (nf, ne, fv) = (t.face_count(), t.edge_count(), t.corner_count());
     let cnv = nf + ne + t.vertex_count();
     if keep.is_empty() {
         return Err(Error::EmptyMesh("topology needs vertices and faces".into()));
@@ -124,7 +67,7 @@ pub(super) fn refine_kept_in<P: StepParent>(p: &P, keep: &[u32]) -> Result<(Leve
         kept[h as usize] = i as u32;
         parent_face.push(f as u32);
         let hp = prev_corner(t, f, h);
-        let quad = child_face_with(t, f, h as usize, hp, ne as u32, |e| p.edge_point(e));
+        let quad = child_face_with(t, f, h as usize, hp, ne as u32, |e| e);
         old_verts.extend_from_slice(&quad);
     }
     let nk = keep.len();
@@ -163,8 +106,8 @@ pub(super) fn refine_kept_in<P: StepParent>(p: &P, keep: &[u32]) -> Result<(Leve
                 }
             }
         } else if o < nf + ne {
-            let e = p.point_edge((o - nf) as u32);
-            let edge = p.edge(e);
+            let e = (o - nf) as u32;
+            let edge = StepEdge::of(t, e);
             let [a, b] = edge.verts;
             let boundary = edge.faces[1] == NONE;
             // The half at `a`: edge 0 of the child at `a` in `f0`, edge 3 of the one in `f1`;
@@ -187,7 +130,7 @@ pub(super) fn refine_kept_in<P: StepParent>(p: &P, keep: &[u32]) -> Result<(Leve
                 let second = (second.0 != NONE).then_some(second);
                 let opened = second.is_none() && !boundary;
                 let sharp = child_edge_sharpness(t, e, v);
-                let c = opened || p.is_cut_edge(e);
+                let c = opened || lv.is_cut_edge(e);
                 edges.push(&local, first, second, sharp, c);
             }
         } else {
@@ -225,8 +168,8 @@ pub(super) fn refine_kept_in<P: StepParent>(p: &P, keep: &[u32]) -> Result<(Leve
     sub.options = t.options;
     // A child vertex is incomplete when its counterpart in the whole child level is
     // (`Level::child_flags`) or when the kept quads miss some of its faces there.
-    let flagged = p.has_flags();
-    let bad = |v: u32| !p.is_complete_vertex(v);
+    let flagged = !(lv.cut.is_empty() && lv.incomplete.is_empty());
+    let bad = |v: u32| !lv.is_complete_vertex(v);
     // Per parent face: whether a corner is incomplete, judged once (a face is asked for by its
     // face point, the edge points of its edges and the vertex points of its corners).
     let mut face_bad_memo = vec![UNJUDGED; if flagged { nf } else { 0 }];
@@ -243,14 +186,14 @@ pub(super) fn refine_kept_in<P: StepParent>(p: &P, keep: &[u32]) -> Result<(Leve
         let (valence, inc) = if o < nf {
             (t.face_size(old), flagged && face_bad(old))
         } else if o < nf + ne {
-            let e = p.point_edge((o - nf) as u32);
-            let faces = p.edge(e).faces;
+            let e = (o - nf) as u32;
+            let faces = t.edge_faces[e as usize];
             let faces = if faces[1] == NONE {
                 &faces[..1]
             } else {
                 &faces[..]
             };
-            let inc = flagged && (p.is_cut_edge(e) || faces.iter().any(|&f| face_bad(f)));
+            let inc = flagged && (lv.is_cut_edge(e) || faces.iter().any(|&f| face_bad(f)));
             (2 * faces.len(), inc)
         } else {
             let pv = (o - nf - ne) as u32;
@@ -357,19 +300,22 @@ fn edge_point_children(parent: &Level, kept: &[u32], edge: &StepEdge) -> [u32; 4
 /// A parent face not judged yet in `refine_kept_in`'s per-face memo (0 complete, 1 not).
 const UNJUDGED: u8 = 2;
 
-/// The edges of a [`refine_kept_in`] level as they are made.
-struct KeptEdges {
+/// The edges of a level of kept child quads ([`refine_kept_in`], `super::ring_step`) as they
+/// are made.
+pub(super) struct KeptEdges {
     /// Per kept child's corner `4 i + k`: its edge `k` (`NONE` until made).
-    face_edges: Vec<u32>,
-    verts: Vec<[u32; 2]>,
-    faces: Vec<[u32; 2]>,
-    locals: Vec<[u16; 2]>,
-    sharpness: Vec<f32>,
-    cut: Vec<bool>,
+    pub face_edges: Vec<u32>,
+    pub verts: Vec<[u32; 2]>,
+    pub faces: Vec<[u32; 2]>,
+    pub locals: Vec<[u16; 2]>,
+    pub sharpness: Vec<f32>,
+    /// A boundary of the level that is none of the whole refinement (see [`Level`]).
+    pub cut: Vec<bool>,
 }
 
 impl KeptEdges {
-    fn new(kept: usize) -> KeptEdges {
+    /// Room for the edges of `kept` quads.
+    pub fn new(kept: usize) -> KeptEdges {
         // At most one edge per corner (no reallocation).
         let cap = 4 * kept;
         KeptEdges {
@@ -385,7 +331,7 @@ impl KeptEdges {
     /// The next edge: edge `k` of kept child `i` (`first`, oriented as there; `local` the
     /// kept quads' corners), and of `second` if kept.
     #[inline(always)]
-    fn push(
+    pub fn push(
         &mut self,
         local: &[u32],
         (i, k): (u32, u16),

@@ -1,58 +1,133 @@
-//! The parent of a feature-adaptive step seen through its level, without extracting it
-//! ([`RingStep`]): as OpenSubdiv's `Vtr::Refinement` refines a sparse selection of its parent
-//! level in place, the step's faces, corners, vertices and rings are the level's, and only the
-//! edges' numbering, orientation and flags follow the sub-level [`Level::extract_increasing`]
-//! would make, so [`super::kept::refine_kept_in`] gives that sub-level's refinement bit for bit
-//! (vertex numbering included).
+//! One feature-adaptive step made in place ([`refine_in_place`]): as OpenSubdiv's
+//! `Vtr::Refinement` refines a sparse selection of its parent level (`vtr/refinement.cpp`,
+//! `vtr/quadRefinement.cpp`), the kept child quads, their vertices, edges and one-rings are
+//! written straight from the parent level's relations, with no sub-level extracted and no
+//! bucketing: a face point's ring is its face's children, an edge point's the children beside
+//! its edge, a vertex point's the children at its vertex's faces in its ring's order.
+//!
+//! The child level is the refinement of the sub-level the step's faces make
+//! ([`Level::extract_increasing`] then [`Level::refine_kept`], kept as
+//! `AdaptiveLevel::uniform_step` to check it against) up to numbering and ring starts: child
+//! points are numbered by kind (face, edge, vertex points), each kind by first appearance among
+//! the kept quads' corners, edges by first appearance among the quads' edges, and each ring
+//! starts where its parent's does, not where `topology::build` would start it.
 
 use super::corners::{next_corner, prev_corner};
-use super::kept::{StepEdge, StepParent};
+use super::kept::KeptEdges;
 use super::level::Level;
-use crate::topology::NONE;
+use super::rules::{child_edge_sharpness, decrement};
+use crate::topology::{self, Topology, NONE};
 use crate::{Error, Result};
 
-/// The sub-level of a level made of the faces `ring` (increasing), as far as the kept children
-/// `keep` (flat corners of the level, increasing) read it. Every kept child's corner vertex must
-/// have all its faces in `ring` (the adaptive step keeps the children of refined faces and, of
-/// the faces around their vertices, the children at those vertices): its ring and the
-/// sharpness around it are then the level's.
-pub(super) struct RingStep<'a> {
-    level: &'a Level,
-    /// Per vertex of the level: a corner of a face not in `ring` (incomplete in the sub-level).
-    outside: Vec<bool>,
-    /// The kept children's edge points, each its edge as the sub-level has it and whether it
-    /// is cut there ([`StepParent::is_cut_edge`]), in the sub-level's edge order.
-    edges: Vec<(u32, StepEdge, bool)>,
-    /// Per edge of the level: its index in `edges`, or NONE.
-    point: Vec<u32>,
+/// The parent components of a step's child points in the child numbering: face points, then
+/// edge points, then vertex points (parent level ids).
+#[derive(Debug, Clone, Default)]
+pub(super) struct StepPoints {
+    /// The parent faces of the face points.
+    pub faces: Vec<u32>,
+    /// The parent edges of the edge points.
+    pub edges: Vec<u32>,
+    /// The parent vertices of the vertex points.
+    pub vertices: Vec<u32>,
 }
 
-impl<'a> RingStep<'a> {
-    /// The step of `level` refining the faces `ring` and keeping the children `keep`.
-    pub fn new(level: &'a Level, ring: &[u32], keep: &[u32]) -> Result<RingStep<'a>> {
-        let t = &level.topo;
-        let mut in_ring = vec![false; t.face_count()];
-        for (i, &f) in ring.iter().enumerate() {
-            if f as usize >= t.face_count() || (i > 0 && f <= ring[i - 1]) {
-                return Err(Error::Invalid(format!(
-                    "adaptive step: ring face {i} is {f}: faces must increase and be below {}",
-                    t.face_count()
-                )));
-            }
-            in_ring[f as usize] = true;
+/// The child faces `keep` (flat corners of `level`, increasing) of the step refining `level`'s
+/// faces `ring` (increasing) as a level of their own, and its child points' parents. Every kept
+/// child's face must be in `ring` and every face at its corner vertex too (the adaptive step
+/// keeps the children of refined faces and, of the faces around their vertices, the children at
+/// those vertices): the rings and sharpness around a kept corner are then the level's. A vertex
+/// or edge touching a face outside `ring` is incomplete in the child level (see [`Level`]),
+/// as are child edges and vertices missing a child face of the whole refinement.
+pub(super) fn refine_in_place(
+    level: &Level,
+    ring: &[u32],
+    keep: &[u32],
+) -> Result<(Level, StepPoints)> {
+    let t = level.topology();
+    if keep.is_empty() {
+        return Err(Error::EmptyMesh("topology needs vertices and faces".into()));
+    }
+    let mut in_ring = vec![false; t.face_count()];
+    for (i, &f) in ring.iter().enumerate() {
+        if f as usize >= t.face_count() || (i > 0 && f <= ring[i - 1]) {
+            return Err(Error::Invalid(format!(
+                "adaptive step: ring face {i} is {f}: faces must increase and be below {}",
+                t.face_count()
+            )));
         }
-        let mut outside = vec![false; t.vertex_count()];
-        for (f, _) in in_ring.iter().enumerate().filter(|x| !x.1) {
-            for &v in t.face_vertices(f as u32) {
-                outside[v as usize] = true;
-            }
+        in_ring[f as usize] = true;
+    }
+    // Per vertex: a corner of a face not in `ring`.
+    let mut outside = vec![false; t.vertex_count()];
+    for (f, _) in in_ring.iter().enumerate().filter(|x| !x.1) {
+        for &v in t.face_vertices(f as u32) {
+            outside[v as usize] = true;
         }
-        // Per edge: NONE, then its index in `found`, then its index in `edges`.
-        let mut point = vec![NONE; t.edge_count()];
-        // Per edge point, in the order found: its sort key (smaller end, first corner) and its
-        // edge as the sub-level has it.
-        let mut keys = Vec::with_capacity(2 * keep.len());
-        let mut found = Vec::with_capacity(2 * keep.len());
+    }
+    let quads = KeptQuads::new(t, &in_ring, &outside, keep)?;
+    let nk = keep.len();
+    let nv = quads.points.faces.len() + quads.points.edges.len() + quads.points.vertices.len();
+    let edges = child_edges(level, &quads, keep);
+    let rings = child_rings(t, &quads, &edges.face_edges, edges.verts.len());
+    let connectivity = topology::Connectivity {
+        face_offsets: (0..=nk as u32).map(|i| 4 * i).collect(),
+        face_verts: quads.corners,
+        face_edges: edges.face_edges,
+        edge_verts: edges.verts,
+        edge_faces: edges.faces,
+        edge_face_local: edges.locals,
+    };
+    let mut sub = topology::with_given_rings(nv, connectivity, rings, 4);
+    sub.edge_sharpness = edges.sharpness;
+    sub.holes = quads
+        .parent_face
+        .iter()
+        .map(|&f| t.holes[f as usize])
+        .collect();
+    if !t.no_limit.is_empty() {
+        sub.no_limit = quads
+            .parent_face
+            .iter()
+            .map(|&f| t.no_limit[f as usize])
+            .collect();
+    }
+    sub.options = t.options;
+    let points = quads.points;
+    let incomplete = incomplete_points(level, &sub, &points, &in_ring, &outside);
+    let first_vertex = points.faces.len() + points.edges.len();
+    for (j, &pv) in points.vertices.iter().enumerate() {
+        sub.vertex_sharpness[first_vertex + j] = decrement(t.vertex_sharpness[pv as usize]);
+    }
+    Ok((Level::with_flags(sub, edges.cut, incomplete), points))
+}
+
+/// The kept child quads of a step: per parent corner its kept child, per child its parent face
+/// and corners (the child numbering of [`StepPoints`]).
+struct KeptQuads {
+    /// Per parent corner: its kept child's index, or NONE.
+    kept: Vec<u32>,
+    /// Per kept child: its parent face.
+    parent_face: Vec<u32>,
+    /// Per kept child `i`, corners `4 i..4 i + 4`: the vertex point of its parent corner, the
+    /// edge point of the corner's edge, the face point, the edge point of the previous edge.
+    corners: Vec<u32>,
+    /// The child points' parents.
+    points: StepPoints,
+}
+
+impl KeptQuads {
+    /// The kept children `keep` of `t` (as [`refine_in_place`] takes them), checked.
+    fn new(t: &Topology, in_ring: &[bool], outside: &[bool], keep: &[u32]) -> Result<KeptQuads> {
+        let nk = keep.len();
+        let mut kept = vec![NONE; t.corner_count()];
+        let mut parent_face = Vec::with_capacity(nk);
+        let mut points = StepPoints {
+            faces: Vec::with_capacity(nk),
+            edges: Vec::with_capacity(2 * nk),
+            vertices: Vec::with_capacity(nk),
+        };
+        let mut edge_point = vec![NONE; t.edge_count()];
+        let mut vertex_point = vec![NONE; t.vertex_count()];
         let mut f = 0usize;
         for (i, &h) in keep.iter().enumerate() {
             if h as usize >= t.corner_count() || (i > 0 && h <= keep[i - 1]) {
@@ -72,129 +147,254 @@ impl<'a> RingStep<'a> {
                      face and every face at its vertex must be refined or in the ring"
                 )));
             }
+            kept[h as usize] = i as u32;
+            parent_face.push(f as u32);
+            if points.faces.last() != Some(&(f as u32)) {
+                points.faces.push(f as u32);
+            }
             let hp = prev_corner(t, f, h);
             for e in [t.face_edges[h as usize], t.face_edges[hp]] {
-                if point[e as usize] == NONE {
-                    point[e as usize] = found.len() as u32;
-                    let edge = ring_edge(level, &in_ring, e);
-                    let h0 = t.face_offsets[edge.faces[0] as usize] + u32::from(edge.locals[0]);
-                    let [a, b] = t.edge_verts[e as usize];
-                    keys.push(u64::from(a.min(b)) << 32 | u64::from(h0));
-                    found.push(edge);
+                if edge_point[e as usize] == NONE {
+                    edge_point[e as usize] = points.edges.len() as u32;
+                    points.edges.push(e);
                 }
             }
+            if vertex_point[v as usize] == NONE {
+                vertex_point[v as usize] = points.vertices.len() as u32;
+                points.vertices.push(v);
+            }
         }
-        // The sub-level numbers edges by smaller end, then by first corner: both increase with
-        // the level's (`Level::extract_increasing`). Each key is its edge's alone, and names
-        // it: the edge leaving its first corner.
-        let keys = sorted_keys(&keys, t.vertex_count());
-        let edges: Vec<(u32, StepEdge, bool)> = keys
-            .iter()
-            .enumerate()
-            .map(|(i, &key)| {
-                let e = t.face_edges[key as u32 as usize];
-                let j = std::mem::replace(&mut point[e as usize], i as u32);
-                let edge = found[j as usize];
-                let opened = edge.faces[1] == NONE && !t.is_boundary_edge(e);
-                (e, edge, opened || level.is_cut_edge(e))
-            })
-            .collect();
-        Ok(RingStep {
-            level,
-            outside,
-            edges,
-            point,
+        // The corners, now that each kind's count is known: face points are numbered in
+        // increasing face order (`keep` increases), so a child's is the number of faces seen.
+        let (nfp, nep) = (points.faces.len() as u32, points.edges.len() as u32);
+        let mut corners = Vec::with_capacity(4 * nk);
+        let mut face_point = 0u32;
+        for (i, &h) in keep.iter().enumerate() {
+            let f = parent_face[i] as usize;
+            if points.faces[face_point as usize] != f as u32 {
+                face_point += 1;
+            }
+            let hp = prev_corner(t, f, h);
+            let v = t.face_verts[h as usize];
+            corners.extend_from_slice(&[
+                nfp + nep + vertex_point[v as usize],
+                nfp + edge_point[t.face_edges[h as usize] as usize],
+                face_point,
+                nfp + edge_point[t.face_edges[hp] as usize],
+            ]);
+        }
+        Ok(KeptQuads {
+            kept,
+            parent_face,
+            corners,
+            points,
         })
     }
+
+    /// The kept child at corner `k` of parent face `g` (NONE if none).
+    fn child(&self, t: &Topology, g: u32, k: u32) -> u32 {
+        self.kept[(t.face_offsets[g as usize] + k) as usize]
+    }
 }
 
-/// `keys` (smaller end vertex `<< 32 |` first corner, distinct, ends below `vertex_count`)
-/// in increasing order: counted by end vertex, then each end's few keys (its edges to larger
-/// vertices) ordered by insertion.
-fn sorted_keys(keys: &[u64], vertex_count: usize) -> Vec<u64> {
-    let mut start = vec![0u32; vertex_count + 1];
-    for &key in keys {
-        start[(key >> 32) as usize + 1] += 1;
-    }
-    for v in 0..vertex_count {
-        start[v + 1] += start[v];
-    }
-    let mut sorted = vec![0u64; keys.len()];
-    for &key in keys {
-        let slot = &mut start[(key >> 32) as usize];
-        // Insertion among the end's keys placed so far (those from `slot`'s bucket start on
-        // lie before it in `sorted`, all with this end).
-        let mut i = *slot as usize;
-        *slot += 1;
-        while i > 0 && sorted[i - 1] > key && sorted[i - 1] >> 32 == key >> 32 {
-            sorted[i] = sorted[i - 1];
-            i -= 1;
+/// The edges of a step's child level, numbered by first appearance among the kept quads' edges
+/// (quad `i`'s edge `k` joins its corners `k` and `k + 1`: edges 0 and 3 halves of the parent
+/// corner's edges, 1 and 2 spokes to the face point).
+///
+/// Each kept quad's edges (`keep` the quads' parent corners): a spoke is shared with the
+/// neighbouring child of the same face, a half of a parent edge with the child at the same
+/// end in the face across it; a half takes its parent edge's child sharpness
+/// (`rules::child_edge_sharpness`) and is cut where its parent edge is or where the child
+/// across is not kept though the parent edge has a second face.
+fn child_edges(level: &Level, quads: &KeptQuads, keep: &[u32]) -> KeptEdges {
+    let t = level.topology();
+    let mut edges = KeptEdges::new(quads.parent_face.len());
+    for (i, &h) in keep.iter().enumerate() {
+        let (i, f) = (i as u32, quads.parent_face[i] as usize);
+        let (off, n) = (t.face_offsets[f], t.face_size(f as u32) as u32);
+        let k = h - off;
+        let v = t.face_verts[h as usize];
+        let (e_next, e_prev) = (t.face_edges[h as usize], t.face_edges[prev_corner(t, f, h)]);
+        for local in 0..4u16 {
+            if edges.face_edges[4 * i as usize + usize::from(local)] != NONE {
+                continue;
+            }
+            let (other, sharpness, cut) = match local {
+                // Spoke to the edge point of the corner's edge: the next corner's child
+                // has it as its edge 2.
+                1 => {
+                    let c = quads.kept[(off + next_corner(k, n)) as usize];
+                    ((c, 2), 0.0, c == NONE)
+                }
+                // Spoke to the previous edge's point: the previous corner's child's edge 1.
+                2 => {
+                    let c = quads.kept[(off + (k + n - 1) % n) as usize];
+                    ((c, 1), 0.0, c == NONE)
+                }
+                // The half at `v` of the corner's edge, or of the previous edge: the child
+                // at `v` in the face across (where the edge is entering, or leaving, `v`).
+                _ => {
+                    let (e, step, other_local) = if local == 0 {
+                        (e_next, 1, 3)
+                    } else {
+                        (e_prev, 0, 0)
+                    };
+                    let (g, kg) = across(t, e, f as u32, local == 0, k);
+                    let c = if g == NONE {
+                        NONE
+                    } else {
+                        let m = t.face_size(g) as u32;
+                        let corner = if step == 1 { next_corner(kg, m) } else { kg };
+                        quads.child(t, g, corner)
+                    };
+                    let cut = (c == NONE && g != NONE) || level.is_cut_edge(e);
+                    ((c, other_local), child_edge_sharpness(t, e, v), cut)
+                }
+            };
+            let other = (other.0 != NONE).then_some(other);
+            edges.push(&quads.corners, (i, local), other, sharpness, cut);
         }
-        sorted[i] = key;
     }
-    sorted
+    edges
 }
 
-/// Edge `e` of `level` as the sub-level of the faces `in_ring` has it: its first face the one
-/// whose corner on it comes first, oriented as there.
-fn ring_edge(level: &Level, in_ring: &[bool], e: u32) -> StepEdge {
-    let t = &level.topo;
-    let mut sides = t
-        .edge_faces(e)
-        .iter()
-        .zip(t.edge_face_locals(e))
-        .filter(|(&g, _)| in_ring[g as usize])
-        .map(|(&g, &k)| (t.face_offsets[g as usize] + u32::from(k), g, k));
-    let first = sides
-        .next()
-        .expect("a kept child's edge lies on a ring face");
-    let (first, second) = match sides.next() {
-        Some(s) if s.0 < first.0 => (s, Some(first)),
-        s => (first, s),
+/// The face across parent edge `e` from face `f`, where `e` is `f`'s edge leaving its corner
+/// `k` (`leaving`) or entering it, and `e`'s index in that face; `(NONE, 0)` on a boundary.
+fn across(t: &Topology, e: u32, f: u32, leaving: bool, k: u32) -> (u32, u32) {
+    let [f0, f1] = t.edge_faces[e as usize];
+    let [k0, k1] = t.edge_face_local[e as usize];
+    let n = t.face_size(f) as u32;
+    // `e`'s index in `f`: `k` when leaving `k`, the previous corner's when entering it.
+    let kf = if leaving { k } else { (k + n - 1) % n };
+    if f0 == f && u32::from(k0) == kf {
+        (f1, u32::from(k1))
+    } else {
+        (f0, u32::from(k0))
+    }
+}
+
+/// The one-rings of a step's child level (`quads`, its quads' `face_edges`, `edge_count`
+/// edges), in the child numbering, written from the parent `t`'s: a face point's ring is its
+/// face's children (corner 2) in corner order, an edge point's the children beside the edge
+/// (corners 1 and 3; `Level::refine_topology`'s order), a vertex point's the children at its
+/// faces' corners (corner 0) in its ring's order, fan by fan. Each ring starts where its
+/// parent's does ([`topology::RingBuilder::try_quad_cycle`] for a closed ring with every child
+/// kept, [`topology::RingBuilder::quad_fan_as_given`] otherwise).
+fn child_rings(
+    t: &Topology,
+    quads: &KeptQuads,
+    face_edges: &[u32],
+    edge_count: usize,
+) -> topology::Rings {
+    let nk = quads.parent_face.len();
+    let face_offsets: Vec<u32> = (0..=nk as u32).map(|i| 4 * i).collect();
+    let points = &quads.points;
+    let nv = points.faces.len() + points.edges.len() + points.vertices.len();
+    let mut rings = topology::RingBuilder::new(&face_offsets, face_edges, nv, 4 * nk, edge_count);
+    let mut fan = Vec::with_capacity(16);
+    for &f in &points.faces {
+        let (a, b) = (
+            t.face_offsets[f as usize] as usize,
+            t.face_offsets[f as usize + 1] as usize,
+        );
+        let children = quads.kept[a..b].iter().map(|&i| (i, 2));
+        if !rings.try_quad_cycle(children.clone()) {
+            fan.clear();
+            fan.extend(children);
+            rings.quad_fan_as_given(true, &fan);
+        }
+    }
+    for &e in &points.edges {
+        let [f0, f1] = t.edge_faces[e as usize];
+        let [k0, k1] = t.edge_face_local[e as usize].map(u32::from);
+        let beside = |g: u32, k: u32| {
+            let n = t.face_size(g) as u32;
+            (quads.child(t, g, k), quads.child(t, g, next_corner(k, n)))
+        };
+        let (c00, c01) = beside(f0, k0);
+        if f1 == NONE {
+            rings.quad_fan_as_given(false, &[(c01, 3), (c00, 1)]);
+        } else {
+            let (c10, c11) = beside(f1, k1);
+            let children = [(c00, 1), (c11, 3), (c10, 1), (c01, 3)];
+            if !rings.try_quad_cycle(children) {
+                rings.quad_fan_as_given(true, &children);
+            }
+        }
+    }
+    for &v in &points.vertices {
+        let child = |g: u32, k: u16| (quads.child(t, g, u32::from(k)), 0);
+        let (faces, locals) = (t.vertex_faces(v), t.vertex_face_locals(v));
+        let open = t.vertex_edges(v).len() - faces.len();
+        let children = faces.iter().zip(locals).map(|(&g, &k)| child(g, k));
+        if open == 0 && rings.try_quad_cycle(children.clone()) {
+            continue;
+        }
+        if open <= 1 {
+            fan.clear();
+            fan.extend(children);
+            rings.quad_fan_as_given(open == 0, &fan);
+        } else {
+            rings.fans_of(t, v, child);
+            rings.end_vertex();
+        }
+    }
+    rings.finish()
+}
+
+/// Per child vertex of `sub` (child points `points` of `level`'s faces `in_ring`, `outside`
+/// the vertices touching other faces): incomplete when a parent vertex it depends on is
+/// incomplete in the step's faces (a corner of its face point's face, of its edge point's
+/// faces, or of its vertex point's faces), when its edge point's edge is cut there, or when
+/// `sub` misses some of its faces in the whole refinement.
+fn incomplete_points(
+    level: &Level,
+    sub: &Topology,
+    points: &StepPoints,
+    in_ring: &[bool],
+    outside: &[bool],
+) -> Vec<bool> {
+    let t = level.topology();
+    let bad = |v: u32| !level.is_complete_vertex(v) || outside[v as usize];
+    // Per parent face: 0 complete, 1 not, 2 not judged yet (a face is asked for by its face
+    // point, the edge points of its edges and the vertex points of its corners).
+    let mut memo = vec![2u8; t.face_count()];
+    let mut face_bad = |f: u32| {
+        let m = &mut memo[f as usize];
+        if *m == 2 {
+            *m = u8::from(t.face_vertices(f).iter().any(|&v| bad(v)));
+        }
+        *m == 1
     };
-    let (h, g, k) = first;
-    let n = t.face_offsets[g as usize + 1] - t.face_offsets[g as usize];
-    let hn = t.face_offsets[g as usize] + next_corner(u32::from(k), n);
-    let (g1, k1) = second.map_or((NONE, 0), |s| (s.1, s.2));
-    StepEdge {
-        verts: [t.face_verts[h as usize], t.face_verts[hn as usize]],
-        faces: [g, g1],
-        locals: [k, k1],
+    let mut incomplete = Vec::with_capacity(sub.vertex_count());
+    let mut v = 0u32;
+    for &f in &points.faces {
+        let valence = t.face_size(f);
+        incomplete.push(face_bad(f) || sub.vertex_faces(v).len() != valence);
+        v += 1;
     }
-}
-
-impl StepParent for RingStep<'_> {
-    fn level(&self) -> &Level {
-        self.level
+    for &e in &points.edges {
+        let faces = t.edge_faces[e as usize];
+        let faces = if faces[1] == NONE {
+            &faces[..1]
+        } else {
+            &faces[..]
+        };
+        let inc = level.is_cut_edge(e)
+            || faces.iter().any(|&g| !in_ring[g as usize] || face_bad(g))
+            || sub.vertex_faces(v).len() != 2 * faces.len();
+        incomplete.push(inc);
+        v += 1;
     }
-
-    fn edge_point_count(&self) -> u32 {
-        self.edges.len() as u32
+    for &pv in &points.vertices {
+        let faces = t.vertex_faces(pv);
+        let inc = bad(pv)
+            || faces.iter().any(|&g| face_bad(g))
+            || sub.vertex_faces(v).len() != faces.len();
+        incomplete.push(inc);
+        v += 1;
     }
-
-    fn edge_point(&self, e: u32) -> u32 {
-        self.point[e as usize]
-    }
-
-    fn point_edge(&self, i: u32) -> u32 {
-        self.edges[i as usize].0
-    }
-
-    fn edge(&self, e: u32) -> StepEdge {
-        self.edges[self.point[e as usize] as usize].1
-    }
-
-    fn is_cut_edge(&self, e: u32) -> bool {
-        self.edges[self.point[e as usize] as usize].2
-    }
-
-    fn is_complete_vertex(&self, v: u32) -> bool {
-        self.level.is_complete_vertex(v) && !self.outside[v as usize]
-    }
-
-    fn has_flags(&self) -> bool {
-        true
-    }
+    incomplete
 }
 
 #[cfg(test)]
@@ -202,34 +402,20 @@ mod tests {
     use super::*;
 
     /// A kept child at a vertex with a face outside the ring is refused, naming the child; with
-    /// the vertex's faces in the ring it is taken.
+    /// the vertex's faces in the ring it is taken, with its corner's two edge points.
     #[test]
     fn child_at_a_vertex_with_faces_outside_the_ring_is_an_error() {
         let (_, _, level) = &crate::subdiv::corpus_levels(&["catmark_cube"], 0)[0];
         let t = level.topology();
         let h = t.face_offsets()[0];
-        let err = RingStep::new(level, &[0], &[h]).err().unwrap().to_string();
+        let err = refine_in_place(level, &[0], &[h])
+            .err()
+            .unwrap()
+            .to_string();
         assert!(err.contains("child face 0 (corner 0 of face 0"), "{err}");
         let mut ring = t.vertex_faces(t.face_vertices(0)[0]).to_vec();
         ring.sort_unstable();
-        let step = RingStep::new(level, &ring, &[h]).unwrap();
-        assert_eq!(step.edge_point_count(), 2);
-    }
-
-    /// `sorted_keys` orders as a comparison sort does: keys of many ends, several per end in
-    /// decreasing corner order, ends 0 and the last one, gaps.
-    #[test]
-    fn sorted_keys_equal_a_comparison_sort() {
-        let vertex_count = 40u64;
-        let keys: Vec<u64> = (0..300u64)
-            .map(|i| (((i * 17) % vertex_count) << 32) | ((1000 - 3 * i) % 997))
-            .filter(|key| (key >> 32) % 7 != 3)
-            .collect();
-        let mut expected = keys.clone();
-        expected.sort_unstable();
-        expected.dedup();
-        assert_eq!(expected.len(), keys.len(), "distinct keys");
-        assert_eq!(sorted_keys(&keys, vertex_count as usize), expected);
-        assert!(sorted_keys(&[], 3).is_empty());
+        let (_, points) = refine_in_place(level, &ring, &[h]).unwrap();
+        assert_eq!(points.edges.len(), 2);
     }
 }

@@ -127,13 +127,55 @@ impl<'a> RingBuilder<'a> {
     /// it): the ring [`Self::end_vertex`] gives, written straight from `fan` (no copy, no fan
     /// list), each face's corners and edges by quad arithmetic.
     pub(crate) fn quad_fan(&mut self, closed: bool, fan: &[(u32, u16)]) {
+        self.quad_ring(closed, fan, true);
+    }
+
+    /// [`Self::quad_fan`] without `topology::build`'s order: a closed fan with every face kept
+    /// starts at its first face, the runs of the others follow in fan order (a closed fan's
+    /// from after its first left-out face). The same faces and edges, each run as
+    /// counter-clockwise; for a level whose numbering is free (the adaptive step).
+    pub(crate) fn quad_fan_as_given(&mut self, closed: bool, fan: &[(u32, u16)]) {
+        self.quad_ring(closed, fan, false);
+    }
+
+    /// Ends the current vertex, whose faces in a topology of quads are the closed fan `fan` (as
+    /// [`Self::fan`] takes it), when every face is kept: the ring as given, each face's leaving
+    /// edge by quad arithmetic (what [`Self::quad_fan_as_given`] writes, without a fan list).
+    /// `false`, with nothing written, when a face is NONE.
+    pub(crate) fn try_quad_cycle(&mut self, fan: impl IntoIterator<Item = (u32, u16)>) -> bool {
+        let r = &mut self.rings;
+        let (faces, edges) = (r.vert_faces.len(), r.vert_edges.len());
+        for (f, k) in fan {
+            if f == NONE {
+                r.vert_faces.truncate(faces);
+                r.vert_face_local.truncate(faces);
+                r.vert_edges.truncate(edges);
+                return false;
+            }
+            r.vert_faces.push(f);
+            r.vert_face_local.push(k);
+            r.vert_edges
+                .push(self.face_edges[(4 * f + u32::from(k)) as usize]);
+        }
+        self.next_vertex();
+        true
+    }
+
+    /// The current vertex's ring from the quad fan `fan`, in `topology::build`'s order when
+    /// `ordered`, else as given.
+    #[inline(always)]
+    fn quad_ring(&mut self, closed: bool, fan: &[(u32, u16)], ordered: bool) {
         let corner = |(f, k): (u32, u16)| 4 * f + u32::from(k);
         let fe = self.face_edges;
         let leaving = |x| fe[corner(x) as usize];
         let entering = |(f, k): (u32, u16)| fe[corner((f, (k + 3) & 3)) as usize];
         if closed && fan.iter().all(|x| x.0 != NONE) {
-            // One cycle from its smallest corner.
-            let first = (0..fan.len()).min_by_key(|&j| corner(fan[j])).unwrap_or(0);
+            // One cycle, from its smallest corner when ordered.
+            let first = if ordered {
+                (0..fan.len()).min_by_key(|&j| corner(fan[j])).unwrap_or(0)
+            } else {
+                0
+            };
             push_run(
                 &mut self.rings,
                 fan,
@@ -147,7 +189,9 @@ impl<'a> RingBuilder<'a> {
             // Open, or closed with a gap: runs, never the one cycle.
             self.runs.clear();
             push_runs(&mut self.runs, 0, fan, closed, corner);
-            self.runs.sort_unstable_by_key(|r| r.0);
+            if ordered {
+                self.runs.sort_unstable_by_key(|r| r.0);
+            }
             for &(_, _, _, a, n) in &self.runs {
                 push_run(&mut self.rings, fan, a, n, true, leaving, entering);
             }
