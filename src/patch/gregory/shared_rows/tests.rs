@@ -1,0 +1,488 @@
+//! Tests of the shared end-cap rows against the direct construction.
+
+use super::vertex_points::RingKeys;
+use super::*;
+use crate::mesh::{ControlMesh, ControlMeshDesc};
+use crate::patch::gregory::corner_types::{
+    end_cap_topologies, with_test_crease_factors, DECAYED_CORNER_DISKS,
+};
+use crate::patch::gregory::gregory_vertex_for;
+use crate::patch::gregory::stencil::{canonical_ring, ring_walk};
+use crate::subdiv::adaptive::EndCapSharpness;
+use glam::DVec3;
+use std::collections::HashMap;
+
+/// Meshes with holes, boundaries, darts, corners, infinitely sharp and semi-sharp creases,
+/// n-gons, triangles and valence-2 vertices.
+const TOPOLOGY_CORPUS: [&str; 10] = [
+    "catmark_hole_test1",
+    "catmark_hole_test4",
+    "catmark_dart_edgecorner",
+    "catmark_cube_corner4",
+    "catmark_cube_creases2",
+    "catmark_nonquads",
+    "catmark_smoothtris1",
+    "catmark_val2_interior",
+    "catmark_xord_boundary",
+    "catmark_cubes_semisharp",
+];
+
+/// The topologies of every level of the isolation-2 adaptive refinement of corpus mesh
+/// `name`: both end-cap topologies (residual semi-sharpness smooth, or infinitely sharp from
+/// `CREASE_FROM`: darts where a semi-sharp line ends), after the level's own (semi-sharpness
+/// kept) if `own`.
+fn level_topologies(name: &str, own: bool) -> Vec<Topology> {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
+    let path = format!("{dir}{name}.obj");
+    let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
+    let level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
+    let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, 2).unwrap();
+    let mut out = Vec::new();
+    for l in &adaptive.levels {
+        let t = l.topology();
+        if own {
+            out.push(t.clone());
+        }
+        out.push(t.without_semi_sharpness().into_owned());
+        out.push(
+            t.with_semi_sharpness_as_crease(EndCapSharpness::CREASE_FROM)
+                .into_owned(),
+        );
+    }
+    out
+}
+
+/// The topological answer is the construction's, on every vertex of every level of the
+/// feature-adaptive refinement (sparse levels: rings cut open at their edge) of meshes with
+/// holes, boundaries, darts, corners, creases, n-gons, triangles and valence-2 vertices, in
+/// both end-cap topologies (fails if the interior or dart shortcut answers for a ring the
+/// construction rejects, or the coverage test is skipped).
+#[test]
+fn vertex_data_by_topology_is_the_constructions() {
+    let mut seen = [0usize; 2];
+    let darts = DartLimits::new();
+    for name in TOPOLOGY_CORPUS {
+        for topo in level_topologies(name, false) {
+            for v in 0..topo.vertex_count() as u32 {
+                let point = |_: u32| 0.0f64;
+                let want = gregory_vertex_for(
+                    &topo,
+                    v,
+                    &point,
+                    GregoryTangents::default(),
+                    Coverage::EndCap,
+                    &DartLimits::new(),
+                )
+                .is_some();
+                let got = has_vertex_data(&topo, v, &darts);
+                assert_eq!(got, want, "{name}: vertex {v}");
+                seen[usize::from(want)] += 1;
+            }
+        }
+    }
+    assert!(seen[0] > 0 && seen[1] > 0, "{seen:?}");
+    assert!(!darts.is_empty(), "no dart ring");
+}
+
+/// The end-cap shortcuts of the keys and corners are the checks they stand for, on every
+/// vertex and face of every level of the adaptive refinement of `TOPOLOGY_CORPUS` (with
+/// semi-sharp and infinitely sharp creases, holes, darts and n-gons), in the levels' own
+/// topologies (semi-sharpness kept) and both end-cap ones: `vertex_covered` with end-cap
+/// coverage is `check_vertex_for` passing at some face of the vertex, and
+/// `end_cap_patch_with` over `has_vertex_data` is `check_face_for` passing with data at
+/// every corner (fails if the one-face coverage test misreads a semi-sharp vertex or edge,
+/// or if the face test drops the face's own checks).
+#[test]
+fn end_cap_shortcuts_are_the_checks() {
+    use crate::patch::gregory::build::{check_vertex_for, end_cap_patch_with};
+    use crate::patch::gregory::check_face_for;
+    let darts = DartLimits::new();
+    // Per answer: uncovered vertices, covered ones, faces without and with a patch.
+    let mut seen = [0usize; 4];
+    for name in TOPOLOGY_CORPUS {
+        for topo in level_topologies(name, true) {
+            for v in 0..topo.vertex_count() as u32 {
+                let want = topo
+                    .vertex_faces(v)
+                    .iter()
+                    .any(|&f| check_vertex_for(&topo, v, f, Coverage::EndCap).is_ok());
+                assert_eq!(
+                    vertex_covered(&topo, v, Coverage::EndCap),
+                    want,
+                    "{name}: vertex {v}"
+                );
+                seen[usize::from(want)] += 1;
+            }
+            let data = |v: &u32| has_vertex_data(&topo, *v, &darts);
+            for f in 0..topo.face_count() as u32 {
+                let want = check_face_for(&topo, f, Coverage::EndCap).is_ok()
+                    && topo.face_vertices(f).iter().all(data);
+                assert_eq!(end_cap_patch_with(&topo, f, data), want, "{name}: face {f}");
+                seen[2 + usize::from(want)] += 1;
+            }
+        }
+    }
+    assert!(seen.iter().all(|&n| n > 0), "{seen:?}");
+}
+
+/// A grid of `n × n` quads, infinitely sharp along row `n / 2` from its left end to
+/// column `to`: vertices of one connectivity that differ only by the sharpness of their
+/// edges (smooth, crease, a dart where the crease ends inside, a corner where it meets
+/// the boundary).
+fn creased_grid(n: u32, to: u32) -> Topology {
+    let w = n + 1;
+    let positions = (0..w * w)
+        .map(|i| DVec3::new((i % w) as f64, (i / w) as f64, ((i * 7 % 5) as f64) * 0.1))
+        .collect();
+    let face_vertices = (0..n * n)
+        .flat_map(|f| {
+            let (x, y) = (f % n, f / n);
+            let v = y * w + x;
+            [v, v + 1, v + 1 + w, v + w]
+        })
+        .collect();
+    let creases = (0..to)
+        .map(|x| crate::mesh::Crease {
+            v0: n / 2 * w + x,
+            v1: n / 2 * w + x + 1,
+            sharpness: crate::mesh::INFINITE_SHARPNESS,
+        })
+        .collect();
+    let mesh = ControlMesh::new(ControlMeshDesc {
+        positions,
+        face_sizes: vec![4; (n * n) as usize],
+        face_vertices,
+        creases,
+        ..Default::default()
+    })
+    .unwrap();
+    Topology::new(&mesh).unwrap()
+}
+
+/// The shared vertex points are bitwise the per-vertex construction on every vertex, on
+/// every level of the adaptive refinement of meshes with triangles, n-gons, high valence,
+/// boundaries, holes, infinitely sharp creases, corners and darts, in both end-cap
+/// topologies, on a creased grid and on a decayed corner (fails if the ring key leaves out
+/// what the construction reads, e.g. face sizes, the faces' vertices, the edges' sharpness,
+/// which tells the grid's crease vertices from its smooth ones, or the decayed-corner tag,
+/// which the end caps' tangents read; `Fitted` with frozen factors compared too), and rings
+/// are shared.
+#[test]
+fn shared_vertex_points_are_the_per_vertex_construction() {
+    let (mut vertices, mut types) = (0, 0);
+    // Vertices with vertex points, by number of sharp edges: smooth, dart, crease.
+    let mut kinds = HashMap::new();
+    let mut compare = |name: &str, topo: &Topology| {
+        let all: Vec<u32> = (0..topo.vertex_count() as u32)
+            .filter(|&v| !topo.vertex_faces(v).is_empty())
+            .collect();
+        for tangents in [
+            GregoryTangents::Paper,
+            GregoryTangents::Optimal,
+            GregoryTangents::EndCaps,
+            GregoryTangents::Fitted,
+        ] {
+            let shared = shared_vertex_point_rows(topo, &all, tangents, &DartLimits::new());
+            assert_eq!(shared.len(), 3 * all.len());
+            for (i, &v) in all.iter().enumerate() {
+                let want =
+                    crate::patch::gregory::stencil_table::vertex_point_rows(topo, v, tangents);
+                let got: Vec<Weights> = (3 * i..3 * i + 3).map(|r| shared.weights(r)).collect();
+                let bits = |w: &[Weights]| {
+                    w.iter()
+                        .map(|w| w.0.iter().map(|&(u, x)| (u, x.to_bits())).collect())
+                        .collect::<Vec<Vec<_>>>()
+                };
+                assert_eq!(bits(&got), bits(&want), "{name}: vertex {v}");
+                if !want[0].0.is_empty() || !want[1].0.is_empty() {
+                    let ring = vertex_ring_with(topo, v, &|_| NoPoint);
+                    let sharp = ring.sharp.iter().filter(|&&s| s).count();
+                    *kinds.entry(sharp).or_insert(0) += 1;
+                }
+            }
+        }
+        let mut slot = vec![NONE; topo.vertex_count()];
+        let mut ring_keys = RingKeys::default();
+        for &v in &all {
+            ring_keys.push(topo, v, &mut slot);
+        }
+        let keys: std::collections::HashSet<&[u32]> =
+            (0..all.len()).map(|j| ring_keys.key(j)).collect();
+        vertices += all.len();
+        types += keys.len();
+    };
+    compare("creased grid", &creased_grid(8, 5));
+    // Frozen crease-sector factors (`GregoryTangents::Fitted`), a different pair at every
+    // vertex. (The factor words cannot be shown missing here: no two crease rings of
+    // three or more faces in a sector share a key on these levels; `corner_types`' oracle
+    // shows them on the second stage.)
+    for topo in end_cap_topologies("catmark_xord_boundary") {
+        compare("xord_boundary, fitted", &with_test_crease_factors(topo));
+    }
+    for name in [
+        DECAYED_CORNER_DISKS,
+        "catmark_nonquads",
+        "catmark_smoothtris1",
+        "catmark_pole8",
+        "catmark_car",
+        "catmark_val2_interior",
+        "catmark_cube_creases2",
+        "catmark_dart_edgecorner",
+        "catmark_hole_test1",
+        "catmark_cube_corner4",
+    ] {
+        for topo in end_cap_topologies(name) {
+            compare(name, &topo);
+        }
+    }
+    assert!(
+        types * 10 < vertices,
+        "{types} ring types for {vertices} vertices"
+    );
+    // Smooth (no sharp edge), dart (one) and crease or boundary (two) rings were compared.
+    assert!((0..3).all(|s| kinds.contains_key(&s)), "{kinds:?}");
+}
+
+/// The split rings over unit weights built without a unit per ring vertex are bitwise
+/// `vertex_ring_with` over `Weights::unit` (points and topology), with the identity and with
+/// a reversing id map (ids then descend along the ring, so the sorted points reorder), on
+/// every vertex of every level of meshes with triangles, n-gons, boundaries, holes, creases,
+/// darts and promoted semi-sharp creases, in both end-cap topologies (fails if a midpoint's
+/// or centroid's weight, order or a repeated id's sum differs).
+#[test]
+fn unit_rings_are_vertex_ring_with() {
+    use crate::patch::gregory::build::vertex_ring_of_units;
+    let bits = |w: &Weights| {
+        w.0.iter()
+            .map(|&(u, x)| (u, x.to_bits()))
+            .collect::<Vec<_>>()
+    };
+    let mut compared = 0;
+    let mut compare = |name: &str, topo: &Topology| {
+        let n = topo.vertex_count() as u32;
+        for v in 0..n {
+            for reverse in [false, true] {
+                let id = |u: u32| if reverse { n - 1 - u } else { u };
+                let got = vertex_ring_of_units(topo, v, &id);
+                let want = vertex_ring_with(topo, v, &|u| Weights::unit(id(u)));
+                let points = |r: &crate::patch::gregory::VertexRing<Weights>| {
+                    let mut p = vec![bits(&r.v)];
+                    p.extend(r.m.iter().chain(&r.c).map(bits));
+                    p
+                };
+                assert_eq!(points(&got), points(&want), "{name}: vertex {v}");
+                assert_eq!(
+                    (&got.sharp, got.corner, &got.face_sizes),
+                    (&want.sharp, want.corner, &want.face_sizes)
+                );
+                assert_eq!(
+                    (&got.far_sector, &got.promoted),
+                    (&want.far_sector, &want.promoted)
+                );
+                compared += 1;
+            }
+        }
+    };
+    // A 12-gon: centroids of more corners than `combine` merges in one pass.
+    let gon = ControlMesh::new(ControlMeshDesc {
+        positions: (0..12)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 12.0;
+                DVec3::new(a.cos(), a.sin(), 0.0)
+            })
+            .collect(),
+        face_sizes: vec![12],
+        face_vertices: (0..12).collect(),
+        ..Default::default()
+    })
+    .unwrap();
+    compare("12-gon", &Topology::new(&gon).unwrap());
+    for name in [
+        "catmark_nonquads",
+        "catmark_smoothtris1",
+        "catmark_hole_test1",
+        "catmark_dart_edgecorner",
+        "catmark_cube_creases2",
+        "catmark_cubes_semisharp",
+        "catmark_val2_interior",
+    ] {
+        for topo in end_cap_topologies(name) {
+            compare(name, &topo);
+        }
+    }
+    assert!(compared > 1000, "{compared} rings");
+}
+
+/// The ring walk visits what [`ring_walk`] documents, in order, and a face's key numbers
+/// its ring as [`Keyer::key`] documents (its corners' rings, each vertex of their rings
+/// once, in corner order), the same vertices as [`canonical_ring`], with `slot` set, on a
+/// pyramid whose faces start their vertex lists away from the walked corner, where every
+/// face has its own key (the apex's five triangles sit at five places in its ring); on a
+/// grid, the faces whose corners are interior share one key and the others do not (fails
+/// if a rotation starts at the wrong face or vertex, a ring vertex is missed or repeated,
+/// or the key reads ids rather than slots).
+#[test]
+fn face_keys_number_the_corners_rings() {
+    // A pyramid over a pentagon: triangles, a pentagon, valences 3 and 5.
+    let mut positions: Vec<DVec3> = (0..5)
+        .map(|k| {
+            let a = k as f64 * std::f64::consts::TAU / 5.0;
+            DVec3::new(a.cos(), a.sin(), 0.0)
+        })
+        .collect();
+    positions.push(DVec3::Z);
+    let mut face_vertices = vec![4, 3, 2, 1, 0];
+    for k in 0..5 {
+        face_vertices.extend([k, (k + 1) % 5, 5]);
+    }
+    let mesh = ControlMesh::new(ControlMeshDesc {
+        positions,
+        face_sizes: vec![5, 3, 3, 3, 3, 3],
+        face_vertices,
+        ..Default::default()
+    })
+    .unwrap();
+    let topo = Topology::new(&mesh).unwrap();
+    let darts = DartLimits::new();
+    let mut keyer = Keyer::new(&topo, GregoryTangents::default(), &darts);
+    let mut keys = Vec::new();
+    for f in 0..topo.face_count() as u32 {
+        // The walk as documented: corners, then per corner its faces from `f` round,
+        // each face's vertices from the corner round.
+        let mut walk = topo.face_vertices(f).to_vec();
+        for &v in topo.face_vertices(f) {
+            let faces = topo.vertex_faces(v);
+            let start = faces.iter().position(|&g| g == f).unwrap();
+            for i in 0..faces.len() {
+                let gv = topo.face_vertices(faces[(start + i) % faces.len()]);
+                let k = gv.iter().position(|&x| x == v).unwrap();
+                walk.extend((0..gv.len()).map(|t| gv[(k + t) % gv.len()]));
+            }
+        }
+        let mut visited = Vec::new();
+        ring_walk(&topo, f, |x| visited.push(x));
+        assert_eq!(visited, walk, "face {f}");
+        let mut key = TypeKey::new();
+        let (ring, keyed) = keyer.key(f, &mut key);
+        assert!(keyed.is_some(), "face {f}");
+        // Each corner, its edges' other ends, its faces' vertices in face order.
+        let mut want: Vec<u32> = Vec::new();
+        for &v in topo.face_vertices(f) {
+            let ends = topo
+                .vertex_edges(v)
+                .iter()
+                .map(|&e| topo.other_vertex(e, v));
+            let around = topo
+                .vertex_faces(v)
+                .iter()
+                .flat_map(|&g| topo.face_vertices(g));
+            for u in std::iter::once(v).chain(ends).chain(around.copied()) {
+                if !want.contains(&u) {
+                    want.push(u);
+                }
+            }
+        }
+        assert_eq!(ring, want, "face {f}");
+        let mut sorted = ring.clone();
+        sorted.sort_unstable();
+        let mut canonical = canonical_ring(&topo, f);
+        canonical.sort_unstable();
+        assert_eq!(sorted, canonical, "face {f}");
+        for (s, &v) in ring.iter().enumerate() {
+            assert_eq!(keyer.slot[v as usize], s as u32);
+        }
+        clear(&mut keyer.slot, &ring);
+        keys.push(key);
+    }
+    let distinct: std::collections::HashSet<&TypeKey> = keys.iter().collect();
+    assert_eq!(distinct.len(), keys.len());
+    // A grid of 8 x 8 quads: faces with interior corners are those off the border.
+    let grid = creased_grid(8, 0);
+    let mut keyer = Keyer::new(&grid, GregoryTangents::default(), &darts);
+    let (mut inner, mut outer) = (Vec::new(), Vec::new());
+    for f in 0..64u32 {
+        let mut key = TypeKey::new();
+        let (ring, keyed) = keyer.key(f, &mut key);
+        assert!(keyed.is_some(), "grid face {f}");
+        clear(&mut keyer.slot, &ring);
+        let (x, y) = (f % 8, f / 8);
+        match (1..7).contains(&x) && (1..7).contains(&y) {
+            true => inner.push((f, ring.len(), key)),
+            false => outer.push(key),
+        }
+    }
+    assert_eq!(inner.len(), 36);
+    for (f, l, key) in &inner {
+        assert_eq!(*l, 16, "grid face {f}");
+        assert_eq!(*key, inner[0].2, "grid face {f}");
+    }
+    assert!(outer.iter().all(|k| *k != inner[0].2));
+}
+
+/// [`EndCapFaceRows::rows`] with other ids is the level's rows ([`sparse_face_rows_flat`])
+/// relabelled term by term, and [`EndCapFaceRows::derived_read`] marks exactly the
+/// derived points those rows read, on every face of every level of meshes with n-gons,
+/// holes, creases, darts and semi-sharp creases (faces without patch included: no rows,
+/// nothing read), shared and directly built faces both met (fails if a shared face's
+/// column of derived points is skipped or mislabelled, or a direct face's terms are
+/// relabelled as vertices).
+#[test]
+fn face_rows_take_the_callers_ids() {
+    let darts = DartLimits::new();
+    let (mut shared, mut direct) = (0, 0);
+    for name in [
+        "catmark_nonquads",
+        "catmark_dart_edgecorner",
+        "catmark_cubes_semisharp",
+    ] {
+        for topo in level_topologies(name, false) {
+            let n = topo.vertex_count() as u32;
+            let faces: Vec<u32> = (0..topo.face_count() as u32).collect();
+            let tangents = GregoryTangents::default();
+            let rows = end_cap_face_rows(&topo, &faces, tangents, &darts);
+            let flat = sparse_face_rows_flat(&topo, &faces, tangents, &darts);
+            // Monotone, derived ids past every vertex id, none the level's own.
+            let vertex = |u: u32| 2 * u + 5;
+            let derived = |v: u32, b: u32| 2 * n + 10 + 7 * v + b;
+            for (i, want) in flat.iter().enumerate() {
+                match &rows.faces[i] {
+                    Ok(FaceRow::Shared { .. }) => shared += 1,
+                    Ok(FaceRow::Direct(_)) => direct += 1,
+                    Err(_) => {}
+                }
+                let got = rows.rows(&topo, i, &vertex, &derived);
+                let mut read = std::collections::BTreeSet::new();
+                rows.derived_read(&topo, i, |v, b| {
+                    read.insert((v, b));
+                });
+                let Ok(want) = want else {
+                    assert!(got.is_empty() && read.is_empty(), "{name}: face {i}");
+                    continue;
+                };
+                let relabel = |id: u32| match vertex_point_of(&topo, id) {
+                    None => vertex(id),
+                    Some((v, b)) => derived(v, b),
+                };
+                let terms: Vec<(u32, u64)> = want
+                    .terms
+                    .iter()
+                    .map(|&(u, x)| (relabel(u), x.to_bits()))
+                    .collect();
+                let bits: Vec<(u32, u64)> =
+                    got.terms.iter().map(|&(u, x)| (u, x.to_bits())).collect();
+                assert_eq!(
+                    (&got.offsets, bits),
+                    (&want.offsets, terms),
+                    "{name}: face {i}"
+                );
+                let want_read: std::collections::BTreeSet<(u32, u32)> = want
+                    .terms
+                    .iter()
+                    .filter_map(|&(u, _)| vertex_point_of(&topo, u))
+                    .collect();
+                assert_eq!(read, want_read, "{name}: face {i}");
+            }
+        }
+    }
+    assert!(shared > 0 && direct > 0, "{shared} shared, {direct} direct");
+}
