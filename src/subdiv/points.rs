@@ -4,7 +4,7 @@
 
 use super::level::Level;
 use super::rules::{child_edge_sharpness, decrement, fractional_weight, vertex_rule};
-use super::rules::{VertexMask, VertexRule};
+use super::rules::{VertexMask, VertexRule, REGULAR_EDGE_WEIGHTS, REGULAR_VERTEX_WEIGHTS};
 use super::sparse::{merge_row, SparseMatrix};
 use crate::topology::{Topology, NONE};
 use glam::DVec3;
@@ -77,13 +77,14 @@ fn regular_row(t: &Topology, r: usize, buf: &mut Vec<(u32, f64)>) -> bool {
         };
         let [a, b] = t.edge_verts[e as usize];
         let (l0, l1) = (usize::from(l0), usize::from(l1));
+        let [end, far] = REGULAR_EDGE_WEIGHTS;
         buf.extend([
-            (a, 0.375),
-            (b, 0.375),
-            (q0[(l0 + 2) % 4], 0.0625),
-            (q0[(l0 + 3) % 4], 0.0625),
-            (q1[(l1 + 2) % 4], 0.0625),
-            (q1[(l1 + 3) % 4], 0.0625),
+            (a, end),
+            (b, end),
+            (q0[(l0 + 2) % 4], far),
+            (q0[(l0 + 3) % 4], far),
+            (q1[(l1 + 2) % 4], far),
+            (q1[(l1 + 3) % 4], far),
         ]);
         return true;
     }
@@ -99,9 +100,10 @@ fn regular_row(t: &Topology, r: usize, buf: &mut Vec<(u32, f64)>) -> bool {
         return false;
     }
     let ring: [u32; 4] = std::array::from_fn(|i| t.other_vertex(edges[i], v));
+    let [centre, side, diagonal] = REGULAR_VERTEX_WEIGHTS;
     let start = buf.len();
-    buf.push((v, 0.5625));
-    buf.extend(ring.map(|u| (u, 0.09375)));
+    buf.push((v, centre));
+    buf.extend(ring.map(|u| (u, side)));
     for (i, (&f, &k)) in faces.iter().zip(t.vertex_face_locals(v)).enumerate() {
         // Face `i` lies between edges `i` and `i + 1`: its corners beside `v` are their ends.
         let Some((q, _)) = t.quad(f) else {
@@ -115,7 +117,7 @@ fn regular_row(t: &Topology, r: usize, buf: &mut Vec<(u32, f64)>) -> bool {
             buf.truncate(start);
             return false;
         }
-        buf.push((q[(k + 2) % 4], 0.015625));
+        buf.push((q[(k + 2) % 4], diagonal));
     }
     true
 }

@@ -68,9 +68,16 @@ pub(super) fn refine_in_place(
     let nk = keep.len();
     let nv = quads.points.faces.len() + quads.points.edges.len() + quads.points.vertices.len();
     let edges = child_edges(level, &quads, keep);
-    let rings = child_rings(t, &quads, &edges.face_edges, edges.verts.len());
+    let face_offsets: Vec<u32> = (0..=nk as u32).map(|i| 4 * i).collect();
+    let rings = child_rings(
+        t,
+        &quads,
+        &face_offsets,
+        &edges.face_edges,
+        edges.verts.len(),
+    );
     let connectivity = topology::Connectivity {
-        face_offsets: (0..=nk as u32).map(|i| 4 * i).collect(),
+        face_offsets,
         face_verts: quads.corners,
         face_edges: edges.face_edges,
         edge_verts: edges.verts,
@@ -273,24 +280,24 @@ fn across(t: &Topology, e: u32, f: u32, leaving: bool, k: u32) -> (u32, u32) {
     }
 }
 
-/// The one-rings of a step's child level (`quads`, its quads' `face_edges`, `edge_count`
-/// edges), in the child numbering, written from the parent `t`'s: a face point's ring is its
-/// face's children (corner 2) in corner order, an edge point's the children beside the edge
-/// (corners 1 and 3; `Level::refine_topology`'s order), a vertex point's the children at its
-/// faces' corners (corner 0) in its ring's order, fan by fan. Each ring starts where its
+/// The one-rings of a step's child level (`quads`, its quads' `face_offsets` and
+/// `face_edges`, `edge_count` edges), in the child numbering, written from the parent `t`'s:
+/// a face point's ring is its face's children (corner 2) in corner order, an edge point's the
+/// children beside the edge (corners 1 and 3; `Level::refine_topology`'s order), a vertex
+/// point's the children at its faces' corners (corner 0) in its ring's order, fan by fan. Each ring starts where its
 /// parent's does ([`topology::RingBuilder::try_quad_cycle`] for a closed ring with every child
 /// kept, [`topology::RingBuilder::quad_fan_as_given`] otherwise).
 fn child_rings(
     t: &Topology,
     quads: &KeptQuads,
+    face_offsets: &[u32],
     face_edges: &[u32],
     edge_count: usize,
 ) -> topology::Rings {
     let nk = quads.parent_face.len();
-    let face_offsets: Vec<u32> = (0..=nk as u32).map(|i| 4 * i).collect();
     let points = &quads.points;
     let nv = points.faces.len() + points.edges.len() + points.vertices.len();
-    let mut rings = topology::RingBuilder::new(&face_offsets, face_edges, nv, 4 * nk, edge_count);
+    let mut rings = topology::RingBuilder::new(face_offsets, face_edges, nv, 4 * nk, edge_count);
     let mut fan = Vec::with_capacity(16);
     for &f in &points.faces {
         let (a, b) = (

@@ -8,6 +8,14 @@
 use crate::mesh::{CreaseMethod, INFINITE_SHARPNESS};
 use crate::topology::Topology;
 
+/// Catmull-Clark weights of a smooth edge point between two quads: each end, each of the two
+/// quads' far corners (3/8 and 1/16).
+pub const REGULAR_EDGE_WEIGHTS: [f64; 2] = [0.375, 0.0625];
+
+/// Catmull-Clark weights of the vertex point of a smooth valence-4 vertex among four quads: the
+/// vertex, each edge neighbour, each diagonal (9/16, 3/32 and 1/64).
+pub const REGULAR_VERTEX_WEIGHTS: [f64; 3] = [0.5625, 0.09375, 0.015625];
+
 /// Whether a sharpness value is infinitely sharp.
 pub fn is_infinite(s: f32) -> bool {
     s >= INFINITE_SHARPNESS

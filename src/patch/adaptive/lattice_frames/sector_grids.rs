@@ -7,6 +7,7 @@ use crate::subdiv::adaptive::AdaptiveLevel;
 use crate::subdiv::limit::SharedVertexMasks;
 use crate::subdiv::points::{edge_point_weights, vertex_point_mask};
 use crate::subdiv::rules::{child_sharpness, decrement, VertexMask};
+use crate::subdiv::rules::{REGULAR_EDGE_WEIGHTS, REGULAR_VERTEX_WEIGHTS};
 use crate::subdiv::sparse::merge_row_from;
 use crate::subdiv::Level;
 use crate::topology::Topology;
@@ -507,34 +508,36 @@ fn spoke_edge_point(
 fn inner_point(parent: Grid, i: u32, x: u32, y: u32, out: &mut Vec<(u32, f64)>) {
     let p = |a: u32, b: u32| parent.point(i, a, b);
     let (hx, hy) = (x / 2, y / 2);
+    let [end, far] = REGULAR_EDGE_WEIGHTS;
+    let [centre, side, diagonal] = REGULAR_VERTEX_WEIGHTS;
     match (x % 2, y % 2) {
         (1, 1) => out.extend(parent.cell(i, hx, hy).map(|u| (u, 0.25))),
         (1, 0) => out.extend([
-            (p(hx, hy), 0.375),
-            (p(hx + 1, hy), 0.375),
-            (p(hx, hy - 1), 0.0625),
-            (p(hx + 1, hy - 1), 0.0625),
-            (p(hx, hy + 1), 0.0625),
-            (p(hx + 1, hy + 1), 0.0625),
+            (p(hx, hy), end),
+            (p(hx + 1, hy), end),
+            (p(hx, hy - 1), far),
+            (p(hx + 1, hy - 1), far),
+            (p(hx, hy + 1), far),
+            (p(hx + 1, hy + 1), far),
         ]),
         (0, 1) => out.extend([
-            (p(hx, hy), 0.375),
-            (p(hx, hy + 1), 0.375),
-            (p(hx - 1, hy), 0.0625),
-            (p(hx - 1, hy + 1), 0.0625),
-            (p(hx + 1, hy), 0.0625),
-            (p(hx + 1, hy + 1), 0.0625),
+            (p(hx, hy), end),
+            (p(hx, hy + 1), end),
+            (p(hx - 1, hy), far),
+            (p(hx - 1, hy + 1), far),
+            (p(hx + 1, hy), far),
+            (p(hx + 1, hy + 1), far),
         ]),
         _ => out.extend([
-            (p(hx, hy), 0.5625),
-            (p(hx - 1, hy), 0.09375),
-            (p(hx + 1, hy), 0.09375),
-            (p(hx, hy - 1), 0.09375),
-            (p(hx, hy + 1), 0.09375),
-            (p(hx - 1, hy - 1), 0.015625),
-            (p(hx + 1, hy - 1), 0.015625),
-            (p(hx - 1, hy + 1), 0.015625),
-            (p(hx + 1, hy + 1), 0.015625),
+            (p(hx, hy), centre),
+            (p(hx - 1, hy), side),
+            (p(hx + 1, hy), side),
+            (p(hx, hy - 1), side),
+            (p(hx, hy + 1), side),
+            (p(hx - 1, hy - 1), diagonal),
+            (p(hx + 1, hy - 1), diagonal),
+            (p(hx - 1, hy + 1), diagonal),
+            (p(hx + 1, hy + 1), diagonal),
         ]),
     }
 }
