@@ -32,7 +32,7 @@ use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptiveLevel, AdaptiveRefinement, PatchCensus, PatchType};
 use crate::subdiv::limit::SharedVertexMasks;
 use neighbourhood::{Neighbourhood, PullBack};
-use sector_grids::{GridSums, SectorGrids};
+use sector_grids::{GridShapes, SectorGrids};
 
 /// Refinement steps `J` of the lattice: its spacing is `2^-J` of the end cap (README: `J = 4`
 /// measured better in h83's prototype, at 4x the frames; not built).
@@ -182,12 +182,12 @@ impl LatticeFrames {
 
 impl EndCaps<'_> {
     /// [`LatticeFrames::new`] with each region vertex's neighbourhood made by `make(lev, v,
-    /// steps, cells)`.
+    /// steps, cells, shapes)`.
     fn frames(
         self,
         first: u32,
         masks: &SharedVertexMasks,
-        make: fn(&AdaptiveLevel, u32, u32, u32) -> Option<Local>,
+        make: fn(&AdaptiveLevel, u32, u32, u32, &mut GridShapes) -> Option<Local>,
     ) -> LatticeFrames {
         let (refinement, census) = (self.refinement, self.census);
         let mut out = LatticeFrames {
@@ -250,7 +250,7 @@ impl EndCaps<'_> {
                         } else {
                             let hood = local
                                 .entry((p.level, v))
-                                .or_insert_with(|| make(lev, v, steps, widest));
+                                .or_insert_with(|| make(lev, v, steps, widest, &mut sums.grids));
                             hood.as_mut()
                                 .and_then(|h| h.node_rows(lev, p.face, c, (a, b), masks, &mut sums))
                         };
@@ -282,25 +282,32 @@ impl EndCaps<'_> {
 
 /// The local refinement around one region vertex.
 enum Local {
-    /// Its sector grids (most region vertices; boxed: the last level's topology is large).
-    Grids(Box<SectorGrids>),
+    /// Its sector grids (most region vertices).
+    Grids(SectorGrids),
     /// Its kept refinement as levels (the regions wider than the sector grids hold).
     Kept(Neighbourhood),
 }
 
-/// The pull-backs' accumulators, reused from node to node.
+/// The sector grids' shapes and the pull-backs' accumulators, reused from node to node.
 #[derive(Default)]
 struct Sums {
-    grids: GridSums,
+    grids: GridShapes,
     kept: PullBack,
 }
 
 impl Local {
     /// The local refinement of vertex `v` of `lev` for regions of at most `cells` cells of
-    /// `2^-steps`: its sector grids where they hold the nodes, else its kept levels.
-    fn new(lev: &AdaptiveLevel, v: u32, steps: u32, cells: u32) -> Option<Local> {
-        match SectorGrids::new(lev, v, steps, cells) {
-            Some(g) => Some(Local::Grids(Box::new(g))),
+    /// `2^-steps`: its sector grids (their shape in `shapes`) where they hold the nodes, else
+    /// its kept levels.
+    fn new(
+        lev: &AdaptiveLevel,
+        v: u32,
+        steps: u32,
+        cells: u32,
+        shapes: &mut GridShapes,
+    ) -> Option<Local> {
+        match SectorGrids::new(lev, v, steps, cells, shapes) {
+            Some(g) => Some(Local::Grids(g)),
             None => Neighbourhood::new(lev, v, steps, cells).map(Local::Kept),
         }
     }
@@ -317,7 +324,7 @@ impl Local {
         sums: &mut Sums,
     ) -> Option<[Weights; 2]> {
         match self {
-            Local::Grids(g) => g.node_rows(lev, face, node, masks, &mut sums.grids),
+            Local::Grids(g) => sums.grids.node_rows(g, lev, face, node, masks),
             Local::Kept(k) => k.node_rows(lev, face, c, node, masks, &mut sums.kept),
         }
     }
@@ -452,7 +459,7 @@ mod tests {
 
     /// The frames of `caps` on the kept levels (`Neighbourhood`) at every region vertex.
     fn kept_frames(caps: EndCaps, masks: &SharedVertexMasks) -> LatticeFrames {
-        caps.frames(0, masks, |lev, v, steps, cells| {
+        caps.frames(0, masks, |lev, v, steps, cells, _| {
             Neighbourhood::new(lev, v, steps, cells).map(Local::Kept)
         })
     }
@@ -466,7 +473,7 @@ mod tests {
                 let masks = SharedVertexMasks::default();
                 let build = |hood| caps.frames(0, &masks, hood);
                 let kept = kept_frames(caps, &masks);
-                let whole = build(|lev, v, steps, cells| {
+                let whole = build(|lev, v, steps, cells, _| {
                     Neighbourhood::whole(lev, v, steps, cells).map(Local::Kept)
                 });
                 assert_eq!(kept.regions, whole.regions, "{name}");
@@ -515,8 +522,8 @@ mod tests {
                     assert!(na.dot(nb) > 1.0 - 1e-12, "{name} frame {f}: {na} {nb}");
                 }
                 // The frames the sector grids alone give (the others: corners, wide regions).
-                let only = caps.frames(0, &masks, |lev, v, steps, cells| {
-                    SectorGrids::new(lev, v, steps, cells).map(|g| Local::Grids(Box::new(g)))
+                let only = caps.frames(0, &masks, |lev, v, steps, cells, shapes| {
+                    SectorGrids::new(lev, v, steps, cells, shapes).map(Local::Grids)
                 });
                 let corners: usize = (fast.regions.iter().flatten())
                     .filter(|r| r.frames[0] != NONE)

@@ -1,7 +1,7 @@
 //! The local refinement around one region vertex as sector grids ([`SectorGrids`]), without a
 //! topology per step: the lattice nodes' limit tangent rows.
 
-use crate::mesh::CreaseMethod;
+use crate::mesh::{CreaseMethod, SchemeOptions};
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::AdaptiveLevel;
 use crate::subdiv::limit::SharedVertexMasks;
@@ -9,8 +9,8 @@ use crate::subdiv::points::{edge_point_weights, vertex_point_mask};
 use crate::subdiv::rules::{child_sharpness, decrement, VertexMask};
 use crate::subdiv::rules::{REGULAR_EDGE_WEIGHTS, REGULAR_VERTEX_WEIGHTS};
 use crate::subdiv::sparse::merge_row_from;
+use crate::subdiv::word_hash::WordHashMap;
 use crate::subdiv::Level;
-use crate::topology::Topology;
 
 /// The points of one level near a region vertex `v` whose faces are all quads: per face `i`
 /// of `v` (a sector, between `v`'s edges `i` and `i + 1`, the spokes) the grid points
@@ -117,39 +117,41 @@ impl Rows {
 /// the spokes are sharp and every other point is a regular quad-grid point, so each step's
 /// rows are the Catmull-Clark rules on the grid (`subdiv::points`' weights and
 /// `subdiv::rules`' sharpness); the first step's are `Level::refine_matrix_row` of `v`'s
-/// level. The last level is a `Level` for the nodes' limit masks.
+/// level. The first step is `v`'s own; what follows it depends only on the first level's
+/// [`GridShape`], shared by every region vertex of that shape ([`GridShapes`]).
 pub(super) struct SectorGrids {
     /// `v`'s faces, in ring order.
     faces: Vec<u32>,
     /// Whether face `i`'s corner after `v` is on spoke `i + 1` (the ring runs against the
     /// faces' orientation).
     flipped: bool,
-    /// Per level `1..=steps`: its grid.
-    grids: Vec<Grid>,
-    /// Per level `1..=steps`: its points' rows over the level above (level `L`'s vertex ids
-    /// for the first, local columns `columns`).
-    rows: Vec<Rows>,
+    /// The first level's points' rows over local columns `columns`.
+    first: Rows,
     /// The first level's columns: level `L`'s vertex ids, increasing.
     columns: Vec<u32>,
-    /// The last level's grid as a level (cells of each sector's grid, `v`'s ring order).
-    last: Level,
+    /// Its shape in [`GridShapes`].
+    shape: u32,
 }
 
 impl SectorGrids {
     /// The sector grids of vertex `v` of `lev` for regions of at most `cells` cells of
-    /// `2^-steps`; `None` where the grids do not hold the nodes (a wider region, whose reads
-    /// leave `v`'s faces; `v`'s faces not all quads or not one fan).
-    pub(super) fn new(lev: &AdaptiveLevel, v: u32, steps: u32, cells: u32) -> Option<Self> {
+    /// `2^-steps` (their shape found or made in `shapes`); `None` where the grids do not hold
+    /// the nodes (a wider region, whose reads leave `v`'s faces; `v`'s faces not all quads or
+    /// not one fan).
+    pub(super) fn new(
+        lev: &AdaptiveLevel,
+        v: u32,
+        steps: u32,
+        cells: u32,
+        shapes: &mut GridShapes,
+    ) -> Option<Self> {
         let t = lev.topology();
         let (edges, faces) = (t.vertex_edges(v), t.vertex_faces(v));
         let (ne, nf) = (edges.len() as u32, faces.len() as u32);
         if nf == 0 || steps == 0 || !(nf == ne || nf + 1 == ne) {
             return None;
         }
-        let mut radii = vec![cells; steps as usize];
-        for l in (0..steps as usize - 1).rev() {
-            radii[l] = radii[l + 1] / 2 + 1;
-        }
+        let radii = radii(steps, cells);
         // Level 1 reads level L's elements up to the far corners; level l >= 2 stays off the
         // far edges of v's faces (x = 2^l), whose sharpness and outer faces it does not hold.
         if radii[0] > 2 || (1..steps as usize).any(|l| radii[l] >= 1 << (l + 1)) {
@@ -187,35 +189,29 @@ impl SectorGrids {
             };
             far.push((opposite, from_a, from_b));
         }
-        let grid = |radius| Grid {
-            spokes: ne,
-            sectors: nf,
-            radius,
-        };
         let level = &lev.level;
         // Level 1: v's faces refined once, rows over level L.
-        let first = grid(2);
-        let mut raw = Rows::default();
+        let mut first = Rows::default();
         let mut buf = Vec::with_capacity(32);
-        let mut push = |r: u32, raw: &mut Rows| {
+        let mut push = |r: u32, rows: &mut Rows| {
             level.refine_matrix_row(r as usize, &mut buf);
-            raw.terms.extend_from_slice(&buf);
-            raw.close_row();
+            rows.terms.extend_from_slice(&buf);
+            rows.close_row();
         };
-        raw.offsets.push(0);
-        push(level.child_vertex_point(v), &mut raw);
+        first.offsets.push(0);
+        push(level.child_vertex_point(v), &mut first);
         for (&e, &u) in edges.iter().zip(&ends) {
-            push(level.child_edge_point(e), &mut raw);
-            push(level.child_vertex_point(u), &mut raw);
+            push(level.child_edge_point(e), &mut first);
+            push(level.child_vertex_point(u), &mut first);
         }
         for (&f, &(c, from_a, from_b)) in faces.iter().zip(&far) {
             // Row by row: (1, 1), (2, 1), (1, 2), (2, 2).
-            push(level.child_face_point(f), &mut raw);
-            push(level.child_edge_point(from_a), &mut raw);
-            push(level.child_edge_point(from_b), &mut raw);
-            push(level.child_vertex_point(c), &mut raw);
+            push(level.child_face_point(f), &mut first);
+            push(level.child_edge_point(from_a), &mut first);
+            push(level.child_edge_point(from_b), &mut first);
+            push(level.child_vertex_point(c), &mut first);
         }
-        let columns = compact_columns(&mut raw);
+        let columns = compact_columns(&mut first);
         let method = t.options.crease_method;
         let mut sharp = GridSharpness {
             segments: Vec::with_capacity(2 * ne as usize),
@@ -233,8 +229,106 @@ impl SectorGrids {
                 .segments
                 .push(child_sharpness(s, others(ends[j]), method));
         }
-        let mut grids = vec![first];
-        let mut rows = vec![raw];
+        let shape = GridShape {
+            grid: Grid {
+                spokes: ne,
+                sectors: nf,
+                radius: 2,
+            },
+            steps,
+            cells,
+            flipped,
+            sharp,
+            options: t.options,
+        };
+        let shape = shapes.find(shape)?;
+        Some(SectorGrids {
+            faces: faces.to_vec(),
+            flipped,
+            first,
+            columns,
+            shape,
+        })
+    }
+}
+
+/// Per level `1..=steps`: its grid's radius, for nodes `a, b < cells` on the last.
+fn radii(steps: u32, cells: u32) -> Vec<u32> {
+    let mut radii = vec![cells; steps as usize];
+    for l in (0..steps as usize - 1).rev() {
+        radii[l] = radii[l + 1] / 2 + 1;
+    }
+    radii
+}
+
+/// What the sector grids after the first level depend on: the first level's grid and
+/// sharpness, the steps, the region's cells, the orientation and the scheme options.
+#[derive(Debug, Clone)]
+struct GridShape {
+    grid: Grid,
+    steps: u32,
+    cells: u32,
+    flipped: bool,
+    sharp: GridSharpness,
+    options: SchemeOptions,
+}
+
+impl GridShape {
+    /// The shape as words: equal words, equal shapes.
+    fn key(&self) -> Vec<u32> {
+        let (g, o) = (self.grid, self.options);
+        let mut words = vec![
+            g.spokes,
+            g.sectors,
+            self.steps,
+            self.cells,
+            u32::from(self.flipped),
+            o.boundary as u32,
+            o.crease_method as u32,
+            self.sharp.vertex.to_bits(),
+        ];
+        words.extend(self.sharp.segments.iter().map(|s| s.to_bits()));
+        words
+    }
+}
+
+/// The sector grids after the first level of one [`GridShape`] and its nodes' tangent terms
+/// over the first level's points, made when a node first reads them.
+struct ShapeGrids {
+    /// Per level `1..=steps`: its grid.
+    grids: Vec<Grid>,
+    /// Per level `2..=steps`: its points' rows over the level above.
+    rows: Vec<Rows>,
+    /// The last level's grid as a level (cells of each sector's grid, `v`'s ring order).
+    last: Level,
+    /// Per node `(i, x, y)` of the last level, at `(i cells + y) cells + x`: its terms.
+    nodes: Vec<NodeTerms>,
+    /// The nodes' terms (first-level point, tangent weights).
+    terms: Vec<(u32, [f64; 2])>,
+    /// Nodes per sector side.
+    cells: u32,
+}
+
+/// A node's terms in [`ShapeGrids::terms`].
+#[derive(Debug, Clone, Copy)]
+enum NodeTerms {
+    Unmade,
+    /// The exact mask failed.
+    Failed,
+    Span(u32, u32),
+}
+
+impl ShapeGrids {
+    /// The grids of `shape`; `None` where its last level cannot be built.
+    fn new(shape: &GridShape) -> Option<Self> {
+        let radii = radii(shape.steps, shape.cells);
+        let grid = |radius| Grid {
+            radius,
+            ..shape.grid
+        };
+        let mut grids = vec![shape.grid];
+        let mut rows = Vec::with_capacity(radii.len());
+        let mut sharp = shape.sharp.clone();
         for &radius in &radii[1..] {
             let parent = *grids.last()?;
             let child = grid(radius);
@@ -242,69 +336,121 @@ impl SectorGrids {
             sharp = child_sharpness_of(parent, &sharp, child);
             grids.push(child);
         }
-        let last = grid_level(*grids.last()?, &sharp, flipped, t)?;
-        Some(SectorGrids {
-            faces: faces.to_vec(),
-            flipped,
+        let last = grid_level(*grids.last()?, &sharp, shape.flipped, shape.options)?;
+        let nodes = (shape.grid.sectors * shape.cells * shape.cells) as usize;
+        Some(ShapeGrids {
             grids,
             rows,
-            columns,
             last,
+            nodes: vec![NodeTerms::Unmade; nodes],
+            terms: Vec::new(),
+            cells: shape.cells,
         })
     }
 
+    /// The tangent terms over the first level's points of node `(x, y)` of sector `i`
+    /// (`None`: no exact mask), pulled back with `sums`.
+    fn node_terms(
+        &mut self,
+        (i, x, y): (u32, u32, u32),
+        masks: &SharedVertexMasks,
+        sums: &mut GridSums,
+    ) -> Option<&[(u32, [f64; 2])]> {
+        let k = ((i * self.cells + y) * self.cells + x) as usize;
+        if let NodeTerms::Unmade = self.nodes[k] {
+            self.nodes[k] = self.make_node(i, x, y, masks, sums);
+        }
+        match self.nodes[k] {
+            NodeTerms::Span(a, b) => Some(&self.terms[a as usize..b as usize]),
+            _ => None,
+        }
+    }
+
+    /// [`Self::node_terms`] made: the last level's mask at the node pulled back to the first.
+    fn make_node(
+        &mut self,
+        i: u32,
+        x: u32,
+        y: u32,
+        masks: &SharedVertexMasks,
+        sums: &mut GridSums,
+    ) -> NodeTerms {
+        let grid = self.grids[self.grids.len() - 1];
+        let node = grid.point(i, x, y);
+        // A cell of sector i at the node: the tangents are oriented by a face on the region's
+        // side of a spoke.
+        let cell =
+            i * grid.radius * grid.radius + y.saturating_sub(1) * grid.radius + x.saturating_sub(1);
+        let Ok(m) = masks
+            .vertex_mask(&self.last, node, cell)
+            .map_err(|e| log::debug!("lattice node ({x}, {y}) of sector {i}: no mask ({e})"))
+        else {
+            return NodeTerms::Failed;
+        };
+        sums.start(&m.indices, &m.tangent_u, &m.tangent_v);
+        for (rows, parent) in self.rows.iter().zip(&self.grids).rev() {
+            sums.pull_back(rows, parent.len());
+        }
+        let a = self.terms.len() as u32;
+        self.terms.extend_from_slice(&sums.terms);
+        NodeTerms::Span(a, self.terms.len() as u32)
+    }
+}
+
+/// The sector grids' shapes of one build, each made once, and the pull-back's accumulators.
+#[derive(Default)]
+pub(super) struct GridShapes {
+    /// Per shape's words ([`GridShape::key`]): its index in `shapes`.
+    ids: WordHashMap<Vec<u32>, u32>,
+    /// Per shape: its grids (`None` where they cannot be built).
+    shapes: Vec<Option<ShapeGrids>>,
+    sums: GridSums,
+}
+
+impl GridShapes {
+    /// The index of `shape`, made if new; `None` where its grids cannot be built.
+    fn find(&mut self, shape: GridShape) -> Option<u32> {
+        let next = self.shapes.len() as u32;
+        let id = *self.ids.entry(shape.key()).or_insert(next);
+        if id == next {
+            self.shapes.push(ShapeGrids::new(&shape));
+        }
+        self.shapes[id as usize].as_ref().map(|_| id)
+    }
+
     /// The exact limit tangent rows (global ids of `lev`) at node `(a, b)` (not `(0, 0)`) of
-    /// the region at corner `c` of `face`.
+    /// the region of `grids` in `face`.
     pub(super) fn node_rows(
-        &self,
+        &mut self,
+        grids: &SectorGrids,
         lev: &AdaptiveLevel,
         face: u32,
         (a, b): (u32, u32),
         masks: &SharedVertexMasks,
-        sums: &mut GridSums,
     ) -> Option<[Weights; 2]> {
-        let i = self.faces.iter().position(|&f| f == face)? as u32;
+        let i = grids.faces.iter().position(|&f| f == face)? as u32;
         // The region's `a` runs along the face's edge from `v` to its next corner: spoke `i`
         // (the sector's `x`) unless the ring is flipped.
-        let (x, y) = if self.flipped { (b, a) } else { (a, b) };
-        let grid = *self.grids.last()?;
-        let node = grid.point(i, x, y);
-        // A cell of sector i at the node: the tangents are oriented by a face on the region's
-        // side of a spoke.
-        let cell = self.cell_of(i, x, y);
-        let m = masks
-            .vertex_mask(&self.last, node, cell)
-            .map_err(|e| log::debug!("lattice node ({a}, {b}) of face {face}: no mask ({e})"))
-            .ok()?;
-        sums.start(&m.indices, &m.tangent_u, &m.tangent_v);
-        for l in (0..self.rows.len()).rev() {
-            let width = if l == 0 {
-                self.columns.len()
-            } else {
-                self.grids[l - 1].len()
-            };
-            sums.pull_back(&self.rows[l], width);
-        }
+        let (x, y) = if grids.flipped { (b, a) } else { (a, b) };
+        let shape = self.shapes[grids.shape as usize].as_mut()?;
+        let sums = &mut self.sums;
+        let terms = shape.node_terms((i, x, y), masks, sums)?;
+        sums.terms.clear();
+        sums.terms.extend_from_slice(terms);
+        sums.pull_back(&grids.first, grids.columns.len());
         let row = |d: usize| {
             let mut w = Vec::with_capacity(sums.terms.len());
             let terms = sums.terms.iter().filter(|t| t.1[d] != 0.0);
-            w.extend(terms.map(|&(k, x)| (lev.global(self.columns[k as usize]), x[d])));
+            w.extend(terms.map(|&(k, x)| (lev.global(grids.columns[k as usize]), x[d])));
             Weights(w)
         };
         Some([row(0), row(1)])
     }
-
-    /// The last level's face (cell of sector `i`) with point `(x, y)` at a corner.
-    fn cell_of(&self, i: u32, x: u32, y: u32) -> u32 {
-        let radius = self.grids.last().map_or(1, |g| g.radius);
-        let (cx, cy) = (x.saturating_sub(1), y.saturating_sub(1));
-        i * radius * radius + cy * radius + cx
-    }
 }
 
-/// The pull-back of [`SectorGrids::node_rows`], its accumulators reused from node to node.
+/// The pull-back of [`GridShapes::node_rows`], its accumulators reused from node to node.
 #[derive(Debug, Default)]
-pub(super) struct GridSums {
+struct GridSums {
     /// Per point of the coarser level: its sums so far.
     sums: Vec<[f64; 2]>,
     /// Per point of the coarser level: whether it has a sum.
@@ -571,11 +717,16 @@ fn child_sharpness_of(parent: Grid, sharp: &GridSharpness, child: Grid) -> GridS
     }
 }
 
-/// `grid`'s cells as a level (sharpness `sharp`, options of `of`; cell `(x, y)` of sector `i`
+/// `grid`'s cells as a level (sharpness `sharp`, scheme `options`; cell `(x, y)` of sector `i`
 /// is face `(i radius + y) radius + x`, oriented as `v`'s faces: against the ring when
 /// `flipped`): the edges on its border other than a boundary spoke's are cut, their ends
 /// incomplete.
-fn grid_level(grid: Grid, sharp: &GridSharpness, flipped: bool, of: &Topology) -> Option<Level> {
+fn grid_level(
+    grid: Grid,
+    sharp: &GridSharpness,
+    flipped: bool,
+    options: SchemeOptions,
+) -> Option<Level> {
     let r = grid.radius;
     let cells = (grid.sectors * r * r) as usize;
     let mut offsets = Vec::with_capacity(cells + 1);
@@ -593,7 +744,7 @@ fn grid_level(grid: Grid, sharp: &GridSharpness, flipped: bool, of: &Topology) -
     let mut topo = crate::topology::build(grid.len(), offsets, corners, false)
         .map_err(|e| log::debug!("lattice sector grids: no level ({e})"))
         .ok()?;
-    topo.options = of.options;
+    topo.options = options;
     let mut boundary = vec![false; topo.edge_count()];
     for j in 0..grid.spokes {
         let (after, before) = grid.beside(j);
