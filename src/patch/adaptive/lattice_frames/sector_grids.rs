@@ -1,6 +1,7 @@
 //! The local refinement around one region vertex as sector grids ([`SectorGrids`]), without a
 //! topology per step: the lattice nodes' limit tangent rows.
 
+use super::NONE;
 use crate::mesh::{CreaseMethod, SchemeOptions};
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::AdaptiveLevel;
@@ -211,7 +212,11 @@ impl SectorGrids {
             push(level.child_edge_point(from_b), &mut first);
             push(level.child_vertex_point(c), &mut first);
         }
-        let columns = compact_columns(&mut first);
+        let local = &mut shapes.columns;
+        if local.len() < level.vertex_count() {
+            local.resize(level.vertex_count(), NONE);
+        }
+        let columns = compact_columns(&mut first, local);
         let method = t.options.crease_method;
         let mut sharp = GridSharpness {
             segments: Vec::with_capacity(2 * ne as usize),
@@ -405,6 +410,8 @@ pub(super) struct GridShapes {
     /// Per shape: its grids (`None` where they cannot be built).
     shapes: Vec<Option<ShapeGrids>>,
     sums: GridSums,
+    /// Per vertex of a level: its first-step column ([`compact_columns`]' scratch).
+    columns: Vec<u32>,
 }
 
 impl GridShapes {
@@ -491,13 +498,26 @@ impl GridSums {
     }
 }
 
-/// The distinct columns of `rows` (increasing) and `rows` renumbered over them.
-fn compact_columns(rows: &mut Rows) -> Vec<u32> {
-    let mut columns: Vec<u32> = rows.terms.iter().map(|t| t.0).collect();
+/// The distinct columns of `rows` (increasing) and `rows` renumbered over them; `local` a
+/// scratch table per column, [`NONE`] before and after.
+fn compact_columns(rows: &mut Rows, local: &mut [u32]) -> Vec<u32> {
+    let mut columns = Vec::with_capacity(rows.terms.len() / 2);
+    for t in &rows.terms {
+        let at = &mut local[t.0 as usize];
+        if *at == NONE {
+            *at = 0;
+            columns.push(t.0);
+        }
+    }
     columns.sort_unstable();
-    columns.dedup();
+    for (k, &c) in columns.iter().enumerate() {
+        local[c as usize] = k as u32;
+    }
     for t in &mut rows.terms {
-        t.0 = columns.binary_search(&t.0).unwrap_or(0) as u32;
+        t.0 = local[t.0 as usize];
+    }
+    for &c in &columns {
+        local[c as usize] = NONE;
     }
     columns
 }
