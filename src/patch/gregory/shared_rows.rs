@@ -360,8 +360,8 @@ impl EndCapFaceRows {
         &self,
         topo: &Topology,
         i: usize,
-        vertex: &(dyn Fn(u32) -> u32 + Sync),
-        derived: &(dyn Fn(u32, u32) -> u32 + Sync),
+        vertex: &(impl Fn(u32) -> u32 + Sync),
+        derived: &(impl Fn(u32, u32) -> u32 + Sync),
     ) -> FaceRows {
         match &self.faces[i] {
             Ok(FaceRow::Direct(rows)) => {
@@ -388,8 +388,8 @@ impl EndCapFaceRows {
     pub fn all_rows(
         &self,
         topo: &Topology,
-        vertex: &(dyn Fn(u32) -> u32 + Sync),
-        derived: &(dyn Fn(u32, u32) -> u32 + Sync),
+        vertex: &(impl Fn(u32) -> u32 + Sync),
+        derived: &(impl Fn(u32, u32) -> u32 + Sync),
     ) -> Vec<FaceRows> {
         (0..self.len())
             .into_par_iter()
