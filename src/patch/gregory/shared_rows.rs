@@ -21,6 +21,7 @@
 //! the key. The vertex points' own (first-stage) rows are shared the same way, per ring type
 //! ([`shared_vertex_point_rows`]).
 
+mod layouts;
 mod vertex_points;
 
 use rayon::prelude::*;
@@ -34,14 +35,13 @@ pub use super::face_rows::FaceRows;
 use super::point::Weights;
 #[cfg(doc)]
 use super::stencil_table::sparse_face_rows_direct;
-use super::stencil_table::{
-    sparse_face_rows_direct_with, vertex_point_id, vertex_point_of, VERTEX_POINTS,
-};
+use super::stencil_table::{sparse_face_rows_direct_with, vertex_point_id, vertex_point_of};
 use super::tangents::GregoryTangents;
 use super::tangents_boundary::crease_factor_words;
 use super::vertex::{is_interior_ring, DartLimits};
 use super::word_hash::WordHashMap;
 use crate::topology::Topology;
+use layouts::{to_slots, Layouts, LocalRows};
 use vertex_points::clear;
 pub use vertex_points::shared_vertex_point_rows;
 
@@ -49,18 +49,6 @@ const NONE: u32 = u32::MAX;
 
 /// The local topology of a face as its construction reads it, in the slots of its ring.
 type TypeKey = Vec<u32>;
-
-/// One type's rows over ring slots in the direct construction's values, stored column by
-/// column, so that a face's rows come out ascending in its global ids by walking its slots in
-/// id order once ([`from_slots`]) rather than sorting every row.
-struct LocalRows {
-    /// `rows + 1` term offsets: every face of the type has these.
-    offsets: Vec<u32>,
-    /// `slots + 1` offsets into `columns`.
-    starts: Vec<u32>,
-    /// Slot `s`'s terms `(row, weight)`, rows ascending: `columns[starts[s]..starts[s + 1]]`.
-    columns: Vec<(u32, f64)>,
-}
 
 /// Per-call state: the slot of each vertex of the face being keyed, and which vertices get
 /// per-vertex Gregory data (decided on the topology alone, with scalar points).
@@ -262,105 +250,6 @@ impl Keyer<'_> {
 /// valence-4 corners, 24 at valence 6) without growing it.
 const RING_CAPACITY: usize = 32;
 
-/// `rows` over slots, or `None` when a weight lies outside the ring: vertex `v` at its slot,
-/// derived point `b` of `v` ([`vertex_point_id`]) at `ring_len + 3 slot(v) + b`.
-fn to_slots(topo: &Topology, rows: &FaceRows, slot: &[u32], ring_len: usize) -> Option<LocalRows> {
-    let slot_of = |id: u32| match vertex_point_of(topo, id) {
-        None => Some(slot[id as usize]).filter(|&s| s != NONE),
-        Some((v, b)) => match slot[v as usize] {
-            NONE => None,
-            s => Some(ring_len as u32 + VERTEX_POINTS * s + b),
-        },
-    };
-    let slots = (1 + VERTEX_POINTS as usize) * ring_len;
-    let offsets = rows.offsets.clone();
-    // Each term's slot, then a counting sort of the terms by slot (rows stay ascending).
-    let mut at: Vec<u32> = Vec::with_capacity(rows.terms.len());
-    let mut starts = vec![0u32; slots + 1];
-    for &(v, _) in &rows.terms {
-        let s = slot_of(v)?;
-        at.push(s);
-        starts[s as usize + 1] += 1;
-    }
-    for s in 0..slots {
-        starts[s + 1] += starts[s];
-    }
-    let mut next = starts.clone();
-    let mut columns = vec![(0, 0.0); at.len()];
-    let terms = rows
-        .rows()
-        .enumerate()
-        .flat_map(|(r, w)| w.iter().map(move |t| (r, t.1)));
-    for (&s, (r, x)) in at.iter().zip(terms) {
-        columns[next[s as usize] as usize] = (r as u32, x);
-        next[s as usize] += 1;
-    }
-    Some(LocalRows {
-        offsets,
-        starts,
-        columns,
-    })
-}
-
-/// `rows` with slots replaced by ids: the vertex of slot `s` (`ring[s]`) by `vertex(ring[s])`,
-/// its derived point `b` by `derived(ring[s], b)`; ascending ids when both maps are monotone
-/// (in the vertex, then in `(vertex, point)`) and every derived id exceeds every vertex id, as
-/// [`vertex_point_id`] numbers them: the slots walked in ascending order of their vertices
-/// (sorted once), then their derived points in that order, each column's terms appended to
-/// their rows.
-fn from_slots(
-    rows: &LocalRows,
-    ring: &[u32],
-    vertex: &(impl Fn(u32) -> u32 + ?Sized),
-    derived: &(impl Fn(u32, u32) -> u32 + ?Sized),
-) -> FaceRows {
-    let l = ring.len();
-    let mut order: Vec<u32> = (0..l as u32).collect();
-    order.sort_unstable_by_key(|&s| ring[s as usize]);
-    let terms = SCATTER.with(|scatter| {
-        let (next, terms) = &mut *scatter.borrow_mut();
-        next.clear();
-        next.extend_from_slice(&rows.offsets);
-        if terms.len() < rows.columns.len() {
-            terms.resize(rows.columns.len(), (0, 0.0));
-        }
-        let mut put = |s: usize, id: u32| {
-            let column = &rows.columns[rows.starts[s] as usize..rows.starts[s + 1] as usize];
-            for &(r, x) in column {
-                terms[next[r as usize] as usize] = (id, x);
-                next[r as usize] += 1;
-            }
-        };
-        for &s in &order {
-            put(s as usize, vertex(ring[s as usize]));
-        }
-        for &s in &order {
-            for b in 0..VERTEX_POINTS {
-                let column = l + (VERTEX_POINTS * s + b) as usize;
-                if rows.starts[column] < rows.starts[column + 1] {
-                    put(column, derived(ring[s as usize], b));
-                }
-            }
-        }
-        terms[..rows.columns.len()].to_vec()
-    });
-    FaceRows {
-        offsets: rows.offsets.clone(),
-        terms,
-    }
-}
-
-/// Row cursors and every term [`from_slots`] scatters into before copying them out at their
-/// length: no zeroed allocation per face.
-type Scatter = (Vec<u32>, Vec<(u32, f64)>);
-
-thread_local! {
-    /// [`from_slots`]'s buffers (they keep their capacity).
-    static SCATTER: std::cell::RefCell<Scatter> = const {
-        std::cell::RefCell::new((Vec::new(), Vec::new()))
-    };
-}
-
 /// [`super::stencil_table::sparse_face_rows_direct`] on `faces` split into one batch per rayon
 /// thread (one batch on one thread): a face's rows do not depend on its batch, only the sharing
 /// of vertex data does. `has_data`: the keys' answers of which vertices have data (per vertex
@@ -418,16 +307,17 @@ pub fn sparse_face_rows_flat(
 enum FaceRow {
     /// Built directly: over the level's vertices and [`vertex_point_id`]s.
     Direct(FaceRows),
-    /// Its type's rows over slots, and the face's ring (the vertex of each slot).
-    Shared { local: u32, ring: Vec<u32> },
+    /// Its type's rows laid out in the order of its ring's ids ([`Layouts::layout`]), and its
+    /// ring (the vertex of each slot).
+    Shared { layout: u32, ring: Vec<u32> },
 }
 
 /// The end-cap rows of a set of faces with the construction run once per connectivity type
-/// (module docs), each face's kept as built (directly, or its type's rows over slots and its
-/// ring) until [`Self::rows`] writes them with the caller's ids: one pass over the terms where
-/// relabelling them to the level's ids and then to the caller's would take two.
+/// (module docs), each face's kept as built (directly, or its type's rows laid out over slots
+/// and its ring) until [`Self::rows`] writes them with the caller's ids: one pass over the
+/// terms where relabelling them to the level's ids and then to the caller's would take two.
 pub struct EndCapFaceRows {
-    local: Vec<LocalRows>,
+    layouts: Layouts,
     faces: Vec<Result<FaceRow, NotGregory>>,
 }
 
@@ -456,17 +346,8 @@ impl EndCapFaceRows {
                 .iter()
                 .filter_map(|&(id, _)| vertex_point_of(topo, id))
                 .for_each(|(v, b)| mark(v, b)),
-            Ok(FaceRow::Shared { local, ring }) => {
-                let starts = &self.local[*local as usize].starts;
-                let l = ring.len();
-                for (s, &v) in ring.iter().enumerate() {
-                    for b in 0..VERTEX_POINTS {
-                        let column = l + VERTEX_POINTS as usize * s + b as usize;
-                        if starts[column] < starts[column + 1] {
-                            mark(v, b);
-                        }
-                    }
-                }
+            Ok(FaceRow::Shared { layout, ring }) => {
+                self.layouts.derived_read(*layout, |s, b| mark(ring[s], b));
             }
             Err(_) => {}
         }
@@ -479,8 +360,8 @@ impl EndCapFaceRows {
         &self,
         topo: &Topology,
         i: usize,
-        vertex: &(dyn Fn(u32) -> u32 + Sync),
-        derived: &(dyn Fn(u32, u32) -> u32 + Sync),
+        vertex: &(impl Fn(u32) -> u32 + Sync),
+        derived: &(impl Fn(u32, u32) -> u32 + Sync),
     ) -> FaceRows {
         match &self.faces[i] {
             Ok(FaceRow::Direct(rows)) => {
@@ -496,8 +377,8 @@ impl EndCapFaceRows {
                     terms: terms.collect(),
                 }
             }
-            Ok(FaceRow::Shared { local, ring }) => {
-                from_slots(&self.local[*local as usize], ring, vertex, derived)
+            Ok(FaceRow::Shared { layout, ring }) => {
+                self.layouts.rows(*layout, ring, vertex, derived)
             }
             Err(_) => FaceRows::default(),
         }
@@ -507,8 +388,8 @@ impl EndCapFaceRows {
     pub fn all_rows(
         &self,
         topo: &Topology,
-        vertex: &(dyn Fn(u32) -> u32 + Sync),
-        derived: &(dyn Fn(u32, u32) -> u32 + Sync),
+        vertex: &(impl Fn(u32) -> u32 + Sync),
+        derived: &(impl Fn(u32, u32) -> u32 + Sync),
     ) -> Vec<FaceRows> {
         (0..self.len())
             .into_par_iter()
@@ -621,8 +502,8 @@ pub fn end_cap_face_rows(
             None => NONE,
         })
         .collect();
+    let mut layouts = Layouts::new(kept);
     let out = EndCapFaceRows {
-        local: kept,
         faces: rows
             .into_iter()
             .zip(rings)
@@ -636,10 +517,12 @@ pub fn end_cap_face_rows(
                         local, NONE,
                         "types without rows are built in the second batch"
                     );
-                    Ok(FaceRow::Shared { local, ring })
+                    let layout = layouts.layout(local, &ring);
+                    Ok(FaceRow::Shared { layout, ring })
                 }
             })
             .collect(),
+        layouts,
     };
     log::trace!(
         "end-cap rows: {} faces, {} connectivity types, {} + {} built directly",

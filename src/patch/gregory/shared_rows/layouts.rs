@@ -1,0 +1,198 @@
+//! The shared end-cap rows of a connectivity type ([`super`]'s module docs) laid out once per
+//! order of a face's ring ids: where each term lands in a face's rows (rows ascending in ids)
+//! depends only on the type and on the order of the ring's ids, which repeats between faces
+//! of a type (on the car at isolation 2, 1,066 shared faces take 232 layouts). A face's rows
+//! are then its layout with each column written as the face's id, in one pass over the terms
+//! into their final place ([`Layouts::rows`]).
+
+use crate::patch::gregory::face_rows::FaceRows;
+use crate::patch::gregory::stencil_table::{vertex_point_of, VERTEX_POINTS};
+use crate::patch::gregory::word_hash::WordHashMap;
+use crate::topology::Topology;
+
+const NONE: u32 = u32::MAX;
+
+/// One type's rows over its columns (ring slot `s` at column `s`, derived point `b` of slot
+/// `s` at `ring_len + 3 s + b`) in the direct construction's values, stored column by column,
+/// so that the terms of a face's rows come out ascending in its ids by walking its columns in
+/// id order once ([`Layouts::layout`]) rather than sorting every row.
+pub(super) struct LocalRows {
+    /// `rows + 1` term offsets: every face of the type has these.
+    offsets: Vec<u32>,
+    /// `columns + 1` offsets into `columns`.
+    starts: Vec<u32>,
+    /// Column `c`'s terms `(row, weight)`, rows ascending: `columns[starts[c]..starts[c + 1]]`.
+    columns: Vec<(u32, f64)>,
+    /// The derived-point columns holding terms, ascending.
+    derived: Vec<u32>,
+}
+
+/// `rows` over columns, or `None` when a weight lies outside the ring: vertex `v` at its slot,
+/// derived point `b` of `v` ([`super::vertex_point_id`]) at `ring_len + 3 slot(v) + b`.
+pub(super) fn to_slots(
+    topo: &Topology,
+    rows: &FaceRows,
+    slot: &[u32],
+    ring_len: usize,
+) -> Option<LocalRows> {
+    let slot_of = |id: u32| match vertex_point_of(topo, id) {
+        None => Some(slot[id as usize]).filter(|&s| s != NONE),
+        Some((v, b)) => match slot[v as usize] {
+            NONE => None,
+            s => Some(ring_len as u32 + VERTEX_POINTS * s + b),
+        },
+    };
+    let slots = (1 + VERTEX_POINTS as usize) * ring_len;
+    let offsets = rows.offsets.clone();
+    // Each term's column, then a counting sort of the terms by column (rows stay ascending).
+    let mut at: Vec<u32> = Vec::with_capacity(rows.terms.len());
+    let mut starts = vec![0u32; slots + 1];
+    for &(v, _) in &rows.terms {
+        let s = slot_of(v)?;
+        at.push(s);
+        starts[s as usize + 1] += 1;
+    }
+    for s in 0..slots {
+        starts[s + 1] += starts[s];
+    }
+    let derived = (ring_len..slots)
+        .filter(|&c| starts[c] < starts[c + 1])
+        .map(|c| c as u32)
+        .collect();
+    let mut next = starts.clone();
+    let mut columns = vec![(0, 0.0); at.len()];
+    let terms = rows
+        .rows()
+        .enumerate()
+        .flat_map(|(r, w)| w.iter().map(move |t| (r, t.1)));
+    for (&s, (r, x)) in at.iter().zip(terms) {
+        columns[next[s as usize] as usize] = (r as u32, x);
+        next[s as usize] += 1;
+    }
+    Some(LocalRows {
+        offsets,
+        starts,
+        columns,
+        derived,
+    })
+}
+
+/// The types' rows and their layouts, each layout made on first use.
+pub(super) struct Layouts {
+    types: Vec<LocalRows>,
+    /// Per layout: its type and its terms `(column, weight)` in the place they take in a face's
+    /// rows.
+    layouts: Vec<(u32, Vec<(u32, f64)>)>,
+    /// A type and its ring's slots in ascending id order, to the layout.
+    index: WordHashMap<Vec<u32>, u32>,
+    /// [`Self::layout`]'s key buffer.
+    key: Vec<u32>,
+    /// [`Self::layout`]'s `(id, slot)` buffer.
+    sorted: Vec<u64>,
+}
+
+impl Layouts {
+    /// No layout made yet.
+    pub fn new(types: Vec<LocalRows>) -> Self {
+        Layouts {
+            types,
+            layouts: Vec::new(),
+            index: WordHashMap::default(),
+            key: Vec::new(),
+            sorted: Vec::new(),
+        }
+    }
+
+    /// The layout of type `t`'s rows for a face with ring `ring` (the id of each slot).
+    pub fn layout(&mut self, t: u32, ring: &[u32]) -> u32 {
+        // The slots in ascending order of their ids, sorted as one word each.
+        self.sorted.clear();
+        let slots = ring.iter().enumerate();
+        self.sorted
+            .extend(slots.map(|(s, &u)| u64::from(u) << 32 | s as u64));
+        self.sorted.sort_unstable();
+        self.key.clear();
+        self.key.push(t);
+        self.key.extend(self.sorted.iter().map(|&w| w as u32));
+        if let Some(&at) = self.index.get(self.key.as_slice()) {
+            return at;
+        }
+        let at = self.layouts.len() as u32;
+        let terms = scatter(&self.types[t as usize], &self.key[1..]);
+        self.layouts.push((t, terms));
+        self.index.insert(self.key.clone(), at);
+        at
+    }
+
+    /// Calls `mark(s, b)` for each derived point `b` of ring slot `s` layout `at`'s rows read.
+    pub fn derived_read(&self, at: u32, mut mark: impl FnMut(usize, u32)) {
+        let t = &self.types[self.layouts[at as usize].0 as usize];
+        let l = (t.starts.len() - 1) / (1 + VERTEX_POINTS as usize);
+        for &c in &t.derived {
+            let d = c - l as u32;
+            mark((d / VERTEX_POINTS) as usize, d % VERTEX_POINTS);
+        }
+    }
+
+    /// The rows of layout `at` for the face with ring `ring`: slot `s` written as
+    /// `vertex(ring[s])`, its derived point `b` as `derived(ring[s], b)` (both monotone, every
+    /// derived id past every vertex id, as the layout assumes).
+    pub fn rows(
+        &self,
+        at: u32,
+        ring: &[u32],
+        vertex: &(impl Fn(u32) -> u32 + ?Sized),
+        derived: &(impl Fn(u32, u32) -> u32 + ?Sized),
+    ) -> FaceRows {
+        let (t, terms) = &self.layouts[at as usize];
+        let t = &self.types[*t as usize];
+        let l = ring.len();
+        let terms = IDS.with(|ids| {
+            let ids = &mut *ids.borrow_mut();
+            ids.clear();
+            ids.extend(ring.iter().map(|&u| vertex(u)));
+            ids.resize(t.starts.len() - 1, NONE);
+            for &c in &t.derived {
+                let d = c - l as u32;
+                let s = (d / VERTEX_POINTS) as usize;
+                ids[c as usize] = derived(ring[s], d % VERTEX_POINTS);
+            }
+            terms.iter().map(|&(c, x)| (ids[c as usize], x)).collect()
+        });
+        FaceRows {
+            offsets: t.offsets.clone(),
+            terms,
+        }
+    }
+}
+
+/// The terms of `rows` as `(column, weight)` in the place they take in the rows of a face
+/// whose ring slots ascend in id in the order `order`: its columns walked in id order (the
+/// slots in `order`, then their derived points in that order), each column's terms appended
+/// to their rows.
+fn scatter(rows: &LocalRows, order: &[u32]) -> Vec<(u32, f64)> {
+    let l = order.len();
+    let mut next = rows.offsets.clone();
+    let mut terms = vec![(0, 0.0); rows.columns.len()];
+    let mut put = |c: usize| {
+        let column = &rows.columns[rows.starts[c] as usize..rows.starts[c + 1] as usize];
+        for &(r, x) in column {
+            terms[next[r as usize] as usize] = (c as u32, x);
+            next[r as usize] += 1;
+        }
+    };
+    for &s in order {
+        put(s as usize);
+    }
+    for &s in order {
+        for b in 0..VERTEX_POINTS {
+            put(l + (VERTEX_POINTS * s + b) as usize);
+        }
+    }
+    terms
+}
+
+thread_local! {
+    /// [`Layouts::rows`]'s ids per column (it keeps its capacity).
+    static IDS: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
+}
