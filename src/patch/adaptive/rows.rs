@@ -374,6 +374,8 @@ struct CornerTable {
     live: [u16; 3],
     /// The rows' `live` together.
     any: u16,
+    /// Per row: the place of its first term among the three rows' terms.
+    starts: [usize; 3],
 }
 
 impl CornerTable {
@@ -389,6 +391,7 @@ impl CornerTable {
             rows_f32,
             live,
             any: live[0] | live[1] | live[2],
+            starts: [0, 1, 2].map(|r| live[..r].iter().map(|l| l.count_ones() as usize).sum()),
         }
     }
 
@@ -399,9 +402,10 @@ impl CornerTable {
     }
 }
 
-/// Room for one corner's template rows ([`push_template`]: three rows of at most 16 terms),
-/// reused from corner to corner: filled afresh by each, never cleared (64 terms, so a term's
-/// place is in range by masking).
+/// Room for one corner's template rows ([`push_template`]: three rows of at most 16 terms, and
+/// a last place, [`DISCARDED`], for the terms a row does not weight), reused from corner to
+/// corner: filled afresh by each, never cleared (64 terms, so a term's place is in range by
+/// masking).
 pub struct TemplateTerms {
     ids: [u32; 64],
     weights: [f32; 64],
@@ -423,7 +427,8 @@ impl Default for TemplateTerms {
 /// where the ids are distinct (the rule; where a control vertex comes twice, on small meshes,
 /// its row holds two terms of that id, whose sum is the merged term). The control points some
 /// row weights are sorted once for the three rows (keys `id << 4 | i`, [`sort_keys`]), the rows
-/// gathered in `terms` in that order and appended with one copy per array. The GPU sums a
+/// gathered in `terms` in that order (each row at its place, `CornerTable::starts`) and
+/// appended with one copy per array. The GPU sums a
 /// row's terms in its order, and id order is the one the exact patches' normals are checked in
 /// (`tests/scheme_adaptive.rs`: another order moved the car's worst corner normal from 6.7e-5
 /// to 1.2e-4 rad of the exact limit, f32 rounding of the terms).
@@ -441,27 +446,30 @@ fn push_template(
         bits &= bits - 1;
     }
     sort_keys(&mut keys, n);
-    // Each row writes every key's term at its next place and moves on past the weighted ones
-    // only (no branch per term): a term it does not weight is overwritten by the row's next
-    // term or the next row's first, or left past the end.
-    let (mut at, mut ends) = (0, [0u32; 3]);
-    for (r, end) in ends.iter_mut().enumerate() {
-        let (live, row, row_f32) = (table.live[r], &table.rows[r], &table.rows_f32[r]);
-        for &key in &keys[..n] {
-            let i = (key & 15) as usize;
-            terms.ids[at & 63] = (key >> 4) as u32;
-            terms.weights[at & 63] = row_f32[i];
-            terms.weights_f64[at & 63] = row[i];
-            at += usize::from(live >> i & 1 != 0);
+    // One pass over the keys, each written to every row at the row's next place if the row
+    // weights it, else to the discarded place (no branch per term).
+    let mut at = table.starts;
+    for &key in &keys[..n] {
+        let (i, id) = ((key & 15) as usize, (key >> 4) as u32);
+        for (r, at) in at.iter_mut().enumerate() {
+            let live = table.live[r] >> i & 1 != 0;
+            let to = if live { *at & 63 } else { DISCARDED };
+            terms.ids[to] = id;
+            terms.weights[to] = table.rows_f32[r][i];
+            terms.weights_f64[to] = table.rows[r][i];
+            *at += usize::from(live);
         }
-        *end = at as u32;
     }
+    let (ends, at) = (at.map(|e| e as u32), at[2]);
     let base = out.ids.len() as u32;
     out.ids.extend_from_slice(&terms.ids[..at]);
     out.weights.extend_from_slice(&terms.weights[..at]);
     out.weights_f64.extend_from_slice(&terms.weights_f64[..at]);
     out.offsets.extend(ends.map(|e| base + e));
 }
+
+/// The place in [`TemplateTerms`] of the terms a row does not weight (past every row's).
+const DISCARDED: usize = 63;
 
 /// Compare-exchanges `(a, b)` of array `k` in order, each leaving the smaller key at `a`.
 macro_rules! compare_exchange {
