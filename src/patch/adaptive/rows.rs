@@ -402,8 +402,8 @@ impl CornerTable {
     }
 }
 
-/// Room for one corner's template rows ([`push_template`]: three rows of at most 16 terms, and
-/// a last place, [`DISCARDED`], for the terms a row does not weight), reused from corner to
+/// Room for one corner's template rows (`push_template`: three rows of at most 16 terms, and
+/// a last place, `DISCARDED`, for the terms a row does not weight), reused from corner to
 /// corner: filled afresh by each, never cleared (64 terms, so a term's place is in range by
 /// masking).
 pub struct TemplateTerms {
