@@ -127,12 +127,13 @@ impl<'a> CornerRows<'a> {
     }
 
     /// Appends the rows of corner `c` ([`Self::rows`], the same bits where its control vertices
-    /// are distinct) to `out`; exact patches' rows from their corner table (`push_template`).
-    pub fn push_rows(&self, c: &PatchCorner, out: &mut SparseRows) {
+    /// are distinct) to `out`; exact patches' rows from their corner table (`push_template`,
+    /// gathered in `terms`).
+    pub fn push_rows(&self, c: &PatchCorner, out: &mut SparseRows, terms: &mut TemplateTerms) {
         let p = &self.census.patches[c.patch];
         match (&p.crease, &p.bspline) {
-            (Some(line), _) => push_template(out, &line.cvs, self.crease_table(line, c.k)),
-            (None, Some(b)) => push_template(out, &b.cvs, self.bspline_table(b, c.k)),
+            (Some(line), _) => push_template(out, &line.cvs, self.crease_table(line, c.k), terms),
+            (None, Some(b)) => push_template(out, &b.cvs, self.bspline_table(b, c.k), terms),
             (None, None) => {
                 let n = self.refinement.levels[p.level as usize]
                     .topology()
@@ -373,6 +374,8 @@ struct CornerTable {
     live: [u16; 3],
     /// The rows' `live` together.
     any: u16,
+    /// Per row: the place of its first term among the three rows' terms.
+    starts: [usize; 3],
 }
 
 impl CornerTable {
@@ -388,6 +391,7 @@ impl CornerTable {
             rows_f32,
             live,
             any: live[0] | live[1] | live[2],
+            starts: [0, 1, 2].map(|r| live[..r].iter().map(|l| l.count_ones() as usize).sum()),
         }
     }
 
@@ -398,45 +402,104 @@ impl CornerTable {
     }
 }
 
+/// Room for one corner's template rows (`push_template`: three rows of at most 16 terms, and
+/// a last place, `DISCARDED`, for the terms a row does not weight), reused from corner to
+/// corner: filled afresh by each, never cleared (64 terms, so a term's place is in range by
+/// masking).
+pub struct TemplateTerms {
+    ids: [u32; 64],
+    weights: [f32; 64],
+    weights_f64: [f64; 64],
+}
+
+impl Default for TemplateTerms {
+    fn default() -> Self {
+        TemplateTerms {
+            ids: [0; 64],
+            weights: [0.0; 64],
+            weights_f64: [0.0; 64],
+        }
+    }
+}
+
 /// Pushes the rows of `table` over control vertices `cvs` onto `out`, each row's terms (those
 /// whose f32 weight is not zero) by increasing id: [`Weights::from_terms`]' rows bit for bit
 /// where the ids are distinct (the rule; where a control vertex comes twice, on small meshes,
 /// its row holds two terms of that id, whose sum is the merged term). The control points some
-/// row weights are sorted once for the three rows (keys `id << 4 | i`), and the rows gathered
-/// on the stack in that order, appended with one copy per array. The GPU sums a row's terms in
-/// its order, and id order is the one the exact patches' normals are checked in
+/// row weights are sorted once for the three rows (keys `id << 4 | i`, [`sort_keys`]), the rows
+/// gathered in `terms` in that order (each row at its place, `CornerTable::starts`) and
+/// appended with one copy per array. The GPU sums a
+/// row's terms in its order, and id order is the one the exact patches' normals are checked in
 /// (`tests/scheme_adaptive.rs`: another order moved the car's worst corner normal from 6.7e-5
 /// to 1.2e-4 rad of the exact limit, f32 rounding of the terms).
-fn push_template(out: &mut SparseRows, cvs: &[u32; 16], table: &CornerTable) {
-    let (mut keys, mut n, mut bits) = ([0u64; 16], 0, table.any);
+fn push_template(
+    out: &mut SparseRows,
+    cvs: &[u32; 16],
+    table: &CornerTable,
+    terms: &mut TemplateTerms,
+) {
+    let (mut keys, mut n, mut bits) = ([u64::MAX; 16], 0, table.any);
     while bits != 0 {
         let i = bits.trailing_zeros();
         keys[n] = u64::from(cvs[i as usize]) << 4 | u64::from(i);
         n += 1;
         bits &= bits - 1;
     }
-    let keys = &mut keys[..n];
-    keys.sort_unstable();
-    let (mut ids, mut weights, mut weights_f64) = ([0u32; 48], [0f32; 48], [0f64; 48]);
-    let (mut len, mut ends) = (0, [0u32; 3]);
-    for (r, end) in ends.iter_mut().enumerate() {
-        let live = table.live[r];
-        for &key in &*keys {
-            let i = (key & 15) as usize;
-            if live >> i & 1 != 0 {
-                ids[len] = (key >> 4) as u32;
-                weights[len] = table.rows_f32[r][i];
-                weights_f64[len] = table.rows[r][i];
-                len += 1;
-            }
+    sort_keys(&mut keys, n);
+    // One pass over the keys, each written to every row at the row's next place if the row
+    // weights it, else to the discarded place (no branch per term).
+    let mut at = table.starts;
+    for &key in &keys[..n] {
+        let (i, id) = ((key & 15) as usize, (key >> 4) as u32);
+        for (r, at) in at.iter_mut().enumerate() {
+            let live = table.live[r] >> i & 1 != 0;
+            let to = if live { *at & 63 } else { DISCARDED };
+            terms.ids[to] = id;
+            terms.weights[to] = table.rows_f32[r][i];
+            terms.weights_f64[to] = table.rows[r][i];
+            *at += usize::from(live);
         }
-        *end = len as u32;
     }
+    let (ends, at) = (at.map(|e| e as u32), at[2]);
     let base = out.ids.len() as u32;
-    out.ids.extend_from_slice(&ids[..len]);
-    out.weights.extend_from_slice(&weights[..len]);
-    out.weights_f64.extend_from_slice(&weights_f64[..len]);
+    out.ids.extend_from_slice(&terms.ids[..at]);
+    out.weights.extend_from_slice(&terms.weights[..at]);
+    out.weights_f64.extend_from_slice(&terms.weights_f64[..at]);
     out.offsets.extend(ends.map(|e| base + e));
+}
+
+/// The place in [`TemplateTerms`] of the terms a row does not weight (past every row's).
+const DISCARDED: usize = 63;
+
+/// Compare-exchanges `(a, b)` of array `k` in order, each leaving the smaller key at `a`.
+macro_rules! compare_exchange {
+    ($k:ident: $(($a:literal, $b:literal)),* $(,)?) => {
+        $(
+            let (x, y) = ($k[$a], $k[$b]);
+            $k[$a] = x.min(y);
+            $k[$b] = x.max(y);
+        )*
+    };
+}
+
+/// Sorts the first `n` of `keys` by increasing value, the rest `u64::MAX`: up to nine (an
+/// interior B-spline corner weights its 3x3 block) with a sorting network of 25
+/// compare-exchanges in 7 layers (Knuth TAOCP vol. 3 §5.3.4, the optimum for nine), no branch
+/// on the keys, more with `sort_unstable`.
+fn sort_keys(keys: &mut [u64; 16], n: usize) {
+    if n > 9 {
+        keys[..n].sort_unstable();
+        return;
+    }
+    let mut k: [u64; 9] = std::array::from_fn(|i| keys[i]);
+    compare_exchange!(k: (0, 3), (1, 7), (2, 5), (4, 8));
+    compare_exchange!(k: (0, 7), (2, 4), (3, 8), (5, 6));
+    compare_exchange!(k: (0, 2), (1, 3), (4, 5), (7, 8));
+    compare_exchange!(k: (1, 4), (3, 6), (5, 7));
+    compare_exchange!(k: (0, 1), (2, 4), (3, 5), (6, 8));
+    compare_exchange!(k: (2, 3), (4, 5), (6, 7));
+    compare_exchange!(k: (1, 2), (3, 4), (5, 6));
+    keys[..9].copy_from_slice(&k);
 }
 
 /// A single-crease corner's shape: crease side, sharpness bits, face corner.
@@ -575,13 +638,14 @@ mod tests {
                     _ => shuffled * 64 + 5,
                 }
             });
-            // Control points with no weight in any row (every third from `shift`, as a
-            // corner's B-spline weights leave 7 of 16) with `dead`.
-            for dead in [false, true] {
+            // `dead` control points (from `shift` on) with no weight in any row: 16 to 4 keys
+            // sorted, over nine by `sort_unstable`, nine or fewer by the network (a B-spline
+            // corner's weights leave 7 of 16 dead).
+            for dead in [0, 5, 7, 12] {
                 let rows: [[f64; 16]; 3] = std::array::from_fn(|r| {
                     std::array::from_fn(|i| {
                         let j = (i + shift + 5 * r) % 16;
-                        let zero = dead && (i + shift) % 3 == 0;
+                        let zero = (i + shift) % 16 < dead;
                         if zero {
                             [0.0, -0.0][r % 2]
                         } else {
@@ -590,7 +654,12 @@ mod tests {
                     })
                 });
                 let mut got = SparseRows::new();
-                push_template(&mut got, &cvs, &CornerTable::new(rows));
+                push_template(
+                    &mut got,
+                    &cvs,
+                    &CornerTable::new(rows),
+                    &mut TemplateTerms::default(),
+                );
                 let mut want = SparseRows::new();
                 for row in &rows {
                     want.push(&Weights::from_terms(cvs.iter().copied().zip(*row)), 0);
@@ -610,6 +679,33 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// The nine-key network sorts every sequence of zeros and ones, so every sequence (the
+    /// zero-one principle, Knuth TAOCP vol. 3 §5.3.4), and `sort_keys` sorts fewer keys with
+    /// the `u64::MAX` padding left at the end.
+    #[test]
+    fn nine_key_network_sorts() {
+        for bits in 0u32..1 << 9 {
+            let mut keys = [u64::MAX; 16];
+            for (i, key) in keys.iter_mut().enumerate().take(9) {
+                *key = u64::from(bits >> i & 1);
+            }
+            sort_keys(&mut keys, 9);
+            let ones = bits.count_ones() as usize;
+            let want: Vec<u64> = (0..9).map(|i| u64::from(i >= 9 - ones)).collect();
+            assert_eq!(keys[..9], want[..], "bits {bits:09b}");
+        }
+        for n in 0..=9 {
+            let mut keys = [u64::MAX; 16];
+            for (i, key) in keys.iter_mut().enumerate().take(n) {
+                *key = (i as u64 * 7 + 3) % 11 << 4 | i as u64;
+            }
+            let mut want = keys;
+            want[..n].sort_unstable();
+            sort_keys(&mut keys, n);
+            assert_eq!(keys, want, "{n} keys");
         }
     }
 

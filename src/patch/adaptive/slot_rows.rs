@@ -10,7 +10,7 @@
 use rayon::prelude::*;
 
 use super::promoted::{exact_frame, promoted_vertex};
-use super::rows::{CornerRows, PatchCorner, SparseRows};
+use super::rows::{CornerRows, PatchCorner, SparseRows, TemplateTerms};
 use super::slots::{Slots, NONE};
 use super::surface::EndCapTopologies;
 use crate::patch::gregory::Weights;
@@ -163,6 +163,7 @@ impl SlotCorners {
         corner_rows: &CornerRows,
         out: &mut SparseRows,
     ) {
+        let mut terms = TemplateTerms::default();
         for (j, c) in run.iter().enumerate() {
             let Some(c) = c else { continue };
             match self.exact_frame(first_slot + j) {
@@ -171,7 +172,7 @@ impl SlotCorners {
                         out.push(w, 0);
                     }
                 }
-                None => corner_rows.push_rows(c, out),
+                None => corner_rows.push_rows(c, out, &mut terms),
             }
         }
     }
