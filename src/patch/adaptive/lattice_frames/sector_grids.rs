@@ -147,8 +147,10 @@ impl SectorGrids {
         shapes: &mut GridShapes,
     ) -> Option<Self> {
         let t = lev.topology();
-        let (edges, faces) = (t.vertex_edges(v), t.vertex_faces(v));
-        let (ne, nf) = (edges.len() as u32, faces.len() as u32);
+        let (ne, nf) = (
+            t.vertex_edges(v).len() as u32,
+            t.vertex_faces(v).len() as u32,
+        );
         if nf == 0 || steps == 0 || !(nf == ne || nf + 1 == ne) {
             return None;
         }
@@ -158,7 +160,34 @@ impl SectorGrids {
         if radii[0] > 2 || (1..steps as usize).any(|l| radii[l] >= 1 << (l + 1)) {
             return None;
         }
-        let ends: Vec<u32> = edges.iter().map(|&e| t.other_vertex(e, v)).collect();
+        let mut edges = t.vertex_edges(v).to_vec();
+        let mut faces = t.vertex_faces(v).to_vec();
+        let mut ends: Vec<u32> = edges.iter().map(|&e| t.other_vertex(e, v)).collect();
+        let method = t.options.crease_method;
+        let mut sharp = GridSharpness {
+            segments: Vec::with_capacity(2 * ne as usize),
+            vertex: decrement(t.vertex_sharpness(v)),
+            method,
+        };
+        for (&e, &end) in edges.iter().zip(&ends) {
+            let others = |at: u32| {
+                let s = t.vertex_edges(at).iter().filter(move |&&o| o != e);
+                s.map(|&o| t.edge_sharpness(o))
+            };
+            let s = t.edge_sharpness(e);
+            sharp.segments.push(child_sharpness(s, others(v), method));
+            sharp.segments.push(child_sharpness(s, others(end), method));
+        }
+        // A closed ring starts from the spoke whose rotation of the segments is least, so the
+        // rotations of one pattern of sharp spokes share a shape (a boundary fan's ring starts
+        // at its boundary spoke).
+        if nf == ne {
+            let start = least_rotation(&sharp.segments);
+            edges.rotate_left(start);
+            faces.rotate_left(start);
+            ends.rotate_left(start);
+            sharp.segments.rotate_left(2 * start);
+        }
         // Per sector: (its far corner, the face's edges from spoke i's end and spoke i + 1's
         // end to it); the orientation of the ring against the faces'.
         let mut far = Vec::with_capacity(nf as usize);
@@ -217,23 +246,6 @@ impl SectorGrids {
             local.resize(level.vertex_count(), NONE);
         }
         let columns = compact_columns(&mut first, local);
-        let method = t.options.crease_method;
-        let mut sharp = GridSharpness {
-            segments: Vec::with_capacity(2 * ne as usize),
-            vertex: decrement(t.vertex_sharpness(v)),
-            method,
-        };
-        for (j, &e) in edges.iter().enumerate() {
-            let others = |at: u32| {
-                let s = t.vertex_edges(at).iter().filter(move |&&o| o != e);
-                s.map(|&o| t.edge_sharpness(o))
-            };
-            let s = t.edge_sharpness(e);
-            sharp.segments.push(child_sharpness(s, others(v), method));
-            sharp
-                .segments
-                .push(child_sharpness(s, others(ends[j]), method));
-        }
         let shape = GridShape {
             grid: Grid {
                 spokes: ne,
@@ -248,13 +260,23 @@ impl SectorGrids {
         };
         let shape = shapes.find(shape)?;
         Some(SectorGrids {
-            faces: faces.to_vec(),
+            faces,
             flipped,
             first,
             columns,
             shape,
         })
     }
+}
+
+/// The spoke a closed ring of `segments` (two per spoke, [`GridSharpness::segments`]' order)
+/// starts from: the first whose rotation of the words is least.
+fn least_rotation(segments: &[f32]) -> usize {
+    let n = segments.len();
+    let words = |j: usize| (0..n).map(move |k| segments[(2 * j + k) % n].to_bits());
+    (0..n / 2)
+        .min_by(|&a, &b| words(a).cmp(words(b)))
+        .unwrap_or(0)
 }
 
 /// Per level `1..=steps`: its grid's radius, for nodes `a, b < cells` on the last.
@@ -786,4 +808,25 @@ fn grid_level(
         }
     }
     Some(Level::with_flags(topo, cut, incomplete))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::least_rotation;
+
+    /// Every rotation of a ring of spokes starts from the same spoke of the pattern: the one
+    /// after which the words read least (here the smooth spoke before the two sharp ones).
+    #[test]
+    fn rotations_of_a_ring_start_alike() {
+        // Spokes 0..5 as (segment at v, segment at the far end); spokes 1 and 3 sharp.
+        let ring = [0.0, 0.0, 2.0, 1.0, 0.0, 0.0, 2.0, 2.0, 0.0, 0.0];
+        let least = [0.0, 0.0, 0.0, 0.0, 2.0, 1.0, 0.0, 0.0, 2.0, 2.0];
+        for r in 0..5 {
+            let mut rotated = ring;
+            rotated.rotate_left(2 * r);
+            let start = least_rotation(&rotated);
+            rotated.rotate_left(2 * start);
+            assert_eq!(rotated, least, "rotation {r}");
+        }
+    }
 }
