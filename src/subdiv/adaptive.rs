@@ -17,10 +17,10 @@
 
 use glam::{DVec2, DVec3};
 
-use super::bspline::{is_regular_vertex, RegularPatch};
+use super::bspline::{is_grid_corner, is_regular_vertex, RegularPatch};
 use super::level::Level;
 use super::ring_step::refine_in_place;
-use super::single_crease::{single_crease_line, CreaseLine};
+use super::single_crease::{single_crease_line_at_grid_corners, CreaseLine};
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::topology::Topology;
 use crate::{Error, Result};
@@ -90,15 +90,30 @@ pub enum ChildOf {
 /// One sparse refinement step, level `l` to `l + 1`: what a table builder needs. The step
 /// refines the level's faces `parent_faces` in place (`subdiv::ring_step`): level `l + 1` is
 /// made from level `l` by index arithmetic, with no sub-level extracted.
-#[derive(Debug, Clone)]
+#[derive(Clone)]
 pub struct Refinement {
     /// The level-`l` faces the step refines (increasing): the refined faces and their ring.
     pub parent_faces: Vec<u32>,
     /// Level-`l + 1` face to the level-`l` corner it is the child of (a flat corner index);
     /// increasing.
     pub child_corners: Vec<u32>,
+    /// Level-`l + 1` face to the level-`l` face it is a child of (the face of its
+    /// `child_corners` entry); increasing.
+    child_faces: Vec<u32>,
     /// Per level-`l + 1` vertex: the level-`l` component producing it.
     child_of: Vec<ChildOf>,
+}
+
+/// The step's faces, child corners and child points; each child face's parent face is derived
+/// from its corner and left out (as [`AdaptiveRefinement`]'s census is).
+impl std::fmt::Debug for Refinement {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Refinement")
+            .field("parent_faces", &self.parent_faces)
+            .field("child_corners", &self.child_corners)
+            .field("child_of", &self.child_of)
+            .finish()
+    }
 }
 
 /// A step as one uniform [`Level::refine`] of the sub-level its faces make
@@ -164,15 +179,22 @@ impl AdaptiveLevel {
         self.step().child_of[v as usize]
     }
 
+    /// [`Self::child_of`] of every vertex of the next level, in order.
+    ///
+    /// # Panics
+    /// On the last level (no refinement).
+    pub fn children_of(&self) -> &[ChildOf] {
+        &self.step().child_of
+    }
+
     /// The face of this level and the corner face `c` of the next level comes from.
     ///
     /// # Panics
     /// On the last level (no refinement).
     pub fn child_face_parent(&self, c: u32) -> (u32, usize) {
-        let h = self.step().child_corners[c as usize];
-        let offsets = self.topology().face_offsets();
-        let f = offsets.partition_point(|&o| o <= h) - 1;
-        (f as u32, (h - offsets[f]) as usize)
+        let step = self.step();
+        let (h, f) = (step.child_corners[c as usize], step.child_faces[c as usize]);
+        (f, (h - self.topology().face_offsets()[f as usize]) as usize)
     }
 
     /// The step to `next` (the next level) as one uniform refinement of an extracted sub-level
@@ -231,9 +253,10 @@ pub struct AdaptiveOptions {
     pub isolation: u32,
     /// Stop refining at single-crease patches (Nießner, Loop, Greiner 2012 §3; OpenSubdiv's
     /// `useSingleCreasePatch`): a face whose only feature is one semi-sharp crease line along
-    /// one of its edges ([`single_crease_line`]) is drawn as a [`PatchType::SingleCrease`]
-    /// patch at the first level where it is one, instead of being refined `ceil(s)` levels
-    /// deep, so the patch count grows linearly, not exponentially, with the sharpness.
+    /// one of its edges ([`single_crease_line`](super::single_crease::single_crease_line)) is
+    /// drawn as a [`PatchType::SingleCrease`] patch at the first level where it is one, instead
+    /// of being refined `ceil(s)` levels deep, so the patch count grows linearly, not
+    /// exponentially, with the sharpness.
     pub single_crease: bool,
     /// How end caps treat semi-sharpness left at the isolation level.
     pub end_cap_sharpness: EndCapSharpness,
@@ -347,40 +370,69 @@ impl std::fmt::Debug for AdaptiveRefinement {
     }
 }
 
-/// The patch of a face at some level when it is regular: `gather` succeeds (quad, valence-4 or
-/// boundary/crease/corner configurations, no semi-sharp edge or vertex at a corner; §3.3) and
-/// every corner is regular for all its faces, not only this one (§3.7, see
-/// [`is_regular_vertex`]). Each vertex's regularity is judged once per level (a vertex is a
-/// corner of up to four faces, and every face tested).
-struct RegularTest<'a> {
+/// The patch tests of a level's faces. A face's regular patch when it is regular: `gather`
+/// succeeds (quad, valence-4 or boundary/crease/corner configurations, no semi-sharp edge or
+/// vertex at a corner; §3.3) and every corner is regular for all its faces, not only this one
+/// (§3.7, see [`is_regular_vertex`]); and the single-crease patch of a face that is not, its
+/// corners [`is_grid_corner`]s. Each vertex is judged once per level for each test (a vertex is
+/// a corner of up to four faces, and every face tested).
+struct PatchTests<'a> {
     topo: &'a Topology,
     /// Per vertex: 0 irregular, 1 regular, 2 not judged yet.
     vertex: Vec<u8>,
+    /// Per vertex: 0 not a grid corner, 1 a grid corner, 2 not judged yet (empty until a
+    /// single-crease patch is looked for).
+    grid_corner: Vec<u8>,
 }
 
-impl<'a> RegularTest<'a> {
-    fn new(topo: &'a Topology) -> RegularTest<'a> {
-        RegularTest {
+/// Judges `v` by `test` once: `memo[v]` 0 false, 1 true, 2 not judged yet.
+fn judged_once(memo: &mut [u8], v: u32, test: impl FnOnce() -> bool) -> bool {
+    let r = &mut memo[v as usize];
+    if *r == 2 {
+        *r = u8::from(test());
+    }
+    *r == 1
+}
+
+impl<'a> PatchTests<'a> {
+    fn new(topo: &'a Topology) -> PatchTests<'a> {
+        PatchTests {
             topo,
             vertex: vec![2; topo.vertex_count()],
+            grid_corner: Vec::new(),
         }
     }
 
     fn regular_vertex(&mut self, v: u32) -> bool {
-        let r = &mut self.vertex[v as usize];
-        if *r == 2 {
-            *r = u8::from(is_regular_vertex(self.topo, v));
-        }
-        *r == 1
+        judged_once(&mut self.vertex, v, || is_regular_vertex(self.topo, v))
     }
 
-    /// The regular patch of face `f`, if any.
-    fn patch(&mut self, f: u32) -> Option<RegularPatch> {
-        let corners = self.topo.face_vertices(f);
-        if !corners.iter().all(|&v| self.regular_vertex(v)) {
+    /// The single-crease line of face `f` (one with a limit surface), if any
+    /// ([`super::single_crease::single_crease_line`]).
+    fn single_crease_line(&mut self, f: u32) -> Option<CreaseLine> {
+        let topo = self.topo;
+        let quad = topo.quad(f)?;
+        if self.grid_corner.is_empty() {
+            self.grid_corner = vec![2; topo.vertex_count()];
+        }
+        let memo = &mut self.grid_corner;
+        if !quad
+            .0
+            .iter()
+            .all(|&v| judged_once(memo, v, || is_grid_corner(topo, v)))
+        {
             return None;
         }
-        RegularPatch::gather_at_regular_corners(self.topo, f)
+        single_crease_line_at_grid_corners(topo, f, quad)
+    }
+
+    /// The regular patch of face `f` (one with a limit surface), if any.
+    fn patch(&mut self, f: u32) -> Option<RegularPatch> {
+        let quad = self.topo.quad(f)?;
+        if !quad.0.iter().all(|&v| self.regular_vertex(v)) {
+            return None;
+        }
+        RegularPatch::gather_at_regular_corners(self.topo, f, quad)
     }
 }
 
@@ -540,22 +592,30 @@ impl AdaptiveRefinement {
         if !pt.edge_sharpnesses().iter().any(|&s| decaying(s)) {
             return Vec::new();
         }
-        (0..caps.vertex_count() as u32)
-            .map(|v| {
-                let ChildOf::Vertex(pv) = parent.child_of(v) else {
-                    return false;
-                };
-                let sharp_before = pt
-                    .vertex_edges(pv)
+        // Per parent vertex: its edges of sharpness `>= 1`, from one pass over the edges (at
+        // most a few vertices have three), so the rings are walked only at those vertices'
+        // vertex points.
+        let mut sharp_before = vec![0u8; pt.vertex_count()];
+        for (&[a, b], &s) in pt.edge_verts.iter().zip(pt.edge_sharpnesses()) {
+            if s >= 1.0 {
+                for v in [a, b] {
+                    let n = &mut sharp_before[v as usize];
+                    *n = n.saturating_add(1);
+                }
+            }
+        }
+        let smooth_now = |v: u32| {
+            caps.vertex_sharpness(v) == 0.0
+                && caps
+                    .vertex_edges(v)
                     .iter()
-                    .filter(|&&e| pt.edge_sharpness(e) >= 1.0)
-                    .count();
-                let smooth_now = caps.vertex_sharpness(v) == 0.0
-                    && caps
-                        .vertex_edges(v)
-                        .iter()
-                        .all(|&e| caps.edge_sharpness(e) == 0.0 && !caps.is_boundary_edge(e));
-                sharp_before >= 3 && smooth_now
+                    .all(|&e| caps.edge_sharpness(e) == 0.0 && !caps.is_boundary_edge(e))
+        };
+        let child_of = &parent.step().child_of;
+        (0..caps.vertex_count() as u32)
+            .map(|v| match child_of[v as usize] {
+                ChildOf::Vertex(pv) => sharp_before[pv as usize] >= 3 && smooth_now(v),
+                _ => false,
             })
             .collect()
     }
@@ -621,7 +681,7 @@ fn refine_sparse(cur: &mut AdaptiveLevel) -> Result<AdaptiveLevel> {
             }
         }
     }
-    let (level, points) = refine_in_place(&cur.level, &ring, &keep)?;
+    let (level, mut points) = refine_in_place(&cur.level, &ring, &keep)?;
     let mut child_of = Vec::with_capacity(level.vertex_count());
     child_of.extend(points.faces.iter().map(|&f| ChildOf::Face(f)));
     child_of.extend(points.edges.iter().map(|&e| ChildOf::Edge(e)));
@@ -637,6 +697,7 @@ fn refine_sparse(cur: &mut AdaptiveLevel) -> Result<AdaptiveLevel> {
     cur.refinement = Some(Refinement {
         parent_faces: ring,
         child_corners: keep,
+        child_faces: std::mem::take(&mut points.quad_faces),
         child_of,
     });
     Ok(next)
@@ -726,8 +787,8 @@ pub struct PatchCensus {
 impl PatchCensus {
     /// Classifies every own face with a limit surface that is not refined: a B-spline patch
     /// when [`RegularPatch::gather`] takes it, else (with single-crease patches on) a
-    /// single-crease patch when [`single_crease_line`] takes it, an end cap otherwise (only
-    /// possible on the isolation level).
+    /// single-crease patch when [`single_crease_line`](super::single_crease::single_crease_line)
+    /// takes it, an end cap otherwise (only possible on the isolation level).
     ///
     /// The refinement classified them while choosing its refined faces: this is a copy of
     /// [`AdaptiveRefinement::census`].
@@ -763,12 +824,12 @@ fn classify_level(
         let t = lev.level.topology();
         // At most one patch an own face: no growth.
         patches.reserve(lev.own.iter().filter(|&&o| o).count());
-        let mut regular = RegularTest::new(t);
+        let mut tests = PatchTests::new(t);
         for f in 0..t.face_count() as u32 {
             if !lev.own[f as usize] || !t.has_limit_surface(f) {
                 continue;
             }
-            match classify(lev, &mut regular, f, l, single_crease) {
+            match classify(lev, &mut tests, f, l, single_crease) {
                 p if p.kind == PatchType::EndCap && refine => lev.refined[f as usize] = true,
                 p => patches.push(p),
             }
@@ -776,8 +837,10 @@ fn classify_level(
     }
     let t = lev.level.topology();
     let mut census = LevelCensus::default();
+    // No face refined (the isolation level, or every face a patch): no transition to look for.
+    let any_refined = lev.refined.contains(&true);
     for p in &mut patches[first..] {
-        if p.kind != PatchType::EndCap {
+        if any_refined && p.kind != PatchType::EndCap {
             for k in 0..4 {
                 if t.adjacent_face(p.face, k)
                     .is_some_and(|g| lev.refined[g as usize])
@@ -801,14 +864,14 @@ fn classify_level(
 /// which only changes the surface, not the count; uncapped, the patch is the exact limit.
 fn classify(
     lev: &AdaptiveLevel,
-    regular: &mut RegularTest,
+    tests: &mut PatchTests,
     f: u32,
     level: u32,
     single_crease: bool,
 ) -> AdaptivePatch {
     let t = lev.topology();
     let global = |cvs: &mut [u32; 16]| cvs.iter_mut().for_each(|c| *c = lev.global(*c));
-    let (mut p, kind, crease) = if let Some(p) = regular.patch(f) {
+    let (mut p, kind, crease) = if let Some(p) = tests.patch(f) {
         let edges = t.face_edges(f);
         let crease =
             (0..4).any(|k| p.boundary_mask & (1 << k) != 0 && !t.is_boundary_edge(edges[k]));
@@ -818,7 +881,7 @@ fn classify(
             (_, true) => PatchType::Crease,
         };
         (p, kind, None)
-    } else if let Some(mut line) = single_crease.then(|| single_crease_line(t, f)).flatten() {
+    } else if let Some(mut line) = single_crease.then(|| tests.single_crease_line(f)).flatten() {
         let p = RegularPatch {
             face: f,
             cvs: line.cvs,

@@ -152,11 +152,11 @@ pub(crate) fn is_regular_vertex(topo: &Topology, v: u32) -> bool {
             .all(|&e| topo.edge_sharpness(e) == 0.0);
     let faces = topo.vertex_faces(v);
     if plain && !faces.is_empty() {
-        // The counts first: they are the cheap tests and settle most vertices.
+        // The counts first: they are the cheap tests and settle most vertices. As many edges
+        // as faces: interior (`Topology::is_boundary_vertex`).
         return faces.len() == 4
             && topo.vertex_edges(v).len() == 4
-            && faces.iter().all(|&g| topo.face_size(g) == 4)
-            && !topo.is_boundary_vertex(v);
+            && faces.iter().all(|&g| topo.face_size(g) == 4);
     }
     faces
         .iter()
@@ -221,7 +221,8 @@ const DIAGONAL_SLOT: [usize; 4] = {
 fn across(topo: &Topology, f: u32, e: u32, a: u32, b: u32) -> Option<(u32, [u32; 2], [u32; 2])> {
     let (g, s) = topo.face_across_edge(e, f)?;
     let (gv, ge) = topo.quad(g)?;
-    (gv[s] == b && gv[(s + 1) & 3] == a).then(|| {
+    // `s < 4` (an edge of the quad `g`): masked, it needs no bounds check.
+    (gv[s & 3] == b && gv[(s + 1) & 3] == a).then(|| {
         (
             g,
             [gv[(s + 2) & 3], gv[(s + 3) & 3]],
@@ -261,20 +262,25 @@ fn across_by_search(
 ///
 /// Edges are taken from the faces (an edge is the only one between its two vertices, so this is
 /// the edge `find_edge` would find).
-fn grid_cvs(topo: &Topology, face: u32, c: [u32; 4], mask: u8) -> Option<[u32; 16]> {
-    grid_cvs_edges(topo, face, c, mask).map(|(cvs, _)| cvs)
+fn grid_cvs(
+    topo: &Topology,
+    face: u32,
+    (c, fe): (&[u32; 4], &[u32; 4]),
+    mask: u8,
+) -> Option<[u32; 16]> {
+    grid_cvs_edges(topo, face, (c, fe), mask).map(|(cvs, _)| cvs)
 }
 
 /// [`grid_cvs`] with the grid edges leaving the face's corners: for face edge `k` not in `mask`,
 /// entry `2 k` is the edge from corner `k` and entry `2 k + 1` the edge from corner `k + 1`,
-/// both outward across edge `k` (`NONE` for the sides in `mask`).
+/// both outward across edge `k` (`NONE` for the sides in `mask`). `(c, fe)`: the quad's
+/// corners and edges ([`Topology::quad`]).
 fn grid_cvs_edges(
     topo: &Topology,
     face: u32,
-    c: [u32; 4],
+    (c, fe): (&[u32; 4], &[u32; 4]),
     mask: u8,
 ) -> Option<([u32; 16], [u32; 8])> {
-    let (_, fe) = topo.quad(face)?;
     let mut cvs = [c[0]; 16];
     let mut outward = [NONE; 8];
     for k in 0..4 {
@@ -301,13 +307,12 @@ fn grid_cvs_edges(
     Some((cvs, outward))
 }
 
-/// The corners of `face` if it is a quad with a limit surface.
-fn quad_corners(topo: &Topology, face: u32) -> Option<[u32; 4]> {
+/// The corners and edges of `face` ([`Topology::quad`]) if it is a quad with a limit surface.
+fn quad_with_limit(topo: &Topology, face: u32) -> Option<(&[u32; 4], &[u32; 4])> {
     if face as usize >= topo.face_count() || !topo.has_limit_surface(face) {
         return None;
     }
-    let fv = topo.face_vertices(face);
-    (fv.len() == 4).then(|| [fv[0], fv[1], fv[2], fv[3]])
+    topo.quad(face)
 }
 
 /// The 16 grid vertices of an interior quad whose corners are all interior valence-4 vertices
@@ -329,20 +334,35 @@ pub(crate) fn interior_grid_lines(
     topo: &Topology,
     face: u32,
 ) -> Option<([u32; 16], [[u32; 3]; 4])> {
-    let c = quad_corners(topo, face)?;
-    // The counts first: they are the cheap tests and settle most vertices.
-    let plain = |v: u32| {
-        topo.vertex_faces(v).len() == 4
-            && topo.vertex_edges(v).len() == 4
-            && topo.vertex_sharpness(v) == 0.0
-            && topo.vertex_faces(v).iter().all(|&g| topo.face_size(g) == 4)
-            && !topo.is_boundary_vertex(v)
-    };
-    if !c.iter().all(|&v| plain(v)) {
+    let quad = quad_with_limit(topo, face)?;
+    if !quad.0.iter().all(|&v| is_grid_corner(topo, v)) {
         return None;
     }
-    let (cvs, outward) = grid_cvs_edges(topo, face, c, 0)?;
-    let fe = topo.face_edges(face);
+    interior_grid_lines_at_grid_corners(topo, face, quad)
+}
+
+/// Whether `v` is an interior valence-4 vertex with only quads around it and no vertex
+/// sharpness, whatever its edges' sharpness: a corner [`interior_grid_lines`] takes. The counts
+/// first: they are the cheap tests and settle most vertices; as many edges as faces, it is
+/// interior ([`Topology::is_boundary_vertex`]).
+pub(crate) fn is_grid_corner(topo: &Topology, v: u32) -> bool {
+    let faces = topo.vertex_faces(v);
+    faces.len() == 4
+        && topo.vertex_edges(v).len() == 4
+        && topo.vertex_sharpness(v) == 0.0
+        && faces.iter().all(|&g| topo.face_size(g) == 4)
+}
+
+/// [`interior_grid_lines`] of a quad with a limit surface whose corners are known to pass
+/// [`is_grid_corner`], given its corners and edges `quad` ([`Topology::quad`]): the adaptive
+/// census judges each vertex once, not once per face.
+pub(crate) fn interior_grid_lines_at_grid_corners(
+    topo: &Topology,
+    face: u32,
+    quad: (&[u32; 4], &[u32; 4]),
+) -> Option<([u32; 16], [[u32; 3]; 4])> {
+    let (cvs, outward) = grid_cvs_edges(topo, face, quad, 0)?;
+    let fe = quad.1;
     // Corner `k` continues face edge `k` backwards along the outward edge across face edge
     // `k - 1`, corner `k + 1` forwards along the one across face edge `k + 1`.
     let lines = std::array::from_fn(|k| {
@@ -361,32 +381,38 @@ impl RegularPatch {
     /// sector containing the face has 2 faces, or a corner whose sector has 1 face, with no
     /// semi-sharp edge or vertex at any corner. Holes and faces without limit surface give `None`.
     pub fn gather(topo: &Topology, face: u32) -> Option<RegularPatch> {
-        let c = quad_corners(topo, face)?;
-        for &v in &c {
+        let quad = quad_with_limit(topo, face)?;
+        for &v in quad.0 {
             if corner_kind(topo, v, face) == CornerKind::Irregular {
                 return None;
             }
         }
-        Self::grid(topo, face, c)
+        Self::grid(topo, face, quad)
     }
 
-    /// [`Self::gather`] of a face whose corners are known to pass [`is_regular_vertex`] (a
-    /// corner regular for every face around it is regular for this one): the corners are not
-    /// judged again.
-    pub(crate) fn gather_at_regular_corners(topo: &Topology, face: u32) -> Option<RegularPatch> {
-        Self::grid(topo, face, quad_corners(topo, face)?)
+    /// [`Self::gather`] of a quad with a limit surface whose corners are known to pass
+    /// [`is_regular_vertex`] (a corner regular for every face around it is regular for this
+    /// one), given its corners and edges `quad` ([`Topology::quad`], which the adaptive census
+    /// has in hand when it has judged the corners): neither the corners nor the face are judged
+    /// again.
+    pub(crate) fn gather_at_regular_corners(
+        topo: &Topology,
+        face: u32,
+        quad: (&[u32; 4], &[u32; 4]),
+    ) -> Option<RegularPatch> {
+        Self::grid(topo, face, quad)
     }
 
-    /// The patch of quad `face` with regular corners `c`: phantom mask and grid.
-    fn grid(topo: &Topology, face: u32, c: [u32; 4]) -> Option<RegularPatch> {
-        let fe = topo.face_edges(face);
+    /// The patch of quad `face` with regular corners and edges `(c, fe)`: phantom mask and
+    /// grid.
+    fn grid(topo: &Topology, face: u32, (c, fe): (&[u32; 4], &[u32; 4])) -> Option<RegularPatch> {
         let mut mask = 0u8;
         for (k, &e) in fe.iter().enumerate() {
             if is_inf(topo.edge_sharpness(e)) {
                 mask |= 1 << k;
             }
         }
-        let cvs = grid_cvs(topo, face, c, mask)?;
+        let cvs = grid_cvs(topo, face, (c, fe), mask)?;
         Some(RegularPatch {
             face,
             cvs,
@@ -669,9 +695,12 @@ mod tests {
                 regular += usize::from(per_face);
             }
             for f in 0..t.face_count() as u32 {
-                if t.face_vertices(f).iter().all(|&v| is_regular_vertex(t, v)) {
+                let Some(quad) = t.quad(f).filter(|_| t.has_limit_surface(f)) else {
+                    continue;
+                };
+                if quad.0.iter().all(|&v| is_regular_vertex(t, v)) {
                     assert_eq!(
-                        RegularPatch::gather_at_regular_corners(t, f),
+                        RegularPatch::gather_at_regular_corners(t, f, quad),
                         RegularPatch::gather(t, f),
                         "{name} face {f}"
                     );

@@ -20,7 +20,7 @@ use crate::topology::{self, Topology, NONE};
 use crate::{Error, Result};
 
 /// The parent components of a step's child points in the child numbering: face points, then
-/// edge points, then vertex points (parent level ids).
+/// edge points, then vertex points (parent level ids); and the parent faces of its child quads.
 #[derive(Debug, Clone, Default)]
 pub(super) struct StepPoints {
     /// The parent faces of the face points.
@@ -29,6 +29,9 @@ pub(super) struct StepPoints {
     pub edges: Vec<u32>,
     /// The parent vertices of the vertex points.
     pub vertices: Vec<u32>,
+    /// Per child quad (the child level's faces, in order): the parent face it is a child of;
+    /// increasing. Filled when the step is made.
+    pub quad_faces: Vec<u32>,
 }
 
 /// The child faces `keep` (flat corners of `level`, increasing) of the step refining `level`'s
@@ -99,7 +102,8 @@ pub(super) fn refine_in_place(
             .collect();
     }
     sub.options = t.options;
-    let points = quads.points;
+    let mut points = quads.points;
+    points.quad_faces = quads.parent_face;
     let incomplete = incomplete_points(level, &sub, &points, &in_ring, &outside);
     let first_vertex = points.faces.len() + points.edges.len();
     for (j, &pv) in points.vertices.iter().enumerate() {
@@ -132,6 +136,7 @@ impl KeptQuads {
             faces: Vec::with_capacity(nk),
             edges: Vec::with_capacity(2 * nk),
             vertices: Vec::with_capacity(nk),
+            quad_faces: Vec::new(),
         };
         let mut edge_point = vec![NONE; t.edge_count()];
         let mut vertex_point = vec![NONE; t.vertex_count()];

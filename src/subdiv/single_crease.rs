@@ -2,7 +2,7 @@
 //! test shared by feature-adaptive refinement ([`super::adaptive`], which stops refining such a
 //! face when asked to) and the patch's evaluation ([`crate::patch::single_crease`]).
 
-use super::bspline::interior_grid_lines;
+use super::bspline::{interior_grid_lines, interior_grid_lines_at_grid_corners};
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::topology::Topology;
 
@@ -88,7 +88,25 @@ pub struct CreaseLine {
 /// [`SingleCreasePatch`](crate::patch::single_crease::SingleCreasePatch) documents; OpenSubdiv's
 /// `Level::isSingleCreasePatch` for semi-sharp creases).
 pub fn single_crease_line(topo: &Topology, face: u32) -> Option<CreaseLine> {
-    let (cvs, lines) = interior_grid_lines(topo, face)?;
+    grid_crease_line(topo, interior_grid_lines(topo, face)?)
+}
+
+/// [`single_crease_line`] of a quad with a limit surface whose corners are known to pass
+/// [`is_grid_corner`](super::bspline::is_grid_corner), given its corners and edges `quad`
+/// ([`Topology::quad`]): the corners are not judged again.
+pub(crate) fn single_crease_line_at_grid_corners(
+    topo: &Topology,
+    face: u32,
+    quad: (&[u32; 4], &[u32; 4]),
+) -> Option<CreaseLine> {
+    grid_crease_line(topo, interior_grid_lines_at_grid_corners(topo, face, quad)?)
+}
+
+/// The single-crease line of the grid `cvs` with lines `lines` ([`interior_grid_lines`]).
+fn grid_crease_line(
+    topo: &Topology,
+    (cvs, lines): ([u32; 16], [[u32; 3]; 4]),
+) -> Option<CreaseLine> {
     crease_line(cvs, |side| {
         Some(lines[side.face_edge()].map(|e| topo.edge_sharpness(e)))
     })
@@ -123,7 +141,7 @@ fn crease_line(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::subdiv::bspline::interior_grid;
+    use crate::subdiv::bspline::{interior_grid, is_grid_corner};
 
     /// The test as it was before the grid walk gave the lines' edges: each line's edges
     /// looked up by their ends (`find_edge` between the slots of [`CreaseSide::line`]).
@@ -142,7 +160,7 @@ mod tests {
     /// lines, uneven sharpness or infinitely sharp lines, which are not).
     #[test]
     fn single_crease_lines_equal_the_edge_lookups() {
-        let mut sides = [0; 4];
+        let (mut sides, mut grid_corners) = ([0; 4], 0);
         let levels = crate::subdiv::corpus_levels(
             &[
                 "catmark_car",
@@ -163,12 +181,23 @@ mod tests {
                     single_crease_line_by_find_edge(t, f),
                     "{name} level {depth} face {f}"
                 );
+                // The census's path: the corners judged apart, once per vertex.
+                let quad = t.quad(f).filter(|_| t.has_limit_surface(f));
+                if let Some(quad) = quad.filter(|q| q.0.iter().all(|&v| is_grid_corner(t, v))) {
+                    assert_eq!(
+                        single_crease_line_at_grid_corners(t, f, quad),
+                        line,
+                        "{name} level {depth} face {f}"
+                    );
+                    grid_corners += 1;
+                }
                 if let Some(line) = line {
                     sides[line.side.face_edge()] += 1;
                 }
             }
         }
         assert!(sides.iter().all(|&n| n > 0), "{sides:?}");
+        assert!(grid_corners > 1000, "{grid_corners}");
     }
 
     /// The grid lines `interior_grid_lines` reads from the walk are the edges `find_edge`

@@ -391,9 +391,8 @@ impl RefinementTables {
                 edges: Vec::with_capacity(n),
                 vertices: Vec::with_capacity(n),
             };
-            for i in 0..next.level.vertex_count() as u32 {
-                let dst = next.first_vertex + i;
-                match lev.child_of(i) {
+            for (dst, &child_of) in (next.first_vertex..).zip(lev.children_of()) {
+                match child_of {
                     ChildOf::Face(f) => placement.faces.push((f, dst)),
                     ChildOf::Edge(e) => placement.edges.push((e, dst)),
                     ChildOf::Vertex(v) => placement.vertices.push((v, dst)),
