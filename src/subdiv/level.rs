@@ -383,7 +383,7 @@ impl Level {
 /// The corners of a vertex's faces in a numbering that depends only on the ring's shape:
 /// face `j` is the vertex's face `(first + j) % n` with its corners rotated to start at the
 /// vertex, and vertices are numbered by first appearance in that corner list (the vertex is 0).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub(crate) struct RingCorners {
     /// The level's faces, in ring order from the first.
     pub faces: Vec<u32>,
@@ -398,45 +398,46 @@ pub(crate) struct RingCorners {
 }
 
 impl RingCorners {
-    /// The ring of vertex `v` of `topo` from its face `first`; `None` if `v` has no such face.
-    pub fn new(topo: &Topology, v: u32, first: usize) -> Option<RingCorners> {
+    /// Makes this the ring of vertex `v` of `topo` from its face `first`, reusing the buffers
+    /// (a caller that looks many rings up keeps one); `false`, leaving it empty, if `v` has no
+    /// such face.
+    pub fn fill(&mut self, topo: &Topology, v: u32, first: usize) -> bool {
         let ring = topo.vertex_faces(v);
         let locals = topo.vertex_face_locals(v);
         let n = ring.len();
+        self.faces.clear();
+        self.rotation.clear();
+        self.offsets.clear();
+        self.map.clear();
+        self.local.clear();
         if first >= n {
-            return None;
+            return false;
         }
-        let mut out = RingCorners {
-            faces: Vec::with_capacity(n),
-            rotation: Vec::with_capacity(n),
-            offsets: Vec::with_capacity(n + 1),
-            map: Vec::with_capacity(2 * n + 1),
-            local: Vec::with_capacity(4 * n),
-        };
-        out.offsets.push(0);
+        self.offsets.push(0);
         for j in 0..n {
             let k = (first + j) % n;
             let fv = topo.face_vertices(ring[k]);
             let r = usize::from(locals[k]);
             for c in 0..fv.len() {
                 let old = fv[(r + c) % fv.len()];
-                let id = match out.map.iter().position(|&x| x == old) {
+                let id = match self.map.iter().position(|&x| x == old) {
                     Some(p) => p,
                     None => {
-                        out.map.push(old);
-                        out.map.len() - 1
+                        self.map.push(old);
+                        self.map.len() - 1
                     }
                 };
-                out.local.push(id as u32);
+                self.local.push(id as u32);
             }
-            out.faces.push(ring[k]);
-            out.rotation.push(locals[k]);
-            out.offsets.push(out.local.len() as u32);
+            self.faces.push(ring[k]);
+            self.rotation.push(locals[k]);
+            self.offsets.push(self.local.len() as u32);
         }
-        Some(out)
+        true
     }
 
     /// Edge `c` of face `j` (joining its corners `c` and `c + 1`) in `topo`.
+    #[inline]
     pub fn edge(&self, topo: &Topology, j: usize, c: usize) -> u32 {
         let fe = topo.face_edges(self.faces[j]);
         fe[(usize::from(self.rotation[j]) + c) % fe.len()]

@@ -26,6 +26,7 @@
 pub mod masks;
 pub mod sector;
 
+use std::cell::RefCell;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
@@ -186,69 +187,75 @@ fn vertex_mask_rec(
 /// Shared by reference between threads (the table behind a lock taken only to look a mask up
 /// and to store one; a mask two threads miss at once is computed by both, the same bits). The
 /// table hashes its keys with the crate's word hash (`subdiv::word_hash`), which has no per-run
-/// seed, so a build's instruction count repeats from run to run.
+/// seed, so a build's instruction count repeats from run to run. A look-up that finds its mask
+/// allocates only the mask it returns: the ring, its key and the relabelling order are made in
+/// buffers kept per thread ([`RingScratch`]).
 #[derive(Debug, Default)]
 pub struct SharedVertexMasks {
-    masks: Mutex<WordHashMap<RingKey, VertexMask>>,
+    /// Masks by [`ring_key`].
+    masks: Mutex<WordHashMap<Vec<u32>, VertexMask>>,
     /// Masks reused (for tests and profiles).
     hits: AtomicUsize,
 }
 
-/// Everything of a ring extraction `Level` ([`RingCorners`], `Level::try_extract_ring`) that
-/// its masks depend on, read from the level without making the extraction; the vertex and face
-/// of interest are its vertex 0 and face 0.
-#[derive(Debug, PartialEq, Eq, Hash)]
-struct RingKey {
-    /// Vertex count, face offsets and corners; per corner the sharpness bits of the edge to
-    /// the next corner and whether the extraction cuts it (0/1); per vertex its sharpness bits
-    /// and whether it is incomplete there (0/1); per face hole and no-limit flags (0/1).
-    words: Vec<u32>,
-    boundary: u8,
-    chaikin: bool,
+/// The buffers of one thread's look-ups in [`SharedVertexMasks`].
+#[derive(Default)]
+struct RingScratch {
+    ring: RingCorners,
+    key: Vec<u32>,
+    valences: Vec<u32>,
+    order: Vec<(u32, u32)>,
 }
 
-impl RingKey {
-    /// What `tag_extraction` gives the extraction of `ring` of `level`, as words.
-    fn new(level: &Level, ring: &RingCorners) -> RingKey {
-        let t = level.topology();
-        let mut words = Vec::with_capacity(4 * ring.local.len() + 3 * ring.map.len() + 8);
-        words.push(ring.map.len() as u32);
-        words.extend_from_slice(&ring.offsets);
-        words.extend_from_slice(&ring.local);
-        for j in 0..ring.faces.len() {
-            for c in 0..(ring.offsets[j + 1] - ring.offsets[j]) as usize {
-                let e = ring.edge(t, j, c);
-                // Cut: boundary only in the extraction (its other face is not in the ring), or
-                // cut already.
-                let opened = !t.is_boundary_edge(e)
-                    && !t.edge_faces(e).iter().all(|g| ring.faces.contains(g));
-                words.push(t.edge_sharpness(e).to_bits());
-                words.push(u32::from(opened || level.is_cut_edge(e)));
-            }
-        }
-        let mut valences = vec![0usize; ring.map.len()];
-        for &x in &ring.local {
-            valences[x as usize] += 1;
-        }
-        for (&old, &valence) in ring.map.iter().zip(&valences) {
-            let incomplete = !level.is_complete_vertex(old) || valence != t.vertex_faces(old).len();
-            words.push(t.vertex_sharpness(old).to_bits());
-            words.push(u32::from(incomplete));
-        }
-        for &f in &ring.faces {
-            let no_limit = t.no_limit.get(f as usize).copied().unwrap_or(false);
-            words.push(u32::from(t.holes[f as usize]) | u32::from(no_limit) << 1);
-        }
-        RingKey {
-            words,
-            boundary: match t.options.boundary {
-                BoundaryInterpolation::None => 0,
-                BoundaryInterpolation::EdgeAndCorner => 1,
-                BoundaryInterpolation::EdgeOnly => 2,
-            },
-            chaikin: t.options.crease_method == CreaseMethod::Chaikin,
+thread_local! {
+    static RING_SCRATCH: RefCell<RingScratch> = RefCell::default();
+}
+
+/// Writes to `words` everything of the ring extraction of `ring` ([`RingCorners`],
+/// `Level::try_extract_ring`) that its masks depend on, read from the level without making the
+/// extraction (the vertex and face of interest are its vertex 0 and face 0): vertex count, face
+/// offsets and corners; per corner the sharpness bits of the edge to the next corner and whether
+/// the extraction cuts it (0/1); per vertex its sharpness bits and whether it is incomplete
+/// there (0/1); per face hole and no-limit flags (0/1); the boundary interpolation and the
+/// crease method. `valences` is a buffer.
+fn ring_key(level: &Level, ring: &RingCorners, words: &mut Vec<u32>, valences: &mut Vec<u32>) {
+    let t = level.topology();
+    words.clear();
+    words.push(ring.map.len() as u32);
+    words.extend_from_slice(&ring.offsets);
+    words.extend_from_slice(&ring.local);
+    for j in 0..ring.faces.len() {
+        for c in 0..(ring.offsets[j + 1] - ring.offsets[j]) as usize {
+            let e = ring.edge(t, j, c);
+            // Cut: boundary only in the extraction (its other face is not in the ring), or
+            // cut already.
+            let opened =
+                !t.is_boundary_edge(e) && !t.edge_faces(e).iter().all(|g| ring.faces.contains(g));
+            words.push(t.edge_sharpness(e).to_bits());
+            words.push(u32::from(opened || level.is_cut_edge(e)));
         }
     }
+    valences.clear();
+    valences.resize(ring.map.len(), 0);
+    for &x in &ring.local {
+        valences[x as usize] += 1;
+    }
+    for (&old, &valence) in ring.map.iter().zip(valences.iter()) {
+        let incomplete =
+            !level.is_complete_vertex(old) || valence as usize != t.vertex_faces(old).len();
+        words.push(t.vertex_sharpness(old).to_bits());
+        words.push(u32::from(incomplete));
+    }
+    for &f in &ring.faces {
+        let no_limit = t.no_limit.get(f as usize).copied().unwrap_or(false);
+        words.push(u32::from(t.holes[f as usize]) | u32::from(no_limit) << 1);
+    }
+    words.push(match t.options.boundary {
+        BoundaryInterpolation::None => 0,
+        BoundaryInterpolation::EdgeAndCorner => 1,
+        BoundaryInterpolation::EdgeOnly => 2,
+    });
+    words.push(u32::from(t.options.crease_method == CreaseMethod::Chaikin));
 }
 
 impl SharedVertexMasks {
@@ -261,18 +268,24 @@ impl SharedVertexMasks {
         let Some(i) = topo.vertex_faces(v).iter().position(|&g| g == face) else {
             return vertex_mask(level, v, face);
         };
-        let ring = RingCorners::new(topo, v, i)
-            .ok_or_else(|| Error::Invalid(format!("limit mask: vertex {v} has no face {i}")))?;
-        let key = RingKey::new(level, &ring);
-        if let Some(m) = self.table().get(&key) {
-            self.hits.fetch_add(1, Ordering::Relaxed);
-            return Ok(relabelled(m, &ring.map));
-        }
-        let (sub, map) = level.try_extract_ring(ring)?;
-        let m = refined_local_mask(&sub, 0, 0, 0, LocalStep::Kept)?;
-        let out = relabelled(&m, &map);
-        self.table().insert(key, m);
-        Ok(out)
+        RING_SCRATCH.with(|scratch| {
+            let s = &mut *scratch.borrow_mut();
+            if !s.ring.fill(topo, v, i) {
+                return Err(Error::Invalid(format!(
+                    "limit mask: vertex {v} has no face {i}"
+                )));
+            }
+            ring_key(level, &s.ring, &mut s.key, &mut s.valences);
+            if let Some(m) = self.table().get(&s.key[..]) {
+                self.hits.fetch_add(1, Ordering::Relaxed);
+                return Ok(relabelled(m, &s.ring.map, &mut s.order));
+            }
+            let (sub, map) = level.try_extract_ring(s.ring.clone())?;
+            let m = refined_local_mask(&sub, 0, 0, 0, LocalStep::Kept)?;
+            let out = relabelled(&m, &map, &mut s.order);
+            self.table().insert(s.key.clone(), m);
+            Ok(out)
+        })
     }
 
     /// Masks reused so far (for tests and profiles).
@@ -281,18 +294,18 @@ impl SharedVertexMasks {
     }
 
     /// The table, locked (a panic elsewhere while it was held leaves whole entries only).
-    fn table(&self) -> MutexGuard<'_, WordHashMap<RingKey, VertexMask>> {
+    fn table(&self) -> MutexGuard<'_, WordHashMap<Vec<u32>, VertexMask>> {
         self.masks.lock().unwrap_or_else(PoisonError::into_inner)
     }
 }
 
 /// Mask `m` over an extraction's vertices as a mask over the extracted level's, through the
-/// extraction's injective vertex map `map` (in any order), indices increasing.
-fn relabelled(m: &VertexMask, map: &[u32]) -> VertexMask {
+/// extraction's injective vertex map `map` (in any order), indices increasing. `order` is a
+/// buffer.
+fn relabelled(m: &VertexMask, map: &[u32], order: &mut Vec<(u32, u32)>) -> VertexMask {
     // (new index, term): the indices are distinct, so the order is that of the new indices.
-    let mut order: Vec<(u32, u32)> = (m.indices.iter().enumerate())
-        .map(|(k, &i)| (map[i as usize], k as u32))
-        .collect();
+    order.clear();
+    order.extend((m.indices.iter().enumerate()).map(|(k, &i)| (map[i as usize], k as u32)));
     order.sort_unstable();
     let pick = |w: &[f64]| order.iter().map(|&(_, k)| w[k as usize]).collect();
     VertexMask {
@@ -869,7 +882,8 @@ mod tests {
                 for (i, &f) in topo.vertex_faces(v).iter().enumerate() {
                     let kept = vertex_mask_rec(&level, v, f, 0, LocalStep::Kept);
                     let whole = vertex_mask_rec(&level, v, f, 0, LocalStep::WholeRing);
-                    let ring = RingCorners::new(topo, v, i).unwrap();
+                    let mut ring = RingCorners::default();
+                    assert!(ring.fill(topo, v, i));
                     let (sub, _) = level.try_extract_ring(ring).unwrap();
                     let kept_ring = refined_local_mask(&sub, 0, 0, 0, LocalStep::Kept);
                     let whole_ring = refined_local_mask(&sub, 0, 0, 0, LocalStep::WholeRing);
