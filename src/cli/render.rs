@@ -224,8 +224,8 @@ pub struct AdaptiveArgs {
     pub end_cap_sharpness: EndCapSharpness,
     /// `--scheme adaptive`: near crease vertices that are not regular, end caps draw the exact
     /// limit normals of a 2^-3 lattice of each end cap (`true`, default; their normal error then
-    /// falls with the isolation level) or their own normals (`false`: 13 % less preprocessing
-    /// on catmark_car at isolation 2, 138.6 against 159.8 M instructions per build).
+    /// falls with the isolation level) or their own normals (`false`: 6.5 % less preprocessing
+    /// on catmark_car at isolation 2, 132.1 against 141.3 M instructions per build).
     #[arg(long, default_value_t = tessera::render::PlanOptions::DEFAULT_LATTICE_NORMALS,
           action = clap::ArgAction::Set, value_name = "BOOL")]
     pub lattice_normals: bool,
