@@ -700,7 +700,7 @@ mod tests {
         for n in 0..=9 {
             let mut keys = [u64::MAX; 16];
             for (i, key) in keys.iter_mut().enumerate().take(n) {
-                *key = (i as u64 * 7 + 3) % 11 << 4 | i as u64;
+                *key = ((i as u64 * 7 + 3) % 11) << 4 | i as u64;
             }
             let mut want = keys;
             want[..n].sort_unstable();
