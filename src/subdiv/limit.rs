@@ -189,7 +189,7 @@ fn vertex_mask_rec(
 /// table hashes its keys with the crate's word hash (`subdiv::word_hash`), which has no per-run
 /// seed, so a build's instruction count repeats from run to run. A look-up that finds its mask
 /// allocates only the mask it returns: the ring, its key and the relabelling order are made in
-/// buffers kept per thread ([`RingScratch`]).
+/// buffers kept per thread (`RingScratch`).
 #[derive(Debug, Default)]
 pub struct SharedVertexMasks {
     /// Masks by [`ring_key`].
