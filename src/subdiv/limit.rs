@@ -268,7 +268,10 @@ impl SharedVertexMasks {
         let Some(i) = topo.vertex_faces(v).iter().position(|&g| g == face) else {
             return vertex_mask(level, v, face);
         };
-        RING_SCRATCH.with(|scratch| {
+        // A hit is answered inside the thread's buffers; a miss leaves them with its ring and
+        // key before refining, since the refinement may join on the rayon pool (large rings),
+        // where this thread can run another look-up that needs the buffers.
+        let looked_up = RING_SCRATCH.with(|scratch| {
             let s = &mut *scratch.borrow_mut();
             if !s.ring.fill(topo, v, i) {
                 return Err(Error::Invalid(format!(
@@ -278,14 +281,19 @@ impl SharedVertexMasks {
             ring_key(level, &s.ring, &mut s.key, &mut s.valences);
             if let Some(m) = self.table().get(&s.key[..]) {
                 self.hits.fetch_add(1, Ordering::Relaxed);
-                return Ok(relabelled(m, &s.ring.map, &mut s.order));
+                return Ok(Ok(relabelled(m, &s.ring.map, &mut s.order)));
             }
-            let (sub, map) = level.try_extract_ring(s.ring.clone())?;
-            let m = refined_local_mask(&sub, 0, 0, 0, LocalStep::Kept)?;
-            let out = relabelled(&m, &map, &mut s.order);
-            self.table().insert(s.key.clone(), m);
-            Ok(out)
-        })
+            Ok(Err((s.ring.clone(), s.key.clone())))
+        })?;
+        let (ring, key) = match looked_up {
+            Ok(hit) => return Ok(hit),
+            Err(miss) => miss,
+        };
+        let (sub, map) = level.try_extract_ring(ring)?;
+        let m = refined_local_mask(&sub, 0, 0, 0, LocalStep::Kept)?;
+        let out = relabelled(&m, &map, &mut Vec::new());
+        self.table().insert(key, m);
+        Ok(out)
     }
 
     /// Masks reused so far (for tests and profiles).
