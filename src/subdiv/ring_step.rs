@@ -140,6 +140,10 @@ impl KeptQuads {
         };
         let mut edge_point = vec![NONE; t.edge_count()];
         let mut vertex_point = vec![NONE; t.vertex_count()];
+        // Each child's corners in one pass, each point by its index among its kind; the kinds'
+        // offsets are added once their counts are known. Face points are numbered in increasing
+        // face order (`keep` increases), so a child's is the number of faces seen, less one.
+        let mut corners = Vec::with_capacity(4 * nk);
         let mut f = 0usize;
         for (i, &h) in keep.iter().enumerate() {
             if h as usize >= t.corner_count() || (i > 0 && h <= keep[i - 1]) {
@@ -164,36 +168,18 @@ impl KeptQuads {
             if points.faces.last() != Some(&(f as u32)) {
                 points.faces.push(f as u32);
             }
+            let face_point = points.faces.len() as u32 - 1;
             let hp = prev_corner(t, f, h);
-            for e in [t.face_edges[h as usize], t.face_edges[hp]] {
-                if edge_point[e as usize] == NONE {
-                    edge_point[e as usize] = points.edges.len() as u32;
-                    points.edges.push(e);
-                }
-            }
-            if vertex_point[v as usize] == NONE {
-                vertex_point[v as usize] = points.vertices.len() as u32;
-                points.vertices.push(v);
-            }
+            let next_point = point_of(&mut edge_point, &mut points.edges, t.face_edges[h as usize]);
+            let prev_point = point_of(&mut edge_point, &mut points.edges, t.face_edges[hp]);
+            let vertex = point_of(&mut vertex_point, &mut points.vertices, v);
+            corners.extend_from_slice(&[vertex, next_point, face_point, prev_point]);
         }
-        // The corners, now that each kind's count is known: face points are numbered in
-        // increasing face order (`keep` increases), so a child's is the number of faces seen.
         let (nfp, nep) = (points.faces.len() as u32, points.edges.len() as u32);
-        let mut corners = Vec::with_capacity(4 * nk);
-        let mut face_point = 0u32;
-        for (i, &h) in keep.iter().enumerate() {
-            let f = parent_face[i] as usize;
-            if points.faces[face_point as usize] != f as u32 {
-                face_point += 1;
-            }
-            let hp = prev_corner(t, f, h);
-            let v = t.face_verts[h as usize];
-            corners.extend_from_slice(&[
-                nfp + nep + vertex_point[v as usize],
-                nfp + edge_point[t.face_edges[h as usize] as usize],
-                face_point,
-                nfp + edge_point[t.face_edges[hp] as usize],
-            ]);
+        for quad in corners.chunks_exact_mut(4) {
+            quad[0] += nfp + nep;
+            quad[1] += nfp;
+            quad[3] += nfp;
         }
         Ok(KeptQuads {
             kept,
@@ -209,6 +195,19 @@ impl KeptQuads {
     }
 }
 
+/// The index of parent component `x`'s child point among its kind (`points`, the parents of
+/// that kind's points in order; `index`, per parent component, its point or NONE), numbered on
+/// first sight.
+#[inline(always)]
+fn point_of(index: &mut [u32], points: &mut Vec<u32>, x: u32) -> u32 {
+    let p = &mut index[x as usize];
+    if *p == NONE {
+        *p = points.len() as u32;
+        points.push(x);
+    }
+    *p
+}
+
 /// The edges of a step's child level, numbered by first appearance among the kept quads' edges
 /// (quad `i`'s edge `k` joins its corners `k` and `k + 1`: edges 0 and 3 halves of the parent
 /// corner's edges, 1 and 2 spokes to the face point).
@@ -222,11 +221,12 @@ fn child_edges(level: &Level, quads: &KeptQuads, keep: &[u32]) -> KeptEdges {
     let t = level.topology();
     let mut edges = KeptEdges::new(quads.parent_face.len());
     for (i, &h) in keep.iter().enumerate() {
-        let (i, f) = (i as u32, quads.parent_face[i] as usize);
-        let (off, n) = (t.face_offsets[f], t.face_size(f as u32) as u32);
-        let k = h - off;
+        let (i, f) = (i as u32, quads.parent_face[i]);
+        // Flat corners: `h`, the next and the previous of its face.
+        let (next, prev) = cyclic_neighbours(t, f, h);
         let v = t.face_verts[h as usize];
-        let (e_next, e_prev) = (t.face_edges[h as usize], t.face_edges[prev_corner(t, f, h)]);
+        let off = t.face_offsets[f as usize];
+        let (e_next, e_prev) = (t.face_edges[h as usize], t.face_edges[prev as usize]);
         for local in 0..4u16 {
             if edges.face_edges[4 * i as usize + usize::from(local)] != NONE {
                 continue;
@@ -235,32 +235,44 @@ fn child_edges(level: &Level, quads: &KeptQuads, keep: &[u32]) -> KeptEdges {
                 // Spoke to the edge point of the corner's edge: the next corner's child
                 // has it as its edge 2.
                 1 => {
-                    let c = quads.kept[(off + next_corner(k, n)) as usize];
+                    let c = quads.kept[next as usize];
                     ((c, 2), 0.0, c == NONE)
                 }
                 // Spoke to the previous edge's point: the previous corner's child's edge 1.
                 2 => {
-                    let c = quads.kept[(off + (k + n - 1) % n) as usize];
+                    let c = quads.kept[prev as usize];
                     ((c, 1), 0.0, c == NONE)
                 }
                 // The half at `v` of the corner's edge, or of the previous edge: the child
-                // at `v` in the face across (where the edge is entering, or leaving, `v`).
+                // at `v` in the face across (where the edge is entering, or leaving, `v`):
+                // at the next corner of `e`'s corner there, or at that corner.
                 _ => {
-                    let (e, step, other_local) = if local == 0 {
-                        (e_next, 1, 3)
+                    let (e, kf, other_local) = if local == 0 {
+                        (e_next, h - off, 3)
                     } else {
-                        (e_prev, 0, 0)
+                        (e_prev, prev - off, 0)
                     };
-                    let (g, kg) = across(t, e, f as u32, local == 0, k);
+                    let (g, kg) = across(t, e, f, kf);
                     let c = if g == NONE {
                         NONE
                     } else {
-                        let m = t.face_size(g) as u32;
-                        let corner = if step == 1 { next_corner(kg, m) } else { kg };
-                        quads.child(t, g, corner)
+                        let corner = t.face_offsets[g as usize] + kg;
+                        let corner = if local == 0 {
+                            cyclic_neighbours(t, g, corner).0
+                        } else {
+                            corner
+                        };
+                        quads.kept[corner as usize]
                     };
                     let cut = (c == NONE && g != NONE) || level.is_cut_edge(e);
-                    ((c, other_local), child_edge_sharpness(t, e, v), cut)
+                    // A smooth parent edge has smooth halves (`rules::child_sharpness`): most
+                    // edges, with no call.
+                    let sharpness = if t.edge_sharpness[e as usize] == 0.0 {
+                        0.0
+                    } else {
+                        child_edge_sharpness(t, e, v)
+                    };
+                    ((c, other_local), sharpness, cut)
                 }
             };
             let other = (other.0 != NONE).then_some(other);
@@ -270,14 +282,21 @@ fn child_edges(level: &Level, quads: &KeptQuads, keep: &[u32]) -> KeptEdges {
     edges
 }
 
-/// The face across parent edge `e` from face `f`, where `e` is `f`'s edge leaving its corner
-/// `k` (`leaving`) or entering it, and `e`'s index in that face; `(NONE, 0)` on a boundary.
-fn across(t: &Topology, e: u32, f: u32, leaving: bool, k: u32) -> (u32, u32) {
+/// The flat corners after and before flat corner `h` of face `f`, cyclically.
+#[inline(always)]
+fn cyclic_neighbours(t: &Topology, f: u32, h: u32) -> (u32, u32) {
+    let (off, end) = (t.face_offsets[f as usize], t.face_offsets[f as usize + 1]);
+    (
+        if h + 1 == end { off } else { h + 1 },
+        if h == off { end - 1 } else { h - 1 },
+    )
+}
+
+/// The face across parent edge `e` from face `f`, whose edge `kf` it is, and `e`'s index in
+/// that face; `(NONE, 0)` on a boundary.
+fn across(t: &Topology, e: u32, f: u32, kf: u32) -> (u32, u32) {
     let [f0, f1] = t.edge_faces[e as usize];
     let [k0, k1] = t.edge_face_local[e as usize];
-    let n = t.face_size(f) as u32;
-    // `e`'s index in `f`: `k` when leaving `k`, the previous corner's when entering it.
-    let kf = if leaving { k } else { (k + n - 1) % n };
     if f0 == f && u32::from(k0) == kf {
         (f1, u32::from(k1))
     } else {
@@ -303,22 +322,22 @@ fn child_rings(
     let points = &quads.points;
     let nv = points.faces.len() + points.edges.len() + points.vertices.len();
     let mut rings = topology::RingBuilder::new(face_offsets, face_edges, nv, 4 * nk, edge_count);
+    // Each point's fan in parent ring order, gathered once: written as one cycle when closed
+    // with every child kept, as runs otherwise.
     let mut fan = Vec::with_capacity(16);
     for &f in &points.faces {
         let (a, b) = (
             t.face_offsets[f as usize] as usize,
             t.face_offsets[f as usize + 1] as usize,
         );
-        let children = quads.kept[a..b].iter().map(|&i| (i, 2));
-        if !rings.try_quad_cycle(children.clone()) {
-            fan.clear();
-            fan.extend(children);
-            rings.quad_fan_as_given(true, &fan);
-        }
+        fan.clear();
+        fan.extend(quads.kept[a..b].iter().map(|&i| (i, 2)));
+        closed_fan(&mut rings, &fan);
     }
     for &e in &points.edges {
         let [f0, f1] = t.edge_faces[e as usize];
-        let [k0, k1] = t.edge_face_local[e as usize].map(u32::from);
+        let [k0, k1] = t.edge_face_local[e as usize];
+        let (k0, k1) = (u32::from(k0), u32::from(k1));
         let beside = |g: u32, k: u32| {
             let n = t.face_size(g) as u32;
             (quads.child(t, g, k), quads.child(t, g, next_corner(k, n)))
@@ -328,30 +347,38 @@ fn child_rings(
             rings.quad_fan_as_given(false, &[(c01, 3), (c00, 1)]);
         } else {
             let (c10, c11) = beside(f1, k1);
-            let children = [(c00, 1), (c11, 3), (c10, 1), (c01, 3)];
-            if !rings.try_quad_cycle(children) {
-                rings.quad_fan_as_given(true, &children);
-            }
+            closed_fan(&mut rings, &[(c00, 1), (c11, 3), (c10, 1), (c01, 3)]);
         }
     }
     for &v in &points.vertices {
         let child = |g: u32, k: u16| (quads.child(t, g, u32::from(k)), 0);
         let (faces, locals) = (t.vertex_faces(v), t.vertex_face_locals(v));
-        let open = t.vertex_edges(v).len() - faces.len();
-        let children = faces.iter().zip(locals).map(|(&g, &k)| child(g, k));
-        if open == 0 && rings.try_quad_cycle(children.clone()) {
-            continue;
-        }
-        if open <= 1 {
-            fan.clear();
-            fan.extend(children);
-            rings.quad_fan_as_given(open == 0, &fan);
-        } else {
-            rings.fans_of(t, v, child);
-            rings.end_vertex();
+        match t.vertex_edges(v).len() - faces.len() {
+            0 => {
+                fan.clear();
+                fan.extend(faces.iter().zip(locals).map(|(&g, &k)| child(g, k)));
+                closed_fan(&mut rings, &fan);
+            }
+            1 => {
+                fan.clear();
+                fan.extend(faces.iter().zip(locals).map(|(&g, &k)| child(g, k)));
+                rings.quad_fan_as_given(false, &fan);
+            }
+            _ => {
+                rings.fans_of(t, v, child);
+                rings.end_vertex();
+            }
         }
     }
     rings.finish()
+}
+
+/// The ring of a point whose children form the closed fan `fan` (in parent ring order): one
+/// cycle when every child is kept, runs otherwise.
+fn closed_fan(rings: &mut topology::RingBuilder, fan: &[(u32, u16)]) {
+    if !rings.try_quad_cycle(fan) {
+        rings.quad_fan_as_given(true, fan);
+    }
 }
 
 /// Per child vertex of `sub` (child points `points` of `level`'s faces `in_ring`, `outside`

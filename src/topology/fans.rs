@@ -140,22 +140,26 @@ impl<'a> RingBuilder<'a> {
 
     /// Ends the current vertex, whose faces in a topology of quads are the closed fan `fan` (as
     /// [`Self::fan`] takes it), when every face is kept: the ring as given, each face's leaving
-    /// edge by quad arithmetic (what [`Self::quad_fan_as_given`] writes, without a fan list).
+    /// edge by quad arithmetic (what [`Self::quad_fan_as_given`] writes, without its runs).
     /// `false`, with nothing written, when a face is NONE.
-    pub(crate) fn try_quad_cycle(&mut self, fan: impl IntoIterator<Item = (u32, u16)>) -> bool {
-        let r = &mut self.rings;
-        let (faces, edges) = (r.vert_faces.len(), r.vert_edges.len());
-        for (f, k) in fan {
-            if f == NONE {
-                r.vert_faces.truncate(faces);
-                r.vert_face_local.truncate(faces);
-                r.vert_edges.truncate(edges);
-                return false;
-            }
-            r.vert_faces.push(f);
-            r.vert_face_local.push(k);
+    pub(crate) fn try_quad_cycle(&mut self, fan: &[(u32, u16)]) -> bool {
+        if fan.iter().any(|x| x.0 == NONE) {
+            return false;
+        }
+        let (r, fe) = (&mut self.rings, self.face_edges);
+        let leaving = |(f, k): (u32, u16)| fe[(4 * f + u32::from(k)) as usize];
+        // Most fans have four faces (valence-4 vertices, quads' face points, interior edge
+        // points): as arrays, each copy is unrolled and the vectors grow once each.
+        // (Spelt out: `array::map` is not inlined here.)
+        if let Ok(&[a, b, c, d]) = <&[(u32, u16); 4]>::try_from(fan) {
+            r.vert_faces.extend_from_slice(&[a.0, b.0, c.0, d.0]);
+            r.vert_face_local.extend_from_slice(&[a.1, b.1, c.1, d.1]);
             r.vert_edges
-                .push(self.face_edges[(4 * f + u32::from(k)) as usize]);
+                .extend_from_slice(&[leaving(a), leaving(b), leaving(c), leaving(d)]);
+        } else {
+            r.vert_faces.extend(fan.iter().map(|x| x.0));
+            r.vert_face_local.extend(fan.iter().map(|x| x.1));
+            r.vert_edges.extend(fan.iter().map(|&x| leaving(x)));
         }
         self.next_vertex();
         true
