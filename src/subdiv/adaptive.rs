@@ -840,10 +840,12 @@ fn classify_level(
     // No face refined (the isolation level, or every face a patch): no transition to look for.
     let any_refined = lev.refined.contains(&true);
     for p in &mut patches[first..] {
-        if any_refined && p.kind != PatchType::EndCap {
-            for k in 0..4 {
-                if t.adjacent_face(p.face, k)
-                    .is_some_and(|g| lev.refined[g as usize])
+        // B-spline and single-crease patches are quads: edge `k` is the quad's.
+        let quad = (any_refined && p.kind != PatchType::EndCap).then(|| t.quad(p.face));
+        if let Some(Some((_, edges))) = quad {
+            for (k, &e) in edges.iter().enumerate() {
+                if t.face_across_edge(e, p.face)
+                    .is_some_and(|(g, _)| lev.refined[g as usize])
                 {
                     p.transition |= 1 << k;
                 }
