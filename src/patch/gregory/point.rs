@@ -143,32 +143,36 @@ fn merge_terms(terms: &[(f64, &Weights)]) -> Vec<(u32, f64)> {
             n += 1;
         }
     }
-    let live = &mut live[..n];
+    let live = &live[..n];
     match live {
         [] => return Vec::new(),
         [(w, x)] => return x.iter().map(|&(v, b)| (v, *w * b)).collect(),
         _ => {}
     }
+    // Each vector's next id, `u64::MAX` (past every id) once it is used up, and its place.
+    let mut head = [u64::MAX; MERGE_TERMS];
+    let mut at = [0usize; MERGE_TERMS];
+    for (h, (_, x)) in head.iter_mut().zip(live) {
+        *h = u64::from(x[0].0);
+    }
+    let head = &mut head[..n];
     let mut out = Vec::with_capacity(live.iter().map(|(_, x)| x.len()).sum());
-    while let Some(v) = live
-        .iter()
-        .filter_map(|(_, x)| x.first())
-        .map(|e| e.0)
-        .min()
-    {
+    loop {
+        let v = head.iter().copied().fold(u64::MAX, u64::min);
+        if v == u64::MAX {
+            return out;
+        }
         let mut acc: Option<f64> = None;
-        for (w, x) in live.iter_mut() {
-            if let Some((&(u, b), rest)) = x.split_first() {
-                if u == v {
-                    let t = *w * b;
-                    acc = Some(acc.map_or(t, |a| a + t));
-                    *x = rest;
-                }
+        for ((h, i), &(w, x)) in head.iter_mut().zip(&mut at).zip(live) {
+            if *h == v {
+                let t = w * x[*i].1;
+                acc = Some(acc.map_or(t, |a| a + t));
+                *i += 1;
+                *h = x.get(*i).map_or(u64::MAX, |e| u64::from(e.0));
             }
         }
-        out.push((v, acc.unwrap_or_default()));
+        out.push((v as u32, acc.unwrap_or_default()));
     }
-    out
 }
 
 thread_local! {

@@ -27,8 +27,7 @@ mod vertex_points;
 use rayon::prelude::*;
 
 use super::build::{
-    end_cap_patch_with, has_vertex_data, vertex_covered, vertex_ring_with, Coverage, NoPoint,
-    NotGregory,
+    end_cap_patch_with, has_vertex_data, is_interior_vertex, vertex_covered, Coverage, NotGregory,
 };
 use super::corner_rings::{edge_word, vertex_word, CornerRings};
 pub use super::face_rows::FaceRows;
@@ -38,7 +37,7 @@ use super::stencil_table::sparse_face_rows_direct;
 use super::stencil_table::{sparse_face_rows_direct_with, vertex_point_id, vertex_point_of};
 use super::tangents::GregoryTangents;
 use super::tangents_boundary::crease_factor_words;
-use super::vertex::{is_interior_ring, DartLimits};
+use super::vertex::DartLimits;
 use super::word_hash::WordHashMap;
 use crate::topology::Topology;
 use layouts::{to_slots, Layouts, LocalRows};
@@ -109,8 +108,7 @@ impl<'a> Keyer<'a> {
     fn is_smooth(&mut self, z: u32) -> bool {
         if self.smooth[z as usize] == 2 {
             let topo = self.topo;
-            let smooth = vertex_covered(topo, z, Coverage::EndCap)
-                && is_interior_ring(&vertex_ring_with(topo, z, &|_| NoPoint));
+            let smooth = vertex_covered(topo, z, Coverage::EndCap) && is_interior_vertex(topo, z);
             self.smooth[z as usize] = u8::from(smooth);
         }
         self.smooth[z as usize] == 1

@@ -146,24 +146,26 @@ fn table_rows_with<P: GregoryPoint>(
     own: &GregoryPatch<P>,
     neighbour: impl FnMut(u32, usize) -> Option<[P; 4]>,
 ) -> Vec<P> {
-    let mut rows: Vec<P> = Vec::with_capacity(9 * topo.face_size(f));
-    table_rows_into(topo, f, own, neighbour, |p| rows.push(p.clone()));
-    rows
+    table_rows_into(topo, f, own, neighbour, |rows| {
+        rows.iter().map(|&p| p.clone()).collect()
+    })
 }
 
-/// [`table_rows_with`], each row handed to `push` in order, by reference (no row cloned).
-fn table_rows_into<P: GregoryPoint>(
+/// [`table_rows_with`], the rows handed to `emit` at once, in order, by reference (no row
+/// cloned; the caller sizes its storage from them).
+fn table_rows_into<P: GregoryPoint, R>(
     topo: &Topology,
     f: u32,
     own: &GregoryPatch<P>,
     mut neighbour: impl FnMut(u32, usize) -> Option<[P; 4]>,
-    mut push: impl FnMut(&P),
-) {
+    emit: impl FnOnce(&[&P]) -> R,
+) -> R {
     let points = own.points();
     let [_, e_plus, e_minus, f_plus, f_minus] = points;
     let fv = topo.face_vertices(f);
     let n = fv.len();
-    points.into_iter().flatten().for_each(&mut push);
+    let mut rows: Vec<&P> = Vec::with_capacity(9 * n);
+    rows.extend(points.into_iter().flatten());
     let theirs: Vec<Option<[P; 4]>> = (0..n)
         .map(|k| {
             let (x, y) = (fv[k], fv[(k + 1) % n]);
@@ -189,14 +191,13 @@ fn table_rows_into<P: GregoryPoint>(
     };
     for k in 0..n {
         let [ex, ey, _, _] = side(k);
-        push(ex);
-        push(ey);
+        rows.extend([ex, ey]);
     }
     for k in 0..n {
         let [_, _, fx, fy] = side(k);
-        push(fx);
-        push(fy);
+        rows.extend([fx, fy]);
     }
+    emit(&rows)
 }
 
 /// Per-vertex data in weight space of every corner of `faces` and of their edge neighbours
@@ -381,8 +382,8 @@ pub fn sparse_face_rows_direct(
         .collect()
 }
 
-/// [`sparse_face_rows_direct`], each face's rows in one [`FaceRows`] (written as they come,
-/// no row copied), with whether each vertex has data known where `known` says (per vertex 0
+/// [`sparse_face_rows_direct`], each face's rows in one [`FaceRows`] (sized from the rows,
+/// which are not copied before), with whether each vertex has data known where `known` says (per vertex 0
 /// or 1, 2 for not known: the end-cap keys' answers of `has_vertex_data`, asked again here
 /// otherwise).
 pub(super) fn sparse_face_rows_direct_with(
@@ -398,18 +399,10 @@ pub(super) fn sparse_face_rows_direct_with(
         .map(|&f| {
             corners.build(topo.face_vertices(f));
             let own = gregory_patch_from(topo, f, Coverage::EndCap, |v| corners.vertex(v))?;
-            let rows = 9 * topo.face_size(f);
-            let mut out = FaceRows {
-                offsets: Vec::with_capacity(rows + 1),
-                terms: Vec::new(),
-            };
-            out.offsets.push(0);
             let neighbour = |g, k2| corners.side_points(g, k2);
-            table_rows_into(topo, f, &own, neighbour, |w: &Weights| {
-                out.terms.extend_from_slice(&w.0);
-                out.offsets.push(out.terms.len() as u32);
-            });
-            Ok(out)
+            Ok(table_rows_into(topo, f, &own, neighbour, |rows| {
+                FaceRows::from_weights(rows)
+            }))
         })
         .collect()
 }

@@ -276,17 +276,40 @@ enum Rule {
     Uncovered,
 }
 
+/// What the rules read of a ring's edges ([`VertexRing::sharp`]): how many there are, how many
+/// are infinitely sharp, and the first sharp one's place (0 without one).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct SharpEdges {
+    /// Edges of the ring.
+    pub edges: usize,
+    /// Infinitely sharp edges.
+    pub sharp: usize,
+    /// Ring index of the first infinitely sharp edge (0 without one).
+    pub first: usize,
+}
+
+impl SharpEdges {
+    /// The counts of `sharp` (per edge: infinitely sharp).
+    pub fn of(sharp: &[bool]) -> SharpEdges {
+        SharpEdges {
+            edges: sharp.len(),
+            sharp: sharp.iter().filter(|&&s| s).count(),
+            first: sharp.iter().position(|&s| s).unwrap_or(0),
+        }
+    }
+}
+
 impl Rule {
     fn of<P>(ring: &VertexRing<P>) -> Rule {
-        Rule::of_shape(&ring.sharp, ring.corner, ring.c.len())
+        Rule::of_shape(SharpEdges::of(&ring.sharp), ring.corner, ring.c.len())
     }
 
-    /// [`Rule::of`] a ring with these edges' sharpness, corner tag and face count.
-    fn of_shape(sharp_edges: &[bool], corner: bool, faces: usize) -> Rule {
-        let sharp = sharp_edges.iter().filter(|&&s| s).count();
-        let closed = faces == sharp_edges.len();
+    /// [`Rule::of`] a ring with these edges, corner tag and face count.
+    fn of_shape(edges: SharpEdges, corner: bool, faces: usize) -> Rule {
+        let sharp = edges.sharp;
+        let closed = faces == edges.edges;
         if sharp == 1 && !corner && closed {
-            Rule::Dart(sharp_edges.iter().position(|&s| s).unwrap_or(0))
+            Rule::Dart(edges.first)
         } else if corner && sharp < 2 {
             Rule::Cone
         } else if corner {
@@ -302,17 +325,17 @@ impl Rule {
 }
 
 /// Whether [`GregoryVertex::new`] (equally [`GregoryVertex::from_vertex_points`]) is `Some` on a
-/// ring with these edges' sharpness, corner tag and face count, without building it: the
+/// ring with these edges, corner tag and face count, without building it: the
 /// interior rule always, a dart when `darts` solves its valence and sharp edge, a cone of at
 /// least two edges whose faces close, a crease or corner with a face.
 pub(super) fn has_construction(
-    sharp: &[bool],
+    edges: SharpEdges,
     corner: bool,
     faces: usize,
     darts: &DartLimits,
 ) -> bool {
-    let n = sharp.len();
-    match Rule::of_shape(sharp, corner, faces) {
+    let n = edges.edges;
+    match Rule::of_shape(edges, corner, faces) {
         Rule::Interior => true,
         Rule::Dart(d) => darts.get(n, d).is_some(),
         Rule::Cone => n >= 2 && faces == n,

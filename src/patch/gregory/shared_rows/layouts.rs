@@ -5,7 +5,7 @@
 //! are then its layout with each column written as the face's id, in one pass over the terms
 //! into their final place ([`Layouts::rows`]).
 
-use crate::patch::gregory::face_rows::FaceRows;
+use crate::patch::gregory::face_rows::{FaceRows, TERM_PLACEHOLDER};
 use crate::patch::gregory::stencil_table::{vertex_point_of, VERTEX_POINTS};
 use crate::patch::gregory::word_hash::WordHashMap;
 use crate::topology::Topology;
@@ -60,7 +60,7 @@ pub(super) fn to_slots(
         .map(|c| c as u32)
         .collect();
     let mut next = starts.clone();
-    let mut columns = vec![(0, 0.0); at.len()];
+    let mut columns = vec![TERM_PLACEHOLDER; at.len()];
     let terms = rows
         .rows()
         .enumerate()
@@ -173,7 +173,7 @@ impl Layouts {
 fn scatter(rows: &LocalRows, order: &[u32]) -> Vec<(u32, f64)> {
     let l = order.len();
     let mut next = rows.offsets.clone();
-    let mut terms = vec![(0, 0.0); rows.columns.len()];
+    let mut terms = vec![TERM_PLACEHOLDER; rows.columns.len()];
     let mut put = |c: usize| {
         let column = &rows.columns[rows.starts[c] as usize..rows.starts[c + 1] as usize];
         for &(r, x) in column {

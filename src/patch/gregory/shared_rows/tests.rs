@@ -3,6 +3,7 @@
 use super::vertex_points::RingKeys;
 use super::*;
 use crate::mesh::{ControlMesh, ControlMeshDesc};
+use crate::patch::gregory::build::{vertex_ring_with, NoPoint};
 use crate::patch::gregory::corner_types::{
     end_cap_topologies, with_test_crease_factors, DECAYED_CORNER_DISKS,
 };
@@ -91,17 +92,23 @@ fn vertex_data_by_topology_is_the_constructions() {
 /// coverage is `check_vertex_for` passing at some face of the vertex, and
 /// `end_cap_patch_with` over `has_vertex_data` is `check_face_for` passing with data at
 /// every corner (fails if the one-face coverage test misreads a semi-sharp vertex or edge,
-/// or if the face test drops the face's own checks).
+/// or if the face test drops the face's own checks); `is_interior_vertex` is
+/// `is_interior_ring` of the vertex's ring (fails if it misses a sharp edge, a corner tag or
+/// an open ring).
 #[test]
 fn end_cap_shortcuts_are_the_checks() {
-    use crate::patch::gregory::build::{check_vertex_for, end_cap_patch_with};
-    use crate::patch::gregory::check_face_for;
+    use crate::patch::gregory::build::{check_vertex_for, end_cap_patch_with, is_interior_vertex};
+    use crate::patch::gregory::{check_face_for, is_interior_ring};
     let darts = DartLimits::new();
-    // Per answer: uncovered vertices, covered ones, faces without and with a patch.
-    let mut seen = [0usize; 4];
+    // Per answer: uncovered vertices, covered ones, faces without and with a patch, vertices
+    // not interior and interior.
+    let mut seen = [0usize; 6];
     for name in TOPOLOGY_CORPUS {
         for topo in level_topologies(name, true) {
             for v in 0..topo.vertex_count() as u32 {
+                let interior = is_interior_ring(&vertex_ring_with(&topo, v, &|_| NoPoint));
+                assert_eq!(is_interior_vertex(&topo, v), interior, "{name}: vertex {v}");
+                seen[4 + usize::from(interior)] += 1;
                 let want = topo
                     .vertex_faces(v)
                     .iter()

@@ -5,7 +5,7 @@
 use rayon::prelude::*;
 
 use crate::patch::gregory::corner_rings::vertex_word;
-use crate::patch::gregory::face_rows::FaceRows;
+use crate::patch::gregory::face_rows::{FaceRows, TERM_PLACEHOLDER};
 use crate::patch::gregory::point::Weights;
 use crate::patch::gregory::stencil_table::vertex_point_rows_with;
 use crate::patch::gregory::tangents::GregoryTangents;
@@ -79,35 +79,51 @@ pub fn shared_vertex_point_rows(
         vertices.len(),
         representative.len()
     );
-    // Relabelled into flat rows, run by run on the pool (no allocation per row).
-    let parts: Vec<FaceRows> = runs
-        .par_iter()
-        .zip(type_of.par_chunks(RUN))
-        .map(|(keys, types)| {
-            let mut out = FaceRows::default();
-            out.offsets.reserve(3 * types.len() + 1);
-            out.offsets.push(0);
-            for (j, &t) in types.iter().enumerate() {
-                let ring = keys.ring(j);
-                for w in &local[t as usize] {
-                    let start = out.terms.len();
-                    out.terms
-                        .extend(w.0.iter().map(|&(s, x)| (ring[s as usize], x)));
-                    out.terms[start..].sort_unstable_by_key(|&(u, _)| u);
-                    out.offsets.push(out.terms.len() as u32);
-                }
-            }
-            out
-        })
+    // Relabelled into flat rows: one buffer of the exact size, each run's part of it filled on
+    // the pool (no allocation per row or run, nothing copied after).
+    let terms_of: Vec<usize> = local
+        .iter()
+        .map(|rows| rows.iter().map(|w| w.0.len()).sum())
         .collect();
     let mut out = FaceRows {
         offsets: Vec::with_capacity(3 * vertices.len() + 1),
-        terms: Vec::with_capacity(parts.iter().map(|p| p.terms.len()).sum()),
+        terms: Vec::new(),
     };
     out.offsets.push(0);
-    for part in &parts {
-        out.append(part);
+    let mut end = 0;
+    for &t in &type_of {
+        for w in &local[t as usize] {
+            end += w.0.len() as u32;
+            out.offsets.push(end);
+        }
     }
+    out.terms = vec![TERM_PLACEHOLDER; end as usize];
+    let mut parts: Vec<&mut [(u32, f64)]> = Vec::with_capacity(runs.len());
+    let mut rest = out.terms.as_mut_slice();
+    for types in type_of.chunks(RUN) {
+        let len = types.iter().map(|&t| terms_of[t as usize]).sum();
+        let (part, after) = rest.split_at_mut(len);
+        parts.push(part);
+        rest = after;
+    }
+    parts
+        .into_par_iter()
+        .zip(&runs)
+        .zip(type_of.par_chunks(RUN))
+        .for_each(|((part, keys), types)| {
+            let mut at = 0;
+            for (j, &t) in types.iter().enumerate() {
+                let ring = keys.ring(j);
+                for w in &local[t as usize] {
+                    let row = &mut part[at..at + w.0.len()];
+                    for (term, &(s, x)) in row.iter_mut().zip(&w.0) {
+                        *term = (ring[s as usize], x);
+                    }
+                    row.sort_unstable_by_key(|&(u, _)| u);
+                    at += w.0.len();
+                }
+            }
+        });
     out
 }
 
