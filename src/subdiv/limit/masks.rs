@@ -106,15 +106,70 @@ impl Dense {
     }
 }
 
+/// The nonzero entries of a [`Dense`] matrix row by row, for the power iterations' products
+/// (a local subdivision matrix is mostly zeros: a ring entry's rule reads a few others).
+struct NonZeros {
+    m: usize,
+    /// Row `i`'s entries at `offsets[i]..offsets[i + 1]`.
+    offsets: Vec<usize>,
+    /// `(column, entry)`, columns increasing within a row.
+    entries: Vec<(usize, f64)>,
+}
+
+impl NonZeros {
+    fn of(s: &Dense) -> NonZeros {
+        let m = s.m;
+        let mut offsets = Vec::with_capacity(m + 1);
+        let mut entries = Vec::new();
+        offsets.push(0);
+        for row in s.a.chunks_exact(m) {
+            entries.extend(
+                row.iter()
+                    .enumerate()
+                    .filter(|e| *e.1 != 0.0)
+                    .map(|(j, &r)| (j, r)),
+            );
+            offsets.push(entries.len());
+        }
+        NonZeros {
+            m,
+            offsets,
+            entries,
+        }
+    }
+
+    /// [`Dense::left_mul`] into `y`, bit for bit for a finite `x`: the same products summed in
+    /// the same order, less the zero entries' products, which change no sum (each sum starts
+    /// at +0 and a sum of floats is -0 only if both terms are, so adding ±0 leaves it as it is).
+    fn left_mul_into(&self, x: &[f64], y: &mut Vec<f64>) {
+        y.clear();
+        y.resize(self.m, 0.0);
+        for (i, &xi) in x.iter().enumerate() {
+            if xi == 0.0 {
+                continue;
+            }
+            for &(j, r) in &self.entries[self.offsets[i]..self.offsets[i + 1]] {
+                y[j] += xi * r;
+            }
+        }
+    }
+}
+
 /// The dominant left eigenvector (eigenvalue 1) of an affine subdivision matrix by power
 /// iteration from the unit vector at `centre`, normalised to sum 1.
 pub fn dominant(s: &Dense, centre: usize) -> Option<Vec<f64>> {
+    dominant_of(&NonZeros::of(s), centre)
+}
+
+/// [`dominant`] of the matrix whose entries are `s`.
+fn dominant_of(s: &NonZeros, centre: usize) -> Option<Vec<f64>> {
     let mut l = vec![0.0; s.m];
     l[centre] = 1.0;
+    let mut next = Vec::with_capacity(s.m);
     for _ in 0..4000 {
-        let next = s.left_mul(&l);
+        s.left_mul_into(&l, &mut next);
         let diff: f64 = next.iter().zip(&l).map(|(a, b)| (a - b).abs()).sum();
-        l = next;
+        std::mem::swap(&mut l, &mut next);
         if diff < 1e-15 {
             let total: f64 = l.iter().sum();
             if total.abs() < 1e-12 {
@@ -139,7 +194,13 @@ pub fn eigen_limit_locked(
     lock: Vec<f64>,
     hint: Vec<f64>,
 ) -> Option<EigenLimit> {
-    let l = dominant(s, centre)?;
+    let s = NonZeros::of(s);
+    let l = dominant_of(&s, centre)?;
+    locked_of(&s, l, lock, hint)
+}
+
+/// [`eigen_limit_locked`] of the matrix whose entries are `s`, its dominant mode `l` given.
+fn locked_of(s: &NonZeros, l: Vec<f64>, lock: Vec<f64>, hint: Vec<f64>) -> Option<EigenLimit> {
     let nl = norm(&lock);
     if nl < 1e-300 {
         return None;
@@ -166,12 +227,13 @@ pub fn eigen_limit_locked(
         return None;
     }
     let mut x = hint.clone();
+    let mut y = Vec::with_capacity(s.m);
     // A repeated quotient eigenvalue with a Jordan block (e.g. a crease vertex whose sector has
     // one face: spectrum 1, 1/2, 1/4, 1/4) converges only like 1/k: allow many cheap steps and
     // accept a direction that has stopped moving to 1e-7 per step (its error is then ~1e-4).
     let max_iter = (20_000_000 / (s.m * s.m)).clamp(4000, 50_000);
     for it in 0..max_iter {
-        let mut y = s.left_mul(&x);
+        s.left_mul_into(&x, &mut y);
         if !project(&mut y) {
             return None;
         }
@@ -182,7 +244,7 @@ pub fn eigen_limit_locked(
             .map(|(a, b)| (a - sign * b).powi(2))
             .sum::<f64>()
             .sqrt();
-        x = y;
+        std::mem::swap(&mut x, &mut y);
         if diff < 1e-13 || (it + 1 == max_iter && diff < 1e-7) {
             if dot(&x, &hint) < 0.0 {
                 x.iter_mut().for_each(|v| *v = -*v);
@@ -211,7 +273,8 @@ pub fn face_orientation(
     xb: &[f64],
     t: [&[f64]; 2],
 ) -> Option<f64> {
-    let l = dominant(s, centre)?;
+    let s = NonZeros::of(s);
+    let l = dominant_of(&s, centre)?;
     let deflate = |x: &mut Vec<f64>| {
         let c: f64 = x.iter().sum();
         for (xi, li) in x.iter_mut().zip(&l) {
@@ -228,11 +291,14 @@ pub fn face_orientation(
         return None;
     }
     let (mut ya, mut yb) = (xa.to_vec(), xb.to_vec());
+    let mut product = Vec::with_capacity(s.m);
     let mut last = 0.0;
     let steps = (4_000_000 / (s.m * s.m)).clamp(40, 400);
     for it in 0..steps {
-        ya = s.left_mul(&ya);
-        yb = s.left_mul(&yb);
+        s.left_mul_into(&ya, &mut product);
+        std::mem::swap(&mut ya, &mut product);
+        s.left_mul_into(&yb, &mut product);
+        std::mem::swap(&mut yb, &mut product);
         deflate(&mut ya);
         deflate(&mut yb);
         if !unit(&mut ya) {
@@ -285,18 +351,27 @@ fn norm(a: &[f64]) -> f64 {
 pub fn eigen_limit(s: &Dense, centre: usize, start: [Vec<f64>; 2]) -> Option<EigenLimit> {
     let [xa, xb] = start;
     let sum: Vec<f64> = xa.iter().zip(&xb).map(|(a, b)| a + b).collect();
-    let t1 = subdominant(s, centre, sum)?;
+    let s = NonZeros::of(s);
+    // One dominant mode for both iterations (each would find the same).
+    let l = dominant_of(&s, centre)?;
+    let t1 = subdominant_of(&s, &l, sum)?;
     let hint: Vec<f64> = xa.iter().zip(&xb).map(|(a, b)| b - a).collect();
-    eigen_limit_locked(s, centre, t1, hint)
+    locked_of(&s, l, t1, hint)
 }
 
 /// The dominant left eigenvector of `s` once the eigenvalue 1 is deflated (power iteration from
 /// `start`, unit length, the sign it converges to). `None` without convergence.
 pub fn subdominant(s: &Dense, centre: usize, start: Vec<f64>) -> Option<Vec<f64>> {
-    let l = dominant(s, centre)?;
+    let s = NonZeros::of(s);
+    let l = dominant_of(&s, centre)?;
+    subdominant_of(&s, &l, start)
+}
+
+/// [`subdominant`] of the matrix whose entries are `s`, its dominant mode `l` given.
+fn subdominant_of(s: &NonZeros, l: &[f64], start: Vec<f64>) -> Option<Vec<f64>> {
     let deflate_unit = |x: &mut Vec<f64>| -> bool {
         let c: f64 = x.iter().sum();
-        for (xi, li) in x.iter_mut().zip(&l) {
+        for (xi, li) in x.iter_mut().zip(l) {
             *xi -= c * li;
         }
         let n = norm(x);
@@ -310,9 +385,10 @@ pub fn subdominant(s: &Dense, centre: usize, start: Vec<f64>) -> Option<Vec<f64>
     if !deflate_unit(&mut x) {
         return None;
     }
+    let mut y = Vec::with_capacity(s.m);
     let max_iter = (20_000_000 / (s.m * s.m)).clamp(4000, 50_000);
     for it in 0..max_iter {
-        let mut y = s.left_mul(&x);
+        s.left_mul_into(&x, &mut y);
         if !deflate_unit(&mut y) {
             return None;
         }
@@ -322,7 +398,7 @@ pub fn subdominant(s: &Dense, centre: usize, start: Vec<f64>) -> Option<Vec<f64>
             .map(|(a, b)| (a - b).powi(2))
             .sum::<f64>()
             .sqrt();
-        x = y;
+        std::mem::swap(&mut x, &mut y);
         if diff < 1e-13 || (it + 1 == max_iter && diff < 1e-7) {
             return Some(x);
         }
