@@ -91,8 +91,16 @@ pub struct Dense {
 impl Dense {
     /// Row vector times matrix: `x S`.
     pub fn left_mul(&self, x: &[f64]) -> Vec<f64> {
+        let mut y = Vec::with_capacity(self.m);
+        self.left_mul_into(x, &mut y);
+        y
+    }
+
+    /// [`Self::left_mul`] into `y` (the power iterations' buffers).
+    fn left_mul_into(&self, x: &[f64], y: &mut Vec<f64>) {
         let m = self.m;
-        let mut y = vec![0.0; m];
+        y.clear();
+        y.resize(m, 0.0);
         for (i, &xi) in x.iter().enumerate() {
             if xi == 0.0 {
                 continue;
@@ -102,67 +110,12 @@ impl Dense {
                 *yj += xi * r;
             }
         }
-        y
-    }
-}
-
-/// The nonzero entries of a [`Dense`] matrix row by row, for the power iterations' products
-/// (a local subdivision matrix is mostly zeros: a ring entry's rule reads a few others).
-struct NonZeros {
-    m: usize,
-    /// Row `i`'s entries at `offsets[i]..offsets[i + 1]`.
-    offsets: Vec<usize>,
-    /// `(column, entry)`, columns increasing within a row.
-    entries: Vec<(usize, f64)>,
-}
-
-impl NonZeros {
-    fn of(s: &Dense) -> NonZeros {
-        let m = s.m;
-        let mut offsets = Vec::with_capacity(m + 1);
-        let mut entries = Vec::new();
-        offsets.push(0);
-        for row in s.a.chunks_exact(m) {
-            entries.extend(
-                row.iter()
-                    .enumerate()
-                    .filter(|e| *e.1 != 0.0)
-                    .map(|(j, &r)| (j, r)),
-            );
-            offsets.push(entries.len());
-        }
-        NonZeros {
-            m,
-            offsets,
-            entries,
-        }
-    }
-
-    /// [`Dense::left_mul`] into `y`, bit for bit for a finite `x`: the same products summed in
-    /// the same order, less the zero entries' products, which change no sum (each sum starts
-    /// at +0 and a sum of floats is -0 only if both terms are, so adding ±0 leaves it as it is).
-    fn left_mul_into(&self, x: &[f64], y: &mut Vec<f64>) {
-        y.clear();
-        y.resize(self.m, 0.0);
-        for (i, &xi) in x.iter().enumerate() {
-            if xi == 0.0 {
-                continue;
-            }
-            for &(j, r) in &self.entries[self.offsets[i]..self.offsets[i + 1]] {
-                y[j] += xi * r;
-            }
-        }
     }
 }
 
 /// The dominant left eigenvector (eigenvalue 1) of an affine subdivision matrix by power
 /// iteration from the unit vector at `centre`, normalised to sum 1.
 pub fn dominant(s: &Dense, centre: usize) -> Option<Vec<f64>> {
-    dominant_of(&NonZeros::of(s), centre)
-}
-
-/// [`dominant`] of the matrix whose entries are `s`.
-fn dominant_of(s: &NonZeros, centre: usize) -> Option<Vec<f64>> {
     let mut l = vec![0.0; s.m];
     l[centre] = 1.0;
     let mut next = Vec::with_capacity(s.m);
@@ -194,13 +147,12 @@ pub fn eigen_limit_locked(
     lock: Vec<f64>,
     hint: Vec<f64>,
 ) -> Option<EigenLimit> {
-    let s = NonZeros::of(s);
-    let l = dominant_of(&s, centre)?;
-    locked_of(&s, l, lock, hint)
+    let l = dominant(s, centre)?;
+    locked(s, l, lock, hint)
 }
 
-/// [`eigen_limit_locked`] of the matrix whose entries are `s`, its dominant mode `l` given.
-fn locked_of(s: &NonZeros, l: Vec<f64>, lock: Vec<f64>, hint: Vec<f64>) -> Option<EigenLimit> {
+/// [`eigen_limit_locked`] with `s`'s dominant mode `l` given.
+fn locked(s: &Dense, l: Vec<f64>, lock: Vec<f64>, hint: Vec<f64>) -> Option<EigenLimit> {
     let nl = norm(&lock);
     if nl < 1e-300 {
         return None;
@@ -273,8 +225,7 @@ pub fn face_orientation(
     xb: &[f64],
     t: [&[f64]; 2],
 ) -> Option<f64> {
-    let s = NonZeros::of(s);
-    let l = dominant_of(&s, centre)?;
+    let l = dominant(s, centre)?;
     let deflate = |x: &mut Vec<f64>| {
         let c: f64 = x.iter().sum();
         for (xi, li) in x.iter_mut().zip(&l) {
@@ -351,24 +302,22 @@ fn norm(a: &[f64]) -> f64 {
 pub fn eigen_limit(s: &Dense, centre: usize, start: [Vec<f64>; 2]) -> Option<EigenLimit> {
     let [xa, xb] = start;
     let sum: Vec<f64> = xa.iter().zip(&xb).map(|(a, b)| a + b).collect();
-    let s = NonZeros::of(s);
     // One dominant mode for both iterations (each would find the same).
-    let l = dominant_of(&s, centre)?;
-    let t1 = subdominant_of(&s, &l, sum)?;
+    let l = dominant(s, centre)?;
+    let t1 = subdominant_with(s, &l, sum)?;
     let hint: Vec<f64> = xa.iter().zip(&xb).map(|(a, b)| b - a).collect();
-    locked_of(&s, l, t1, hint)
+    locked(s, l, t1, hint)
 }
 
 /// The dominant left eigenvector of `s` once the eigenvalue 1 is deflated (power iteration from
 /// `start`, unit length, the sign it converges to). `None` without convergence.
 pub fn subdominant(s: &Dense, centre: usize, start: Vec<f64>) -> Option<Vec<f64>> {
-    let s = NonZeros::of(s);
-    let l = dominant_of(&s, centre)?;
-    subdominant_of(&s, &l, start)
+    let l = dominant(s, centre)?;
+    subdominant_with(s, &l, start)
 }
 
-/// [`subdominant`] of the matrix whose entries are `s`, its dominant mode `l` given.
-fn subdominant_of(s: &NonZeros, l: &[f64], start: Vec<f64>) -> Option<Vec<f64>> {
+/// [`subdominant`] with `s`'s dominant mode `l` given.
+fn subdominant_with(s: &Dense, l: &[f64], start: Vec<f64>) -> Option<Vec<f64>> {
     let deflate_unit = |x: &mut Vec<f64>| -> bool {
         let c: f64 = x.iter().sum();
         for (xi, li) in x.iter_mut().zip(l) {
