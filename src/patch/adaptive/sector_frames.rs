@@ -149,8 +149,19 @@ impl SectorFrames {
             index.insert(key, first + (out.rows.len() - 1) as u32);
         });
         let frame = |key: Option<SectorKey>| key.and_then(|k| index.get(&k).copied());
+        out.corners.reserve_exact(census.patches.len());
+        out.mids.reserve_exact(census.patches.len());
         for ((p, keys), mids) in census.patches.iter().zip(&corner_keys).zip(mid_slots) {
-            out.corners.push(keys.map(|k| frame(k).unwrap_or(NONE)));
+            // Most patches have neither a keyed corner nor a transition midpoint.
+            out.corners.push(if *keys == [None; 4] {
+                [NONE; 4]
+            } else {
+                keys.map(|k| frame(k).unwrap_or(NONE))
+            });
+            if *mids == [NONE; 4] {
+                out.mids.push([NONE; 4]);
+                continue;
+            }
             let lev = &refinement.levels[p.level as usize];
             let t = lev.topology();
             let b = lev.domains[p.face as usize].base_face;

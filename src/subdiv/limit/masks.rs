@@ -91,8 +91,16 @@ pub struct Dense {
 impl Dense {
     /// Row vector times matrix: `x S`.
     pub fn left_mul(&self, x: &[f64]) -> Vec<f64> {
+        let mut y = Vec::with_capacity(self.m);
+        self.left_mul_into(x, &mut y);
+        y
+    }
+
+    /// [`Self::left_mul`] into `y` (the power iterations' buffers).
+    fn left_mul_into(&self, x: &[f64], y: &mut Vec<f64>) {
         let m = self.m;
-        let mut y = vec![0.0; m];
+        y.clear();
+        y.resize(m, 0.0);
         for (i, &xi) in x.iter().enumerate() {
             if xi == 0.0 {
                 continue;
@@ -102,7 +110,6 @@ impl Dense {
                 *yj += xi * r;
             }
         }
-        y
     }
 }
 
@@ -111,10 +118,11 @@ impl Dense {
 pub fn dominant(s: &Dense, centre: usize) -> Option<Vec<f64>> {
     let mut l = vec![0.0; s.m];
     l[centre] = 1.0;
+    let mut next = Vec::with_capacity(s.m);
     for _ in 0..4000 {
-        let next = s.left_mul(&l);
+        s.left_mul_into(&l, &mut next);
         let diff: f64 = next.iter().zip(&l).map(|(a, b)| (a - b).abs()).sum();
-        l = next;
+        std::mem::swap(&mut l, &mut next);
         if diff < 1e-15 {
             let total: f64 = l.iter().sum();
             if total.abs() < 1e-12 {
@@ -140,6 +148,11 @@ pub fn eigen_limit_locked(
     hint: Vec<f64>,
 ) -> Option<EigenLimit> {
     let l = dominant(s, centre)?;
+    locked(s, l, lock, hint)
+}
+
+/// [`eigen_limit_locked`] with `s`'s dominant mode `l` given.
+fn locked(s: &Dense, l: Vec<f64>, lock: Vec<f64>, hint: Vec<f64>) -> Option<EigenLimit> {
     let nl = norm(&lock);
     if nl < 1e-300 {
         return None;
@@ -166,12 +179,13 @@ pub fn eigen_limit_locked(
         return None;
     }
     let mut x = hint.clone();
+    let mut y = Vec::with_capacity(s.m);
     // A repeated quotient eigenvalue with a Jordan block (e.g. a crease vertex whose sector has
     // one face: spectrum 1, 1/2, 1/4, 1/4) converges only like 1/k: allow many cheap steps and
     // accept a direction that has stopped moving to 1e-7 per step (its error is then ~1e-4).
     let max_iter = (20_000_000 / (s.m * s.m)).clamp(4000, 50_000);
     for it in 0..max_iter {
-        let mut y = s.left_mul(&x);
+        s.left_mul_into(&x, &mut y);
         if !project(&mut y) {
             return None;
         }
@@ -182,7 +196,7 @@ pub fn eigen_limit_locked(
             .map(|(a, b)| (a - sign * b).powi(2))
             .sum::<f64>()
             .sqrt();
-        x = y;
+        std::mem::swap(&mut x, &mut y);
         if diff < 1e-13 || (it + 1 == max_iter && diff < 1e-7) {
             if dot(&x, &hint) < 0.0 {
                 x.iter_mut().for_each(|v| *v = -*v);
@@ -228,11 +242,14 @@ pub fn face_orientation(
         return None;
     }
     let (mut ya, mut yb) = (xa.to_vec(), xb.to_vec());
+    let mut product = Vec::with_capacity(s.m);
     let mut last = 0.0;
     let steps = (4_000_000 / (s.m * s.m)).clamp(40, 400);
     for it in 0..steps {
-        ya = s.left_mul(&ya);
-        yb = s.left_mul(&yb);
+        s.left_mul_into(&ya, &mut product);
+        std::mem::swap(&mut ya, &mut product);
+        s.left_mul_into(&yb, &mut product);
+        std::mem::swap(&mut yb, &mut product);
         deflate(&mut ya);
         deflate(&mut yb);
         if !unit(&mut ya) {
@@ -285,18 +302,25 @@ fn norm(a: &[f64]) -> f64 {
 pub fn eigen_limit(s: &Dense, centre: usize, start: [Vec<f64>; 2]) -> Option<EigenLimit> {
     let [xa, xb] = start;
     let sum: Vec<f64> = xa.iter().zip(&xb).map(|(a, b)| a + b).collect();
-    let t1 = subdominant(s, centre, sum)?;
+    // One dominant mode for both iterations (each would find the same).
+    let l = dominant(s, centre)?;
+    let t1 = subdominant_with(s, &l, sum)?;
     let hint: Vec<f64> = xa.iter().zip(&xb).map(|(a, b)| b - a).collect();
-    eigen_limit_locked(s, centre, t1, hint)
+    locked(s, l, t1, hint)
 }
 
 /// The dominant left eigenvector of `s` once the eigenvalue 1 is deflated (power iteration from
 /// `start`, unit length, the sign it converges to). `None` without convergence.
 pub fn subdominant(s: &Dense, centre: usize, start: Vec<f64>) -> Option<Vec<f64>> {
     let l = dominant(s, centre)?;
+    subdominant_with(s, &l, start)
+}
+
+/// [`subdominant`] with `s`'s dominant mode `l` given.
+fn subdominant_with(s: &Dense, l: &[f64], start: Vec<f64>) -> Option<Vec<f64>> {
     let deflate_unit = |x: &mut Vec<f64>| -> bool {
         let c: f64 = x.iter().sum();
-        for (xi, li) in x.iter_mut().zip(&l) {
+        for (xi, li) in x.iter_mut().zip(l) {
             *xi -= c * li;
         }
         let n = norm(x);
@@ -310,9 +334,10 @@ pub fn subdominant(s: &Dense, centre: usize, start: Vec<f64>) -> Option<Vec<f64>
     if !deflate_unit(&mut x) {
         return None;
     }
+    let mut y = Vec::with_capacity(s.m);
     let max_iter = (20_000_000 / (s.m * s.m)).clamp(4000, 50_000);
     for it in 0..max_iter {
-        let mut y = s.left_mul(&x);
+        s.left_mul_into(&x, &mut y);
         if !deflate_unit(&mut y) {
             return None;
         }
@@ -322,7 +347,7 @@ pub fn subdominant(s: &Dense, centre: usize, start: Vec<f64>) -> Option<Vec<f64>
             .map(|(a, b)| (a - b).powi(2))
             .sum::<f64>()
             .sqrt();
-        x = y;
+        std::mem::swap(&mut x, &mut y);
         if diff < 1e-13 || (it + 1 == max_iter && diff < 1e-7) {
             return Some(x);
         }

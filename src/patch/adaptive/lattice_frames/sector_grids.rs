@@ -464,9 +464,7 @@ impl GridShapes {
         let shape = self.shapes[grids.shape as usize].as_mut()?;
         let sums = &mut self.sums;
         let terms = shape.node_terms((i, x, y), masks, sums)?;
-        sums.terms.clear();
-        sums.terms.extend_from_slice(terms);
-        sums.pull_back(&grids.first, grids.columns.len());
+        sums.pull_back_from(terms, &grids.first, grids.columns.len());
         let row = |d: usize| {
             let mut w = Vec::with_capacity(sums.terms.len());
             let terms = sums.terms.iter().filter(|t| t.1[d] != 0.0);
@@ -480,10 +478,8 @@ impl GridShapes {
 /// The pull-back of [`GridShapes::node_rows`], its accumulators reused from node to node.
 #[derive(Debug, Default)]
 struct GridSums {
-    /// Per point of the coarser level: its sums so far.
-    sums: Vec<[f64; 2]>,
-    /// Per point of the coarser level: whether it has a sum.
-    seen: Vec<bool>,
+    /// Per point of the coarser level: its sums so far and whether it has any.
+    sums: Vec<([f64; 2], bool)>,
     /// A node's terms (point, weights) as they are pulled back.
     terms: Vec<(u32, [f64; 2])>,
 }
@@ -499,23 +495,42 @@ impl GridSums {
     /// The terms over a level's points as terms over its parent's (`width` points), through
     /// the level's rows, in increasing parent point.
     fn pull_back(&mut self, rows: &Rows, width: usize) {
-        self.sums.clear();
-        self.sums.resize(width, [0.0; 2]);
-        self.seen.clear();
-        self.seen.resize(width, false);
-        for &(i, w) in &self.terms {
-            for &(col, x) in rows.row(i) {
-                let c = col as usize;
-                self.seen[c] = true;
-                self.sums[c][0] += w[0] * x;
-                self.sums[c][1] += w[1] * x;
-            }
-        }
+        accumulate(&mut self.sums, &self.terms, rows, width);
+        self.collect();
+    }
+
+    /// [`Self::pull_back`] of `terms` instead of the node's own.
+    fn pull_back_from(&mut self, terms: &[(u32, [f64; 2])], rows: &Rows, width: usize) {
+        accumulate(&mut self.sums, terms, rows, width);
+        self.collect();
+    }
+
+    /// The sums made as the node's terms.
+    fn collect(&mut self) {
         self.terms.clear();
-        for (c, (&seen, &s)) in self.seen.iter().zip(&self.sums).enumerate() {
+        for (c, &(s, seen)) in self.sums.iter().enumerate() {
             if seen {
                 self.terms.push((c as u32, s));
             }
+        }
+    }
+}
+
+/// Sums `terms` through `rows` into `sums` (`width` points, cleared first), term by term.
+fn accumulate(
+    sums: &mut Vec<([f64; 2], bool)>,
+    terms: &[(u32, [f64; 2])],
+    rows: &Rows,
+    width: usize,
+) {
+    sums.clear();
+    sums.resize(width, ([0.0; 2], false));
+    for &(i, w) in terms {
+        for &(col, x) in rows.row(i) {
+            let (s, seen) = &mut sums[col as usize];
+            *seen = true;
+            s[0] += w[0] * x;
+            s[1] += w[1] * x;
         }
     }
 }
