@@ -173,18 +173,16 @@ impl<'a> CornerRows<'a> {
 /// Every corner of every census patch, exact patches (B-spline, single-crease) first, then end
 /// caps.
 fn exact_first(refinement: &AdaptiveRefinement, census: &PatchCensus) -> Vec<PatchCorner> {
-    let mut cap_of = Vec::with_capacity(census.patches.len());
-    let mut cap = 0;
-    for p in &census.patches {
-        cap_of.push(cap);
-        cap += usize::from(p.bspline.is_none());
-    }
     let mut out = Vec::with_capacity(4 * census.patches.len());
     for end_caps in [false, true] {
-        for (i, (p, &cap)) in census.patches.iter().zip(&cap_of).enumerate() {
+        // End caps: the running count of end caps is the index of the patch's rows.
+        let mut next_cap = 0;
+        for (i, p) in census.patches.iter().enumerate() {
             if p.bspline.is_none() != end_caps {
                 continue;
             }
+            let cap = next_cap;
+            next_cap += usize::from(end_caps);
             let t = refinement.levels[p.level as usize].topology();
             for (k, &v) in t.face_vertices(p.face).iter().enumerate() {
                 out.push(PatchCorner {
