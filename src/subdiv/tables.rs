@@ -186,7 +186,10 @@ impl SubdivisionTables {
                 offset: out.indices.len() as u32,
                 count: verts.len() as u32,
             });
-            out.indices.extend(verts.iter().map(|&v| base + v));
+            // Pushed one by one: a few indices a face, where `extend`'s call costs more.
+            for &v in verts {
+                out.indices.push(base + v);
+            }
         }
         for &(e, dst) in &placement.edges {
             if e as usize >= t.edge_count() {
@@ -212,6 +215,7 @@ impl SubdivisionTables {
                 sharp,
             });
         }
+        let mut ring_sharpness = RingSharpness::default();
         for &(v, dst) in &placement.vertices {
             if v as usize >= t.vertex_count() {
                 return Err(range("vertex", v));
@@ -219,12 +223,13 @@ impl SubdivisionTables {
             let offset = out.indices.len() as u32;
             let edges = t.vertex_edges(v);
             let faces = t.vertex_faces(v);
-            out.indices
-                .extend(edges.iter().map(|&e| base + t.other_vertex(e, v)));
+            for &e in edges {
+                out.indices.push(base + t.other_vertex(e, v));
+            }
             for &f in faces {
                 out.indices.push(needed(f, "vertex", v)?);
             }
-            let (rules, weight, crease) = vertex_rules(parent, v);
+            let (rules, weight, crease) = vertex_rules(parent, v, &mut ring_sharpness);
             out.vertices.push(VertexEntry {
                 dst,
                 src: base + v,
@@ -287,7 +292,11 @@ fn range(what: &str, i: u32) -> Error {
 
 /// The vertex rule of parent vertex `v` as `Level::refine` applies it: `([parent, child],
 /// weight of the parent rule, ring positions of the crease edges)`.
-fn vertex_rules(level: &Level, v: u32) -> ([VertexRule; 2], f64, [u32; 2]) {
+fn vertex_rules(
+    level: &Level,
+    v: u32,
+    scratch: &mut RingSharpness,
+) -> ([VertexRule; 2], f64, [u32; 2]) {
     let t = level.topology();
     let edges = t.vertex_edges(v);
     let pv = t.vertex_sharpness(v);
@@ -298,20 +307,19 @@ fn vertex_rules(level: &Level, v: u32) -> ([VertexRule; 2], f64, [u32; 2]) {
     if matches!(prule, VertexRule::Smooth | VertexRule::Dart) {
         return ([prule, prule], 1.0, [NO_POINT; 2]);
     }
-    let ps: Vec<f32> = edges.iter().map(|&e| t.edge_sharpness(e)).collect();
-    let sharp_of = |s: &[f32]| -> Vec<usize> { (0..s.len()).filter(|&i| s[i] > 0.0).collect() };
-    let psharp = sharp_of(&ps);
-    let crease_of = |sharp: &[usize]| [sharp[0] as u32, sharp[1] as u32];
-    let cs: Vec<f32> = edges
-        .iter()
-        .map(|&e| child_edge_sharpness(t, e, v))
-        .collect();
+    let RingSharpness {
+        parent: ps,
+        child: cs,
+    } = scratch;
+    ps.clear();
+    ps.extend(edges.iter().map(|&e| t.edge_sharpness(e)));
+    cs.clear();
+    cs.extend(edges.iter().map(|&e| child_edge_sharpness(t, e, v)));
     let cv = decrement(pv);
-    let csharp = sharp_of(&cs);
-    let crule = vertex_rule(cv, csharp.len());
+    let crule = vertex_rule(cv, cs.iter().filter(|&&s| s > 0.0).count());
     if crule == prule {
         let crease = if prule == VertexRule::Crease {
-            crease_of(&psharp)
+            crease_of(ps)
         } else {
             [NO_POINT; 2]
         };
@@ -319,14 +327,28 @@ fn vertex_rules(level: &Level, v: u32) -> ([VertexRule; 2], f64, [u32; 2]) {
     }
     // The child's sharp edges are a subset of the parent's: only one rule can be a crease.
     let crease = if prule == VertexRule::Crease {
-        crease_of(&psharp)
+        crease_of(ps)
     } else if crule == VertexRule::Crease {
-        crease_of(&csharp)
+        crease_of(cs)
     } else {
         [NO_POINT; 2]
     };
-    let w = fractional_weight(pv, cv, &ps, &cs);
+    let w = fractional_weight(pv, cv, ps, cs);
     ([prule, crule], w, crease)
+}
+
+/// [`vertex_rules`]' sharpness of a ring's edges, parent's and child's, in ring order: buffers
+/// reused from vertex to vertex rather than allocated per crease or corner vertex.
+#[derive(Default)]
+struct RingSharpness {
+    parent: Vec<f32>,
+    child: Vec<f32>,
+}
+
+/// The ring positions of the first two sharp edges of `sharpness` (a crease rule's two).
+fn crease_of(sharpness: &[f32]) -> [u32; 2] {
+    let mut sharp = (0..sharpness.len() as u32).filter(|&i| sharpness[i as usize] > 0.0);
+    [sharp.next(), sharp.next()].map(|i| i.expect("a crease rule has two sharp edges"))
 }
 
 /// Tables of several refinement steps stacked in one vertex buffer: level `l`'s vertices start

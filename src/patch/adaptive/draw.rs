@@ -355,7 +355,7 @@ impl AdaptiveDrawTables {
             &masks,
         );
         let mut coarse = CoarseEdges::new(refinement, census, &slots);
-        let sectors = SectorFrames::new(
+        let mut sectors = SectorFrames::new(
             refinement,
             census,
             &topologies,
@@ -427,20 +427,16 @@ impl AdaptiveDrawTables {
         shared_normal.resize(shared_normal.len() + lattice.rows.len(), true);
         let end_cap_first_row = rows.len() as u32;
         for c in &caps {
-            for r in c.rows() {
-                rows.push_terms(r, 0);
-            }
+            rows.append_face_rows(c);
             rows.push_empty(END_CAP_ROWS - c.len());
         }
         let vertex_first_row = rows.len() as u32;
-        for r in vertex_rows.rows() {
-            rows.push_terms(r, 0);
-        }
+        rows.append_face_rows(&vertex_rows);
         let sizes = DrawSizes::of(census);
         let mut out = AdaptiveDrawTables {
             slots,
             shared_normal,
-            sector_corners: sectors.corners.clone(),
+            sector_corners: std::mem::take(&mut sectors.corners),
             rows,
             end_cap_first_row,
             vertex_first_row,
@@ -469,6 +465,7 @@ impl AdaptiveDrawTables {
                 }
             }
             let d = lev.domains[p.face as usize];
+            let corner_frames = out.sector_corners[i];
             let record = PatchRecord {
                 base_face: d.base_face,
                 sub_face: d.sub_face.unwrap_or(NONE),
@@ -478,7 +475,7 @@ impl AdaptiveDrawTables {
                 transition: u32::from(p.transition),
                 mid_slots: coarse.mid_slots[i],
                 coarse: fine,
-                corner_frames: sectors.corners[i],
+                corner_frames,
                 mid_frames: sectors.mids[i],
                 fillet: 0,
                 corner_exact: exact.frames[i],
@@ -499,7 +496,7 @@ impl AdaptiveDrawTables {
                     face_slots
                         .iter()
                         .position(|&x| x == c)
-                        .map_or(NONE, |j| sectors.corners[i][j])
+                        .map_or(NONE, |j| corner_frames[j])
                 })
             };
             if let Some(line) = p.crease {

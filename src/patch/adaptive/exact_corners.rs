@@ -45,7 +45,11 @@ impl ExactCorners {
         first: u32,
         masks: &SharedVertexMasks,
     ) -> ExactCorners {
-        let mut out = ExactCorners::default();
+        let mut out = ExactCorners {
+            frames: Vec::with_capacity(census.patches.len()),
+            codes: Vec::with_capacity(census.patches.len()),
+            ..Default::default()
+        };
         let mut by_slot: WordHashMap<u32, u32> = WordHashMap::default();
         // Per (level, vertex): its offset's width code where it is a corner-offset vertex, else
         // `None`; a property of the vertex, asked by each of its up to four quad end caps.

@@ -173,18 +173,16 @@ impl<'a> CornerRows<'a> {
 /// Every corner of every census patch, exact patches (B-spline, single-crease) first, then end
 /// caps.
 fn exact_first(refinement: &AdaptiveRefinement, census: &PatchCensus) -> Vec<PatchCorner> {
-    let mut cap_of = Vec::with_capacity(census.patches.len());
-    let mut cap = 0;
-    for p in &census.patches {
-        cap_of.push(cap);
-        cap += usize::from(p.bspline.is_none());
-    }
     let mut out = Vec::with_capacity(4 * census.patches.len());
     for end_caps in [false, true] {
-        for (i, (p, &cap)) in census.patches.iter().zip(&cap_of).enumerate() {
+        // End caps: the running count of end caps is the index of the patch's rows.
+        let mut next_cap = 0;
+        for (i, p) in census.patches.iter().enumerate() {
             if p.bspline.is_none() != end_caps {
                 continue;
             }
+            let cap = next_cap;
+            next_cap += usize::from(end_caps);
             let t = refinement.levels[p.level as usize].topology();
             for (k, &v) in t.face_vertices(p.face).iter().enumerate() {
                 out.push(PatchCorner {
@@ -270,6 +268,55 @@ impl SparseRows {
         self.ids.extend_from_slice(&other.ids);
         self.weights.extend_from_slice(&other.weights);
         self.weights_f64.extend_from_slice(&other.weights_f64);
+    }
+
+    /// Appends every row of `rows` ([`Self::push_terms`] of each, the same terms): copied
+    /// whole, array by array (a copy per array rather than three pushes per term), then the
+    /// terms whose weight rounds to a zero f32 (exact zeros, a few in most end caps' rows)
+    /// dropped in place.
+    pub fn append_face_rows(&mut self, rows: &FaceRows) {
+        let (first_row, first_term) = (self.len(), self.ids.len());
+        let base = first_term as u32;
+        self.offsets
+            .extend(rows.offsets.iter().skip(1).map(|&o| base + o));
+        self.ids.extend(rows.terms.iter().map(|t| t.0));
+        self.weights.extend(rows.terms.iter().map(|t| t.1 as f32));
+        self.weights_f64.extend(rows.terms.iter().map(|t| t.1));
+        if self.weights[first_term..].contains(&0.0) {
+            self.drop_zero_terms(first_row);
+        }
+    }
+
+    /// Drops the terms of the rows from `first_row` on whose f32 weight is zero, closing up:
+    /// each term written at the next place whether kept or not (no branch per term).
+    fn drop_zero_terms(&mut self, first_row: usize) {
+        let first = self.offsets[first_row] as usize;
+        let n = self.ids.len() - first;
+        // Three slices of one length, so one bounds check a row covers the three.
+        let (ids, weights, weights_f64) = (
+            &mut self.ids[first..],
+            &mut self.weights[first..first + n],
+            &mut self.weights_f64[first..first + n],
+        );
+        let (mut to, mut start) = (0, 0);
+        for offset in &mut self.offsets[first_row + 1..] {
+            let end = *offset as usize - first;
+            assert!(end <= n, "row offsets within the terms");
+            for from in start..end {
+                let w = weights[from];
+                // `to <= from`: the minimum only tells the compiler so.
+                let to_place = to.min(from);
+                ids[to_place] = ids[from];
+                weights[to_place] = w;
+                weights_f64[to_place] = weights_f64[from];
+                to += usize::from(w != 0.0);
+            }
+            *offset = (first + to) as u32;
+            start = end;
+        }
+        self.ids.truncate(first + to);
+        self.weights.truncate(first + to);
+        self.weights_f64.truncate(first + to);
     }
 
     /// Reserves room for `rows` more rows of `terms` terms together.
@@ -678,6 +725,38 @@ mod tests {
                         assert!((sum - w).abs() < 1e-14, "{case}, row {r}, id {id}");
                     }
                 }
+            }
+        }
+    }
+
+    /// Appending whole face rows gives `push_terms`' rows row by row: rows with no term to drop,
+    /// with weights that round to a zero f32 (0, -0, 1e-60) first, last, alone in their row
+    /// and in a row of their own, and empty rows, after rows already there.
+    #[test]
+    fn appended_face_rows_are_pushed_rows() {
+        let tiny = [0.0, -0.0, 1e-60];
+        for zeros in 0..5 {
+            let rows: Vec<Weights> = (0..6usize)
+                .map(|r| {
+                    let terms = (0..r as u32 % 4).map(|i| {
+                        let w = 0.25 * (1.0 + (r * 3 + i as usize) as f64);
+                        let zero = zeros > 0 && (r + i as usize) % zeros == 0;
+                        (10 * r as u32 + i, if zero { tiny[r % 3] } else { w })
+                    });
+                    Weights(terms.collect())
+                })
+                .collect();
+            let face = FaceRows::from_weights(&rows);
+            let mut got = SparseRows::new();
+            got.push_terms(&[(1, 0.5), (2, 1e-60)], 0);
+            let mut want = got.clone();
+            got.append_face_rows(&face);
+            for r in face.rows() {
+                want.push_terms(r, 0);
+            }
+            assert_eq!(got, want, "zeros every {zeros}");
+            if zeros > 0 {
+                assert!(want.ids.len() < face.terms.len() + 1, "zeros every {zeros}");
             }
         }
     }
