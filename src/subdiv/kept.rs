@@ -156,9 +156,9 @@ pub(super) fn refine_kept_in(lv: &Level, keep: &[u32]) -> Result<(Level, Vec<u32
         edge_faces: edges.faces,
         edge_face_local: edges.locals,
     };
-    let mut sub = topology::with_given_rings(map.len(), connectivity, rings, 4);
-    sub.edge_sharpness = edges.sharpness;
-    sub.holes = parent_face.iter().map(|&f| t.holes[f as usize]).collect();
+    let holes = parent_face.iter().map(|&f| t.holes[f as usize]).collect();
+    let mut sub =
+        topology::with_given_rings(map.len(), connectivity, rings, 4, edges.sharpness, holes);
     if !t.no_limit.is_empty() {
         sub.no_limit = parent_face
             .iter()

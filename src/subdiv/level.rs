@@ -322,7 +322,19 @@ impl Level {
             rings.end_vertex();
         }
         let rings = rings.finish();
-        let sub = topology::with_given_rings(map.len(), connectivity, rings, max_size);
+        // Zero here: `tag_extraction` copies the parent's sharpness and holes.
+        let (ne, nf) = (
+            connectivity.edge_verts.len(),
+            connectivity.face_offsets.len() - 1,
+        );
+        let sub = topology::with_given_rings(
+            map.len(),
+            connectivity,
+            rings,
+            max_size,
+            vec![0.0; ne],
+            vec![false; nf],
+        );
         let level = self.tag_extraction(sub, faces, &map, &old_edge);
         Ok((level, map))
     }

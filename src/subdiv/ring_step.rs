@@ -87,13 +87,12 @@ pub(super) fn refine_in_place(
         edge_faces: edges.faces,
         edge_face_local: edges.locals,
     };
-    let mut sub = topology::with_given_rings(nv, connectivity, rings, 4);
-    sub.edge_sharpness = edges.sharpness;
-    sub.holes = quads
+    let holes = quads
         .parent_face
         .iter()
         .map(|&f| t.holes[f as usize])
         .collect();
+    let mut sub = topology::with_given_rings(nv, connectivity, rings, 4, edges.sharpness, holes);
     if !t.no_limit.is_empty() {
         sub.no_limit = quads
             .parent_face

@@ -269,19 +269,31 @@ fn with_rings(
         &c.edge_face_local,
         strict,
     )?;
-    Ok(with_given_rings(nv, c, rings, max_face_size))
+    let (nf, ne) = (c.face_offsets.len() - 1, c.edge_verts.len());
+    Ok(with_given_rings(
+        nv,
+        c,
+        rings,
+        max_face_size,
+        vec![0.0; ne],
+        vec![false; nf],
+    ))
 }
 
 /// The topology of `nv` vertices, connectivity `c` and its one-rings `rings` (ordered as
-/// [`build`] orders them, e.g. by [`super::fans::RingBuilder`]); sharpness zero, no holes,
-/// default options.
+/// [`build`] orders them, e.g. by [`super::fans::RingBuilder`]), per edge `edge_sharpness`
+/// and per face `holes` (taken as given: the sparse refinement computes them, so they are
+/// written once, not zeroed first); vertex sharpness zero, default options.
 pub(crate) fn with_given_rings(
     nv: usize,
     c: Connectivity,
     rings: Rings,
     max_face_size: u32,
+    edge_sharpness: Vec<f32>,
+    holes: Vec<bool>,
 ) -> Topology {
-    let (nf, ne) = (c.face_offsets.len() - 1, c.edge_verts.len());
+    debug_assert_eq!(edge_sharpness.len(), c.edge_verts.len());
+    debug_assert_eq!(holes.len(), c.face_offsets.len() - 1);
     Topology {
         num_vertices: nv as u32,
         face_offsets: c.face_offsets,
@@ -295,12 +307,12 @@ pub(crate) fn with_given_rings(
         vert_face_local: rings.vert_face_local,
         vert_edge_offsets: rings.vert_edge_offsets,
         vert_edges: rings.vert_edges,
-        edge_sharpness: vec![0.0; ne],
+        edge_sharpness,
         vertex_sharpness: vec![0.0; nv],
         promoted: Vec::new(),
         decayed_corner: Vec::new(),
         crease_factors: Vec::new(),
-        holes: vec![false; nf],
+        holes,
         no_limit: Vec::new(),
         options: SchemeOptions::default(),
         max_face_size,
