@@ -31,7 +31,9 @@ use super::slots::{Slots, NONE};
 use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure, EndCapTopologies};
 use crate::patch::edge_grid::PATCH_EDGES;
 use crate::patch::gregory::edge_flags::{edge_flags, Across};
-use crate::patch::gregory::shared_rows::{end_cap_face_rows, shared_vertex_point_rows, FaceRows};
+use crate::patch::gregory::shared_rows::{
+    end_cap_face_rows, shared_vertex_point_rows, FaceRows, Terms,
+};
 use crate::patch::gregory::stencil_table::VERTEX_POINTS;
 use crate::patch::gregory::{DartLimits, GregoryTangents};
 use crate::patch::single_crease::{gpu_cvs, Rotation, SingleCreasePatch};
@@ -138,7 +140,9 @@ fn end_cap_rows(
             check_end_cap(refinement, p)?;
         }
         let faces: Vec<u32> = group.iter().map(|p| p.face).collect();
-        let rows = end_cap_face_rows(topologies.get(group[0].level), &faces, tangents, &darts);
+        let topo = topologies.get(group[0].level);
+        // Without zero terms (`SparseRows` drops them): dropped once per type, not per face.
+        let rows = end_cap_face_rows(topo, &faces, tangents, &darts, Terms::Nonzero);
         for (i, p) in group.iter().enumerate() {
             rows.result(i)
                 .map_err(|e| end_cap_error(refinement, p, EndCapFailure::Gregory(e)))?;

@@ -272,8 +272,9 @@ impl SparseRows {
 
     /// Appends every row of `rows` ([`Self::push_terms`] of each, the same terms): copied
     /// whole, array by array (a copy per array rather than three pushes per term), then the
-    /// terms whose weight rounds to a zero f32 (exact zeros, a few in most end caps' rows)
-    /// dropped in place.
+    /// terms whose weight rounds to a zero f32 dropped in place where there are any: the end
+    /// caps' rows come without their exact zeros (`Terms::Nonzero`, dropped once per type),
+    /// so for them this is mostly a check.
     pub fn append_face_rows(&mut self, rows: &FaceRows) {
         let (first_row, first_term) = (self.len(), self.ids.len());
         let base = first_term as u32;

@@ -66,4 +66,60 @@ impl FaceRows {
     pub fn to_weights(&self) -> Vec<Weights> {
         (0..self.len()).map(|r| self.weights(r)).collect()
     }
+
+    /// The rows `offsets` over `terms` with each id written as `id(id)`, without the terms
+    /// `kept` drops (the others in order).
+    pub(super) fn relabelled(
+        offsets: &[u32],
+        terms: &[(u32, f64)],
+        kept: Terms,
+        id: impl Fn(u32) -> u32,
+    ) -> FaceRows {
+        let mut out = FaceRows {
+            offsets: offsets.to_vec(),
+            terms: terms.iter().map(|&(u, x)| (id(u), x)).collect(),
+        };
+        if kept == Terms::Nonzero && terms.iter().any(|t| t.1 == 0.0) {
+            out.drop_zero_terms();
+        }
+        out
+    }
+
+    /// Drops the terms of weight zero in place, closing up: each term written at the next
+    /// place whether kept or not (no branch per term).
+    fn drop_zero_terms(&mut self) {
+        let (mut to, mut start) = (0, 0);
+        for offset in &mut self.offsets[1..] {
+            let end = *offset as usize;
+            for from in start..end {
+                let t = self.terms[from];
+                // `to <= from`: the minimum only tells the compiler so.
+                self.terms[to.min(from)] = t;
+                to += usize::from(t.1 != 0.0);
+            }
+            *offset = to as u32;
+            start = end;
+        }
+        self.terms.truncate(to);
+    }
+}
+
+/// Which terms of the end caps' rows a caller takes: the draw tables drop the terms whose
+/// weight rounds to a zero f32, which are exact zeros in most end caps' rows, so dropping
+/// those once per connectivity type saves doing it per face. Exact
+/// zeros only: a Gregory corner's tangent rows `3 e - 3 p` (draw tables' corner rows) have the
+/// same bits with an exact zero term or without it, not with a tiny one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Terms {
+    /// Every term, as the direct construction writes it.
+    All,
+    /// The terms whose weight is not zero (nor minus zero), in order.
+    Nonzero,
+}
+
+impl Terms {
+    /// Whether a term of weight `w` is kept.
+    pub fn keeps(self, w: f64) -> bool {
+        self == Terms::All || w != 0.0
+    }
 }

@@ -30,7 +30,7 @@ use super::build::{
     end_cap_patch_with, has_vertex_data, is_interior_vertex, vertex_covered, Coverage, NotGregory,
 };
 use super::corner_rings::{edge_word, vertex_word, CornerRings};
-pub use super::face_rows::FaceRows;
+pub use super::face_rows::{FaceRows, Terms};
 use super::point::Weights;
 #[cfg(doc)]
 use super::stencil_table::sparse_face_rows_direct;
@@ -290,7 +290,7 @@ pub fn sparse_face_rows_flat(
     tangents: GregoryTangents,
     darts: &DartLimits,
 ) -> Vec<Result<FaceRows, NotGregory>> {
-    let shared = end_cap_face_rows(topo, faces, tangents, darts);
+    let shared = end_cap_face_rows(topo, faces, tangents, darts, Terms::All);
     let derived = |v, b| vertex_point_id(topo, v, b);
     (0..faces.len())
         .map(|i| {
@@ -317,6 +317,9 @@ enum FaceRow {
 pub struct EndCapFaceRows {
     layouts: Layouts,
     faces: Vec<Result<FaceRow, NotGregory>>,
+    /// The terms [`Self::rows`] keeps (a directly built face keeps them all until then, so
+    /// [`Self::derived_read`] sees every term).
+    kept: Terms,
 }
 
 impl EndCapFaceRows {
@@ -353,7 +356,8 @@ impl EndCapFaceRows {
 
     /// Face `i`'s rows (empty for a face without patch) with vertex `u` written as
     /// `vertex(u)` and derived point `b` of vertex `v` as `derived(v, b)`: both monotone, every
-    /// derived id past every vertex id (as [`vertex_point_id`]), so rows stay ascending.
+    /// derived id past every vertex id (as [`vertex_point_id`]), so rows stay ascending; the
+    /// terms [`end_cap_face_rows`] was asked to keep.
     pub fn rows(
         &self,
         topo: &Topology,
@@ -363,17 +367,11 @@ impl EndCapFaceRows {
     ) -> FaceRows {
         match &self.faces[i] {
             Ok(FaceRow::Direct(rows)) => {
-                let terms = rows.terms.iter().map(|&(id, x)| {
-                    let id = match vertex_point_of(topo, id) {
-                        None => vertex(id),
-                        Some((v, b)) => derived(v, b),
-                    };
-                    (id, x)
-                });
-                FaceRows {
-                    offsets: rows.offsets.clone(),
-                    terms: terms.collect(),
-                }
+                let id = |id| match vertex_point_of(topo, id) {
+                    None => vertex(id),
+                    Some((v, b)) => derived(v, b),
+                };
+                FaceRows::relabelled(&rows.offsets, &rows.terms, self.kept, id)
             }
             Ok(FaceRow::Shared { layout, ring }) => {
                 self.layouts.rows(*layout, ring, vertex, derived)
@@ -398,13 +396,15 @@ impl EndCapFaceRows {
 }
 
 /// The rows of `faces` with the construction run once per connectivity type, kept per face
-/// as built ([`EndCapFaceRows`]). The direct batches run on the rayon pool. Dart masks from
-/// `darts` (one cache per build).
+/// as built ([`EndCapFaceRows`]), with the terms `kept` keeps (a type's dropped once for all
+/// its faces). The direct batches run on the rayon pool. Dart masks from `darts` (one cache
+/// per build).
 pub fn end_cap_face_rows(
     topo: &Topology,
     faces: &[u32],
     tangents: GregoryTangents,
     darts: &DartLimits,
+    kept: Terms,
 ) -> EndCapFaceRows {
     let mut keyer = Keyer::new(topo, tangents, darts);
     // Pass 1: each face's connectivity type (`None`: built directly), the first face of each
@@ -467,7 +467,7 @@ pub fn end_cap_face_rows(
                 keyer.slot[x as usize] = s as u32;
             }
             let local = match &rows[i] {
-                Some(Ok(r)) => to_slots(topo, r, &keyer.slot, ring.len()),
+                Some(Ok(r)) => to_slots(topo, r, &keyer.slot, ring.len(), kept),
                 _ => None,
             };
             clear(&mut keyer.slot, ring);
@@ -489,18 +489,18 @@ pub fn end_cap_face_rows(
         rows[i] = Some(r);
     }
     // The types' rows in one list, each type with rows at its place there.
-    let mut kept: Vec<LocalRows> = Vec::new();
+    let mut with_rows: Vec<LocalRows> = Vec::new();
     let at: Vec<u32> = local
         .into_iter()
         .map(|l| match l {
             Some(l) => {
-                kept.push(l);
-                kept.len() as u32 - 1
+                with_rows.push(l);
+                with_rows.len() as u32 - 1
             }
             None => NONE,
         })
         .collect();
-    let mut layouts = Layouts::new(kept);
+    let mut layouts = Layouts::new(with_rows);
     let out = EndCapFaceRows {
         faces: rows
             .into_iter()
@@ -521,6 +521,7 @@ pub fn end_cap_face_rows(
             })
             .collect(),
         layouts,
+        kept,
     };
     log::trace!(
         "end-cap rows: {} faces, {} connectivity types, {} + {} built directly",

@@ -5,7 +5,7 @@
 //! are then its layout with each column written as the face's id, in one pass over the terms
 //! into their final place ([`Layouts::rows`]).
 
-use crate::patch::gregory::face_rows::{FaceRows, TERM_PLACEHOLDER};
+use crate::patch::gregory::face_rows::{FaceRows, Terms, TERM_PLACEHOLDER};
 use crate::patch::gregory::stencil_table::{vertex_point_of, VERTEX_POINTS};
 use crate::patch::gregory::word_hash::WordHashMap;
 use crate::topology::Topology;
@@ -17,23 +17,26 @@ const NONE: u32 = u32::MAX;
 /// so that the terms of a face's rows come out ascending in its ids by walking its columns in
 /// id order once ([`Layouts::layout`]) rather than sorting every row.
 pub(super) struct LocalRows {
-    /// `rows + 1` term offsets: every face of the type has these.
+    /// `rows + 1` term offsets: every face of the type has these (of the terms kept).
     offsets: Vec<u32>,
     /// `columns + 1` offsets into `columns`.
     starts: Vec<u32>,
     /// Column `c`'s terms `(row, weight)`, rows ascending: `columns[starts[c]..starts[c + 1]]`.
     columns: Vec<(u32, f64)>,
-    /// The derived-point columns holding terms, ascending.
+    /// The derived-point columns the rows read (kept terms or not), ascending.
     derived: Vec<u32>,
 }
 
-/// `rows` over columns, or `None` when a weight lies outside the ring: vertex `v` at its slot,
-/// derived point `b` of `v` ([`super::vertex_point_id`]) at `ring_len + 3 slot(v) + b`.
+/// `rows` over columns with the terms `kept` keeps, or `None` when a weight (kept or not) lies
+/// outside the ring: vertex `v` at its slot, derived point `b` of `v`
+/// ([`super::vertex_point_id`]) at `ring_len + 3 slot(v) + b`. The derived points read are
+/// those of every term, so a face reads the same vertex points whichever terms it keeps.
 pub(super) fn to_slots(
     topo: &Topology,
     rows: &FaceRows,
     slot: &[u32],
     ring_len: usize,
+    kept: Terms,
 ) -> Option<LocalRows> {
     let slot_of = |id: u32| match vertex_point_of(topo, id) {
         None => Some(slot[id as usize]).filter(|&s| s != NONE),
@@ -43,30 +46,35 @@ pub(super) fn to_slots(
         },
     };
     let slots = (1 + VERTEX_POINTS as usize) * ring_len;
-    let offsets = rows.offsets.clone();
-    // Each term's column, then a counting sort of the terms by column (rows stay ascending).
-    let mut at: Vec<u32> = Vec::with_capacity(rows.terms.len());
+    // Each kept term's column, row and weight, then a counting sort of them by column (rows
+    // stay ascending).
+    let mut offsets = Vec::with_capacity(rows.offsets.len());
+    offsets.push(0);
+    let mut at: Vec<(u32, u32, f64)> = Vec::with_capacity(rows.terms.len());
     let mut starts = vec![0u32; slots + 1];
-    for &(v, _) in &rows.terms {
-        let s = slot_of(v)?;
-        at.push(s);
-        starts[s as usize + 1] += 1;
+    let mut read = vec![false; slots];
+    for (r, row) in rows.rows().enumerate() {
+        for &(v, x) in row {
+            let s = slot_of(v)?;
+            read[s as usize] = true;
+            if kept.keeps(x) {
+                at.push((s, r as u32, x));
+                starts[s as usize + 1] += 1;
+            }
+        }
+        offsets.push(at.len() as u32);
     }
     for s in 0..slots {
         starts[s + 1] += starts[s];
     }
     let derived = (ring_len..slots)
-        .filter(|&c| starts[c] < starts[c + 1])
+        .filter(|&c| read[c])
         .map(|c| c as u32)
         .collect();
     let mut next = starts.clone();
     let mut columns = vec![TERM_PLACEHOLDER; at.len()];
-    let terms = rows
-        .rows()
-        .enumerate()
-        .flat_map(|(r, w)| w.iter().map(move |t| (r, t.1)));
-    for (&s, (r, x)) in at.iter().zip(terms) {
-        columns[next[s as usize] as usize] = (r as u32, x);
+    for &(s, r, x) in &at {
+        columns[next[s as usize] as usize] = (r, x);
         next[s as usize] += 1;
     }
     Some(LocalRows {

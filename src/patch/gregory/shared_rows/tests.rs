@@ -427,7 +427,8 @@ fn face_keys_number_the_corners_rings() {
 }
 
 /// [`EndCapFaceRows::rows`] with other ids is the level's rows ([`sparse_face_rows_flat`])
-/// relabelled term by term, and [`EndCapFaceRows::derived_read`] marks exactly the
+/// relabelled term by term (built with [`Terms::Nonzero`], the same rows without their zero
+/// terms: some met), and [`EndCapFaceRows::derived_read`] marks exactly the
 /// derived points those rows read, on every face of every level of meshes with n-gons,
 /// holes, creases, darts and semi-sharp creases (faces without patch included: no rows,
 /// nothing read), shared and directly built faces both met (fails if a shared face's
@@ -436,7 +437,7 @@ fn face_keys_number_the_corners_rings() {
 #[test]
 fn face_rows_take_the_callers_ids() {
     let darts = DartLimits::new();
-    let (mut shared, mut direct) = (0, 0);
+    let (mut shared, mut direct, mut zeros) = (0, 0, 0);
     for name in [
         "catmark_nonquads",
         "catmark_dart_edgecorner",
@@ -446,7 +447,8 @@ fn face_rows_take_the_callers_ids() {
             let n = topo.vertex_count() as u32;
             let faces: Vec<u32> = (0..topo.face_count() as u32).collect();
             let tangents = GregoryTangents::default();
-            let rows = end_cap_face_rows(&topo, &faces, tangents, &darts);
+            let rows = end_cap_face_rows(&topo, &faces, tangents, &darts, Terms::All);
+            let nonzero_rows = end_cap_face_rows(&topo, &faces, tangents, &darts, Terms::Nonzero);
             let flat = sparse_face_rows_flat(&topo, &faces, tangents, &darts);
             // Monotone, derived ids past every vertex id, none the level's own.
             let vertex = |u: u32| 2 * u + 5;
@@ -458,6 +460,11 @@ fn face_rows_take_the_callers_ids() {
                     Err(_) => {}
                 }
                 let got = rows.rows(&topo, i, &vertex, &derived);
+                let nonzero = nonzero_rows.rows(&topo, i, &vertex, &derived);
+                let mut nonzero_read = std::collections::BTreeSet::new();
+                nonzero_rows.derived_read(&topo, i, |v, b| {
+                    nonzero_read.insert((v, b));
+                });
                 let mut read = std::collections::BTreeSet::new();
                 rows.derived_read(&topo, i, |v, b| {
                     read.insert((v, b));
@@ -477,6 +484,26 @@ fn face_rows_take_the_callers_ids() {
                     .collect();
                 let bits: Vec<(u32, u64)> =
                     got.terms.iter().map(|&(u, x)| (u, x.to_bits())).collect();
+                // Without zeros: row by row, the terms of `want` whose weight is not zero.
+                let mut nonzero_want = (vec![0u32], Vec::new());
+                for r in want.rows() {
+                    let kept = r.iter().filter(|t| t.1 != 0.0);
+                    nonzero_want
+                        .1
+                        .extend(kept.map(|&(u, x)| (relabel(u), x.to_bits())));
+                    nonzero_want.0.push(nonzero_want.1.len() as u32);
+                }
+                zeros += terms.len() - nonzero_want.1.len();
+                let nonzero_bits: Vec<(u32, u64)> = nonzero
+                    .terms
+                    .iter()
+                    .map(|&(u, x)| (u, x.to_bits()))
+                    .collect();
+                assert_eq!(
+                    (&nonzero.offsets, nonzero_bits),
+                    (&nonzero_want.0, nonzero_want.1),
+                    "{name}: face {i} without zeros"
+                );
                 assert_eq!(
                     (&got.offsets, bits),
                     (&want.offsets, terms),
@@ -488,8 +515,10 @@ fn face_rows_take_the_callers_ids() {
                     .filter_map(|&(u, _)| vertex_point_of(&topo, u))
                     .collect();
                 assert_eq!(read, want_read, "{name}: face {i}");
+                assert_eq!(nonzero_read, want_read, "{name}: face {i} without zeros");
             }
         }
     }
     assert!(shared > 0 && direct > 0, "{shared} shared, {direct} direct");
+    assert!(zeros > 0, "no zero term dropped");
 }
