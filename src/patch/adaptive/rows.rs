@@ -4,7 +4,7 @@
 use glam::DVec3;
 
 use super::surface::EndCapTopologies;
-use crate::patch::gregory::shared_rows::FaceRows;
+use crate::patch::gregory::shared_rows::{close_up_rows, FaceRows};
 use crate::patch::gregory::word_hash::WordHashMap;
 use crate::patch::gregory::{one_face_crease_sector, GregoryPoint, Weights};
 use crate::patch::single_crease::SingleCreasePatch;
@@ -288,8 +288,8 @@ impl SparseRows {
         }
     }
 
-    /// Drops the terms of the rows from `first_row` on whose f32 weight is zero, closing up:
-    /// each term written at the next place whether kept or not (no branch per term).
+    /// Drops the terms of the rows from `first_row` on whose f32 weight is zero
+    /// ([`close_up_rows`]).
     fn drop_zero_terms(&mut self, first_row: usize) {
         let first = self.offsets[first_row] as usize;
         let n = self.ids.len() - first;
@@ -299,25 +299,16 @@ impl SparseRows {
             &mut self.weights[first..first + n],
             &mut self.weights_f64[first..first + n],
         );
-        let (mut to, mut start) = (0, 0);
-        for offset in &mut self.offsets[first_row + 1..] {
-            let end = *offset as usize - first;
-            assert!(end <= n, "row offsets within the terms");
-            for from in start..end {
-                let w = weights[from];
-                // `to <= from`: the minimum only tells the compiler so.
-                let to_place = to.min(from);
-                ids[to_place] = ids[from];
-                weights[to_place] = w;
-                weights_f64[to_place] = weights_f64[from];
-                to += usize::from(w != 0.0);
-            }
-            *offset = (first + to) as u32;
-            start = end;
-        }
-        self.ids.truncate(first + to);
-        self.weights.truncate(first + to);
-        self.weights_f64.truncate(first + to);
+        let kept = close_up_rows(&mut self.offsets[first_row + 1..], first, n, |to, from| {
+            let w = weights[from];
+            ids[to] = ids[from];
+            weights[to] = w;
+            weights_f64[to] = weights_f64[from];
+            w != 0.0
+        });
+        self.ids.truncate(first + kept);
+        self.weights.truncate(first + kept);
+        self.weights_f64.truncate(first + kept);
     }
 
     /// Reserves room for `rows` more rows of `terms` terms together.

@@ -615,22 +615,14 @@ pub(super) fn has_vertex_data(topo: &Topology, v: u32, darts: &DartLimits) -> bo
     if faces == 0 || is_semi(vertex) {
         return false;
     }
-    let mut shape = SharpEdges {
-        edges: edges.len(),
-        sharp: 0,
-        first: 0,
-    };
-    for (i, &e) in edges.iter().enumerate() {
+    let mut semi = false;
+    let shape = SharpEdges::of_flags(edges.iter().map(|&e| {
         let s = topo.edge_sharpness(e);
-        if is_semi(s) {
-            return false;
-        }
-        if is_inf(s) {
-            if shape.sharp == 0 {
-                shape.first = i;
-            }
-            shape.sharp += 1;
-        }
+        semi |= is_semi(s);
+        is_inf(s)
+    }));
+    if semi {
+        return false;
     }
     has_construction(shape, corner_tag(vertex, shape.sharp), faces, darts)
 }

@@ -85,23 +85,43 @@ impl FaceRows {
         out
     }
 
-    /// Drops the terms of weight zero in place, closing up: each term written at the next
-    /// place whether kept or not (no branch per term).
+    /// Drops the terms of weight zero in place ([`close_up_rows`]).
     fn drop_zero_terms(&mut self) {
-        let (mut to, mut start) = (0, 0);
-        for offset in &mut self.offsets[1..] {
-            let end = *offset as usize;
-            for from in start..end {
-                let t = self.terms[from];
-                // `to <= from`: the minimum only tells the compiler so.
-                self.terms[to.min(from)] = t;
-                to += usize::from(t.1 != 0.0);
-            }
-            *offset = to as u32;
-            start = end;
-        }
-        self.terms.truncate(to);
+        let terms = &mut self.terms[..];
+        let kept = close_up_rows(&mut self.offsets[1..], 0, terms.len(), |to, from| {
+            let t = terms[from];
+            terms[to] = t;
+            t.1 != 0.0
+        });
+        self.terms.truncate(kept);
     }
+}
+
+/// Closes up rows in place, dropping terms: the rows end at `ends` (absolute term offsets, the
+/// first row starting at `first`; `n` terms from `first` on), and `keep(to, from)` writes term
+/// `from` (relative to `first`) at place `to <= from` and says whether it is kept. Each term is
+/// written at the next place whether kept or not (no branch per term); the ends are rewritten
+/// and the kept count returned. Shared by the end caps' [`FaceRows`] and the draw tables' rows.
+#[inline(always)]
+pub fn close_up_rows(
+    ends: &mut [u32],
+    first: usize,
+    n: usize,
+    mut keep: impl FnMut(usize, usize) -> bool,
+) -> usize {
+    let (mut to, mut start) = (0, 0);
+    for end in ends {
+        let stop = *end as usize - first;
+        // Ends within the terms, so the caller's slices of `n` need no check per term.
+        assert!(stop <= n, "row ends within the terms");
+        for from in start..stop {
+            // `to <= from`: the minimum only tells the compiler so.
+            to += usize::from(keep(to.min(from), from));
+        }
+        *end = (first + to) as u32;
+        start = stop;
+    }
+    to
 }
 
 /// Which terms of the end caps' rows a caller takes: the draw tables drop the terms whose

@@ -30,7 +30,7 @@ use super::build::{
     end_cap_patch_with, has_vertex_data, is_interior_vertex, vertex_covered, Coverage, NotGregory,
 };
 use super::corner_rings::{edge_word, vertex_word, CornerRings};
-pub use super::face_rows::{FaceRows, Terms};
+pub use super::face_rows::{close_up_rows, FaceRows, Terms};
 use super::point::Weights;
 #[cfg(doc)]
 use super::stencil_table::sparse_face_rows_direct;
@@ -173,7 +173,7 @@ impl<'a> Keyer<'a> {
 
 impl Keyer<'_> {
     /// Vertex `v` as the construction reads it, for face `f`: its sharpness, its edges (other
-    /// end's slot, sharpness or [`PROMOTED`], face count) and faces (sizes, vertex slots);
+    /// end's slot, sharpness or [`PROMOTED`](super::corner_rings::PROMOTED), face count) and faces (sizes, vertex slots);
     /// `None` where one of those vertices lies outside the ring.
     fn push_vertex(&self, key: &mut TypeKey, f: u32, v: u32) -> Option<()> {
         let topo = self.topo;

@@ -291,11 +291,27 @@ pub(super) struct SharpEdges {
 impl SharpEdges {
     /// The counts of `sharp` (per edge: infinitely sharp).
     pub fn of(sharp: &[bool]) -> SharpEdges {
-        SharpEdges {
-            edges: sharp.len(),
-            sharp: sharp.iter().filter(|&&s| s).count(),
-            first: sharp.iter().position(|&s| s).unwrap_or(0),
+        Self::of_flags(sharp.iter().copied())
+    }
+
+    /// The counts of the per-edge flags `sharp` (infinitely sharp), in one pass.
+    #[inline(always)]
+    pub fn of_flags(sharp: impl IntoIterator<Item = bool>) -> SharpEdges {
+        let mut shape = SharpEdges {
+            edges: 0,
+            sharp: 0,
+            first: 0,
+        };
+        for s in sharp {
+            if s {
+                if shape.sharp == 0 {
+                    shape.first = shape.edges;
+                }
+                shape.sharp += 1;
+            }
+            shape.edges += 1;
         }
+        shape
     }
 }
 
