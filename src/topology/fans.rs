@@ -1,10 +1,10 @@
 //! One-rings of a topology made from the rings of a related one by index arithmetic, instead of
-//! bucketing corners and walking edges ([`super::build`]'s `order_rings`): a sub-level's rings
+//! bucketing corners and walking edges ([`build`](mod@super::build)'s `order_rings`): a sub-level's rings
 //! from its level's, a refined level's from its parent's. Each vertex is given as the fans of
 //! faces around it in the related topology's ring order, each face mapped to a new face or
 //! dropped; the kept faces of each fan fall into runs, which are ordered as `order_rings` orders
 //! them (open fans by their first corner, then a closed ring from its first corner), so the
-//! rings are the ones [`super::build`] would give.
+//! rings are the ones [`build`](mod@super::build) would give.
 
 use super::build::Rings;
 use super::{Topology, NONE};
