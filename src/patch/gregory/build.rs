@@ -1,7 +1,7 @@
 //! Gregory patches from a mesh's topology (paper §3, one patch per face; §4.6 boundaries and
 //! infinitely sharp creases), and which faces the construction covers.
 
-use super::eval::{CornerRef, GregoryQuad, GregoryTriangle};
+use super::eval::{CornerRef, GregoryQuad, GregoryTriangle, PointRecipe};
 use super::point::{combine, GregoryPoint, Weights};
 use super::tangents::GregoryTangents;
 use super::vertex::{
@@ -691,6 +691,18 @@ pub(super) fn gregory_patch_from<'a, P: GregoryPoint + 'a>(
     assemble_face(topo, f, |_, v| vertex(v))
 }
 
+/// [`gregory_patch_from`] with the points not formed: the corners' points by reference, the
+/// face points as their terms.
+pub(super) fn gregory_patch_recipes<'a, P: 'a>(
+    topo: &Topology,
+    f: u32,
+    coverage: Coverage,
+    vertex: impl Fn(u32) -> Option<&'a GregoryVertex<P>>,
+) -> Result<GregoryPatch<PointRecipe<'a, P>>, NotGregory> {
+    check_face_for(topo, f, coverage)?;
+    assemble_face_recipes(topo, f, |_, v| vertex(v))
+}
+
 /// Why corner `v` of checked face `f` has no vertex data: a dart without limit masks
 /// ([`NotGregory::DartLimit`]), else (not reached) [`NotGregory::Cusp`].
 fn no_vertex_data(topo: &Topology, f: u32, v: u32) -> NotGregory {
@@ -716,6 +728,18 @@ fn assemble_face<'a, P: GregoryPoint + 'a>(
     f: u32,
     get: impl Fn(usize, u32) -> Option<&'a GregoryVertex<P>>,
 ) -> Result<GregoryPatch<P>, NotGregory> {
+    Ok(match assemble_face_recipes(topo, f, get)? {
+        GregoryPatch::Quad(q) => GregoryPatch::Quad(q.formed()),
+        GregoryPatch::Triangle(t) => GregoryPatch::Triangle(t.formed()),
+    })
+}
+
+/// [`assemble_face`] with the points not formed.
+fn assemble_face_recipes<'a, P: 'a>(
+    topo: &Topology,
+    f: u32,
+    get: impl Fn(usize, u32) -> Option<&'a GregoryVertex<P>>,
+) -> Result<GregoryPatch<PointRecipe<'a, P>>, NotGregory> {
     let fv = topo.face_vertices(f);
     let mut refs = Vec::with_capacity(fv.len());
     for (k, &v) in fv.iter().enumerate() {
@@ -730,8 +754,8 @@ fn assemble_face<'a, P: GregoryPoint + 'a>(
         refs.push(CornerRef { vertex, j });
     }
     Ok(match refs.len() {
-        3 => GregoryPatch::Triangle(GregoryTriangle::new(&[refs[0], refs[1], refs[2]])),
-        _ => GregoryPatch::Quad(GregoryQuad::new(&[refs[0], refs[1], refs[2], refs[3]])),
+        3 => GregoryPatch::Triangle(GregoryTriangle::recipes(&[refs[0], refs[1], refs[2]])),
+        _ => GregoryPatch::Quad(GregoryQuad::recipes(&[refs[0], refs[1], refs[2], refs[3]])),
     })
 }
 

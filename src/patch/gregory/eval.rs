@@ -1,8 +1,8 @@
 //! Gregory patch control points, assembly from per-vertex data, and CPU reference evaluation
 //! through the Bézier form with blended face points (Loop et al. 2009, §3.1 and §4.4).
 
-use super::point::GregoryPoint;
-use super::vertex::{face_point_cos, GregoryVertex, VertexKind};
+use super::point::{combine, GregoryPoint};
+use super::vertex::{face_point_terms, GregoryVertex, VertexKind};
 use crate::patch::basis::{bernstein, bernstein_deriv, eval_tensor};
 use glam::DVec3;
 
@@ -100,14 +100,43 @@ impl<P> Copy for CornerRef<'_, P> {}
 /// The five control-point arrays of a patch with `N` corners.
 type Parts<P, const N: usize> = ([P; N], [P; N], [P; N], [P; N], [P; N]);
 
-impl<P: GregoryPoint> CornerRef<'_, P> {
+/// A control point of a patch before it is formed: one of its corners' points as it is, or a
+/// face point's terms (eq. 6), so that a caller can take the first by reference and combine
+/// the second where it likes (the end caps' rows: straight into their storage).
+#[derive(Debug)]
+pub(super) enum PointRecipe<'a, P> {
+    /// A corner's limit or edge point.
+    Given(&'a P),
+    /// `Σ w_i x_i` over the terms in order ([`combine`]).
+    Combination([(f64, &'a P); 4]),
+}
+
+impl<P> Clone for PointRecipe<'_, P> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<P> Copy for PointRecipe<'_, P> {}
+
+impl<P: GregoryPoint> PointRecipe<'_, P> {
+    /// The point.
+    pub(super) fn point(&self) -> P {
+        match self {
+            PointRecipe::Given(p) => (*p).clone(),
+            PointRecipe::Combination(terms) => combine(terms),
+        }
+    }
+}
+
+impl<'a, P> CornerRef<'a, P> {
     /// Edge point towards the next corner.
-    fn e_plus(&self) -> &P {
+    fn e_plus(&self) -> &'a P {
         &self.vertex.e[self.j]
     }
 
     /// Edge point towards the previous corner.
-    fn e_minus(&self) -> &P {
+    fn e_minus(&self) -> &'a P {
         &self.vertex.e[(self.j + 1) % self.vertex.e.len()]
     }
 
@@ -134,8 +163,8 @@ impl<P: GregoryPoint> CornerRef<'_, P> {
 
     /// Face point next to the edge towards the next corner `next` (eq. 6), before the
     /// one-sided rule.
-    fn f_plus(&self, next: &Self, d: f64) -> P {
-        face_point_cos(
+    fn f_plus(&self, next: &Self, d: f64) -> PointRecipe<'a, P> {
+        PointRecipe::Combination(face_point_terms(
             d,
             self.cos(),
             self.far_cos(next),
@@ -143,13 +172,13 @@ impl<P: GregoryPoint> CornerRef<'_, P> {
             self.e_plus(),
             next.e_minus(),
             &self.vertex.r_plus[self.j],
-        )
+        ))
     }
 
     /// Face point next to the edge towards the previous corner `prev` (eq. 6), before the
     /// one-sided rule.
-    fn f_minus(&self, prev: &Self, d: f64) -> P {
-        face_point_cos(
+    fn f_minus(&self, prev: &Self, d: f64) -> PointRecipe<'a, P> {
+        PointRecipe::Combination(face_point_terms(
             d,
             self.cos(),
             self.far_cos(prev),
@@ -157,46 +186,59 @@ impl<P: GregoryPoint> CornerRef<'_, P> {
             self.e_minus(),
             prev.e_plus(),
             &self.vertex.r_minus[self.j],
-        )
+        ))
     }
 }
 
 /// Corner, edge and face points for a patch with `N` corners; `d` is 3 for quads, 4 for
 /// triangles (§3.4).
-fn assemble<P: GregoryPoint, const N: usize>(
-    corners: &[CornerRef<'_, P>; N],
+fn assemble<'a, P, const N: usize>(
+    corners: &[CornerRef<'a, P>; N],
     d: f64,
-) -> Parts<P, N> {
-    let p: [P; N] = std::array::from_fn(|i| corners[i].vertex.p.clone());
-    let e_plus: [P; N] = std::array::from_fn(|i| corners[i].e_plus().clone());
-    let e_minus: [P; N] = std::array::from_fn(|i| corners[i].e_minus().clone());
-    let mut f_plus: [P; N] = std::array::from_fn(|i| corners[i].f_plus(&corners[(i + 1) % N], d));
-    let mut f_minus: [P; N] =
+) -> Parts<PointRecipe<'a, P>, N> {
+    let p = std::array::from_fn(|i| PointRecipe::Given(&corners[i].vertex.p));
+    let e_plus = std::array::from_fn(|i| PointRecipe::Given(corners[i].e_plus()));
+    let e_minus = std::array::from_fn(|i| PointRecipe::Given(corners[i].e_minus()));
+    let mut f_plus: [_; N] = std::array::from_fn(|i| corners[i].f_plus(&corners[(i + 1) % N], d));
+    let mut f_minus: [_; N] =
         std::array::from_fn(|i| corners[i].f_minus(&corners[(i + N - 1) % N], d));
     // Beside one sharp edge the face point is the corner's other one (`tangents_boundary`).
     for i in 0..N {
         match corners[i].sides() {
-            1 => f_plus[i] = f_minus[i].clone(),
-            2 => f_minus[i] = f_plus[i].clone(),
+            1 => f_plus[i] = f_minus[i],
+            2 => f_minus[i] = f_plus[i],
             _ => {}
         }
     }
     (p, e_plus, e_minus, f_plus, f_minus)
 }
 
+/// The points of `parts` formed.
+fn formed<P: GregoryPoint, const N: usize>(parts: Parts<PointRecipe<'_, P>, N>) -> Parts<P, N> {
+    let form = |r: [PointRecipe<'_, P>; N]| r.map(|r| r.point());
+    let (p, e_plus, e_minus, f_plus, f_minus) = parts;
+    (
+        form(p),
+        form(e_plus),
+        form(e_minus),
+        form(f_plus),
+        form(f_minus),
+    )
+}
+
 /// The points of a patch beside its edge from corner `y` to the next corner `x`, as `assemble`
 /// makes them: `[e_plus at x, e_minus at y, f_minus at x, f_plus at y]` (what a neighbour
 /// across that edge reads, `stencil_table`), from the two corners and, where the one-sided rule
 /// makes one of these face points the corner's other one, from the patch's corner after `x`
-/// (`x_next`) or before `y` (`y_prev`): the same calls as `assemble`, so the same bits. `None`
+/// (`x_next`) or before `y` (`y_prev`): the same terms as `assemble`, so the same bits. `None`
 /// where such a corner is needed and not given.
-pub(super) fn edge_side_points<P: GregoryPoint>(
-    x: &CornerRef<'_, P>,
-    y: &CornerRef<'_, P>,
+pub(super) fn edge_side_points<'a, P>(
+    x: &CornerRef<'a, P>,
+    y: &CornerRef<'a, P>,
     d: f64,
-    x_next: Option<&CornerRef<'_, P>>,
-    y_prev: Option<&CornerRef<'_, P>>,
-) -> Option<[P; 4]> {
+    x_next: Option<&CornerRef<'a, P>>,
+    y_prev: Option<&CornerRef<'a, P>>,
+) -> Option<[PointRecipe<'a, P>; 4]> {
     // `assemble`'s swap: beside one sharp edge the face point is the corner's other one.
     let x_next = match x.sides() {
         2 => Some(x_next?),
@@ -214,7 +256,12 @@ pub(super) fn edge_side_points<P: GregoryPoint>(
         Some(prev) => y.f_minus(prev, d),
         None => y.f_plus(x, d),
     };
-    Some([x.e_plus().clone(), y.e_minus().clone(), f_minus_x, f_plus_y])
+    Some([
+        PointRecipe::Given(x.e_plus()),
+        PointRecipe::Given(y.e_minus()),
+        f_minus_x,
+        f_plus_y,
+    ])
 }
 
 /// `(a * x + b * y) / (a + b)`, or the mean at the singular corner `a + b == 0` (§4.4).
@@ -230,7 +277,19 @@ fn blend(a: f64, x: DVec3, b: f64, y: DVec3) -> DVec3 {
 impl<P: GregoryPoint> GregoryQuad<P> {
     /// Builds the patch of a quad face from its four corners (in face order).
     pub fn new(corners: &[CornerRef<'_, P>; 4]) -> GregoryQuad<P> {
-        let (p, e_plus, e_minus, f_plus, f_minus) = assemble(corners, 3.0);
+        GregoryQuad::from_parts(formed(assemble(corners, 3.0)))
+    }
+}
+
+impl<'a, P> GregoryQuad<PointRecipe<'a, P>> {
+    /// [`GregoryQuad::new`] with the points not formed.
+    pub(super) fn recipes(corners: &[CornerRef<'a, P>; 4]) -> Self {
+        GregoryQuad::from_parts(assemble(corners, 3.0))
+    }
+}
+
+impl<P> GregoryQuad<P> {
+    fn from_parts((p, e_plus, e_minus, f_plus, f_minus): Parts<P, 4>) -> Self {
         GregoryQuad {
             p,
             e_plus,
@@ -238,6 +297,14 @@ impl<P: GregoryPoint> GregoryQuad<P> {
             f_plus,
             f_minus,
         }
+    }
+}
+
+impl<P: GregoryPoint> GregoryQuad<PointRecipe<'_, P>> {
+    /// The patch with its points formed.
+    pub(super) fn formed(&self) -> GregoryQuad<P> {
+        let q = *self;
+        GregoryQuad::from_parts(formed((q.p, q.e_plus, q.e_minus, q.f_plus, q.f_minus)))
     }
 }
 
@@ -289,7 +356,19 @@ impl GregoryQuad {
 impl<P: GregoryPoint> GregoryTriangle<P> {
     /// Builds the patch of a triangle from its three corners (in face order).
     pub fn new(corners: &[CornerRef<'_, P>; 3]) -> GregoryTriangle<P> {
-        let (p, e_plus, e_minus, f_plus, f_minus) = assemble(corners, 4.0);
+        GregoryTriangle::from_parts(formed(assemble(corners, 4.0)))
+    }
+}
+
+impl<'a, P> GregoryTriangle<PointRecipe<'a, P>> {
+    /// [`GregoryTriangle::new`] with the points not formed.
+    pub(super) fn recipes(corners: &[CornerRef<'a, P>; 3]) -> Self {
+        GregoryTriangle::from_parts(assemble(corners, 4.0))
+    }
+}
+
+impl<P> GregoryTriangle<P> {
+    fn from_parts((p, e_plus, e_minus, f_plus, f_minus): Parts<P, 3>) -> Self {
         GregoryTriangle {
             p,
             e_plus,
@@ -297,6 +376,14 @@ impl<P: GregoryPoint> GregoryTriangle<P> {
             f_plus,
             f_minus,
         }
+    }
+}
+
+impl<P: GregoryPoint> GregoryTriangle<PointRecipe<'_, P>> {
+    /// The patch with its points formed.
+    pub(super) fn formed(&self) -> GregoryTriangle<P> {
+        let q = *self;
+        GregoryTriangle::from_parts(formed((q.p, q.e_plus, q.e_minus, q.f_plus, q.f_minus)))
     }
 }
 

@@ -120,20 +120,23 @@ impl GregoryPoint for Weights {
     /// same bits as adding the terms one by one (each weight is its first term's `w * b`,
     /// then `a + w * b` for each later term holding the id, in term order).
     fn combination(terms: &[(f64, &Self)]) -> Self {
-        Weights(merge_terms(terms))
+        let mut out = Vec::new();
+        merge_terms_into(terms, &mut out);
+        Weights(out)
     }
 }
 
-/// Most terms [`merge_terms`] merges in one pass (the construction combines at most five).
+/// Most terms [`merge_terms_into`] merges in one pass (the construction combines at most five).
 const MERGE_TERMS: usize = 8;
 
-/// `Σ w_i x_i` of sorted sparse vectors in one pass over all of them, ids ascending: for each
-/// id, the terms holding it in term order (`w * b` first, then `a + w * b`), as repeated
-/// [`GregoryPoint::add_scaled`] computes it. Zero weights and empty vectors contribute nothing,
+/// `Σ w_i x_i` of sorted sparse vectors in one pass over all of them, ids ascending, appended to
+/// `out` (a caller's storage of several rows): for each id, the terms holding it in term order
+/// (`w * b` first, then `a + w * b`), as repeated [`GregoryPoint::add_scaled`] computes it. Zero weights and empty vectors contribute nothing,
 /// as there.
-fn merge_terms(terms: &[(f64, &Weights)]) -> Vec<(u32, f64)> {
+pub(super) fn merge_terms_into(terms: &[(f64, &Weights)], out: &mut Vec<(u32, f64)>) {
     if terms.len() > MERGE_TERMS {
-        return added_one_by_one(terms).0;
+        out.extend(added_one_by_one(terms).0);
+        return;
     }
     let mut live: [(f64, &[(u32, f64)]); MERGE_TERMS] = [(0.0, &[]); MERGE_TERMS];
     let mut n = 0;
@@ -145,33 +148,74 @@ fn merge_terms(terms: &[(f64, &Weights)]) -> Vec<(u32, f64)> {
     }
     let live = &live[..n];
     match live {
-        [] => return Vec::new(),
-        [(w, x)] => return x.iter().map(|&(v, b)| (v, *w * b)).collect(),
-        _ => {}
+        [] => {}
+        [(w, x)] => out.extend(x.iter().map(|&(v, b)| (v, *w * b))),
+        [a, b] => merged::<2>(&[*a, *b], out),
+        [a, b, c] => merged::<3>(&[*a, *b, *c], out),
+        [a, b, c, d] => merged::<4>(&[*a, *b, *c, *d], out),
+        _ => merged_n(live, out),
     }
-    // Each vector's next id, `u64::MAX` (past every id) once it is used up, and its place.
+}
+
+/// One output term of a k-way merge: the id `v` every term's head is compared with, the
+/// weight `Σ w * b` of the terms whose head is `v`, in term order, those heads advanced. The
+/// sum starts from `-0.0`, the exact additive identity (`-0.0 + t` is `t` bitwise, `-0.0` and
+/// NaN included), so the first term's product is kept as it is.
+#[inline(always)]
+fn merge_step(
+    v: u64,
+    head: &mut [u64],
+    rest: &mut [&[(u32, f64)]],
+    live: &[(f64, &[(u32, f64)])],
+) -> f64 {
+    let mut acc = -0.0;
+    for ((h, r), &(w, _)) in head.iter_mut().zip(rest.iter_mut()).zip(live) {
+        if *h == v {
+            if let Some((&(_, b), tail)) = r.split_first() {
+                acc += w * b;
+                *r = tail;
+                *h = tail.first().map_or(u64::MAX, |e| u64::from(e.0));
+            }
+        }
+    }
+    acc
+}
+
+/// [`merge_terms_into`] of exactly `N` live terms (at least one id each): the loops unrolled.
+fn merged<const N: usize>(live: &[(f64, &[(u32, f64)]); N], out: &mut Vec<(u32, f64)>) {
+    let mut rest: [&[(u32, f64)]; N] = std::array::from_fn(|k| live[k].1);
+    let mut head: [u64; N] = std::array::from_fn(|k| u64::from(live[k].1[0].0));
+    merge_loop(&mut head, &mut rest, live, out);
+}
+
+/// [`merged`] of any number of live terms up to [`MERGE_TERMS`].
+fn merged_n(live: &[(f64, &[(u32, f64)])], out: &mut Vec<(u32, f64)>) {
+    let n = live.len();
+    let mut rest: [&[(u32, f64)]; MERGE_TERMS] = [&[]; MERGE_TERMS];
     let mut head = [u64::MAX; MERGE_TERMS];
-    let mut at = [0usize; MERGE_TERMS];
-    for (h, (_, x)) in head.iter_mut().zip(live) {
+    for ((r, h), (_, x)) in rest.iter_mut().zip(&mut head).zip(live) {
+        *r = x;
         *h = u64::from(x[0].0);
     }
-    let head = &mut head[..n];
-    let mut out = Vec::with_capacity(live.iter().map(|(_, x)| x.len()).sum());
+    merge_loop(&mut head[..n], &mut rest[..n], live, out);
+}
+
+/// The merge of the terms `live` from each one's `head` id and `rest` (`u64::MAX` and empty
+/// once used up), ids ascending, appended to `out`.
+#[inline(always)]
+fn merge_loop(
+    head: &mut [u64],
+    rest: &mut [&[(u32, f64)]],
+    live: &[(f64, &[(u32, f64)])],
+    out: &mut Vec<(u32, f64)>,
+) {
+    out.reserve(rest.iter().map(|x| x.len()).sum());
     loop {
         let v = head.iter().copied().fold(u64::MAX, u64::min);
         if v == u64::MAX {
-            return out;
+            return;
         }
-        let mut acc: Option<f64> = None;
-        for ((h, i), &(w, x)) in head.iter_mut().zip(&mut at).zip(live) {
-            if *h == v {
-                let t = w * x[*i].1;
-                acc = Some(acc.map_or(t, |a| a + t));
-                *i += 1;
-                *h = x.get(*i).map_or(u64::MAX, |e| u64::from(e.0));
-            }
-        }
-        out.push((v as u32, acc.unwrap_or_default()));
+        out.push((v as u32, merge_step(v, head, rest, live)));
     }
 }
 
@@ -286,6 +330,16 @@ mod tests {
             vec![(1.0, &a), (1.0, &b), (1.0, &c)],
             vec![(1.0, &c), (0.3, &b), (1.0, &a), (0.0, &b), (2.0, &empty)],
             vec![(0.7, &b), (-1.5, &a), (1.0, &c), (0.25, &a)],
+            vec![(0.5, &c), (-2.0, &b)],
+            // Six live terms: the merge of any count.
+            vec![
+                (0.7, &b),
+                (-1.5, &a),
+                (1.0, &c),
+                (0.25, &a),
+                (3.0, &b),
+                (-0.5, &c),
+            ],
             // More terms than one pass merges: the term-by-term fallback.
             (0..11)
                 .map(|k| (0.1 * k as f64 - 0.4, [&a, &b, &c][k % 3]))

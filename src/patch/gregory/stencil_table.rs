@@ -13,13 +13,13 @@ use std::collections::HashMap;
 use glam::DVec3;
 
 use super::build::{
-    check_face_shape, gregory_patch_for, gregory_patch_from, gregory_vertex_for, has_vertex_data,
-    vertex_covered, vertex_ring_of_units, Coverage, GregoryPatch, NotGregory,
+    check_face_shape, gregory_patch_for, gregory_patch_recipes, gregory_vertex_for,
+    has_vertex_data, vertex_covered, vertex_ring_of_units, Coverage, GregoryPatch, NotGregory,
 };
 use super::corner_types::CornerTypes;
-use super::eval::{edge_side_points, CornerRef};
+use super::eval::{edge_side_points, CornerRef, PointRecipe};
 use super::face_rows::FaceRows;
-use super::point::{GregoryPoint, Weights};
+use super::point::{merge_terms_into, GregoryPoint, Weights};
 use super::stencil::{dense_rows, stencil_ring, NoStencil, MAX_RING, ROWS_PER_CORNER};
 use super::tangents::GregoryTangents;
 use super::vertex::{DartLimits, GregoryVertex};
@@ -119,7 +119,7 @@ fn table_rows<P: GregoryPoint, B: Borrow<GregoryPatch<P>>>(
     patch: impl Fn(u32) -> Result<B, NotGregory>,
 ) -> Result<Vec<P>, NotGregory> {
     let own = patch(f)?;
-    Ok(table_rows_with(topo, f, own.borrow(), |g, k2| {
+    Ok(table_rows_with(topo, f, own.borrow(), |_, g, k2| {
         Some(side_points(patch(g).ok()?.borrow(), k2))
     }))
 }
@@ -137,47 +137,52 @@ fn side_points<P: GregoryPoint>(q: &GregoryPatch<P>, k2: usize) -> [P; 4] {
     ]
 }
 
-/// `table_rows` from face `f`'s own patch and `neighbour(g, k2)`, the `side_points` of the
-/// patch of face `g` across edge k of `f` (which runs from corner `k2` to `k2 + 1` in `g`),
-/// `None` where `g` has no patch.
+/// `table_rows` from face `f`'s own patch and `neighbour(k, g, k2)`, the `side_points` of the
+/// patch of face `g` across edge k of `f` (which runs from corner `k2` to `k2 + 1` in `g`,
+/// [`edge_neighbour`]), `None` where `g` has no patch.
 fn table_rows_with<P: GregoryPoint>(
     topo: &Topology,
     f: u32,
     own: &GregoryPatch<P>,
-    neighbour: impl FnMut(u32, usize) -> Option<[P; 4]>,
+    neighbour: impl FnMut(usize, u32, usize) -> Option<[P; 4]>,
 ) -> Vec<P> {
     table_rows_into(topo, f, own, neighbour, |rows| {
         rows.iter().map(|&p| p.clone()).collect()
     })
 }
 
+/// The face `g` across edge k of face `f` (corner k -> k + 1) and the corner `k2` of `g` the
+/// edge runs from in `g` (to `k2 + 1`), if any.
+fn edge_neighbour(topo: &Topology, f: u32, k: usize) -> Option<(u32, usize)> {
+    let fv = topo.face_vertices(f);
+    let (x, y) = (fv[k], fv[(k + 1) % fv.len()]);
+    let g = topo
+        .find_edge(x, y)
+        .and_then(|e| topo.edge_faces(e).iter().copied().find(|&g| g != f))?;
+    let d = topo.face_vertices(g);
+    let m = d.len();
+    // In g the edge runs y -> x: corner k2 = y, k2 + 1 = x.
+    let k2 = (0..m).find(|&i| d[i] == y && d[(i + 1) % m] == x)?;
+    Some((g, k2))
+}
+
 /// [`table_rows_with`], the rows handed to `emit` at once, in order, by reference (no row
-/// cloned; the caller sizes its storage from them).
-fn table_rows_into<P: GregoryPoint, R>(
+/// cloned; the caller sizes its storage from them). Any row type: points, or the end caps'
+/// [`PointRecipe`]s.
+fn table_rows_into<P, R>(
     topo: &Topology,
     f: u32,
     own: &GregoryPatch<P>,
-    mut neighbour: impl FnMut(u32, usize) -> Option<[P; 4]>,
+    mut neighbour: impl FnMut(usize, u32, usize) -> Option<[P; 4]>,
     emit: impl FnOnce(&[&P]) -> R,
 ) -> R {
     let points = own.points();
     let [_, e_plus, e_minus, f_plus, f_minus] = points;
-    let fv = topo.face_vertices(f);
-    let n = fv.len();
+    let n = topo.face_size(f);
     let mut rows: Vec<&P> = Vec::with_capacity(9 * n);
     rows.extend(points.into_iter().flatten());
     let theirs: Vec<Option<[P; 4]>> = (0..n)
-        .map(|k| {
-            let (x, y) = (fv[k], fv[(k + 1) % n]);
-            let g = topo
-                .find_edge(x, y)
-                .and_then(|e| topo.edge_faces(e).iter().copied().find(|&g| g != f))?;
-            let d = topo.face_vertices(g);
-            let m = d.len();
-            // In g the edge runs y -> x: corner k2 = y, k2 + 1 = x.
-            let k2 = (0..m).find(|&i| d[i] == y && d[(i + 1) % m] == x)?;
-            neighbour(g, k2)
-        })
+        .map(|k| edge_neighbour(topo, f, k).and_then(|(g, k2)| neighbour(k, g, k2)))
         .collect();
     // Edge k's `[ex, ey, fx, fy]`: the neighbour's, else the patch's own points there.
     let side = |k: usize| match &theirs[k] {
@@ -326,37 +331,83 @@ impl<'a> EndCapCorners<'a> {
         Some(CornerRef { vertex, j })
     }
 
-    /// `side_points` of the end-cap patch of face `g` at its corner `k2` (`None` where `g`
-    /// has no patch): from corners `k2` and `k2 + 1` alone (`edge_side_points`) unless the
-    /// face points there are one-sided, else with `g`'s other corners too (built then); the
-    /// same bits as `g`'s whole patch either way, without assembling it.
-    fn side_points(&mut self, g: u32, k2: usize) -> Option<[Weights; 4]> {
+    /// Builds what [`Self::side_points`] of face `g` at its corner `k2` reads; whether `g` has
+    /// an end-cap patch: corners `k2` and `k2 + 1`, and `g`'s other corners where the face
+    /// points there are one-sided (`edge_side_points`).
+    fn prepare_side(&mut self, g: u32, k2: usize) -> bool {
         let topo = self.topo;
         // `check_face_for`'s corner tests are implied by the corners' data (`end_cap_patch_with`).
-        check_face_shape(topo, g).ok()?;
+        if check_face_shape(topo, g).is_err() {
+            return false;
+        }
         let gv = topo.face_vertices(g);
         let m = gv.len();
         let (y, x) = (gv[k2], gv[(k2 + 1) % m]);
         // `g` gets a patch only if every corner has data (`gregory_patch_for`).
         for &v in gv {
             if v != x && v != y && !(self.has_data(v) && topo.vertex_faces(v).contains(&g)) {
-                return None;
+                return false;
             }
         }
         self.build(&[x, y]);
-        let d = if m == 3 { 4.0 } else { 3.0 };
+        let (Some(cx), Some(cy)) = (self.corner(x, g), self.corner(y, g)) else {
+            return false;
+        };
+        if edge_side_points(&cx, &cy, side_d(m), None, None).is_none() {
+            self.build(gv);
+        }
+        true
+    }
+
+    /// `side_points` of the end-cap patch of face `g` at its corner `k2`, prepared
+    /// ([`Self::prepare_side`] said `g` has a patch): from corners `k2` and `k2 + 1` alone
+    /// unless the face points there are one-sided, else with `g`'s other corners too; the same
+    /// terms as `g`'s whole patch either way, without assembling it.
+    fn side_points(&self, g: u32, k2: usize) -> Option<[PointRecipe<'_, Weights>; 4]> {
+        let gv = self.topo.face_vertices(g);
+        let m = gv.len();
+        let (y, x) = (gv[k2], gv[(k2 + 1) % m]);
         let (cx, cy) = (self.corner(x, g)?, self.corner(y, g)?);
-        if let Some(near) = edge_side_points(&cx, &cy, d, None, None) {
+        if let Some(near) = edge_side_points(&cx, &cy, side_d(m), None, None) {
             return Some(near);
         }
-        self.build(gv);
         // Every corner of `g` has data (as `gregory_patch_from` requires): for a quad the
         // corners after `x` and before `y` are its other two, for a triangle its third.
         let next = self.corner(gv[(k2 + 2) % m], g)?;
         let prev = self.corner(gv[(k2 + m - 1) % m], g)?;
-        let (cx, cy) = (self.corner(x, g)?, self.corner(y, g)?);
-        edge_side_points(&cx, &cy, d, Some(&next), Some(&prev))
+        edge_side_points(&cx, &cy, side_d(m), Some(&next), Some(&prev))
     }
+}
+
+/// The `d` of eq. 6 for a face of `m` corners: 4 for triangles, 3 for quads (§3.4).
+fn side_d(m: usize) -> f64 {
+    if m == 3 {
+        4.0
+    } else {
+        3.0
+    }
+}
+
+/// The rows `rows` formed into one [`FaceRows`]: corners' points copied, face points combined
+/// straight into its storage (no row of their own).
+fn face_rows_of(rows: &[&PointRecipe<'_, Weights>]) -> FaceRows {
+    let bound = |r: &PointRecipe<'_, Weights>| match r {
+        PointRecipe::Given(w) => w.0.len(),
+        PointRecipe::Combination(terms) => terms.iter().map(|(_, w)| w.0.len()).sum(),
+    };
+    let mut out = FaceRows {
+        offsets: Vec::with_capacity(rows.len() + 1),
+        terms: Vec::with_capacity(rows.iter().map(|r| bound(r)).sum()),
+    };
+    out.offsets.push(0);
+    for r in rows {
+        match r {
+            PointRecipe::Given(w) => out.terms.extend_from_slice(&w.0),
+            PointRecipe::Combination(terms) => merge_terms_into(terms, &mut out.terms),
+        }
+        out.offsets.push(out.terms.len() as u32);
+    }
+    out
 }
 
 /// The rows of each face of `faces` in the table layout ([`StencilType::weights`]: control
@@ -398,11 +449,16 @@ pub(super) fn sparse_face_rows_direct_with(
         .iter()
         .map(|&f| {
             corners.build(topo.face_vertices(f));
-            let own = gregory_patch_from(topo, f, Coverage::EndCap, |v| corners.vertex(v))?;
-            let neighbour = |g, k2| corners.side_points(g, k2);
-            Ok(table_rows_into(topo, f, &own, neighbour, |rows| {
-                FaceRows::from_weights(rows)
-            }))
+            // Every corner data the rows read built first, then read all at once.
+            let mut ready = [false; 4];
+            for (k, r) in ready.iter_mut().enumerate().take(topo.face_size(f)) {
+                *r = edge_neighbour(topo, f, k).is_some_and(|(g, k2)| corners.prepare_side(g, k2));
+            }
+            let corners = &corners;
+            let own = gregory_patch_recipes(topo, f, Coverage::EndCap, |v| corners.vertex(v))?;
+            let neighbour =
+                |k: usize, g, k2| ready[k].then(|| corners.side_points(g, k2)).flatten();
+            Ok(table_rows_into(topo, f, &own, neighbour, face_rows_of))
         })
         .collect()
 }

@@ -869,12 +869,26 @@ pub fn face_point_cos<P: GregoryPoint>(
     e_ba: &P,
     r: &P,
 ) -> P {
-    combine(&[
+    combine(&face_point_terms(d, c_a, c_b, p_a, e_ab, e_ba, r))
+}
+
+/// The terms `(weight, point)` [`face_point_cos`] combines, in its order (so a caller can
+/// combine them where it likes, with the same bits).
+pub(super) fn face_point_terms<'a, P>(
+    d: f64,
+    c_a: f64,
+    c_b: f64,
+    p_a: &'a P,
+    e_ab: &'a P,
+    e_ba: &'a P,
+    r: &'a P,
+) -> [(f64, &'a P); 4] {
+    [
         (c_b / d, p_a),
         ((d - 2.0 * c_a - c_b) / d, e_ab),
         (2.0 * c_a / d, e_ba),
         (1.0 / d, r),
-    ])
+    ]
 }
 
 /// [`face_point_cos`] for interior vertices of valences `n_a`, `n_b` (`c = cos(2π/n)`), on
