@@ -872,15 +872,20 @@ fn classify(
     single_crease: bool,
 ) -> AdaptivePatch {
     let t = lev.topology();
-    let global = |cvs: &mut [u32; 16]| cvs.iter_mut().for_each(|c| *c = lev.global(*c));
+    // The level's offset read once (not per control point): the 16 sums vectorise.
+    let first = lev.first_vertex;
+    let global = |cvs: &mut [u32; 16]| *cvs = cvs.map(|c| first + c);
     let (mut p, kind, crease) = if let Some(p) = tests.patch(f) {
-        let edges = t.face_edges(f);
-        let crease =
-            (0..4).any(|k| p.boundary_mask & (1 << k) != 0 && !t.is_boundary_edge(edges[k]));
-        let kind = match (p.boundary_mask, crease) {
-            (0, _) => PatchType::Regular,
-            (_, false) => PatchType::Boundary,
-            (_, true) => PatchType::Crease,
+        // A phantom side on an edge that is not a boundary: a crease patch (most patches have
+        // no phantom side, and need no edge).
+        let crease = |mask: u8| {
+            let edges = t.face_edges(f);
+            (0..4).any(|k| mask & (1 << k) != 0 && !t.is_boundary_edge(edges[k]))
+        };
+        let kind = match p.boundary_mask {
+            0 => PatchType::Regular,
+            mask if crease(mask) => PatchType::Crease,
+            _ => PatchType::Boundary,
         };
         (p, kind, None)
     } else if let Some(mut line) = single_crease.then(|| tests.single_crease_line(f)).flatten() {

@@ -211,9 +211,13 @@ impl Topology {
     #[inline]
     pub(crate) fn quad(&self, f: u32) -> Option<(&[u32; 4], &[u32; 4])> {
         let (a, b) = self.face_range(f);
+        // The size first (offsets increase): then each array's read is one bounds check.
+        if b - a != 4 {
+            return None;
+        }
         Some((
-            self.face_verts[a..b].try_into().ok()?,
-            self.face_edges[a..b].try_into().ok()?,
+            self.face_verts.get(a..a + 4)?.try_into().ok()?,
+            self.face_edges.get(a..a + 4)?.try_into().ok()?,
         ))
     }
 
