@@ -68,32 +68,33 @@ impl FaceRows {
     }
 
     /// The rows `offsets` over `terms` with each id written as `id(id)`, without the terms
-    /// `kept` drops (the others in order).
+    /// `kept` drops (the others in order): one pass over the terms into their final place,
+    /// `id` asked only of the terms kept.
     pub(super) fn relabelled(
         offsets: &[u32],
         terms: &[(u32, f64)],
         kept: Terms,
         id: impl Fn(u32) -> u32,
     ) -> FaceRows {
+        let relabel = |&(u, x): &(u32, f64)| (id(u), x);
+        if kept == Terms::All || !terms.iter().any(|t| t.1 == 0.0) {
+            return FaceRows {
+                offsets: offsets.to_vec(),
+                terms: terms.iter().map(relabel).collect(),
+            };
+        }
         let mut out = FaceRows {
-            offsets: offsets.to_vec(),
-            terms: terms.iter().map(|&(u, x)| (id(u), x)).collect(),
+            offsets: Vec::with_capacity(offsets.len()),
+            terms: Vec::with_capacity(terms.len()),
         };
-        if kept == Terms::Nonzero && terms.iter().any(|t| t.1 == 0.0) {
-            out.drop_zero_terms();
+        out.offsets.push(0);
+        for r in offsets.windows(2) {
+            let row = &terms[r[0] as usize..r[1] as usize];
+            out.terms
+                .extend(row.iter().filter(|t| t.1 != 0.0).map(relabel));
+            out.offsets.push(out.terms.len() as u32);
         }
         out
-    }
-
-    /// Drops the terms of weight zero in place ([`close_up_rows`]).
-    fn drop_zero_terms(&mut self) {
-        let terms = &mut self.terms[..];
-        let kept = close_up_rows(&mut self.offsets[1..], 0, terms.len(), |to, from| {
-            let t = terms[from];
-            terms[to] = t;
-            t.1 != 0.0
-        });
-        self.terms.truncate(kept);
     }
 }
 
@@ -101,7 +102,7 @@ impl FaceRows {
 /// first row starting at `first`; `n` terms from `first` on), and `keep(to, from)` writes term
 /// `from` (relative to `first`) at place `to <= from` and says whether it is kept. Each term is
 /// written at the next place whether kept or not (no branch per term); the ends are rewritten
-/// and the kept count returned. Shared by the end caps' [`FaceRows`] and the draw tables' rows.
+/// and the kept count returned. The draw tables' rows close up with it (`SparseRows`).
 #[inline(always)]
 pub fn close_up_rows(
     ends: &mut [u32],

@@ -115,15 +115,15 @@ impl<'a> Keyer<'a> {
     }
 
     /// The key of face `f` in `key` (cleared first: one buffer for every face keyed), its ring
-    /// in `ring` with `slot` set (the vertices of its corners' rings, [`CornerRings::corner`],
-    /// in corner order, each once); `None` where a vertex the construction reads lies outside
-    /// the ring.
+    /// appended to `rings` with `slot` set (the vertices of its corners' rings,
+    /// [`CornerRings::corner`], in corner order, each once; slots count from the ring's start);
+    /// `None` where a vertex the construction reads lies outside the ring.
     ///
     /// Each corner is its shape id and the place of `f` among its faces, then every entry of
     /// every corner's ring is its slot in the face's ring: with the shapes this is what
     /// [`Self::push_vertex`] writes of each corner (its edges' other ends and its faces'
     /// vertices in the face's slots), so faces with equal keys read the same.
-    fn key(&mut self, f: u32, key: &mut TypeKey) -> (Vec<u32>, Option<()>) {
+    fn key(&mut self, f: u32, key: &mut TypeKey, rings: &mut Vec<u32>) -> Option<()> {
         let topo = self.topo;
         let fv = topo.face_vertices(f);
         key.clear();
@@ -132,19 +132,18 @@ impl<'a> Keyer<'a> {
             let at = topo.vertex_faces(v).iter().position(|&g| g == f);
             key.extend([self.corners.corner(v).0, at.map_or(NONE, |j| j as u32)]);
         }
-        let mut ring: Vec<u32> = Vec::with_capacity(RING_CAPACITY);
+        let first = rings.len();
         for &v in fv {
             for &u in self.corners.corner(v).1 {
                 let s = &mut self.slot[u as usize];
                 if *s == NONE {
-                    *s = ring.len() as u32;
-                    ring.push(u);
+                    *s = (rings.len() - first) as u32;
+                    rings.push(u);
                 }
                 key.push(*s);
             }
         }
-        let edges = self.key_edges(f, key);
-        (ring, edges)
+        self.key_edges(f, key)
     }
 
     /// The words of `f`'s key after its corners: per edge, the neighbour across it (its place
@@ -244,10 +243,6 @@ impl Keyer<'_> {
     }
 }
 
-/// Room [`Keyer::key`] makes for a face's ring up front: a quad's ring (16 vertices at
-/// valence-4 corners, 24 at valence 6) without growing it.
-const RING_CAPACITY: usize = 32;
-
 /// [`super::stencil_table::sparse_face_rows_direct`] on `faces` split into one batch per rayon
 /// thread (one batch on one thread): a face's rows do not depend on its batch, only the sharing
 /// of vertex data does. `has_data`: the keys' answers of which vertices have data (per vertex
@@ -305,9 +300,9 @@ pub fn sparse_face_rows_flat(
 enum FaceRow {
     /// Built directly: over the level's vertices and [`vertex_point_id`]s.
     Direct(FaceRows),
-    /// Its type's rows laid out in the order of its ring's ids ([`Layouts::layout`]), and its
-    /// ring (the vertex of each slot).
-    Shared { layout: u32, ring: Vec<u32> },
+    /// Its type's rows laid out in the order of its ring's ids ([`Layouts::layout`]) (its
+    /// ring: [`EndCapFaceRows::ring`]).
+    Shared { layout: u32 },
 }
 
 /// The end-cap rows of a set of faces with the construction run once per connectivity type
@@ -317,6 +312,10 @@ enum FaceRow {
 pub struct EndCapFaceRows {
     layouts: Layouts,
     faces: Vec<Result<FaceRow, NotGregory>>,
+    /// The faces' rings (the vertex of each slot), one after another.
+    rings: Vec<u32>,
+    /// `faces + 1` offsets into `rings`.
+    ring_at: Vec<u32>,
     /// The terms [`Self::rows`] keeps (a directly built face keeps them all until then, so
     /// [`Self::derived_read`] sees every term).
     kept: Terms,
@@ -333,6 +332,11 @@ impl EndCapFaceRows {
         self.faces.is_empty()
     }
 
+    /// The ring of face `i` (the vertex of each slot).
+    fn ring(&self, i: usize) -> &[u32] {
+        &self.rings[self.ring_at[i] as usize..self.ring_at[i + 1] as usize]
+    }
+
     /// Whether face `i` (of the faces asked, in order) gets a patch, or why not.
     pub fn result(&self, i: usize) -> Result<(), NotGregory> {
         self.faces[i].as_ref().map(|_| ()).map_err(|e| *e)
@@ -347,7 +351,8 @@ impl EndCapFaceRows {
                 .iter()
                 .filter_map(|&(id, _)| vertex_point_of(topo, id))
                 .for_each(|(v, b)| mark(v, b)),
-            Ok(FaceRow::Shared { layout, ring }) => {
+            Ok(FaceRow::Shared { layout }) => {
+                let ring = self.ring(i);
                 self.layouts.derived_read(*layout, |s, b| mark(ring[s], b));
             }
             Err(_) => {}
@@ -373,8 +378,8 @@ impl EndCapFaceRows {
                 };
                 FaceRows::relabelled(&rows.offsets, &rows.terms, self.kept, id)
             }
-            Ok(FaceRow::Shared { layout, ring }) => {
-                self.layouts.rows(*layout, ring, vertex, derived)
+            Ok(FaceRow::Shared { layout }) => {
+                self.layouts.rows(*layout, self.ring(i), vertex, derived)
             }
             Err(_) => FaceRows::default(),
         }
@@ -412,11 +417,14 @@ pub fn end_cap_face_rows(
     let mut types: WordHashMap<TypeKey, u32> = WordHashMap::default();
     let mut type_of: Vec<Option<u32>> = Vec::with_capacity(faces.len());
     let mut representative: Vec<usize> = Vec::new();
-    // Each face's ring, numbered once (the relabelling reads it again).
-    let mut rings: Vec<Vec<u32>> = Vec::with_capacity(faces.len());
+    // Each face's ring, numbered once (the relabelling reads it again), in one buffer.
+    let mut rings: Vec<u32> = Vec::new();
+    let mut ring_at: Vec<u32> = Vec::with_capacity(faces.len() + 1);
+    ring_at.push(0);
+    let ring_of = |ring_at: &[u32], i: usize| ring_at[i] as usize..ring_at[i + 1] as usize;
     let mut key = TypeKey::new();
     for (i, &f) in faces.iter().enumerate() {
-        let (ring, keyed) = keyer.key(f, &mut key);
+        let keyed = keyer.key(f, &mut key, &mut rings);
         let t = keyed.map(|()| match types.get(key.as_slice()) {
             Some(&t) => t,
             None => {
@@ -426,9 +434,9 @@ pub fn end_cap_face_rows(
                 t
             }
         });
-        clear(&mut keyer.slot, &ring);
+        ring_at.push(rings.len() as u32);
+        clear(&mut keyer.slot, &rings[ring_of(&ring_at, i)]);
         type_of.push(t);
-        rings.push(ring);
     }
     // Pass 2: the representatives and the faces without type, directly, in one batch (one
     // vertex's data serves all its faces).
@@ -462,7 +470,7 @@ pub fn end_cap_face_rows(
             if m == 1 {
                 return None;
             }
-            let ring = &rings[i];
+            let ring = &rings[ring_of(&ring_at, i)];
             for (s, &x) in ring.iter().enumerate() {
                 keyer.slot[x as usize] = s as u32;
             }
@@ -504,9 +512,8 @@ pub fn end_cap_face_rows(
     let out = EndCapFaceRows {
         faces: rows
             .into_iter()
-            .zip(rings)
             .enumerate()
-            .map(|(i, (r, ring))| match r {
+            .map(|(i, r)| match r {
                 Some(r) => r.map(FaceRow::Direct),
                 None => {
                     let t = type_of[i].expect("faces without type are built in the first batch");
@@ -515,12 +522,14 @@ pub fn end_cap_face_rows(
                         local, NONE,
                         "types without rows are built in the second batch"
                     );
-                    let layout = layouts.layout(local, &ring);
-                    Ok(FaceRow::Shared { layout, ring })
+                    let layout = layouts.layout(local, &rings[ring_of(&ring_at, i)]);
+                    Ok(FaceRow::Shared { layout })
                 }
             })
             .collect(),
         layouts,
+        rings,
+        ring_at,
         kept,
     };
     log::trace!(

@@ -370,7 +370,8 @@ fn face_keys_number_the_corners_rings() {
         ring_walk(&topo, f, |x| visited.push(x));
         assert_eq!(visited, walk, "face {f}");
         let mut key = TypeKey::new();
-        let (ring, keyed) = keyer.key(f, &mut key);
+        let mut ring = Vec::new();
+        let keyed = keyer.key(f, &mut key, &mut ring);
         assert!(keyed.is_some(), "face {f}");
         // Each corner, its edges' other ends, its faces' vertices in face order.
         let mut want: Vec<u32> = Vec::new();
@@ -409,7 +410,8 @@ fn face_keys_number_the_corners_rings() {
     let (mut inner, mut outer) = (Vec::new(), Vec::new());
     for f in 0..64u32 {
         let mut key = TypeKey::new();
-        let (ring, keyed) = keyer.key(f, &mut key);
+        let mut ring = Vec::new();
+        let keyed = keyer.key(f, &mut key, &mut ring);
         assert!(keyed.is_some(), "grid face {f}");
         clear(&mut keyer.slot, &ring);
         let (x, y) = (f % 8, f / 8);
