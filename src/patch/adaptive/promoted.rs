@@ -18,11 +18,12 @@ use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::AdaptiveLevel;
 #[cfg(doc)]
 use crate::subdiv::adaptive::EndCapSharpness;
-use crate::subdiv::limit::SharedVertexMasks;
 #[cfg(doc)]
-use crate::subdiv::limit::{vertex_mask, VertexMask};
+use crate::subdiv::limit::vertex_mask;
+use crate::subdiv::limit::{SharedVertexMasks, VertexMask};
 use crate::topology::Topology;
 use glam::DVec3;
+use std::sync::Arc;
 
 /// Whether vertex `v` touches a promoted crease, or is a corner only in `caps`.
 pub fn promoted_vertex(level: &Topology, caps: &Topology, v: u32) -> bool {
@@ -46,7 +47,7 @@ pub fn exact_corner_tangents_shared(
     masks: &SharedVertexMasks,
 ) -> Option<[Weights; 2]> {
     let v = lev.topology().face_vertices(f)[k];
-    let mask = match masks.vertex_mask(&lev.level, v, f) {
+    let mask = match corner_mask(lev, v, f, masks) {
         Ok(m) => m,
         Err(e) => {
             log::debug!("promoted corner {k} of face {f}: no exact limit mask ({e})");
@@ -74,11 +75,22 @@ pub fn exact_corner_position(
     masks: &SharedVertexMasks,
 ) -> Option<Weights> {
     let v = lev.topology().face_vertices(f)[k];
-    let mask = masks
-        .vertex_mask(&lev.level, v, f)
+    let mask = corner_mask(lev, v, f, masks)
         .map_err(|e| log::debug!("corner {k} of face {f}: no exact limit mask ({e})"))
         .ok()?;
     Some(mask_row(lev, &mask.indices, &mask.position, 1.0))
+}
+
+/// The limit mask of vertex `v` of `lev` in face `f`, kept in `masks` under `v`'s global id
+/// and `f` ([`SharedVertexMasks::corner_mask`]): the slot, sector, exact-position and lattice
+/// frames of one build read the same promoted corners.
+pub(super) fn corner_mask(
+    lev: &AdaptiveLevel,
+    v: u32,
+    f: u32,
+    masks: &SharedVertexMasks,
+) -> crate::Result<Arc<VertexMask>> {
+    masks.corner_mask((lev.global(v), f), &lev.level, v, f)
 }
 
 /// Weights `w` of a limit mask over vertices `indices` of `lev`, times `sign`, as a row over

@@ -465,13 +465,18 @@ impl GridShapes {
         let sums = &mut self.sums;
         let terms = shape.node_terms((i, x, y), masks, sums)?;
         sums.pull_back_from(terms, &grids.first, grids.columns.len());
-        let row = |d: usize| {
-            let mut w = Vec::with_capacity(sums.terms.len());
-            let terms = sums.terms.iter().filter(|t| t.1[d] != 0.0);
-            w.extend(terms.map(|&(k, x)| (lev.global(grids.columns[k as usize]), x[d])));
-            Weights(w)
-        };
-        Some([row(0), row(1)])
+        // Both rows in one pass over the terms, zeros dropped.
+        let n = sums.terms.len();
+        let mut rows = [Vec::with_capacity(n), Vec::with_capacity(n)];
+        for &(k, x) in &sums.terms {
+            let g = lev.global(grids.columns[k as usize]);
+            for (row, &w) in rows.iter_mut().zip(&x) {
+                if w != 0.0 {
+                    row.push((g, w));
+                }
+            }
+        }
+        Some(rows.map(Weights))
     }
 }
 
