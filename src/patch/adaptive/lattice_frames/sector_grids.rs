@@ -220,8 +220,14 @@ impl SectorGrids {
             far.push((opposite, from_a, from_b));
         }
         let level = &lev.level;
-        // Level 1: v's faces refined once, rows over level L.
-        let mut first = Rows::default();
+        // Level 1: v's faces refined once, rows over level L (room for the rows of a smooth
+        // neighbourhood: 9 terms for a regular vertex point, 4 for a face point, 6 for an edge
+        // point, `2 n + 1` for v's).
+        let points = (1 + 2 * ne + 4 * nf) as usize;
+        let mut first = Rows {
+            offsets: Vec::with_capacity(points + 1),
+            terms: Vec::with_capacity(2 * ne as usize + 1 + 9 * (points - 1)),
+        };
         let mut buf = Vec::with_capacity(32);
         let mut push = |r: u32, rows: &mut Rows| {
             level.refine_matrix_row(r as usize, &mut buf);
