@@ -28,7 +28,7 @@ pub mod sector;
 
 use std::cell::RefCell;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::{Mutex, MutexGuard, PoisonError};
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -190,13 +190,23 @@ fn vertex_mask_rec(
 /// seed, so a build's instruction count repeats from run to run. A look-up that finds its mask
 /// allocates only the mask it returns: the ring, its key and the relabelling order are made in
 /// buffers kept per thread (`RingScratch`).
+///
+/// Callers that ask for one corner's mask more than once (the draw tables' slot, sector,
+/// exact-position and lattice frames all read the limit at the same promoted corners) name it
+/// by a key ([`Self::corner_mask`]) and get the mask made the first time, without its ring,
+/// key and relabelling again.
 #[derive(Debug, Default)]
 pub struct SharedVertexMasks {
     /// Masks by [`ring_key`].
     masks: Mutex<WordHashMap<Vec<u32>, VertexMask>>,
+    /// Masks by the callers' corner keys ([`Self::corner_mask`]); `None` where the mask failed.
+    corners: Mutex<CornerMasks>,
     /// Masks reused (for tests and profiles).
     hits: AtomicUsize,
 }
+
+/// [`SharedVertexMasks::corner_mask`]'s masks by corner key, `None` where the mask failed.
+type CornerMasks = WordHashMap<(u32, u32), Option<Arc<VertexMask>>>;
 
 /// The buffers of one thread's look-ups in [`SharedVertexMasks`].
 #[derive(Default)]
@@ -296,6 +306,31 @@ impl SharedVertexMasks {
         Ok(out)
     }
 
+    /// [`Self::vertex_mask`] of vertex `v` of `level` in face `face`, kept under `key`: the
+    /// caller's name for `(level, v, face)`, one name per corner for the table's life (the
+    /// adaptive draw tables use `v`'s global refined id and `face`). A corner asked again gets
+    /// the same mask (the same bits) without a look-up by ring; one whose mask failed fails
+    /// again (the first error names the cause).
+    pub fn corner_mask(
+        &self,
+        key: (u32, u32),
+        level: &Level,
+        v: u32,
+        face: u32,
+    ) -> Result<Arc<VertexMask>> {
+        let kept = self.corner_table().get(&key).cloned();
+        let Some(mask) = kept else {
+            let made = self.vertex_mask(level, v, face).map(Arc::new);
+            self.corner_table().insert(key, made.as_ref().ok().cloned());
+            return made;
+        };
+        mask.ok_or_else(|| {
+            Error::Invalid(format!(
+                "limit mask: vertex {v} in face {face} failed before"
+            ))
+        })
+    }
+
     /// Masks reused so far (for tests and profiles).
     pub fn hits(&self) -> usize {
         self.hits.load(Ordering::Relaxed)
@@ -304,6 +339,11 @@ impl SharedVertexMasks {
     /// The table, locked (a panic elsewhere while it was held leaves whole entries only).
     fn table(&self) -> MutexGuard<'_, WordHashMap<Vec<u32>, VertexMask>> {
         self.masks.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// The corner table, locked (as [`Self::table`]).
+    fn corner_table(&self) -> MutexGuard<'_, CornerMasks> {
+        self.corners.lock().unwrap_or_else(PoisonError::into_inner)
     }
 }
 
@@ -849,6 +889,42 @@ pub struct LimitStencilTables {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A corner asked again by its key gets the mask made the first time (the same allocation,
+    /// no look-up by ring), which is a fresh table's; a failed corner fails again.
+    #[test]
+    fn corner_masks_are_kept_by_key() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../shared/meshes/osd/catmark_cube_creases1.obj"
+        );
+        let mesh = crate::ControlMesh::from_obj_file(path, &Default::default()).unwrap();
+        let level = Level::from_mesh(&mesh).unwrap();
+        let topo = level.topology();
+        let masks = SharedVertexMasks::default();
+        let mut asked = 0;
+        for v in (0..topo.vertex_count() as u32).filter(|&v| needs_refinement(topo, v)) {
+            for &f in topo.vertex_faces(v) {
+                let first = masks.corner_mask((v, f), &level, v, f).unwrap();
+                let hits = masks.hits();
+                let again = masks.corner_mask((v, f), &level, v, f).unwrap();
+                assert!(Arc::ptr_eq(&first, &again), "vertex {v} face {f}");
+                assert_eq!(masks.hits(), hits, "vertex {v} face {f}: looked up by ring");
+                let fresh = SharedVertexMasks::default().vertex_mask(&level, v, f);
+                assert_eq!(*first, fresh.unwrap(), "vertex {v} face {f}");
+                asked += 1;
+            }
+        }
+        assert!(asked > 8, "{asked} corners");
+        let stranger = (0..topo.face_count() as u32)
+            .find(|&g| !topo.vertex_faces(0).contains(&g))
+            .unwrap();
+        for _ in 0..2 {
+            assert!(masks
+                .corner_mask((0, stranger), &level, 0, stranger)
+                .is_err());
+        }
+    }
 
     /// Every mask that refines locally, of every vertex and face of every corpus mesh (and of
     /// its first uniform level), and the same masks over the vertices' ring extractions as

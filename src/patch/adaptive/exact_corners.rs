@@ -51,9 +51,11 @@ impl ExactCorners {
             ..Default::default()
         };
         let mut by_slot: WordHashMap<u32, u32> = WordHashMap::default();
-        // Per (level, vertex): its offset's width code where it is a corner-offset vertex, else
-        // `None`; a property of the vertex, asked by each of its up to four quad end caps.
-        let mut offset_codes: WordHashMap<(u32, u32), Option<u32>> = WordHashMap::default();
+        // Per level, per vertex: its offset's width code where it is a corner-offset vertex,
+        // else `None`; a property of the vertex, asked by each of its up to four quad end caps
+        // (outer `None`: not asked yet; a level's table is made when first asked).
+        let mut offset_codes: Vec<Vec<Option<Option<u32>>>> =
+            vec![Vec::new(); refinement.levels.len()];
         for p in &census.patches {
             let mut frames = [NONE; 4];
             let mut codes = 0;
@@ -63,8 +65,12 @@ impl ExactCorners {
                 let caps = topologies.get(p.level);
                 // A quad end cap of this level (the positional fillet's neighbours).
                 let quad_cap = |g: u32| is_quad_end_cap(lev, census, &at[p.level as usize], g);
+                let codes_here = &mut offset_codes[p.level as usize];
+                if codes_here.is_empty() {
+                    codes_here.resize(t.vertex_count(), None);
+                }
                 for (k, &v) in t.face_vertices(p.face).iter().enumerate() {
-                    let code = *offset_codes.entry((p.level, v)).or_insert_with(|| {
+                    let code = *codes_here[v as usize].get_or_insert_with(|| {
                         corner_offset_vertex(t, caps, v, quad_cap)
                             .then(|| corner_offset_code(t, caps, v))
                     });

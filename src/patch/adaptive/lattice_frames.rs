@@ -24,7 +24,8 @@ use glam::DVec3;
 
 use super::census_index::{is_quad_end_cap, EndCapTopologies};
 use super::promoted::{
-    corner_offset_code, fillet_sharpness, mask_row, promoted_vertex, vertex_fillet_sharpness,
+    corner_mask, corner_offset_code, fillet_sharpness, mask_row, promoted_vertex,
+    vertex_fillet_sharpness,
 };
 use super::slots::NONE;
 use crate::patch::gregory::word_hash::WordHashMap;
@@ -337,8 +338,7 @@ fn corner_rows(
     face: u32,
     masks: &SharedVertexMasks,
 ) -> Option<[Weights; 2]> {
-    let m = masks
-        .vertex_mask(&lev.level, v, face)
+    let m = corner_mask(lev, v, face, masks)
         .map_err(|e| log::debug!("lattice vertex {v}: no exact limit mask ({e})"))
         .ok()?;
     let row = |w: &[f64]| mask_row(lev, &m.indices, w, 1.0);

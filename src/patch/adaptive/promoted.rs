@@ -18,11 +18,12 @@ use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::AdaptiveLevel;
 #[cfg(doc)]
 use crate::subdiv::adaptive::EndCapSharpness;
-use crate::subdiv::limit::SharedVertexMasks;
 #[cfg(doc)]
-use crate::subdiv::limit::{vertex_mask, VertexMask};
+use crate::subdiv::limit::vertex_mask;
+use crate::subdiv::limit::{SharedVertexMasks, VertexMask};
 use crate::topology::Topology;
 use glam::DVec3;
+use std::sync::Arc;
 
 /// Whether vertex `v` touches a promoted crease, or is a corner only in `caps`.
 pub fn promoted_vertex(level: &Topology, caps: &Topology, v: u32) -> bool {
@@ -46,7 +47,7 @@ pub fn exact_corner_tangents_shared(
     masks: &SharedVertexMasks,
 ) -> Option<[Weights; 2]> {
     let v = lev.topology().face_vertices(f)[k];
-    let mask = match masks.vertex_mask(&lev.level, v, f) {
+    let mask = match corner_mask(lev, v, f, masks) {
         Ok(m) => m,
         Err(e) => {
             log::debug!("promoted corner {k} of face {f}: no exact limit mask ({e})");
@@ -74,11 +75,22 @@ pub fn exact_corner_position(
     masks: &SharedVertexMasks,
 ) -> Option<Weights> {
     let v = lev.topology().face_vertices(f)[k];
-    let mask = masks
-        .vertex_mask(&lev.level, v, f)
+    let mask = corner_mask(lev, v, f, masks)
         .map_err(|e| log::debug!("corner {k} of face {f}: no exact limit mask ({e})"))
         .ok()?;
     Some(mask_row(lev, &mask.indices, &mask.position, 1.0))
+}
+
+/// The limit mask of vertex `v` of `lev` in face `f`, kept in `masks` under `v`'s global id
+/// and `f` ([`SharedVertexMasks::corner_mask`]): the slot, sector, exact-position and lattice
+/// frames of one build read the same promoted corners.
+pub(super) fn corner_mask(
+    lev: &AdaptiveLevel,
+    v: u32,
+    f: u32,
+    masks: &SharedVertexMasks,
+) -> crate::Result<Arc<VertexMask>> {
+    masks.corner_mask((lev.global(v), f), &lev.level, v, f)
 }
 
 /// Weights `w` of a limit mask over vertices `indices` of `lev`, times `sign`, as a row over
@@ -119,10 +131,10 @@ pub fn corner_offset_vertex(
 /// rule averages them), else its own vertex sharpness.
 pub fn corner_offset_code(level: &Topology, caps: &Topology, v: u32) -> u32 {
     let creases = CreaseEdges::at(level, caps, v);
-    fillet_code(if creases.promoted.is_empty() {
+    fillet_code(if creases.promoted().is_empty() {
         level.vertex_sharpness(v)
     } else {
-        mean_sharpness(level, &creases.promoted)
+        mean_sharpness(level, creases.promoted())
     })
 }
 
@@ -223,8 +235,8 @@ pub fn positional_fillet_end(
 ) -> bool {
     let creases = CreaseEdges::at(level, caps, v);
     creases.regular_sharpness(level, v).is_some()
-        && fillet_fine_code(level.edge_sharpness(creases.promoted[0]))
-            == fillet_fine_code(level.edge_sharpness(creases.promoted[1]))
+        && fillet_fine_code(level.edge_sharpness(creases.promoted()[0]))
+            == fillet_fine_code(level.edge_sharpness(creases.promoted()[1]))
         && level.vertex_sharpness(v) == 0.0
         && caps.vertex_sharpness(v) == 0.0
         && level.vertex_faces(v).iter().all(|&f| quad_cap(f))
@@ -417,34 +429,61 @@ pub fn irregular_crease_vertex(level: &Topology, caps: &Topology, v: u32) -> boo
 /// order, and how many of its edges are sharp for the end caps (`caps`), counted only where two
 /// or more are promoted (both classes need two; most vertices have none).
 struct CreaseEdges {
-    promoted: Vec<u32>,
+    /// The first promoted edges ([`Self::promoted`]; asked per end-cap corner, so not
+    /// allocated for the few a vertex has).
+    first: [u32; CREASE_EDGES_INLINE],
+    /// All promoted edges where there are more than `first` holds, else empty.
+    more: Vec<u32>,
+    count: usize,
     sharp: usize,
 }
+
+/// Promoted edges [`CreaseEdges`] holds without allocating.
+const CREASE_EDGES_INLINE: usize = 8;
 
 impl CreaseEdges {
     fn at(level: &Topology, caps: &Topology, v: u32) -> Self {
         let edges = level.vertex_edges(v);
-        let promoted: Vec<u32> = edges
-            .iter()
-            .copied()
-            .filter(|&e| caps.is_promoted_edge(e))
-            .collect();
-        let sharp = if promoted.len() >= 2 {
-            edges
+        let mut out = CreaseEdges {
+            first: [0; CREASE_EDGES_INLINE],
+            more: Vec::new(),
+            count: 0,
+            sharp: 0,
+        };
+        for &e in edges.iter().filter(|&&e| caps.is_promoted_edge(e)) {
+            if out.count < CREASE_EDGES_INLINE {
+                out.first[out.count] = e;
+            } else {
+                if out.more.is_empty() {
+                    out.more.extend_from_slice(&out.first);
+                }
+                out.more.push(e);
+            }
+            out.count += 1;
+        }
+        if out.count >= 2 {
+            out.sharp = edges
                 .iter()
                 .filter(|&&e| caps.edge_sharpness(e) > 0.0)
-                .count()
+                .count();
+        }
+        out
+    }
+
+    /// The promoted edges at the vertex, in ring order.
+    fn promoted(&self) -> &[u32] {
+        if self.count <= CREASE_EDGES_INLINE {
+            &self.first[..self.count]
         } else {
-            0
-        };
-        CreaseEdges { promoted, sharp }
+            &self.more
+        }
     }
 
     /// [`vertex_fillet_sharpness`]: valence 4, the two promoted edges opposite (no face between
     /// them: every other edge lies between two faces beside the crease, whose continuations
     /// beyond it are the same edge) and no other sharp edge.
     fn regular_sharpness(&self, level: &Topology, v: u32) -> Option<f32> {
-        let p = &self.promoted;
+        let p = self.promoted();
         let opposite = p.len() == 2
             && !level
                 .edge_faces(p[0])
@@ -457,11 +496,11 @@ impl CreaseEdges {
     /// The promoted edges where two or more meet, every sharp edge at `v` is one and `v` is no
     /// corner for the end caps alone; `None` elsewhere.
     fn irregular(&self, level: &Topology, caps: &Topology, v: u32) -> Option<&[u32]> {
-        let p = &self.promoted;
+        let p = self.promoted();
         (caps.vertex_sharpness(v) <= level.vertex_sharpness(v)
             && p.len() >= 2
             && self.sharp == p.len())
-        .then_some(p.as_slice())
+        .then_some(p)
     }
 }
 

@@ -220,8 +220,14 @@ impl SectorGrids {
             far.push((opposite, from_a, from_b));
         }
         let level = &lev.level;
-        // Level 1: v's faces refined once, rows over level L.
-        let mut first = Rows::default();
+        // Level 1: v's faces refined once, rows over level L (room for the rows of a smooth
+        // neighbourhood: 9 terms for a regular vertex point, 4 for a face point, 6 for an edge
+        // point, `2 n + 1` for v's).
+        let points = (1 + 2 * ne + 4 * nf) as usize;
+        let mut first = Rows {
+            offsets: Vec::with_capacity(points + 1),
+            terms: Vec::with_capacity(2 * ne as usize + 1 + 9 * (points - 1)),
+        };
         let mut buf = Vec::with_capacity(32);
         let mut push = |r: u32, rows: &mut Rows| {
             level.refine_matrix_row(r as usize, &mut buf);
@@ -465,13 +471,18 @@ impl GridShapes {
         let sums = &mut self.sums;
         let terms = shape.node_terms((i, x, y), masks, sums)?;
         sums.pull_back_from(terms, &grids.first, grids.columns.len());
-        let row = |d: usize| {
-            let mut w = Vec::with_capacity(sums.terms.len());
-            let terms = sums.terms.iter().filter(|t| t.1[d] != 0.0);
-            w.extend(terms.map(|&(k, x)| (lev.global(grids.columns[k as usize]), x[d])));
-            Weights(w)
-        };
-        Some([row(0), row(1)])
+        // Both rows in one pass over the terms, zeros dropped.
+        let n = sums.terms.len();
+        let mut rows = [Vec::with_capacity(n), Vec::with_capacity(n)];
+        for &(k, x) in &sums.terms {
+            let g = lev.global(grids.columns[k as usize]);
+            for (row, &w) in rows.iter_mut().zip(&x) {
+                if w != 0.0 {
+                    row.push((g, w));
+                }
+            }
+        }
+        Some(rows.map(Weights))
     }
 }
 
