@@ -804,7 +804,7 @@ impl AdaptiveDrawTables {
 
     /// Row term weights (f32).
     pub fn row_weight_bytes(&self) -> Vec<u8> {
-        words_bytes(self.rows.weights.iter().map(|w| [w.to_bits()]))
+        words_bytes(self.rows.weights_f32().map(|w| [w.to_bits()]))
     }
 
     /// Bytes of every GPU array together.
