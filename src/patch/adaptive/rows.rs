@@ -144,7 +144,8 @@ impl<'a> CornerRows<'a> {
     }
 
     /// At least the number of terms [`Self::push_rows`] appends for corner `c` (16 per row of an
-    /// exact patch; a Gregory corner's `e - p` rows at most the sum of their two rows' terms).
+    /// exact patch; a Gregory corner's `e - p` rows at most the sum of their two rows' terms,
+    /// the second tangent's bound by the larger of its two rows, not asking [`Self::singular`]).
     pub fn terms_bound(&self, c: &PatchCorner) -> usize {
         let p = &self.census.patches[c.patch];
         if p.bspline.is_some() {
@@ -154,12 +155,8 @@ impl<'a> CornerRows<'a> {
             .topology()
             .face_size(p.face);
         let rows = &self.caps[c.cap];
-        let second = if self.singular(c) {
-            3 * n + c.k
-        } else {
-            2 * n + c.k
-        };
-        3 * rows.row(c.k).len() + rows.row(n + c.k).len() + rows.row(second).len()
+        let second = rows.row(2 * n + c.k).len().max(rows.row(3 * n + c.k).len());
+        3 * rows.row(c.k).len() + rows.row(n + c.k).len() + second
     }
 
     /// Visits every corner of every census patch, exact patches (B-spline, single-crease)
@@ -291,15 +288,16 @@ impl SparseRows {
     /// caps' rows come without their exact zeros (`Terms::Nonzero`, dropped once per type),
     /// so for them this is mostly a check.
     pub fn append_face_rows(&mut self, rows: &FaceRows) {
-        let (first_row, base) = (self.len(), self.ids.len() as u32);
+        let (first_row, first_term) = (self.len(), self.ids.len());
+        let base = first_term as u32;
         self.offsets
             .extend(rows.offsets.iter().skip(1).map(|&o| base + o));
         self.ids.extend(rows.terms.iter().map(|t| t.0));
-        let mut zero = false;
-        self.weights_f64.extend(rows.terms.iter().map(|t| {
-            zero |= t.1 as f32 == 0.0;
-            t.1
-        }));
+        self.weights_f64.extend(rows.terms.iter().map(|t| t.1));
+        // A pass of its own over the new weights, by magnitude (no conversion per weight, no
+        // early exit).
+        let zero = (self.weights_f64[first_term..].iter())
+            .fold(false, |z, &w| z | (w.abs() <= LARGEST_F32_ZERO));
         if zero {
             self.drop_zero_terms(first_row);
         }
@@ -362,6 +360,10 @@ impl SparseRows {
             .sum()
     }
 }
+
+/// The largest f64 magnitude that rounds to a zero f32: half the least subnormal f32 (2^-150,
+/// a tie rounded to the even zero); `w as f32 == 0.0` exactly where `w.abs()` is at most this.
+const LARGEST_F32_ZERO: f64 = 1.0 / (1u64 << 50) as f64 / (1u128 << 100) as f64;
 
 /// Folds the weights of a patch's mirrored control points onto its real ones: the transpose of
 /// [`RegularPatch::control_points`] (columns mirrored first, then rows, each phantom `2a - b`).
@@ -664,6 +666,29 @@ fn push_tangent(out: &mut SparseRows, e: &[(u32, f64)], p: &[(u32, f64)]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `LARGEST_F32_ZERO` is 2^-150 and the boundary of the f64s that round to a zero f32: it
+    /// and everything smaller in magnitude round to zero, the next f64 up does not.
+    #[test]
+    fn largest_f32_zero_is_the_rounding_boundary() {
+        assert_eq!(LARGEST_F32_ZERO, 2f64.powi(-150));
+        let next_up = f64::from_bits(LARGEST_F32_ZERO.to_bits() + 1);
+        for sign in [1.0, -1.0] {
+            for (w, zero) in [
+                (LARGEST_F32_ZERO, true),
+                (LARGEST_F32_ZERO / 3.0, true),
+                (0.0, true),
+                (next_up, false),
+                (f64::from(f32::from_bits(1)), false),
+                (1e-30, false),
+            ] {
+                let w = sign * w;
+                assert_eq!(w as f32 == 0.0, zero, "{w:e}");
+                assert_eq!(w.abs() <= LARGEST_F32_ZERO, zero, "{w:e}");
+            }
+        }
+        assert_eq!(f64::NAN.abs() <= LARGEST_F32_ZERO, f64::NAN as f32 == 0.0);
+    }
 
     /// The template push gives `Weights::from_terms`' rows: bit for bit over distinct ids
     /// (shuffled ids, and ids multiples of 64 apart), in id order; over repeated ids the same
