@@ -224,9 +224,9 @@ fn end_cap_rows_are_the_gregory_control_points() {
             );
             (
                 rows.ids[a..b].to_vec(),
-                rows.weights[a..b]
+                rows.weights_f64[a..b]
                     .iter()
-                    .map(|w| w.to_bits())
+                    .map(|&w| (w as f32).to_bits())
                     .collect::<Vec<_>>(),
             )
         };

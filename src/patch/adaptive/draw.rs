@@ -207,8 +207,9 @@ fn end_cap_rows(
         for (i, &(_, _, mask)) in group.iter().enumerate() {
             for b in 0..VERTEX_POINTS as usize {
                 if mask & (1 << b) != 0 {
-                    // Monotone: rows stay ascending.
-                    let row = rows.row(3 * i + b).iter();
+                    // Monotone: rows stay ascending. Without the terms `SparseRows` drops
+                    // (f32 zeros), so the draw tables take the rows whole, not closed up.
+                    let row = rows.row(3 * i + b).iter().filter(|t| t.1 as f32 != 0.0);
                     vertices.terms.extend(row.map(|&(u, w)| (lev.global(u), w)));
                     vertices.offsets.push(vertices.terms.len() as u32);
                 }
@@ -804,7 +805,7 @@ impl AdaptiveDrawTables {
 
     /// Row term weights (f32).
     pub fn row_weight_bytes(&self) -> Vec<u8> {
-        words_bytes(self.rows.weights.iter().map(|w| [w.to_bits()]))
+        words_bytes(self.rows.weights_f32().map(|w| [w.to_bits()]))
     }
 
     /// Bytes of every GPU array together.

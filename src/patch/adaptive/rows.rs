@@ -144,7 +144,8 @@ impl<'a> CornerRows<'a> {
     }
 
     /// At least the number of terms [`Self::push_rows`] appends for corner `c` (16 per row of an
-    /// exact patch; a Gregory corner's `e - p` rows at most the sum of their two rows' terms).
+    /// exact patch; a Gregory corner's `e - p` rows at most the sum of their two rows' terms,
+    /// the second tangent's bound by the larger of its two rows, not asking [`Self::singular`]).
     pub fn terms_bound(&self, c: &PatchCorner) -> usize {
         let p = &self.census.patches[c.patch];
         if p.bspline.is_some() {
@@ -154,12 +155,8 @@ impl<'a> CornerRows<'a> {
             .topology()
             .face_size(p.face);
         let rows = &self.caps[c.cap];
-        let second = if self.singular(c) {
-            3 * n + c.k
-        } else {
-            2 * n + c.k
-        };
-        3 * rows.row(c.k).len() + rows.row(n + c.k).len() + rows.row(second).len()
+        let second = rows.row(2 * n + c.k).len().max(rows.row(3 * n + c.k).len());
+        3 * rows.row(c.k).len() + rows.row(n + c.k).len() + second
     }
 
     /// Visits every corner of every census patch, exact patches (B-spline, single-crease)
@@ -197,19 +194,32 @@ fn exact_first(refinement: &AdaptiveRefinement, census: &PatchCensus) -> Vec<Pat
     out
 }
 
-/// Rows of sparse weights: row `r` is terms `offsets[r]..offsets[r + 1]` of `ids` / `weights`,
-/// ids ascending (the summation order, so a row two patches share sums to the same bits), zero
-/// weights dropped.
-#[derive(Debug, Clone, Default, PartialEq)]
+/// Rows of sparse weights: row `r` is terms `offsets[r]..offsets[r + 1]` of `ids` /
+/// `weights_f64`, ids ascending (the summation order, so a row two patches share sums to the
+/// same bits), weights that round to a zero f32 dropped. The GPU reads the weights rounded to
+/// f32 ([`Self::weights_f32`]), rounded where they are read rather than kept as a third array
+/// every term is written to.
+#[derive(Clone, Default, PartialEq)]
 pub struct SparseRows {
     /// `rows + 1` term offsets.
     pub offsets: Vec<u32>,
     /// Global refined vertex ids.
     pub ids: Vec<u32>,
-    /// Weights as the GPU reads them (the f64 weights rounded).
-    pub weights: Vec<f32>,
-    /// The same weights before rounding (CPU references).
+    /// The weights (CPU references; the GPU's are these rounded to f32).
     pub weights_f64: Vec<f64>,
+}
+
+/// The fields, and the GPU's f32 weights as `weights` (so a fingerprint of the debug output
+/// covers both roundings).
+impl std::fmt::Debug for SparseRows {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SparseRows")
+            .field("offsets", &self.offsets)
+            .field("ids", &self.ids)
+            .field("weights", &self.weights_f32().collect::<Vec<_>>())
+            .field("weights_f64", &self.weights_f64)
+            .finish()
+    }
 }
 
 impl SparseRows {
@@ -247,12 +257,15 @@ impl SparseRows {
 
     /// Appends term `(id, w)` to the row being pushed, unless `w` rounds to a zero f32.
     fn push_term(&mut self, (id, w): (u32, f64)) {
-        let w32 = w as f32;
-        if w32 != 0.0 {
+        if w as f32 != 0.0 {
             self.ids.push(id);
-            self.weights.push(w32);
             self.weights_f64.push(w);
         }
+    }
+
+    /// Every term's weight as the GPU reads it (rounded to f32).
+    pub fn weights_f32(&self) -> impl Iterator<Item = f32> + '_ {
+        self.weights_f64.iter().map(|&w| w as f32)
     }
 
     /// Ends the row being pushed ([`Self::push_term`]).
@@ -266,12 +279,11 @@ impl SparseRows {
         self.offsets
             .extend(other.offsets[1..].iter().map(|&o| base + o));
         self.ids.extend_from_slice(&other.ids);
-        self.weights.extend_from_slice(&other.weights);
         self.weights_f64.extend_from_slice(&other.weights_f64);
     }
 
     /// Appends every row of `rows` ([`Self::push_terms`] of each, the same terms): copied
-    /// whole, array by array (a copy per array rather than three pushes per term), then the
+    /// whole, array by array (a copy per array rather than two pushes per term), then the
     /// terms whose weight rounds to a zero f32 dropped in place where there are any: the end
     /// caps' rows come without their exact zeros (`Terms::Nonzero`, dropped once per type),
     /// so for them this is mostly a check.
@@ -281,9 +293,12 @@ impl SparseRows {
         self.offsets
             .extend(rows.offsets.iter().skip(1).map(|&o| base + o));
         self.ids.extend(rows.terms.iter().map(|t| t.0));
-        self.weights.extend(rows.terms.iter().map(|t| t.1 as f32));
         self.weights_f64.extend(rows.terms.iter().map(|t| t.1));
-        if self.weights[first_term..].contains(&0.0) {
+        // A pass of its own over the new weights, by magnitude (no conversion per weight, no
+        // early exit).
+        let zero = (self.weights_f64[first_term..].iter())
+            .fold(false, |z, &w| z | (w.abs() <= LARGEST_F32_ZERO));
+        if zero {
             self.drop_zero_terms(first_row);
         }
     }
@@ -293,21 +308,18 @@ impl SparseRows {
     fn drop_zero_terms(&mut self, first_row: usize) {
         let first = self.offsets[first_row] as usize;
         let n = self.ids.len() - first;
-        // Three slices of one length, so one bounds check a row covers the three.
-        let (ids, weights, weights_f64) = (
+        // Two slices of one length, so one bounds check a row covers both.
+        let (ids, weights) = (
             &mut self.ids[first..],
-            &mut self.weights[first..first + n],
             &mut self.weights_f64[first..first + n],
         );
         let kept = close_up_rows(&mut self.offsets[first_row + 1..], first, n, |to, from| {
             let w = weights[from];
             ids[to] = ids[from];
             weights[to] = w;
-            weights_f64[to] = weights_f64[from];
-            w != 0.0
+            w as f32 != 0.0
         });
         self.ids.truncate(first + kept);
-        self.weights.truncate(first + kept);
         self.weights_f64.truncate(first + kept);
     }
 
@@ -315,7 +327,6 @@ impl SparseRows {
     pub fn reserve(&mut self, rows: usize, terms: usize) {
         self.offsets.reserve(rows);
         self.ids.reserve(terms);
-        self.weights.reserve(terms);
         self.weights_f64.reserve(terms);
     }
 
@@ -344,11 +355,15 @@ impl SparseRows {
         let (a, b) = (self.offsets[r] as usize, self.offsets[r + 1] as usize);
         self.ids[a..b]
             .iter()
-            .zip(&self.weights[a..b])
-            .map(|(&v, &w)| f64::from(w) * positions[v as usize])
+            .zip(&self.weights_f64[a..b])
+            .map(|(&v, &w)| f64::from(w as f32) * positions[v as usize])
             .sum()
     }
 }
+
+/// The largest f64 magnitude that rounds to a zero f32: half the least subnormal f32 (2^-150,
+/// a tie rounded to the even zero); `w as f32 == 0.0` exactly where `w.abs()` is at most this.
+const LARGEST_F32_ZERO: f64 = 1.0 / (1u64 << 50) as f64 / (1u128 << 100) as f64;
 
 /// Folds the weights of a patch's mirrored control points onto its real ones: the transpose of
 /// [`RegularPatch::control_points`] (columns mirrored first, then rows, each phantom `2a - b`).
@@ -402,13 +417,11 @@ fn bspline_corner_columns(k: usize, mask: u8) -> [[f64; 16]; 3] {
 }
 
 /// A corner's rows (position, d/du, d/dv) as weights per control point (`cvs` order), with
-/// their f32 roundings and the control points each row weights: a template per corner shape
+/// the control points each row weights: a template per corner shape
 /// ([`CornerRows`]; a regular corner's rows are the fixed B-spline corner masks over its 3x3
 /// block), which [`push_template`] writes over a corner's control vertices.
 struct CornerTable {
     rows: [[f64; 16]; 3],
-    /// The weights rounded to f32.
-    rows_f32: [[f32; 16]; 3],
     /// Per row: bit `i` set where its f32 weight of control point `i` is not zero.
     live: [u16; 3],
     /// The rows' `live` together.
@@ -419,15 +432,13 @@ struct CornerTable {
 
 impl CornerTable {
     fn new(rows: [[f64; 16]; 3]) -> CornerTable {
-        let rows_f32 = rows.map(|row| row.map(|w| w as f32));
-        let live = rows_f32.map(|row| {
+        let live = rows.map(|row| {
             (0..16)
-                .filter(|&i| row[i] != 0.0)
+                .filter(|&i| row[i] as f32 != 0.0)
                 .fold(0, |m, i| m | 1 << i)
         });
         CornerTable {
             rows,
-            rows_f32,
             live,
             any: live[0] | live[1] | live[2],
             starts: [0, 1, 2].map(|r| live[..r].iter().map(|l| l.count_ones() as usize).sum()),
@@ -447,7 +458,6 @@ impl CornerTable {
 /// masking).
 pub struct TemplateTerms {
     ids: [u32; 64],
-    weights: [f32; 64],
     weights_f64: [f64; 64],
 }
 
@@ -455,7 +465,6 @@ impl Default for TemplateTerms {
     fn default() -> Self {
         TemplateTerms {
             ids: [0; 64],
-            weights: [0.0; 64],
             weights_f64: [0.0; 64],
         }
     }
@@ -494,7 +503,6 @@ fn push_template(
             let live = table.live[r] >> i & 1 != 0;
             let to = if live { *at & 63 } else { DISCARDED };
             terms.ids[to] = id;
-            terms.weights[to] = table.rows_f32[r][i];
             terms.weights_f64[to] = table.rows[r][i];
             *at += usize::from(live);
         }
@@ -502,7 +510,6 @@ fn push_template(
     let (ends, at) = (at.map(|e| e as u32), at[2]);
     let base = out.ids.len() as u32;
     out.ids.extend_from_slice(&terms.ids[..at]);
-    out.weights.extend_from_slice(&terms.weights[..at]);
     out.weights_f64.extend_from_slice(&terms.weights_f64[..at]);
     out.offsets.extend(ends.map(|e| base + e));
 }
@@ -659,6 +666,29 @@ fn push_tangent(out: &mut SparseRows, e: &[(u32, f64)], p: &[(u32, f64)]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `LARGEST_F32_ZERO` is 2^-150 and the boundary of the f64s that round to a zero f32: it
+    /// and everything smaller in magnitude round to zero, the next f64 up does not.
+    #[test]
+    fn largest_f32_zero_is_the_rounding_boundary() {
+        assert_eq!(LARGEST_F32_ZERO, 2f64.powi(-150));
+        let next_up = f64::from_bits(LARGEST_F32_ZERO.to_bits() + 1);
+        for sign in [1.0, -1.0] {
+            for (w, zero) in [
+                (LARGEST_F32_ZERO, true),
+                (LARGEST_F32_ZERO / 3.0, true),
+                (0.0, true),
+                (next_up, false),
+                (f64::from(f32::from_bits(1)), false),
+                (1e-30, false),
+            ] {
+                let w = sign * w;
+                assert_eq!(w as f32 == 0.0, zero, "{w:e}");
+                assert_eq!(w.abs() <= LARGEST_F32_ZERO, zero, "{w:e}");
+            }
+        }
+        assert_eq!(f64::NAN.abs() <= LARGEST_F32_ZERO, f64::NAN as f32 == 0.0);
+    }
 
     /// The template push gives `Weights::from_terms`' rows: bit for bit over distinct ids
     /// (shuffled ids, and ids multiples of 64 apart), in id order; over repeated ids the same

@@ -54,21 +54,25 @@ fn corners<'a>(
 impl Slots {
     /// Slots of every corner of every census patch, numbered by increasing origin id.
     pub fn new(refinement: &AdaptiveRefinement, census: &PatchCensus) -> Slots {
-        let origin = origins(refinement);
-        let mut used = vec![false; origin.len()];
+        let mut of_vertex = origins(refinement);
+        // Per origin: marked 0 where a corner's point, then numbered in increasing order.
+        let mut slot_of_origin = vec![NONE; of_vertex.len()];
         for i in 0..census.patches.len() {
             for g in corners(refinement, census, i) {
-                used[origin[g as usize] as usize] = true;
+                slot_of_origin[of_vertex[g as usize] as usize] = 0;
             }
         }
-        let origins: Vec<u32> = (0..origin.len() as u32)
-            .filter(|&g| used[g as usize])
-            .collect();
-        let mut slot_of_origin = vec![NONE; origin.len()];
-        for (s, &o) in origins.iter().enumerate() {
-            slot_of_origin[o as usize] = s as u32;
+        let mut origins = Vec::new();
+        for (o, s) in slot_of_origin.iter_mut().enumerate() {
+            if *s == 0 {
+                *s = origins.len() as u32;
+                origins.push(o as u32);
+            }
         }
-        let of_vertex = origin.iter().map(|&o| slot_of_origin[o as usize]).collect();
+        // Each vertex's origin replaced by the origin's slot, in place.
+        for o in &mut of_vertex {
+            *o = slot_of_origin[*o as usize];
+        }
         Slots { origins, of_vertex }
     }
 
