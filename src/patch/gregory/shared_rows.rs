@@ -2,7 +2,8 @@
 //! connectivity type (Loop et al. 2009 §4.3, as [`super::stencil_table::GregoryStencilTable`]
 //! shares f32 types): faces whose local topology reads the same in the slots of their ring
 //! (their corners' one-rings, corner by corner, each vertex once: the vertices of
-//! [`super::stencil::canonical_ring`] in another order) run the very same construction steps
+//! [`super::stencil::canonical_ring`] in another order, then any vertex a one-sided neighbour's
+//! far corner reads beyond them) run the very same construction steps
 //! on the same slots, so their rows are one set of weights over slots, relabelled with each
 //! face's ids ([`EndCapFaceRows::rows`]: the caller's, in one pass over the terms).
 //!
@@ -69,6 +70,24 @@ struct Keyer<'a> {
     corners: CornerRings<'a>,
 }
 
+/// The ring of the face being keyed: `rings[first..]`, slot `s` its `s`-th vertex.
+struct FaceRing<'r> {
+    rings: &'r mut Vec<u32>,
+    first: usize,
+}
+
+impl FaceRing<'_> {
+    /// Vertex `u`'s slot (`slot[u]`), the next one if `u` is not in the ring yet.
+    fn slot(&mut self, slot: &mut [u32], u: u32) -> u32 {
+        let s = &mut slot[u as usize];
+        if *s == NONE {
+            *s = (self.rings.len() - self.first) as u32;
+            self.rings.push(u);
+        }
+        *s
+    }
+}
+
 impl<'a> Keyer<'a> {
     /// Nothing asked yet, no slot set.
     fn new(topo: &'a Topology, tangents: GregoryTangents, darts: &'a DartLimits) -> Self {
@@ -116,8 +135,10 @@ impl<'a> Keyer<'a> {
 
     /// The key of face `f` in `key` (cleared first: one buffer for every face keyed), its ring
     /// appended to `rings` with `slot` set (the vertices of its corners' rings,
-    /// [`CornerRings::corner`], in corner order, each once; slots count from the ring's start);
-    /// `None` where a vertex the construction reads lies outside the ring.
+    /// [`CornerRings::corner`], in corner order, each once; slots count from the ring's start),
+    /// then the vertices [`Self::push_vertex`] reads beyond them, in walk order (a non-smooth
+    /// far corner's ring: on the car at isolation 2, 24 faces, 20 of them sharing a type);
+    /// `None` where a neighbour is missing from its corners' faces.
     ///
     /// Each corner is its shape id and the place of `f` among its faces, then every entry of
     /// every corner's ring is its slot in the face's ring: with the shapes this is what
@@ -132,24 +153,22 @@ impl<'a> Keyer<'a> {
             let at = topo.vertex_faces(v).iter().position(|&g| g == f);
             key.extend([self.corners.corner(v).0, at.map_or(NONE, |j| j as u32)]);
         }
-        let first = rings.len();
+        let mut ring = FaceRing {
+            first: rings.len(),
+            rings,
+        };
         for &v in fv {
             for &u in self.corners.corner(v).1 {
-                let s = &mut self.slot[u as usize];
-                if *s == NONE {
-                    *s = (rings.len() - first) as u32;
-                    rings.push(u);
-                }
-                key.push(*s);
+                key.push(ring.slot(&mut self.slot, u));
             }
         }
-        self.key_edges(f, key)
+        self.key_edges(f, key, &mut ring)
     }
 
     /// The words of `f`'s key after its corners: per edge, the neighbour across it (its place
     /// at the edge's first corner, whether it gets a patch, its far corners where its face
     /// points there are one-sided), [`NONE`] where there is none.
-    fn key_edges(&mut self, f: u32, key: &mut TypeKey) -> Option<()> {
+    fn key_edges(&mut self, f: u32, key: &mut TypeKey, ring: &mut FaceRing) -> Option<()> {
         let topo = self.topo;
         let fv = topo.face_vertices(f);
         // Edge `k` of the face joins corners `k` and `k + 1` (`Topology::face_edges`).
@@ -161,7 +180,7 @@ impl<'a> Keyer<'a> {
                     let at = topo.vertex_faces(x).iter().position(|&h| h == g)?;
                     key.push(at as u32);
                     key.push(u32::from(self.has_patch(g)));
-                    self.push_one_sided_neighbour(key, f, g, e, [x, y])?;
+                    self.push_one_sided_neighbour(key, ring, f, g, e, [x, y])?;
                 }
                 None => key.push(NONE),
             }
@@ -173,19 +192,17 @@ impl<'a> Keyer<'a> {
 impl Keyer<'_> {
     /// Vertex `v` as the construction reads it, for face `f`: its sharpness, its edges (other
     /// end's slot, sharpness or [`PROMOTED`](super::corner_rings::PROMOTED), face count) and faces (sizes, vertex slots);
-    /// `None` where one of those vertices lies outside the ring.
-    fn push_vertex(&self, key: &mut TypeKey, f: u32, v: u32) -> Option<()> {
+    /// those vertices not yet in the ring appended to it (their slots, hence the walk order,
+    /// are in the key, so faces with equal keys number them alike).
+    fn push_vertex(&mut self, key: &mut TypeKey, ring: &mut FaceRing, f: u32, v: u32) {
         let topo = self.topo;
-        let slot = |x: u32| match self.slot[x as usize] {
-            NONE => None,
-            s => Some(s),
-        };
+        let mut slot = |x: u32| ring.slot(&mut self.slot, x);
         key.push(vertex_word(topo, v));
         key.extend(crease_factor_words(topo, v));
         let edges = topo.vertex_edges(v);
         key.push(edges.len() as u32);
         for &e in edges {
-            key.push(slot(topo.other_vertex(e, v))?);
+            key.push(slot(topo.other_vertex(e, v)));
             key.push(edge_word(topo, e));
             key.push(topo.edge_faces(e).len() as u32);
         }
@@ -196,10 +213,9 @@ impl Keyer<'_> {
             key.push(u32::from(g == f) | u32::from(topo.has_limit_surface(g)) << 1);
             key.push(gv.len() as u32);
             for &u in gv {
-                key.push(slot(u)?);
+                key.push(slot(u));
             }
         }
-        Some(())
     }
 
     /// The far corners of neighbour `g` across the sharp edge `e` (`x`-`y`) of `f`, when `g`'s face
@@ -214,6 +230,7 @@ impl Keyer<'_> {
     fn push_one_sided_neighbour(
         &mut self,
         key: &mut TypeKey,
+        ring: &mut FaceRing,
         f: u32,
         g: u32,
         e: u32,
@@ -236,7 +253,7 @@ impl Keyer<'_> {
                 key.push(faces.iter().position(|&h| h == g)? as u32);
                 key.extend(faces.iter().map(|&h| topo.face_size(h) as u32));
             } else {
-                self.push_vertex(key, f, z)?;
+                self.push_vertex(key, ring, f, z);
             }
         }
         Some(())
