@@ -191,10 +191,11 @@ fn vertex_mask_rec(
 /// allocates only the mask it returns: the ring, its key and the relabelling order are made in
 /// buffers kept per thread (`RingScratch`).
 ///
-/// Callers that ask for one corner's mask more than once (the draw tables' slot, sector,
-/// exact-position and lattice frames all read the limit at the same promoted corners) name it
-/// by a key ([`Self::corner_mask`]) and get the mask made the first time, without its ring,
-/// key and relabelling again.
+/// Within the crate, callers that ask for one corner's mask more than once (the draw tables'
+/// slot, sector, exact-position and lattice frames all read the limit at the same promoted
+/// corners) name it by a key (`corner_mask`) and get the mask made the first time, without its
+/// ring, key and relabelling again. That key is the caller's promise (one name per corner for
+/// the table's life), so the method is not public.
 #[derive(Debug, Default)]
 pub struct SharedVertexMasks {
     /// Masks by [`ring_key`].
@@ -311,7 +312,7 @@ impl SharedVertexMasks {
     /// adaptive draw tables use `v`'s global refined id and `face`). A corner asked again gets
     /// the same mask (the same bits) without a look-up by ring; one whose mask failed fails
     /// again (the first error names the cause).
-    pub fn corner_mask(
+    pub(crate) fn corner_mask(
         &self,
         key: (u32, u32),
         level: &Level,

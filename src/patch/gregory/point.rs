@@ -131,8 +131,8 @@ const MERGE_TERMS: usize = 8;
 
 /// `Σ w_i x_i` of sorted sparse vectors in one pass over all of them, ids ascending, appended to
 /// `out` (a caller's storage of several rows): for each id, the terms holding it in term order
-/// (`w * b` first, then `a + w * b`), as repeated [`GregoryPoint::add_scaled`] computes it. Zero weights and empty vectors contribute nothing,
-/// as there.
+/// (`w * b` first, then `a + w * b`), as repeated [`GregoryPoint::add_scaled`] computes it.
+/// Zero weights and empty vectors contribute nothing, as there.
 pub(super) fn merge_terms_into(terms: &[(f64, &Weights)], out: &mut Vec<(u32, f64)>) {
     if terms.len() > MERGE_TERMS {
         out.extend(added_one_by_one(terms).0);
