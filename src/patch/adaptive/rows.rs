@@ -4,7 +4,7 @@
 use glam::DVec3;
 
 use super::surface::EndCapTopologies;
-use crate::patch::gregory::shared_rows::{close_up_rows, FaceRows};
+use crate::patch::gregory::shared_rows::FaceRows;
 use crate::patch::gregory::word_hash::WordHashMap;
 use crate::patch::gregory::{one_face_crease_sector, GregoryPoint, Weights};
 use crate::patch::single_crease::SingleCreasePatch;
@@ -359,6 +359,33 @@ impl SparseRows {
             .map(|(&v, &w)| f64::from(w as f32) * positions[v as usize])
             .sum()
     }
+}
+
+/// Closes up rows in place, dropping terms: the rows end at `ends` (absolute term offsets, the
+/// first row starting at `first`; `n` terms from `first` on), and `keep(to, from)` writes term
+/// `from` (relative to `first`) at place `to <= from` and says whether it is kept. Each term is
+/// written at the next place whether kept or not (no branch per term); the ends are rewritten
+/// and the kept count returned.
+#[inline(always)]
+fn close_up_rows(
+    ends: &mut [u32],
+    first: usize,
+    n: usize,
+    mut keep: impl FnMut(usize, usize) -> bool,
+) -> usize {
+    let (mut to, mut start) = (0, 0);
+    for end in ends {
+        let stop = *end as usize - first;
+        // Ends within the terms, so the caller's slices of `n` need no check per term.
+        assert!(stop <= n, "row ends within the terms");
+        for from in start..stop {
+            // `to <= from`: the minimum only tells the compiler so.
+            to += usize::from(keep(to.min(from), from));
+        }
+        *end = (first + to) as u32;
+        start = stop;
+    }
+    to
 }
 
 /// The largest f64 magnitude that rounds to a zero f32: half the least subnormal f32 (2^-150,

@@ -91,38 +91,11 @@ impl FaceRows {
         for r in offsets.windows(2) {
             let row = &terms[r[0] as usize..r[1] as usize];
             out.terms
-                .extend(row.iter().filter(|t| t.1 != 0.0).map(relabel));
+                .extend(row.iter().filter(|t| kept.keeps(t.1)).map(relabel));
             out.offsets.push(out.terms.len() as u32);
         }
         out
     }
-}
-
-/// Closes up rows in place, dropping terms: the rows end at `ends` (absolute term offsets, the
-/// first row starting at `first`; `n` terms from `first` on), and `keep(to, from)` writes term
-/// `from` (relative to `first`) at place `to <= from` and says whether it is kept. Each term is
-/// written at the next place whether kept or not (no branch per term); the ends are rewritten
-/// and the kept count returned. The draw tables' rows close up with it (`SparseRows`).
-#[inline(always)]
-pub fn close_up_rows(
-    ends: &mut [u32],
-    first: usize,
-    n: usize,
-    mut keep: impl FnMut(usize, usize) -> bool,
-) -> usize {
-    let (mut to, mut start) = (0, 0);
-    for end in ends {
-        let stop = *end as usize - first;
-        // Ends within the terms, so the caller's slices of `n` need no check per term.
-        assert!(stop <= n, "row ends within the terms");
-        for from in start..stop {
-            // `to <= from`: the minimum only tells the compiler so.
-            to += usize::from(keep(to.min(from), from));
-        }
-        *end = (first + to) as u32;
-        start = stop;
-    }
-    to
 }
 
 /// Which terms of the end caps' rows a caller takes: the draw tables drop the terms whose

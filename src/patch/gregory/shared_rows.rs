@@ -31,7 +31,7 @@ use super::build::{
     end_cap_patch_with, has_vertex_data, is_interior_vertex, vertex_covered, Coverage, NotGregory,
 };
 use super::corner_rings::{edge_word, vertex_word, CornerRings};
-pub use super::face_rows::{close_up_rows, FaceRows, Terms};
+pub use super::face_rows::{FaceRows, Terms};
 use super::point::Weights;
 #[cfg(doc)]
 use super::stencil_table::sparse_face_rows_direct;
