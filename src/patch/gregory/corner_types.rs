@@ -10,7 +10,7 @@
 //! ids and sorted is bitwise its own construction.
 
 use super::build::{far_crease_sectors, vertex_ring_of_units};
-use super::point::Weights;
+use super::point::{ArenaWeights, Weights};
 use super::tangents::GregoryTangents;
 use super::tangents_boundary::crease_factor_words;
 #[cfg(doc)]
@@ -59,9 +59,13 @@ impl<'a> CornerTypes<'a> {
 
     /// [`GregoryVertex::from_vertex_points`] of covered vertex `v`'s split ring over unit
     /// weights, derived point `b` the unit of [`vertex_point_id`] `(v, b)`: bitwise what
-    /// [`super::build::two_stage_of_ring`] builds over `v`'s ids. The split ring over slots is
-    /// made only for a new type.
-    pub fn vertex(&mut self, v: u32) -> Option<GregoryVertex<Weights>> {
+    /// [`super::build::two_stage_of_ring`] builds over `v`'s ids, its weight vectors stored in
+    /// `arena`. The split ring over slots is made only for a new type.
+    pub fn vertex(
+        &mut self,
+        v: u32,
+        arena: &mut Vec<(u32, f64)>,
+    ) -> Option<GregoryVertex<ArenaWeights>> {
         let topo = self.topo;
         self.number_ring(v);
         let l = self.ring.len() as u32;
@@ -87,7 +91,10 @@ impl<'a> CornerTypes<'a> {
             Some(&u) => u,
             None => vertex_point_id(topo, v, s - l),
         };
-        let out = local.as_ref().map(|d| relabel(d, &id));
+        // Each weight vector relabelled (distinct slots to distinct ids) and sorted again.
+        let out = local
+            .as_ref()
+            .map(|d| d.map(|w| ArenaWeights::push(arena, w.0.iter().map(|&(s, x)| (id(s), x)))));
         for &u in &self.ring {
             self.slot[u as usize] = NONE;
         }
@@ -148,27 +155,6 @@ fn push_ring(topo: &Topology, v: u32, slot: &[u32], key: &mut RingType) {
                 .iter()
                 .map(|&s| s as u32),
         );
-    }
-}
-
-/// `d` with each weight's id `s` replaced by `id(s)` (distinct slots to distinct ids), ids
-/// ascending again.
-fn relabel(d: &GregoryVertex<Weights>, id: &impl Fn(u32) -> u32) -> GregoryVertex<Weights> {
-    let map = |w: &Weights| {
-        let mut terms: Vec<(u32, f64)> = w.0.iter().map(|&(s, x)| (id(s), x)).collect();
-        terms.sort_unstable_by_key(|&(u, _)| u);
-        Weights(terms)
-    };
-    let all = |ws: &[Weights]| ws.iter().map(map).collect();
-    GregoryVertex {
-        kind: d.kind,
-        n: d.n,
-        p: map(&d.p),
-        e: all(&d.e),
-        r_plus: all(&d.r_plus),
-        r_minus: all(&d.r_minus),
-        cosine: d.cosine.clone(),
-        one_sided: d.one_sided.clone(),
     }
 }
 
@@ -368,7 +354,10 @@ mod tests {
                             &darts,
                             &basis,
                         );
-                        let got = types.vertex(v);
+                        let mut arena = Vec::new();
+                        let got = types
+                            .vertex(v, &mut arena)
+                            .map(|d| d.map(|w| Weights(w.get(&arena).to_vec())));
                         assert_eq!(
                             got.as_ref().map(bits),
                             want.as_ref().map(bits),

@@ -239,15 +239,9 @@ pub(super) fn edge_side_points<'a, P>(
     x_next: Option<&CornerRef<'a, P>>,
     y_prev: Option<&CornerRef<'a, P>>,
 ) -> Option<[PointRecipe<'a, P>; 4]> {
-    // `assemble`'s swap: beside one sharp edge the face point is the corner's other one.
-    let x_next = match x.sides() {
-        2 => Some(x_next?),
-        _ => None,
-    };
-    let y_prev = match y.sides() {
-        1 => Some(y_prev?),
-        _ => None,
-    };
+    let (needs_next, needs_prev) = edge_side_far_corners(x, y);
+    let x_next = if needs_next { Some(x_next?) } else { None };
+    let y_prev = if needs_prev { Some(y_prev?) } else { None };
     let f_minus_x = match x_next {
         Some(next) => x.f_plus(next, d),
         None => x.f_minus(y, d),
@@ -262,6 +256,13 @@ pub(super) fn edge_side_points<'a, P>(
         f_minus_x,
         f_plus_y,
     ])
+}
+
+/// Whether [`edge_side_points`] of the edge from corner `y` to corner `x` reads the patch's
+/// corner after `x`, and the one before `y`: where `assemble`'s swap (beside one sharp edge the
+/// face point is the corner's other one) makes the face point there one-sided.
+pub(super) fn edge_side_far_corners<P>(x: &CornerRef<'_, P>, y: &CornerRef<'_, P>) -> (bool, bool) {
+    (x.sides() == 2, y.sides() == 1)
 }
 
 /// `(a * x + b * y) / (a + b)`, or the mean at the singular corner `a + b == 0` (§4.4).

@@ -120,9 +120,51 @@ impl GregoryPoint for Weights {
     /// same bits as adding the terms one by one (each weight is its first term's `w * b`,
     /// then `a + w * b` for each later term holding the id, in term order).
     fn combination(terms: &[(f64, &Self)]) -> Self {
+        if terms.len() > MERGE_TERMS {
+            return added_one_by_one(terms);
+        }
+        let mut slices: [(f64, &[(u32, f64)]); MERGE_TERMS] = [(0.0, &[]); MERGE_TERMS];
+        for (s, &(w, x)) in slices.iter_mut().zip(terms) {
+            *s = (w, &x.0);
+        }
         let mut out = Vec::new();
-        merge_terms_into(terms, &mut out);
+        merge_terms_into(&slices[..terms.len()], &mut out);
         Weights(out)
+    }
+}
+
+/// A weight vector stored in a caller's arena of terms (`arena[start..end]`, ids ascending): the
+/// point type of corner data relabelled in bulk (one arena per batch of end caps instead of one
+/// allocation per weight vector), read through its arena.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct ArenaWeights {
+    start: u32,
+    end: u32,
+}
+
+impl ArenaWeights {
+    /// Appends `terms` to `arena`, sorted by id (the ids distinct), and names them.
+    pub(super) fn push(
+        arena: &mut Vec<(u32, f64)>,
+        terms: impl IntoIterator<Item = (u32, f64)>,
+    ) -> ArenaWeights {
+        let start = arena.len();
+        arena.extend(terms);
+        arena[start..].sort_unstable_by_key(|&(v, _)| v);
+        ArenaWeights {
+            start: start as u32,
+            end: arena.len() as u32,
+        }
+    }
+
+    /// The terms in `arena`, the arena they were pushed to.
+    pub(super) fn get<'a>(&self, arena: &'a [(u32, f64)]) -> &'a [(u32, f64)] {
+        &arena[self.start as usize..self.end as usize]
+    }
+
+    /// Number of terms.
+    pub(super) fn len(&self) -> usize {
+        (self.end - self.start) as usize
     }
 }
 
@@ -132,17 +174,15 @@ const MERGE_TERMS: usize = 8;
 /// `Σ w_i x_i` of sorted sparse vectors in one pass over all of them, ids ascending, appended to
 /// `out` (a caller's storage of several rows): for each id, the terms holding it in term order
 /// (`w * b` first, then `a + w * b`), as repeated [`GregoryPoint::add_scaled`] computes it.
-/// Zero weights and empty vectors contribute nothing, as there.
-pub(super) fn merge_terms_into(terms: &[(f64, &Weights)], out: &mut Vec<(u32, f64)>) {
-    if terms.len() > MERGE_TERMS {
-        out.extend(added_one_by_one(terms).0);
-        return;
-    }
+/// Zero weights and empty vectors contribute nothing, as there. At most [`MERGE_TERMS`] terms
+/// ([`Weights::combination`] adds more one by one).
+pub(super) fn merge_terms_into(terms: &[(f64, &[(u32, f64)])], out: &mut Vec<(u32, f64)>) {
+    assert!(terms.len() <= MERGE_TERMS, "{} terms", terms.len());
     let mut live: [(f64, &[(u32, f64)]); MERGE_TERMS] = [(0.0, &[]); MERGE_TERMS];
     let mut n = 0;
     for &(w, x) in terms {
-        if w != 0.0 && !x.0.is_empty() {
-            live[n] = (w, &x.0);
+        if w != 0.0 && !x.is_empty() {
+            live[n] = (w, x);
             n += 1;
         }
     }

@@ -17,9 +17,9 @@ use super::build::{
     has_vertex_data, vertex_covered, vertex_ring_of_units, Coverage, GregoryPatch, NotGregory,
 };
 use super::corner_types::CornerTypes;
-use super::eval::{edge_side_points, CornerRef, PointRecipe};
+use super::eval::{edge_side_far_corners, edge_side_points, CornerRef, PointRecipe};
 use super::face_rows::FaceRows;
-use super::point::{merge_terms_into, GregoryPoint, Weights};
+use super::point::{merge_terms_into, ArenaWeights, GregoryPoint, Weights};
 use super::stencil::{dense_rows, stencil_ring, NoStencil, MAX_RING, ROWS_PER_CORNER};
 use super::tangents::GregoryTangents;
 use super::vertex::{DartLimits, GregoryVertex};
@@ -144,9 +144,10 @@ fn table_rows_with<P: GregoryPoint>(
     topo: &Topology,
     f: u32,
     own: &GregoryPatch<P>,
-    neighbour: impl FnMut(usize, u32, usize) -> Option<[P; 4]>,
+    mut neighbour: impl FnMut(usize, u32, usize) -> Option<[P; 4]>,
 ) -> Vec<P> {
-    table_rows_into(topo, f, own, neighbour, |rows| {
+    let theirs = |k| edge_neighbour(topo, f, k).and_then(|(g, k2)| neighbour(k, g, k2));
+    table_rows_into(own, theirs, |rows| {
         rows.iter().map(|&p| p.clone()).collect()
     })
 }
@@ -166,24 +167,19 @@ fn edge_neighbour(topo: &Topology, f: u32, k: usize) -> Option<(u32, usize)> {
     Some((g, k2))
 }
 
-/// [`table_rows_with`], the rows handed to `emit` at once, in order, by reference (no row
-/// cloned; the caller sizes its storage from them). Any row type: points, or the end caps'
-/// [`PointRecipe`]s.
+/// [`table_rows_with`] from `theirs(k)`, the neighbour's `side_points` across edge k (`None`
+/// where there is no neighbour patch), the rows handed to `emit` at once, in order, by
+/// reference (no row cloned; the caller sizes its storage from them). Any row type: points,
+/// or the end caps' [`PointRecipe`]s.
 fn table_rows_into<P, R>(
-    topo: &Topology,
-    f: u32,
     own: &GregoryPatch<P>,
-    mut neighbour: impl FnMut(usize, u32, usize) -> Option<[P; 4]>,
+    mut theirs: impl FnMut(usize) -> Option<[P; 4]>,
     emit: impl FnOnce(&[&P]) -> R,
 ) -> R {
     let points = own.points();
     let [_, e_plus, e_minus, f_plus, f_minus] = points;
-    let n = topo.face_size(f);
-    let mut rows: Vec<&P> = Vec::with_capacity(9 * n);
-    rows.extend(points.into_iter().flatten());
-    let theirs: Vec<Option<[P; 4]>> = (0..n)
-        .map(|k| edge_neighbour(topo, f, k).and_then(|(g, k2)| neighbour(k, g, k2)))
-        .collect();
+    let n = e_plus.len();
+    let theirs: [Option<[P; 4]>; 4] = std::array::from_fn(|k| (k < n).then(|| theirs(k)).flatten());
     // Edge k's `[ex, ey, fx, fy]`: the neighbour's, else the patch's own points there.
     let side = |k: usize| match &theirs[k] {
         Some([ex, ey, fx, fy]) => [ex, ey, fx, fy],
@@ -194,15 +190,28 @@ fn table_rows_into<P, R>(
             &f_minus[(k + 1) % n],
         ],
     };
-    for k in 0..n {
+    let edge_points = (0..n).flat_map(|k| {
         let [ex, ey, _, _] = side(k);
-        rows.extend([ex, ey]);
-    }
-    for k in 0..n {
+        [ex, ey]
+    });
+    let face_points = (0..n).flat_map(|k| {
         let [_, _, fx, fy] = side(k);
-        rows.extend([fx, fy]);
+        [fx, fy]
+    });
+    // On the stack: at most a quad's rows.
+    let mut rows: [&P; QUAD_POINTS + QUAD_EXTRA] = [&e_plus[0]; QUAD_POINTS + QUAD_EXTRA];
+    let mut len = 0;
+    let all = points
+        .into_iter()
+        .flatten()
+        .chain(edge_points)
+        .chain(face_points);
+    for (slot, row) in rows.iter_mut().zip(all) {
+        *slot = row;
+        len += 1;
     }
-    emit(&rows)
+    debug_assert_eq!(len, 9 * n);
+    emit(&rows[..len])
 }
 
 /// Per-vertex data in weight space of every corner of `faces` and of their edge neighbours
@@ -254,8 +263,11 @@ struct EndCapCorners<'a> {
     topo: &'a Topology,
     darts: &'a DartLimits,
     /// The data of the vertices built, in build order (a batch builds a few hundred of a
-    /// level's vertices: no entry per vertex of the level to fill and drop).
-    built: Vec<Option<GregoryVertex<Weights>>>,
+    /// level's vertices: no entry per vertex of the level to fill and drop), its weight
+    /// vectors in `arena`.
+    built: Vec<Option<GregoryVertex<ArenaWeights>>>,
+    /// The terms of every weight vector of `built`.
+    arena: Vec<(u32, f64)>,
     state: Vec<CornerState>,
     /// The two-stage data per ring type the vertices' data is relabelled from.
     types: CornerTypes<'a>,
@@ -285,12 +297,13 @@ impl<'a> EndCapCorners<'a> {
             types: CornerTypes::new(topo, tangents, darts),
             darts,
             built: Vec::new(),
+            arena: Vec::new(),
             state,
         }
     }
 
     /// The data of vertex `v` if it is built and has some.
-    fn vertex(&self, v: u32) -> Option<&GregoryVertex<Weights>> {
+    fn vertex(&self, v: u32) -> Option<&GregoryVertex<ArenaWeights>> {
         match self.state[v as usize] {
             CornerState::Built(i) => self.built[i as usize].as_ref(),
             _ => None,
@@ -304,8 +317,8 @@ impl<'a> EndCapCorners<'a> {
             if !matches!(state, CornerState::Built(_)) {
                 *state = CornerState::Built(self.built.len() as u32);
                 let covered = vertex_covered(self.topo, v, Coverage::EndCap);
-                self.built
-                    .push(covered.then(|| self.types.vertex(v)).flatten());
+                let data = covered.then(|| self.types.vertex(v, &mut self.arena));
+                self.built.push(data.flatten());
             }
         }
     }
@@ -325,7 +338,7 @@ impl<'a> EndCapCorners<'a> {
 
     /// Corner `v` of face `g` as the patch assembly takes it (`None` where `g`'s patch fails
     /// at it: no data, or `g` not in its ring); `v` built.
-    fn corner(&self, v: u32, g: u32) -> Option<CornerRef<'_, Weights>> {
+    fn corner(&self, v: u32, g: u32) -> Option<CornerRef<'_, ArenaWeights>> {
         let vertex = self.vertex(v)?;
         let j = self.topo.vertex_faces(v).iter().position(|&h| h == g)?;
         Some(CornerRef { vertex, j })
@@ -333,7 +346,7 @@ impl<'a> EndCapCorners<'a> {
 
     /// Builds what [`Self::side_points`] of face `g` at its corner `k2` reads; whether `g` has
     /// an end-cap patch: corners `k2` and `k2 + 1`, and `g`'s other corners where the face
-    /// points there are one-sided (`edge_side_points`).
+    /// points there are one-sided ([`edge_side_far_corners`]).
     fn prepare_side(&mut self, g: u32, k2: usize) -> bool {
         let topo = self.topo;
         // `check_face_for`'s corner tests are implied by the corners' data (`end_cap_patch_with`).
@@ -353,7 +366,8 @@ impl<'a> EndCapCorners<'a> {
         let (Some(cx), Some(cy)) = (self.corner(x, g), self.corner(y, g)) else {
             return false;
         };
-        if edge_side_points(&cx, &cy, side_d(m), None, None).is_none() {
+        let (needs_next, needs_prev) = edge_side_far_corners(&cx, &cy);
+        if needs_next || needs_prev {
             self.build(gv);
         }
         true
@@ -363,19 +377,25 @@ impl<'a> EndCapCorners<'a> {
     /// ([`Self::prepare_side`] said `g` has a patch): from corners `k2` and `k2 + 1` alone
     /// unless the face points there are one-sided, else with `g`'s other corners too; the same
     /// terms as `g`'s whole patch either way, without assembling it.
-    fn side_points(&self, g: u32, k2: usize) -> Option<[PointRecipe<'_, Weights>; 4]> {
+    fn side_points(&self, g: u32, k2: usize) -> Option<[PointRecipe<'_, ArenaWeights>; 4]> {
         let gv = self.topo.face_vertices(g);
         let m = gv.len();
         let (y, x) = (gv[k2], gv[(k2 + 1) % m]);
         let (cx, cy) = (self.corner(x, g)?, self.corner(y, g)?);
-        if let Some(near) = edge_side_points(&cx, &cy, side_d(m), None, None) {
-            return Some(near);
-        }
-        // Every corner of `g` has data (as `gregory_patch_from` requires): for a quad the
-        // corners after `x` and before `y` are its other two, for a triangle its third.
-        let next = self.corner(gv[(k2 + 2) % m], g)?;
-        let prev = self.corner(gv[(k2 + m - 1) % m], g)?;
-        edge_side_points(&cx, &cy, side_d(m), Some(&next), Some(&prev))
+        let (needs_next, needs_prev) = edge_side_far_corners(&cx, &cy);
+        // Every corner of `g` has data where one is needed (as `gregory_patch_from` requires):
+        // for a quad the corners after `x` and before `y` are its other two, for a triangle
+        // its third.
+        let far = |needed: bool, i: usize| {
+            if needed {
+                self.corner(gv[i % m], g).map(Some)
+            } else {
+                Some(None)
+            }
+        };
+        let next = far(needs_next, k2 + 2)?;
+        let prev = far(needs_prev, k2 + m - 1)?;
+        edge_side_points(&cx, &cy, side_d(m), next.as_ref(), prev.as_ref())
     }
 }
 
@@ -388,12 +408,12 @@ fn side_d(m: usize) -> f64 {
     }
 }
 
-/// The rows `rows` formed into one [`FaceRows`]: corners' points copied, face points combined
-/// straight into its storage (no row of their own).
-fn face_rows_of(rows: &[&PointRecipe<'_, Weights>]) -> FaceRows {
-    let bound = |r: &PointRecipe<'_, Weights>| match r {
-        PointRecipe::Given(w) => w.0.len(),
-        PointRecipe::Combination(terms) => terms.iter().map(|(_, w)| w.0.len()).sum(),
+/// The rows `rows` (weight vectors in `arena`) formed into one [`FaceRows`]: corners' points
+/// copied, face points combined straight into its storage (no row of their own).
+fn face_rows_of(arena: &[(u32, f64)], rows: &[&PointRecipe<'_, ArenaWeights>]) -> FaceRows {
+    let bound = |r: &PointRecipe<'_, ArenaWeights>| match r {
+        PointRecipe::Given(w) => w.len(),
+        PointRecipe::Combination(terms) => terms.iter().map(|(_, w)| w.len()).sum(),
     };
     let mut out = FaceRows {
         offsets: Vec::with_capacity(rows.len() + 1),
@@ -402,8 +422,10 @@ fn face_rows_of(rows: &[&PointRecipe<'_, Weights>]) -> FaceRows {
     out.offsets.push(0);
     for r in rows {
         match r {
-            PointRecipe::Given(w) => out.terms.extend_from_slice(&w.0),
-            PointRecipe::Combination(terms) => merge_terms_into(terms, &mut out.terms),
+            PointRecipe::Given(w) => out.terms.extend_from_slice(w.get(arena)),
+            PointRecipe::Combination(terms) => {
+                merge_terms_into(&terms.map(|(c, w)| (c, w.get(arena))), &mut out.terms)
+            }
         }
         out.offsets.push(out.terms.len() as u32);
     }
@@ -449,16 +471,18 @@ pub(super) fn sparse_face_rows_direct_with(
         .iter()
         .map(|&f| {
             corners.build(topo.face_vertices(f));
-            // Every corner data the rows read built first, then read all at once.
-            let mut ready = [false; 4];
-            for (k, r) in ready.iter_mut().enumerate().take(topo.face_size(f)) {
-                *r = edge_neighbour(topo, f, k).is_some_and(|(g, k2)| corners.prepare_side(g, k2));
+            // Every corner data the rows read built first, then read all at once: per edge the
+            // neighbour face and its corner the edge starts at, where it has a patch.
+            let mut sides = [None; 4];
+            for (k, side) in sides.iter_mut().enumerate().take(topo.face_size(f)) {
+                *side = edge_neighbour(topo, f, k).filter(|&(g, k2)| corners.prepare_side(g, k2));
             }
             let corners = &corners;
             let own = gregory_patch_recipes(topo, f, Coverage::EndCap, |v| corners.vertex(v))?;
-            let neighbour =
-                |k: usize, g, k2| ready[k].then(|| corners.side_points(g, k2)).flatten();
-            Ok(table_rows_into(topo, f, &own, neighbour, face_rows_of))
+            let theirs = |k: usize| sides[k].and_then(|(g, k2)| corners.side_points(g, k2));
+            Ok(table_rows_into(&own, theirs, |rows| {
+                face_rows_of(&corners.arena, rows)
+            }))
         })
         .collect()
 }

@@ -372,6 +372,25 @@ pub const VERTEX_POINTS: usize = 3;
 /// without crease vertex points).
 const DERIVED_CREASE_SECTOR: usize = 3;
 
+impl<P> GregoryVertex<P> {
+    /// The data with every point `x` replaced by `point(x)` (in the order `p`, `e`, `r_plus`,
+    /// `r_minus`), the rest as it is.
+    pub(super) fn map<Q>(&self, mut point: impl FnMut(&P) -> Q) -> GregoryVertex<Q> {
+        let p = point(&self.p);
+        let mut all = |xs: &[P]| xs.iter().map(&mut point).collect();
+        GregoryVertex {
+            kind: self.kind,
+            n: self.n,
+            p,
+            e: all(&self.e),
+            r_plus: all(&self.r_plus),
+            r_minus: all(&self.r_minus),
+            cosine: self.cosine.clone(),
+            one_sided: self.one_sided.clone(),
+        }
+    }
+}
+
 impl<P: GregoryPoint> GregoryVertex<P> {
     /// The construction for any supported ring: [`Self::interior`] when no edge is sharp,
     /// [`Self::dart`] at one sharp edge, [`Self::cone`] at a corner tag with fewer than two
