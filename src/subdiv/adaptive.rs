@@ -378,6 +378,8 @@ impl std::fmt::Debug for AdaptiveRefinement {
 /// a corner of up to four faces, and every face tested).
 struct PatchTests<'a> {
     topo: &'a Topology,
+    /// Whether every face of `topo` is a quad ([`Topology::quads_only`]; levels 1 and up).
+    quads_only: bool,
     /// Per vertex: 0 irregular, 1 regular, 2 not judged yet.
     vertex: Vec<u8>,
     /// Per vertex: 0 not a grid corner, 1 a grid corner, 2 not judged yet (empty until a
@@ -398,8 +400,19 @@ impl<'a> PatchTests<'a> {
     fn new(topo: &'a Topology) -> PatchTests<'a> {
         PatchTests {
             topo,
+            quads_only: topo.quads_only(),
             vertex: vec![2; topo.vertex_count()],
             grid_corner: Vec::new(),
+        }
+    }
+
+    /// Face `f`'s corners and edges if it is a quad ([`Topology::quad`]; on a level of quads
+    /// only, without reading the face offsets).
+    fn quad(&self, f: u32) -> Option<(&'a [u32; 4], &'a [u32; 4])> {
+        if self.quads_only {
+            self.topo.quad_of_quads(f)
+        } else {
+            self.topo.quad(f)
         }
     }
 
@@ -411,7 +424,7 @@ impl<'a> PatchTests<'a> {
     /// ([`super::single_crease::single_crease_line`]).
     fn single_crease_line(&mut self, f: u32) -> Option<CreaseLine> {
         let topo = self.topo;
-        let quad = topo.quad(f)?;
+        let quad = self.quad(f)?;
         if self.grid_corner.is_empty() {
             self.grid_corner = vec![2; topo.vertex_count()];
         }
@@ -428,7 +441,7 @@ impl<'a> PatchTests<'a> {
 
     /// The regular patch of face `f` (one with a limit surface), if any.
     fn patch(&mut self, f: u32) -> Option<RegularPatch> {
-        let quad = self.topo.quad(f)?;
+        let quad = self.quad(f)?;
         if !quad.0.iter().all(|&v| self.regular_vertex(v)) {
             return None;
         }

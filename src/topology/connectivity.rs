@@ -221,6 +221,24 @@ impl Topology {
         ))
     }
 
+    /// Whether every face is a quad (every level of a Catmull-Clark refinement after the
+    /// first): none larger than 4 and four corners a face on average (none has fewer than 3).
+    pub(crate) fn quads_only(&self) -> bool {
+        self.max_face_size == 4 && self.face_verts.len() == 4 * self.face_count()
+    }
+
+    /// [`Self::quad`] of face `f` of a topology of quads only ([`Self::quads_only`]): its
+    /// corners are `4 f..4 f + 4`, no face offset read.
+    #[inline]
+    pub(crate) fn quad_of_quads(&self, f: u32) -> Option<(&[u32; 4], &[u32; 4])> {
+        debug_assert!(self.quads_only());
+        let a = 4 * f as usize;
+        Some((
+            self.face_verts.get(a..a + 4)?.try_into().ok()?,
+            self.face_edges.get(a..a + 4)?.try_into().ok()?,
+        ))
+    }
+
     /// Whether edge `e` has a single face.
     pub fn is_boundary_edge(&self, e: u32) -> bool {
         self.edge_faces[e as usize][1] == NONE
