@@ -218,9 +218,20 @@ const DIAGONAL_SLOT: [usize; 4] = {
 /// oracle that finds `b` among the corners instead. Inlined into the grid walk (eight calls a
 /// grid), whose per-call overhead was a third of its cost.
 #[inline(always)]
-fn across(topo: &Topology, f: u32, e: u32, a: u32, b: u32) -> Option<(u32, [u32; 2], [u32; 2])> {
+fn across(
+    topo: &Topology,
+    quads_only: bool,
+    f: u32,
+    e: u32,
+    a: u32,
+    b: u32,
+) -> Option<(u32, [u32; 2], [u32; 2])> {
     let (g, s) = topo.face_across_edge(e, f)?;
-    let (gv, ge) = topo.quad(g)?;
+    let (gv, ge) = if quads_only {
+        topo.quad_of_quads(g)?
+    } else {
+        topo.quad(g)?
+    };
     // `s < 4` (an edge of the quad `g`): masked, it needs no bounds check.
     (gv[s & 3] == b && gv[(s + 1) & 3] == a).then(|| {
         (
@@ -281,6 +292,8 @@ fn grid_cvs_edges(
     (c, fe): (&[u32; 4], &[u32; 4]),
     mask: u8,
 ) -> Option<([u32; 16], [u32; 8])> {
+    // Levels 1 and up: the neighbours' corners at `4 g`, no face offset read.
+    let quads_only = topo.quads_only();
     let mut cvs = [c[0]; 16];
     let mut outward = [NONE; 8];
     for k in 0..4 {
@@ -291,7 +304,7 @@ fn grid_cvs_edges(
             continue;
         }
         let (a, b) = (c[k], c[(k + 1) % 4]);
-        let (g, [r2, r3], [e1, e3]) = across(topo, face, fe[k], a, b)?;
+        let (g, [r2, r3], [e1, e3]) = across(topo, quads_only, face, fe[k], a, b)?;
         let [s2, s3] = SIDE_SLOTS[k];
         cvs[s2] = r2;
         cvs[s3] = r3;
@@ -300,7 +313,7 @@ fn grid_cvs_edges(
         let prev = (k + 3) % 4;
         if mask & (1 << prev) == 0 {
             // Diagonal face at corner k: the neighbour of `g` across its edge c_k -> r2.
-            let (_, [_, d3], _) = across(topo, g, e1, c[k], r2)?;
+            let (_, [_, d3], _) = across(topo, quads_only, g, e1, c[k], r2)?;
             cvs[DIAGONAL_SLOT[k]] = d3;
         }
     }
@@ -645,7 +658,7 @@ mod tests {
                 for (k, &e) in fe.iter().enumerate() {
                     let (a, b) = (fv[k], fv[(k + 1) % fv.len()]);
                     for (a, b) in [(a, b), (b, a)] {
-                        let got = across(t, f, e, a, b);
+                        let got = across(t, t.quads_only(), f, e, a, b);
                         assert_eq!(
                             got,
                             across_by_search(t, f, e, a, b),
