@@ -340,11 +340,11 @@ impl KeptEdges {
         cut: bool,
     ) {
         let id = self.verts.len() as u32;
-        let (h, hn) = (
-            4 * i as usize + k as usize,
-            4 * i as usize + (k as usize + 1) % 4,
-        );
-        self.verts.push([local[h], local[hn]]);
+        let h = 4 * i as usize + k as usize;
+        // The quad's corners read as one array: one bounds check.
+        let quad: &[u32; 4] = local[4 * i as usize..][..4].try_into().expect("a quad");
+        self.verts
+            .push([quad[usize::from(k)], quad[usize::from(k + 1) & 3]]);
         self.face_edges[h] = id;
         let (g, l) = second.unwrap_or((NONE, 0));
         if g != NONE {

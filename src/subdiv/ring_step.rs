@@ -12,7 +12,7 @@
 //! the kept quads' corners, edges by first appearance among the quads' edges, and each ring
 //! starts where its parent's does, not where `topology::build` would start it.
 
-use super::corners::{next_corner, prev_corner};
+use super::corners::prev_corner;
 use super::kept::KeptEdges;
 use super::level::Level;
 use super::rules::{child_edge_sharpness, decrement};
@@ -219,76 +219,88 @@ fn point_of(index: &mut [u32], points: &mut Vec<u32>, x: u32) -> u32 {
 fn child_edges(level: &Level, quads: &KeptQuads, keep: &[u32]) -> KeptEdges {
     let t = level.topology();
     let mut edges = KeptEdges::new(quads.parent_face.len());
-    for (i, &h) in keep.iter().enumerate() {
-        let (i, f) = (i as u32, quads.parent_face[i]);
-        // Flat corners: `h`, the next and the previous of its face.
-        let (next, prev) = cyclic_neighbours(t, f, h);
-        let v = t.face_verts[h as usize];
-        let off = t.face_offsets[f as usize];
-        let (e_next, e_prev) = (t.face_edges[h as usize], t.face_edges[prev as usize]);
-        for local in 0..4u16 {
-            if edges.face_edges[4 * i as usize + usize::from(local)] != NONE {
-                continue;
-            }
-            let (other, sharpness, cut) = match local {
-                // Spoke to the edge point of the corner's edge: the next corner's child
-                // has it as its edge 2.
-                1 => {
-                    let c = quads.kept[next as usize];
-                    ((c, 2), 0.0, c == NONE)
-                }
-                // Spoke to the previous edge's point: the previous corner's child's edge 1.
-                2 => {
-                    let c = quads.kept[prev as usize];
-                    ((c, 1), 0.0, c == NONE)
-                }
-                // The half at `v` of the corner's edge, or of the previous edge: the child
-                // at `v` in the face across (where the edge is entering, or leaving, `v`):
-                // at the next corner of `e`'s corner there, or at that corner.
-                _ => {
-                    let (e, kf, other_local) = if local == 0 {
-                        (e_next, h - off, 3)
-                    } else {
-                        (e_prev, prev - off, 0)
-                    };
-                    let (g, kg) = across(t, e, f, kf);
-                    let c = if g == NONE {
-                        NONE
-                    } else {
-                        let corner = t.face_offsets[g as usize] + kg;
-                        let corner = if local == 0 {
-                            cyclic_neighbours(t, g, corner).0
-                        } else {
-                            corner
-                        };
-                        quads.kept[corner as usize]
-                    };
-                    let cut = (c == NONE && g != NONE) || level.is_cut_edge(e);
-                    // A smooth parent edge has smooth halves (`rules::child_sharpness`): most
-                    // edges, with no call.
-                    let sharpness = if t.edge_sharpness[e as usize] == 0.0 {
-                        0.0
-                    } else {
-                        child_edge_sharpness(t, e, v)
-                    };
-                    ((c, other_local), sharpness, cut)
-                }
+    // The half at `v` of parent edge `e` (the edge `kf` of face `f`) as kept child `i`'s edge
+    // `local` (0: the corner's edge, 3: the previous one): shared with the child at `v` in the
+    // face across (where the edge is entering, or leaving, `v`: at the next corner of `e`'s
+    // corner there, or at that corner), as its edge 3, or 0.
+    let half = |edges: &mut KeptEdges, (i, local): (u32, u16), f: u32, e: u32, kf: u32, v: u32| {
+        let (g, kg) = across(t, e, f, kf);
+        let c = if g == NONE {
+            NONE
+        } else {
+            let (off, end) = face_corners(t, g);
+            let corner = off + kg;
+            let corner = if local == 0 {
+                next_in(corner, off, end)
+            } else {
+                corner
             };
-            let other = (other.0 != NONE).then_some(other);
-            edges.push(&quads.corners, (i, local), other, sharpness, cut);
+            quads.kept[corner as usize]
+        };
+        let cut = (c == NONE && g != NONE) || level.is_cut_edge(e);
+        // A smooth parent edge has smooth halves (`rules::child_sharpness`): most edges, with
+        // no call.
+        let sharpness = if t.edge_sharpness[e as usize] == 0.0 {
+            0.0
+        } else {
+            child_edge_sharpness(t, e, v)
+        };
+        let other = (c != NONE).then_some((c, 3 - local));
+        edges.push(&quads.corners, (i, local), other, sharpness, cut);
+    };
+    // A spoke, child `i`'s edge `local` (1: to the edge point of the corner's edge, 2: to the
+    // previous edge's), shared with the child at the next corner (as its edge 2), or at the
+    // previous one (its edge 1).
+    let spoke = |edges: &mut KeptEdges, (i, local): (u32, u16), c: u32| {
+        let other = (c != NONE).then_some((c, 3 - local));
+        edges.push(&quads.corners, (i, local), other, 0.0, c == NONE);
+    };
+    for (i, (&h, &f)) in keep.iter().zip(&quads.parent_face).enumerate() {
+        let i = i as u32;
+        // Flat corners: `h`, the next and the previous of its face (the face's range read
+        // once per child).
+        let (off, end) = face_corners(t, f);
+        let (next, prev) = (next_in(h, off, end), if h == off { end - 1 } else { h - 1 });
+        let v = t.face_verts[h as usize];
+        let unmade =
+            |edges: &KeptEdges, local: usize| edges.face_edges[4 * i as usize + local] == NONE;
+        if unmade(&edges, 0) {
+            half(&mut edges, (i, 0), f, t.face_edges[h as usize], h - off, v);
+        }
+        if unmade(&edges, 1) {
+            spoke(&mut edges, (i, 1), quads.kept[next as usize]);
+        }
+        if unmade(&edges, 2) {
+            spoke(&mut edges, (i, 2), quads.kept[prev as usize]);
+        }
+        if unmade(&edges, 3) {
+            half(
+                &mut edges,
+                (i, 3),
+                f,
+                t.face_edges[prev as usize],
+                prev - off,
+                v,
+            );
         }
     }
     edges
 }
 
-/// The flat corners after and before flat corner `h` of face `f`, cyclically.
+/// The flat corners `off..end` of face `f`.
 #[inline(always)]
-fn cyclic_neighbours(t: &Topology, f: u32, h: u32) -> (u32, u32) {
-    let (off, end) = (t.face_offsets[f as usize], t.face_offsets[f as usize + 1]);
-    (
-        if h + 1 == end { off } else { h + 1 },
-        if h == off { end - 1 } else { h - 1 },
-    )
+fn face_corners(t: &Topology, f: u32) -> (u32, u32) {
+    (t.face_offsets[f as usize], t.face_offsets[f as usize + 1])
+}
+
+/// The flat corner after `h` in the face of corners `off..end`, cyclically.
+#[inline(always)]
+fn next_in(h: u32, off: u32, end: u32) -> u32 {
+    if h + 1 == end {
+        off
+    } else {
+        h + 1
+    }
 }
 
 /// The face across parent edge `e` from face `f`, whose edge `kf` it is, and `e`'s index in
@@ -338,8 +350,12 @@ fn child_rings(
         let [k0, k1] = t.edge_face_local[e as usize];
         let (k0, k1) = (u32::from(k0), u32::from(k1));
         let beside = |g: u32, k: u32| {
-            let n = t.face_size(g) as u32;
-            (quads.child(t, g, k), quads.child(t, g, next_corner(k, n)))
+            let (off, end) = face_corners(t, g);
+            let h = off + k;
+            (
+                quads.kept[h as usize],
+                quads.kept[next_in(h, off, end) as usize],
+            )
         };
         let (c00, c01) = beside(f0, k0);
         if f1 == NONE {
@@ -404,14 +420,18 @@ fn incomplete_points(
         }
         *m == 1
     };
+    // The ring sizes of `sub`'s vertices `a..b` (their faces kept), in order.
+    let sizes = |a: usize, b: usize| {
+        sub.vert_face_offsets[a..=b]
+            .windows(2)
+            .map(|w| (w[1] - w[0]) as usize)
+    };
+    let (nfp, nep) = (points.faces.len(), points.edges.len());
     let mut incomplete = Vec::with_capacity(sub.vertex_count());
-    let mut v = 0u32;
-    for &f in &points.faces {
-        let valence = t.face_size(f);
-        incomplete.push(face_bad(f) || sub.vertex_faces(v).len() != valence);
-        v += 1;
+    for (&f, size) in points.faces.iter().zip(sizes(0, nfp)) {
+        incomplete.push(face_bad(f) || size != t.face_size(f));
     }
-    for &e in &points.edges {
+    for (&e, size) in points.edges.iter().zip(sizes(nfp, nfp + nep)) {
         let faces = t.edge_faces[e as usize];
         let faces = if faces[1] == NONE {
             &faces[..1]
@@ -420,17 +440,14 @@ fn incomplete_points(
         };
         let inc = level.is_cut_edge(e)
             || faces.iter().any(|&g| !in_ring[g as usize] || face_bad(g))
-            || sub.vertex_faces(v).len() != 2 * faces.len();
+            || size != 2 * faces.len();
         incomplete.push(inc);
-        v += 1;
     }
-    for &pv in &points.vertices {
+    let end = sub.vertex_count();
+    for (&pv, size) in points.vertices.iter().zip(sizes(nfp + nep, end)) {
         let faces = t.vertex_faces(pv);
-        let inc = bad(pv)
-            || faces.iter().any(|&g| face_bad(g))
-            || sub.vertex_faces(v).len() != faces.len();
+        let inc = bad(pv) || faces.iter().any(|&g| face_bad(g)) || size != faces.len();
         incomplete.push(inc);
-        v += 1;
     }
     incomplete
 }
