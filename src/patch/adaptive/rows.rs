@@ -286,18 +286,20 @@ impl SparseRows {
     /// whole, array by array (a copy per array rather than two pushes per term), then the
     /// terms whose weight rounds to a zero f32 dropped in place where there are any: the end
     /// caps' rows come without their exact zeros (`Terms::Nonzero`, dropped once per type),
-    /// so for them this is mostly a check.
+    /// so for them this is mostly a check, made as the weights are copied.
     pub fn append_face_rows(&mut self, rows: &FaceRows) {
-        let (first_row, first_term) = (self.len(), self.ids.len());
-        let base = first_term as u32;
+        let first_row = self.len();
+        let base = self.ids.len() as u32;
         self.offsets
             .extend(rows.offsets.iter().skip(1).map(|&o| base + o));
         self.ids.extend(rows.terms.iter().map(|t| t.0));
-        self.weights_f64.extend(rows.terms.iter().map(|t| t.1));
-        // A pass of its own over the new weights, by magnitude (no conversion per weight, no
-        // early exit).
-        let zero = (self.weights_f64[first_term..].iter())
-            .fold(false, |z, &w| z | (w.abs() <= LARGEST_F32_ZERO));
+        // Checked by magnitude as the weights are copied (no conversion per weight, no early
+        // exit, no pass of its own).
+        let mut zero = false;
+        self.weights_f64.extend(rows.terms.iter().map(|&(_, w)| {
+            zero |= w.abs() <= LARGEST_F32_ZERO;
+            w
+        }));
         if zero {
             self.drop_zero_terms(first_row);
         }
