@@ -127,15 +127,62 @@ impl<'a> RingBuilder<'a> {
     /// it): the ring [`Self::end_vertex`] gives, written straight from `fan` (no copy, no fan
     /// list), each face's corners and edges by quad arithmetic.
     pub(crate) fn quad_fan(&mut self, closed: bool, fan: &[(u32, u16)]) {
-        self.quad_ring(closed, fan, true);
+        let corner = |(f, k): (u32, u16)| 4 * f + u32::from(k);
+        let fe = self.face_edges;
+        let leaving = |x| fe[corner(x) as usize];
+        let entering = |x| fe[quad_entering_corner(x)];
+        if closed && fan.iter().all(|x| x.0 != NONE) {
+            // One cycle, from its smallest corner.
+            let first = (0..fan.len()).min_by_key(|&j| corner(fan[j])).unwrap_or(0);
+            let n = fan.len();
+            push_run(&mut self.rings, fan, first, n, false, leaving, entering);
+        } else {
+            // Open, or closed with a gap: runs, never the one cycle.
+            self.runs.clear();
+            push_runs(&mut self.runs, 0, fan, closed, corner);
+            self.runs.sort_unstable_by_key(|r| r.0);
+            for &(_, _, _, a, n) in &self.runs {
+                push_run(&mut self.rings, fan, a, n, true, leaving, entering);
+            }
+        }
+        self.next_vertex();
     }
 
     /// [`Self::quad_fan`] without `topology::build`'s order: a closed fan with every face kept
     /// starts at its first face, the runs of the others follow in fan order (a closed fan's
     /// from after its first left-out face). The same faces and edges, each run as
-    /// counter-clockwise; for a level whose numbering is free (the adaptive step).
+    /// counter-clockwise; for a level whose numbering is free (the adaptive step). Written in
+    /// one pass over the fan: a run is its first face's leaving edge, then each face with its
+    /// entering edge (the cycle's last face without it: that edge is the first one).
     pub(crate) fn quad_fan_as_given(&mut self, closed: bool, fan: &[(u32, u16)]) {
-        self.quad_ring(closed, fan, false);
+        let m = fan.len();
+        let gap = fan.iter().position(|x| x.0 == NONE);
+        let cycle = closed && gap.is_none();
+        // A closed fan's runs from after its first left-out face (they may wrap around).
+        let from = match gap {
+            Some(g) if closed && g + 1 < m => g + 1,
+            _ => 0,
+        };
+        let (r, fe) = (&mut self.rings, self.face_edges);
+        let mut in_run = false;
+        for i in 0..m {
+            let j = if from + i < m { from + i } else { from + i - m };
+            let x = fan[j];
+            if x.0 == NONE {
+                in_run = false;
+                continue;
+            }
+            if !in_run {
+                r.vert_edges.push(fe[(4 * x.0 + u32::from(x.1)) as usize]);
+                in_run = true;
+            }
+            r.vert_faces.push(x.0);
+            r.vert_face_local.push(x.1);
+            if !cycle || i + 1 < m {
+                r.vert_edges.push(fe[quad_entering_corner(x)]);
+            }
+        }
+        self.next_vertex();
     }
 
     /// Ends the current vertex, whose faces in a topology of quads are the closed fan `fan` (as
@@ -163,44 +210,6 @@ impl<'a> RingBuilder<'a> {
         }
         self.next_vertex();
         true
-    }
-
-    /// The current vertex's ring from the quad fan `fan`, in `topology::build`'s order when
-    /// `ordered`, else as given.
-    #[inline(always)]
-    fn quad_ring(&mut self, closed: bool, fan: &[(u32, u16)], ordered: bool) {
-        let corner = |(f, k): (u32, u16)| 4 * f + u32::from(k);
-        let fe = self.face_edges;
-        let leaving = |x| fe[corner(x) as usize];
-        let entering = |(f, k): (u32, u16)| fe[corner((f, (k + 3) & 3)) as usize];
-        if closed && fan.iter().all(|x| x.0 != NONE) {
-            // One cycle, from its smallest corner when ordered.
-            let first = if ordered {
-                (0..fan.len()).min_by_key(|&j| corner(fan[j])).unwrap_or(0)
-            } else {
-                0
-            };
-            push_run(
-                &mut self.rings,
-                fan,
-                first,
-                fan.len(),
-                false,
-                leaving,
-                entering,
-            );
-        } else {
-            // Open, or closed with a gap: runs, never the one cycle.
-            self.runs.clear();
-            push_runs(&mut self.runs, 0, fan, closed, corner);
-            if ordered {
-                self.runs.sort_unstable_by_key(|r| r.0);
-            }
-            for &(_, _, _, a, n) in &self.runs {
-                push_run(&mut self.rings, fan, a, n, true, leaving, entering);
-            }
-        }
-        self.next_vertex();
     }
 
     /// The position in `entries[s..e]` of the face with the smallest corner.
@@ -318,6 +327,13 @@ fn corner(face_offsets: &[u32], (f, k): (u32, u16)) -> u32 {
     face_offsets[f as usize] + u32::from(k)
 }
 
+/// The flat corner index of the corner before corner `k` of quad `f` (face `f` at corners
+/// `4 f..4 f + 4`): its edge is the one entering corner `k`.
+#[inline]
+fn quad_entering_corner((f, k): (u32, u16)) -> usize {
+    (4 * f + u32::from((k + 3) & 3)) as usize
+}
+
 /// The edge of face `f` leaving its corner `k`.
 fn leaving(t: &Topology, f: u32, k: u16) -> u32 {
     t.face_edges(f)[usize::from(k)]
@@ -344,39 +360,57 @@ fn entering_corner(face_offsets: &[u32], f: u32, k: u16) -> usize {
 mod tests {
     use super::*;
 
-    /// `quad_fan` writes the ring `fan` + `end_vertex` give (the general path as the oracle):
-    /// every fan of up to 6 quads, open and closed, every subset of its faces kept (runs that
-    /// wrap around a closed fan's end, several runs, none), faces and corners in an order that
-    /// does not increase, so the runs' and the cycle's smallest corners are searched for.
-    #[test]
-    fn quad_fan_equals_end_vertex() {
-        let nf = 12u32;
-        let face_offsets: Vec<u32> = (0..=nf).map(|f| 4 * f).collect();
-        // Distinct edge ids per corner, not in corner order.
-        let face_edges: Vec<u32> = (0..4 * nf).map(|c| (7 * c + 3) % (4 * nf) + 100).collect();
-        let mut quad = Vec::new();
+    /// The tests' quads: faces `0..QUADS`, corner `k` of face `f` at `4 f + k`.
+    const QUADS: u32 = 12;
+
+    /// The quads' leaving edges: a distinct id per corner, not in corner order.
+    fn quad_face_edges() -> Vec<u32> {
+        (0..4 * QUADS)
+            .map(|c| (7 * c + 3) % (4 * QUADS) + 100)
+            .collect()
+    }
+
+    /// Every fan of up to 6 of the quads, open and closed, every non-empty subset of its faces
+    /// kept, faces and corners in an order that does not increase.
+    fn quad_fans() -> Vec<(bool, Vec<(u32, u16)>)> {
+        let mut fans = Vec::new();
         for m in 1..=6usize {
             let faces: Vec<(u32, u16)> = (0..m)
-                .map(|j| (((5 * j + 3) % nf as usize) as u32, ((3 * j + 1) % 4) as u16))
+                .map(|j| {
+                    (
+                        ((5 * j + 3) % QUADS as usize) as u32,
+                        ((3 * j + 1) % 4) as u16,
+                    )
+                })
                 .collect();
             for closed in [false, true] {
-                for kept in 0..1u32 << m {
+                for kept in 1..1u32 << m {
                     let fan: Vec<(u32, u16)> = faces
                         .iter()
                         .enumerate()
                         .map(|(j, &x)| if (kept >> j) & 1 == 1 { x } else { (NONE, x.1) })
                         .collect();
-                    if kept != 0 {
-                        quad.push((closed, fan));
-                    }
+                    fans.push((closed, fan));
                 }
             }
         }
+        fans
+    }
+
+    /// `quad_fan` writes the ring `fan` + `end_vertex` give (the general path as the oracle):
+    /// every fan of [`quad_fans`] (runs that wrap around a closed fan's end, several runs,
+    /// none), whose decreasing faces and corners mean the runs' and the cycle's smallest
+    /// corners are searched for.
+    #[test]
+    fn quad_fan_equals_end_vertex() {
+        let face_offsets: Vec<u32> = (0..=QUADS).map(|f| 4 * f).collect();
+        let face_edges = quad_face_edges();
+        let quad = quad_fans();
         let vertices = quad.len();
-        let corners = 4 * nf as usize * vertices;
+        let corners = 4 * QUADS as usize * vertices;
         let mut a = RingBuilder::new(&face_offsets, &face_edges, vertices, corners, corners);
         let mut b = RingBuilder::new(&face_offsets, &face_edges, vertices, corners, corners);
-        for (closed, fan) in quad.drain(..) {
+        for (closed, fan) in quad {
             a.quad_fan(closed, &fan);
             b.fan(closed, fan.iter().copied());
             b.end_vertex();
@@ -387,5 +421,49 @@ mod tests {
         assert_eq!(a.vert_face_local, b.vert_face_local);
         assert_eq!(a.vert_edge_offsets, b.vert_edge_offsets);
         assert_eq!(a.vert_edges, b.vert_edges);
+    }
+
+    /// `quad_fan_as_given` writes each run of kept faces in fan order (a closed fan's from
+    /// after its first left-out face) as its first face's leaving edge, then each face with
+    /// its entering edge; a closed fan with every face kept as one cycle from its first face,
+    /// without its last face's entering edge. The runs spelt out by splitting the fan at its
+    /// left-out faces, for every fan of [`quad_fans`].
+    #[test]
+    fn quad_fan_as_given_writes_runs_in_fan_order() {
+        let face_offsets: Vec<u32> = (0..=QUADS).map(|f| 4 * f).collect();
+        let face_edges = quad_face_edges();
+        let leaving = |(f, k): (u32, u16)| face_edges[4 * f as usize + usize::from(k)];
+        let entering = |(f, k): (u32, u16)| face_edges[4 * f as usize + usize::from(k + 3) % 4];
+        let fans = quad_fans();
+        let corners = 4 * QUADS as usize * fans.len();
+        let mut rings = RingBuilder::new(&face_offsets, &face_edges, fans.len(), corners, corners);
+        let (mut faces, mut locals, mut edges) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut face_offs, mut edge_offs) = (vec![0u32], vec![0u32]);
+        for (closed, fan) in &fans {
+            rings.quad_fan_as_given(*closed, fan);
+            let m = fan.len();
+            let gap = fan.iter().position(|x| x.0 == NONE);
+            let start = if *closed { gap.map_or(0, |g| g + 1) } else { 0 };
+            let order: Vec<(u32, u16)> = (start..start + m).map(|j| fan[j % m]).collect();
+            for run in order.split(|x| x.0 == NONE).filter(|run| !run.is_empty()) {
+                edges.push(leaving(run[0]));
+                for &x in run {
+                    faces.push(x.0);
+                    locals.push(x.1);
+                    edges.push(entering(x));
+                }
+            }
+            if *closed && gap.is_none() {
+                edges.pop();
+            }
+            face_offs.push(faces.len() as u32);
+            edge_offs.push(edges.len() as u32);
+        }
+        let rings = rings.finish();
+        assert_eq!(rings.vert_face_offsets, face_offs);
+        assert_eq!(rings.vert_faces, faces);
+        assert_eq!(rings.vert_face_local, locals);
+        assert_eq!(rings.vert_edge_offsets, edge_offs);
+        assert_eq!(rings.vert_edges, edges);
     }
 }
