@@ -409,11 +409,7 @@ impl<'a> PatchTests<'a> {
     /// Face `f`'s corners and edges if it is a quad ([`Topology::quad`]; on a level of quads
     /// only, without reading the face offsets).
     fn quad(&self, f: u32) -> Option<(&'a [u32; 4], &'a [u32; 4])> {
-        if self.quads_only {
-            self.topo.quad_of_quads(f)
-        } else {
-            self.topo.quad(f)
-        }
+        self.topo.quad_with(f, self.quads_only)
     }
 
     fn regular_vertex(&mut self, v: u32) -> bool {

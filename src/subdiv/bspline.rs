@@ -227,11 +227,7 @@ fn across(
     b: u32,
 ) -> Option<(u32, [u32; 2], [u32; 2])> {
     let (g, s) = topo.face_across_edge(e, f)?;
-    let (gv, ge) = if quads_only {
-        topo.quad_of_quads(g)?
-    } else {
-        topo.quad(g)?
-    };
+    let (gv, ge) = topo.quad_with(g, quads_only)?;
     // `s < 4` (an edge of the quad `g`): masked, it needs no bounds check.
     (gv[s & 3] == b && gv[(s + 1) & 3] == a).then(|| {
         (

@@ -239,6 +239,17 @@ impl Topology {
         ))
     }
 
+    /// [`Self::quad`] of face `f`, read as [`Self::quad_of_quads`] where the caller knows the
+    /// topology is of quads only (`quads_only`: [`Self::quads_only`], asked once per level).
+    #[inline(always)]
+    pub(crate) fn quad_with(&self, f: u32, quads_only: bool) -> Option<(&[u32; 4], &[u32; 4])> {
+        if quads_only {
+            self.quad_of_quads(f)
+        } else {
+            self.quad(f)
+        }
+    }
+
     /// Whether edge `e` has a single face.
     pub fn is_boundary_edge(&self, e: u32) -> bool {
         self.edge_faces[e as usize][1] == NONE

@@ -127,9 +127,9 @@ impl<'a> RingBuilder<'a> {
     /// it): the ring [`Self::end_vertex`] gives, written straight from `fan` (no copy, no fan
     /// list), each face's corners and edges by quad arithmetic.
     pub(crate) fn quad_fan(&mut self, closed: bool, fan: &[(u32, u16)]) {
-        let corner = |(f, k): (u32, u16)| 4 * f + u32::from(k);
+        let corner = |x| quad_corner(x) as u32;
         let fe = self.face_edges;
-        let leaving = |x| fe[corner(x) as usize];
+        let leaving = |x| fe[quad_corner(x)];
         let entering = |x| fe[quad_entering_corner(x)];
         if closed && fan.iter().all(|x| x.0 != NONE) {
             // One cycle, from its smallest corner.
@@ -173,7 +173,7 @@ impl<'a> RingBuilder<'a> {
                 continue;
             }
             if !in_run {
-                r.vert_edges.push(fe[(4 * x.0 + u32::from(x.1)) as usize]);
+                r.vert_edges.push(fe[quad_corner(x)]);
                 in_run = true;
             }
             r.vert_faces.push(x.0);
@@ -325,6 +325,13 @@ fn push_run(
 #[inline]
 fn corner(face_offsets: &[u32], (f, k): (u32, u16)) -> u32 {
     face_offsets[f as usize] + u32::from(k)
+}
+
+/// The flat corner index of corner `k` of quad `f` (face `f` at corners `4 f..4 f + 4`): its
+/// edge is the one leaving it.
+#[inline]
+fn quad_corner((f, k): (u32, u16)) -> usize {
+    (4 * f + u32::from(k)) as usize
 }
 
 /// The flat corner index of the corner before corner `k` of quad `f` (face `f` at corners
