@@ -18,8 +18,10 @@ pub fn sector_count(topo: &Topology, v: u32) -> usize {
         .iter()
         .filter(|&&e| is_sharp_edge(topo, e))
         .count();
-    if topo.is_boundary_vertex(v) {
-        sharp.saturating_sub(1)
+    // The boundary test only where it can matter: without a sharp edge the count is 0 either
+    // way (most vertices; `edge_flags` asks it per corner of every end cap).
+    if sharp > 0 && topo.is_boundary_vertex(v) {
+        sharp - 1
     } else {
         sharp
     }
