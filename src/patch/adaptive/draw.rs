@@ -397,12 +397,7 @@ impl AdaptiveDrawTables {
             .map(|w| w.0.len())
             .sum::<usize>()
             + exact.rows.iter().map(|w| w.0.len()).sum::<usize>()
-            + lattice
-                .rows
-                .iter()
-                .flatten()
-                .map(|w| w.0.len())
-                .sum::<usize>()
+            + lattice.rows.term_count()
             + cap_rows.1;
         let mut rows = slot_corners.rows(
             &corner_rows,
@@ -423,10 +418,10 @@ impl AdaptiveDrawTables {
         }
         shared_normal.resize(shared_normal.len() + exact.rows.len(), false);
         // Lattice frames: no position, the exact tangents, a normal.
-        for r in &lattice.rows {
+        for r in lattice.rows.iter() {
             rows.push_empty(1);
             for w in r {
-                rows.push(w, 0);
+                rows.push_terms(w, 0);
             }
         }
         shared_normal.resize(shared_normal.len() + lattice.rows.len(), true);
