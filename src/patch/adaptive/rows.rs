@@ -22,6 +22,8 @@ pub struct PatchCorner {
     pub k: usize,
     /// Its vertex in the patch's level.
     pub vertex: u32,
+    /// That vertex's global id (`AdaptiveLevel::global`).
+    pub global: u32,
     /// End caps: the index of the patch's rows in `caps`.
     cap: usize,
 }
@@ -45,12 +47,13 @@ pub struct CornerRows<'a> {
 
 impl<'a> CornerRows<'a> {
     /// The corner rows of `census`; `caps` are the end caps' rows in census order, built over
-    /// `topologies`.
+    /// `topologies`; `corners` its [`patch_corners`].
     pub fn new(
         refinement: &'a AdaptiveRefinement,
         census: &'a PatchCensus,
         topologies: &'a EndCapTopologies<'a>,
         caps: &'a [FaceRows],
+        corners: Vec<PatchCorner>,
     ) -> CornerRows<'a> {
         let mut crease = WordHashMap::default();
         for line in census.patches.iter().filter_map(|p| p.crease.as_ref()) {
@@ -75,7 +78,7 @@ impl<'a> CornerRows<'a> {
             bspline: (0..4 * 16)
                 .map(|i| CornerTable::new(bspline_corner_columns(i / 16, i as u8 % 16)))
                 .collect(),
-            corners: exact_first(refinement, census),
+            corners,
         }
     }
 
@@ -165,11 +168,16 @@ impl<'a> CornerRows<'a> {
     pub fn visit(&self, visit: impl FnMut(&PatchCorner)) {
         self.corners.iter().for_each(visit);
     }
+
+    /// Corner `i` of the [`Self::visit`] order.
+    pub fn corner(&self, i: u32) -> &PatchCorner {
+        &self.corners[i as usize]
+    }
 }
 
-/// Every corner of every census patch, exact patches (B-spline, single-crease) first, then end
-/// caps.
-fn exact_first(refinement: &AdaptiveRefinement, census: &PatchCensus) -> Vec<PatchCorner> {
+/// Every corner of every census patch in [`CornerRows::visit`] order: exact patches
+/// (B-spline, single-crease) first, then end caps.
+pub fn patch_corners(refinement: &AdaptiveRefinement, census: &PatchCensus) -> Vec<PatchCorner> {
     let mut out = Vec::with_capacity(4 * census.patches.len());
     for end_caps in [false, true] {
         // End caps: the running count of end caps is the index of the patch's rows.
@@ -180,12 +188,13 @@ fn exact_first(refinement: &AdaptiveRefinement, census: &PatchCensus) -> Vec<Pat
             }
             let cap = next_cap;
             next_cap += usize::from(end_caps);
-            let t = refinement.levels[p.level as usize].topology();
-            for (k, &v) in t.face_vertices(p.face).iter().enumerate() {
+            let lev = &refinement.levels[p.level as usize];
+            for (k, &v) in lev.topology().face_vertices(p.face).iter().enumerate() {
                 out.push(PatchCorner {
                     patch: i,
                     k,
                     vertex: v,
+                    global: lev.global(v),
                     cap,
                 });
             }

@@ -1,6 +1,7 @@
 //! Slot frames' rows (position, d/du, d/dv of each frame slot, [`super::slots`]), from the first
 //! census patch with the slot as a corner, exact patches (B-spline, single-crease) before end
-//! caps ([`CornerRows::visit`]), in two steps: [`SlotCorners::new`] picks each slot's corner and
+//! caps ([`CornerRows::visit`]; `Slots::new` finds each slot's first corner as it numbers the
+//! slots), in two steps: [`SlotCorners::new`] takes each slot's corner and
 //! computes the exact frames of promoted corners (a failed one unshares its slot's normal, which
 //! the sector frames read), and [`SlotCorners::rows`] writes the rows once the frames after them
 //! are known, into one buffer with room for those too: the slot rows, most of the frame rows,
@@ -10,8 +11,8 @@
 use rayon::prelude::*;
 
 use super::promoted::{exact_frame, promoted_vertex};
-use super::rows::{CornerRows, PatchCorner, SparseRows, TemplateTerms};
-use super::slots::{Slots, NONE};
+use super::rows::{CornerRows, SparseRows, TemplateTerms};
+use super::slots::NONE;
 use super::surface::EndCapTopologies;
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptivePatch, AdaptiveRefinement, PatchCensus, PatchType};
@@ -20,8 +21,8 @@ use crate::topology::single_normal_vertex;
 
 /// Each slot's corner and the exact frames of the promoted ones.
 pub struct SlotCorners {
-    /// Per slot: the corner whose rows it takes.
-    first: Vec<Option<PatchCorner>>,
+    /// Per slot: the corner whose rows it takes (its place in [`CornerRows::visit`] order).
+    first: Vec<u32>,
     /// Per slot: its frame in `exact_frames` where its corner is an end cap's on a promoted crease
     /// where the exact limit has one normal (`super::promoted`), else [`NONE`].
     exact_of: Vec<u32>,
@@ -30,28 +31,26 @@ pub struct SlotCorners {
 }
 
 impl SlotCorners {
-    /// The corners of `slots` over `corner_rows`' visit, and per slot whether its normal is
-    /// shared (one sector in the topology the frame's patch was built over; not where a
-    /// promoted corner's exact mask failed, which keeps its end cap's corner, one per sector);
-    /// `masks` the exact limit masks of promoted corners, shared with the sector frames.
+    /// The slots' corners `first` (per slot, its first corner in `corner_rows`' visit, as
+    /// [`super::slots::Slots::new`] gives them), and per slot whether its normal is shared
+    /// (one sector in the topology the frame's patch was built over; not where a promoted
+    /// corner's exact mask failed, which keeps its end cap's corner, one per sector); `masks`
+    /// the exact limit masks of promoted corners, shared with the sector frames.
     pub fn new(
         refinement: &AdaptiveRefinement,
         census: &PatchCensus,
         topologies: &EndCapTopologies,
-        slots: &Slots,
+        first: Vec<u32>,
         corner_rows: &CornerRows,
         masks: &SharedVertexMasks,
     ) -> (SlotCorners, Vec<bool>) {
-        let mut first: Vec<Option<PatchCorner>> = vec![None; slots.len()];
-        let mut shared = vec![false; slots.len()];
         let mut exact_slots = Vec::new();
-        corner_rows.visit(|c| {
-            let p = &census.patches[c.patch];
-            let lev = &refinement.levels[p.level as usize];
-            let s = slots.of(lev.global(c.vertex)) as usize;
-            if first[s].is_none() {
-                first[s] = Some(*c);
-                shared[s] = match p.kind {
+        let mut shared: Vec<bool> = (first.iter().enumerate())
+            .map(|(s, &i)| {
+                let c = corner_rows.corner(i);
+                let p = &census.patches[c.patch];
+                let lev = &refinement.levels[p.level as usize];
+                match p.kind {
                     PatchType::EndCap => {
                         let (t, caps) = (lev.topology(), topologies.get(p.level));
                         let exact =
@@ -65,19 +64,19 @@ impl SlotCorners {
                         smooth_bspline_corner(p, c.k)
                             || single_normal_vertex(lev.topology(), c.vertex)
                     }
-                };
-            }
-        });
+                }
+            })
+            .collect();
         let exact_frames: Vec<[Weights; 3]> = exact_slots
             .par_iter()
             .map(|&s| {
-                let c = first[s].expect("an exact slot has its corner");
+                let c = corner_rows.corner(first[s]);
                 let p = &census.patches[c.patch];
                 let lev = &refinement.levels[p.level as usize];
-                exact_frame(lev, p.face, c.k, corner_rows.position_row(&c), masks)
+                exact_frame(lev, p.face, c.k, corner_rows.position_row(c), masks)
             })
             .collect();
-        let mut exact_of = vec![NONE; slots.len()];
+        let mut exact_of = vec![NONE; first.len()];
         for (i, (&s, frame)) in exact_slots.iter().zip(&exact_frames).enumerate() {
             exact_of[s] = i as u32;
             if frame[1].0.is_empty() {
@@ -139,40 +138,32 @@ impl SlotCorners {
 
     /// At least the number of terms [`Self::push_run`] appends for the slots from `first_slot`
     /// with corners `run`.
-    fn terms_bound(
-        &self,
-        first_slot: usize,
-        run: &[Option<PatchCorner>],
-        corner_rows: &CornerRows,
-    ) -> usize {
+    fn terms_bound(&self, first_slot: usize, run: &[u32], corner_rows: &CornerRows) -> usize {
         (run.iter().enumerate())
-            .filter_map(|(j, c)| Some((first_slot + j, c.as_ref()?)))
-            .map(|(s, c)| match self.exact_frame(s) {
+            .map(|(j, &c)| match self.exact_frame(first_slot + j) {
                 Some(frame) => frame.iter().map(|w| w.0.len()).sum(),
-                None => corner_rows.terms_bound(c),
+                None => corner_rows.terms_bound(corner_rows.corner(c)),
             })
             .sum()
     }
 
-    /// Appends the rows of the slots from `first_slot` with corners `run` to `out` (none for a
-    /// slot without a corner).
+    /// Appends the rows of the slots from `first_slot` with corners `run` to `out`.
     fn push_run(
         &self,
         first_slot: usize,
-        run: &[Option<PatchCorner>],
+        run: &[u32],
         corner_rows: &CornerRows,
         out: &mut SparseRows,
     ) {
         let mut terms = TemplateTerms::default();
-        for (j, c) in run.iter().enumerate() {
-            let Some(c) = c else { continue };
+        for (j, &c) in run.iter().enumerate() {
             match self.exact_frame(first_slot + j) {
                 Some(frame) => {
                     for w in frame {
                         out.push(w, 0);
                     }
                 }
-                None => corner_rows.push_rows(c, out, &mut terms),
+                None => corner_rows.push_rows(corner_rows.corner(c), out, &mut terms),
             }
         }
     }
