@@ -189,15 +189,15 @@ pub fn patch_corners(refinement: &AdaptiveRefinement, census: &PatchCensus) -> V
             let cap = next_cap;
             next_cap += usize::from(end_caps);
             let lev = &refinement.levels[p.level as usize];
-            for (k, &v) in lev.topology().face_vertices(p.face).iter().enumerate() {
-                out.push(PatchCorner {
-                    patch: i,
-                    k,
-                    vertex: v,
-                    global: lev.global(v),
-                    cap,
-                });
-            }
+            // Extended from the face's vertices (one capacity check a face).
+            let face = lev.topology().face_vertices(p.face).iter().enumerate();
+            out.extend(face.map(|(k, &v)| PatchCorner {
+                patch: i,
+                k,
+                vertex: v,
+                global: lev.global(v),
+                cap,
+            }));
         }
     }
     out
