@@ -13,6 +13,9 @@ use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus};
 use crate::subdiv::bspline::{bspline, bspline_deriv};
 use crate::subdiv::single_crease::{CreaseLine, CreaseSide};
 
+/// The most terms an exact patch's corner rows hold: three rows over its 16 control points.
+pub const EXACT_CORNER_TERMS: usize = 3 * 16;
+
 /// A patch corner as [`CornerRows::visit`] visits it.
 #[derive(Debug, Clone, Copy)]
 pub struct PatchCorner {
@@ -152,7 +155,7 @@ impl<'a> CornerRows<'a> {
     pub fn terms_bound(&self, c: &PatchCorner) -> usize {
         let p = &self.census.patches[c.patch];
         if p.bspline.is_some() {
-            return 3 * 16;
+            return EXACT_CORNER_TERMS;
         }
         let n = self.refinement.levels[p.level as usize]
             .topology()

@@ -11,7 +11,7 @@
 use rayon::prelude::*;
 
 use super::promoted::{exact_frame, promoted_vertex};
-use super::rows::{CornerRows, SparseRows, TemplateTerms};
+use super::rows::{CornerRows, SparseRows, TemplateTerms, EXACT_CORNER_TERMS};
 use super::slots::NONE;
 use super::surface::EndCapTopologies;
 use crate::patch::gregory::Weights;
@@ -28,6 +28,9 @@ pub struct SlotCorners {
     exact_of: Vec<u32>,
     /// Those slots' frames ([`exact_frame`]; empty tangent rows where the exact mask failed).
     exact_frames: Vec<[Weights; 3]>,
+    /// At least the number of terms of the slot rows (each corner's
+    /// [`CornerRows::terms_bound`], and the exact frames' terms).
+    terms_bound: usize,
 }
 
 impl SlotCorners {
@@ -44,10 +47,11 @@ impl SlotCorners {
         corner_rows: &CornerRows,
         masks: &SharedVertexMasks,
     ) -> (SlotCorners, Vec<bool>) {
-        let mut exact_slots = Vec::new();
+        let (mut exact_slots, mut terms_bound) = (Vec::new(), 0);
         let mut shared: Vec<bool> = (first.iter().enumerate())
             .map(|(s, &i)| {
                 let c = corner_rows.corner(i);
+                terms_bound += corner_rows.terms_bound(c);
                 let p = &census.patches[c.patch];
                 let lev = &refinement.levels[p.level as usize];
                 match p.kind {
@@ -79,6 +83,7 @@ impl SlotCorners {
         let mut exact_of = vec![NONE; first.len()];
         for (i, (&s, frame)) in exact_slots.iter().zip(&exact_frames).enumerate() {
             exact_of[s] = i as u32;
+            terms_bound += frame.iter().map(|w| w.0.len()).sum::<usize>();
             if frame[1].0.is_empty() {
                 shared[s] = false;
             }
@@ -87,13 +92,15 @@ impl SlotCorners {
             first,
             exact_of,
             exact_frames,
+            terms_bound,
         };
         (corners, shared)
     }
 
     /// The slot rows in slot order (computed on the rayon pool in runs of slots, each written
-    /// into flat rows of its own and appended; on one thread straight into the result), with
-    /// room for `spare` (rows, terms) more.
+    /// into flat rows of its own, with room for an exact patch's corner rows a slot, and
+    /// appended; on one thread straight into the result), with room for `spare` (rows, terms)
+    /// more.
     pub fn rows(&self, corner_rows: &CornerRows, spare: (usize, usize)) -> SparseRows {
         let chunk = if rayon::current_num_threads() == 1 {
             self.first.len().max(1)
@@ -102,10 +109,7 @@ impl SlotCorners {
         };
         let mut out = SparseRows::new();
         if chunk >= self.first.len() {
-            out.reserve(
-                3 * self.first.len() + spare.0,
-                self.terms_bound(0, &self.first, corner_rows) + spare.1,
-            );
+            out.reserve(3 * self.first.len() + spare.0, self.terms_bound + spare.1);
             self.push_run(0, &self.first, corner_rows, &mut out);
             return out;
         }
@@ -115,7 +119,7 @@ impl SlotCorners {
             .enumerate()
             .map(|(i, run)| {
                 let mut rows = SparseRows::new();
-                rows.reserve(3 * run.len(), self.terms_bound(i * chunk, run, corner_rows));
+                rows.reserve(3 * run.len(), EXACT_CORNER_TERMS * run.len());
                 self.push_run(i * chunk, run, corner_rows, &mut rows);
                 rows
             })
@@ -134,17 +138,6 @@ impl SlotCorners {
     fn exact_frame(&self, s: usize) -> Option<&[Weights; 3]> {
         let i = self.exact_of[s];
         (i != NONE).then(|| &self.exact_frames[i as usize])
-    }
-
-    /// At least the number of terms [`Self::push_run`] appends for the slots from `first_slot`
-    /// with corners `run`.
-    fn terms_bound(&self, first_slot: usize, run: &[u32], corner_rows: &CornerRows) -> usize {
-        (run.iter().enumerate())
-            .map(|(j, &c)| match self.exact_frame(first_slot + j) {
-                Some(frame) => frame.iter().map(|w| w.0.len()).sum(),
-                None => corner_rows.terms_bound(corner_rows.corner(c)),
-            })
-            .sum()
     }
 
     /// Appends the rows of the slots from `first_slot` with corners `run` to `out`.
