@@ -175,6 +175,8 @@ fn smooth_bspline_corner(p: &AdaptivePatch, k: usize) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::patch::adaptive::rows::patch_corners;
+    use crate::patch::adaptive::slots::{origins, Slots};
     use crate::subdiv::corpus_levels;
 
     /// Every census corner `smooth_bspline_corner` takes for one normal has one
@@ -210,6 +212,39 @@ mod tests {
                 }
             }
             assert!(taken > 0, "{name}");
+        }
+    }
+
+    /// Every census corner has the slot of its origin, slots number the origins in increasing
+    /// order, and each slot's first corner is the first corner at its point in the visit order
+    /// (a scan over the corners); over meshes with end caps, creases, boundaries and holes.
+    #[test]
+    fn first_corners_are_the_first_at_each_point() {
+        let cases = [
+            ("catmark_car", 2),
+            ("catmark_cube_creases1", 3),
+            ("catmark_dart_edgecorner", 3),
+            ("catmark_hole_test1", 2),
+        ];
+        let names: Vec<&str> = cases.iter().map(|c| c.0).collect();
+        for ((name, _, level), (_, isolation)) in corpus_levels(&names, 0).iter().zip(cases) {
+            let refinement = AdaptiveRefinement::new(level, isolation).unwrap();
+            let corners = patch_corners(&refinement, refinement.census());
+            let (slots, first) = Slots::new(&refinement, corners.iter().map(|c| c.global));
+            let origin = origins(&refinement);
+            let mut want = vec![None; slots.len()];
+            for (i, c) in corners.iter().enumerate() {
+                let s = slots.of(c.global);
+                assert_ne!(s, NONE, "{name}: corner {i}");
+                assert_eq!(
+                    slots.origins[s as usize], origin[c.global as usize],
+                    "{name}"
+                );
+                want[s as usize].get_or_insert(i as u32);
+            }
+            let want: Vec<u32> = want.into_iter().map(|i| i.expect("a corner")).collect();
+            assert_eq!(first, want, "{name}");
+            assert!(slots.origins.windows(2).all(|o| o[0] < o[1]), "{name}");
         }
     }
 }
