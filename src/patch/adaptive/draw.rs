@@ -24,7 +24,7 @@ use super::promoted::{
 use super::records::{
     words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
 };
-use super::rows::{CornerRows, SparseRows};
+use super::rows::{patch_corners, CornerRows, SparseRows};
 use super::sector_frames::SectorFrames;
 use super::slot_rows::SlotCorners;
 use super::slots::{Slots, NONE};
@@ -337,7 +337,8 @@ impl AdaptiveDrawTables {
     ) -> Result<AdaptiveDrawTables, DrawTablesError> {
         let census = refinement.census();
         let topologies = EndCapTopologies::new(refinement, census);
-        let slots = Slots::new(refinement, census);
+        let corners = patch_corners(refinement, census);
+        let (slots, first_corners) = Slots::new(refinement, corners.iter().map(|c| c.global));
         let EndCapRows {
             caps,
             vertices: vertex_rows,
@@ -348,14 +349,14 @@ impl AdaptiveDrawTables {
             END_CAP_ROWS * caps.len() + vertex_rows.len(),
             caps.iter().map(|c| c.terms.len()).sum::<usize>() + vertex_terms,
         );
-        let corner_rows = CornerRows::new(refinement, census, &topologies, &caps);
+        let corner_rows = CornerRows::new(refinement, census, &topologies, &caps, corners);
         // Exact limit masks of promoted corners, one table for slot, sector and exact-corner frames.
         let masks = SharedVertexMasks::default();
         let (slot_corners, mut shared_normal) = SlotCorners::new(
             refinement,
             census,
             &topologies,
-            &slots,
+            first_corners,
             &corner_rows,
             &masks,
         );
