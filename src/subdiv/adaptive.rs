@@ -848,9 +848,11 @@ fn classify_level(
     let mut census = LevelCensus::default();
     // No face refined (the isolation level, or every face a patch): no transition to look for.
     let any_refined = lev.refined.contains(&true);
+    let quads_only = t.quads_only();
     for p in &mut patches[first..] {
         // B-spline and single-crease patches are quads: edge `k` is the quad's.
-        let quad = (any_refined && p.kind != PatchType::EndCap).then(|| t.quad(p.face));
+        let quad =
+            (any_refined && p.kind != PatchType::EndCap).then(|| t.quad_with(p.face, quads_only));
         if let Some(Some((_, edges))) = quad {
             for (k, &e) in edges.iter().enumerate() {
                 if t.face_across_edge(e, p.face)

@@ -208,6 +208,79 @@ const DIAGONAL_SLOT: [usize; 4] = {
     s
 };
 
+/// Grid slots read from the face diagonal to quad `face` at its corner `k` (corner `l` of that
+/// face is `c[k]`): its corners `l + 1`, `l + 2`, `l + 3` are the grid vertex beside corner `k`
+/// out across face edge `k - 1`, the diagonal vertex, and the one out across face edge `k`
+/// (counter-clockwise faces and rings, see [`grid_cvs_from_rings`]).
+const RING_SLOTS: [[usize; 3]; 4] = {
+    let mut s = [[0; 3]; 4];
+    let mut k = 0;
+    while k < 4 {
+        s[k] = [
+            SIDE_SLOTS[(k + 3) % 4][1],
+            DIAGONAL_SLOT[k],
+            SIDE_SLOTS[k][0],
+        ];
+        k += 1;
+    }
+    s
+};
+
+/// The 16 grid vertices of quad `face` (corners `c`) without phantom sides whose corners are
+/// interior vertices with four quads around them: the outer twelve read from the face opposite
+/// `face` in each corner's ring ([`RING_SLOTS`]), four faces read instead of eight walked across
+/// edges. The grid [`grid_cvs`] walks (tested); `None` when a corner's ring is not four faces
+/// holding `face` or a face read is not a quad.
+fn grid_cvs_from_rings(topo: &Topology, face: u32, c: &[u32; 4]) -> Option<[u32; 16]> {
+    let quads_only = topo.quads_only();
+    let mut cvs = [c[0]; 16];
+    for k in 0..4 {
+        let v = c[k];
+        cvs[CORNER_SLOT[k]] = v;
+        let (faces, locals) = (topo.vertex_faces(v), topo.vertex_face_locals(v));
+        if faces.len() != 4 || locals.len() != 4 {
+            return None;
+        }
+        let i = faces.iter().position(|&g| g == face)?;
+        // The diagonal face: two steps round the ring of four.
+        let opposite = (i + 2) & 3;
+        let (dv, _) = topo.quad_with(faces[opposite], quads_only)?;
+        let l = usize::from(locals[opposite]);
+        for (j, &s) in RING_SLOTS[k].iter().enumerate() {
+            cvs[s] = dv[(l + 1 + j) & 3];
+        }
+    }
+    Some(cvs)
+}
+
+/// Tests' check of [`grid_cvs_from_rings`] on every quad of `topo`: for those whose corners are
+/// interior with four quads around them, the grid [`grid_cvs`] walks (`Err(face)` at the first
+/// that differs, else how many agree); how many others it declines.
+#[cfg(test)]
+pub(crate) fn grids_from_rings_checked(topo: &Topology) -> (Result<usize, u32>, usize) {
+    let four_quads = |v: u32| {
+        topo.vertex_faces(v).len() == 4
+            && topo.vertex_edges(v).len() == 4
+            && topo.vertex_faces(v).iter().all(|&g| topo.face_size(g) == 4)
+    };
+    let (mut same, mut declined) = (0, 0);
+    for f in 0..topo.face_count() as u32 {
+        let Some((c, fe)) = topo.quad(f) else {
+            continue;
+        };
+        let from_rings = grid_cvs_from_rings(topo, f, c);
+        if c.iter().all(|&v| four_quads(v)) {
+            if from_rings != grid_cvs(topo, f, (c, fe), 0) {
+                return (Err(f), declined);
+            }
+            same += 1;
+        } else if from_rings.is_none() {
+            declined += 1;
+        }
+    }
+    (Ok(same), declined)
+}
+
 /// The neighbour across edge `e` that quad `f` runs `a -> b`, with its corners rotated to
 /// `[b, a, r2, r3]` (`r2` adjacent to `a`, `r3` adjacent to `b`) and its edges in the same
 /// rotation (edge `i` from corner `i` to `i + 1`): its index, `[r2, r3]` and its edges 1
@@ -421,7 +494,13 @@ impl RegularPatch {
                 mask |= 1 << k;
             }
         }
-        let cvs = grid_cvs(topo, face, (c, fe), mask)?;
+        // Without phantom sides every corner is smooth (a crease or corner vertex is regular
+        // for this face only with a sharp edge of the face at it): interior, four quads round.
+        let cvs = if mask == 0 {
+            grid_cvs_from_rings(topo, face, c)?
+        } else {
+            grid_cvs(topo, face, (c, fe), mask)?
+        };
         Some(RegularPatch {
             face,
             cvs,
@@ -670,6 +749,29 @@ mod tests {
             }
         }
         assert!(some > 10_000 && none > 10_000, "{some} found, {none} not");
+    }
+
+    /// Reading the outer twelve from the corners' rings gives the grid the walk across edges
+    /// gives on every quad of uniform levels whose corners are interior with four quads around
+    /// them, and declines most others (fails if the ring's diagonal face or the slots of its
+    /// corners are off by one). The adaptive step's sparse rings: `subdiv`'s tests.
+    #[test]
+    fn grid_from_rings_is_grid_across_edges() {
+        let levels = crate::subdiv::corpus_levels(
+            &["catmark_car", "catmark_nonquads", "catmark_hole_test1"],
+            2,
+        );
+        let (mut same, mut declined) = (0, 0);
+        for (name, _, level) in &levels {
+            let (s, d) = grids_from_rings_checked(level.topology());
+            assert!(s.is_ok(), "{name}: {s:?}");
+            same += s.unwrap_or(0);
+            declined += d;
+        }
+        assert!(
+            same > 10_000 && declined > 1000,
+            "{same} same, {declined} declined"
+        );
     }
 
     /// The once-per-vertex judgement is the per-face one (every face around the vertex sees a

@@ -548,8 +548,10 @@ fn kept_refined_mask(
     } else {
         vertex_mask_rec(&child, v_child, k as u32, depth + 1, LocalStep::Kept)?
     };
-    let mut t = Vec::new();
-    let mut buf = Vec::new();
+    // Room up front for rows of up to 9 terms (a regular vertex point's; most are shorter),
+    // and for one row of a vertex point up to valence 15 (`2 n + 1` terms on quads).
+    let mut t = Vec::with_capacity(9 * cm.indices.len());
+    let mut buf = Vec::with_capacity(32);
     for (j, &c) in cm.indices.iter().enumerate() {
         let w = [cm.position[j], cm.tangent_u[j], cm.tangent_v[j]];
         sub.refine_matrix_row(map[c as usize] as usize, &mut buf);

@@ -85,4 +85,22 @@ mod tests {
         }
         assert!(split > 100, "{split} vertices of two or more sectors");
     }
+
+    /// `bspline`'s grid read from the corners' rings is the grid walked across edges on the
+    /// sparse levels of adaptive refinements too (rings built by the adaptive step; here, where
+    /// `adaptive` may be used: `bspline` must not).
+    #[test]
+    fn adaptive_levels_grids_from_rings_are_grids_across_edges() {
+        let mut same = 0;
+        for name in ["catmark_car", "catmark_pole64", "catmark_hole_test1"] {
+            let base = &corpus_levels(&[name], 0)[0].2;
+            let refinement = adaptive::AdaptiveRefinement::new(base, 3).unwrap();
+            for (l, level) in refinement.levels.iter().enumerate() {
+                let (s, _) = bspline::grids_from_rings_checked(level.level.topology());
+                assert!(s.is_ok(), "{name} level {l}: face {s:?}");
+                same += s.unwrap_or(0);
+            }
+        }
+        assert!(same > 10_000, "{same} grids");
+    }
 }

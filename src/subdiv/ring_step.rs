@@ -12,7 +12,6 @@
 //! the kept quads' corners, edges by first appearance among the quads' edges, and each ring
 //! starts where its parent's does, not where `topology::build` would start it.
 
-use super::corners::prev_corner;
 use super::kept::KeptEdges;
 use super::level::Level;
 use super::rules::{child_edge_sharpness, decrement};
@@ -67,13 +66,15 @@ pub(super) fn refine_in_place(
             outside[v as usize] = true;
         }
     }
-    let quads = KeptQuads::new(t, &in_ring, &outside, keep)?;
+    let fc = FaceCorners::of(t);
+    let quads = KeptQuads::new(t, fc, &in_ring, &outside, keep)?;
     let nk = keep.len();
     let nv = quads.points.faces.len() + quads.points.edges.len() + quads.points.vertices.len();
-    let edges = child_edges(level, &quads, keep);
+    let edges = child_edges(level, fc, &quads, keep);
     let face_offsets: Vec<u32> = (0..=nk as u32).map(|i| 4 * i).collect();
     let rings = child_rings(
         t,
+        fc,
         &quads,
         &face_offsets,
         &edges.face_edges,
@@ -127,7 +128,13 @@ struct KeptQuads {
 
 impl KeptQuads {
     /// The kept children `keep` of `t` (as [`refine_in_place`] takes them), checked.
-    fn new(t: &Topology, in_ring: &[bool], outside: &[bool], keep: &[u32]) -> Result<KeptQuads> {
+    fn new(
+        t: &Topology,
+        fc: FaceCorners,
+        in_ring: &[bool],
+        outside: &[bool],
+        keep: &[u32],
+    ) -> Result<KeptQuads> {
         let nk = keep.len();
         let mut kept = vec![NONE; t.corner_count()];
         let mut parent_face = Vec::with_capacity(nk);
@@ -152,8 +159,12 @@ impl KeptQuads {
                     t.corner_count()
                 )));
             }
-            while t.face_offsets[f + 1] <= h {
-                f += 1;
+            if fc.quads_only {
+                f = h as usize / 4;
+            } else {
+                while t.face_offsets[f + 1] <= h {
+                    f += 1;
+                }
             }
             let v = t.face_verts[h as usize];
             if !in_ring[f] || outside[v as usize] {
@@ -168,7 +179,8 @@ impl KeptQuads {
                 points.faces.push(f as u32);
             }
             let face_point = points.faces.len() as u32 - 1;
-            let hp = prev_corner(t, f, h);
+            let (off, end) = fc.range(f as u32);
+            let hp = if h == off { end - 1 } else { h - 1 } as usize;
             let next_point = point_of(&mut edge_point, &mut points.edges, t.face_edges[h as usize]);
             let prev_point = point_of(&mut edge_point, &mut points.edges, t.face_edges[hp]);
             let vertex = point_of(&mut vertex_point, &mut points.vertices, v);
@@ -189,8 +201,8 @@ impl KeptQuads {
     }
 
     /// The kept child at corner `k` of parent face `g` (NONE if none).
-    fn child(&self, t: &Topology, g: u32, k: u32) -> u32 {
-        self.kept[(t.face_offsets[g as usize] + k) as usize]
+    fn child(&self, fc: FaceCorners, g: u32, k: u32) -> u32 {
+        self.kept[(fc.range(g).0 + k) as usize]
     }
 }
 
@@ -216,7 +228,7 @@ fn point_of(index: &mut [u32], points: &mut Vec<u32>, x: u32) -> u32 {
 /// end in the face across it; a half takes its parent edge's child sharpness
 /// (`rules::child_edge_sharpness`) and is cut where its parent edge is or where the child
 /// across is not kept though the parent edge has a second face.
-fn child_edges(level: &Level, quads: &KeptQuads, keep: &[u32]) -> KeptEdges {
+fn child_edges(level: &Level, fc: FaceCorners, quads: &KeptQuads, keep: &[u32]) -> KeptEdges {
     let t = level.topology();
     let mut edges = KeptEdges::new(quads.parent_face.len());
     // The half at `v` of parent edge `e` (the edge `kf` of face `f`) as kept child `i`'s edge
@@ -228,7 +240,7 @@ fn child_edges(level: &Level, quads: &KeptQuads, keep: &[u32]) -> KeptEdges {
         let c = if g == NONE {
             NONE
         } else {
-            let (off, end) = face_corners(t, g);
+            let (off, end) = fc.range(g);
             let corner = off + kg;
             let corner = if local == 0 {
                 next_in(corner, off, end)
@@ -259,7 +271,7 @@ fn child_edges(level: &Level, quads: &KeptQuads, keep: &[u32]) -> KeptEdges {
         let i = i as u32;
         // Flat corners: `h`, the next and the previous of its face (the face's range read
         // once per child).
-        let (off, end) = face_corners(t, f);
+        let (off, end) = fc.range(f);
         let (next, prev) = (next_in(h, off, end), if h == off { end - 1 } else { h - 1 });
         let v = t.face_verts[h as usize];
         let unmade =
@@ -287,10 +299,32 @@ fn child_edges(level: &Level, quads: &KeptQuads, keep: &[u32]) -> KeptEdges {
     edges
 }
 
-/// The flat corners `off..end` of face `f`.
-#[inline(always)]
-fn face_corners(t: &Topology, f: u32) -> (u32, u32) {
-    (t.face_offsets[f as usize], t.face_offsets[f as usize + 1])
+/// The flat corner ranges of a parent level's faces: by quad arithmetic on a level of quads
+/// only (every level after the first, [`Topology::quads_only`]), from the face offsets
+/// otherwise.
+#[derive(Clone, Copy)]
+struct FaceCorners<'a> {
+    offsets: &'a [u32],
+    quads_only: bool,
+}
+
+impl<'a> FaceCorners<'a> {
+    fn of(t: &'a Topology) -> FaceCorners<'a> {
+        FaceCorners {
+            offsets: &t.face_offsets,
+            quads_only: t.quads_only(),
+        }
+    }
+
+    /// The flat corners `off..end` of face `f`.
+    #[inline(always)]
+    fn range(self, f: u32) -> (u32, u32) {
+        if self.quads_only {
+            (4 * f, 4 * f + 4)
+        } else {
+            (self.offsets[f as usize], self.offsets[f as usize + 1])
+        }
+    }
 }
 
 /// The flat corner after `h` in the face of corners `off..end`, cyclically.
@@ -324,6 +358,7 @@ fn across(t: &Topology, e: u32, f: u32, kf: u32) -> (u32, u32) {
 /// kept, [`topology::RingBuilder::quad_fan_as_given`] otherwise).
 fn child_rings(
     t: &Topology,
+    fc: FaceCorners,
     quads: &KeptQuads,
     face_offsets: &[u32],
     face_edges: &[u32],
@@ -337,12 +372,9 @@ fn child_rings(
     // with every child kept, as runs otherwise.
     let mut fan = Vec::with_capacity(16);
     for &f in &points.faces {
-        let (a, b) = (
-            t.face_offsets[f as usize] as usize,
-            t.face_offsets[f as usize + 1] as usize,
-        );
+        let (a, b) = fc.range(f);
         fan.clear();
-        fan.extend(quads.kept[a..b].iter().map(|&i| (i, 2)));
+        fan.extend(quads.kept[a as usize..b as usize].iter().map(|&i| (i, 2)));
         closed_fan(&mut rings, &fan);
     }
     for &e in &points.edges {
@@ -350,7 +382,7 @@ fn child_rings(
         let [k0, k1] = t.edge_face_local[e as usize];
         let (k0, k1) = (u32::from(k0), u32::from(k1));
         let beside = |g: u32, k: u32| {
-            let (off, end) = face_corners(t, g);
+            let (off, end) = fc.range(g);
             let h = off + k;
             (
                 quads.kept[h as usize],
@@ -366,7 +398,7 @@ fn child_rings(
         }
     }
     for &v in &points.vertices {
-        let child = |g: u32, k: u16| (quads.child(t, g, u32::from(k)), 0);
+        let child = |g: u32, k: u16| (quads.child(fc, g, u32::from(k)), 0);
         let (faces, locals) = (t.vertex_faces(v), t.vertex_face_locals(v));
         match t.vertex_edges(v).len() - faces.len() {
             0 => {

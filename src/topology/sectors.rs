@@ -18,8 +18,10 @@ pub fn sector_count(topo: &Topology, v: u32) -> usize {
         .iter()
         .filter(|&&e| is_sharp_edge(topo, e))
         .count();
-    if topo.is_boundary_vertex(v) {
-        sharp.saturating_sub(1)
+    // The boundary test only where it can matter: without a sharp edge the count is 0 either
+    // way (most vertices; `edge_flags` asks it per corner of every end cap).
+    if sharp > 0 && topo.is_boundary_vertex(v) {
+        sharp - 1
     } else {
         sharp
     }
@@ -98,6 +100,13 @@ fn is_semi(s: f32) -> bool {
     s > 0.0 && s < INFINITE_SHARPNESS
 }
 
+/// Sharpness tags `tags` with the semi-sharp ones made smooth (0).
+fn smooth(tags: &[f32]) -> Vec<f32> {
+    tags.iter()
+        .map(|&s| if is_semi(s) { 0.0 } else { s })
+        .collect()
+}
+
 impl Topology {
     /// Whether any edge or vertex carries a finite non-zero (semi-sharp) sharpness.
     pub fn has_semi_sharpness(&self) -> bool {
@@ -114,17 +123,8 @@ impl Topology {
         if !self.has_semi_sharpness() {
             return Cow::Borrowed(self);
         }
-        let mut t = self.clone();
-        for s in t
-            .edge_sharpness
-            .iter_mut()
-            .chain(t.vertex_sharpness.iter_mut())
-        {
-            if is_semi(*s) {
-                *s = 0.0;
-            }
-        }
-        Cow::Owned(t)
+        let (edges, vertices) = (smooth(&self.edge_sharpness), smooth(&self.vertex_sharpness));
+        Cow::Owned(self.with_tags(edges, vertices, self.promoted.clone()))
     }
 
     /// This topology with every semi-sharp edge of sharpness at least `threshold` made
@@ -137,34 +137,66 @@ impl Topology {
         if !self.has_semi_sharpness() {
             return Cow::Borrowed(self);
         }
-        let mut t = self.clone();
-        // One pass over the edges: each one's promoted flag from `self`'s (before the
-        // change), then the change.
-        let mut any = false;
-        let promoted: Vec<bool> = t
-            .edge_sharpness
-            .iter_mut()
-            .enumerate()
-            .map(|(e, s)| {
-                let semi = is_semi(*s);
-                let p = self.is_promoted_edge(e as u32) || (semi && *s >= threshold);
-                if semi {
-                    *s = if *s >= threshold {
-                        INFINITE_SHARPNESS
-                    } else {
-                        0.0
-                    };
-                }
-                any |= p;
+        let promote = |s: f32| is_semi(s) && s >= threshold;
+        // Each edge's promoted flag from `self`'s (before the change); the tags written once
+        // from `self`'s rather than cloned and then overwritten.
+        let promoted: Vec<bool> = if self.promoted.is_empty() {
+            if self.edge_sharpness.iter().any(|&s| promote(s)) {
+                self.edge_sharpness.iter().map(|&s| promote(s)).collect()
+            } else {
+                Vec::new()
+            }
+        } else {
+            let p: Vec<bool> = (self.promoted.iter().zip(&self.edge_sharpness))
+                .map(|(&p, &s)| p || promote(s))
+                .collect();
+            if p.contains(&true) {
                 p
+            } else {
+                Vec::new()
+            }
+        };
+        let edge_sharpness = (self.edge_sharpness.iter())
+            .map(|&s| match s {
+                s if promote(s) => INFINITE_SHARPNESS,
+                s if is_semi(s) => 0.0,
+                s => s,
             })
             .collect();
-        t.promoted = if any { promoted } else { Vec::new() };
-        for s in t.vertex_sharpness.iter_mut() {
-            if is_semi(*s) {
-                *s = 0.0;
-            }
+        Cow::Owned(self.with_tags(edge_sharpness, smooth(&self.vertex_sharpness), promoted))
+    }
+
+    /// This topology's connectivity and other tags with edge and vertex sharpness `edge_sharpness`,
+    /// `vertex_sharpness` and promoted edges `promoted` (per edge, or empty for none): a clone
+    /// that does not copy the three arrays it replaces.
+    fn with_tags(
+        &self,
+        edge_sharpness: Vec<f32>,
+        vertex_sharpness: Vec<f32>,
+        promoted: Vec<bool>,
+    ) -> Topology {
+        Topology {
+            num_vertices: self.num_vertices,
+            face_offsets: self.face_offsets.clone(),
+            face_verts: self.face_verts.clone(),
+            face_edges: self.face_edges.clone(),
+            edge_verts: self.edge_verts.clone(),
+            edge_faces: self.edge_faces.clone(),
+            edge_face_local: self.edge_face_local.clone(),
+            vert_face_offsets: self.vert_face_offsets.clone(),
+            vert_faces: self.vert_faces.clone(),
+            vert_face_local: self.vert_face_local.clone(),
+            vert_edge_offsets: self.vert_edge_offsets.clone(),
+            vert_edges: self.vert_edges.clone(),
+            edge_sharpness,
+            vertex_sharpness,
+            promoted,
+            decayed_corner: self.decayed_corner.clone(),
+            crease_factors: self.crease_factors.clone(),
+            holes: self.holes.clone(),
+            no_limit: self.no_limit.clone(),
+            options: self.options,
+            max_face_size: self.max_face_size,
         }
-        Cow::Owned(t)
     }
 }

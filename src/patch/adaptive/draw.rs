@@ -18,13 +18,13 @@ use super::error::DrawTablesError;
 use super::exact_corners::ExactCorners;
 use super::lattice_frames::LatticeFrames;
 use super::promoted::{
-    fillet_end, fillet_end_code, fillet_fine_code, fillet_fine_words, irregular_crease_vertex,
-    positional_fillet_end, FilletEnd,
+    fillet_end_code, fillet_fine_code, fillet_fine_words, irregular_crease_vertex,
+    positional_fillet_end, FilletEnd, FilletEnds,
 };
 use super::records::{
     words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
 };
-use super::rows::{CornerRows, SparseRows};
+use super::rows::{patch_corners, CornerRows, SparseRows};
 use super::sector_frames::SectorFrames;
 use super::slot_rows::SlotCorners;
 use super::slots::{Slots, NONE};
@@ -337,7 +337,8 @@ impl AdaptiveDrawTables {
     ) -> Result<AdaptiveDrawTables, DrawTablesError> {
         let census = refinement.census();
         let topologies = EndCapTopologies::new(refinement, census);
-        let slots = Slots::new(refinement, census);
+        let corners = patch_corners(refinement, census);
+        let (slots, first_corners) = Slots::new(refinement, corners.iter().map(|c| c.global));
         let EndCapRows {
             caps,
             vertices: vertex_rows,
@@ -348,14 +349,14 @@ impl AdaptiveDrawTables {
             END_CAP_ROWS * caps.len() + vertex_rows.len(),
             caps.iter().map(|c| c.terms.len()).sum::<usize>() + vertex_terms,
         );
-        let corner_rows = CornerRows::new(refinement, census, &topologies, &caps);
+        let corner_rows = CornerRows::new(refinement, census, &topologies, &caps, corners);
         // Exact limit masks of promoted corners, one table for slot, sector and exact-corner frames.
         let masks = SharedVertexMasks::default();
         let (slot_corners, mut shared_normal) = SlotCorners::new(
             refinement,
             census,
             &topologies,
-            &slots,
+            first_corners,
             &corner_rows,
             &masks,
         );
@@ -397,12 +398,7 @@ impl AdaptiveDrawTables {
             .map(|w| w.0.len())
             .sum::<usize>()
             + exact.rows.iter().map(|w| w.0.len()).sum::<usize>()
-            + lattice
-                .rows
-                .iter()
-                .flatten()
-                .map(|w| w.0.len())
-                .sum::<usize>()
+            + lattice.rows.term_count()
             + cap_rows.1;
         let mut rows = slot_corners.rows(
             &corner_rows,
@@ -423,10 +419,10 @@ impl AdaptiveDrawTables {
         }
         shared_normal.resize(shared_normal.len() + exact.rows.len(), false);
         // Lattice frames: no position, the exact tangents, a normal.
-        for r in &lattice.rows {
+        for r in lattice.rows.iter() {
             rows.push_empty(1);
             for w in r {
-                rows.push(w, 0);
+                rows.push_terms(w, 0);
             }
         }
         shared_normal.resize(shared_normal.len() + lattice.rows.len(), true);
@@ -458,6 +454,7 @@ impl AdaptiveDrawTables {
             coarse_edges: Vec::new(),
             end_cap_lattice: Vec::new(),
         };
+        let mut fillet_ends = FilletEnds::default();
         for (i, p) in census.patches.iter().enumerate() {
             let lev = &refinement.levels[p.level as usize];
             let t = lev.topology();
@@ -576,7 +573,7 @@ impl AdaptiveDrawTables {
                     // fillet's sharpness at either end (4 bits each), both sides alike.
                     let fv = t.face_vertices(p.face);
                     for (half, v) in [fv[k], fv[(k + 1) % 4]].into_iter().enumerate() {
-                        let end = fillet_end(t, caps, v, e);
+                        let end = fillet_ends.at(p.level, t, caps, v, e);
                         if let Some(end) = end {
                             out.records[i].fillet |=
                                 fillet_end_code(end.sharpness()) << (8 * k + 4 * half);

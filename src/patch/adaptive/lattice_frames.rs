@@ -17,6 +17,7 @@
 //! width in cells are its border: they take the end cap's own drawn normal at the point
 //! ([`lattice_normal`]), so there is no seam where the region ends.
 
+mod frame_rows;
 mod neighbourhood;
 mod sector_grids;
 
@@ -35,6 +36,8 @@ use crate::subdiv::limit::SharedVertexMasks;
 use neighbourhood::{Neighbourhood, PullBack};
 use sector_grids::{GridShapes, SectorGrids};
 
+pub use frame_rows::FrameRows;
+
 /// Refinement steps `J` of the lattice: its spacing is `2^-J` of the end cap (README: `J = 4`
 /// measured better in h83's prototype, at 4x the frames; not built).
 pub const LATTICE_STEPS: u32 = 3;
@@ -42,6 +45,8 @@ pub const LATTICE_STEPS: u32 = 3;
 /// One region of an end cap: the lattice at its corner `corner`.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct LatticeRegion {
+    /// The end cap's census patch.
+    pub patch: u32,
     /// The face corner at the irregular crease vertex.
     pub corner: u32,
     /// The lattice spacing is `2^-steps` of the end cap.
@@ -58,9 +63,10 @@ pub struct LatticeRegion {
 pub struct LatticeFrames {
     /// Per frame: its exact limit tangent rows (d1, d2) over global refined ids,
     /// `cross(d1, d2)` outward.
-    pub rows: Vec<[Weights; 2]>,
-    /// Per census patch: its regions (none for most).
-    pub regions: Vec<Vec<LatticeRegion>>,
+    pub rows: FrameRows,
+    /// The end caps' regions in census order (of the few end caps with any: a table per
+    /// census patch would cost more to make and drop than the regions).
+    pub regions: Vec<LatticeRegion>,
 }
 
 /// Which lattice point on a region's edges a frame is: the region's vertex or a point on an
@@ -162,8 +168,9 @@ impl LatticeFrames {
     /// where none).
     pub fn table_words(&self, end_caps: impl ExactSizeIterator<Item = usize>) -> Vec<u32> {
         let mut words = vec![NONE; end_caps.len()];
+        let mut from = 0;
         for (e, i) in end_caps.enumerate() {
-            let regions = &self.regions[i];
+            let regions = self.regions_of(i as u32, &mut from);
             if regions.is_empty() {
                 continue;
             }
@@ -179,6 +186,26 @@ impl LatticeFrames {
         }
         words
     }
+
+    /// The regions of census patch `patch`, looked for from `regions[*from]` on (a patch
+    /// before that one's starts over); `*from` is left after them, where the next patch in
+    /// census order starts.
+    fn regions_of(&self, patch: u32, from: &mut usize) -> &[LatticeRegion] {
+        let r = &self.regions;
+        let mut a = (*from).min(r.len());
+        if a > 0 && r[a - 1].patch >= patch {
+            a = r.partition_point(|x| x.patch < patch);
+        }
+        while a < r.len() && r[a].patch < patch {
+            a += 1;
+        }
+        let mut b = a;
+        while b < r.len() && r[b].patch == patch {
+            b += 1;
+        }
+        *from = b;
+        &r[a..b]
+    }
 }
 
 impl EndCaps<'_> {
@@ -191,10 +218,7 @@ impl EndCaps<'_> {
         make: fn(&AdaptiveLevel, u32, u32, u32, &mut GridShapes) -> Option<Local>,
     ) -> LatticeFrames {
         let (refinement, census) = (self.refinement, self.census);
-        let mut out = LatticeFrames {
-            rows: Vec::new(),
-            regions: vec![Vec::new(); census.patches.len()],
-        };
+        let mut out = LatticeFrames::default();
         if !refinement.lattice_normals {
             return out;
         }
@@ -204,6 +228,11 @@ impl EndCaps<'_> {
         // Per (level, vertex): its refined neighbourhood, built once.
         let mut local: WordHashMap<(u32, u32), Option<Local>> = WordHashMap::default();
         let mut sums = Sums::default();
+        // Per level, per vertex: whether it is a `lattice_vertex` (1) or not (0), a property of
+        // the vertex asked by each of its quad end caps (`UNASKED` before; a level's table is
+        // made when first asked).
+        const UNASKED: u8 = 2;
+        let mut lattice: Vec<Vec<u8>> = vec![Vec::new(); refinement.levels.len()];
         for (i, p) in census.patches.iter().enumerate() {
             let lev = &refinement.levels[p.level as usize];
             let t = lev.topology();
@@ -214,10 +243,18 @@ impl EndCaps<'_> {
             let quad_cap = |g: u32| is_quad_end_cap(lev, census, &self.at[p.level as usize], g);
             let fv = t.face_vertices(p.face);
             let fe = t.face_edges(p.face);
+            let known = &mut lattice[p.level as usize];
+            if known.is_empty() {
+                known.resize(t.vertex_count(), UNASKED);
+            }
             let mut corners = [0usize; 4];
             let mut count = 0;
             for (c, &v) in fv.iter().enumerate().take(4) {
-                if lattice_vertex(t, caps, v, quad_cap) {
+                let at = &mut known[v as usize];
+                if *at == UNASKED {
+                    *at = u8::from(lattice_vertex(t, caps, v, quad_cap));
+                }
+                if *at == 1 {
                     corners[count] = c;
                     count += 1;
                 }
@@ -246,22 +283,23 @@ impl EndCaps<'_> {
                             frames.push(f);
                             continue;
                         }
-                        let rows = if (a, b) == (0, 0) {
+                        let made = if (a, b) == (0, 0) {
                             corner_rows(lev, v, p.face, masks)
+                                .map(|[d1, d2]| out.rows.push([&d1.0, &d2.0]))
+                                .is_some()
                         } else {
                             let hood = local
                                 .entry((p.level, v))
                                 .or_insert_with(|| make(lev, v, steps, widest, &mut sums.grids));
-                            hood.as_mut()
-                                .and_then(|h| h.node_rows(lev, p.face, c, (a, b), masks, &mut sums))
+                            let rows = &mut out.rows;
+                            hood.as_mut().is_some_and(|h| {
+                                h.node_rows(lev, (p.face, c), (a, b), masks, &mut sums, rows)
+                            })
                         };
-                        let f = match rows {
-                            Some(r) => {
-                                let f = first + out.rows.len() as u32;
-                                out.rows.push(r);
-                                f
-                            }
-                            None => NONE,
+                        let f = if made {
+                            first + out.rows.len() as u32 - 1
+                        } else {
+                            NONE
                         };
                         if let Some(k) = key {
                             ids.insert(k, f);
@@ -269,7 +307,8 @@ impl EndCaps<'_> {
                         frames.push(f);
                     }
                 }
-                out.regions[i].push(LatticeRegion {
+                out.regions.push(LatticeRegion {
+                    patch: i as u32,
                     corner: c as u32,
                     steps,
                     cells,
@@ -314,19 +353,22 @@ impl Local {
     }
 
     /// The exact limit tangent rows (global ids of `lev`) at node `(a, b)` of the region at
-    /// corner `c` of `face`.
+    /// corner `c` of `face`, appended to `out` as a frame; false (none appended) where the
+    /// exact mask fails.
     fn node_rows(
         &mut self,
         lev: &AdaptiveLevel,
-        face: u32,
-        c: usize,
+        (face, c): (u32, usize),
         node: (u32, u32),
         masks: &SharedVertexMasks,
         sums: &mut Sums,
-    ) -> Option<[Weights; 2]> {
+        out: &mut FrameRows,
+    ) -> bool {
         match self {
-            Local::Grids(g) => sums.grids.node_rows(g, lev, face, node, masks),
-            Local::Kept(k) => k.node_rows(lev, face, c, node, masks, &mut sums.kept),
+            Local::Grids(g) => sums.grids.node_rows(g, lev, face, node, masks, out),
+            Local::Kept(k) => (k.node_rows(lev, face, c, node, masks, &mut sums.kept))
+                .map(|[d1, d2]| out.push([&d1.0, &d2.0]))
+                .is_some(),
         }
     }
 }
@@ -478,12 +520,12 @@ mod tests {
                 });
                 assert_eq!(kept.regions, whole.regions, "{name}");
                 assert_eq!(kept.rows.len(), whole.rows.len(), "{name}");
-                let bits = |w: &Weights| -> Vec<(u32, u64)> {
-                    w.0.iter().map(|&(i, x)| (i, x.to_bits())).collect()
+                let bits = |w: &[(u32, f64)]| -> Vec<(u32, u64)> {
+                    w.iter().map(|&(i, x)| (i, x.to_bits())).collect()
                 };
-                for (f, (a, b)) in kept.rows.iter().zip(&whole.rows).enumerate() {
+                for (f, (a, b)) in kept.rows.iter().zip(whole.rows.iter()).enumerate() {
                     for d in 0..2 {
-                        assert_eq!(bits(&a[d]), bits(&b[d]), "{name} frame {f} row {d}");
+                        assert_eq!(bits(a[d]), bits(b[d]), "{name} frame {f} row {d}");
                     }
                 }
                 assert!(!kept.rows.is_empty(), "{name}: no lattice frames");
@@ -515,9 +557,9 @@ mod tests {
                     };
                     DVec3::new(h(1), h(2), h(3))
                 };
-                let apply = |w: &Weights| w.0.iter().map(|&(i, x)| point(i) * x).sum::<DVec3>();
-                let normal = |r: &[Weights; 2]| apply(&r[0]).cross(apply(&r[1])).normalize();
-                for (f, (a, b)) in fast.rows.iter().zip(&kept.rows).enumerate() {
+                let apply = |w: &[(u32, f64)]| w.iter().map(|&(i, x)| point(i) * x).sum::<DVec3>();
+                let normal = |r: [&[(u32, f64)]; 2]| apply(r[0]).cross(apply(r[1])).normalize();
+                for (f, (a, b)) in fast.rows.iter().zip(kept.rows.iter()).enumerate() {
                     let (na, nb) = (normal(a), normal(b));
                     assert!(na.dot(nb) > 1.0 - 1e-12, "{name} frame {f}: {na} {nb}");
                 }
@@ -525,7 +567,7 @@ mod tests {
                 let only = caps.frames(0, &masks, |lev, v, steps, cells, shapes| {
                     SectorGrids::new(lev, v, steps, cells, shapes).map(Local::Grids)
                 });
-                let corners: usize = (fast.regions.iter().flatten())
+                let corners: usize = (fast.regions.iter())
                     .filter(|r| r.frames[0] != NONE)
                     .count();
                 assert_eq!(
@@ -557,43 +599,42 @@ mod tests {
                 let frames = caps.frames(0, &masks, Local::new);
                 let points = refinement.refine_positions(mesh.positions());
                 let ev = LimitEvaluator::new(mesh).unwrap();
-                let apply = |w: &Weights| {
-                    w.0.iter()
+                let apply = |w: &[(u32, f64)]| {
+                    w.iter()
                         .map(|&(i, x)| points[i as usize] * x)
                         .sum::<DVec3>()
                 };
                 let (mut checked, mut worst) = (0, 0.0f64);
-                for (p, regions) in census.patches.iter().zip(&frames.regions) {
+                for r in &frames.regions {
+                    let p = &census.patches[r.patch as usize];
                     let d = refinement.levels[p.level as usize].domains[p.face as usize];
-                    for r in regions {
-                        let n = 1u32 << r.steps;
-                        for (k, &f) in r.frames.iter().enumerate() {
-                            if f == NONE {
-                                continue;
-                            }
-                            let (a, b) = (k as u32 % r.cells, k as u32 / r.cells);
-                            let (s, t) = match r.corner {
-                                0 => (a, b),
-                                1 => (n - b, a),
-                                2 => (n - a, n - b),
-                                _ => (b, n - a),
-                            };
-                            let (s, t) = (f64::from(s) / f64::from(n), f64::from(t) / f64::from(n));
-                            let uv = d.origin + s * d.u + t * d.v;
-                            let sub = d.sub_face.unwrap_or(0) as usize;
-                            let x = ev
-                                .eval_points(d.base_face as usize, sub, &[(uv.x, uv.y)])
-                                .unwrap();
-                            let rows = &frames.rows[f as usize];
-                            let normal = apply(&rows[0]).cross(apply(&rows[1])).normalize();
-                            let angle = normal.angle_between(x[0].normal);
-                            worst = worst.max(angle);
-                            assert!(
-                                angle < 1e-7,
-                                "{name} frame {f} node ({a}, {b}): {angle:e} rad"
-                            );
-                            checked += 1;
+                    let n = 1u32 << r.steps;
+                    for (k, &f) in r.frames.iter().enumerate() {
+                        if f == NONE {
+                            continue;
                         }
+                        let (a, b) = (k as u32 % r.cells, k as u32 / r.cells);
+                        let (s, t) = match r.corner {
+                            0 => (a, b),
+                            1 => (n - b, a),
+                            2 => (n - a, n - b),
+                            _ => (b, n - a),
+                        };
+                        let (s, t) = (f64::from(s) / f64::from(n), f64::from(t) / f64::from(n));
+                        let uv = d.origin + s * d.u + t * d.v;
+                        let sub = d.sub_face.unwrap_or(0) as usize;
+                        let x = ev
+                            .eval_points(d.base_face as usize, sub, &[(uv.x, uv.y)])
+                            .unwrap();
+                        let [d1, d2] = frames.rows.get(f as usize).unwrap();
+                        let normal = apply(d1).cross(apply(d2)).normalize();
+                        let angle = normal.angle_between(x[0].normal);
+                        worst = worst.max(angle);
+                        assert!(
+                            angle < 1e-7,
+                            "{name} frame {f} node ({a}, {b}): {angle:e} rad"
+                        );
+                        checked += 1;
                     }
                 }
 
@@ -606,20 +647,16 @@ mod tests {
     /// (steps, cells per corner) and each region's frames.
     #[test]
     fn table_words_address_each_region() {
-        let region = |corner, cells: u32, first: u32| LatticeRegion {
+        let region = |patch, corner, cells: u32, first: u32| LatticeRegion {
+            patch,
             corner,
             steps: 3,
             cells,
             frames: (first..first + cells * cells).collect(),
         };
         let frames = LatticeFrames {
-            rows: Vec::new(),
-            regions: vec![
-                vec![],
-                vec![region(2, 2, 10)],
-                vec![],
-                vec![region(0, 1, 7), region(3, 4, 20)],
-            ],
+            rows: FrameRows::default(),
+            regions: vec![region(1, 2, 2, 10), region(3, 0, 1, 7), region(3, 3, 4, 20)],
         };
         // End caps are census patches 1 and 3.
         let w = frames.table_words([1usize, 3].into_iter());
@@ -633,5 +670,11 @@ mod tests {
         let fourth = w[b + 4] as usize;
         assert_eq!(&w[fourth..fourth + 16], &(20..36).collect::<Vec<u32>>()[..]);
         assert_eq!(w.len(), fourth + 16);
+        // End caps in another order, and one (patch 2) without regions: the same blocks.
+        let v = frames.table_words([3usize, 2, 1].into_iter());
+        assert_eq!(v[1], NONE);
+        assert_eq!(v[v[0] as usize], w[b]);
+        assert_eq!(v[v[2] as usize], w[2]);
+        assert_eq!(v[v[v[2] as usize + 3] as usize], 10);
     }
 }

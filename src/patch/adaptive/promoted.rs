@@ -408,6 +408,53 @@ pub fn fillet_end(level: &Topology, caps: &Topology, v: u32, e: u32) -> Option<F
     })
 }
 
+/// [`fillet_end`] of the edge ends around the end caps of a refinement, with whether any
+/// fillet reaches a vertex (its promoted edges, `CreaseEdges`) found once per vertex: each
+/// vertex is asked from every edge and end cap around it, and most are reached by none.
+#[derive(Debug, Default)]
+pub struct FilletEnds {
+    /// Per level, per vertex: whether a fillet may reach it (1) or not (0), `UNASKED`
+    /// before; a level's table is made when first asked.
+    reached: Vec<Vec<u8>>,
+}
+
+/// [`FilletEnds`]' mark of a vertex not asked yet.
+const UNASKED: u8 = 2;
+
+impl FilletEnds {
+    /// [`fillet_end`] at the end `v` of edge `e` of level `l` (`level`, seen by the end caps
+    /// as `caps`).
+    pub fn at(
+        &mut self,
+        l: u32,
+        level: &Topology,
+        caps: &Topology,
+        v: u32,
+        e: u32,
+    ) -> Option<FilletEnd> {
+        let l = l as usize;
+        if self.reached.len() <= l {
+            self.reached.resize(l + 1, Vec::new());
+        }
+        let known = &mut self.reached[l];
+        if known.is_empty() {
+            known.resize(level.vertex_count(), UNASKED);
+        }
+        let reached = &mut known[v as usize];
+        if *reached == UNASKED {
+            let creases = CreaseEdges::at(level, caps, v);
+            *reached = u8::from(
+                creases.regular_sharpness(level, v).is_some()
+                    || creases.irregular(level, caps, v).is_some(),
+            );
+        }
+        if *reached == 0 {
+            return None;
+        }
+        fillet_end(level, caps, v, e)
+    }
+}
+
 /// Whether promoted creases meet irregularly at `v`: two or more promoted edges, every sharp
 /// edge there one of them, `v` no corner for the end caps alone and not the regular crease of
 /// [`vertex_fillet_sharpness`]; where only two meet, of valence 4 or more. The promoted edges
@@ -484,12 +531,10 @@ impl CreaseEdges {
     /// beyond it are the same edge) and no other sharp edge.
     fn regular_sharpness(&self, level: &Topology, v: u32) -> Option<f32> {
         let p = self.promoted();
-        let opposite = p.len() == 2
-            && !level
-                .edge_faces(p[0])
-                .iter()
-                .any(|f| level.edge_faces(p[1]).contains(f));
-        (level.vertex_edges(v).len() == 4 && self.sharp == 2 && opposite)
+        // The faces' test last: most vertices have fewer than two promoted edges.
+        let opposite =
+            || !(level.edge_faces(p[0]).iter()).any(|f| level.edge_faces(p[1]).contains(f));
+        (p.len() == 2 && self.sharp == 2 && level.vertex_edges(v).len() == 4 && opposite())
             .then(|| mean_sharpness(level, p))
     }
 

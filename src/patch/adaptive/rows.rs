@@ -13,6 +13,9 @@ use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus};
 use crate::subdiv::bspline::{bspline, bspline_deriv};
 use crate::subdiv::single_crease::{CreaseLine, CreaseSide};
 
+/// The most terms an exact patch's corner rows hold: three rows over its 16 control points.
+pub const EXACT_CORNER_TERMS: usize = 3 * 16;
+
 /// A patch corner as [`CornerRows::visit`] visits it.
 #[derive(Debug, Clone, Copy)]
 pub struct PatchCorner {
@@ -22,6 +25,8 @@ pub struct PatchCorner {
     pub k: usize,
     /// Its vertex in the patch's level.
     pub vertex: u32,
+    /// That vertex's global id (`AdaptiveLevel::global`).
+    pub global: u32,
     /// End caps: the index of the patch's rows in `caps`.
     cap: usize,
 }
@@ -45,12 +50,13 @@ pub struct CornerRows<'a> {
 
 impl<'a> CornerRows<'a> {
     /// The corner rows of `census`; `caps` are the end caps' rows in census order, built over
-    /// `topologies`.
+    /// `topologies`; `corners` its [`patch_corners`].
     pub fn new(
         refinement: &'a AdaptiveRefinement,
         census: &'a PatchCensus,
         topologies: &'a EndCapTopologies<'a>,
         caps: &'a [FaceRows],
+        corners: Vec<PatchCorner>,
     ) -> CornerRows<'a> {
         let mut crease = WordHashMap::default();
         for line in census.patches.iter().filter_map(|p| p.crease.as_ref()) {
@@ -75,7 +81,7 @@ impl<'a> CornerRows<'a> {
             bspline: (0..4 * 16)
                 .map(|i| CornerTable::new(bspline_corner_columns(i / 16, i as u8 % 16)))
                 .collect(),
-            corners: exact_first(refinement, census),
+            corners,
         }
     }
 
@@ -149,7 +155,7 @@ impl<'a> CornerRows<'a> {
     pub fn terms_bound(&self, c: &PatchCorner) -> usize {
         let p = &self.census.patches[c.patch];
         if p.bspline.is_some() {
-            return 3 * 16;
+            return EXACT_CORNER_TERMS;
         }
         let n = self.refinement.levels[p.level as usize]
             .topology()
@@ -165,11 +171,16 @@ impl<'a> CornerRows<'a> {
     pub fn visit(&self, visit: impl FnMut(&PatchCorner)) {
         self.corners.iter().for_each(visit);
     }
+
+    /// Corner `i` of the [`Self::visit`] order.
+    pub fn corner(&self, i: u32) -> &PatchCorner {
+        &self.corners[i as usize]
+    }
 }
 
-/// Every corner of every census patch, exact patches (B-spline, single-crease) first, then end
-/// caps.
-fn exact_first(refinement: &AdaptiveRefinement, census: &PatchCensus) -> Vec<PatchCorner> {
+/// Every corner of every census patch in [`CornerRows::visit`] order: exact patches
+/// (B-spline, single-crease) first, then end caps.
+pub fn patch_corners(refinement: &AdaptiveRefinement, census: &PatchCensus) -> Vec<PatchCorner> {
     let mut out = Vec::with_capacity(4 * census.patches.len());
     for end_caps in [false, true] {
         // End caps: the running count of end caps is the index of the patch's rows.
@@ -180,15 +191,16 @@ fn exact_first(refinement: &AdaptiveRefinement, census: &PatchCensus) -> Vec<Pat
             }
             let cap = next_cap;
             next_cap += usize::from(end_caps);
-            let t = refinement.levels[p.level as usize].topology();
-            for (k, &v) in t.face_vertices(p.face).iter().enumerate() {
-                out.push(PatchCorner {
-                    patch: i,
-                    k,
-                    vertex: v,
-                    cap,
-                });
-            }
+            let lev = &refinement.levels[p.level as usize];
+            // Extended from the face's vertices (one capacity check a face).
+            let face = lev.topology().face_vertices(p.face).iter().enumerate();
+            out.extend(face.map(|(k, &v)| PatchCorner {
+                patch: i,
+                k,
+                vertex: v,
+                global: lev.global(v),
+                cap,
+            }));
         }
     }
     out

@@ -1,6 +1,7 @@
 //! Slot frames' rows (position, d/du, d/dv of each frame slot, [`super::slots`]), from the first
 //! census patch with the slot as a corner, exact patches (B-spline, single-crease) before end
-//! caps ([`CornerRows::visit`]), in two steps: [`SlotCorners::new`] picks each slot's corner and
+//! caps ([`CornerRows::visit`]; `Slots::new` finds each slot's first corner as it numbers the
+//! slots), in two steps: [`SlotCorners::new`] takes each slot's corner and
 //! computes the exact frames of promoted corners (a failed one unshares its slot's normal, which
 //! the sector frames read), and [`SlotCorners::rows`] writes the rows once the frames after them
 //! are known, into one buffer with room for those too: the slot rows, most of the frame rows,
@@ -10,8 +11,8 @@
 use rayon::prelude::*;
 
 use super::promoted::{exact_frame, promoted_vertex};
-use super::rows::{CornerRows, PatchCorner, SparseRows, TemplateTerms};
-use super::slots::{Slots, NONE};
+use super::rows::{CornerRows, SparseRows, TemplateTerms, EXACT_CORNER_TERMS};
+use super::slots::NONE;
 use super::surface::EndCapTopologies;
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptivePatch, AdaptiveRefinement, PatchCensus, PatchType};
@@ -20,38 +21,40 @@ use crate::topology::single_normal_vertex;
 
 /// Each slot's corner and the exact frames of the promoted ones.
 pub struct SlotCorners {
-    /// Per slot: the corner whose rows it takes.
-    first: Vec<Option<PatchCorner>>,
+    /// Per slot: the corner whose rows it takes (its place in [`CornerRows::visit`] order).
+    first: Vec<u32>,
     /// Per slot: its frame in `exact_frames` where its corner is an end cap's on a promoted crease
     /// where the exact limit has one normal (`super::promoted`), else [`NONE`].
     exact_of: Vec<u32>,
     /// Those slots' frames ([`exact_frame`]; empty tangent rows where the exact mask failed).
     exact_frames: Vec<[Weights; 3]>,
+    /// At least the number of terms of the slot rows (each corner's
+    /// [`CornerRows::terms_bound`], and the exact frames' terms).
+    terms_bound: usize,
 }
 
 impl SlotCorners {
-    /// The corners of `slots` over `corner_rows`' visit, and per slot whether its normal is
-    /// shared (one sector in the topology the frame's patch was built over; not where a
-    /// promoted corner's exact mask failed, which keeps its end cap's corner, one per sector);
-    /// `masks` the exact limit masks of promoted corners, shared with the sector frames.
+    /// The slots' corners `first` (per slot, its first corner in `corner_rows`' visit, as
+    /// [`super::slots::Slots::new`] gives them), and per slot whether its normal is shared
+    /// (one sector in the topology the frame's patch was built over; not where a promoted
+    /// corner's exact mask failed, which keeps its end cap's corner, one per sector); `masks`
+    /// the exact limit masks of promoted corners, shared with the sector frames.
     pub fn new(
         refinement: &AdaptiveRefinement,
         census: &PatchCensus,
         topologies: &EndCapTopologies,
-        slots: &Slots,
+        first: Vec<u32>,
         corner_rows: &CornerRows,
         masks: &SharedVertexMasks,
     ) -> (SlotCorners, Vec<bool>) {
-        let mut first: Vec<Option<PatchCorner>> = vec![None; slots.len()];
-        let mut shared = vec![false; slots.len()];
-        let mut exact_slots = Vec::new();
-        corner_rows.visit(|c| {
-            let p = &census.patches[c.patch];
-            let lev = &refinement.levels[p.level as usize];
-            let s = slots.of(lev.global(c.vertex)) as usize;
-            if first[s].is_none() {
-                first[s] = Some(*c);
-                shared[s] = match p.kind {
+        let (mut exact_slots, mut terms_bound) = (Vec::new(), 0);
+        let mut shared: Vec<bool> = (first.iter().enumerate())
+            .map(|(s, &i)| {
+                let c = corner_rows.corner(i);
+                terms_bound += corner_rows.terms_bound(c);
+                let p = &census.patches[c.patch];
+                let lev = &refinement.levels[p.level as usize];
+                match p.kind {
                     PatchType::EndCap => {
                         let (t, caps) = (lev.topology(), topologies.get(p.level));
                         let exact =
@@ -65,21 +68,22 @@ impl SlotCorners {
                         smooth_bspline_corner(p, c.k)
                             || single_normal_vertex(lev.topology(), c.vertex)
                     }
-                };
-            }
-        });
+                }
+            })
+            .collect();
         let exact_frames: Vec<[Weights; 3]> = exact_slots
             .par_iter()
             .map(|&s| {
-                let c = first[s].expect("an exact slot has its corner");
+                let c = corner_rows.corner(first[s]);
                 let p = &census.patches[c.patch];
                 let lev = &refinement.levels[p.level as usize];
-                exact_frame(lev, p.face, c.k, corner_rows.position_row(&c), masks)
+                exact_frame(lev, p.face, c.k, corner_rows.position_row(c), masks)
             })
             .collect();
-        let mut exact_of = vec![NONE; slots.len()];
+        let mut exact_of = vec![NONE; first.len()];
         for (i, (&s, frame)) in exact_slots.iter().zip(&exact_frames).enumerate() {
             exact_of[s] = i as u32;
+            terms_bound += frame.iter().map(|w| w.0.len()).sum::<usize>();
             if frame[1].0.is_empty() {
                 shared[s] = false;
             }
@@ -88,13 +92,15 @@ impl SlotCorners {
             first,
             exact_of,
             exact_frames,
+            terms_bound,
         };
         (corners, shared)
     }
 
     /// The slot rows in slot order (computed on the rayon pool in runs of slots, each written
-    /// into flat rows of its own and appended; on one thread straight into the result), with
-    /// room for `spare` (rows, terms) more.
+    /// into flat rows of its own, with room for an exact patch's corner rows a slot, and
+    /// appended; on one thread straight into the result), with room for `spare` (rows, terms)
+    /// more.
     pub fn rows(&self, corner_rows: &CornerRows, spare: (usize, usize)) -> SparseRows {
         let chunk = if rayon::current_num_threads() == 1 {
             self.first.len().max(1)
@@ -103,10 +109,7 @@ impl SlotCorners {
         };
         let mut out = SparseRows::new();
         if chunk >= self.first.len() {
-            out.reserve(
-                3 * self.first.len() + spare.0,
-                self.terms_bound(0, &self.first, corner_rows) + spare.1,
-            );
+            out.reserve(3 * self.first.len() + spare.0, self.terms_bound + spare.1);
             self.push_run(0, &self.first, corner_rows, &mut out);
             return out;
         }
@@ -116,7 +119,7 @@ impl SlotCorners {
             .enumerate()
             .map(|(i, run)| {
                 let mut rows = SparseRows::new();
-                rows.reserve(3 * run.len(), self.terms_bound(i * chunk, run, corner_rows));
+                rows.reserve(3 * run.len(), EXACT_CORNER_TERMS * run.len());
                 self.push_run(i * chunk, run, corner_rows, &mut rows);
                 rows
             })
@@ -137,42 +140,23 @@ impl SlotCorners {
         (i != NONE).then(|| &self.exact_frames[i as usize])
     }
 
-    /// At least the number of terms [`Self::push_run`] appends for the slots from `first_slot`
-    /// with corners `run`.
-    fn terms_bound(
-        &self,
-        first_slot: usize,
-        run: &[Option<PatchCorner>],
-        corner_rows: &CornerRows,
-    ) -> usize {
-        (run.iter().enumerate())
-            .filter_map(|(j, c)| Some((first_slot + j, c.as_ref()?)))
-            .map(|(s, c)| match self.exact_frame(s) {
-                Some(frame) => frame.iter().map(|w| w.0.len()).sum(),
-                None => corner_rows.terms_bound(c),
-            })
-            .sum()
-    }
-
-    /// Appends the rows of the slots from `first_slot` with corners `run` to `out` (none for a
-    /// slot without a corner).
+    /// Appends the rows of the slots from `first_slot` with corners `run` to `out`.
     fn push_run(
         &self,
         first_slot: usize,
-        run: &[Option<PatchCorner>],
+        run: &[u32],
         corner_rows: &CornerRows,
         out: &mut SparseRows,
     ) {
         let mut terms = TemplateTerms::default();
-        for (j, c) in run.iter().enumerate() {
-            let Some(c) = c else { continue };
+        for (j, &c) in run.iter().enumerate() {
             match self.exact_frame(first_slot + j) {
                 Some(frame) => {
                     for w in frame {
                         out.push(w, 0);
                     }
                 }
-                None => corner_rows.push_rows(c, out, &mut terms),
+                None => corner_rows.push_rows(corner_rows.corner(c), out, &mut terms),
             }
         }
     }
@@ -191,6 +175,8 @@ fn smooth_bspline_corner(p: &AdaptivePatch, k: usize) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::patch::adaptive::rows::patch_corners;
+    use crate::patch::adaptive::slots::{origins, Slots};
     use crate::subdiv::corpus_levels;
 
     /// Every census corner `smooth_bspline_corner` takes for one normal has one
@@ -226,6 +212,39 @@ mod tests {
                 }
             }
             assert!(taken > 0, "{name}");
+        }
+    }
+
+    /// Every census corner has the slot of its origin, slots number the origins in increasing
+    /// order, and each slot's first corner is the first corner at its point in the visit order
+    /// (a scan over the corners); over meshes with end caps, creases, boundaries and holes.
+    #[test]
+    fn first_corners_are_the_first_at_each_point() {
+        let cases = [
+            ("catmark_car", 2),
+            ("catmark_cube_creases1", 3),
+            ("catmark_dart_edgecorner", 3),
+            ("catmark_hole_test1", 2),
+        ];
+        let names: Vec<&str> = cases.iter().map(|c| c.0).collect();
+        for ((name, _, level), (_, isolation)) in corpus_levels(&names, 0).iter().zip(cases) {
+            let refinement = AdaptiveRefinement::new(level, isolation).unwrap();
+            let corners = patch_corners(&refinement, refinement.census());
+            let (slots, first) = Slots::new(&refinement, corners.iter().map(|c| c.global));
+            let origin = origins(&refinement);
+            let mut want = vec![None; slots.len()];
+            for (i, c) in corners.iter().enumerate() {
+                let s = slots.of(c.global);
+                assert_ne!(s, NONE, "{name}: corner {i}");
+                assert_eq!(
+                    slots.origins[s as usize], origin[c.global as usize],
+                    "{name}"
+                );
+                want[s as usize].get_or_insert(i as u32);
+            }
+            let want: Vec<u32> = want.into_iter().map(|i| i.expect("a corner")).collect();
+            assert_eq!(first, want, "{name}");
+            assert!(slots.origins.windows(2).all(|o| o[0] < o[1]), "{name}");
         }
     }
 }

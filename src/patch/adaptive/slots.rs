@@ -2,7 +2,7 @@
 //! of every level that are that point (a vertex point is the same limit point as its parent
 //! vertex, Köbler 2013 §3.5), so corners of patches of different levels read one frame.
 
-use crate::subdiv::adaptive::{AdaptiveRefinement, ChildOf, PatchCensus};
+use crate::subdiv::adaptive::{AdaptiveRefinement, ChildOf};
 
 /// No slot / no entry.
 pub const NONE: u32 = u32::MAX;
@@ -37,43 +37,35 @@ pub fn origins(refinement: &AdaptiveRefinement) -> Vec<u32> {
     origin
 }
 
-/// The global corner ids of census patch `i` in face order.
-fn corners<'a>(
-    refinement: &'a AdaptiveRefinement,
-    census: &'a PatchCensus,
-    i: usize,
-) -> impl Iterator<Item = u32> + 'a {
-    let p = &census.patches[i];
-    let lev = &refinement.levels[p.level as usize];
-    lev.topology()
-        .face_vertices(p.face)
-        .iter()
-        .map(move |&v| lev.global(v))
-}
-
 impl Slots {
-    /// Slots of every corner of every census patch, numbered by increasing origin id.
-    pub fn new(refinement: &AdaptiveRefinement, census: &PatchCensus) -> Slots {
+    /// Slots of the points of `corners` (global vertex ids of patch corners), numbered by
+    /// increasing origin id, and per slot the place in `corners` of its first corner there (the
+    /// frame's corner: `CornerRows::visit` order gives the exact patches' first).
+    pub fn new(
+        refinement: &AdaptiveRefinement,
+        corners: impl IntoIterator<Item = u32>,
+    ) -> (Slots, Vec<u32>) {
         let mut of_vertex = origins(refinement);
-        // Per origin: marked 0 where a corner's point, then numbered in increasing order.
-        let mut slot_of_origin = vec![NONE; of_vertex.len()];
-        for i in 0..census.patches.len() {
-            for g in corners(refinement, census, i) {
-                slot_of_origin[of_vertex[g as usize] as usize] = 0;
-            }
+        // Per origin: the first corner there (its place in `corners`; NONE is above every
+        // place), then the origin's slot.
+        let mut at_origin = vec![NONE; of_vertex.len()];
+        for (i, g) in corners.into_iter().enumerate() {
+            let first = &mut at_origin[of_vertex[g as usize] as usize];
+            *first = (*first).min(i as u32);
         }
-        let mut origins = Vec::new();
-        for (o, s) in slot_of_origin.iter_mut().enumerate() {
-            if *s == 0 {
+        let (mut origins, mut first_corners) = (Vec::new(), Vec::new());
+        for (o, s) in at_origin.iter_mut().enumerate() {
+            if *s != NONE {
+                first_corners.push(*s);
                 *s = origins.len() as u32;
                 origins.push(o as u32);
             }
         }
         // Each vertex's origin replaced by the origin's slot, in place.
         for o in &mut of_vertex {
-            *o = slot_of_origin[*o as usize];
+            *o = at_origin[*o as usize];
         }
-        Slots { origins, of_vertex }
+        (Slots { origins, of_vertex }, first_corners)
     }
 
     /// Number of slots.

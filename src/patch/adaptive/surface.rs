@@ -816,17 +816,16 @@ fn lattice_normals(
 ) -> HashMap<usize, Vec<LatticeNormals>> {
     let at = patch_index(refinement, census);
     let frames = LatticeFrames::new(refinement, census, topologies, &at, 0, masks);
+    // As `Weights::apply`: the terms in order.
+    let apply =
+        |w: &[(u32, f64)]| -> DVec3 { w.iter().map(|&(v, x)| x * positions[v as usize]).sum() };
     let normal = |f: u32| {
         let [d1, d2] = frames.rows.get(f as usize)?;
-        Some(
-            d1.apply(positions)
-                .cross(d2.apply(positions))
-                .normalize_or_zero(),
-        )
+        Some(apply(d1).cross(apply(d2)).normalize_or_zero())
     };
-    (frames.regions.iter().enumerate())
-        .filter(|(_, r)| !r.is_empty())
-        .map(|(i, regions)| {
+    (frames.regions.chunk_by(|a, b| a.patch == b.patch))
+        .map(|regions| {
+            let i = regions[0].patch as usize;
             let regions = regions
                 .iter()
                 .map(|r| LatticeNormals {

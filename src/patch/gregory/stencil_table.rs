@@ -147,7 +147,7 @@ fn table_rows_with<P: GregoryPoint>(
     mut neighbour: impl FnMut(usize, u32, usize) -> Option<[P; 4]>,
 ) -> Vec<P> {
     let theirs = |k| edge_neighbour(topo, f, k).and_then(|(g, k2)| neighbour(k, g, k2));
-    table_rows_into(own, theirs, |rows| {
+    table_rows_into(own, theirs, |rows, _| {
         rows.iter().map(|&p| p.clone()).collect()
     })
 }
@@ -169,49 +169,54 @@ fn edge_neighbour(topo: &Topology, f: u32, k: usize) -> Option<(u32, usize)> {
 
 /// [`table_rows_with`] from `theirs(k)`, the neighbour's `side_points` across edge k (`None`
 /// where there is no neighbour patch), the rows handed to `emit` at once, in order, by
-/// reference (no row cloned; the caller sizes its storage from them). Any row type: points,
-/// or the end caps' [`PointRecipe`]s.
+/// reference (no row cloned; the caller sizes its storage from them), with each row's first
+/// place (`first[r] < r` where row `r` is row `first[r]` again: the patch's own edge and face
+/// points standing in beside an edge without a neighbour patch), so a caller may form it once.
+/// Any row type: points, or the end caps' [`PointRecipe`]s.
 fn table_rows_into<P, R>(
     own: &GregoryPatch<P>,
     mut theirs: impl FnMut(usize) -> Option<[P; 4]>,
-    emit: impl FnOnce(&[&P]) -> R,
+    emit: impl FnOnce(&[&P], &[u8]) -> R,
 ) -> R {
     let points = own.points();
-    let [_, e_plus, e_minus, f_plus, f_minus] = points;
-    let n = e_plus.len();
+    let n = points[1].len();
     let theirs: [Option<[P; 4]>; 4] = std::array::from_fn(|k| (k < n).then(|| theirs(k)).flatten());
-    // Edge k's `[ex, ey, fx, fy]`: the neighbour's, else the patch's own points there.
-    let side = |k: usize| match &theirs[k] {
-        Some([ex, ey, fx, fy]) => [ex, ey, fx, fy],
-        None => [
-            &e_minus[k],
-            &e_plus[(k + 1) % n],
-            &f_plus[k],
-            &f_minus[(k + 1) % n],
-        ],
-    };
-    let edge_points = (0..n).flat_map(|k| {
-        let [ex, ey, _, _] = side(k);
-        [ex, ey]
-    });
-    let face_points = (0..n).flat_map(|k| {
-        let [_, _, fx, fy] = side(k);
-        [fx, fy]
-    });
-    // On the stack: at most a quad's rows.
-    let mut rows: [&P; QUAD_POINTS + QUAD_EXTRA] = [&e_plus[0]; QUAD_POINTS + QUAD_EXTRA];
-    let mut len = 0;
-    let all = points
-        .into_iter()
-        .flatten()
-        .chain(edge_points)
-        .chain(face_points);
-    for (slot, row) in rows.iter_mut().zip(all) {
-        *slot = row;
-        len += 1;
+    // On the stack: at most a quad's rows. The control points kind by kind (`p`, `e_plus`,
+    // `e_minus`, `f_plus`, `f_minus`: rows `kind * n + corner`).
+    let mut rows: [&P; QUAD_POINTS + QUAD_EXTRA] = [&points[0][0]; QUAD_POINTS + QUAD_EXTRA];
+    let mut first: [u8; QUAD_POINTS + QUAD_EXTRA] = std::array::from_fn(|r| r as u8);
+    for (kind, kind_points) in points.into_iter().enumerate() {
+        for (row, point) in rows[kind * n..(kind + 1) * n].iter_mut().zip(kind_points) {
+            *row = point;
+        }
     }
-    debug_assert_eq!(len, 9 * n);
-    emit(&rows[..len])
+    // Edge k's `[ex, ey]` (rows `5 n + 2 k`, `+ 1`) and `[fx, fy]` (rows `7 n + 2 k`, `+ 1`):
+    // the neighbour's, else the patch's own `e_minus[k]`, `e_plus[k + 1]`, `f_plus[k]`,
+    // `f_minus[k + 1]`.
+    for (k, their) in theirs.iter().enumerate().take(n) {
+        let at = [
+            5 * n + 2 * k,
+            5 * n + 2 * k + 1,
+            7 * n + 2 * k,
+            7 * n + 2 * k + 1,
+        ];
+        match their {
+            Some(points) => {
+                for (&r, point) in at.iter().zip(points) {
+                    rows[r] = point;
+                }
+            }
+            None => {
+                let k1 = (k + 1) % n;
+                let own = [2 * n + k, n + k1, 3 * n + k, 4 * n + k1];
+                for (&r, &o) in at.iter().zip(&own) {
+                    rows[r] = rows[o];
+                    first[r] = o as u8;
+                }
+            }
+        }
+    }
+    emit(&rows[..9 * n], &first[..9 * n])
 }
 
 /// Per-vertex data in weight space of every corner of `faces` and of their edge neighbours
@@ -409,27 +414,59 @@ fn side_d(m: usize) -> f64 {
 }
 
 /// The rows `rows` (weight vectors in `arena`) formed into one [`FaceRows`]: corners' points
-/// copied, face points combined straight into its storage (no row of their own).
-fn face_rows_of(arena: &[(u32, f64)], rows: &[&PointRecipe<'_, ArenaWeights>]) -> FaceRows {
+/// copied, face points combined straight into its storage (no row of their own), each
+/// combination once: a row that is an earlier one again (`first`, [`table_rows_into`]; a
+/// corner's `f_minus` made its `f_plus` beside one sharp edge, `eval::assemble`) copied from
+/// that row's terms.
+fn face_rows_of(
+    arena: &[(u32, f64)],
+    rows: &[&PointRecipe<'_, ArenaWeights>],
+    first: &[u8],
+) -> FaceRows {
     let bound = |r: &PointRecipe<'_, ArenaWeights>| match r {
         PointRecipe::Given(w) => w.len(),
         PointRecipe::Combination(terms) => terms.iter().map(|(_, w)| w.len()).sum(),
     };
+    let n = rows.len() / 9;
     let mut out = FaceRows {
         offsets: Vec::with_capacity(rows.len() + 1),
         terms: Vec::with_capacity(rows.iter().map(|r| bound(r)).sum()),
     };
     out.offsets.push(0);
-    for r in rows {
-        match r {
-            PointRecipe::Given(w) => out.terms.extend_from_slice(w.get(arena)),
-            PointRecipe::Combination(terms) => {
+    for (r, row) in rows.iter().enumerate() {
+        let again = match row {
+            _ if first[r] as usize != r => Some(first[r] as usize),
+            // `f_minus` (rows `4 n..5 n`) equal to the same corner's `f_plus`.
+            PointRecipe::Combination(_) if (4 * n..5 * n).contains(&r) => {
+                same_combination(row, rows[r - n]).then_some(r - n)
+            }
+            _ => None,
+        };
+        match (again, row) {
+            (Some(j), _) => {
+                let (a, b) = (out.offsets[j] as usize, out.offsets[j + 1] as usize);
+                out.terms.extend_from_within(a..b);
+            }
+            (None, PointRecipe::Given(w)) => out.terms.extend_from_slice(w.get(arena)),
+            (None, PointRecipe::Combination(terms)) => {
                 merge_terms_into(&terms.map(|(c, w)| (c, w.get(arena))), &mut out.terms)
             }
         }
         out.offsets.push(out.terms.len() as u32);
     }
     out
+}
+
+/// Whether `a` and `b` are combinations of the very same weight vectors with bitwise equal
+/// coefficients (hence equal terms).
+fn same_combination(a: &PointRecipe<'_, ArenaWeights>, b: &PointRecipe<'_, ArenaWeights>) -> bool {
+    match (a, b) {
+        (PointRecipe::Combination(x), PointRecipe::Combination(y)) => x
+            .iter()
+            .zip(y)
+            .all(|((c, v), (d, w))| c.to_bits() == d.to_bits() && std::ptr::eq(*v, *w)),
+        _ => false,
+    }
 }
 
 /// The rows of each face of `faces` in the table layout ([`StencilType::weights`]: control
@@ -480,8 +517,8 @@ pub(super) fn sparse_face_rows_direct_with(
             let corners = &corners;
             let own = gregory_patch_recipes(topo, f, Coverage::EndCap, |v| corners.vertex(v))?;
             let theirs = |k: usize| sides[k].and_then(|(g, k2)| corners.side_points(g, k2));
-            Ok(table_rows_into(&own, theirs, |rows| {
-                face_rows_of(&corners.arena, rows)
+            Ok(table_rows_into(&own, theirs, |rows, first| {
+                face_rows_of(&corners.arena, rows, first)
             }))
         })
         .collect()

@@ -1,9 +1,9 @@
 //! The local refinement around one region vertex as sector grids ([`SectorGrids`]), without a
 //! topology per step: the lattice nodes' limit tangent rows.
 
+use super::frame_rows::FrameRows;
 use super::NONE;
 use crate::mesh::{CreaseMethod, SchemeOptions};
-use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::AdaptiveLevel;
 use crate::subdiv::limit::SharedVertexMasks;
 use crate::subdiv::points::{edge_point_weights, vertex_point_mask};
@@ -454,7 +454,8 @@ impl GridShapes {
     }
 
     /// The exact limit tangent rows (global ids of `lev`) at node `(a, b)` (not `(0, 0)`) of
-    /// the region of `grids` in `face`.
+    /// the region of `grids` in `face`, appended to `out` as a frame; false (none appended)
+    /// where there is no exact mask.
     pub(super) fn node_rows(
         &mut self,
         grids: &SectorGrids,
@@ -462,27 +463,32 @@ impl GridShapes {
         face: u32,
         (a, b): (u32, u32),
         masks: &SharedVertexMasks,
-    ) -> Option<[Weights; 2]> {
-        let i = grids.faces.iter().position(|&f| f == face)? as u32;
+        out: &mut FrameRows,
+    ) -> bool {
+        let Some(i) = grids.faces.iter().position(|&f| f == face) else {
+            return false;
+        };
         // The region's `a` runs along the face's edge from `v` to its next corner: spoke `i`
         // (the sector's `x`) unless the ring is flipped.
         let (x, y) = if grids.flipped { (b, a) } else { (a, b) };
-        let shape = self.shapes[grids.shape as usize].as_mut()?;
+        let Some(shape) = self.shapes[grids.shape as usize].as_mut() else {
+            return false;
+        };
         let sums = &mut self.sums;
-        let terms = shape.node_terms((i, x, y), masks, sums)?;
+        let Some(terms) = shape.node_terms((i as u32, x, y), masks, sums) else {
+            return false;
+        };
         sums.pull_back_from(terms, &grids.first, grids.columns.len());
-        // Both rows in one pass over the terms, zeros dropped.
-        let n = sums.terms.len();
-        let mut rows = [Vec::with_capacity(n), Vec::with_capacity(n)];
-        for &(k, x) in &sums.terms {
-            let g = lev.global(grids.columns[k as usize]);
-            for (row, &w) in rows.iter_mut().zip(&x) {
-                if w != 0.0 {
-                    row.push((g, w));
+        // Each row in increasing point (so global id), zeros dropped.
+        for d in 0..2 {
+            for &(k, x) in &sums.terms {
+                if x[d] != 0.0 {
+                    out.push_term((lev.global(grids.columns[k as usize]), x[d]));
                 }
             }
+            out.end_row();
         }
-        Some(rows.map(Weights))
+        true
     }
 }
 
