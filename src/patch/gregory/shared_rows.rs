@@ -527,7 +527,13 @@ impl TypeClasses {
                 Follows::Turn => {
                     let a = 2.0 * std::f64::consts::PI * take as f64 / n as f64;
                     let (sin, cos) = a.sin_cos();
-                    Turn::Rotate { slot, cos, sin }
+                    Turn::Rotate {
+                        slot,
+                        cos,
+                        sin,
+                        steps: take,
+                        valence: n,
+                    }
                 }
                 _ => Turn::Swap { slot },
             })

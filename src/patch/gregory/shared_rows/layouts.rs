@@ -7,6 +7,7 @@
 
 use crate::patch::gregory::face_rows::{FaceRows, Terms, TERM_PLACEHOLDER};
 use crate::patch::gregory::stencil_table::{vertex_point_of, VERTEX_POINTS};
+use crate::patch::gregory::vertex::edge_sin_cos;
 use crate::patch::gregory::word_hash::WordHashMap;
 use crate::topology::Topology;
 
@@ -30,9 +31,16 @@ pub(super) struct LocalRows {
 /// What [`LocalRows::turned`] does to the derived points of the vertex at ring slot `slot`.
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Turn {
-    /// A smooth vertex's ring starts `d` of its `n` faces on: its cosine and sine sums
-    /// (derived points 1, 2) turn by the angle `2 pi d / n`, of this cosine and sine.
-    Rotate { slot: u32, cos: f64, sin: f64 },
+    /// A smooth vertex's ring starts `steps` of its `valence` faces on: its cosine and sine
+    /// sums (derived points 1, 2) turn by the angle `2 pi steps / valence`, of this cosine and
+    /// sine.
+    Rotate {
+        slot: u32,
+        cos: f64,
+        sin: f64,
+        steps: u32,
+        valence: u32,
+    },
     /// A crease's sectors come in the other order: its sector tangents (derived points 0, 1)
     /// swap.
     Swap { slot: u32 },
@@ -55,7 +63,10 @@ impl LocalRows {
     /// `q_s' = -sin a q_c + cos a q_s` (`a = 2 pi d / n`) and a weight pair `(c, s)` on
     /// `(q_c, q_s)` is one on `(q_c', q_s')` as `(cos a c - sin a s, sin a c + cos a s)`:
     /// equal to the face's own construction to rounding (not bitwise; a rounding residue
-    /// made zero, `residue_zeroed`), terms `kept` drops dropped after the turn,
+    /// made zero, `residue_zeroed`), but for an edge point's pair (the construction's
+    /// `(cos, sin)(2 pi j / n)` bitwise, `edge_sin_cos`), written as the construction writes
+    /// edge point `j + d` ([`turned_pair`]): the boundary curves two end caps share read the
+    /// same bits from both. Terms `kept` drops dropped after the turn,
     /// and a turned pair read whole where either is read. Crease:
     /// the two sector tangents' columns swapped.
     pub(super) fn turned(&self, turns: &[Turn], kept: Terms) -> LocalRows {
@@ -86,7 +97,16 @@ impl LocalRows {
         let mut pair = Vec::new();
         for c in 0..slots {
             match turn_of(c) {
-                Some((Turn::Rotate { cos, sin, .. }, 1)) => {
+                Some((
+                    Turn::Rotate {
+                        cos,
+                        sin,
+                        steps,
+                        valence,
+                        ..
+                    },
+                    1,
+                )) => {
                     pair.clear();
                     for &(r, _) in column(c).iter().chain(column(c + 1)) {
                         per_row[r as usize + 1] -= 1;
@@ -102,9 +122,7 @@ impl LocalRows {
                         };
                         let wc = a.next_if(|x| x.0 == r).map_or(0.0, |x| x.1);
                         let ws = b.next_if(|y| y.0 == r).map_or(0.0, |y| y.1);
-                        let size = wc.abs() + ws.abs();
-                        let x = residue_zeroed(cos * wc - sin * ws, size);
-                        let y = residue_zeroed(sin * wc + cos * ws, size);
+                        let (x, y) = turned_pair([wc, ws], [cos, sin], steps, valence);
                         if kept.keeps(x) {
                             columns.push((r, x));
                             per_row[r as usize + 1] += 1;
@@ -147,6 +165,27 @@ impl LocalRows {
             derived,
         }
     }
+}
+
+/// The weight pair `[c, s]` on a smooth vertex's `(q_c, q_s)` turned by `steps` of its
+/// `valence` faces (`[cos, sin]` of that angle, [`LocalRows::turned`]): where the pair is an
+/// edge point's, `edge_sin_cos(j, valence)` bitwise, edge point `j + steps`'s as the
+/// construction writes it (bitwise its rows: the end caps' boundary curves, `p`, `e_plus`,
+/// `e_minus` and the neighbours' edge points, are the same bits in both patches at an edge);
+/// otherwise the pair rotated, its rounding residues zeroed.
+fn turned_pair([c, s]: [f64; 2], [cos, sin]: [f64; 2], steps: u32, valence: u32) -> (f64, f64) {
+    let n = valence as usize;
+    let turn = std::f64::consts::TAU / n as f64;
+    let j = (s.atan2(c) / turn).round().rem_euclid(n as f64) as usize;
+    if edge_sin_cos(j, n) == (s, c) {
+        let (s, c) = edge_sin_cos((j + steps as usize) % n, n);
+        return (c, s);
+    }
+    let size = c.abs() + s.abs();
+    (
+        residue_zeroed(cos * c - sin * s, size),
+        residue_zeroed(sin * c + cos * s, size),
+    )
 }
 
 /// `x`, or zero where it is rounding residue (within a few ulps of `size`, the turned pair's

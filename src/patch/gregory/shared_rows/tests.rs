@@ -33,11 +33,16 @@ const TOPOLOGY_CORPUS: [&str; 10] = [
 /// `CREASE_FROM`: darts where a semi-sharp line ends), after the level's own (semi-sharpness
 /// kept) if `own`.
 fn level_topologies(name: &str, own: bool) -> Vec<Topology> {
+    isolated_topologies(name, 2, own)
+}
+
+/// [`level_topologies`] of the isolation-`isolation` refinement.
+fn isolated_topologies(name: &str, isolation: u32, own: bool) -> Vec<Topology> {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
     let path = format!("{dir}{name}.obj");
     let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
     let level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
-    let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, 2).unwrap();
+    let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, isolation).unwrap();
     let mut out = Vec::new();
     for l in &adaptive.levels {
         let t = l.topology();
@@ -580,6 +585,52 @@ fn turned_rows_are_the_construction() {
         turned * 2 > faces_seen,
         "{turned} of {faces_seen} faces turned"
     );
+}
+
+/// The rows the end caps' boundary curves and edge normals read, each corner's `p`, `e_plus`
+/// and `e_minus` and the neighbours' edge points beside each edge (rows `0..3 n` and
+/// `5 n..7 n` of a face of `n` corners, [`sparse_face_rows_direct`]), are bitwise the
+/// face-by-face construction's on every face of every level of `catmark_car` at isolation 2
+/// and `catmark_cube_creases1` at isolation 3 (both end-cap topologies, both tangents), turned
+/// or not: two end caps at an edge read its curve from the same bits (the watertightness of
+/// `tests/scheme_adaptive.rs`). Fails where a turned type's edge point is rotated rather than
+/// written as the construction writes it (`layouts::turned_pair`); faces turned elsewhere
+/// (their face points) met.
+#[test]
+fn boundary_rows_are_the_construction_bitwise() {
+    let darts = DartLimits::new();
+    let (mut faces_seen, mut turned) = (0, 0);
+    for (name, isolation) in [("catmark_car", 2), ("catmark_cube_creases1", 3)] {
+        for topo in isolated_topologies(name, isolation, false) {
+            let faces: Vec<u32> = (0..topo.face_count() as u32).collect();
+            for tangents in [GregoryTangents::EndCaps, GregoryTangents::Paper] {
+                let shared = end_cap_face_rows(&topo, &faces, tangents, &darts, Terms::Nonzero);
+                let direct = sparse_face_rows_direct_with(&topo, &faces, tangents, &darts, None);
+                let derived = |v, b| vertex_point_id(&topo, v, b);
+                for (i, want) in direct.iter().enumerate() {
+                    let Ok(want) = want else { continue };
+                    let got = shared.rows(&topo, i, &|u| u, &derived);
+                    let want =
+                        FaceRows::relabelled(&want.offsets, &want.terms, Terms::Nonzero, |u| u);
+                    let n = topo.face_size(faces[i]);
+                    assert_eq!(got.len(), 9 * n, "{name}: face {}", faces[i]);
+                    faces_seen += 1;
+                    turned += usize::from(got != want);
+                    let boundary = |r: &usize| *r < 3 * n || (5 * n..7 * n).contains(r);
+                    for (r, (a, b)) in got.rows().zip(want.rows()).enumerate() {
+                        if boundary(&r) {
+                            let bits = |row: &[(u32, f64)]| -> Vec<(u32, u64)> {
+                                row.iter().map(|&(id, w)| (id, w.to_bits())).collect()
+                            };
+                            assert_eq!(bits(a), bits(b), "{name}: face {} row {r}", faces[i]);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    log::info!("{faces_seen} faces, {turned} turned");
+    assert!(turned > 0, "no turned face among {faces_seen}");
 }
 
 /// Asserts that row `got` is row `want` to 1e-12 per weight, ids equal but for terms of
