@@ -53,7 +53,7 @@ use super::tangents_boundary::crease_factor_words;
 use super::vertex::DartLimits;
 use super::word_hash::WordHashMap;
 use crate::topology::Topology;
-use layouts::{to_slots, Layouts, LocalRows, Turn};
+use layouts::{to_slots, EdgeAngles, Layouts, LocalRows, Turn};
 use vertex_points::clear;
 pub use vertex_points::shared_vertex_point_rows;
 
@@ -832,6 +832,7 @@ pub fn end_cap_face_rows(
         })
         .collect();
     let mut to_class: Vec<Option<Vec<u32>>> = vec![None; representative.len()];
+    let angles = EdgeAngles::new(MAX_TURNED_VALENCE);
     let at: Vec<u32> = (0..representative.len())
         .map(|t| {
             let c = classes.class_of[t] as usize;
@@ -849,7 +850,7 @@ pub fn end_cap_face_rows(
             if turns.is_empty() {
                 return from;
             }
-            let turned = with_rows[from as usize].turned(&turns, kept);
+            let turned = with_rows[from as usize].turned(&turns, kept, &angles);
             with_rows.push(turned);
             with_rows.len() as u32 - 1
         })

@@ -69,7 +69,7 @@ impl LocalRows {
     /// same bits from both. Terms `kept` drops dropped after the turn,
     /// and a turned pair read whole where either is read. Crease:
     /// the two sector tangents' columns swapped.
-    pub(super) fn turned(&self, turns: &[Turn], kept: Terms) -> LocalRows {
+    pub(super) fn turned(&self, turns: &[Turn], kept: Terms, angles: &EdgeAngles) -> LocalRows {
         let points = VERTEX_POINTS as usize;
         let slots = self.starts.len() - 1;
         let l = slots / (1 + points);
@@ -122,7 +122,8 @@ impl LocalRows {
                         };
                         let wc = a.next_if(|x| x.0 == r).map_or(0.0, |x| x.1);
                         let ws = b.next_if(|y| y.0 == r).map_or(0.0, |y| y.1);
-                        let (x, y) = turned_pair([wc, ws], [cos, sin], steps, valence);
+                        let edges = angles.of(valence as usize);
+                        let (x, y) = turned_pair([wc, ws], [cos, sin], steps, edges);
                         if kept.keeps(x) {
                             columns.push((r, x));
                             per_row[r as usize + 1] += 1;
@@ -168,17 +169,20 @@ impl LocalRows {
 }
 
 /// The weight pair `[c, s]` on a smooth vertex's `(q_c, q_s)` turned by `steps` of its
-/// `valence` faces (`[cos, sin]` of that angle, [`LocalRows::turned`]): where the pair is an
-/// edge point's, `edge_sin_cos(j, valence)` bitwise, edge point `j + steps`'s as the
+/// faces (`[cos, sin]` of that angle, [`LocalRows::turned`]; `edges` its valence's
+/// [`EdgeAngles`]): where the pair is an edge point's, `edges[j]` bitwise (the
+/// construction's `edge_sin_cos(j, n)`), edge point `j + steps`'s as the
 /// construction writes it (bitwise its rows: the end caps' boundary curves, `p`, `e_plus`,
 /// `e_minus` and the neighbours' edge points, are the same bits in both patches at an edge);
 /// otherwise the pair rotated, its rounding residues zeroed.
-fn turned_pair([c, s]: [f64; 2], [cos, sin]: [f64; 2], steps: u32, valence: u32) -> (f64, f64) {
-    let n = valence as usize;
-    let turn = std::f64::consts::TAU / n as f64;
-    let j = (s.atan2(c) / turn).round().rem_euclid(n as f64) as usize;
-    if edge_sin_cos(j, n) == (s, c) {
-        let (s, c) = edge_sin_cos((j + steps as usize) % n, n);
+fn turned_pair(
+    [c, s]: [f64; 2],
+    [cos, sin]: [f64; 2],
+    steps: u32,
+    edges: &[(f64, f64)],
+) -> (f64, f64) {
+    if let Some(j) = edges.iter().position(|&e| e == (s, c)) {
+        let (s, c) = edges[(j + steps as usize) % edges.len()];
         return (c, s);
     }
     let size = c.abs() + s.abs();
@@ -186,6 +190,24 @@ fn turned_pair([c, s]: [f64; 2], [cos, sin]: [f64; 2], steps: u32, valence: u32)
         residue_zeroed(cos * c - sin * s, size),
         residue_zeroed(sin * c + cos * s, size),
     )
+}
+
+/// The edge points' weight pairs of smooth vertices up to a valence, `edge_sin_cos(j, n)`
+/// for `j < n`, computed once per call rather than per turned pair.
+pub(super) struct EdgeAngles(Vec<(f64, f64)>);
+
+impl EdgeAngles {
+    /// The pairs of every valence up to `max`.
+    pub(super) fn new(max: usize) -> EdgeAngles {
+        let pairs = (1..=max).flat_map(|n| (0..n).map(move |j| edge_sin_cos(j, n)));
+        EdgeAngles(pairs.collect())
+    }
+
+    /// Valence `n`'s pairs (`j` at `j`).
+    fn of(&self, n: usize) -> &[(f64, f64)] {
+        let first = n * (n - 1) / 2;
+        &self.0[first..first + n]
+    }
 }
 
 /// `x`, or zero where it is rounding residue (within a few ulps of `size`, the turned pair's
