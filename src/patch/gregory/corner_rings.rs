@@ -70,23 +70,41 @@ impl<'a> CornerRings<'a> {
         }
     }
 
-    /// Vertex `v`'s shape id and its ring (`v` first, then its edges' other ends, then its
-    /// faces' vertices, each once): two vertices with the same id read the same in their
-    /// rings' slots (sharpness, tags, crease factors, each edge's other end, sharpness and
-    /// face count, each face's limit-surface flag, size and vertices).
-    pub fn corner(&mut self, v: u32) -> (u32, &[u32]) {
-        if self.entry[v as usize] == NONE {
-            self.push(v);
+    /// The entry of vertex `v`'s ring read from its face `start` on (its edges and faces
+    /// turned alike, face `i` staying between edges `i` and `i + 1`): `v` first, then its
+    /// edges' other ends, then its faces' vertices, each once. Two entries with the same
+    /// [`Self::shape`] read the same in their rings' slots (sharpness, tags, crease factors,
+    /// each edge's other end, sharpness and face count, each face's limit-surface flag, size
+    /// and vertices). Made once per vertex from its first face; from another face anew on
+    /// every call (the shared rows' anchored keys, a few per connectivity type).
+    pub fn entry(&mut self, v: u32, start: usize) -> usize {
+        if start != 0 {
+            return self.push(v, start);
         }
-        let i = self.entry[v as usize] as usize;
-        let ring = &self.ring[self.ring_at[i] as usize..self.ring_at[i + 1] as usize];
-        (self.shape[i], ring)
+        if self.entry[v as usize] == NONE {
+            self.entry[v as usize] = self.push(v, 0) as u32;
+        }
+        self.entry[v as usize] as usize
     }
 
-    /// Numbers `v`'s ring and interns its shape.
-    fn push(&mut self, v: u32) {
+    /// The shape id of entry `i` ([`Self::entry`]).
+    pub fn shape(&self, i: usize) -> u32 {
+        self.shape[i]
+    }
+
+    /// The ring of entry `i` ([`Self::entry`]).
+    pub fn ring(&self, i: usize) -> &[u32] {
+        &self.ring[self.ring_at[i] as usize..self.ring_at[i + 1] as usize]
+    }
+
+    /// Numbers `v`'s ring from face `start` on and interns its shape: the new entry.
+    fn push(&mut self, v: u32, start: usize) -> usize {
         let topo = self.topo;
         let (edges, faces) = (topo.vertex_edges(v), topo.vertex_faces(v));
+        let turned = |items: &'a [u32]| {
+            let (before, after) = items.split_at(start.min(items.len()));
+            after.iter().chain(before).copied()
+        };
         let first = self.ring.len();
         let (own, ring, words) = (&mut self.own, &mut self.ring, &mut self.words);
         let mut at = |u: u32| {
@@ -101,7 +119,7 @@ impl<'a> CornerRings<'a> {
         words.push(vertex_word(topo, v));
         words.extend(crease_factor_words(topo, v));
         words.push(edges.len() as u32);
-        for &e in edges {
+        for e in turned(edges) {
             words.extend([
                 at(topo.other_vertex(e, v)),
                 edge_word(topo, e),
@@ -109,7 +127,7 @@ impl<'a> CornerRings<'a> {
             ]);
         }
         words.push(faces.len() as u32);
-        for &g in faces {
+        for g in turned(faces) {
             let gv = topo.face_vertices(g);
             words.extend([u32::from(topo.has_limit_surface(g)), gv.len() as u32]);
             for &u in gv {
@@ -127,8 +145,8 @@ impl<'a> CornerRings<'a> {
                 next
             }
         };
-        self.entry[v as usize] = self.shape.len() as u32;
         self.shape.push(id);
         self.ring_at.push(self.ring.len() as u32);
+        self.shape.len() - 1
     }
 }

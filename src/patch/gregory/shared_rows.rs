@@ -21,6 +21,18 @@
 //! slots `ring_len + 3 slot(v) + b`; which rule a corner takes is part of its topology, hence of
 //! the key. The vertex points' own (first-stage) rows are shared the same way, per ring type
 //! ([`shared_vertex_point_rows`]).
+//!
+//! Types are shared further where they differ only in where their smooth corners' rings start
+//! (the topology starts a closed ring at its lowest-numbered face, which on refined levels is
+//! arbitrary): the type key read with each smooth vertex's ring started at the face keyed (the
+//! neighbour face for a one-sided neighbour's far corner) groups types into classes, built
+//! directly once per class. A smooth vertex's rows read its ring start only through its
+//! derived cosine and sine sums (`InteriorBasis`: `e_j = p + cos(2 pi j / n) q_c +
+//! sin(2 pi j / n) q_s`), so a type's rows are its class's first type's relabelled with the
+//! weight pair on each such vertex's `(q_c, q_s)` turned by the angle between the two starts
+//! (`LocalRows::turned`): equal to rounding, not bitwise (on the car at isolation 2, 210
+//! types make 25 classes). Darts and creases keep their start in the key (their derived
+//! points follow the sharp edge's index and sector order).
 
 mod layouts;
 mod vertex_points;
@@ -41,11 +53,17 @@ use super::tangents_boundary::crease_factor_words;
 use super::vertex::DartLimits;
 use super::word_hash::WordHashMap;
 use crate::topology::Topology;
-use layouts::{to_slots, Layouts, LocalRows};
+use layouts::{to_slots, EdgeAngles, Layouts, LocalRows, Turn};
 use vertex_points::clear;
 pub use vertex_points::shared_vertex_point_rows;
 
 const NONE: u32 = u32::MAX;
+
+/// The highest valence whose ring start an anchored key ([`Keyer::anchored_key`]) drops: the
+/// direct construction shares a vertex's data between its faces in a batch, so around a
+/// high-valence vertex a face costs less built directly than turned and laid out anew (on
+/// `catmark_pole64` at isolation 2, anchoring the valence-64 pole cost +4.2 M instructions).
+const MAX_TURNED_VALENCE: usize = 8;
 
 /// The local topology of a face as its construction reads it, in the slots of its ring.
 type TypeKey = Vec<u32>;
@@ -68,6 +86,36 @@ struct Keyer<'a> {
     darts: &'a DartLimits,
     /// The corners' rings and shapes, each made once.
     corners: CornerRings<'a>,
+    /// [`Self::key`]'s entries of the face's corners in [`Self::corners`].
+    entries: Vec<usize>,
+    /// Keying anchored ([`Self::anchored_key`]): the smooth vertices read so far.
+    anchors: Option<Vec<Anchor>>,
+}
+
+/// A vertex of an anchored key ([`Keyer::anchored_key`]): its ring read from the face `start`
+/// (of its faces) on, `valence` faces, and how its rows follow that start.
+#[derive(Clone, Copy, Debug)]
+struct Anchor {
+    vertex: u32,
+    start: u32,
+    valence: u32,
+    follows: Follows,
+}
+
+/// How the rows of an anchored vertex ([`Anchor`]) depend on where its ring starts, besides
+/// which slot holds which vertex.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Follows {
+    /// Smooth: its cosine and sine sums turn with the start (derived points 1, 2,
+    /// `InteriorBasis`).
+    Turn,
+    /// Crease: its two sector tangents (derived points 0, 1) come in the order of `sectors`,
+    /// which read from this start is the topology ring's swapped (`true`) or not.
+    Sectors(bool),
+    /// Dart, corner or cone: not at all (a dart's masks turn with its sharp edge,
+    /// `RingLimit::rotated`, so its limit point and tangents are the same sums; corners and
+    /// cones have no derived point).
+    Not,
 }
 
 /// The ring of the face being keyed: `rings[first..]`, slot `s` its `s`-th vertex.
@@ -100,7 +148,81 @@ impl<'a> Keyer<'a> {
             smooth: vec![2; topo.vertex_count()],
             darts,
             corners: CornerRings::new(topo),
+            entries: Vec::new(),
+            anchors: None,
         }
+    }
+
+    /// Where the key reads vertex `v`'s ring from, as keyer of face `f` (one of `v`'s faces):
+    /// its first face; in an anchored key, face `f` (recorded as an [`Anchor`]) if `v`'s faces
+    /// close around it (else its ring's start is no choice: it starts at a boundary edge), at
+    /// most [`MAX_TURNED_VALENCE`] of them, and the construction gives it data: smooth, or a
+    /// dart, crease, corner or cone without frozen crease factors (those follow the order of
+    /// its sectors, `Topology::crease_factors`).
+    fn start(&mut self, v: u32, f: u32) -> usize {
+        let topo = self.topo;
+        let (faces, edges) = (topo.vertex_faces(v), topo.vertex_edges(v));
+        let anchored = self.anchors.is_some()
+            && faces.len() <= MAX_TURNED_VALENCE
+            && faces.len() == edges.len()
+            && crease_factor_words(topo, v) == [0; 2];
+        if !anchored || !self.has_data(v) {
+            return 0;
+        }
+        let start = faces.iter().position(|&g| g == f).unwrap_or(0);
+        let inf = |s: f32| s >= crate::mesh::INFINITE_SHARPNESS;
+        let mut sharp = (0..edges.len()).filter(|&j| inf(topo.edge_sharpness(edges[j])));
+        let (first, second, more) = (sharp.next(), sharp.next(), sharp.next().is_some());
+        // `vertex::Rule::of_shape` of the ring (its corner tag: an infinitely sharp vertex or
+        // more than two sharp edges).
+        let follows = match (first, second) {
+            _ if more || inf(topo.vertex_sharpness(v)) => Follows::Not,
+            (None, _) => Follows::Turn,
+            (Some(_), None) => Follows::Not,
+            (Some(a), Some(b)) => Follows::Sectors(a < start && start <= b),
+        };
+        let anchor = Anchor {
+            vertex: v,
+            start: start as u32,
+            valence: faces.len() as u32,
+            follows,
+        };
+        if let Some(a) = self.anchors.as_mut() {
+            a.push(anchor);
+        }
+        start
+    }
+
+    /// [`Self::key`] with every smooth corner's ring, and every smooth far corner's
+    /// ([`Self::push_one_sided_neighbour`]), read from the face keyed (the neighbour face for
+    /// a far corner) rather than from the vertex's first face: faces whose keys differ only in
+    /// where those rings start get the same anchored key; `anchors` the smooth vertices read
+    /// (in key order, so faces of one anchored key list them alike).
+    fn anchored_key(
+        &mut self,
+        f: u32,
+        key: &mut TypeKey,
+        rings: &mut Vec<u32>,
+        anchors: &mut Vec<Anchor>,
+    ) -> Option<()> {
+        anchors.clear();
+        self.anchors = Some(std::mem::take(anchors));
+        let keyed = self.key(f, key, rings);
+        *anchors = self.anchors.take().unwrap_or_default();
+        keyed
+    }
+
+    /// Whether face `f` has a corner whose faces close around it, more than
+    /// [`MAX_TURNED_VALENCE`] of them: its anchored key still reads where `f` sits in that
+    /// corner's ring, which differs between the faces of such a vertex, so its type is left a
+    /// class of its own without keying it anew (on `catmark_pole64` at isolation 2 that keying
+    /// cost 1.2 M instructions).
+    fn has_unturned_corner(&self, f: u32) -> bool {
+        let topo = self.topo;
+        topo.face_vertices(f).iter().any(|&v| {
+            let n = topo.vertex_faces(v).len();
+            n > MAX_TURNED_VALENCE && n == topo.vertex_edges(v).len()
+        })
     }
 
     /// Whether vertex `v` gets per-vertex data ([`super::gregory_vertex_for`] is `Some`): topology only,
@@ -149,16 +271,22 @@ impl<'a> Keyer<'a> {
         let fv = topo.face_vertices(f);
         key.clear();
         key.push(fv.len() as u32);
+        self.entries.clear();
         for &v in fv {
-            let at = topo.vertex_faces(v).iter().position(|&g| g == f);
-            key.extend([self.corners.corner(v).0, at.map_or(NONE, |j| j as u32)]);
+            let faces = topo.vertex_faces(v);
+            let start = self.start(v, f);
+            let at = faces.iter().position(|&g| g == f);
+            let entry = self.corners.entry(v, start);
+            self.entries.push(entry);
+            let turned = |j: usize| ((j + faces.len() - start) % faces.len()) as u32;
+            key.extend([self.corners.shape(entry), at.map_or(NONE, turned)]);
         }
         let mut ring = FaceRing {
             first: rings.len(),
             rings,
         };
-        for &v in fv {
-            for &u in self.corners.corner(v).1 {
+        for &entry in &self.entries {
+            for &u in self.corners.ring(entry) {
                 key.push(ring.slot(&mut self.slot, u));
             }
         }
@@ -177,8 +305,14 @@ impl<'a> Keyer<'a> {
             let (x, y) = (fv[k], fv[(k + 1) % n]);
             match topo.edge_faces(e).iter().copied().find(|&g| g != f) {
                 Some(g) => {
-                    let at = topo.vertex_faces(x).iter().position(|&h| h == g)?;
-                    key.push(at as u32);
+                    let faces = topo.vertex_faces(x);
+                    let at = faces.iter().position(|&h| h == g)?;
+                    // Corner `x`'s ring as the key read it (`Self::key`).
+                    let start = match &self.anchors {
+                        Some(a) => a.iter().find(|a| a.vertex == x).map_or(0, |a| a.start),
+                        None => 0,
+                    };
+                    key.push(((at + faces.len() - start as usize) % faces.len()) as u32);
                     key.push(u32::from(self.has_patch(g)));
                     self.push_one_sided_neighbour(key, ring, f, g, e, [x, y])?;
                 }
@@ -249,14 +383,162 @@ impl Keyer<'_> {
             let smooth = self.is_smooth(z);
             key.push(u32::from(smooth));
             if smooth {
-                key.push(faces.len() as u32);
-                key.push(faces.iter().position(|&h| h == g)? as u32);
-                key.extend(faces.iter().map(|&h| topo.face_size(h) as u32));
+                let n = faces.len();
+                let at = faces.iter().position(|&h| h == g)?;
+                let start = self.start(z, g);
+                key.push(n as u32);
+                key.push(((at + n - start) % n) as u32);
+                let turned = (0..n).map(|i| faces[(start + i) % n]);
+                key.extend(turned.map(|h| topo.face_size(h) as u32));
             } else {
                 self.push_vertex(key, ring, f, z);
             }
         }
         Some(())
+    }
+}
+
+/// The connectivity types of one call grouped into classes: types whose representatives'
+/// anchored keys ([`Keyer::anchored_key`]) agree, so that their rows differ only in where their
+/// smooth vertices' rings start: in the derived cosine and sine sums of those vertices
+/// (`InteriorBasis`), which a turn of the first type's rows gives ([`LocalRows::turned`]).
+struct TypeClasses {
+    /// Per type: its class.
+    class_of: Vec<u32>,
+    /// Per class: its first type.
+    first: Vec<u32>,
+    /// Per type: the slot in its ring of each slot of its anchored ring (`NONE` where that
+    /// vertex is not in its ring), one type after another.
+    slots: Vec<u32>,
+    /// `types + 1` offsets into `slots`.
+    slots_at: Vec<u32>,
+    /// Per type: its anchors, each vertex as its slot in the type's ring.
+    anchors: Vec<Anchor>,
+    /// `types + 1` offsets into `anchors`.
+    anchors_at: Vec<u32>,
+}
+
+impl TypeClasses {
+    /// The classes of the types of `representative` (per type: its first face, an index into
+    /// `faces`, whose ring is `rings[ring_at[i]..ring_at[i + 1]]`).
+    fn new(
+        keyer: &mut Keyer,
+        faces: &[u32],
+        representative: &[usize],
+        rings: &[u32],
+        ring_at: &[u32],
+    ) -> TypeClasses {
+        let mut classes: WordHashMap<TypeKey, u32> = WordHashMap::default();
+        let mut out = TypeClasses {
+            class_of: Vec::with_capacity(representative.len()),
+            first: Vec::new(),
+            slots: Vec::new(),
+            slots_at: vec![0],
+            anchors: Vec::new(),
+            anchors_at: vec![0],
+        };
+        let (mut key, mut ring, mut anchors) = (TypeKey::new(), Vec::new(), Vec::new());
+        for (t, &i) in representative.iter().enumerate() {
+            ring.clear();
+            anchors.clear();
+            let keyed = match keyer.has_unturned_corner(faces[i]) {
+                true => None,
+                false => keyer.anchored_key(faces[i], &mut key, &mut ring, &mut anchors),
+            };
+            clear(&mut keyer.slot, &ring);
+            let next = out.first.len() as u32;
+            let class = match keyed {
+                Some(()) => *classes.entry(key.clone()).or_insert(next),
+                None => next,
+            };
+            if class == next {
+                out.first.push(t as u32);
+            }
+            out.class_of.push(class);
+            let own = &rings[ring_at[i] as usize..ring_at[i + 1] as usize];
+            for (s, &x) in own.iter().enumerate() {
+                keyer.slot[x as usize] = s as u32;
+            }
+            out.slots
+                .extend(ring.iter().map(|&u| keyer.slot[u as usize]));
+            out.anchors.extend(anchors.iter().map(|a| Anchor {
+                vertex: keyer.slot[a.vertex as usize],
+                ..*a
+            }));
+            clear(&mut keyer.slot, own);
+            out.slots_at.push(out.slots.len() as u32);
+            out.anchors_at.push(out.anchors.len() as u32);
+        }
+        out
+    }
+
+    /// Type `t`'s anchored slots and anchors.
+    fn of(&self, t: u32) -> (&[u32], &[Anchor]) {
+        let t = t as usize;
+        (
+            &self.slots[self.slots_at[t] as usize..self.slots_at[t + 1] as usize],
+            &self.anchors[self.anchors_at[t] as usize..self.anchors_at[t + 1] as usize],
+        )
+    }
+
+    /// What makes the rows of type `t`'s class's first type `t`'s ([`LocalRows::turned`]):
+    /// the slot in `t`'s ring of each slot of the first's, and at its slot in the first's
+    /// ring, the turn of each smooth vertex whose ring starts elsewhere (`InteriorBasis`: the
+    /// sums of a ring started `d` faces on are the first's turned by `2 pi d / n`; none where
+    /// `d = 0`) and the swap of each crease whose sectors come in the other order
+    /// ([`Follows`]). `None` where the rings do not map one onto the other or a vertex would
+    /// take two turns.
+    fn turns(&self, t: u32) -> Option<(Vec<u32>, Vec<Turn>)> {
+        let (slots, anchors) = self.of(t);
+        let (first_slots, first_anchors) = self.of(self.first[self.class_of[t as usize] as usize]);
+        if slots.len() != first_slots.len() || anchors.len() != first_anchors.len() {
+            return None;
+        }
+        let mut to = vec![NONE; slots.len()];
+        for (&a, &b) in first_slots.iter().zip(slots) {
+            *to.get_mut(a as usize)? = b;
+        }
+        if to.contains(&NONE) {
+            return None;
+        }
+        // Per anchored slot of the first's ring: what its rows take (a turn by `d` faces, or
+        // whether its sector tangents swap), 0 for nothing.
+        let mut takes: Vec<(u32, Follows, u32, u32)> = Vec::new();
+        for (a, b) in first_anchors.iter().zip(anchors) {
+            let n = b.valence;
+            if to.get(a.vertex as usize) != Some(&b.vertex) {
+                return None;
+            }
+            let take = match (a.follows, b.follows) {
+                (Follows::Turn, Follows::Turn) => (b.start + n - a.start) % n,
+                (Follows::Sectors(x), Follows::Sectors(y)) => u32::from(x != y),
+                (Follows::Not, Follows::Not) => 0,
+                _ => return None,
+            };
+            match takes.iter().find(|u| u.0 == a.vertex) {
+                Some(u) if u.2 != take => return None,
+                Some(_) => {}
+                None => takes.push((a.vertex, a.follows, take, n)),
+            }
+        }
+        let turns = (takes.into_iter())
+            .filter(|u| u.2 != 0)
+            .map(|(slot, follows, take, n)| match follows {
+                Follows::Turn => {
+                    let a = 2.0 * std::f64::consts::PI * take as f64 / n as f64;
+                    let (sin, cos) = a.sin_cos();
+                    Turn::Rotate {
+                        slot,
+                        cos,
+                        sin,
+                        steps: take,
+                        valence: n,
+                    }
+                }
+                _ => Turn::Swap { slot },
+            })
+            .collect();
+        Some((to, turns))
     }
 }
 
@@ -281,7 +563,8 @@ fn direct_batches(
 }
 
 /// [`sparse_face_rows_direct`] with the construction run once per connectivity type (module
-/// docs): bitwise the same rows ([`sparse_face_rows_flat`] as [`Weights`]).
+/// docs): the same rows ([`sparse_face_rows_flat`] as [`Weights`]), bitwise but for turned
+/// types' cosine and sine sums (module docs).
 pub fn sparse_face_rows(
     topo: &Topology,
     faces: &[u32],
@@ -417,6 +700,56 @@ impl EndCapFaceRows {
     }
 }
 
+/// Pass 1 of [`end_cap_face_rows`]: each face's connectivity type (`None`: built directly),
+/// the first face of each type its representative, and each face's ring, numbered once (the
+/// relabelling reads it again), in one buffer.
+struct FaceTypes {
+    /// Number of types.
+    types: usize,
+    /// Per face: its type.
+    type_of: Vec<Option<u32>>,
+    /// Per type: its first face (an index into the faces keyed).
+    representative: Vec<usize>,
+    /// The faces' rings (the vertex of each slot), one after another.
+    rings: Vec<u32>,
+    /// `faces + 1` offsets into `rings`.
+    ring_at: Vec<u32>,
+}
+
+impl FaceTypes {
+    /// The types of `faces`.
+    fn new(keyer: &mut Keyer, faces: &[u32]) -> FaceTypes {
+        let mut types: WordHashMap<TypeKey, u32> = WordHashMap::default();
+        let mut out = FaceTypes {
+            types: 0,
+            type_of: Vec::with_capacity(faces.len()),
+            representative: Vec::new(),
+            rings: Vec::new(),
+            ring_at: Vec::with_capacity(faces.len() + 1),
+        };
+        out.ring_at.push(0);
+        let mut key = TypeKey::new();
+        for (i, &f) in faces.iter().enumerate() {
+            let first = out.rings.len();
+            let keyed = keyer.key(f, &mut key, &mut out.rings);
+            let t = keyed.map(|()| match types.get(key.as_slice()) {
+                Some(&t) => t,
+                None => {
+                    let t = types.len() as u32;
+                    types.insert(key.clone(), t);
+                    out.representative.push(i);
+                    t
+                }
+            });
+            out.ring_at.push(out.rings.len() as u32);
+            clear(&mut keyer.slot, &out.rings[first..]);
+            out.type_of.push(t);
+        }
+        out.types = types.len();
+        out
+    }
+}
+
 /// The rows of `faces` with the construction run once per connectivity type, kept per face
 /// as built ([`EndCapFaceRows`]), with the terms `kept` keeps (a type's dropped once for all
 /// its faces). The direct batches run on the rayon pool. Dart masks from `darts` (one cache
@@ -429,39 +762,24 @@ pub fn end_cap_face_rows(
     kept: Terms,
 ) -> EndCapFaceRows {
     let mut keyer = Keyer::new(topo, tangents, darts);
-    // Pass 1: each face's connectivity type (`None`: built directly), the first face of each
-    // type its representative.
-    let mut types: WordHashMap<TypeKey, u32> = WordHashMap::default();
-    let mut type_of: Vec<Option<u32>> = Vec::with_capacity(faces.len());
-    let mut representative: Vec<usize> = Vec::new();
-    // Each face's ring, numbered once (the relabelling reads it again), in one buffer.
-    let mut rings: Vec<u32> = Vec::new();
-    let mut ring_at: Vec<u32> = Vec::with_capacity(faces.len() + 1);
-    ring_at.push(0);
+    let FaceTypes {
+        types,
+        type_of,
+        representative,
+        mut rings,
+        ring_at,
+    } = FaceTypes::new(&mut keyer, faces);
     let ring_of = |ring_at: &[u32], i: usize| ring_at[i] as usize..ring_at[i + 1] as usize;
-    let mut key = TypeKey::new();
-    for (i, &f) in faces.iter().enumerate() {
-        let keyed = keyer.key(f, &mut key, &mut rings);
-        let t = keyed.map(|()| match types.get(key.as_slice()) {
-            Some(&t) => t,
-            None => {
-                let t = types.len() as u32;
-                types.insert(key.clone(), t);
-                representative.push(i);
-                t
-            }
-        });
-        ring_at.push(rings.len() as u32);
-        clear(&mut keyer.slot, &rings[ring_of(&ring_at, i)]);
-        type_of.push(t);
-    }
-    // Pass 2: the representatives and the faces without type, directly, in one batch (one
-    // vertex's data serves all its faces).
-    let is_rep = |i: usize, t: Option<u32>| t.is_none_or(|t| representative[t as usize] == i);
+    // Pass 2: the types' classes (equal up to where smooth vertices' rings start), then the
+    // first representative of each class and the faces without type, directly, in one batch
+    // (one vertex's data serves all its faces).
+    let classes = TypeClasses::new(&mut keyer, faces, &representative, &rings, &ring_at);
+    let class_face =
+        |t: u32| representative[classes.first[classes.class_of[t as usize] as usize] as usize];
     let batch = |pick: &dyn Fn(usize) -> bool| -> Vec<usize> {
         (0..faces.len()).filter(|&i| pick(i)).collect()
     };
-    let first = batch(&|i| is_rep(i, type_of[i]));
+    let first = batch(&|i| type_of[i].is_none_or(|t| class_face(t) == i));
     let mut rows: Vec<Option<Result<FaceRows, NotGregory>>> =
         (0..faces.len()).map(|_| None).collect();
     let first_faces: Vec<u32> = first.iter().map(|&i| faces[i]).collect();
@@ -474,16 +792,16 @@ pub fn end_cap_face_rows(
     )) {
         rows[i] = Some(r);
     }
-    // Rows over slots per type: `None` where the representative has no patch or its rows leave
-    // its ring (then every face of the type is built directly), or it is the type's only face.
-    let mut members = vec![0u32; representative.len()];
+    // Rows over slots per class (its first type's): `None` where that face has no patch or its
+    // rows leave its ring (then every face of the class is built directly), or it is the
+    // class's only face.
+    let mut members = vec![0u32; classes.first.len()];
     for t in type_of.iter().flatten() {
-        members[*t as usize] += 1;
+        members[classes.class_of[*t as usize] as usize] += 1;
     }
-    let local: Vec<Option<LocalRows>> = representative
-        .iter()
-        .zip(&members)
-        .map(|(&i, &m)| {
+    let class_rows: Vec<Option<LocalRows>> = (classes.first.iter().zip(&members))
+        .map(|(&t, &m)| {
+            let i = representative[t as usize];
             if m == 1 {
                 return None;
             }
@@ -499,10 +817,48 @@ pub fn end_cap_face_rows(
             local
         })
         .collect();
+    // Each type's rows in one list: a class's first type's, a turned type's turned from them,
+    // a type without turn its class's very rows; `to_class`: per other type of a class, the
+    // slot in its ring of each slot of the class's (its faces' rings are put in the class's
+    // order below, so that one layout serves the faces of every type without turn).
+    let mut with_rows: Vec<LocalRows> = Vec::new();
+    let class_at: Vec<u32> = (class_rows.into_iter())
+        .map(|l| match l {
+            Some(l) => {
+                with_rows.push(l);
+                with_rows.len() as u32 - 1
+            }
+            None => NONE,
+        })
+        .collect();
+    let mut to_class: Vec<Option<Vec<u32>>> = vec![None; representative.len()];
+    let angles = EdgeAngles::new(MAX_TURNED_VALENCE);
+    let at: Vec<u32> = (0..representative.len())
+        .map(|t| {
+            let c = classes.class_of[t] as usize;
+            let from = class_at[c];
+            if from == NONE || classes.first[c] as usize == t {
+                return from;
+            }
+            let Some((to, turns)) = classes.turns(t as u32) else {
+                return NONE;
+            };
+            if to.len() != ring_of(&ring_at, representative[t]).len() {
+                return NONE;
+            }
+            to_class[t] = Some(to);
+            if turns.is_empty() {
+                return from;
+            }
+            let turned = with_rows[from as usize].turned(&turns, kept, &angles);
+            with_rows.push(turned);
+            with_rows.len() as u32 - 1
+        })
+        .collect();
     // Pass 3: faces of a type without local rows, directly in a second batch; the others
     // relabelled.
     let second =
-        batch(&|i| rows[i].is_none() && type_of[i].is_some_and(|t| local[t as usize].is_none()));
+        batch(&|i| rows[i].is_none() && type_of[i].is_some_and(|t| at[t as usize] == NONE));
     let second_faces: Vec<u32> = second.iter().map(|&i| faces[i]).collect();
     for (&i, r) in second.iter().zip(direct_batches(
         topo,
@@ -513,18 +869,17 @@ pub fn end_cap_face_rows(
     )) {
         rows[i] = Some(r);
     }
-    // The types' rows in one list, each type with rows at its place there.
-    let mut with_rows: Vec<LocalRows> = Vec::new();
-    let at: Vec<u32> = local
-        .into_iter()
-        .map(|l| match l {
-            Some(l) => {
-                with_rows.push(l);
-                with_rows.len() as u32 - 1
-            }
-            None => NONE,
-        })
-        .collect();
+    // The shared faces' rings in their class's order.
+    let mut class_order = Vec::new();
+    for (i, t) in type_of.iter().enumerate() {
+        let to = t.and_then(|t| to_class[t as usize].as_ref());
+        if let (Some(to), None) = (to, &rows[i]) {
+            let ring = &mut rings[ring_of(&ring_at, i)];
+            class_order.clear();
+            class_order.extend(to.iter().map(|&s| ring[s as usize]));
+            ring.copy_from_slice(&class_order);
+        }
+    }
     let mut layouts = Layouts::new(with_rows);
     let out = EndCapFaceRows {
         faces: rows
@@ -549,10 +904,12 @@ pub fn end_cap_face_rows(
         ring_at,
         kept,
     };
+
     log::trace!(
-        "end-cap rows: {} faces, {} connectivity types, {} + {} built directly",
+        "end-cap rows: {} faces, {} connectivity types in {} classes, {} + {} built directly",
         faces.len(),
-        types.len(),
+        types,
+        classes.first.len(),
         first.len(),
         second.len()
     );

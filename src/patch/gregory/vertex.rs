@@ -253,6 +253,13 @@ impl<P: GregoryPoint> InteriorBasis<P> {
     }
 }
 
+/// `(sin, cos)` of `2 pi j / n`, the weights of `q_s` and `q_c` in a smooth vertex's edge point
+/// `e_j` ([`InteriorBasis`]): one expression wherever those weights are written, so that rows
+/// written elsewhere (the end caps' turned rows) are bitwise the construction's.
+pub fn edge_sin_cos(j: usize, n: usize) -> (f64, f64) {
+    (2.0 * PI * j as f64 / n as f64).sin_cos()
+}
+
 /// Whether [`GregoryVertex::new`] takes [`GregoryVertex::interior`] on `ring`: no sharp edge,
 /// no corner tag, and the faces close around the vertex.
 pub fn is_interior_ring<P>(ring: &VertexRing<P>) -> bool {
@@ -477,10 +484,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
                 tangents,
                 InteriorBasis { p: a, qc: b, qs: c },
             )),
-            Rule::Dart(d) => {
-                let lim = darts.get(ring.m.len(), d)?;
-                Some(Self::dart_from_points(ring, tangents, &lim, [a, b, c]))
-            }
+            Rule::Dart(d) => Self::dart_from_points(ring, tangents, darts, d, [a, b, c]),
             Rule::Crease => Self::sectored_with(ring, tangents, &|i, sec| match i {
                 _ if sec.faces < DERIVED_CREASE_SECTOR => {
                     crease_sector_tangent(ring, tangents, i, sec)
@@ -518,7 +522,7 @@ impl<P: GregoryPoint> GregoryVertex<P> {
         let InteriorBasis { p, qc, qs } = basis;
         let e = (0..n)
             .map(|j| {
-                let (sn, cs) = (2.0 * PI * j as f64 / nf).sin_cos();
+                let (sn, cs) = edge_sin_cos(j, n);
                 combine(&[(1.0, &p), (cs, &qc), (sn, &qs)])
             })
             .collect();
@@ -570,20 +574,26 @@ impl<P: GregoryPoint> GregoryVertex<P> {
             lim.apply(t1, ring),
             lim.apply(t2, ring),
         ];
-        Some(Self::dart_from_points(ring, tangents, &lim, points))
+        Self::dart_from_points(ring, tangents, darts, d, points)
     }
 
     /// [`Self::dart`] from its first stage `[p, t_1 · ring, t_2 · ring]`
     /// ([`Self::vertex_points`]): the projection of each smooth edge mask onto
     /// `span(t_1, t_2)` is `a_j t_1 + b_j t_2` ([`RingLimit::project_coefficients`]), so
-    /// `e_j = p + a_j (t_1 · ring) + b_j (t_2 · ring)`.
+    /// `e_j = p + a_j (t_1 · ring) + b_j (t_2 · ring)`. The masks of sharp edge `d` being
+    /// edge 0's rotated by `d` ([`DartLimits::get`]), `(a_j, b_j)` are projected on edge 0's
+    /// masks with edge `j - d`'s smooth mask: the same coefficients, whose bits depend only on
+    /// `j - d`, not on where the vertex's ring starts (the end caps' shared rows, read from
+    /// another ring start, are then bitwise each face's at its edge points).
     fn dart_from_points(
         ring: &VertexRing<P>,
         tangents: GregoryTangents,
-        lim: &RingLimit,
+        darts: &DartLimits,
+        d: usize,
         points: [P; 3],
-    ) -> GregoryVertex<P> {
+    ) -> Option<GregoryVertex<P>> {
         let n = ring.m.len();
+        let lim = darts.get(n, 0)?;
         // `r` and the cosines of a smooth vertex; its edge points (zero sums) are replaced.
         let zero = InteriorBasis {
             p: P::zero(),
@@ -596,16 +606,17 @@ impl<P: GregoryPoint> GregoryVertex<P> {
         let scale = tangents.ring_scale(n, ring.quads());
         let e = (0..n)
             .map(|j| {
-                let (a, b) = lim.project_coefficients(&smooth_edge_mask(n, j, scale));
+                let edge = smooth_edge_mask(n, (j + n - d) % n, scale);
+                let (a, b) = lim.project_coefficients(&edge);
                 combine(&[(1.0, &p), (a, &t1), (b, &t2)])
             })
             .collect();
-        GregoryVertex {
+        Some(GregoryVertex {
             kind: VertexKind::Dart,
             p,
             e,
             ..smooth
-        }
+        })
     }
 
     /// The construction at a cone point: the corner rule (`v` stays) with fewer than two sharp

@@ -7,6 +7,7 @@
 
 use crate::patch::gregory::face_rows::{FaceRows, Terms, TERM_PLACEHOLDER};
 use crate::patch::gregory::stencil_table::{vertex_point_of, VERTEX_POINTS};
+use crate::patch::gregory::vertex::edge_sin_cos;
 use crate::patch::gregory::word_hash::WordHashMap;
 use crate::topology::Topology;
 
@@ -25,6 +26,200 @@ pub(super) struct LocalRows {
     columns: Vec<(u32, f64)>,
     /// The derived-point columns the rows read (kept terms or not), ascending.
     derived: Vec<u32>,
+}
+
+/// What [`LocalRows::turned`] does to the derived points of the vertex at ring slot `slot`.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Turn {
+    /// A smooth vertex's ring starts `steps` of its `valence` faces on: its cosine and sine
+    /// sums (derived points 1, 2) turn by the angle `2 pi steps / valence`, of this cosine and
+    /// sine.
+    Rotate {
+        slot: u32,
+        cos: f64,
+        sin: f64,
+        steps: u32,
+        valence: u32,
+    },
+    /// A crease's sectors come in the other order: its sector tangents (derived points 0, 1)
+    /// swap.
+    Swap { slot: u32 },
+}
+
+impl Turn {
+    /// The slot turned.
+    fn slot(self) -> u32 {
+        match self {
+            Turn::Rotate { slot, .. } | Turn::Swap { slot } => slot,
+        }
+    }
+}
+
+impl LocalRows {
+    /// The rows of a face of the same connectivity but for where the rings of some vertices
+    /// start, over the same slots, at each slot of `turns` its derived points' weights
+    /// changed ([`Turn`]). Smooth: `e_j = p + cos(2 pi j / n) q_c + sin(2 pi j / n) q_s`
+    /// (`InteriorBasis`), so a ring read `d` faces later has `q_c' = cos a q_c + sin a q_s`,
+    /// `q_s' = -sin a q_c + cos a q_s` (`a = 2 pi d / n`) and a weight pair `(c, s)` on
+    /// `(q_c, q_s)` is one on `(q_c', q_s')` as `(cos a c - sin a s, sin a c + cos a s)`:
+    /// equal to the face's own construction to rounding (not bitwise; a rounding residue
+    /// made zero, `residue_zeroed`), but for an edge point's pair (the construction's
+    /// `(cos, sin)(2 pi j / n)` bitwise, `edge_sin_cos`), written as the construction writes
+    /// edge point `j + d` ([`turned_pair`]): the boundary curves two end caps share read the
+    /// same bits from both. Terms `kept` drops dropped after the turn,
+    /// and a turned pair read whole where either is read. Crease:
+    /// the two sector tangents' columns swapped.
+    pub(super) fn turned(&self, turns: &[Turn], kept: Terms, angles: &EdgeAngles) -> LocalRows {
+        let points = VERTEX_POINTS as usize;
+        let slots = self.starts.len() - 1;
+        let l = slots / (1 + points);
+        let column = |c: usize| &self.columns[self.starts[c] as usize..self.starts[c + 1] as usize];
+        // The turn of a derived column and which derived point of its slot it is.
+        let turn_of = |c: usize| match c < l {
+            true => None,
+            false => (turns.iter())
+                .find(|t| t.slot() as usize == (c - l) / points)
+                .map(|&t| (t, (c - l) % points)),
+        };
+        // Each column's terms in place (rows ascending), a turned pair's merged by row (the
+        // second's kept aside until its column).
+        let rows = self.offsets.len() - 1;
+        let mut columns = Vec::with_capacity(self.columns.len() + 2 * rows * turns.len());
+        let mut starts = Vec::with_capacity(slots + 1);
+        // Per row: its terms (those of a turned pair counted anew).
+        let mut per_row: Vec<u32> = (0..=rows)
+            .map(|r| match r {
+                0 => 0,
+                r => self.offsets[r] - self.offsets[r - 1],
+            })
+            .collect();
+        starts.push(0);
+        let mut pair = Vec::new();
+        for c in 0..slots {
+            match turn_of(c) {
+                Some((
+                    Turn::Rotate {
+                        cos,
+                        sin,
+                        steps,
+                        valence,
+                        ..
+                    },
+                    1,
+                )) => {
+                    pair.clear();
+                    for &(r, _) in column(c).iter().chain(column(c + 1)) {
+                        per_row[r as usize + 1] -= 1;
+                    }
+                    let (mut a, mut b) =
+                        (column(c).iter().peekable(), column(c + 1).iter().peekable());
+                    loop {
+                        let r = match (a.peek(), b.peek()) {
+                            (None, None) => break,
+                            (Some(x), None) => x.0,
+                            (None, Some(y)) => y.0,
+                            (Some(x), Some(y)) => x.0.min(y.0),
+                        };
+                        let wc = a.next_if(|x| x.0 == r).map_or(0.0, |x| x.1);
+                        let ws = b.next_if(|y| y.0 == r).map_or(0.0, |y| y.1);
+                        let edges = angles.of(valence as usize);
+                        let (x, y) = turned_pair([wc, ws], [cos, sin], steps, edges);
+                        if kept.keeps(x) {
+                            columns.push((r, x));
+                            per_row[r as usize + 1] += 1;
+                        }
+                        if kept.keeps(y) {
+                            pair.push((r, y));
+                            per_row[r as usize + 1] += 1;
+                        }
+                    }
+                }
+                Some((Turn::Rotate { .. }, 2)) => columns.extend_from_slice(&pair),
+                Some((Turn::Swap { .. }, 0)) => columns.extend_from_slice(column(c + 1)),
+                Some((Turn::Swap { .. }, 1)) => columns.extend_from_slice(column(c - 1)),
+                _ => columns.extend_from_slice(column(c)),
+            }
+            starts.push(columns.len() as u32);
+        }
+        for r in 0..rows {
+            per_row[r + 1] += per_row[r];
+        }
+        let mut derived: Vec<u32> = (self.derived.iter())
+            .flat_map(|&c| {
+                let c = c as usize;
+                let (own, other) = match turn_of(c) {
+                    Some((Turn::Rotate { .. }, 1)) => (Some(c), Some(c + 1)),
+                    Some((Turn::Rotate { .. }, 2)) => (Some(c), Some(c - 1)),
+                    Some((Turn::Swap { .. }, 0)) => (None, Some(c + 1)),
+                    Some((Turn::Swap { .. }, 1)) => (None, Some(c - 1)),
+                    _ => (Some(c), None),
+                };
+                own.into_iter().chain(other).map(|c| c as u32)
+            })
+            .collect();
+        derived.sort_unstable();
+        derived.dedup();
+        LocalRows {
+            offsets: per_row,
+            starts,
+            columns,
+            derived,
+        }
+    }
+}
+
+/// The weight pair `[c, s]` on a smooth vertex's `(q_c, q_s)` turned by `steps` of its
+/// faces (`[cos, sin]` of that angle, [`LocalRows::turned`]; `edges` its valence's
+/// [`EdgeAngles`]): where the pair is an edge point's, `edges[j]` bitwise (the
+/// construction's `edge_sin_cos(j, n)`), edge point `j + steps`'s as the
+/// construction writes it (bitwise its rows: the end caps' boundary curves, `p`, `e_plus`,
+/// `e_minus` and the neighbours' edge points, are the same bits in both patches at an edge);
+/// otherwise the pair rotated, its rounding residues zeroed.
+fn turned_pair(
+    [c, s]: [f64; 2],
+    [cos, sin]: [f64; 2],
+    steps: u32,
+    edges: &[(f64, f64)],
+) -> (f64, f64) {
+    if let Some(j) = edges.iter().position(|&e| e == (s, c)) {
+        let (s, c) = edges[(j + steps as usize) % edges.len()];
+        return (c, s);
+    }
+    let size = c.abs() + s.abs();
+    (
+        residue_zeroed(cos * c - sin * s, size),
+        residue_zeroed(sin * c + cos * s, size),
+    )
+}
+
+/// The edge points' weight pairs of smooth vertices up to a valence, `edge_sin_cos(j, n)`
+/// for `j < n`, computed once per call rather than per turned pair.
+pub(super) struct EdgeAngles(Vec<(f64, f64)>);
+
+impl EdgeAngles {
+    /// The pairs of every valence up to `max`.
+    pub(super) fn new(max: usize) -> EdgeAngles {
+        let pairs = (1..=max).flat_map(|n| (0..n).map(move |j| edge_sin_cos(j, n)));
+        EdgeAngles(pairs.collect())
+    }
+
+    /// Valence `n`'s pairs (`j` at `j`).
+    fn of(&self, n: usize) -> &[(f64, f64)] {
+        let first = n * (n - 1) / 2;
+        &self.0[first..first + n]
+    }
+}
+
+/// `x`, or zero where it is rounding residue (within a few ulps of `size`, the turned pair's
+/// weights' size): a turned weight whose construction's value is an exact zero (a cosine or
+/// sine sum's weight `sin(2 pi j / n)` at `j = 0`, say) comes out of [`LocalRows::turned`] as
+/// zero, so [`Terms::Nonzero`] drops it as it drops the construction's (a tiny term would
+/// move a corner's tangent rows' bits, [`Terms`]).
+fn residue_zeroed(x: f64, size: f64) -> f64 {
+    match x.abs() <= 8.0 * f64::EPSILON * size {
+        true => 0.0,
+        false => x,
+    }
 }
 
 /// `rows` over columns with the terms `kept` keeps, or `None` when a weight (kept or not) lies

@@ -33,11 +33,16 @@ const TOPOLOGY_CORPUS: [&str; 10] = [
 /// `CREASE_FROM`: darts where a semi-sharp line ends), after the level's own (semi-sharpness
 /// kept) if `own`.
 fn level_topologies(name: &str, own: bool) -> Vec<Topology> {
+    isolated_topologies(name, 2, own)
+}
+
+/// [`level_topologies`] of the isolation-`isolation` refinement.
+fn isolated_topologies(name: &str, isolation: u32, own: bool) -> Vec<Topology> {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
     let path = format!("{dir}{name}.obj");
     let mesh = ControlMesh::from_obj_file(&path, &Default::default()).unwrap();
     let level = crate::subdiv::Level::from_mesh(&mesh).unwrap();
-    let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, 2).unwrap();
+    let adaptive = crate::subdiv::adaptive::AdaptiveRefinement::new(&level, isolation).unwrap();
     let mut out = Vec::new();
     for l in &adaptive.levels {
         let t = l.topology();
@@ -523,4 +528,189 @@ fn face_rows_take_the_callers_ids() {
     }
     assert!(shared > 0 && direct > 0, "{shared} shared, {direct} direct");
     assert!(zeros > 0, "no zero term dropped");
+}
+
+/// Meshes whose end caps meet closed rings started at several faces: smooth vertices of
+/// many valences (car), a valence-64 pole, creases, corners and darts.
+const MESHES_TURNED: [&str; 4] = [
+    "catmark_car",
+    "catmark_pole64",
+    "catmark_cube_creases1",
+    "catmark_dart_edgecorner",
+];
+
+/// Faces whose types differ only in where their closed corners' rings start share one
+/// class, their rows turned from its first type's ([`LocalRows::turned`]): on every face of
+/// every level of the isolation-2 refinements of [`MESHES_TURNED`] (both end-cap topologies,
+/// the end caps' and the paper's tangents) the shared rows without their zero terms (as the
+/// draw tables take them, [`Terms::Nonzero`]) are the face-by-face construction's nonzero
+/// terms, row by row, to 1e-12 per weight ([`near_row`]), with the same ids but for rounding
+/// residues (the construction's `cos(2 pi j / n)` at `j = n / 4` is 6e-17, not zero; a turn
+/// zeroes such residues, `layouts::residue_zeroed`). Fails with the turn's sign or angle
+/// wrong, its pair of columns misplaced, a crease's sector tangents swapped where they
+/// should not be (or not where they should), a slot moved to the wrong vertex or a column
+/// lost; turned faces met (rows not bitwise the construction's).
+#[test]
+fn turned_rows_are_the_construction() {
+    let darts = DartLimits::new();
+    let (mut faces_seen, mut turned, mut residues) = (0, 0, 0);
+    for name in MESHES_TURNED {
+        for topo in level_topologies(name, false) {
+            let faces: Vec<u32> = (0..topo.face_count() as u32).collect();
+            for tangents in [GregoryTangents::EndCaps, GregoryTangents::Paper] {
+                let shared = end_cap_face_rows(&topo, &faces, tangents, &darts, Terms::Nonzero);
+                let direct = sparse_face_rows_direct_with(&topo, &faces, tangents, &darts, None);
+                let derived = |v, b| vertex_point_id(&topo, v, b);
+                for (i, want) in direct.iter().enumerate() {
+                    let f = faces[i];
+                    let Ok(want) = want else {
+                        assert!(shared.result(i).is_err(), "{name}: face {f}");
+                        continue;
+                    };
+                    let got = shared.rows(&topo, i, &|u| u, &derived);
+                    let want =
+                        FaceRows::relabelled(&want.offsets, &want.terms, Terms::Nonzero, |u| u);
+                    faces_seen += 1;
+                    turned += usize::from(got != want);
+                    assert_eq!(got.len(), want.len(), "{name}: face {f}");
+                    for (a, b) in got.rows().zip(want.rows()) {
+                        residues += near_row(a, b, &format!("{name}: face {f}"));
+                    }
+                }
+            }
+        }
+    }
+    log::info!("{faces_seen} faces, {turned} turned, {residues} residues one side only");
+    assert!(
+        turned * 2 > faces_seen,
+        "{turned} of {faces_seen} faces turned"
+    );
+}
+
+/// The rows the end caps' boundary curves and edge normals read, each corner's `p`, `e_plus`
+/// and `e_minus` and the neighbours' edge points beside each edge (rows `0..3 n` and
+/// `5 n..7 n` of a face of `n` corners, [`sparse_face_rows_direct`]), are bitwise the
+/// face-by-face construction's on every face of every level of `catmark_car` at isolation 2
+/// and `catmark_cube_creases1` at isolation 3 (both end-cap topologies, both tangents), turned
+/// or not: two end caps at an edge read its curve from the same bits (the watertightness of
+/// `tests/scheme_adaptive.rs`). Fails where a turned type's edge point is rotated rather than
+/// written as the construction writes it (`layouts::turned_pair`); faces turned elsewhere
+/// (their face points) met.
+#[test]
+fn boundary_rows_are_the_construction_bitwise() {
+    let darts = DartLimits::new();
+    let (mut faces_seen, mut turned) = (0, 0);
+    for (name, isolation) in [("catmark_car", 2), ("catmark_cube_creases1", 3)] {
+        for topo in isolated_topologies(name, isolation, false) {
+            let faces: Vec<u32> = (0..topo.face_count() as u32).collect();
+            for tangents in [GregoryTangents::EndCaps, GregoryTangents::Paper] {
+                let shared = end_cap_face_rows(&topo, &faces, tangents, &darts, Terms::Nonzero);
+                let direct = sparse_face_rows_direct_with(&topo, &faces, tangents, &darts, None);
+                let derived = |v, b| vertex_point_id(&topo, v, b);
+                for (i, want) in direct.iter().enumerate() {
+                    let Ok(want) = want else { continue };
+                    let got = shared.rows(&topo, i, &|u| u, &derived);
+                    let want =
+                        FaceRows::relabelled(&want.offsets, &want.terms, Terms::Nonzero, |u| u);
+                    let n = topo.face_size(faces[i]);
+                    assert_eq!(got.len(), 9 * n, "{name}: face {}", faces[i]);
+                    faces_seen += 1;
+                    turned += usize::from(got != want);
+                    let boundary = |r: &usize| *r < 3 * n || (5 * n..7 * n).contains(r);
+                    for (r, (a, b)) in got.rows().zip(want.rows()).enumerate() {
+                        if boundary(&r) {
+                            let bits = |row: &[(u32, f64)]| -> Vec<(u32, u64)> {
+                                row.iter().map(|&(id, w)| (id, w.to_bits())).collect()
+                            };
+                            assert_eq!(bits(a), bits(b), "{name}: face {} row {r}", faces[i]);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    log::info!("{faces_seen} faces, {turned} turned");
+    assert!(turned > 0, "no turned face among {faces_seen}");
+}
+
+/// Asserts that row `got` is row `want` to 1e-12 per weight, ids equal but for terms of
+/// either within 1e-15 of zero (rounding residues) that the other lacks: their number.
+fn near_row(got: &[(u32, f64)], want: &[(u32, f64)], what: &str) -> usize {
+    let (mut a, mut b) = (got.iter().peekable(), want.iter().peekable());
+    let mut residues = 0;
+    let mut residue = |x: f64| {
+        assert!(
+            x.abs() <= 1e-15,
+            "{what}: {x:e} on one side only: {got:?} for {want:?}"
+        );
+        residues += 1;
+    };
+    loop {
+        match (a.peek(), b.peek()) {
+            (None, None) => return residues,
+            (Some(x), Some(y)) if x.0 == y.0 => {
+                assert!(
+                    (x.1 - y.1).abs() <= 1e-12,
+                    "{what}: id {}: {:e} for {:e}",
+                    x.0,
+                    x.1,
+                    y.1
+                );
+                a.next();
+                b.next();
+            }
+            (Some(x), y) if y.is_none_or(|y| x.0 < y.0) => residue(a.next().map_or(0.0, |x| x.1)),
+            _ => residue(b.next().map_or(0.0, |y| y.1)),
+        }
+    }
+}
+
+/// The classes of [`turned_rows_are_the_construction`]'s meshes merge types of every closed
+/// kind: some members turn a smooth vertex's sums, some swap a crease's sector tangents, some
+/// are anchored at a dart, corner or crease (so that test checks each against the
+/// construction); and a face with a closed corner above [`MAX_TURNED_VALENCE`] (the pole) is
+/// its type's only class member. Fails if an anchored key reads a crease's, dart's or
+/// corner's ring from its first face, or the swap test never answers.
+#[test]
+fn classes_merge_every_closed_kind() {
+    let darts = DartLimits::new();
+    let (mut rotated, mut swapped, mut not_smooth, mut above) = (0, 0, 0, 0);
+    for name in MESHES_TURNED {
+        for topo in level_topologies(name, false) {
+            let faces: Vec<u32> = (0..topo.face_count() as u32).collect();
+            let mut keyer = Keyer::new(&topo, GregoryTangents::EndCaps, &darts);
+            let types = FaceTypes::new(&mut keyer, &faces);
+            let (rings, ring_at) = (&types.rings, &types.ring_at);
+            let reps = &types.representative;
+            let classes = TypeClasses::new(&mut keyer, &faces, reps, rings, ring_at);
+            for (t, &i) in reps.iter().enumerate() {
+                let class = classes.class_of[t] as usize;
+                let alone = classes.class_of.iter().filter(|&&c| c as usize == class);
+                if keyer.has_unturned_corner(faces[i]) {
+                    above += 1;
+                    assert_eq!(alone.count(), 1, "{name}: type {t}");
+                    continue;
+                }
+                if classes.first[class] as usize == t {
+                    continue;
+                }
+                let Some((_, turns)) = classes.turns(t as u32) else {
+                    continue;
+                };
+                for turn in turns {
+                    match turn {
+                        Turn::Rotate { .. } => rotated += 1,
+                        Turn::Swap { .. } => swapped += 1,
+                    }
+                }
+                let (_, anchors) = classes.of(t as u32);
+                not_smooth += anchors
+                    .iter()
+                    .filter(|a| a.follows != Follows::Turn)
+                    .count();
+            }
+        }
+    }
+    log::info!("{rotated} rotated, {swapped} swapped, {not_smooth} other anchors, {above} above");
+    assert!(rotated > 0 && swapped > 0 && not_smooth > 0 && above > 0);
 }
