@@ -552,33 +552,16 @@ const MESHES_TURNED: [&str; 4] = [
 /// lost; turned faces met (rows not bitwise the construction's).
 #[test]
 fn turned_rows_are_the_construction() {
-    let darts = DartLimits::new();
     let (mut faces_seen, mut turned, mut residues) = (0, 0, 0);
     for name in MESHES_TURNED {
-        for topo in level_topologies(name, false) {
-            let faces: Vec<u32> = (0..topo.face_count() as u32).collect();
-            for tangents in [GregoryTangents::EndCaps, GregoryTangents::Paper] {
-                let shared = end_cap_face_rows(&topo, &faces, tangents, &darts, Terms::Nonzero);
-                let direct = sparse_face_rows_direct_with(&topo, &faces, tangents, &darts, None);
-                let derived = |v, b| vertex_point_id(&topo, v, b);
-                for (i, want) in direct.iter().enumerate() {
-                    let f = faces[i];
-                    let Ok(want) = want else {
-                        assert!(shared.result(i).is_err(), "{name}: face {f}");
-                        continue;
-                    };
-                    let got = shared.rows(&topo, i, &|u| u, &derived);
-                    let want =
-                        FaceRows::relabelled(&want.offsets, &want.terms, Terms::Nonzero, |u| u);
-                    faces_seen += 1;
-                    turned += usize::from(got != want);
-                    assert_eq!(got.len(), want.len(), "{name}: face {f}");
-                    for (a, b) in got.rows().zip(want.rows()) {
-                        residues += near_row(a, b, &format!("{name}: face {f}"));
-                    }
-                }
+        shared_and_direct_rows(name, level_topologies(name, false), |f, _, got, want| {
+            faces_seen += 1;
+            turned += usize::from(got != want);
+            assert_eq!(got.len(), want.len(), "{name}: face {f}");
+            for (a, b) in got.rows().zip(want.rows()) {
+                residues += near_row(a, b, &format!("{name}: face {f}"));
             }
-        }
+        });
     }
     log::info!("{faces_seen} faces, {turned} turned, {residues} residues one side only");
     assert!(
@@ -598,39 +581,55 @@ fn turned_rows_are_the_construction() {
 /// (their face points) met.
 #[test]
 fn boundary_rows_are_the_construction_bitwise() {
-    let darts = DartLimits::new();
     let (mut faces_seen, mut turned) = (0, 0);
     for (name, isolation) in [("catmark_car", 2), ("catmark_cube_creases1", 3)] {
-        for topo in isolated_topologies(name, isolation, false) {
-            let faces: Vec<u32> = (0..topo.face_count() as u32).collect();
-            for tangents in [GregoryTangents::EndCaps, GregoryTangents::Paper] {
-                let shared = end_cap_face_rows(&topo, &faces, tangents, &darts, Terms::Nonzero);
-                let direct = sparse_face_rows_direct_with(&topo, &faces, tangents, &darts, None);
-                let derived = |v, b| vertex_point_id(&topo, v, b);
-                for (i, want) in direct.iter().enumerate() {
-                    let Ok(want) = want else { continue };
-                    let got = shared.rows(&topo, i, &|u| u, &derived);
-                    let want =
-                        FaceRows::relabelled(&want.offsets, &want.terms, Terms::Nonzero, |u| u);
-                    let n = topo.face_size(faces[i]);
-                    assert_eq!(got.len(), 9 * n, "{name}: face {}", faces[i]);
-                    faces_seen += 1;
-                    turned += usize::from(got != want);
-                    let boundary = |r: &usize| *r < 3 * n || (5 * n..7 * n).contains(r);
-                    for (r, (a, b)) in got.rows().zip(want.rows()).enumerate() {
-                        if boundary(&r) {
-                            let bits = |row: &[(u32, f64)]| -> Vec<(u32, u64)> {
-                                row.iter().map(|&(id, w)| (id, w.to_bits())).collect()
-                            };
-                            assert_eq!(bits(a), bits(b), "{name}: face {} row {r}", faces[i]);
-                        }
-                    }
+        let topologies = isolated_topologies(name, isolation, false);
+        shared_and_direct_rows(name, topologies, |f, n, got, want| {
+            assert_eq!(got.len(), 9 * n, "{name}: face {f}");
+            faces_seen += 1;
+            turned += usize::from(got != want);
+            let boundary = |r: &usize| *r < 3 * n || (5 * n..7 * n).contains(r);
+            for (r, (a, b)) in got.rows().zip(want.rows()).enumerate() {
+                if boundary(&r) {
+                    let bits = |row: &[(u32, f64)]| -> Vec<(u32, u64)> {
+                        row.iter().map(|&(id, w)| (id, w.to_bits())).collect()
+                    };
+                    assert_eq!(bits(a), bits(b), "{name}: face {f} row {r}");
                 }
             }
-        }
+        });
     }
     log::info!("{faces_seen} faces, {turned} turned");
     assert!(turned > 0, "no turned face among {faces_seen}");
+}
+
+/// For every face of every topology of `topologies` and both tangents: `visit(face, its size,
+/// the shared rows, the face-by-face construction's rows)` (`Terms::Nonzero`), after asserting
+/// that the faces the construction refuses are refused by the shared rows too.
+fn shared_and_direct_rows(
+    name: &str,
+    topologies: Vec<Topology>,
+    mut visit: impl FnMut(u32, usize, &FaceRows, &FaceRows),
+) {
+    let darts = DartLimits::new();
+    for topo in topologies {
+        let faces: Vec<u32> = (0..topo.face_count() as u32).collect();
+        for tangents in [GregoryTangents::EndCaps, GregoryTangents::Paper] {
+            let shared = end_cap_face_rows(&topo, &faces, tangents, &darts, Terms::Nonzero);
+            let direct = sparse_face_rows_direct_with(&topo, &faces, tangents, &darts, None);
+            let derived = |v, b| vertex_point_id(&topo, v, b);
+            for (i, want) in direct.iter().enumerate() {
+                let f = faces[i];
+                let Ok(want) = want else {
+                    assert!(shared.result(i).is_err(), "{name}: face {f}");
+                    continue;
+                };
+                let got = shared.rows(&topo, i, &|u| u, &derived);
+                let want = FaceRows::relabelled(&want.offsets, &want.terms, Terms::Nonzero, |u| u);
+                visit(f, topo.face_size(f), &got, &want);
+            }
+        }
+    }
 }
 
 /// Asserts that row `got` is row `want` to 1e-12 per weight, ids equal but for terms of
