@@ -22,17 +22,20 @@
 //! the key. The vertex points' own (first-stage) rows are shared the same way, per ring type
 //! ([`shared_vertex_point_rows`]).
 //!
-//! Types are shared further where they differ only in where their smooth corners' rings start
+//! Types are shared further where they differ only in where their closed corners' rings start
 //! (the topology starts a closed ring at its lowest-numbered face, which on refined levels is
-//! arbitrary): the type key read with each smooth vertex's ring started at the face keyed (the
-//! neighbour face for a one-sided neighbour's far corner) groups types into classes, built
-//! directly once per class. A smooth vertex's rows read its ring start only through its
-//! derived cosine and sine sums (`InteriorBasis`: `e_j = p + cos(2 pi j / n) q_c +
-//! sin(2 pi j / n) q_s`), so a type's rows are its class's first type's relabelled with the
-//! weight pair on each such vertex's `(q_c, q_s)` turned by the angle between the two starts
-//! (`LocalRows::turned`): equal to rounding, not bitwise (on the car at isolation 2, 210
-//! types make 25 classes). Darts and creases keep their start in the key (their derived
-//! points follow the sharp edge's index and sector order).
+//! arbitrary): the type key read with each closed corner's ring (valence at most
+//! `MAX_TURNED_VALENCE`) started at the face keyed (the neighbour face for a one-sided
+//! neighbour's far corner) groups types into classes, built directly once per class (on the car
+//! at isolation 2, 210 / 170 types per call make 27 / 25 classes). A type's rows are its
+//! class's first type's relabelled (`LocalRows::turned`, `Follows`): a smooth vertex reads
+//! its ring start only through its derived cosine and sine sums (`InteriorBasis`: `e_j = p +
+//! cos(2 pi j / n) q_c + sin(2 pi j / n) q_s`), so the weight pair on its `(q_c, q_s)` turns by
+//! the angle between the two starts; a crease's two sector tangents swap where its sectors come
+//! in the other order; darts, corners and cones relabel only. The rows the boundary curves and
+//! edge normals read (each corner's `p`, `e_plus`, `e_minus`, the neighbours' edge points) are
+//! written bitwise as the construction writes them, so two end caps at an edge read the same
+//! bits; the face points' rows equal the construction's to rounding.
 
 mod layouts;
 mod vertex_points;
@@ -193,11 +196,11 @@ impl<'a> Keyer<'a> {
         start
     }
 
-    /// [`Self::key`] with every smooth corner's ring, and every smooth far corner's
-    /// ([`Self::push_one_sided_neighbour`]), read from the face keyed (the neighbour face for
-    /// a far corner) rather than from the vertex's first face: faces whose keys differ only in
-    /// where those rings start get the same anchored key; `anchors` the smooth vertices read
-    /// (in key order, so faces of one anchored key list them alike).
+    /// [`Self::key`] with every closed corner's ring that [`Self::start`] anchors, and every
+    /// smooth far corner's ([`Self::push_one_sided_neighbour`]), read from the face keyed (the
+    /// neighbour face for a far corner) rather than from the vertex's first face: faces whose
+    /// keys differ only in where those rings start get the same anchored key; `anchors` the
+    /// vertices so read (in key order, so faces of one anchored key list them alike).
     fn anchored_key(
         &mut self,
         f: u32,
@@ -400,8 +403,8 @@ impl Keyer<'_> {
 
 /// The connectivity types of one call grouped into classes: types whose representatives'
 /// anchored keys ([`Keyer::anchored_key`]) agree, so that their rows differ only in where their
-/// smooth vertices' rings start: in the derived cosine and sine sums of those vertices
-/// (`InteriorBasis`), which a turn of the first type's rows gives ([`LocalRows::turned`]).
+/// anchored vertices' rings start ([`Follows`]), which a turn of the first type's rows gives
+/// ([`LocalRows::turned`]).
 struct TypeClasses {
     /// Per type: its class.
     class_of: Vec<u32>,
@@ -563,8 +566,8 @@ fn direct_batches(
 }
 
 /// [`sparse_face_rows_direct`] with the construction run once per connectivity type (module
-/// docs): the same rows ([`sparse_face_rows_flat`] as [`Weights`]), bitwise but for turned
-/// types' cosine and sine sums (module docs).
+/// docs): the same rows ([`sparse_face_rows_flat`] as [`Weights`]), bitwise but for the face
+/// points of turned types (module docs).
 pub fn sparse_face_rows(
     topo: &Topology,
     faces: &[u32],
@@ -770,7 +773,7 @@ pub fn end_cap_face_rows(
         ring_at,
     } = FaceTypes::new(&mut keyer, faces);
     let ring_of = |ring_at: &[u32], i: usize| ring_at[i] as usize..ring_at[i + 1] as usize;
-    // Pass 2: the types' classes (equal up to where smooth vertices' rings start), then the
+    // Pass 2: the types' classes (equal up to where closed corners' rings start), then the
     // first representative of each class and the faces without type, directly, in one batch
     // (one vertex's data serves all its faces).
     let classes = TypeClasses::new(&mut keyer, faces, &representative, &rings, &ring_at);
@@ -904,7 +907,6 @@ pub fn end_cap_face_rows(
         ring_at,
         kept,
     };
-
     log::trace!(
         "end-cap rows: {} faces, {} connectivity types in {} classes, {} + {} built directly",
         faces.len(),
