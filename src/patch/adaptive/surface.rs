@@ -18,7 +18,8 @@ use super::promoted::{
 };
 use crate::patch::basis::{bernstein_deriv, eval_tensor};
 use crate::patch::gregory::{
-    gregory_patch_at_for, Coverage, DartLimits, GregoryPatch, GregoryTangents, NotGregory,
+    apply_terms, gregory_patch_at_for, Coverage, DartLimits, GregoryPatch, GregoryTangents,
+    NotGregory,
 };
 use crate::patch::regular::RegularPatch;
 use crate::patch::single_crease::SingleCreasePatch;
@@ -816,9 +817,7 @@ fn lattice_normals(
 ) -> HashMap<usize, Vec<LatticeNormals>> {
     let at = patch_index(refinement, census);
     let frames = LatticeFrames::new(refinement, census, topologies, &at, 0, masks);
-    // As `Weights::apply`: the terms in order.
-    let apply =
-        |w: &[(u32, f64)]| -> DVec3 { w.iter().map(|&(v, x)| x * positions[v as usize]).sum() };
+    let apply = |w: &[(u32, f64)]| apply_terms(w, positions);
     let normal = |f: u32| {
         let [d1, d2] = frames.rows.get(f as usize)?;
         Some(apply(d1).cross(apply(d2)).normalize_or_zero())

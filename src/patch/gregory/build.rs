@@ -5,7 +5,7 @@ use super::eval::{CornerRef, GregoryQuad, GregoryTriangle, PointRecipe};
 use super::point::{combine, GregoryPoint, Weights};
 use super::tangents::GregoryTangents;
 use super::vertex::{
-    has_construction, sectors, DartLimits, GregoryVertex, Sector, SharpEdges, VertexRing,
+    has_construction, sectors, DartLimits, GregoryVertex, Rule, Sector, SharpEdges, VertexRing,
 };
 use crate::mesh::INFINITE_SHARPNESS;
 use crate::patch::regular::RegularPatch;
@@ -625,6 +625,18 @@ pub(super) fn has_vertex_data(topo: &Topology, v: u32, darts: &DartLimits) -> bo
         return false;
     }
     has_construction(shape, corner_tag(vertex, shape.sharp), faces, darts)
+}
+
+/// The rule [`GregoryVertex::new`] takes at vertex `v`, from the topology alone (its edges'
+/// sharpness, corner tag and face count, as [`has_vertex_data`] reads them), and the ring's
+/// sharp edges.
+#[inline]
+pub(super) fn topology_rule(topo: &Topology, v: u32) -> (Rule, SharpEdges) {
+    let edges = topo.vertex_edges(v);
+    let shape = SharpEdges::of_flags(edges.iter().map(|&e| is_inf(topo.edge_sharpness(e))));
+    let corner = corner_tag(topo.vertex_sharpness(v), shape.sharp);
+    let rule = Rule::of_shape(shape, corner, topo.vertex_faces(v).len());
+    (rule, shape)
 }
 
 /// The corner tag of vertex `v`'s ring ([`VertexRing::corner`]), given its edges' sharpness

@@ -57,7 +57,7 @@ pub use build::{
     vertex_ring_with, Coverage, GregoryPatch, NotGregory,
 };
 pub use eval::{CornerRef, GregoryQuad, GregoryTriangle, PatchPoint};
-pub use point::{combine, GregoryPoint, Weights};
+pub use point::{apply_terms, combine, GregoryPoint, Weights};
 pub use tangents::GregoryTangents;
 pub use vertex::{
     crease_tangent_weights, face_point, face_point_cos, is_interior_ring, sectors,

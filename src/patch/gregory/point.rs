@@ -84,8 +84,14 @@ impl Weights {
 
     /// Applies the weights to positions.
     pub fn apply(&self, positions: &[DVec3]) -> DVec3 {
-        self.0.iter().map(|&(v, w)| w * positions[v as usize]).sum()
+        apply_terms(&self.0, positions)
     }
+}
+
+/// The point `(id, weight)` terms `terms` give over `positions`, summed in order
+/// ([`Weights::apply`] on a borrowed row).
+pub fn apply_terms(terms: &[(u32, f64)], positions: &[DVec3]) -> DVec3 {
+    terms.iter().map(|&(v, w)| w * positions[v as usize]).sum()
 }
 
 impl GregoryPoint for Weights {

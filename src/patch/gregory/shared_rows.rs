@@ -43,7 +43,8 @@ mod vertex_points;
 use rayon::prelude::*;
 
 use super::build::{
-    end_cap_patch_with, has_vertex_data, is_interior_vertex, vertex_covered, Coverage, NotGregory,
+    end_cap_patch_with, has_vertex_data, is_interior_vertex, topology_rule, vertex_covered,
+    Coverage, NotGregory,
 };
 use super::corner_rings::{edge_word, vertex_word, CornerRings};
 pub use super::face_rows::{FaceRows, Terms};
@@ -53,7 +54,7 @@ use super::stencil_table::sparse_face_rows_direct;
 use super::stencil_table::{sparse_face_rows_direct_with, vertex_point_id, vertex_point_of};
 use super::tangents::GregoryTangents;
 use super::tangents_boundary::crease_factor_words;
-use super::vertex::DartLimits;
+use super::vertex::{DartLimits, Rule};
 use super::word_hash::WordHashMap;
 use crate::topology::Topology;
 use layouts::{to_slots, EdgeAngles, Layouts, LocalRows, Turn};
@@ -173,16 +174,16 @@ impl<'a> Keyer<'a> {
             return 0;
         }
         let start = faces.iter().position(|&g| g == f).unwrap_or(0);
-        let inf = |s: f32| s >= crate::mesh::INFINITE_SHARPNESS;
-        let mut sharp = (0..edges.len()).filter(|&j| inf(topo.edge_sharpness(edges[j])));
-        let (first, second, more) = (sharp.next(), sharp.next(), sharp.next().is_some());
-        // `vertex::Rule::of_shape` of the ring (its corner tag: an infinitely sharp vertex or
-        // more than two sharp edges).
-        let follows = match (first, second) {
-            _ if more || inf(topo.vertex_sharpness(v)) => Follows::Not,
-            (None, _) => Follows::Turn,
-            (Some(_), None) => Follows::Not,
-            (Some(a), Some(b)) => Follows::Sectors(a < start && start <= b),
+        let follows = match topology_rule(topo, v) {
+            (Rule::Interior, _) => Follows::Turn,
+            (Rule::Crease, sharp) => {
+                // The crease's two sharp edges: the first and the next after it.
+                let inf = |&e: &u32| topo.edge_sharpness(e) >= crate::mesh::INFINITE_SHARPNESS;
+                let after = &edges[sharp.first + 1..];
+                let second = sharp.first + 1 + after.iter().position(inf).unwrap_or(0);
+                Follows::Sectors(sharp.first < start && start <= second)
+            }
+            _ => Follows::Not,
         };
         let anchor = Anchor {
             vertex: v,

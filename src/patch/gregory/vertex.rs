@@ -268,7 +268,7 @@ pub fn is_interior_ring<P>(ring: &VertexRing<P>) -> bool {
 
 /// Which construction [`GregoryVertex::new`] takes on a ring.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Rule {
+pub(super) enum Rule {
     /// No sharp edge, no corner tag, faces closed around the vertex.
     Interior,
     /// One infinitely sharp edge (this ring edge), faces closed around the vertex.
@@ -328,7 +328,7 @@ impl Rule {
     }
 
     /// [`Rule::of`] a ring with these edges, corner tag and face count.
-    fn of_shape(edges: SharpEdges, corner: bool, faces: usize) -> Rule {
+    pub(super) fn of_shape(edges: SharpEdges, corner: bool, faces: usize) -> Rule {
         let sharp = edges.sharp;
         let closed = faces == edges.edges;
         if sharp == 1 && !corner && closed {
