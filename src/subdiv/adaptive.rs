@@ -413,13 +413,15 @@ impl<'a> PatchTests<'a> {
     }
 
     fn regular_vertex(&mut self, v: u32) -> bool {
-        judged_once(&mut self.vertex, v, || is_regular_vertex(self.topo, v))
+        judged_once(&mut self.vertex, v, || {
+            is_regular_vertex(self.topo, v, self.quads_only)
+        })
     }
 
     /// The single-crease line of face `f` (one with a limit surface), if any
     /// ([`super::single_crease::single_crease_line`]).
     fn single_crease_line(&mut self, f: u32) -> Option<CreaseLine> {
-        let topo = self.topo;
+        let (topo, quads_only) = (self.topo, self.quads_only);
         let quad = self.quad(f)?;
         if self.grid_corner.is_empty() {
             self.grid_corner = vec![2; topo.vertex_count()];
@@ -428,7 +430,7 @@ impl<'a> PatchTests<'a> {
         if !quad
             .0
             .iter()
-            .all(|&v| judged_once(memo, v, || is_grid_corner(topo, v)))
+            .all(|&v| judged_once(memo, v, || is_grid_corner(topo, v, quads_only)))
         {
             return None;
         }

@@ -141,7 +141,9 @@ fn corner_kind(topo: &Topology, v: u32, f: u32) -> CornerKind {
 /// crease/corner vertex whose every sector is the size a regular patch takes). Feature-adaptive
 /// refinement judges regularity per vertex so that neighbouring patch levels differ by at most
 /// one (Köbler 2013 §3.7): a crease vertex with sectors of 2 and 4 faces is irregular for both.
-pub(crate) fn is_regular_vertex(topo: &Topology, v: u32) -> bool {
+/// `quads_only`: whether every face of `topo` is a quad ([`Topology::quads_only`], asked once
+/// per level); then a smooth vertex's face sizes are not read.
+pub(crate) fn is_regular_vertex(topo: &Topology, v: u32, quads_only: bool) -> bool {
     // Without sharpness the vertex looks the same from each of its faces (`corner_kind`'s
     // smooth case): judged once, not once per face.
     let vs = topo.vertex_sharpness(v);
@@ -156,7 +158,7 @@ pub(crate) fn is_regular_vertex(topo: &Topology, v: u32) -> bool {
         // as faces: interior (`Topology::is_boundary_vertex`).
         return faces.len() == 4
             && topo.vertex_edges(v).len() == 4
-            && faces.iter().all(|&g| topo.face_size(g) == 4);
+            && (quads_only || faces.iter().all(|&g| topo.face_size(g) == 4));
     }
     faces
         .iter()
@@ -417,7 +419,8 @@ pub(crate) fn interior_grid_lines(
     face: u32,
 ) -> Option<([u32; 16], [[u32; 3]; 4])> {
     let quad = quad_with_limit(topo, face)?;
-    if !quad.0.iter().all(|&v| is_grid_corner(topo, v)) {
+    let quads_only = topo.quads_only();
+    if !quad.0.iter().all(|&v| is_grid_corner(topo, v, quads_only)) {
         return None;
     }
     interior_grid_lines_at_grid_corners(topo, face, quad)
@@ -426,13 +429,13 @@ pub(crate) fn interior_grid_lines(
 /// Whether `v` is an interior valence-4 vertex with only quads around it and no vertex
 /// sharpness, whatever its edges' sharpness: a corner [`interior_grid_lines`] takes. The counts
 /// first: they are the cheap tests and settle most vertices; as many edges as faces, it is
-/// interior ([`Topology::is_boundary_vertex`]).
-pub(crate) fn is_grid_corner(topo: &Topology, v: u32) -> bool {
+/// interior ([`Topology::is_boundary_vertex`]). `quads_only` as [`is_regular_vertex`] takes it.
+pub(crate) fn is_grid_corner(topo: &Topology, v: u32, quads_only: bool) -> bool {
     let faces = topo.vertex_faces(v);
     faces.len() == 4
         && topo.vertex_edges(v).len() == 4
         && topo.vertex_sharpness(v) == 0.0
-        && faces.iter().all(|&g| topo.face_size(g) == 4)
+        && (quads_only || faces.iter().all(|&g| topo.face_size(g) == 4))
 }
 
 /// [`interior_grid_lines`] of a quad with a limit surface whose corners are known to pass
@@ -797,19 +800,24 @@ mod tests {
         );
         for (name, _, level) in &levels {
             let t = level.topology();
+            let quads_only = t.quads_only();
             for v in 0..t.vertex_count() as u32 {
                 let per_face = t
                     .vertex_faces(v)
                     .iter()
                     .all(|&f| corner_kind(t, v, f) != CornerKind::Irregular);
-                assert_eq!(is_regular_vertex(t, v), per_face, "{name} vertex {v}");
+                assert_eq!(
+                    is_regular_vertex(t, v, quads_only),
+                    per_face,
+                    "{name} vertex {v}"
+                );
                 regular += usize::from(per_face);
             }
             for f in 0..t.face_count() as u32 {
                 let Some(quad) = t.quad(f).filter(|_| t.has_limit_surface(f)) else {
                     continue;
                 };
-                if quad.0.iter().all(|&v| is_regular_vertex(t, v)) {
+                if quad.0.iter().all(|&v| is_regular_vertex(t, v, quads_only)) {
                     assert_eq!(
                         RegularPatch::gather_at_regular_corners(t, f, quad),
                         RegularPatch::gather(t, f),

@@ -104,7 +104,7 @@ pub(super) fn refine_in_place(
     sub.options = t.options;
     let mut points = quads.points;
     points.quad_faces = quads.parent_face;
-    let incomplete = incomplete_points(level, &sub, &points, &in_ring, &outside);
+    let incomplete = incomplete_points(level, &sub, &points, (ring, &in_ring), &outside);
     let first_vertex = points.faces.len() + points.edges.len();
     for (j, &pv) in points.vertices.iter().enumerate() {
         sub.vertex_sharpness[first_vertex + j] = decrement(t.vertex_sharpness[pv as usize]);
@@ -428,30 +428,29 @@ fn closed_fan(rings: &mut topology::RingBuilder, fan: &[(u32, u16)]) {
     }
 }
 
-/// Per child vertex of `sub` (child points `points` of `level`'s faces `in_ring`, `outside`
-/// the vertices touching other faces): incomplete when a parent vertex it depends on is
-/// incomplete in the step's faces (a corner of its face point's face, of its edge point's
-/// faces, or of its vertex point's faces), when its edge point's edge is cut there, or when
-/// `sub` misses some of its faces in the whole refinement.
+/// Per child vertex of `sub` (child points `points` of `level`'s faces `ring`, flagged per
+/// face in `in_ring`; `outside` the vertices touching other faces): incomplete when a parent
+/// vertex it depends on is incomplete in the step's faces (a corner of its face point's face,
+/// of its edge point's faces, or of its vertex point's faces), when its edge point's edge is
+/// cut there, or when `sub` misses some of its faces in the whole refinement.
 fn incomplete_points(
     level: &Level,
     sub: &Topology,
     points: &StepPoints,
-    in_ring: &[bool],
+    (ring, in_ring): (&[u32], &[bool]),
     outside: &[bool],
 ) -> Vec<bool> {
     let t = level.topology();
     let bad = |v: u32| !level.is_complete_vertex(v) || outside[v as usize];
-    // Per parent face: 0 complete, 1 not, 2 not judged yet (a face is asked for by its face
-    // point, the edge points of its edges and the vertex points of its corners).
-    let mut memo = vec![2u8; t.face_count()];
-    let mut face_bad = |f: u32| {
-        let m = &mut memo[f as usize];
-        if *m == 2 {
-            *m = u8::from(t.face_vertices(f).iter().any(|&v| bad(v)));
-        }
-        *m == 1
-    };
+    // Per ring face: a corner is bad, judged in one pass. Only ring faces are asked for: a
+    // face point's face holds a kept child, an edge point's faces are asked for once known to
+    // be in the ring, and a vertex point's vertex is a kept child's corner, whose faces are
+    // all in the ring (`KeptQuads::new`).
+    let mut bad_face = vec![false; t.face_count()];
+    for &f in ring {
+        bad_face[f as usize] = t.face_vertices(f).iter().any(|&v| bad(v));
+    }
+    let face_bad = |f: u32| bad_face[f as usize];
     // The ring sizes of `sub`'s vertices `a..b` (their faces kept), in order.
     let sizes = |a: usize, b: usize| {
         sub.vert_face_offsets[a..=b]

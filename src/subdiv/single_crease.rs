@@ -183,7 +183,8 @@ mod tests {
                 );
                 // The census's path: the corners judged apart, once per vertex.
                 let quad = t.quad(f).filter(|_| t.has_limit_surface(f));
-                if let Some(quad) = quad.filter(|q| q.0.iter().all(|&v| is_grid_corner(t, v))) {
+                let grid_corner = |v| is_grid_corner(t, v, t.quads_only());
+                if let Some(quad) = quad.filter(|q| q.0.iter().all(|&v| grid_corner(v))) {
                     assert_eq!(
                         single_crease_line_at_grid_corners(t, f, quad),
                         line,
