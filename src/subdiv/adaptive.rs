@@ -47,30 +47,33 @@ pub struct Domain {
 }
 
 impl Domain {
-    /// The domain of child `k` (the quad at corner `k`) of a face with this domain and `n`
-    /// corners.
-    fn child(&self, k: usize, n: usize) -> Domain {
-        if n != 4 {
-            return Domain {
-                sub_face: Some(k as u32),
-                origin: DVec2::ZERO,
-                u: DVec2::X,
-                v: DVec2::Y,
-                ..*self
-            };
-        }
+    /// The domains of the children (child `k` the quad at corner `k`) of a face with this
+    /// domain and `n` corners, by `k`: the corners' images computed once a face, not once a
+    /// child.
+    fn children(self, n: usize) -> impl Fn(usize) -> Domain {
         let corner = [
             self.origin,
             self.origin + self.u,
             self.origin + self.u + self.v,
             self.origin + self.v,
         ];
-        let p = corner[k];
-        Domain {
-            origin: p,
-            u: 0.5 * (corner[(k + 1) % 4] - p),
-            v: 0.5 * (corner[(k + 3) % 4] - p),
-            ..*self
+        move |k| {
+            if n != 4 {
+                return Domain {
+                    sub_face: Some(k as u32),
+                    origin: DVec2::ZERO,
+                    u: DVec2::X,
+                    v: DVec2::Y,
+                    ..self
+                };
+            }
+            let p = corner[k];
+            Domain {
+                origin: p,
+                u: 0.5 * (corner[(k + 1) % 4] - p),
+                v: 0.5 * (corner[(k + 3) % 4] - p),
+                ..self
+            }
         }
     }
 }
@@ -684,11 +687,12 @@ fn refine_sparse(cur: &mut AdaptiveLevel) -> Result<AdaptiveLevel> {
         let r = cur.refined[f as usize];
         let fv = t.face_vertices(f);
         let off = t.face_offsets()[f as usize];
+        let child = cur.domains[f as usize].children(fv.len());
         for (k, &v) in fv.iter().enumerate() {
             if r || selected[v as usize] {
                 keep.push(off + k as u32);
                 own.push(r);
-                domains.push(cur.domains[f as usize].child(k, fv.len()));
+                domains.push(child(k));
             }
         }
     }

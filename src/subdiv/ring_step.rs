@@ -231,35 +231,6 @@ fn point_of(index: &mut [u32], points: &mut Vec<u32>, x: u32) -> u32 {
 fn child_edges(level: &Level, fc: FaceCorners, quads: &KeptQuads, keep: &[u32]) -> KeptEdges {
     let t = level.topology();
     let mut edges = KeptEdges::new(quads.parent_face.len());
-    // The half at `v` of parent edge `e` (the edge `kf` of face `f`) as kept child `i`'s edge
-    // `local` (0: the corner's edge, 3: the previous one): shared with the child at `v` in the
-    // face across (where the edge is entering, or leaving, `v`: at the next corner of `e`'s
-    // corner there, or at that corner), as its edge 3, or 0.
-    let half = |edges: &mut KeptEdges, (i, local): (u32, u16), f: u32, e: u32, kf: u32, v: u32| {
-        let (g, kg) = across(t, e, f, kf);
-        let c = if g == NONE {
-            NONE
-        } else {
-            let (off, end) = fc.range(g);
-            let corner = off + kg;
-            let corner = if local == 0 {
-                next_in(corner, off, end)
-            } else {
-                corner
-            };
-            quads.kept[corner as usize]
-        };
-        let cut = (c == NONE && g != NONE) || level.is_cut_edge(e);
-        // A smooth parent edge has smooth halves (`rules::child_sharpness`): most edges, with
-        // no call.
-        let sharpness = if t.edge_sharpness[e as usize] == 0.0 {
-            0.0
-        } else {
-            child_edge_sharpness(t, e, v)
-        };
-        let other = (c != NONE).then_some((c, 3 - local));
-        edges.push(&quads.corners, (i, local), other, sharpness, cut);
-    };
     // A spoke, child `i`'s edge `local` (1: to the edge point of the corner's edge, 2: to the
     // previous edge's), shared with the child at the next corner (as its edge 2), or at the
     // previous one (its edge 1).
@@ -277,7 +248,8 @@ fn child_edges(level: &Level, fc: FaceCorners, quads: &KeptQuads, keep: &[u32]) 
         let unmade =
             |edges: &KeptEdges, local: usize| edges.face_edges[4 * i as usize + local] == NONE;
         if unmade(&edges, 0) {
-            half(&mut edges, (i, 0), f, t.face_edges[h as usize], h - off, v);
+            let e = t.face_edges[h as usize];
+            push_half(level, fc, quads, &mut edges, (i, 0), (f, e, h - off, v));
         }
         if unmade(&edges, 1) {
             spoke(&mut edges, (i, 1), quads.kept[next as usize]);
@@ -286,17 +258,51 @@ fn child_edges(level: &Level, fc: FaceCorners, quads: &KeptQuads, keep: &[u32]) 
             spoke(&mut edges, (i, 2), quads.kept[prev as usize]);
         }
         if unmade(&edges, 3) {
-            half(
-                &mut edges,
-                (i, 3),
-                f,
-                t.face_edges[prev as usize],
-                prev - off,
-                v,
-            );
+            let e = t.face_edges[prev as usize];
+            push_half(level, fc, quads, &mut edges, (i, 3), (f, e, prev - off, v));
         }
     }
     edges
+}
+
+/// The half at `v` of parent edge `e` (the edge `kf` of face `f`) as kept child `i`'s edge
+/// `local` (0: the corner's edge, 3: the previous one) of a step of `level` ([`child_edges`]):
+/// shared with the child at `v` in the face across (where the edge is entering, or leaving,
+/// `v`: at the next corner of `e`'s corner there, or at that corner), as its edge 3, or 0.
+/// Inlined into its two calls (a call a parent edge half, most of a step's edges).
+#[inline(always)]
+fn push_half(
+    level: &Level,
+    fc: FaceCorners,
+    quads: &KeptQuads,
+    edges: &mut KeptEdges,
+    (i, local): (u32, u16),
+    (f, e, kf, v): (u32, u32, u32, u32),
+) {
+    let t = level.topology();
+    let (g, kg) = across(t, e, f, kf);
+    let c = if g == NONE {
+        NONE
+    } else {
+        let (off, end) = fc.range(g);
+        let corner = off + kg;
+        let corner = if local == 0 {
+            next_in(corner, off, end)
+        } else {
+            corner
+        };
+        quads.kept[corner as usize]
+    };
+    let cut = (c == NONE && g != NONE) || level.is_cut_edge(e);
+    // A smooth parent edge has smooth halves (`rules::child_sharpness`): most edges, with no
+    // call.
+    let sharpness = if t.edge_sharpness[e as usize] == 0.0 {
+        0.0
+    } else {
+        child_edge_sharpness(t, e, v)
+    };
+    let other = (c != NONE).then_some((c, 3 - local));
+    edges.push(&quads.corners, (i, local), other, sharpness, cut);
 }
 
 /// The flat corner ranges of a parent level's faces: by quad arithmetic on a level of quads
@@ -421,7 +427,9 @@ fn child_rings(
 }
 
 /// The ring of a point whose children form the closed fan `fan` (in parent ring order): one
-/// cycle when every child is kept, runs otherwise.
+/// cycle when every child is kept, runs otherwise. Inlined into its three calls, with
+/// [`topology::RingBuilder::try_quad_cycle`] (one call a point).
+#[inline(always)]
 fn closed_fan(rings: &mut topology::RingBuilder, fan: &[(u32, u16)]) {
     if !rings.try_quad_cycle(fan) {
         rings.quad_fan_as_given(true, fan);

@@ -143,6 +143,7 @@ impl Topology {
     }
 
     /// Faces around `v`, counter-clockwise (see the module docs).
+    #[inline]
     pub fn vertex_faces(&self, v: u32) -> &[u32] {
         let (a, b) = (
             self.vert_face_offsets[v as usize] as usize,
@@ -152,6 +153,7 @@ impl Topology {
     }
 
     /// Position of `v` within each face of [`Self::vertex_faces`].
+    #[inline]
     pub fn vertex_face_locals(&self, v: u32) -> &[u16] {
         let (a, b) = (
             self.vert_face_offsets[v as usize] as usize,
@@ -161,6 +163,7 @@ impl Topology {
     }
 
     /// Edges around `v`, counter-clockwise; face `i` lies between edges `i` and `i + 1`.
+    #[inline]
     pub fn vertex_edges(&self, v: u32) -> &[u32] {
         let (a, b) = (
             self.vert_edge_offsets[v as usize] as usize,
