@@ -178,8 +178,9 @@ fn vertex_mask_rec(
 /// extracted in a numbering that depends only on its shape (`Level::try_extract_ring`: the
 /// face of interest first, each face starting at the vertex, vertices numbered by first
 /// appearance), and the mask over that extraction, a function of it alone (its faces in local
-/// ids, sharpness, holes, cut edges and incomplete vertices), is computed once per distinct
-/// extraction and renumbered for every vertex that has it. The same mask as [`vertex_mask`]
+/// ids, holes, and the sharpness of the vertex and of its edges: the rest of the extraction is
+/// read by no row the mask reads), is computed once per distinct key and renumbered for every
+/// vertex that has it. The same mask as [`vertex_mask`]
 /// but for the order in which the local refinements sum their terms (equal to 1e-12 relative,
 /// `tests/limit_corners.rs`), and the same bits whichever vertex comes first. Other vertices
 /// are computed directly. Errors are not kept (they name the vertex).
@@ -214,7 +215,6 @@ type CornerMasks = WordHashMap<(u32, u32), Option<Arc<VertexMask>>>;
 struct RingScratch {
     ring: RingCorners,
     key: Vec<u32>,
-    valences: Vec<u32>,
     order: Vec<(u32, u32)>,
 }
 
@@ -225,18 +225,31 @@ thread_local! {
 /// Writes to `words` everything of the ring extraction of `ring` ([`RingCorners`],
 /// `Level::try_extract_ring`) that its masks depend on, read from the level without making the
 /// extraction (the vertex and face of interest are its vertex 0 and face 0): vertex count, face
-/// offsets and corners; per corner the sharpness bits of the edge to the next corner and whether
-/// the extraction cuts it (0/1); per vertex its sharpness bits and whether it is incomplete
-/// there (0/1); per face hole and no-limit flags (0/1); the boundary interpolation and the
-/// crease method. `valences` is a buffer.
-fn ring_key(level: &Level, ring: &RingCorners, words: &mut Vec<u32>, valences: &mut Vec<u32>) {
+/// offsets and corners; per edge at vertex 0 (per face corner whose edge has vertex 0 as an end)
+/// its sharpness bits and whether the extraction cuts it (0/1); vertex 0's sharpness bits and
+/// whether it is incomplete (0/1); per face hole and no-limit flags (0/1); the boundary
+/// interpolation and the crease method.
+///
+/// The other edges' and vertices' sharpness and flags are left out: a mask reads only the rows
+/// of vertex 0's child, the edge points of its edges and the face points of its faces
+/// (`refined_local_mask` and [`masks::eigen_limit`]'s ring), which read the faces and vertex
+/// 0's edges and vertex alone (the crease rules and Chaikin's child sharpness of a half at vertex
+/// 0 read its own edges); the child ring's other elements are smooth whatever they were, and the
+/// incomplete and cut flags steer no weight (they only flag what the evaluation must not read).
+/// So rings that differ there share a mask (`tests::reduced_ring_keys_share_masks` compares
+/// every shared mask with a fresh one, bit for bit).
+fn ring_key(level: &Level, ring: &RingCorners, words: &mut Vec<u32>) {
     let t = level.topology();
     words.clear();
     words.push(ring.map.len() as u32);
     words.extend_from_slice(&ring.offsets);
     words.extend_from_slice(&ring.local);
     for j in 0..ring.faces.len() {
-        for c in 0..(ring.offsets[j + 1] - ring.offsets[j]) as usize {
+        let corners = &ring.local[ring.offsets[j] as usize..ring.offsets[j + 1] as usize];
+        for c in 0..corners.len() {
+            if corners[c] != 0 && corners[(c + 1) % corners.len()] != 0 {
+                continue;
+            }
             let e = ring.edge(t, j, c);
             // Cut: boundary only in the extraction (its other face is not in the ring), or
             // cut already.
@@ -246,17 +259,9 @@ fn ring_key(level: &Level, ring: &RingCorners, words: &mut Vec<u32>, valences: &
             words.push(u32::from(opened || level.is_cut_edge(e)));
         }
     }
-    valences.clear();
-    valences.resize(ring.map.len(), 0);
-    for &x in &ring.local {
-        valences[x as usize] += 1;
-    }
-    for (&old, &valence) in ring.map.iter().zip(valences.iter()) {
-        let incomplete =
-            !level.is_complete_vertex(old) || valence as usize != t.vertex_faces(old).len();
-        words.push(t.vertex_sharpness(old).to_bits());
-        words.push(u32::from(incomplete));
-    }
+    let centre = ring.map[0];
+    words.push(t.vertex_sharpness(centre).to_bits());
+    words.push(u32::from(!level.is_complete_vertex(centre)));
     for &f in &ring.faces {
         let no_limit = t.no_limit.get(f as usize).copied().unwrap_or(false);
         words.push(u32::from(t.holes[f as usize]) | u32::from(no_limit) << 1);
@@ -289,7 +294,7 @@ impl SharedVertexMasks {
                     "limit mask: vertex {v} has no face {i}"
                 )));
             }
-            ring_key(level, &s.ring, &mut s.key, &mut s.valences);
+            ring_key(level, &s.ring, &mut s.key);
             if let Some(m) = self.table().get(&s.key[..]) {
                 self.hits.fetch_add(1, Ordering::Relaxed);
                 return Ok(Ok(relabelled(m, &s.ring.map, &mut s.order)));
@@ -929,11 +934,16 @@ mod tests {
         }
     }
 
-    /// Every mask that refines locally, of every vertex and face of every corpus mesh (and of
-    /// its first uniform level), and the same masks over the vertices' ring extractions as
-    /// `SharedVertexMasks` makes them: the kept-corner steps give the whole-ring steps' bits.
-    #[test]
-    fn kept_steps_are_whole_ring_steps() {
+    /// A mask's indices and weights' bits.
+    fn bits(m: &VertexMask) -> (Vec<u32>, Vec<Vec<u64>>) {
+        let w = [&m.position, &m.tangent_u, &m.tangent_v];
+        let w = w.iter().map(|x| x.iter().map(|y| y.to_bits()).collect());
+        (m.indices.clone(), w.collect())
+    }
+
+    /// The corpus meshes' levels that parse and are manifold (`Level::from_mesh` refuses the
+    /// others), each with its first uniform level: `(name, depth, level)`.
+    fn corpus_levels() -> Vec<(String, u32, Level)> {
         let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/osd/");
         let mut names: Vec<String> = std::fs::read_dir(dir)
             .unwrap()
@@ -943,24 +953,65 @@ mod tests {
             })
             .collect();
         names.sort();
-        let bits = |m: &VertexMask| {
-            let w = [&m.position, &m.tangent_u, &m.tangent_v];
-            let w: Vec<Vec<u64>> = w
-                .iter()
-                .map(|x| x.iter().map(|y| y.to_bits()).collect())
-                .collect();
-            (m.indices.clone(), w)
-        };
-        let mut compared = 0;
-        // Non-manifold meshes are refused by `Level::from_mesh` and skipped.
-        let levels = names.iter().flat_map(|name| {
+        let mut levels = Vec::new();
+        for name in names {
             let path = format!("{dir}{name}.obj");
-            let mesh = crate::ControlMesh::from_obj_file(&path, &Default::default()).ok()?;
-            let level = Level::from_mesh(&mesh).ok()?;
+            let Ok(mesh) = crate::ControlMesh::from_obj_file(&path, &Default::default()) else {
+                continue;
+            };
+            let Ok(level) = Level::from_mesh(&mesh) else {
+                continue;
+            };
             let next = level.refine_topology();
-            Some([(name, 0, level), (name, 1, next)])
-        });
-        for (name, d, level) in levels.flatten() {
+            levels.push((name.clone(), 0, level));
+            levels.push((name, 1, next));
+        }
+        levels
+    }
+
+    /// A mask shared by key (`ring_key` leaves out the sharpness and flags of the ring's other
+    /// edges and vertices) is, bit for bit, the mask a fresh table makes from the vertex's own
+    /// ring, for every vertex that refines locally and each of its faces, on every corpus mesh
+    /// and its first uniform level; and some are shared.
+    #[test]
+    fn reduced_ring_keys_share_masks() {
+        let (mut compared, mut hits) = (0, 0);
+        for (name, d, level) in corpus_levels() {
+            let topo = level.topology();
+            let shared = SharedVertexMasks::default();
+            for v in 0..topo.vertex_count() as u32 {
+                if !needs_refinement(topo, v) {
+                    continue;
+                }
+                for &f in topo.vertex_faces(v) {
+                    let a = shared.vertex_mask(&level, v, f);
+                    let b = SharedVertexMasks::default().vertex_mask(&level, v, f);
+                    match (a, b) {
+                        (Ok(a), Ok(b)) => {
+                            assert_eq!(bits(&a), bits(&b), "{name} {d} vertex {v} face {f}")
+                        }
+                        (a, b) => {
+                            assert_eq!(a.is_ok(), b.is_ok(), "{name} {d} vertex {v} face {f}")
+                        }
+                    }
+                    compared += 1;
+                }
+            }
+            hits += shared.hits();
+        }
+        assert!(
+            compared > 1000 && hits > compared / 2,
+            "{hits} of {compared} shared"
+        );
+    }
+
+    /// Every mask that refines locally, of every vertex and face of every corpus mesh (and of
+    /// its first uniform level), and the same masks over the vertices' ring extractions as
+    /// `SharedVertexMasks` makes them: the kept-corner steps give the whole-ring steps' bits.
+    #[test]
+    fn kept_steps_are_whole_ring_steps() {
+        let mut compared = 0;
+        for (name, d, level) in corpus_levels() {
             let topo = level.topology();
             for v in 0..topo.vertex_count() as u32 {
                 if !needs_refinement(topo, v) {
