@@ -106,7 +106,7 @@ impl<'a> CornerRings<'a> {
             after.iter().chain(before).copied()
         };
         let first = self.ring.len();
-        let (own, ring, words) = (&mut self.own, &mut self.ring, &mut self.words);
+        let (own, ring, words) = (&mut self.own[..], &mut self.ring, &mut self.words);
         let mut at = |u: u32| {
             if own[u as usize] == NONE {
                 own[u as usize] = (ring.len() - first) as u32;
