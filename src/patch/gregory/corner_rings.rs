@@ -3,7 +3,8 @@
 //! one-ring numbered by first appearance (the vertex, its edges' other ends, its faces'
 //! vertices) and the id of its *shape*, everything the construction reads of the vertex's
 //! ring over those slots. A face's key is then its corners' shape ids and places, plus the
-//! face slot of every entry of every corner's ring, which fixes how the rings overlap.
+//! face slot of every entry of every corner's ring but the first's (whose slots count up from
+//! 0), which fixes how the rings overlap.
 
 use super::tangents_boundary::crease_factor_words;
 use super::word_hash::WordHashMap;
