@@ -615,6 +615,12 @@ pub(super) fn has_vertex_data(topo: &Topology, v: u32, darts: &DartLimits) -> bo
     if faces == 0 || is_semi(vertex) {
         return false;
     }
+    // Most vertices are smooth (no sharpness on them or their edges, their faces closing
+    // around them): the interior rule, which always has data, without classifying the ring.
+    let smooth = |&e: &u32| topo.edge_sharpness(e) == 0.0;
+    if vertex == 0.0 && faces == edges.len() && edges.iter().all(smooth) {
+        return true;
+    }
     let mut semi = false;
     let shape = SharpEdges::of_flags(edges.iter().map(|&e| {
         let s = topo.edge_sharpness(e);

@@ -3,7 +3,8 @@
 //! one-ring numbered by first appearance (the vertex, its edges' other ends, its faces'
 //! vertices) and the id of its *shape*, everything the construction reads of the vertex's
 //! ring over those slots. A face's key is then its corners' shape ids and places, plus the
-//! face slot of every entry of every corner's ring, which fixes how the rings overlap.
+//! face slot of every entry of every corner's ring but the first's (whose slots count up from
+//! 0), which fixes how the rings overlap.
 
 use super::tangents_boundary::crease_factor_words;
 use super::word_hash::WordHashMap;
@@ -106,7 +107,7 @@ impl<'a> CornerRings<'a> {
             after.iter().chain(before).copied()
         };
         let first = self.ring.len();
-        let (own, ring, words) = (&mut self.own, &mut self.ring, &mut self.words);
+        let (own, ring, words) = (&mut self.own[..], &mut self.ring, &mut self.words);
         let mut at = |u: u32| {
             if own[u as usize] == NONE {
                 own[u as usize] = (ring.len() - first) as u32;

@@ -267,7 +267,8 @@ impl<'a> Keyer<'a> {
     /// `None` where a neighbour is missing from its corners' faces.
     ///
     /// Each corner is its shape id and the place of `f` among its faces, then every entry of
-    /// every corner's ring is its slot in the face's ring: with the shapes this is what
+    /// every corner's ring is its slot in the face's ring (but the first corner's, whose slots
+    /// count up from 0 as its shape numbers them): with the shapes this is what
     /// [`Self::push_vertex`] writes of each corner (its edges' other ends and its faces'
     /// vertices in the face's slots), so faces with equal keys read the same.
     fn key(&mut self, f: u32, key: &mut TypeKey, rings: &mut Vec<u32>) -> Option<()> {
@@ -285,13 +286,22 @@ impl<'a> Keyer<'a> {
             let turned = |j: usize| ((j + faces.len() - start) % faces.len()) as u32;
             key.extend([self.corners.shape(entry), at.map_or(NONE, turned)]);
         }
-        let mut ring = FaceRing {
-            first: rings.len(),
-            rings,
-        };
-        for &entry in &self.entries {
-            for &u in self.corners.ring(entry) {
-                key.push(ring.slot(&mut self.slot, u));
+        // The first corner's ring takes the face ring's first slots in order (its entries are
+        // distinct): those slots follow from its shape, so the key leaves them out.
+        let first = rings.len();
+        let (slot, corners) = (&mut self.slot[..], &self.corners);
+        let mut entries = self.entries.iter();
+        if let Some(&entry) = entries.next() {
+            let own = corners.ring(entry);
+            for (s, &u) in own.iter().enumerate() {
+                slot[u as usize] = s as u32;
+            }
+            rings.extend_from_slice(own);
+        }
+        let mut ring = FaceRing { rings, first };
+        for &entry in entries {
+            for &u in corners.ring(entry) {
+                key.push(ring.slot(slot, u));
             }
         }
         self.key_edges(f, key, &mut ring)
