@@ -1,6 +1,8 @@
 //! Sparse stencil rows over the global refined vertices (Köbler 2013 §4.2: one vertex buffer
 //! for every level): slot frames (limit position and two tangents) and end-cap control points.
 
+use std::ops::Range;
+
 use glam::DVec3;
 
 use super::surface::EndCapTopologies;
@@ -300,15 +302,24 @@ impl SparseRows {
     /// caps' rows come without their exact zeros (`Terms::Nonzero`, dropped once per type),
     /// so for them this is mostly a check, made as the weights are copied.
     pub fn append_face_rows(&mut self, rows: &FaceRows) {
+        self.append_face_row_range(rows, 0..rows.len(), 0);
+    }
+
+    /// [`Self::append_face_rows`] of rows `range` of `rows` with `first` added to every id
+    /// ([`Self::push_terms`] of each): a run of rows is one run of terms, copied as one.
+    pub fn append_face_row_range(&mut self, rows: &FaceRows, range: Range<usize>, first: u32) {
         let first_row = self.len();
-        let base = self.ids.len() as u32;
+        let ends = &rows.offsets[range.start..=range.end];
+        let terms = &rows.terms[ends[0] as usize..ends[ends.len() - 1] as usize];
+        // The run's term offsets moved to where its terms go.
+        let base = (self.ids.len() as u32).wrapping_sub(ends[0]);
         self.offsets
-            .extend(rows.offsets.iter().skip(1).map(|&o| base + o));
-        self.ids.extend(rows.terms.iter().map(|t| t.0));
+            .extend(ends[1..].iter().map(|&o| base.wrapping_add(o)));
+        self.ids.extend(terms.iter().map(|t| first + t.0));
         // Checked by magnitude as the weights are copied (no conversion per weight, no early
         // exit, no pass of its own).
         let mut zero = false;
-        self.weights_f64.extend(rows.terms.iter().map(|&(_, w)| {
+        self.weights_f64.extend(terms.iter().map(|&(_, w)| {
             zero |= w.abs() <= LARGEST_F32_ZERO;
             w
         }));
@@ -469,6 +480,8 @@ struct CornerTable {
     any: u16,
     /// Per row: the place of its first term among the three rows' terms.
     starts: [usize; 3],
+    /// Per row: the place past its last term (the next row's start, then the terms' count).
+    ends: [u32; 3],
 }
 
 impl CornerTable {
@@ -483,6 +496,7 @@ impl CornerTable {
             live,
             any: live[0] | live[1] | live[2],
             starts: [0, 1, 2].map(|r| live[..r].iter().map(|l| l.count_ones() as usize).sum()),
+            ends: [1, 2, 3].map(|r| live[..r].iter().map(|l| l.count_ones()).sum()),
         }
     }
 
@@ -516,11 +530,10 @@ impl Default for TemplateTerms {
 /// where the ids are distinct (the rule; where a control vertex comes twice, on small meshes,
 /// its row holds two terms of that id, whose sum is the merged term). The control points some
 /// row weights are sorted once for the three rows (keys `id << 4 | i`, [`sort_keys`]), the rows
-/// gathered in `terms` in that order (each row at its place, `CornerTable::starts`) and
-/// appended with one copy per array. The GPU sums a
-/// row's terms in its order, and id order is the one the exact patches' normals are checked in
-/// (`tests/scheme_adaptive.rs`: another order moved the car's worst corner normal from 6.7e-5
-/// to 1.2e-4 rad of the exact limit, f32 rounding of the terms).
+/// gathered in `terms` in that order ([`scatter_keys`]) and appended with one copy per array.
+/// The GPU sums a row's terms in its order, and id order is the one the exact patches' normals
+/// are checked in (`tests/scheme_adaptive.rs`: another order moved the car's worst corner
+/// normal from 6.7e-5 to 1.2e-4 rad of the exact limit, f32 rounding of the terms).
 fn push_template(
     out: &mut SparseRows,
     cvs: &[u32; 16],
@@ -535,24 +548,41 @@ fn push_template(
         bits &= bits - 1;
     }
     sort_keys(&mut keys, n);
-    // One pass over the keys, each written to every row at the row's next place if the row
-    // weights it, else to the discarded place (no branch per term).
-    let mut at = table.starts;
-    for &key in &keys[..n] {
-        let (i, id) = ((key & 15) as usize, (key >> 4) as u32);
-        for (r, at) in at.iter_mut().enumerate() {
-            let live = table.live[r] >> i & 1 != 0;
-            let to = if live { *at & 63 } else { DISCARDED };
-            terms.ids[to] = id;
-            terms.weights_f64[to] = table.rows[r][i];
-            *at += usize::from(live);
-        }
+    if table.live[0] == table.any {
+        scatter_keys::<1>(&keys[..n], table, terms);
+    } else {
+        scatter_keys::<0>(&keys[..n], table, terms);
     }
-    let (ends, at) = (at.map(|e| e as u32), at[2]);
-    let base = out.ids.len() as u32;
+    let (base, at) = (out.ids.len() as u32, table.ends[2] as usize);
     out.ids.extend_from_slice(&terms.ids[..at]);
     out.weights_f64.extend_from_slice(&terms.weights_f64[..at]);
-    out.offsets.extend(ends.map(|e| base + e));
+    out.offsets.extend(table.ends.map(|e| base + e));
+}
+
+/// Writes `table`'s rows over the sorted `keys` into `terms` (each row at its place,
+/// `CornerTable::starts`): in one pass over the keys, each written to every row from `FULL` on
+/// at the row's next place if the row weights it, else to the discarded place (no branch per
+/// term); the first `FULL` rows (none, or a first row weighting every key: an interior
+/// corner's position row) take each key at its own place, with no test.
+#[inline(always)]
+// Indexed rows: the same loop over `zip`/`skip` iterators cost 1.4 M more on the car.
+#[allow(clippy::needless_range_loop)]
+fn scatter_keys<const FULL: usize>(keys: &[u64], table: &CornerTable, terms: &mut TemplateTerms) {
+    let mut at = table.starts;
+    for (j, &key) in keys.iter().enumerate() {
+        let (i, id) = ((key & 15) as usize, (key >> 4) as u32);
+        if FULL == 1 {
+            terms.ids[j & 63] = id;
+            terms.weights_f64[j & 63] = table.rows[0][i];
+        }
+        for r in FULL..3 {
+            let live = table.live[r] >> i & 1 != 0;
+            let to = if live { at[r] & 63 } else { DISCARDED };
+            terms.ids[to] = id;
+            terms.weights_f64[to] = table.rows[r][i];
+            at[r] += usize::from(live);
+        }
+    }
 }
 
 /// The place in [`TemplateTerms`] of the terms a row does not weight (past every row's).
@@ -794,7 +824,8 @@ mod tests {
 
     /// Appending whole face rows gives `push_terms`' rows row by row: rows with no term to drop,
     /// with weights that round to a zero f32 (0, -0, 1e-60) first, last, alone in their row
-    /// and in a row of their own, and empty rows, after rows already there.
+    /// and in a row of their own, and empty rows, after rows already there; so does appending
+    /// runs of them with an id offset.
     #[test]
     fn appended_face_rows_are_pushed_rows() {
         let tiny = [0.0, -0.0, 1e-60];
@@ -820,6 +851,15 @@ mod tests {
             assert_eq!(got, want, "zeros every {zeros}");
             if zeros > 0 {
                 assert!(want.ids.len() < face.terms.len() + 1, "zeros every {zeros}");
+            }
+            // Runs of rows (inner, first, last, empty) with an offset added to every id.
+            for range in [1..4, 0..2, 4..6, 3..3] {
+                let (mut got, mut want) = (got.clone(), want.clone());
+                got.append_face_row_range(&face, range.clone(), 7);
+                for r in range.clone() {
+                    want.push_terms(face.row(r), 7);
+                }
+                assert_eq!(got, want, "zeros every {zeros}, rows {range:?}");
             }
         }
     }
