@@ -10,6 +10,8 @@
 //! Patch edges: B-spline patches use [`crate::patch::edge_grid::PATCH_EDGES`] numbering (which
 //! is face-edge numbering, edges 2 and 3 run against the face), end caps face order.
 
+use std::ops::Range;
+
 use glam::{DVec2, DVec3};
 
 use super::census_index::{is_quad_end_cap, patch_index};
@@ -112,9 +114,37 @@ struct EndCapRows {
     /// Rows of every end cap in census order (table layout, unpadded) over global ids: refined
     /// vertices, then vertex points (`refined + 3 k + b`).
     caps: Vec<FaceRows>,
-    /// Per vertex point `k` (those the caps read, in (level, vertex, point) order): its
-    /// first-stage row (row `k`) over global refined ids.
-    vertices: FaceRows,
+    /// Per level with vertex points read: their first-stage rows, in (level, vertex, point)
+    /// order vertex point `k`'s the `k`-th row of the runs.
+    vertices: Vec<LevelVertexRows>,
+}
+
+/// One level's first-stage rows (`shared_vertex_point_rows` of the vertices whose points the
+/// end caps read) over the level's vertices, kept as built until the draw tables take the runs
+/// of rows read, each as one copy with the level's first global id added
+/// ([`SparseRows::append_face_row_range`]): the rows are not copied into rows of their own first.
+struct LevelVertexRows {
+    /// The level's first global vertex id ([`crate::subdiv::adaptive::AdaptiveLevel::first_vertex`]).
+    first: u32,
+    /// Rows `VERTEX_POINTS * i + b`: point `b` of the `i`-th vertex.
+    rows: FaceRows,
+    /// The runs of consecutive rows read, ascending.
+    runs: Vec<Range<usize>>,
+}
+
+impl LevelVertexRows {
+    /// Number of rows read.
+    fn len(&self) -> usize {
+        self.runs.iter().map(ExactSizeIterator::len).sum()
+    }
+
+    /// At least the number of terms the rows read hold.
+    fn terms_bound(&self) -> usize {
+        let offsets = &self.rows.offsets;
+        (self.runs.iter())
+            .map(|r| (offsets[r.end] - offsets[r.start]) as usize)
+            .sum()
+    }
 }
 
 /// Rows of every end cap in census order, with the first-stage rows of the vertex points they
@@ -193,28 +223,26 @@ fn end_cap_rows(
         let derived = |v, b| first + at[(VERTEX_POINTS * v + b) as usize];
         caps.extend(rows.all_rows(t, &|u| lev.global(u), &derived));
     }
-    let mut vertices = FaceRows {
-        offsets: Vec::with_capacity(count as usize + 1),
-        terms: Vec::new(),
-    };
-    vertices.offsets.push(0);
+    let mut vertices = Vec::new();
     for group in read.chunk_by(|a, b| a.0 == b.0) {
         let l = group[0].0;
-        let lev = &refinement.levels[l as usize];
         let at: Vec<u32> = group.iter().map(|&(_, v, _)| v).collect();
         let rows = shared_vertex_point_rows(topologies.get(l), &at, tangents, &darts);
-        vertices.terms.reserve(rows.terms.len());
+        let mut runs: Vec<Range<usize>> = Vec::new();
         for (i, &(_, _, mask)) in group.iter().enumerate() {
-            for b in 0..VERTEX_POINTS as usize {
-                if mask & (1 << b) != 0 {
-                    // Monotone: rows stay ascending. Without the terms `SparseRows` drops
-                    // (f32 zeros), so the draw tables take the rows whole, not closed up.
-                    let row = rows.row(3 * i + b).iter().filter(|t| t.1 as f32 != 0.0);
-                    vertices.terms.extend(row.map(|&(u, w)| (lev.global(u), w)));
-                    vertices.offsets.push(vertices.terms.len() as u32);
+            for b in (0..VERTEX_POINTS as usize).filter(|b| mask & (1 << b) != 0) {
+                let r = VERTEX_POINTS as usize * i + b;
+                match runs.last_mut() {
+                    Some(run) if run.end == r => run.end += 1,
+                    _ => runs.push(r..r + 1),
                 }
             }
         }
+        vertices.push(LevelVertexRows {
+            first: refinement.levels[l as usize].first_vertex,
+            rows,
+            runs,
+        });
     }
     Ok(EndCapRows { caps, vertices })
 }
@@ -343,11 +371,13 @@ impl AdaptiveDrawTables {
             caps,
             vertices: vertex_rows,
         } = end_cap_rows(refinement, census, &topologies, tangents)?;
-        let vertex_terms = vertex_rows.terms.len();
         // End caps and vertex points: (rows, terms).
         let cap_rows = (
-            END_CAP_ROWS * caps.len() + vertex_rows.len(),
-            caps.iter().map(|c| c.terms.len()).sum::<usize>() + vertex_terms,
+            END_CAP_ROWS * caps.len() + vertex_rows.iter().map(LevelVertexRows::len).sum::<usize>(),
+            caps.iter().map(|c| c.terms.len()).sum::<usize>()
+                + (vertex_rows.iter())
+                    .map(LevelVertexRows::terms_bound)
+                    .sum::<usize>(),
         );
         let corner_rows = CornerRows::new(refinement, census, &topologies, &caps, corners);
         // Exact limit masks of promoted corners, one table for slot, sector and exact-corner frames.
@@ -432,7 +462,12 @@ impl AdaptiveDrawTables {
             rows.push_empty(END_CAP_ROWS - c.len());
         }
         let vertex_first_row = rows.len() as u32;
-        rows.append_face_rows(&vertex_rows);
+        // Monotone ids (the level's first added): rows stay ascending.
+        for level in &vertex_rows {
+            for run in &level.runs {
+                rows.append_face_row_range(&level.rows, run.clone(), level.first);
+            }
+        }
         let sizes = DrawSizes::of(census);
         let mut out = AdaptiveDrawTables {
             slots,

@@ -1,6 +1,8 @@
 //! Sparse stencil rows over the global refined vertices (Köbler 2013 §4.2: one vertex buffer
 //! for every level): slot frames (limit position and two tangents) and end-cap control points.
 
+use std::ops::Range;
+
 use glam::DVec3;
 
 use super::surface::EndCapTopologies;
@@ -300,15 +302,24 @@ impl SparseRows {
     /// caps' rows come without their exact zeros (`Terms::Nonzero`, dropped once per type),
     /// so for them this is mostly a check, made as the weights are copied.
     pub fn append_face_rows(&mut self, rows: &FaceRows) {
+        self.append_face_row_range(rows, 0..rows.len(), 0);
+    }
+
+    /// [`Self::append_face_rows`] of rows `range` of `rows` with `first` added to every id
+    /// ([`Self::push_terms`] of each): a run of rows is one run of terms, copied as one.
+    pub fn append_face_row_range(&mut self, rows: &FaceRows, range: Range<usize>, first: u32) {
         let first_row = self.len();
-        let base = self.ids.len() as u32;
+        let ends = &rows.offsets[range.start..=range.end];
+        let terms = &rows.terms[ends[0] as usize..ends[ends.len() - 1] as usize];
+        // The run's term offsets moved to where its terms go.
+        let base = (self.ids.len() as u32).wrapping_sub(ends[0]);
         self.offsets
-            .extend(rows.offsets.iter().skip(1).map(|&o| base + o));
-        self.ids.extend(rows.terms.iter().map(|t| t.0));
+            .extend(ends[1..].iter().map(|&o| base.wrapping_add(o)));
+        self.ids.extend(terms.iter().map(|t| first + t.0));
         // Checked by magnitude as the weights are copied (no conversion per weight, no early
         // exit, no pass of its own).
         let mut zero = false;
-        self.weights_f64.extend(rows.terms.iter().map(|&(_, w)| {
+        self.weights_f64.extend(terms.iter().map(|&(_, w)| {
             zero |= w.abs() <= LARGEST_F32_ZERO;
             w
         }));
@@ -794,7 +805,8 @@ mod tests {
 
     /// Appending whole face rows gives `push_terms`' rows row by row: rows with no term to drop,
     /// with weights that round to a zero f32 (0, -0, 1e-60) first, last, alone in their row
-    /// and in a row of their own, and empty rows, after rows already there.
+    /// and in a row of their own, and empty rows, after rows already there; so does appending
+    /// runs of them with an id offset.
     #[test]
     fn appended_face_rows_are_pushed_rows() {
         let tiny = [0.0, -0.0, 1e-60];
@@ -820,6 +832,15 @@ mod tests {
             assert_eq!(got, want, "zeros every {zeros}");
             if zeros > 0 {
                 assert!(want.ids.len() < face.terms.len() + 1, "zeros every {zeros}");
+            }
+            // Runs of rows (inner, first, last, empty) with an offset added to every id.
+            for range in [1..4, 0..2, 4..6, 3..3] {
+                let (mut got, mut want) = (got.clone(), want.clone());
+                got.append_face_row_range(&face, range.clone(), 7);
+                for r in range.clone() {
+                    want.push_terms(face.row(r), 7);
+                }
+                assert_eq!(got, want, "zeros every {zeros}, rows {range:?}");
             }
         }
     }
