@@ -26,6 +26,7 @@ use super::promoted::{
 use super::records::{
     words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
 };
+pub use super::rows::END_CAP_ROWS;
 use super::rows::{patch_corners, CornerRows, SparseRows};
 use super::sector_frames::SectorFrames;
 use super::slot_rows::SlotCorners;
@@ -43,10 +44,6 @@ use crate::patch::RegularPatch;
 use crate::subdiv::adaptive::{AdaptiveRefinement, Domain, PatchCensus, PatchType};
 use crate::subdiv::limit::SharedVertexMasks;
 use crate::topology::is_sharp_edge;
-
-/// Rows per end cap: 20 control points and 16 extra rows (quads), 15 + 12 then empty rows
-/// (triangles, isolation 0 only), in [`crate::patch::gregory::stencil_table`] order.
-pub const END_CAP_ROWS: usize = 36;
 
 /// The GPU draw data of an [`AdaptiveRefinement`] (topology only; positions are the global
 /// refined buffer of [`AdaptiveRefinement::refine_positions`]).

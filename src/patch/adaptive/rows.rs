@@ -5,7 +5,6 @@ use std::ops::Range;
 
 use glam::DVec3;
 
-use super::draw::END_CAP_ROWS;
 use super::surface::EndCapTopologies;
 use crate::patch::gregory::shared_rows::{FaceRows, RowsFrom};
 use crate::patch::gregory::word_hash::WordHashMap;
@@ -30,9 +29,13 @@ pub struct PatchCorner {
     pub vertex: u32,
     /// That vertex's global id (`AdaptiveLevel::global`).
     pub global: u32,
-    /// End caps: the index of the patch's rows in `caps` (`END_CAP_ROWS` rows each).
+    /// End caps: the index of the patch's rows in `caps` ([`END_CAP_ROWS`] rows each).
     cap: usize,
 }
+
+/// Rows per end cap: 20 control points and 16 extra rows (quads), 15 + 12 then empty rows
+/// (triangles, isolation 0 only), in [`crate::patch::gregory::stencil_table`] order.
+pub const END_CAP_ROWS: usize = 36;
 
 /// The corners of census patches in the order frames take their rows, and their frame rows
 /// (computable apart from the visit, and on several threads).

@@ -67,7 +67,7 @@ impl FaceRows {
         (0..self.len()).map(|r| self.weights(r)).collect()
     }
 
-    /// No rows, ready to take some ([`Self::relabelled_into`], [`Self::push_empty`]).
+    /// No rows, ready to take some ([`Self::append`], [`Self::push_empty`]).
     pub fn new() -> FaceRows {
         FaceRows {
             offsets: vec![0],
