@@ -26,6 +26,7 @@ use super::promoted::{
 use super::records::{
     words_bytes, BSplineDraw, CoarseEdge, EndCapDraw, PatchRecord, TransitionTriangle,
 };
+pub use super::rows::END_CAP_ROWS;
 use super::rows::{patch_corners, CornerRows, SparseRows};
 use super::sector_frames::SectorFrames;
 use super::slot_rows::SlotCorners;
@@ -43,10 +44,6 @@ use crate::patch::RegularPatch;
 use crate::subdiv::adaptive::{AdaptiveRefinement, Domain, PatchCensus, PatchType};
 use crate::subdiv::limit::SharedVertexMasks;
 use crate::topology::is_sharp_edge;
-
-/// Rows per end cap: 20 control points and 16 extra rows (quads), 15 + 12 then empty rows
-/// (triangles, isolation 0 only), in [`crate::patch::gregory::stencil_table`] order.
-pub const END_CAP_ROWS: usize = 36;
 
 /// The GPU draw data of an [`AdaptiveRefinement`] (topology only; positions are the global
 /// refined buffer of [`AdaptiveRefinement::refine_positions`]).
@@ -111,9 +108,9 @@ pub const DERIVED_ID: u32 = 1 << 31;
 
 /// The end caps' rows in two stages (Loop et al. 2009 §4.1 per vertex, §4.3 per patch).
 struct EndCapRows {
-    /// Rows of every end cap in census order (table layout, unpadded) over global ids: refined
-    /// vertices, then vertex points (`refined + 3 k + b`).
-    caps: Vec<FaceRows>,
+    /// Rows of every end cap in census order (table layout, [`END_CAP_ROWS`] a cap) over
+    /// global ids: refined vertices, then vertex points (`refined + 3 k + b`).
+    caps: FaceRows,
     /// Per level with vertex points read: their first-stage rows, in (level, vertex, point)
     /// order vertex point `k`'s the `k`-th row of the runs.
     vertices: Vec<LevelVertexRows>,
@@ -212,7 +209,12 @@ fn end_cap_rows(
         }
     }
     let first = refinement.vertex_count() as u32;
-    let mut caps = Vec::with_capacity(caps.len());
+    // Room for every level's rows at once (each level's call reserves its own otherwise).
+    let mut caps = FaceRows::new();
+    caps.offsets
+        .reserve(END_CAP_ROWS * local.iter().map(|(_, r)| r.len()).sum::<usize>());
+    caps.terms
+        .reserve(local.iter().map(|(_, r)| r.terms_bound()).sum());
     for (l, rows) in &local {
         let (lev, t, at) = (
             &refinement.levels[*l as usize],
@@ -221,7 +223,7 @@ fn end_cap_rows(
         );
         // Global ids: monotone in the local ones, so rows stay ascending.
         let derived = |v, b| first + at[(VERTEX_POINTS * v + b) as usize];
-        caps.extend(rows.all_rows(t, &|u| lev.global(u), &derived));
+        rows.all_rows_into(t, &|u| lev.global(u), &derived, END_CAP_ROWS, &mut caps);
     }
     let mut vertices = Vec::new();
     for group in read.chunk_by(|a, b| a.0 == b.0) {
@@ -373,8 +375,8 @@ impl AdaptiveDrawTables {
         } = end_cap_rows(refinement, census, &topologies, tangents)?;
         // End caps and vertex points: (rows, terms).
         let cap_rows = (
-            END_CAP_ROWS * caps.len() + vertex_rows.iter().map(LevelVertexRows::len).sum::<usize>(),
-            caps.iter().map(|c| c.terms.len()).sum::<usize>()
+            caps.len() + vertex_rows.iter().map(LevelVertexRows::len).sum::<usize>(),
+            caps.terms.len()
                 + (vertex_rows.iter())
                     .map(LevelVertexRows::terms_bound)
                     .sum::<usize>(),
@@ -457,10 +459,7 @@ impl AdaptiveDrawTables {
         }
         shared_normal.resize(shared_normal.len() + lattice.rows.len(), true);
         let end_cap_first_row = rows.len() as u32;
-        for c in &caps {
-            rows.append_face_rows(c);
-            rows.push_empty(END_CAP_ROWS - c.len());
-        }
+        rows.append_face_rows(&caps);
         let vertex_first_row = rows.len() as u32;
         // Monotone ids (the level's first added): rows stay ascending.
         for level in &vertex_rows {

@@ -6,7 +6,7 @@ use std::ops::Range;
 use glam::DVec3;
 
 use super::surface::EndCapTopologies;
-use crate::patch::gregory::shared_rows::FaceRows;
+use crate::patch::gregory::shared_rows::{FaceRows, RowsFrom};
 use crate::patch::gregory::word_hash::WordHashMap;
 use crate::patch::gregory::{one_face_crease_sector, GregoryPoint, Weights};
 use crate::patch::single_crease::SingleCreasePatch;
@@ -29,9 +29,13 @@ pub struct PatchCorner {
     pub vertex: u32,
     /// That vertex's global id (`AdaptiveLevel::global`).
     pub global: u32,
-    /// End caps: the index of the patch's rows in `caps`.
+    /// End caps: the index of the patch's rows in `caps` ([`END_CAP_ROWS`] rows each).
     cap: usize,
 }
+
+/// Rows per end cap: 20 control points and 16 extra rows (quads), 15 + 12 then empty rows
+/// (triangles, isolation 0 only), in [`crate::patch::gregory::stencil_table`] order.
+pub const END_CAP_ROWS: usize = 36;
 
 /// The corners of census patches in the order frames take their rows, and their frame rows
 /// (computable apart from the visit, and on several threads).
@@ -39,7 +43,7 @@ pub struct CornerRows<'a> {
     refinement: &'a AdaptiveRefinement,
     census: &'a PatchCensus,
     topologies: &'a EndCapTopologies<'a>,
-    caps: &'a [FaceRows],
+    caps: &'a FaceRows,
     /// Single-crease corner weights depend on the line's side and sharpness and the corner
     /// only: evaluated once per such shape of the census, not once per corner.
     crease: WordHashMap<CreaseKey, CornerTable>,
@@ -57,7 +61,7 @@ impl<'a> CornerRows<'a> {
         refinement: &'a AdaptiveRefinement,
         census: &'a PatchCensus,
         topologies: &'a EndCapTopologies<'a>,
-        caps: &'a [FaceRows],
+        caps: &'a FaceRows,
         corners: Vec<PatchCorner>,
     ) -> CornerRows<'a> {
         let mut crease = WordHashMap::default();
@@ -97,7 +101,7 @@ impl<'a> CornerRows<'a> {
                 let n = self.refinement.levels[p.level as usize]
                     .topology()
                     .face_size(p.face);
-                gregory_corner_rows(&self.caps[c.cap], n, c.k, self.singular(c))
+                gregory_corner_rows(self.cap(c), n, c.k, self.singular(c))
             }
         }
     }
@@ -107,12 +111,17 @@ impl<'a> CornerRows<'a> {
     pub fn position_row(&self, c: &PatchCorner) -> Weights {
         let p = &self.census.patches[c.patch];
         match (&p.crease, &p.bspline) {
-            (None, None) => self.caps[c.cap].weights(c.k),
+            (None, None) => self.cap(c).weights(c.k),
             _ => {
                 let [position, ..] = self.rows(c);
                 position
             }
         }
+    }
+
+    /// The rows of end-cap corner `c`'s patch.
+    fn cap(&self, c: &PatchCorner) -> RowsFrom<'a> {
+        self.caps.rows_from(END_CAP_ROWS * c.cap)
     }
 
     /// Whether end-cap corner `c` lies alone in a crease sector of its end caps' topology
@@ -146,7 +155,7 @@ impl<'a> CornerRows<'a> {
                 let n = self.refinement.levels[p.level as usize]
                     .topology()
                     .face_size(p.face);
-                push_gregory_corner_rows(out, &self.caps[c.cap], n, c.k, self.singular(c));
+                push_gregory_corner_rows(out, self.cap(c), n, c.k, self.singular(c));
             }
         }
     }
@@ -162,7 +171,7 @@ impl<'a> CornerRows<'a> {
         let n = self.refinement.levels[p.level as usize]
             .topology()
             .face_size(p.face);
-        let rows = &self.caps[c.cap];
+        let rows = self.cap(c);
         let second = rows.row(2 * n + c.k).len().max(rows.row(3 * n + c.k).len());
         3 * rows.row(c.k).len() + rows.row(n + c.k).len() + second
     }
@@ -681,7 +690,7 @@ fn local_crease_corner(
 /// `singular`: the corner lies alone in a crease sector, where `e- - p = -(e+ - p)` (the crease
 /// curve passes through; `GregoryVertex::sectored`): the second row is then `3 (f+ - p)`, the
 /// face point the construction puts in the exact tangent plane, pointing into the face.
-pub fn gregory_corner_rows(rows: &FaceRows, n: usize, k: usize, singular: bool) -> [Weights; 3] {
+pub fn gregory_corner_rows(rows: RowsFrom, n: usize, k: usize, singular: bool) -> [Weights; 3] {
     let p = rows.weights(k);
     let tangent = |e: Weights| {
         let mut w = Weights::zero();
@@ -700,7 +709,7 @@ pub fn gregory_corner_rows(rows: &FaceRows, n: usize, k: usize, singular: bool) 
 /// ([`push_tangent`]).
 fn push_gregory_corner_rows(
     out: &mut SparseRows,
-    rows: &FaceRows,
+    rows: RowsFrom,
     n: usize,
     k: usize,
     singular: bool,
@@ -953,9 +962,9 @@ mod tests {
         for k in 0..n {
             for singular in [false, true] {
                 let mut got = SparseRows::new();
-                push_gregory_corner_rows(&mut got, &face, n, k, singular);
+                push_gregory_corner_rows(&mut got, face.rows_from(0), n, k, singular);
                 let mut want = SparseRows::new();
-                for w in gregory_corner_rows(&face, n, k, singular) {
+                for w in gregory_corner_rows(face.rows_from(0), n, k, singular) {
                     want.push(&w, 0);
                 }
                 assert_eq!(got, want, "corner {k}, singular {singular}");
@@ -969,7 +978,7 @@ mod tests {
             }
         }
         let mut cancel = SparseRows::new();
-        push_gregory_corner_rows(&mut cancel, &face, n, 1, false);
+        push_gregory_corner_rows(&mut cancel, face.rows_from(0), n, 1, false);
         assert_eq!(
             cancel.offsets[1], cancel.offsets[2],
             "the cancelled tangent is empty"

@@ -67,39 +67,81 @@ impl FaceRows {
         (0..self.len()).map(|r| self.weights(r)).collect()
     }
 
-    /// The rows `offsets` over `terms` with each id written as `id(id)`, without the terms
-    /// `kept` drops (the others in order): one pass over the terms into their final place,
-    /// `id` asked only of the terms kept.
-    pub(super) fn relabelled(
+    /// No rows, ready to take some ([`Self::append`], [`Self::push_empty`]).
+    pub fn new() -> FaceRows {
+        FaceRows {
+            offsets: vec![0],
+            terms: Vec::new(),
+        }
+    }
+
+    /// Rows `first..` read in place, numbered from 0 (one face's rows in the rows of many).
+    pub fn rows_from(&self, first: usize) -> RowsFrom<'_> {
+        RowsFrom { rows: self, first }
+    }
+
+    /// Appends `n` empty rows.
+    pub fn push_empty(&mut self, n: usize) {
+        let end = self.terms.len() as u32;
+        self.offsets.extend(std::iter::repeat_n(end, n));
+    }
+
+    /// Appends the rows `offsets` over `terms` with each id written as `id(id)`, without the
+    /// terms `kept` drops (the others in order): one pass over the terms into their final
+    /// place, `id` asked only of the terms kept.
+    pub(super) fn relabelled_into(
+        &mut self,
         offsets: &[u32],
         terms: &[(u32, f64)],
         kept: Terms,
         id: impl Fn(u32) -> u32,
-    ) -> FaceRows {
+    ) {
         let relabel = |&(u, x): &(u32, f64)| (id(u), x);
+        let start = offsets.first().map_or(0, |&o| o as usize);
         if kept == Terms::All || !terms.iter().any(|t| t.1 == 0.0) {
-            return FaceRows {
-                offsets: offsets.to_vec(),
-                terms: terms.iter().map(relabel).collect(),
-            };
+            // The rows' offsets moved to where their terms go.
+            let base = (self.terms.len() as u32).wrapping_sub(start as u32);
+            self.offsets
+                .extend(offsets.iter().skip(1).map(|&o| base.wrapping_add(o)));
+            self.terms.extend(terms[start..].iter().map(relabel));
+            return;
         }
-        let mut out = FaceRows {
-            offsets: Vec::with_capacity(offsets.len()),
-            terms: Vec::with_capacity(terms.len()),
-        };
-        out.offsets.push(0);
         // One loop over every term (an `extend` per row costs a call and its set-up per row).
-        let mut t = offsets.first().map_or(0, |&o| o as usize);
+        let mut t = start;
         for &end in offsets.iter().skip(1) {
             for term in &terms[t..end as usize] {
                 if kept.keeps(term.1) {
-                    out.terms.push(relabel(term));
+                    self.terms.push(relabel(term));
                 }
             }
             t = end as usize;
-            out.offsets.push(out.terms.len() as u32);
+            self.offsets.push(self.terms.len() as u32);
         }
-        out
+    }
+
+    /// Appends `rows`' rows (their terms moved to follow this one's).
+    pub fn append(&mut self, rows: &FaceRows) {
+        self.relabelled_into(&rows.offsets, &rows.terms, Terms::All, |u| u);
+    }
+}
+
+/// Rows `first..` of a [`FaceRows`] read in place ([`FaceRows::rows_from`]): row `r` is its
+/// row `first + r`.
+#[derive(Debug, Clone, Copy)]
+pub struct RowsFrom<'a> {
+    rows: &'a FaceRows,
+    first: usize,
+}
+
+impl RowsFrom<'_> {
+    /// Row `r`.
+    pub fn row(&self, r: usize) -> &[(u32, f64)] {
+        self.rows.row(self.first + r)
+    }
+
+    /// Row `r` as a [`Weights`].
+    pub fn weights(&self, r: usize) -> Weights {
+        self.rows.weights(self.first + r)
     }
 }
 

@@ -47,7 +47,7 @@ use super::build::{
     Coverage, NotGregory,
 };
 use super::corner_rings::{edge_word, vertex_word, CornerRings};
-pub use super::face_rows::{FaceRows, Terms};
+pub use super::face_rows::{FaceRows, RowsFrom, Terms};
 use super::point::Weights;
 #[cfg(doc)]
 use super::stencil_table::sparse_face_rows_direct;
@@ -684,33 +684,84 @@ impl EndCapFaceRows {
         vertex: &(impl Fn(u32) -> u32 + Sync),
         derived: &(impl Fn(u32, u32) -> u32 + Sync),
     ) -> FaceRows {
+        if self.faces[i].is_err() {
+            return FaceRows::default();
+        }
+        let mut out = FaceRows::new();
+        self.rows_into(topo, i, vertex, derived, &mut out);
+        out
+    }
+
+    /// At least the number of terms of [`Self::rows`] of every face.
+    pub fn terms_bound(&self) -> usize {
+        (self.faces.iter())
+            .map(|f| match f {
+                Ok(FaceRow::Direct(rows)) => rows.terms.len(),
+                Ok(FaceRow::Shared { layout }) => self.layouts.term_count(*layout),
+                Err(_) => 0,
+            })
+            .sum()
+    }
+
+    /// Appends [`Self::rows`] of face `i` to `out`.
+    fn rows_into(
+        &self,
+        topo: &Topology,
+        i: usize,
+        vertex: &(impl Fn(u32) -> u32 + Sync),
+        derived: &(impl Fn(u32, u32) -> u32 + Sync),
+        out: &mut FaceRows,
+    ) {
         match &self.faces[i] {
             Ok(FaceRow::Direct(rows)) => {
                 let id = |id| match vertex_point_of(topo, id) {
                     None => vertex(id),
                     Some((v, b)) => derived(v, b),
                 };
-                FaceRows::relabelled(&rows.offsets, &rows.terms, self.kept, id)
+                out.relabelled_into(&rows.offsets, &rows.terms, self.kept, id);
             }
             Ok(FaceRow::Shared { layout }) => {
-                self.layouts.rows(*layout, self.ring(i), vertex, derived)
+                (self.layouts).rows_into(*layout, self.ring(i), vertex, derived, out)
             }
-            Err(_) => FaceRows::default(),
+            Err(_) => {}
         }
     }
 
-    /// [`Self::rows`] of every face with a patch, in order, on the rayon pool.
-    pub fn all_rows(
+    /// Appends [`Self::rows`] of every face, in order, to `out`, each face's padded with empty
+    /// rows to `face_rows` rows (so face `i`'s rows start at `face_rows * i`): on the rayon
+    /// pool in batches of whole faces, each batch's rows in one buffer (no buffer per face).
+    pub fn all_rows_into(
         &self,
         topo: &Topology,
         vertex: &(impl Fn(u32) -> u32 + Sync),
         derived: &(impl Fn(u32, u32) -> u32 + Sync),
-    ) -> Vec<FaceRows> {
-        (0..self.len())
+        face_rows: usize,
+        out: &mut FaceRows,
+    ) {
+        let batch = |faces: std::ops::Range<usize>, out: &mut FaceRows| {
+            for i in faces {
+                let first = out.len();
+                self.rows_into(topo, i, vertex, derived, out);
+                out.push_empty(face_rows - (out.len() - first));
+            }
+        };
+        out.offsets.reserve(face_rows * self.len());
+        out.terms.reserve(self.terms_bound());
+        let per = self.len().div_ceil(rayon::current_num_threads()).max(256);
+        if self.len() <= per {
+            return batch(0..self.len(), out);
+        }
+        let batches: Vec<FaceRows> = (0..self.len().div_ceil(per))
             .into_par_iter()
-            .with_min_len(256)
-            .map(|i| self.rows(topo, i, vertex, derived))
-            .collect()
+            .map(|b| {
+                let mut rows = FaceRows::new();
+                batch(b * per..self.len().min((b + 1) * per), &mut rows);
+                rows
+            })
+            .collect();
+        for rows in &batches {
+            out.append(rows);
+        }
     }
 }
 

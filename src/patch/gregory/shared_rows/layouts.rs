@@ -374,6 +374,11 @@ impl Layouts {
         at
     }
 
+    /// Number of terms of layout `at`'s rows.
+    pub fn term_count(&self, at: u32) -> usize {
+        self.layouts[at as usize].1.len()
+    }
+
     /// Calls `mark(s, b)` for each derived point `b` of ring slot `s` layout `at`'s rows read.
     pub fn derived_read(&self, at: u32, mut mark: impl FnMut(usize, u32)) {
         let t = &self.types[self.layouts[at as usize].0 as usize];
@@ -384,20 +389,21 @@ impl Layouts {
         }
     }
 
-    /// The rows of layout `at` for the face with ring `ring`: slot `s` written as
-    /// `vertex(ring[s])`, its derived point `b` as `derived(ring[s], b)` (both monotone, every
-    /// derived id past every vertex id, as the layout assumes).
-    pub fn rows(
+    /// Appends to `out` the rows of layout `at` for the face with ring `ring`: slot `s` written
+    /// as `vertex(ring[s])`, its derived point `b` as `derived(ring[s], b)` (both monotone,
+    /// every derived id past every vertex id, as the layout assumes).
+    pub fn rows_into(
         &self,
         at: u32,
         ring: &[u32],
         vertex: &(impl Fn(u32) -> u32 + ?Sized),
         derived: &(impl Fn(u32, u32) -> u32 + ?Sized),
-    ) -> FaceRows {
+        out: &mut FaceRows,
+    ) {
         let (t, terms) = &self.layouts[at as usize];
         let t = &self.types[*t as usize];
         let l = ring.len();
-        let terms = IDS.with(|ids| {
+        IDS.with(|ids| {
             let ids = &mut *ids.borrow_mut();
             ids.clear();
             ids.extend(ring.iter().map(|&u| vertex(u)));
@@ -407,12 +413,8 @@ impl Layouts {
                 let s = (d / VERTEX_POINTS) as usize;
                 ids[c as usize] = derived(ring[s], d % VERTEX_POINTS);
             }
-            terms.iter().map(|&(c, x)| (ids[c as usize], x)).collect()
+            out.relabelled_into(&t.offsets, terms, Terms::All, |c| ids[c as usize]);
         });
-        FaceRows {
-            offsets: t.offsets.clone(),
-            terms,
-        }
     }
 }
 

@@ -625,7 +625,9 @@ fn shared_and_direct_rows(
                     continue;
                 };
                 let got = shared.rows(&topo, i, &|u| u, &derived);
-                let want = FaceRows::relabelled(&want.offsets, &want.terms, Terms::Nonzero, |u| u);
+                let mut nonzero = FaceRows::new();
+                nonzero.relabelled_into(&want.offsets, &want.terms, Terms::Nonzero, |u| u);
+                let want = nonzero;
                 visit(f, topo.face_size(f), &got, &want);
             }
         }
