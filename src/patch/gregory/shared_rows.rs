@@ -261,7 +261,7 @@ impl<'a> Keyer<'a> {
 
     /// The key of face `f` in `key` (cleared first: one buffer for every face keyed), its ring
     /// appended to `rings` with `slot` set (the vertices of its corners' rings,
-    /// [`CornerRings::corner`], in corner order, each once; slots count from the ring's start),
+    /// [`CornerRings::entry`], in corner order, each once; slots count from the ring's start),
     /// then the vertices [`Self::push_vertex`] reads beyond them, in walk order (a non-smooth
     /// far corner's ring: on the car at isolation 2, 24 faces, 20 of them sharing a type);
     /// `None` where a neighbour is missing from its corners' faces.

@@ -3,7 +3,7 @@
 //! depends only on the type and on the order of the ids of the slots that share a row, which
 //! repeats between faces of a type ([`Layouts`]). A face's rows are then its layout with each
 //! column written as the face's id, in one pass over the terms into their final place
-//! ([`Layouts::rows`]).
+//! ([`Layouts::rows_into`]).
 
 use crate::patch::gregory::face_rows::{FaceRows, Terms, TERM_PLACEHOLDER};
 use crate::patch::gregory::stencil_table::{vertex_point_of, VERTEX_POINTS};
@@ -507,7 +507,7 @@ fn order_key(t: u32, pairs: &[(u32, u32)], ring: &[u32], key: &mut Vec<u64>) {
 }
 
 thread_local! {
-    /// [`Layouts::rows`]'s ids per column (it keeps its capacity).
+    /// [`Layouts::rows_into`]'s ids per column (it keeps its capacity).
     static IDS: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
