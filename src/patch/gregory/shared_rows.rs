@@ -163,11 +163,20 @@ impl<'a> Keyer<'a> {
     /// most [`MAX_TURNED_VALENCE`] of them, and the construction gives it data: smooth, or a
     /// dart, crease, corner or cone without frozen crease factors (those follow the order of
     /// its sectors, `Topology::crease_factors`).
+    #[inline]
     fn start(&mut self, v: u32, f: u32) -> usize {
+        // A plain key (pass 1, every face) reads every ring from its first face.
+        if self.anchors.is_none() {
+            return 0;
+        }
+        self.anchored_start(v, f)
+    }
+
+    /// [`Self::start`] in an anchored key.
+    fn anchored_start(&mut self, v: u32, f: u32) -> usize {
         let topo = self.topo;
         let (faces, edges) = (topo.vertex_faces(v), topo.vertex_edges(v));
-        let anchored = self.anchors.is_some()
-            && faces.len() <= MAX_TURNED_VALENCE
+        let anchored = faces.len() <= MAX_TURNED_VALENCE
             && faces.len() == edges.len()
             && crease_factor_words(topo, v) == [0; 2];
         if !anchored || !self.has_data(v) {
