@@ -531,6 +531,9 @@ impl AdaptiveRefinement {
             );
             levels.push(std::mem::replace(&mut current, next));
         }
+        // Reserved a level ahead (`classify_level`): cut to the patches (a shrinking
+        // `realloc`, which glibc does in place).
+        census.patches.shrink_to_fit();
         Ok(AdaptiveRefinement {
             levels,
             isolation,
@@ -617,6 +620,10 @@ impl AdaptiveRefinement {
                     *n = n.saturating_add(1);
                 }
             }
+        }
+        // Without a parent vertex of three such edges (most levels) no vertex is asked.
+        if !sharp_before.iter().any(|&n| n >= 3) {
+            return Vec::new();
         }
         let smooth_now = |v: u32| {
             caps.vertex_sharpness(v) == 0.0
@@ -837,8 +844,17 @@ fn classify_level(
     let first = patches.len();
     {
         let t = lev.level.topology();
-        // At most one patch an own face: no growth.
-        patches.reserve(lev.own.iter().filter(|&&o| o).count());
+        // At most one patch an own face, and (below the isolation level) at most one an own
+        // face of the next level, a child of a refined face: one a corner at most. Reserved a
+        // level ahead, the next level's patches need no growth, which would copy every earlier
+        // level's.
+        let own = lev.own.iter().filter(|&&o| o).count();
+        let next = match (refine, t.quads_only()) {
+            (false, _) => 0,
+            (true, true) => 4 * own,
+            (true, false) => t.corner_count(),
+        };
+        reserve_copying_len(patches, own + next);
         let mut tests = PatchTests::new(t);
         for f in 0..t.face_count() as u32 {
             if !lev.own[f as usize] || !t.has_limit_surface(f) {
@@ -872,6 +888,17 @@ fn classify_level(
         census.transition += usize::from(p.transition != 0);
     }
     census
+}
+
+/// Room in `patches` for `additional` more: when short, a new allocation the patches are
+/// copied to (`Vec::reserve`'s `realloc` would copy the whole old capacity, reserved a level
+/// ahead by `classify_level`, not just the patches).
+fn reserve_copying_len(patches: &mut Vec<AdaptivePatch>, additional: usize) {
+    if patches.capacity() - patches.len() < additional {
+        let mut grown = Vec::with_capacity(patches.len() + additional);
+        grown.extend_from_slice(patches);
+        *patches = grown;
+    }
 }
 
 /// The patch of own face `f` of `lev` (transition bits not set: they need the level's refined

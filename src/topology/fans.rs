@@ -34,16 +34,21 @@ impl<'a> RingBuilder<'a> {
         corners: usize,
         edges: usize,
     ) -> RingBuilder<'a> {
-        let mut offsets = Vec::with_capacity(vertices + 1);
-        offsets.push(0);
+        // Each offsets array sized on its own (a clone of a sized one would have room for
+        // its one entry only, and grow vertex by vertex).
+        let offsets = || {
+            let mut o = Vec::with_capacity(vertices + 1);
+            o.push(0);
+            o
+        };
         RingBuilder {
             face_offsets,
             face_edges,
             rings: Rings {
-                vert_face_offsets: offsets.clone(),
+                vert_face_offsets: offsets(),
                 vert_faces: Vec::with_capacity(corners),
                 vert_face_local: Vec::with_capacity(corners),
-                vert_edge_offsets: offsets,
+                vert_edge_offsets: offsets(),
                 vert_edges: Vec::with_capacity(2 * edges),
             },
             entries: Vec::with_capacity(16),
