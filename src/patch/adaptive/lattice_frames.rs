@@ -208,26 +208,30 @@ impl LatticeFrames {
     }
 }
 
+/// A region found by [`EndCaps::regions`], before its frames are made.
+struct RegionAt {
+    /// The end cap's census patch.
+    patch: u32,
+    /// The face corner at the region vertex `v`.
+    corner: usize,
+    v: u32,
+    /// [`lattice_size`] at `v`: its steps and widest region (the neighbourhood's).
+    steps: u32,
+    widest: u32,
+    /// The region's own cells.
+    cells: u32,
+}
+
+/// Room for the lattice frames' terms up front: per node (a frame at most), this many terms
+/// (two rows; the car at isolation 2 averages 24 over its 698 frames), so a build's frame rows
+/// are seldom moved as they grow.
+const FRAME_TERMS: usize = 32;
+
 impl EndCaps<'_> {
-    /// [`LatticeFrames::new`] with each region vertex's neighbourhood made by `make(lev, v,
-    /// steps, cells, shapes)`.
-    fn frames(
-        self,
-        first: u32,
-        masks: &SharedVertexMasks,
-        make: fn(&AdaptiveLevel, u32, u32, u32, &mut GridShapes) -> Option<Local>,
-    ) -> LatticeFrames {
+    /// The regions of the quad end caps' corners at [`lattice_vertex`]es, in census order.
+    fn regions(self) -> Vec<RegionAt> {
         let (refinement, census) = (self.refinement, self.census);
-        let mut out = LatticeFrames::default();
-        if !refinement.lattice_normals {
-            return out;
-        }
-        // The frames of the nodes on a region's edges, which the end caps there share (a node
-        // inside a face is in one region only).
-        let mut ids: WordHashMap<(u32, Node), u32> = WordHashMap::default();
-        // Per (level, vertex): its refined neighbourhood, built once.
-        let mut local: WordHashMap<(u32, u32), Option<Local>> = WordHashMap::default();
-        let mut sums = Sums::default();
+        let mut out = Vec::new();
         // Per level, per vertex: whether it is a `lattice_vertex` (1) or not (0), a property of
         // the vertex asked by each of its quad end caps (`UNASKED` before; a level's table is
         // made when first asked).
@@ -242,7 +246,6 @@ impl EndCaps<'_> {
             let caps = self.topologies.get(p.level);
             let quad_cap = |g: u32| is_quad_end_cap(lev, census, &self.at[p.level as usize], g);
             let fv = t.face_vertices(p.face);
-            let fe = t.face_edges(p.face);
             let known = &mut lattice[p.level as usize];
             if known.is_empty() {
                 known.resize(t.vertex_count(), UNASKED);
@@ -269,52 +272,91 @@ impl EndCaps<'_> {
                     // vertex point corner of a quad can be such a vertex) stay apart.
                     cells = cells.min(1 << (steps - 1));
                 }
-                let mut frames = Vec::with_capacity((cells * cells) as usize);
-                for b in 0..cells {
-                    for a in 0..cells {
-                        let node = match (a, b) {
-                            (0, 0) => Some(Node::Vertex(v)),
-                            (a, 0) => Some(Node::Edge(v, fe[c], a)),
-                            (0, b) => Some(Node::Edge(v, fe[(c + 3) % 4], b)),
-                            _ => None,
-                        };
-                        let key = node.map(|n| (p.level, n));
-                        if let Some(&f) = key.and_then(|k| ids.get(&k)) {
-                            frames.push(f);
-                            continue;
-                        }
-                        let made = if (a, b) == (0, 0) {
-                            corner_rows(lev, v, p.face, masks)
-                                .map(|[d1, d2]| out.rows.push([&d1.0, &d2.0]))
-                                .is_some()
-                        } else {
-                            let hood = local
-                                .entry((p.level, v))
-                                .or_insert_with(|| make(lev, v, steps, widest, &mut sums.grids));
-                            let rows = &mut out.rows;
-                            hood.as_mut().is_some_and(|h| {
-                                h.node_rows(lev, (p.face, c), (a, b), masks, &mut sums, rows)
-                            })
-                        };
-                        let f = if made {
-                            first + out.rows.len() as u32 - 1
-                        } else {
-                            NONE
-                        };
-                        if let Some(k) = key {
-                            ids.insert(k, f);
-                        }
-                        frames.push(f);
-                    }
-                }
-                out.regions.push(LatticeRegion {
+                out.push(RegionAt {
                     patch: i as u32,
-                    corner: c as u32,
+                    corner: c,
+                    v,
                     steps,
+                    widest,
                     cells,
-                    frames,
                 });
             }
+        }
+        out
+    }
+
+    /// [`LatticeFrames::new`] with each region vertex's neighbourhood made by `make(lev, v,
+    /// steps, cells, shapes)`.
+    fn frames(
+        self,
+        first: u32,
+        masks: &SharedVertexMasks,
+        make: fn(&AdaptiveLevel, u32, u32, u32, &mut GridShapes) -> Option<Local>,
+    ) -> LatticeFrames {
+        let mut out = LatticeFrames::default();
+        if !self.refinement.lattice_normals {
+            return out;
+        }
+        let regions = self.regions();
+        let nodes: usize = regions.iter().map(|r| (r.cells * r.cells) as usize).sum();
+        out.rows.reserve(nodes, FRAME_TERMS * nodes);
+        out.regions.reserve_exact(regions.len());
+        // The frames of the nodes on a region's edges, which the end caps there share (a node
+        // inside a face is in one region only).
+        let mut ids: WordHashMap<(u32, Node), u32> = WordHashMap::default();
+        // Per (level, vertex): its refined neighbourhood, built once.
+        let mut local: WordHashMap<(u32, u32), Option<Local>> = WordHashMap::default();
+        let mut sums = Sums::default();
+        for r in regions {
+            let p = &self.census.patches[r.patch as usize];
+            let lev = &self.refinement.levels[p.level as usize];
+            let fe = lev.topology().face_edges(p.face);
+            let (v, c, cells) = (r.v, r.corner, r.cells);
+            let mut frames = Vec::with_capacity((cells * cells) as usize);
+            for b in 0..cells {
+                for a in 0..cells {
+                    let node = match (a, b) {
+                        (0, 0) => Some(Node::Vertex(v)),
+                        (a, 0) => Some(Node::Edge(v, fe[c], a)),
+                        (0, b) => Some(Node::Edge(v, fe[(c + 3) % 4], b)),
+                        _ => None,
+                    };
+                    let key = node.map(|n| (p.level, n));
+                    if let Some(&f) = key.and_then(|k| ids.get(&k)) {
+                        frames.push(f);
+                        continue;
+                    }
+                    let made = if (a, b) == (0, 0) {
+                        corner_rows(lev, v, p.face, masks)
+                            .map(|[d1, d2]| out.rows.push([&d1.0, &d2.0]))
+                            .is_some()
+                    } else {
+                        let hood = local
+                            .entry((p.level, v))
+                            .or_insert_with(|| make(lev, v, r.steps, r.widest, &mut sums.grids));
+                        let rows = &mut out.rows;
+                        hood.as_mut().is_some_and(|h| {
+                            h.node_rows(lev, (p.face, c), (a, b), masks, &mut sums, rows)
+                        })
+                    };
+                    let f = if made {
+                        first + out.rows.len() as u32 - 1
+                    } else {
+                        NONE
+                    };
+                    if let Some(k) = key {
+                        ids.insert(k, f);
+                    }
+                    frames.push(f);
+                }
+            }
+            out.regions.push(LatticeRegion {
+                patch: r.patch,
+                corner: c as u32,
+                steps: r.steps,
+                cells,
+                frames,
+            });
         }
         out
     }

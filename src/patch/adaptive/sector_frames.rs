@@ -26,7 +26,7 @@ use crate::patch::gregory::word_hash::WordHashMap;
 use crate::patch::gregory::Weights;
 use crate::subdiv::adaptive::{AdaptiveRefinement, PatchCensus, PatchType};
 use crate::subdiv::limit::SharedVertexMasks;
-use crate::topology::{sector_counts, sector_faces, Topology};
+use crate::topology::{sector_count, sector_counts, sector_faces, Topology};
 
 /// The sector frames of a census and which patch corners and midpoints read them.
 #[derive(Debug, Clone, Default)]
@@ -80,7 +80,7 @@ impl SectorFrames {
         };
         let mut index: WordHashMap<SectorKey, u32> = WordHashMap::default();
         let mut out = SectorFrames::default();
-        let mut counts = SectorCounts::new(refinement, topologies);
+        let mut counts = SectorCounts::new(refinement);
         // Corner keys per census patch (NONE slot: one sector, nothing to share).
         let mut corner_keys = Vec::with_capacity(census.patches.len());
         let mut promoted_corners = vec![[false; 4]; census.patches.len()];
@@ -92,12 +92,18 @@ impl SectorFrames {
                 let caps = topologies.get(p.level);
                 for (k, &v) in caps.face_vertices(p.face).iter().enumerate().take(4) {
                     let s = slots.of(lev.global(v));
+                    // Most end-cap corners' slots have a shared normal: no key (nor whether
+                    // they are promoted, read only where keyed); the few others walk their
+                    // rings (no pass over the end caps' topology).
+                    if shared_normal[s as usize] {
+                        continue;
+                    }
                     // On a promoted crease the sectors are the limit's (the level's own
                     // topology), each with its exact frame.
                     let promoted = promoted_vertex(lev.topology(), caps, v);
                     promoted_corners[corner_keys.len()][k] = promoted;
                     let t = if promoted { lev.topology() } else { caps };
-                    if counts.get(p.level, !promoted, v) >= 2 && !shared_normal[s as usize] {
+                    if sector_count(t, v) >= 2 {
                         // The sector's smallest base face, seen at this level (every base face
                         // around a base vertex has one child around it: complete rings).
                         let own = sector_faces(t, v, p.face)
@@ -116,7 +122,7 @@ impl SectorFrames {
             } else {
                 let t = lev.topology();
                 for (k, &v) in t.face_vertices(p.face).iter().enumerate().take(4) {
-                    if counts.get(p.level, false, v) >= 2 {
+                    if counts.get(p.level, v) >= 2 {
                         keys[k] = Some(key(slots.of(lev.global(v)), b));
                     }
                 }
@@ -184,38 +190,25 @@ impl SectorFrames {
     }
 }
 
-/// [`sector_counts`] of each level's topology and of its end caps' (the same where the end caps
-/// borrow the level's), each counted on first use in one pass over its edges: a patch corner
-/// asks for a vertex's count up to four times, and the pass is cheaper than a ring walk per
-/// vertex asked.
+/// [`sector_counts`] of each level's topology, each counted on first use in one pass over its
+/// edges: the exact patches' corners ask for a vertex's count up to four times each, and the
+/// pass is cheaper than a ring walk per vertex asked.
 struct SectorCounts<'t> {
-    /// Per level: its topology and its end caps', each with its counts (empty: not counted
-    /// yet).
-    levels: Vec<[(&'t Topology, Vec<u32>); 2]>,
+    /// Per level: its topology and its counts (empty: not counted yet).
+    levels: Vec<(&'t Topology, Vec<u32>)>,
 }
 
 impl<'t> SectorCounts<'t> {
-    fn new(refinement: &'t AdaptiveRefinement, topologies: &'t EndCapTopologies) -> Self {
-        let levels = refinement
-            .levels
-            .iter()
-            .enumerate()
-            .map(|(l, lev)| {
-                [
-                    (lev.topology(), Vec::new()),
-                    (topologies.get(l as u32), Vec::new()),
-                ]
-            })
+    fn new(refinement: &'t AdaptiveRefinement) -> Self {
+        let levels = (refinement.levels.iter())
+            .map(|lev| (lev.topology(), Vec::new()))
             .collect();
         SectorCounts { levels }
     }
 
-    /// [`crate::topology::sector_count`] of vertex `v` of level `level`, in its end caps'
-    /// topology if `caps`.
-    fn get(&mut self, level: u32, caps: bool, v: u32) -> usize {
-        let pair = &mut self.levels[level as usize];
-        let which = usize::from(caps && !std::ptr::eq(pair[0].0, pair[1].0));
-        let (topo, counts) = &mut pair[which];
+    /// [`crate::topology::sector_count`] of vertex `v` of level `level`.
+    fn get(&mut self, level: u32, v: u32) -> usize {
+        let (topo, counts) = &mut self.levels[level as usize];
         if counts.is_empty() {
             *counts = sector_counts(topo);
         }

@@ -96,17 +96,19 @@ impl Dense {
         y
     }
 
-    /// [`Self::left_mul`] into `y` (the power iterations' buffers).
+    /// [`Self::left_mul`] into `y` (the power iterations' buffers). Row by row, each `y[j]`
+    /// summed in increasing `i`, zero entries of `x` skipped; `y` and each row as slices of
+    /// length `m` (the rows by `chunks_exact`), so the inner loop needs no bounds checks.
     fn left_mul_into(&self, x: &[f64], y: &mut Vec<f64>) {
         let m = self.m;
         y.clear();
         y.resize(m, 0.0);
-        for (i, &xi) in x.iter().enumerate() {
+        let y = &mut y[..m];
+        for (row, &xi) in self.a.chunks_exact(m).zip(x) {
             if xi == 0.0 {
                 continue;
             }
-            let row = &self.a[i * m..(i + 1) * m];
-            for (yj, &r) in y.iter_mut().zip(row) {
+            for (yj, &r) in y.iter_mut().zip(&row[..m]) {
                 *yj += xi * r;
             }
         }

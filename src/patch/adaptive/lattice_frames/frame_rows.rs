@@ -47,6 +47,12 @@ impl FrameRows {
         [row(2 * f), row(2 * f + 1)]
     }
 
+    /// Room for `frames` more frames of `terms` terms in all.
+    pub(super) fn reserve(&mut self, frames: usize, terms: usize) {
+        self.ends.reserve(2 * frames);
+        self.terms.reserve(terms);
+    }
+
     /// Appends `term` to the row being made.
     pub(super) fn push_term(&mut self, term: (u32, f64)) {
         self.terms.push(term);

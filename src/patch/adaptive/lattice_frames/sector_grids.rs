@@ -194,7 +194,8 @@ impl SectorGrids {
         let mut flipped = false;
         for (i, &f) in faces.iter().enumerate() {
             let (fv, fe) = (t.face_vertices(f), t.face_edges(f));
-            if fv.len() != 4 {
+            // Quads of four distinct corners (their face points' rows below).
+            if fv.len() != 4 || (1..4).any(|k| fv[k..].contains(&fv[k - 1])) {
                 return None;
             }
             let k = fv.iter().position(|&u| u == v)?;
@@ -241,8 +242,12 @@ impl SectorGrids {
             push(level.child_vertex_point(u), &mut first);
         }
         for (&f, &(c, from_a, from_b)) in faces.iter().zip(&far) {
-            // Row by row: (1, 1), (2, 1), (1, 2), (2, 2).
-            push(level.child_face_point(f), &mut first);
+            // Row by row: (1, 1), (2, 1), (1, 2), (2, 2). The face point is the quad's
+            // centroid: `refine_matrix_row`'s terms in the face's order rather than sorted, the
+            // same bits (the pull-backs add a row's distinct columns to distinct sums).
+            let quad = t.face_vertices(f);
+            first.terms.extend(quad.iter().map(|&u| (u, 0.25)));
+            first.close_row();
             push(level.child_edge_point(from_a), &mut first);
             push(level.child_edge_point(from_b), &mut first);
             push(level.child_vertex_point(c), &mut first);
