@@ -229,7 +229,9 @@ fn end_cap_rows(
     for group in read.chunk_by(|a, b| a.0 == b.0) {
         let l = group[0].0;
         let at: Vec<u32> = group.iter().map(|&(_, v, _)| v).collect();
-        let rows = shared_vertex_point_rows(topologies.get(l), &at, tangents, &darts);
+        // Without zero terms, as the end caps' rows.
+        let rows =
+            shared_vertex_point_rows(topologies.get(l), &at, tangents, &darts, Terms::Nonzero);
         let mut runs: Vec<Range<usize>> = Vec::new();
         for (i, &(_, _, mask)) in group.iter().enumerate() {
             for b in (0..VERTEX_POINTS as usize).filter(|b| mask & (1 << b) != 0) {

@@ -739,6 +739,7 @@ impl EndCapFaceRows {
     /// Appends [`Self::rows`] of every face, in order, to `out`, each face's padded with empty
     /// rows to `face_rows` rows (so face `i`'s rows start at `face_rows * i`): on the rayon
     /// pool in batches of whole faces, each batch's rows in one buffer (no buffer per face).
+    /// The caller reserves room in `out` ([`Self::terms_bound`], for every level at once).
     pub fn all_rows_into(
         &self,
         topo: &Topology,
@@ -754,8 +755,6 @@ impl EndCapFaceRows {
                 out.push_empty(face_rows - (out.len() - first));
             }
         };
-        out.offsets.reserve(face_rows * self.len());
-        out.terms.reserve(self.terms_bound());
         let per = self.len().div_ceil(rayon::current_num_threads()).max(256);
         if self.len() <= per {
             return batch(0..self.len(), out);

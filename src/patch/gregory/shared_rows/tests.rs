@@ -194,7 +194,8 @@ fn shared_vertex_points_are_the_per_vertex_construction() {
             GregoryTangents::EndCaps,
             GregoryTangents::Fitted,
         ] {
-            let shared = shared_vertex_point_rows(topo, &all, tangents, &DartLimits::new());
+            let shared =
+                shared_vertex_point_rows(topo, &all, tangents, &DartLimits::new(), Terms::All);
             assert_eq!(shared.len(), 3 * all.len());
             for (i, &v) in all.iter().enumerate() {
                 let want =

@@ -5,7 +5,7 @@
 use rayon::prelude::*;
 
 use crate::patch::gregory::corner_rings::vertex_word;
-use crate::patch::gregory::face_rows::{FaceRows, TERM_PLACEHOLDER};
+use crate::patch::gregory::face_rows::{FaceRows, Terms, TERM_PLACEHOLDER};
 use crate::patch::gregory::point::Weights;
 use crate::patch::gregory::stencil_table::vertex_point_rows_with;
 use crate::patch::gregory::tangents::GregoryTangents;
@@ -24,13 +24,17 @@ const NONE: u32 = u32::MAX;
 /// rows of a vertex read only its edges' other ends and sharpness, its faces' vertices and its
 /// own sharpness, so vertices whose rings read the same in first-appearance slots
 /// (`RingKeys`) have the same weights slot by slot, and every weight is the same sequence
-/// of `a + w * b` updates whatever the ids. Bitwise the per-vertex rows; the keys, the types'
-/// rows and the relabelling run on the rayon pool. Dart masks from `darts`.
+/// of `a + w * b` updates whatever the ids. Bitwise the per-vertex rows, with the terms
+/// `kept` keeps (dropped once per type, as [`super::end_cap_face_rows`] does: the draw tables
+/// drop the zero terms, which the rows of most types hold, and closing up rows of every vertex
+/// after copying them costs more); the keys, the types' rows and the relabelling run on the
+/// rayon pool. Dart masks from `darts`.
 pub fn shared_vertex_point_rows(
     topo: &Topology,
     vertices: &[u32],
     tangents: GregoryTangents,
     darts: &DartLimits,
+    kept: Terms,
 ) -> FaceRows {
     let fresh = || vec![NONE; topo.vertex_count()];
     // The keys of runs of `RUN` vertices, each run's in flat arrays (no allocation per vertex).
@@ -68,9 +72,14 @@ pub fn shared_vertex_point_rows(
             for (s, &u) in ring.iter().enumerate() {
                 slot[u as usize] = s as u32;
             }
-            let rows =
+            let mut rows =
                 vertex_point_rows_with(topo, vertices[i], &|u| slot[u as usize], tangents, darts);
             clear(slot, ring);
+            if kept == Terms::Nonzero {
+                for w in &mut rows {
+                    w.0.retain(|t| kept.keeps(t.1));
+                }
+            }
             rows
         })
         .collect();
