@@ -43,17 +43,19 @@ impl Slots {
     /// frame's corner: `CornerRows::visit` order gives the exact patches' first).
     pub fn new(
         refinement: &AdaptiveRefinement,
-        corners: impl IntoIterator<Item = u32>,
+        corners: impl ExactSizeIterator<Item = u32>,
     ) -> (Slots, Vec<u32>) {
         let mut of_vertex = origins(refinement);
+        // At most a slot per corner and per vertex: room for every slot up front.
+        let most = corners.len().min(of_vertex.len());
         // Per origin: the first corner there (its place in `corners`; NONE is above every
         // place), then the origin's slot.
         let mut at_origin = vec![NONE; of_vertex.len()];
-        for (i, g) in corners.into_iter().enumerate() {
+        for (i, g) in corners.enumerate() {
             let first = &mut at_origin[of_vertex[g as usize] as usize];
             *first = (*first).min(i as u32);
         }
-        let (mut origins, mut first_corners) = (Vec::new(), Vec::new());
+        let (mut origins, mut first_corners) = (Vec::with_capacity(most), Vec::with_capacity(most));
         for (o, s) in at_origin.iter_mut().enumerate() {
             if *s != NONE {
                 first_corners.push(*s);
