@@ -455,7 +455,7 @@ impl AdaptiveDrawTables {
         for r in lattice.rows.iter() {
             rows.push_empty(1);
             for w in r {
-                rows.push_terms(w, 0);
+                rows.push_long_row(w);
             }
         }
         shared_normal.resize(shared_normal.len() + lattice.rows.len(), true);
@@ -531,6 +531,10 @@ impl AdaptiveDrawTables {
             // Sector frames in the drawn patch's corner order (a rotated single-crease patch's
             // corners are the face's in another order): matched by slot.
             let drawn_frames = |draw: &BSplineDraw| {
+                if corner_frames == [NONE; 4] {
+                    // Most patches: no corner with a sector frame.
+                    return corner_frames;
+                }
                 draw.corners.map(|c| {
                     face_slots
                         .iter()

@@ -278,6 +278,23 @@ impl SparseRows {
         self.end_row();
     }
 
+    /// [`Self::push_terms`] of a long row (no id offset), the same terms: copied whole, array
+    /// by array, then its terms whose weight rounds to a zero f32 dropped where there are any
+    /// (as [`Self::append_face_row_range`] does), rather than two pushes and a test per term.
+    pub fn push_long_row(&mut self, row: &[(u32, f64)]) {
+        let first_row = self.len();
+        self.ids.extend(row.iter().map(|t| t.0));
+        let mut zero = false;
+        self.weights_f64.extend(row.iter().map(|&(_, w)| {
+            zero |= w.abs() <= LARGEST_F32_ZERO;
+            w
+        }));
+        self.end_row();
+        if zero {
+            self.drop_zero_terms(first_row);
+        }
+    }
+
     /// Appends term `(id, w)` to the row being pushed, unless `w` rounds to a zero f32.
     fn push_term(&mut self, (id, w): (u32, f64)) {
         if w as f32 != 0.0 {
