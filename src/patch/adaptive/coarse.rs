@@ -312,3 +312,52 @@ impl CoarseEdges {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::patch::adaptive::census_index::patch_index;
+    use crate::patch::adaptive::rows::patch_corners;
+    use crate::subdiv::adaptive::PatchType;
+    use crate::subdiv::corpus_levels;
+
+    /// `records_bound` bounds the records made as the draw tables make them (the transition
+    /// edges', then a whole edge tried for every end-cap edge without a coarse record), over
+    /// meshes with transition edges and single-crease patches.
+    #[test]
+    fn records_bound_bounds_the_records() {
+        let cases = [
+            ("catmark_car", 2),
+            ("catmark_cube_creases1", 3),
+            ("catmark_single_crease", 3),
+            ("catmark_tent_creases1", 2),
+        ];
+        let names: Vec<&str> = cases.iter().map(|c| c.0).collect();
+        for ((name, _, level), (_, isolation)) in corpus_levels(&names, 0).iter().zip(cases) {
+            let refinement = AdaptiveRefinement::new(level, isolation).unwrap();
+            let census = refinement.census();
+            let corners = patch_corners(&refinement, census);
+            let (slots, _) = Slots::new(&refinement, corners.iter().map(|c| c.global));
+            let at = patch_index(&refinement, census);
+            let mut coarse = CoarseEdges::new(&refinement, census, &slots);
+            assert!(!coarse.edges.is_empty(), "{name}");
+            for p in census
+                .patches
+                .iter()
+                .filter(|p| p.kind == PatchType::EndCap)
+            {
+                let t = refinement.levels[p.level as usize].topology();
+                for (k, &e) in t.face_edges(p.face).iter().enumerate().take(4) {
+                    if coarse.lookup(&refinement, p.level, p.face, (k, e)).unwrap() == NONE {
+                        coarse.whole(&refinement, census, &at, &slots, (p.level, p.face, k));
+                    }
+                }
+            }
+            assert!(
+                coarse.edges.len() <= records_bound(census),
+                "{name}: {} records",
+                coarse.edges.len()
+            );
+        }
+    }
+}
