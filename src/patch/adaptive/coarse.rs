@@ -100,6 +100,20 @@ fn edge_record(
     })
 }
 
+/// At least the number of records [`CoarseEdges`] makes of `census` (sized up front rather
+/// than grown, a record being 64 bytes): one per transition edge of a B-spline patch, and the
+/// [`WHOLE_EDGE`] ones of [`CoarseEdges::whole`], at most three per single-crease patch (its
+/// crease edge and the two edges across its crease line, each with one face across).
+fn records_bound(census: &PatchCensus) -> usize {
+    (census.patches.iter())
+        .map(|p| match (&p.crease, &p.bspline) {
+            (Some(_), _) => 3 + (p.transition & 0xf).count_ones() as usize,
+            (None, Some(_)) => (p.transition & 0xf).count_ones() as usize,
+            (None, None) => 0,
+        })
+        .sum()
+}
+
 /// The coarse edges of a refinement and the finer patches' references to them.
 #[derive(Debug, Clone, Default)]
 pub struct CoarseEdges {
@@ -124,6 +138,10 @@ impl CoarseEdges {
             by_edge: vec![Vec::new(); refinement.levels.len()],
             ..Default::default()
         };
+        let records = records_bound(census);
+        out.edges.reserve_exact(records);
+        out.owner.reserve_exact(records);
+        out.refs.reserve_exact(records);
         let mids: Vec<Vec<u32>> = refinement
             .levels
             .windows(2)
@@ -211,18 +229,27 @@ impl CoarseEdges {
     /// drawn (boundary, hole, no limit surface).
     ///
     /// The common case (the neighbour is of the same level, or there is none) is settled inline;
-    /// only edges beside a face of another level go on to [`Self::lookup_coarser`].
+    /// only edges beside a face of another level go on to [`Self::lookup_coarser`]. `e` is the
+    /// edge itself (`face_edges(f)[k]`, which the caller has at hand for every edge of the face).
     #[inline]
     pub fn lookup(
         &mut self,
         refinement: &AdaptiveRefinement,
         level: u32,
         f: u32,
-        k: usize,
+        (k, e): (usize, u32),
     ) -> Result<u32, DrawTablesError> {
         let lev = &refinement.levels[level as usize];
-        match lev.topology().adjacent_face(f, k) {
-            Some(h) if !lev.own[h as usize] => self.lookup_coarser(refinement, level, f, k, h),
+        // The face across `e` from `f` (`Topology::adjacent_face`, given the edge).
+        match *lev.topology().edge_faces(e) {
+            [a, b] => {
+                let h = if a == f { b } else { a };
+                if lev.own[h as usize] {
+                    Ok(NONE)
+                } else {
+                    self.lookup_coarser(refinement, level, f, k, h)
+                }
+            }
             _ => Ok(NONE),
         }
     }
@@ -282,6 +309,55 @@ impl CoarseEdges {
                     edge: k,
                 })
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::patch::adaptive::census_index::patch_index;
+    use crate::patch::adaptive::rows::patch_corners;
+    use crate::subdiv::adaptive::PatchType;
+    use crate::subdiv::corpus_levels;
+
+    /// `records_bound` bounds the records made as the draw tables make them (the transition
+    /// edges', then a whole edge tried for every end-cap edge without a coarse record), over
+    /// meshes with transition edges and single-crease patches.
+    #[test]
+    fn records_bound_bounds_the_records() {
+        let cases = [
+            ("catmark_car", 2),
+            ("catmark_cube_creases1", 3),
+            ("catmark_single_crease", 3),
+            ("catmark_tent_creases1", 2),
+        ];
+        let names: Vec<&str> = cases.iter().map(|c| c.0).collect();
+        for ((name, _, level), (_, isolation)) in corpus_levels(&names, 0).iter().zip(cases) {
+            let refinement = AdaptiveRefinement::new(level, isolation).unwrap();
+            let census = refinement.census();
+            let corners = patch_corners(&refinement, census);
+            let (slots, _) = Slots::new(&refinement, corners.iter().map(|c| c.global));
+            let at = patch_index(&refinement, census);
+            let mut coarse = CoarseEdges::new(&refinement, census, &slots);
+            assert!(!coarse.edges.is_empty(), "{name}");
+            for p in census
+                .patches
+                .iter()
+                .filter(|p| p.kind == PatchType::EndCap)
+            {
+                let t = refinement.levels[p.level as usize].topology();
+                for (k, &e) in t.face_edges(p.face).iter().enumerate().take(4) {
+                    if coarse.lookup(&refinement, p.level, p.face, (k, e)).unwrap() == NONE {
+                        coarse.whole(&refinement, census, &at, &slots, (p.level, p.face, k));
+                    }
+                }
+            }
+            assert!(
+                coarse.edges.len() <= records_bound(census),
+                "{name}: {} records",
+                coarse.edges.len()
+            );
         }
     }
 }

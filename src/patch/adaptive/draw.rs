@@ -445,6 +445,7 @@ impl AdaptiveDrawTables {
         for r in sectors.rows.iter().flatten() {
             rows.push(r, 0);
         }
+        shared_normal.reserve_exact(sectors.rows.len() + exact.rows.len() + lattice.rows.len());
         shared_normal.resize(slots.len() + sectors.rows.len(), true);
         // Exact-position frames: no tangents, no normal.
         for r in &exact.rows {
@@ -456,7 +457,7 @@ impl AdaptiveDrawTables {
         for r in lattice.rows.iter() {
             rows.push_empty(1);
             for w in r {
-                rows.push_terms(w, 0);
+                rows.push_long_row(w);
             }
         }
         shared_normal.resize(shared_normal.len() + lattice.rows.len(), true);
@@ -494,10 +495,12 @@ impl AdaptiveDrawTables {
         for (i, p) in census.patches.iter().enumerate() {
             let lev = &refinement.levels[p.level as usize];
             let t = lev.topology();
-            let n = t.face_size(p.face);
+            // The face's corners and edges, read once for every use below.
+            let (fv, edges) = (t.face_vertices(p.face), t.face_edges(p.face));
+            let n = fv.len();
             let mut fine = [NONE; 4];
-            for (k, c) in fine.iter_mut().enumerate().take(n) {
-                *c = coarse.lookup(refinement, p.level, p.face, k)?;
+            for (k, (c, &e)) in fine.iter_mut().zip(edges).enumerate() {
+                *c = coarse.lookup(refinement, p.level, p.face, (k, e))?;
                 if *c == NONE && p.kind == PatchType::EndCap {
                     *c = coarse.whole(refinement, census, &at, &out.slots, (p.level, p.face, k));
                 }
@@ -524,12 +527,16 @@ impl AdaptiveDrawTables {
             let slot = |v: u32| out.slots.of(v);
             // The first four corners' slots (B-spline and single-crease patches are quads).
             let mut face_slots = [NONE; 4];
-            for (s, &v) in face_slots.iter_mut().zip(t.face_vertices(p.face)) {
+            for (s, &v) in face_slots.iter_mut().zip(fv) {
                 *s = slot(lev.global(v));
             }
             // Sector frames in the drawn patch's corner order (a rotated single-crease patch's
             // corners are the face's in another order): matched by slot.
             let drawn_frames = |draw: &BSplineDraw| {
+                if corner_frames == [NONE; 4] {
+                    // Most patches: no corner with a sector frame.
+                    return corner_frames;
+                }
                 draw.corners.map(|c| {
                     face_slots
                         .iter()
@@ -589,7 +596,7 @@ impl AdaptiveDrawTables {
             // A quad end cap of this level (the neighbours both fillets need).
             let quad_cap = |g: u32| is_quad_end_cap(lev, census, &at[p.level as usize], g);
             let mut fine_codes = [0u32; 4];
-            for (k, &e) in t.face_edges(p.face).iter().enumerate() {
+            for (k, &e) in edges.iter().enumerate() {
                 let across_cap = t.edge_faces(e).iter().any(|&g| g != p.face && quad_cap(g));
                 if n == 4 && fine[k] == NONE && across_cap && caps.is_promoted_edge(e) {
                     ef.flags &= !(1 << (12 + k));
@@ -598,7 +605,6 @@ impl AdaptiveDrawTables {
                     // Its shared normal turns towards the limit's within the fillet of an
                     // irregular crease vertex at either end (`crease_turn_share`): bit 16 + the
                     // corner.
-                    let fv = t.face_vertices(p.face);
                     for c in [k, (k + 1) % 4] {
                         if irregular_crease_vertex(t, caps, fv[c]) {
                             out.records[i].transition |= 1 << (16 + c);
@@ -607,7 +613,6 @@ impl AdaptiveDrawTables {
                 } else if n == 4 && fine[k] == NONE && across_cap && !is_sharp_edge(caps, e) {
                     // An edge between two end caps from a vertex on a promoted crease: the
                     // fillet's sharpness at either end (4 bits each), both sides alike.
-                    let fv = t.face_vertices(p.face);
                     for (half, v) in [fv[k], fv[(k + 1) % 4]].into_iter().enumerate() {
                         let end = fillet_ends.at(p.level, t, caps, v, e);
                         if let Some(end) = end {
@@ -631,7 +636,6 @@ impl AdaptiveDrawTables {
                 }
             }
             out.records[i].fillet_fine = fillet_fine_words(fine_codes);
-            let fv = t.face_vertices(p.face);
             // The positional fillet reaches corner c whole (`positional_fillet_end`): bit 20 + c.
             if ef.flags >> 28 != 0 {
                 for (c, &v) in fv.iter().enumerate() {
@@ -640,10 +644,8 @@ impl AdaptiveDrawTables {
                     }
                 }
             }
-            let mut corners = [slot(lev.global(fv[0])); 4];
-            for (c, &v) in corners.iter_mut().zip(fv) {
-                *c = slot(lev.global(v));
-            }
+            // The face's slots, the first corner's past a triangle's last (isolation 0).
+            let corners = std::array::from_fn(|c| face_slots[if c < n { c } else { 0 }]);
             let first_row = end_cap_first_row + (END_CAP_ROWS * out.end_caps.len()) as u32;
             out.end_caps.push(EndCapDraw {
                 record: i as u32,

@@ -278,6 +278,23 @@ impl SparseRows {
         self.end_row();
     }
 
+    /// [`Self::push_terms`] of a long row (no id offset), the same terms: copied whole, array
+    /// by array, then its terms whose weight rounds to a zero f32 dropped where there are any
+    /// (as [`Self::append_face_row_range`] does), rather than two pushes and a test per term.
+    pub fn push_long_row(&mut self, row: &[(u32, f64)]) {
+        let first_row = self.len();
+        self.ids.extend(row.iter().map(|t| t.0));
+        let mut zero = false;
+        self.weights_f64.extend(row.iter().map(|&(_, w)| {
+            zero |= w.abs() <= LARGEST_F32_ZERO;
+            w
+        }));
+        self.end_row();
+        if zero {
+            self.drop_zero_terms(first_row);
+        }
+    }
+
     /// Appends term `(id, w)` to the row being pushed, unless `w` rounds to a zero f32.
     fn push_term(&mut self, (id, w): (u32, f64)) {
         if w as f32 != 0.0 {
@@ -869,6 +886,47 @@ mod tests {
                     want.push_terms(face.row(r), 7);
                 }
                 assert_eq!(got, want, "zeros every {zeros}, rows {range:?}");
+            }
+        }
+    }
+
+    /// A long row pushed array by array is `push_terms`' row: rows with no term to drop, with
+    /// weights that round to a zero f32 (0, -0, 1e-60, 2^-150) first, last, inside and
+    /// throughout, an empty row, after rows already there.
+    #[test]
+    fn long_rows_are_pushed_rows() {
+        let tiny = [0.0, -0.0, 1e-60, LARGEST_F32_ZERO, -1e-46];
+        for len in [0usize, 1, 5, 24] {
+            for zeros in 0..4 {
+                let row: Vec<(u32, f64)> = (0..len)
+                    .map(|i| {
+                        let zero = match zeros {
+                            0 => false,
+                            1 => i == 0 || i + 1 == len,
+                            2 => i % 3 == 1,
+                            _ => true,
+                        };
+                        let w = if zero {
+                            tiny[i % 5]
+                        } else {
+                            0.125 * (i as f64 + 1.0)
+                        };
+                        (3 * i as u32 + 2, w)
+                    })
+                    .collect();
+                let mut got = SparseRows::new();
+                got.push_terms(&[(1, 0.5), (2, 1e-60)], 0);
+                let mut want = got.clone();
+                got.push_long_row(&row);
+                want.push_terms(&row, 0);
+                assert_eq!(got, want, "{len} terms, zeros {zeros}");
+                // Every tiny weight is at most 2^-150 in magnitude, so each is dropped.
+                let tiny_terms = row.iter().filter(|t| tiny.contains(&t.1)).count();
+                assert_eq!(
+                    got.row(1).count(),
+                    len - tiny_terms,
+                    "{len} terms, zeros {zeros}"
+                );
             }
         }
     }

@@ -215,6 +215,40 @@ mod tests {
         }
     }
 
+    /// Each vertex's origin is the vertex found by walking up its chain of vertex points one
+    /// level at a time, itself where the chain stops at once; over meshes with and without end
+    /// caps, and some vertices have an origin of another level.
+    #[test]
+    fn origins_end_vertex_point_chains() {
+        let cases = [("catmark_car", 2), ("catmark_cube_creases1", 3)];
+        let names: Vec<&str> = cases.iter().map(|c| c.0).collect();
+        for ((name, _, level), (_, isolation)) in corpus_levels(&names, 0).iter().zip(cases) {
+            let refinement = AdaptiveRefinement::new(level, isolation).unwrap();
+            let origin = origins(&refinement);
+            assert_eq!(origin.len(), refinement.vertex_count(), "{name}");
+            let mut moved = 0;
+            for (l, lev) in refinement.levels.iter().enumerate() {
+                for v in 0..lev.level.vertex_count() as u32 {
+                    let (mut at, mut u) = (l, v);
+                    while let Some(parent) = at.checked_sub(1).map(|p| &refinement.levels[p]) {
+                        match parent.child_of(u) {
+                            crate::subdiv::adaptive::ChildOf::Vertex(p) => (at, u) = (at - 1, p),
+                            _ => break,
+                        }
+                    }
+                    let want = refinement.levels[at].global(u);
+                    moved += usize::from(want != lev.global(v));
+                    assert_eq!(
+                        origin[lev.global(v) as usize],
+                        want,
+                        "{name}: level {l}, {v}"
+                    );
+                }
+            }
+            assert!(moved > 0, "{name}");
+        }
+    }
+
     /// Every census corner has the slot of its origin, slots number the origins in increasing
     /// order, and each slot's first corner is the first corner at its point in the visit order
     /// (a scan over the corners); over meshes with end caps, creases, boundaries and holes.

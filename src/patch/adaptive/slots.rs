@@ -22,16 +22,23 @@ pub struct Slots {
 pub fn origins(refinement: &AdaptiveRefinement) -> Vec<u32> {
     let mut origin: Vec<u32> = Vec::with_capacity(refinement.vertex_count());
     for (l, lev) in refinement.levels.iter().enumerate() {
-        for v in 0..lev.level.vertex_count() as u32 {
-            let own = lev.global(v);
-            let o = match l.checked_sub(1).map(|p| &refinement.levels[p]) {
-                Some(parent) => match parent.child_of(v) {
-                    ChildOf::Vertex(p) => origin[parent.global(p) as usize],
-                    _ => own,
-                },
-                None => own,
+        let own = lev.global(0)..lev.global(lev.level.vertex_count() as u32);
+        let Some(parent) = l.checked_sub(1).map(|p| &refinement.levels[p]) else {
+            origin.extend(own);
+            continue;
+        };
+        // Written in place over the level's room (no push per vertex), the parent level's
+        // origins read from the part before it.
+        let start = origin.len();
+        origin.resize(start + own.len(), 0);
+        let (done, level) = origin.split_at_mut(start);
+        let parents = &done[parent.global(0) as usize..];
+        debug_assert_eq!(parent.children_of().len(), level.len());
+        for ((o, g), &child) in level.iter_mut().zip(own).zip(parent.children_of()) {
+            *o = match child {
+                ChildOf::Vertex(p) => parents[p as usize],
+                _ => g,
             };
-            origin.push(o);
         }
     }
     origin
@@ -43,17 +50,19 @@ impl Slots {
     /// frame's corner: `CornerRows::visit` order gives the exact patches' first).
     pub fn new(
         refinement: &AdaptiveRefinement,
-        corners: impl IntoIterator<Item = u32>,
+        corners: impl ExactSizeIterator<Item = u32>,
     ) -> (Slots, Vec<u32>) {
         let mut of_vertex = origins(refinement);
+        // At most a slot per corner and per vertex: room for every slot up front.
+        let most = corners.len().min(of_vertex.len());
         // Per origin: the first corner there (its place in `corners`; NONE is above every
         // place), then the origin's slot.
         let mut at_origin = vec![NONE; of_vertex.len()];
-        for (i, g) in corners.into_iter().enumerate() {
+        for (i, g) in corners.enumerate() {
             let first = &mut at_origin[of_vertex[g as usize] as usize];
             *first = (*first).min(i as u32);
         }
-        let (mut origins, mut first_corners) = (Vec::new(), Vec::new());
+        let (mut origins, mut first_corners) = (Vec::with_capacity(most), Vec::with_capacity(most));
         for (o, s) in at_origin.iter_mut().enumerate() {
             if *s != NONE {
                 first_corners.push(*s);
