@@ -33,7 +33,7 @@ use super::slot_rows::SlotCorners;
 use super::slots::{Slots, NONE};
 use super::surface::{check_end_cap, end_cap_error, EndCapError, EndCapFailure, EndCapTopologies};
 use crate::patch::edge_grid::PATCH_EDGES;
-use crate::patch::gregory::edge_flags::{edge_flags, Across};
+use crate::patch::gregory::edge_flags::{edge_flags, Across, ManySectors};
 use crate::patch::gregory::shared_rows::{
     end_cap_face_rows, shared_vertex_point_rows, FaceRows, Terms,
 };
@@ -492,6 +492,10 @@ impl AdaptiveDrawTables {
             end_cap_lattice: Vec::new(),
         };
         let mut fillet_ends = FilletEnds::default();
+        // Per level, its end-cap topology's vertices with two or more sectors.
+        let mut many_sectors: Vec<ManySectors> = (refinement.levels.iter())
+            .map(|_| ManySectors::default())
+            .collect();
         for (i, p) in census.patches.iter().enumerate() {
             let lev = &refinement.levels[p.level as usize];
             let t = lev.topology();
@@ -590,7 +594,8 @@ impl AdaptiveDrawTables {
                 None => Across::Nothing,
             };
             let caps = topologies.get(p.level);
-            let mut ef = edge_flags(caps, p.face, across, |v| lev.global(v), slot);
+            let many_sectors = &mut many_sectors[p.level as usize];
+            let mut ef = edge_flags(caps, p.face, across, |v| lev.global(v), slot, many_sectors);
             // A promoted crease (`super::promoted`) between two end caps of this level: the
             // normal both share (bit 12 + k off: the neighbour's cross-edge derivative counts).
             // A quad end cap of this level (the neighbours both fillets need).

@@ -34,15 +34,41 @@ pub struct EdgeFlags {
     pub grids: [u32; GRID_IDS_PER_PATCH],
 }
 
+/// Whether each vertex of one topology has two or more sectors ([`sector_count`]), each vertex
+/// counted on its first ask: neighbouring patches share corners (a vertex of a refined level
+/// serves up to four end caps), so [`edge_flags`] over many faces asks most vertices often.
+#[derive(Debug, Default)]
+pub struct ManySectors {
+    /// Per vertex: 0 not asked yet, 1 fewer than two sectors, 2 two or more (empty: nothing
+    /// asked yet).
+    known: Vec<u8>,
+}
+
+impl ManySectors {
+    /// Whether vertex `v` of `topo` (the same topology on every call) has two or more sectors.
+    pub fn get(&mut self, topo: &Topology, v: u32) -> bool {
+        if self.known.is_empty() {
+            self.known.resize(topo.vertex_count(), 0);
+        }
+        let known = &mut self.known[v as usize];
+        if *known == 0 {
+            *known = 1 + u8::from(sector_count(topo, v) >= 2);
+        }
+        *known == 2
+    }
+}
+
 /// The flags of face `f` of `topo`: `across(k, g)` classifies the face `g` across edge `k`
 /// (`None` on a boundary); `id` maps a vertex of `topo` to the id space of the B-spline
-/// patches' control vertices and `key` orders those ids for the canonical edge direction.
+/// patches' control vertices and `key` orders those ids for the canonical edge direction;
+/// `sectors` says which vertices of `topo` have two or more sectors.
 pub fn edge_flags(
     topo: &Topology,
     f: u32,
     across: impl Fn(usize, Option<u32>) -> Across,
     id: impl Fn(u32) -> u32,
     key: impl Fn(u32) -> u32,
+    sectors: &mut ManySectors,
 ) -> EdgeFlags {
     let fv = topo.face_vertices(f);
     let n = fv.len();
@@ -60,7 +86,7 @@ pub fn edge_flags(
         if sharp || other == Across::Nothing {
             flags |= 1 << (12 + k);
         }
-        if sector_count(topo, a) >= 2 {
+        if sectors.get(topo, a) {
             flags |= 1 << (16 + k);
         }
         let Across::BSpline(p) = other else { continue };

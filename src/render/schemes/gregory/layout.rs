@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 
-use crate::patch::gregory::edge_flags::{edge_flags, Across, EdgeFlags};
+use crate::patch::gregory::edge_flags::{edge_flags, Across, EdgeFlags, ManySectors};
 pub use crate::patch::gregory::gregory_faces as irregular_faces;
 use crate::patch::gregory::{check_face_level0, gregory_vertex, GregoryTangents};
 use crate::patch::single_crease::SingleCreasePatch;
@@ -78,6 +78,7 @@ impl GregoryLayout {
         let quad_count = quads.len() as u32;
         quads.extend(tris);
         let drawn: std::collections::HashSet<u32> = quads.iter().copied().collect();
+        let mut sectors = ManySectors::default();
         let mut out = GregoryLayout {
             quad_count,
             tangents,
@@ -105,7 +106,8 @@ impl GregoryLayout {
                 },
                 None => Across::Nothing,
             };
-            let EdgeFlags { flags, grids } = edge_flags(topo, f, across, |v| v, |v| v);
+            let EdgeFlags { flags, grids } =
+                edge_flags(topo, f, across, |v| v, |v| v, &mut sectors);
             out.faces.push(f);
             out.corners.push(corners);
             out.corner_ring.push(ring);
