@@ -960,3 +960,16 @@ fn classify(
         transition: 0,
     }
 }
+
+/// Each corpus mesh of `cases` (`(name, isolation)`) adaptively refined to its isolation level,
+/// as `(name, refinement)`: unit tests' inputs.
+#[cfg(test)]
+pub(crate) fn corpus_refinements(cases: &[(&str, u32)]) -> Vec<(String, AdaptiveRefinement)> {
+    let names: Vec<&str> = cases.iter().map(|c| c.0).collect();
+    (super::corpus_levels(&names, 0).iter().zip(cases))
+        .map(|((name, _, level), &(_, isolation))| {
+            let refinement = AdaptiveRefinement::new(level, isolation).unwrap();
+            (name.clone(), refinement)
+        })
+        .collect()
+}

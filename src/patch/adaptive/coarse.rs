@@ -318,8 +318,8 @@ mod tests {
     use super::*;
     use crate::patch::adaptive::census_index::patch_index;
     use crate::patch::adaptive::rows::patch_corners;
+    use crate::subdiv::adaptive::corpus_refinements;
     use crate::subdiv::adaptive::PatchType;
-    use crate::subdiv::corpus_levels;
 
     /// `records_bound` bounds the records made as the draw tables make them (the transition
     /// edges', then a whole edge tried for every end-cap edge without a coarse record), over
@@ -332,9 +332,7 @@ mod tests {
             ("catmark_single_crease", 3),
             ("catmark_tent_creases1", 2),
         ];
-        let names: Vec<&str> = cases.iter().map(|c| c.0).collect();
-        for ((name, _, level), (_, isolation)) in corpus_levels(&names, 0).iter().zip(cases) {
-            let refinement = AdaptiveRefinement::new(level, isolation).unwrap();
+        for (name, refinement) in corpus_refinements(&cases) {
             let census = refinement.census();
             let corners = patch_corners(&refinement, census);
             let (slots, _) = Slots::new(&refinement, corners.iter().map(|c| c.global));

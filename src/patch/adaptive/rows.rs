@@ -283,16 +283,8 @@ impl SparseRows {
     /// (as [`Self::append_face_row_range`] does), rather than two pushes and a test per term.
     pub fn push_long_row(&mut self, row: &[(u32, f64)]) {
         let first_row = self.len();
-        self.ids.extend(row.iter().map(|t| t.0));
-        let mut zero = false;
-        self.weights_f64.extend(row.iter().map(|&(_, w)| {
-            zero |= w.abs() <= LARGEST_F32_ZERO;
-            w
-        }));
-        self.end_row();
-        if zero {
-            self.drop_zero_terms(first_row);
-        }
+        self.offsets.push((self.ids.len() + row.len()) as u32);
+        self.extend_terms(row, 0, first_row);
     }
 
     /// Appends term `(id, w)` to the row being pushed, unless `w` rounds to a zero f32.
@@ -341,9 +333,16 @@ impl SparseRows {
         let base = (self.ids.len() as u32).wrapping_sub(ends[0]);
         self.offsets
             .extend(ends[1..].iter().map(|&o| base.wrapping_add(o)));
+        self.extend_terms(terms, first, first_row);
+    }
+
+    /// Appends `terms` (`first` added to every id) as the terms of the rows from `first_row`
+    /// on, whose offsets already count them whole, then drops those whose weight rounds to a
+    /// zero f32 where there are any: copied array by array, zeros checked by magnitude as the
+    /// weights are copied (no conversion per weight, no early exit, no pass of its own).
+    #[inline(always)]
+    fn extend_terms(&mut self, terms: &[(u32, f64)], first: u32, first_row: usize) {
         self.ids.extend(terms.iter().map(|t| first + t.0));
-        // Checked by magnitude as the weights are copied (no conversion per weight, no early
-        // exit, no pass of its own).
         let mut zero = false;
         self.weights_f64.extend(terms.iter().map(|&(_, w)| {
             zero |= w.abs() <= LARGEST_F32_ZERO;

@@ -177,7 +177,7 @@ mod tests {
     use super::*;
     use crate::patch::adaptive::rows::patch_corners;
     use crate::patch::adaptive::slots::{origins, Slots};
-    use crate::subdiv::corpus_levels;
+    use crate::subdiv::adaptive::corpus_refinements;
 
     /// Every census corner `smooth_bspline_corner` takes for one normal has one
     /// (`single_normal_vertex` of its level), and it takes some on every mesh; over meshes with
@@ -193,9 +193,7 @@ mod tests {
             ("catmark_single_crease", 3),
             ("catmark_hole_test1", 2),
         ];
-        let names: Vec<&str> = cases.iter().map(|c| c.0).collect();
-        for ((name, _, level), (_, isolation)) in corpus_levels(&names, 0).iter().zip(cases) {
-            let refinement = AdaptiveRefinement::new(level, isolation).unwrap();
+        for (name, refinement) in corpus_refinements(&cases) {
             let census = refinement.census();
             let mut taken = 0;
             for p in &census.patches {
@@ -221,9 +219,7 @@ mod tests {
     #[test]
     fn origins_end_vertex_point_chains() {
         let cases = [("catmark_car", 2), ("catmark_cube_creases1", 3)];
-        let names: Vec<&str> = cases.iter().map(|c| c.0).collect();
-        for ((name, _, level), (_, isolation)) in corpus_levels(&names, 0).iter().zip(cases) {
-            let refinement = AdaptiveRefinement::new(level, isolation).unwrap();
+        for (name, refinement) in corpus_refinements(&cases) {
             let origin = origins(&refinement);
             assert_eq!(origin.len(), refinement.vertex_count(), "{name}");
             let mut moved = 0;
@@ -260,9 +256,7 @@ mod tests {
             ("catmark_dart_edgecorner", 3),
             ("catmark_hole_test1", 2),
         ];
-        let names: Vec<&str> = cases.iter().map(|c| c.0).collect();
-        for ((name, _, level), (_, isolation)) in corpus_levels(&names, 0).iter().zip(cases) {
-            let refinement = AdaptiveRefinement::new(level, isolation).unwrap();
+        for (name, refinement) in corpus_refinements(&cases) {
             let corners = patch_corners(&refinement, refinement.census());
             let (slots, first) = Slots::new(&refinement, corners.iter().map(|c| c.global));
             let origin = origins(&refinement);
